@@ -1,0 +1,698 @@
+"""Compiled (numba) kernels of the rocking solvers. Private: use :mod:`rigid.solve`.
+
+Everything is written per unit of the half block's inertia J0 and with the ground acceleration
+divided by g. For rocking on the side ``s = sign(theta)`` (s = +1 or -1):
+
+nonlinear   theta'' = -p^2 [sin(s alpha - theta) + (ug''/g) cos(s alpha - theta)] + M_c / (2 J0)
+linear      theta'' =  p^2 theta - p^2 (s alpha + ug''/g)                         + M_c / (2 J0)
+
+with the collar moment M_c / (2 J0) = k_a (cos(theta/2) - 1) sin(theta/2) - k_l tan(theta/2) /
+cos^2(theta/2) (exact) or -k_l theta / 2 (linear model). An impact at theta = 0 maps
+theta' -> nu theta'.
+
+Parameter vector ``P`` layout is given by the ``P_*`` indices below.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+P_P2, P_ALPHA, P_NONLINEAR, P_GROUND, P_AG, P_OMEGA, P_PHASE, P_TEND, P_KA, P_KL, P_NU, \
+    P_UPLIFT = range(12)
+N_PARAMS = 12
+
+GROUND_NONE, GROUND_HARMONIC, GROUND_RECORD = 0, 1, 2
+
+# run status
+RUNNING, OVERTURNED, AT_REST, REACHED_END = 0, 1, 2, 3
+# spectrum mode codes
+SAFE, AFTER_IMPACT, WITHOUT_IMPACT = 0, 1, 2
+
+HALF_PI = 0.5 * math.pi
+MAX_IMPACTS = 100_000
+# a post-impact hop shorter than this fraction of 1/p counts as coming to rest
+REST_HOP = 1e-9
+
+
+@njit(cache=True)
+def make_params(p, alpha, nonlinear, ground_kind, ag, omega, phase, t_end, ka, kl, nu, uplift):
+    P = np.zeros(N_PARAMS)
+    P[P_P2] = p * p
+    P[P_ALPHA] = alpha
+    P[P_NONLINEAR] = 1.0 if nonlinear else 0.0
+    P[P_GROUND] = ground_kind
+    P[P_AG] = ag
+    P[P_OMEGA] = omega
+    P[P_PHASE] = phase
+    P[P_TEND] = t_end
+    P[P_KA] = ka
+    P[P_KL] = kl
+    P[P_NU] = nu
+    P[P_UPLIFT] = uplift
+    return P
+
+
+# ------------------------------------------------------------------------------------------
+# ground motion and equation of motion
+# ------------------------------------------------------------------------------------------
+
+@njit(cache=True)
+def ground_over_g(t, P, rec_t, rec_a):
+    kind = P[P_GROUND]
+    if kind == GROUND_HARMONIC:
+        if t < 0.0 or t > P[P_TEND]:
+            return 0.0
+        return P[P_AG] * math.sin(P[P_OMEGA] * t + P[P_PHASE])
+    if kind == GROUND_RECORD:
+        n = rec_t.size
+        if t < rec_t[0] or t > rec_t[n - 1]:
+            return 0.0
+        i = np.searchsorted(rec_t, t)
+        if i == 0:
+            return rec_a[0]
+        w = (t - rec_t[i - 1]) / (rec_t[i] - rec_t[i - 1])
+        return rec_a[i - 1] + w * (rec_a[i] - rec_a[i - 1])
+    return 0.0
+
+
+@njit(cache=True)
+def angular_acceleration(t, theta, s, P, rec_t, rec_a):
+    ug = ground_over_g(t, P, rec_t, rec_a)
+    p2 = P[P_P2]
+    if P[P_NONLINEAR] > 0.5:
+        arg = s * P[P_ALPHA] - theta
+        acc = -p2 * (math.sin(arg) + ug * math.cos(arg))
+        if P[P_KA] != 0.0 or P[P_KL] != 0.0:
+            half = 0.5 * theta
+            ch = math.cos(half)
+            acc += P[P_KA] * (ch - 1.0) * math.sin(half) - P[P_KL] * math.tan(half) / (ch * ch)
+    else:
+        acc = p2 * theta - p2 * (s * P[P_ALPHA] + ug) - 0.5 * P[P_KL] * theta
+    return acc
+
+
+@njit(cache=True)
+def mechanical_energy(theta, omega, P):
+    """Kinetic + gravity + collar potential energy per J0 (rad^2/s^2), zero at rest upright."""
+    p2 = P[P_P2]
+    a = P[P_ALPHA]
+    x = abs(theta)
+    if P[P_NONLINEAR] > 0.5:
+        e = 0.5 * omega * omega + p2 * (math.cos(a - x) - math.cos(a))
+        half = 0.5 * theta
+        e += P[P_KA] * (math.cos(half) - 1.0) ** 2 + P[P_KL] * math.tan(half) ** 2
+    else:
+        e = 0.5 * omega * omega + p2 * (a * x - 0.5 * x * x) + 0.25 * P[P_KL] * theta * theta
+    return e
+
+
+@njit(cache=True)
+def energy_barrier(P):
+    """Gravity potential at |theta| = alpha: below it the free block can never overturn."""
+    a = P[P_ALPHA]
+    if P[P_NONLINEAR] > 0.5:
+        return P[P_P2] * (1.0 - math.cos(a))
+    return 0.5 * P[P_P2] * a * a
+
+
+@njit(cache=True)
+def ground_end(P, rec_t):
+    if P[P_GROUND] == GROUND_HARMONIC:
+        return P[P_TEND]
+    if P[P_GROUND] == GROUND_RECORD:
+        return rec_t[rec_t.size - 1]
+    return 0.0
+
+
+@njit(cache=True)
+def next_uplift(t, P, rec_t, rec_a):
+    """Earliest time >= t at which |ug''/g| reaches the uplift level, and the sign of ug'' there.
+
+    Returns (-1, 0) when the ground never gets there again.
+    """
+    thr = P[P_UPLIFT]
+    kind = P[P_GROUND]
+    if kind == GROUND_HARMONIC:
+        ag = abs(P[P_AG])
+        # rocking needs the ground to exceed the uplift level, touching it is not enough
+        if ag <= thr * (1.0 + 1e-12) or t > P[P_TEND]:
+            return -1.0, 0.0
+        r = thr / ag
+        psi1 = math.asin(r)
+        psi_now = P[P_OMEGA] * max(t, 0.0) + P[P_PHASE]
+        base = math.floor(psi_now / math.pi) * math.pi
+        x = psi_now - base
+        if x < psi1:
+            psi = base + psi1
+        elif x < math.pi - psi1 - 1e-12:
+            psi = psi_now
+        else:
+            psi = base + math.pi + psi1
+        t_up = (psi - P[P_PHASE]) / P[P_OMEGA]
+        if t_up > P[P_TEND]:
+            return -1.0, 0.0
+        # sign of sin on the half period that contains psi
+        k = math.floor(psi / math.pi)
+        sgn = 1.0 if (k % 2 == 0) else -1.0
+        if P[P_AG] < 0.0:
+            sgn = -sgn
+        return max(t_up, t), sgn
+    if kind == GROUND_RECORD:
+        n = rec_t.size
+        if t > rec_t[n - 1]:
+            return -1.0, 0.0
+        ug = ground_over_g(t, P, rec_t, rec_a)
+        if abs(ug) >= thr:
+            return t, 1.0 if ug > 0.0 else -1.0
+        i0 = np.searchsorted(rec_t, t)
+        prev_t = t
+        prev_a = ug
+        for i in range(i0, n):
+            ai = rec_a[i]
+            if abs(ai) >= thr:
+                level = thr if ai > 0.0 else -thr
+                if ai == prev_a:
+                    return rec_t[i], 1.0 if ai > 0.0 else -1.0
+                w = (level - prev_a) / (ai - prev_a)
+                w = min(max(w, 0.0), 1.0)
+                return prev_t + w * (rec_t[i] - prev_t), 1.0 if ai > 0.0 else -1.0
+            prev_t = rec_t[i]
+            prev_a = ai
+        return -1.0, 0.0
+    return -1.0, 0.0
+
+
+# ------------------------------------------------------------------------------------------
+# DOPRI5 (Dormand-Prince 5(4)) with 4th-order dense output and exact event location
+# ------------------------------------------------------------------------------------------
+
+_C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0])
+_A = np.array([
+    [0.0, 0.0, 0.0, 0.0, 0.0],
+    [1 / 5, 0.0, 0.0, 0.0, 0.0],
+    [3 / 40, 9 / 40, 0.0, 0.0, 0.0],
+    [44 / 45, -56 / 15, 32 / 9, 0.0, 0.0],
+    [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0.0],
+    [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656],
+])
+_B = np.array([35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0.0])
+_E = np.array([-71 / 57600, 0.0, 71 / 16695, -71 / 1920, 17253 / 339200, -22 / 525, 1 / 40])
+_PD = np.array([
+    [1.0, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432],
+    [0.0, 0.0, 0.0, 0.0],
+    [0.0, 131558114200 / 32700410799, -68118460800 / 10900136933, 87487479700 / 32700410799],
+    [0.0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072],
+    [0.0, 127303824393 / 49829197408, -318862633887 / 49829197408,
+     701980252875 / 199316789632],
+    [0.0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
+    [0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423],
+])
+
+
+@njit(cache=True)
+def _dense(sigma, h, y0, y1, K0, K1):
+    """DOPRI5 continuous extension at t + sigma h: returns (theta, omega)."""
+    s1 = sigma
+    s2 = s1 * sigma
+    s3 = s2 * sigma
+    s4 = s3 * sigma
+    q0 = 0.0
+    q1 = 0.0
+    for j in range(7):
+        w = _PD[j, 0] * s1 + _PD[j, 1] * s2 + _PD[j, 2] * s3 + _PD[j, 3] * s4
+        q0 += K0[j] * w
+        q1 += K1[j] * w
+    return y0 + h * q0, y1 + h * q1
+
+
+@njit(cache=True)
+def _dense_root(component, level, h, y0, y1, K0, K1, lo, hi):
+    """Root sigma in [lo, hi] of dense component (0: theta, 1: omega) == level (Illinois)."""
+    flo = _dense(lo, h, y0, y1, K0, K1)[component] - level
+    fhi = _dense(hi, h, y0, y1, K0, K1)[component] - level
+    side = 0
+    for _ in range(200):
+        if fhi == flo:
+            break
+        mid = (lo * fhi - hi * flo) / (fhi - flo)
+        if not (lo < mid < hi):
+            mid = 0.5 * (lo + hi)
+        fm = _dense(mid, h, y0, y1, K0, K1)[component] - level
+        if fm == 0.0:
+            return mid
+        if (fm > 0.0) == (fhi > 0.0):
+            hi = mid
+            fhi = fm
+            if side == -1:
+                flo *= 0.5
+            side = -1
+        else:
+            lo = mid
+            flo = fm
+            if side == 1:
+                fhi *= 0.5
+            side = 1
+        if hi - lo <= 4e-16 * max(1.0, abs(hi)):
+            break
+    return lo if abs(flo) < abs(fhi) else hi
+
+
+@njit(cache=True)
+def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts):
+    """Integrate from rest at t = 0 to t_stop (or an earlier end).
+
+    out:      (max_out, 3) array filled with (t, theta, omega) every dt_out (dt_out <= 0: none).
+    impacts:  (max_imp, 3) array filled with (t, omega_before, omega_after).
+    Returns (status, n_impacts, max_abs_theta, t_end, n_out, t_overturn).
+    """
+    K0 = np.zeros(7)
+    K1 = np.zeros(7)
+    p = math.sqrt(P[P_P2])
+    alpha = P[P_ALPHA]
+    nu = P[P_NU]
+    t_free = ground_end(P, rec_t)
+    has_collars = P[P_KA] != 0.0 or P[P_KL] != 0.0
+    barrier = energy_barrier(P)
+    max_out = out.shape[0]
+    n_out = 0
+    next_out = 0.0
+    n_imp = 0
+    max_theta = 0.0
+    t_over = -1.0
+
+    t, s_up = next_uplift(0.0, P, rec_t, rec_a)
+    if t < 0.0:
+        return AT_REST, 0, 0.0, t_stop, _fill_rest(out, 0, 0.0, t_stop, dt_out), -1.0
+    # the block sits upright until it lifts
+    n_out = _fill_rest(out, 0, 0.0, t, dt_out)
+    if dt_out > 0.0:
+        next_out = n_out * dt_out
+    s = -s_up
+    th = 0.0
+    om = 0.0
+    h = 1e-3 / max(p, P[P_OMEGA])
+    h_max = 0.1 / max(p, P[P_OMEGA]) if P[P_GROUND] == GROUND_HARMONIC else 0.1 / p
+    status = RUNNING
+    steps = 0
+    while status == RUNNING:
+        if t >= t_stop:
+            status = REACHED_END
+            break
+        steps += 1
+        if steps > 50_000_000:
+            status = REACHED_END
+            break
+        h = min(h, h_max, t_stop - t)
+        if t < t_free < t + h:
+            h = t_free - t      # land on the end of the ground motion (a kink in the forcing)
+        # --- one DOPRI5 step ---------------------------------------------------------------
+        K0[0] = om
+        K1[0] = angular_acceleration(t, th, s, P, rec_t, rec_a)
+        for i in range(1, 6):
+            y0 = th
+            y1 = om
+            for j in range(i):
+                y0 += h * _A[i, j] * K0[j]
+                y1 += h * _A[i, j] * K1[j]
+            K0[i] = y1
+            K1[i] = angular_acceleration(t + _C[i] * h, y0, s, P, rec_t, rec_a)
+        n0 = th
+        n1 = om
+        for j in range(6):
+            n0 += h * _B[j] * K0[j]
+            n1 += h * _B[j] * K1[j]
+        K0[6] = n1
+        K1[6] = angular_acceleration(t + h, n0, s, P, rec_t, rec_a)
+        e0 = 0.0
+        e1 = 0.0
+        for j in range(7):
+            e0 += h * _E[j] * K0[j]
+            e1 += h * _E[j] * K1[j]
+        sc0 = atol + rtol * max(abs(th), abs(n0))
+        sc1 = atol * p + rtol * max(abs(om), abs(n1))
+        err = math.sqrt(0.5 * ((e0 / sc0) ** 2 + (e1 / sc1) ** 2))
+        if err > 1.0:
+            h *= max(0.2, 0.9 * err ** -0.2)
+            continue
+        # --- accepted: events inside [t, t + h] ----------------------------------------------
+        sigma_end = 1.0
+        impact = s * n0 < 0.0 or (n0 == 0.0 and n1 * s < 0.0)
+        if impact:
+            sigma_end = _dense_root(0, 0.0, h, th, om, K0, K1, 0.0, 1.0)
+        over = abs(n0) >= HALF_PI and not impact
+        if over:
+            sigma_end = _dense_root(0, HALF_PI * (1.0 if n0 > 0.0 else -1.0), h, th, om, K0, K1,
+                                    0.0, 1.0)
+        # extreme rotation where omega changes sign
+        om_end = _dense(sigma_end, h, th, om, K0, K1)[1]
+        if om * om_end < 0.0:
+            sig = _dense_root(1, 0.0, h, th, om, K0, K1, 0.0, sigma_end)
+            max_theta = max(max_theta, abs(_dense(sig, h, th, om, K0, K1)[0]))
+        # output samples
+        t_event = t + sigma_end * h
+        if dt_out > 0.0:
+            while n_out < max_out and next_out <= t_event:
+                y = _dense((next_out - t) / h, h, th, om, K0, K1)
+                out[n_out, 0] = next_out
+                out[n_out, 1] = y[0]
+                out[n_out, 2] = y[1]
+                n_out += 1
+                next_out = n_out * dt_out
+        if over:
+            t = t_event
+            th = HALF_PI * (1.0 if n0 > 0.0 else -1.0)
+            max_theta = HALF_PI
+            status = OVERTURNED
+            t_over = t
+            break
+        if impact:
+            om_before = _dense(sigma_end, h, th, om, K0, K1)[1]
+            t = t_event
+            th = 0.0
+            om = nu * om_before
+            s = -s
+            if n_imp < impacts.shape[0]:
+                impacts[n_imp, 0] = t
+                impacts[n_imp, 1] = om_before
+                impacts[n_imp, 2] = om
+            n_imp += 1
+            acc0 = angular_acceleration(t, 0.0, s, P, rec_t, rec_a)
+            resting = n_imp >= MAX_IMPACTS or om == 0.0
+            if not resting and om * acc0 < 0.0:
+                resting = 2.0 * abs(om / acc0) * p < REST_HOP
+            if resting:
+                t_up, s_up = next_uplift(t, P, rec_t, rec_a)
+                if t_up < 0.0:
+                    status = AT_REST
+                    n_out = _fill_rest(out, n_out, next_out, t_stop, dt_out)
+                    break
+                n_out = _fill_rest(out, n_out, next_out, min(t_up, t_stop), dt_out)
+                if dt_out > 0.0:
+                    next_out = n_out * dt_out
+                t = t_up
+                om = 0.0
+                s = -s_up
+            elif early_exit and t >= t_free and 0.5 * om * om < barrier:
+                status = AT_REST
+                break
+            h = max(h, 1e-6 / p)
+            continue
+        # plain step
+        t = t + h
+        th = n0
+        om = n1
+        max_theta = max(max_theta, abs(th))
+        if t >= t_free:
+            if not has_collars and s * th > alpha and th * om > 0.0:
+                status = OVERTURNED       # beyond the unstable equilibrium, moving outward
+                t_over = t
+                max_theta = HALF_PI
+                break
+            if early_exit and mechanical_energy(th, om, P) < barrier:
+                status = AT_REST
+                break
+        h *= min(5.0, 0.9 * max(err, 1e-10) ** -0.2)
+    return status, n_imp, max_theta, t, n_out, t_over
+
+
+@njit(cache=True)
+def _fill_rest(out, n_out, t_from, t_to, dt_out):
+    """Fill output rows with the block at rest from t_from to t_to."""
+    if dt_out <= 0.0:
+        return n_out
+    while n_out < out.shape[0] and n_out * dt_out <= t_to:
+        out[n_out, 0] = n_out * dt_out
+        out[n_out, 1] = 0.0
+        out[n_out, 2] = 0.0
+        n_out += 1
+    return n_out
+
+
+# ------------------------------------------------------------------------------------------
+# Linear model, free block (no collars), harmonic pulse: exact closed form between events
+# ------------------------------------------------------------------------------------------
+#
+# On side s, with tau = t - t0 and C = (a_p/g) / (1 + Omega^2/p^2) (corrected Eq. 8-9):
+#   pulse: theta = s alpha + C sin(Omega t + phi) + A cosh(p tau) + (B/p) sinh(p tau)
+#   free:  theta = s alpha + A cosh(p tau) + (B/p) sinh(p tau)            (corrected Eq. 11)
+# with A = theta0 - s alpha - C sin(Omega t0 + phi), B = theta0' - C Omega cos(Omega t0 + phi).
+
+@njit(cache=True)
+def _lin_state(t, seg, P):
+    """(theta, omega) of the closed-form segment seg = (t0, s, A, B, C) at time t."""
+    p = math.sqrt(P[P_P2])
+    tau = t - seg[0]
+    ch = math.cosh(p * tau)
+    sh = math.sinh(p * tau)
+    psi = P[P_OMEGA] * t + P[P_PHASE]
+    th = seg[1] * P[P_ALPHA] + seg[4] * math.sin(psi) + seg[2] * ch + seg[3] / p * sh
+    om = seg[4] * P[P_OMEGA] * math.cos(psi) + seg[2] * p * sh + seg[3] * ch
+    return th, om
+
+
+@njit(cache=True)
+def _lin_segment(t0, th0, om0, s, pulse_on, P, seg):
+    p2 = P[P_P2]
+    C = 0.0
+    if pulse_on:
+        C = P[P_AG] / (1.0 + P[P_OMEGA] ** 2 / p2)
+    psi = P[P_OMEGA] * t0 + P[P_PHASE]
+    seg[0] = t0
+    seg[1] = s
+    seg[2] = th0 - s * P[P_ALPHA] - C * math.sin(psi)
+    seg[3] = om0 - C * P[P_OMEGA] * math.cos(psi)
+    seg[4] = C
+
+
+@njit(cache=True)
+def _lin_root(component, level, seg, P, a, b):
+    """Root in [a, b] of the closed-form theta (0) or omega (1) minus level (Illinois)."""
+    fa = _lin_state(a, seg, P)[component] - level
+    fb = _lin_state(b, seg, P)[component] - level
+    side = 0
+    for _ in range(200):
+        if fb == fa:
+            break
+        m = (a * fb - b * fa) / (fb - fa)
+        if not (a < m < b):
+            m = 0.5 * (a + b)
+        fm = _lin_state(m, seg, P)[component] - level
+        if fm == 0.0:
+            return m
+        if (fm > 0.0) == (fb > 0.0):
+            b = m
+            fb = fm
+            if side == -1:
+                fa *= 0.5
+            side = -1
+        else:
+            a = m
+            fa = fm
+            if side == 1:
+                fb *= 0.5
+            side = 1
+        if b - a <= 4e-16 * max(1.0, abs(b)):
+            break
+    return a if abs(fa) < abs(fb) else b
+
+
+@njit(cache=True)
+def linear_run(P, t_stop, early_exit, segs, impacts):
+    """Exact event-driven response of the linearised free block to a harmonic pulse.
+
+    segs:    (max_seg, 6) array receiving (t0, s, A, B, C, t1) for every closed-form piece.
+    impacts: (max_imp, 3) array receiving (t, omega_before, omega_after).
+    Returns (status, n_impacts, max_abs_theta, t_end, n_segs, t_overturn).
+    """
+    p = math.sqrt(P[P_P2])
+    alpha = P[P_ALPHA]
+    nu = P[P_NU]
+    t_pulse = P[P_TEND]
+    seg = np.zeros(5)
+    h_max = 0.05 / max(p, P[P_OMEGA])
+    n_seg = 0
+    n_imp = 0
+    max_theta = 0.0
+    empty = np.zeros(1)
+
+    t, s_up = next_uplift(0.0, P, empty, empty)
+    if t < 0.0:
+        return AT_REST, 0, 0.0, t_stop, 0, -1.0
+    s = -s_up
+    th = 0.0
+    om = 0.0
+    status = RUNNING
+    t_over = -1.0
+    while status == RUNNING:
+        if t >= t_stop:
+            status = REACHED_END
+            break
+        pulse_on = t < t_pulse
+        _lin_segment(t, th, om, s, pulse_on, P, seg)
+        t_seg_end = t_stop
+        event = 0          # 0: segment end reached, 1: impact, 2: overturn
+        if pulse_on:
+            # --- sample the closed form for the first event before the pulse ends ---------
+            t_lim = min(t_pulse, t_stop)
+            acc0 = P[P_P2] * th - P[P_P2] * (s * alpha + P[P_AG] * math.sin(
+                P[P_OMEGA] * t + P[P_PHASE]))
+            h = h_max
+            if om * acc0 < 0.0:
+                h = min(h_max, 0.125 * abs(2.0 * om / acc0))
+            else:
+                h = h_max / 64.0
+            ta = t
+            tha, oma = th, om
+            while True:
+                tb = min(ta + h, t_lim)
+                thb, omb = _lin_state(tb, seg, P)
+                if oma * omb < 0.0:
+                    te = _lin_root(1, 0.0, seg, P, ta, tb)
+                    max_theta = max(max_theta, abs(_lin_state(te, seg, P)[0]))
+                if s * thb < 0.0:
+                    t_seg_end = _lin_root(0, 0.0, seg, P, ta, tb)
+                    event = 1
+                    break
+                if abs(thb) >= HALF_PI:
+                    t_seg_end = _lin_root(0, HALF_PI * s, seg, P, ta, tb)
+                    event = 2
+                    break
+                max_theta = max(max_theta, abs(thb))
+                if tb >= t_lim:
+                    t_seg_end = t_lim
+                    break
+                ta, tha, oma = tb, thb, omb
+                h = min(2.0 * h, h_max)
+        else:
+            # --- free rocking: next zero in closed form ---------------------------------------
+            A = seg[2]
+            Bp = seg[3] / p
+            a2 = A + Bp
+            a1 = 2.0 * s * alpha
+            a0 = A - Bp
+            x = -1.0
+            if th == 0.0:
+                if a2 != 0.0:
+                    x = a0 / a2          # the other root of the quadratic (x = 1 is the start)
+            else:
+                disc = a1 * a1 - 4.0 * a2 * a0
+                if disc >= 0.0 and a2 != 0.0:
+                    sq = math.sqrt(disc)
+                    r1 = (-a1 - sq) / (2.0 * a2)
+                    r2 = (-a1 + sq) / (2.0 * a2)
+                    lo, hi = min(r1, r2), max(r1, r2)
+                    if lo > 1.0:
+                        x = lo
+                    elif hi > 1.0:
+                        x = hi
+            # extreme rotation where omega = 0: tanh(p tau) = -B / (p A)
+            ratio = -Bp / A if A != 0.0 else 2.0
+            if abs(ratio) < 1.0:
+                tau_e = math.atanh(ratio) / p
+                if tau_e > 0.0 and (x <= 1.0 or tau_e < math.log(x) / p):
+                    max_theta = max(max_theta, abs(_lin_state(t + tau_e, seg, P)[0]))
+            if x > 1.0:
+                t_seg_end = t + math.log(x) / p
+                event = 1
+            else:
+                # never returns: diverges past the unstable equilibrium (overturning). The
+                # history is continued to about |theta| = pi/2 (dominant term a2 x / 2).
+                x_fall = 2.0 * (HALF_PI + alpha) / max(abs(a2), 1e-300)
+                t_seg_end = t + max(math.log(max(x_fall, 1.0)), 0.0) / p
+                event = 2
+            if t_seg_end > t_stop and event == 1:
+                t_seg_end = t_stop
+                event = 0
+        if n_seg < segs.shape[0]:
+            for k in range(5):
+                segs[n_seg, k] = seg[k]
+            segs[n_seg, 5] = t_seg_end
+        n_seg += 1
+        th_end, om_end = _lin_state(t_seg_end, seg, P)
+        if event == 2:
+            status = OVERTURNED
+            t_over = t_seg_end
+            max_theta = HALF_PI
+            t = t_seg_end
+            break
+        if event == 0:
+            t = t_seg_end
+            th, om = th_end, om_end
+            continue
+        # impact
+        t = t_seg_end
+        om_after = nu * om_end
+        if n_imp < impacts.shape[0]:
+            impacts[n_imp, 0] = t
+            impacts[n_imp, 1] = om_end
+            impacts[n_imp, 2] = om_after
+        n_imp += 1
+        th = 0.0
+        om = om_after
+        s = -s
+        ug = P[P_AG] * math.sin(P[P_OMEGA] * t + P[P_PHASE]) if t < t_pulse else 0.0
+        acc0 = -P[P_P2] * (s * alpha + ug)
+        resting = n_imp >= MAX_IMPACTS or om == 0.0
+        if not resting and om * acc0 < 0.0:
+            resting = 2.0 * abs(om / acc0) * p < REST_HOP
+        if resting:
+            t_up, s_up = next_uplift(t, P, empty, empty)
+            if t_up < 0.0:
+                status = AT_REST
+                break
+            t = t_up
+            om = 0.0
+            s = -s_up
+        elif early_exit and t >= t_pulse and 0.5 * om * om < energy_barrier(P):
+            status = AT_REST
+            break
+    return status, n_imp, max_theta, t, n_seg, t_over
+
+
+# ------------------------------------------------------------------------------------------
+# Overturning spectra
+# ------------------------------------------------------------------------------------------
+
+@njit(cache=True)
+def _mode(status, n_imp):
+    if status == OVERTURNED:
+        return AFTER_IMPACT if n_imp > 0 else WITHOUT_IMPACT
+    return SAFE
+
+
+@njit(parallel=True, cache=True)
+def spectrum_modes(p, alpha, nu, nonlinear, cosine, ka, kl, uplift, omega_ratios,
+                   amplitude_ratios, t_after, rtol, atol):
+    """Mode map: rows follow amplitude_ratios, columns omega_ratios (codes SAFE, AFTER_IMPACT,
+    WITHOUT_IMPACT). The linear free block uses the closed form, all else DOPRI5."""
+    n_a = amplitude_ratios.size
+    n_w = omega_ratios.size
+    modes = np.zeros((n_a, n_w), dtype=np.int8)
+    closed_form = (not nonlinear) and ka == 0.0 and kl == 0.0
+    empty = np.zeros(1)
+    for k in prange(n_a * n_w):
+        i = k // n_w
+        j = k % n_w
+        ratio = amplitude_ratios[i]
+        omega = omega_ratios[j] * p
+        ag = ratio * uplift
+        if cosine:
+            phase = HALF_PI
+            t_end = 2.0 * math.pi / omega
+        else:
+            phase = math.asin(min(1.0, 1.0 / abs(ratio)))
+            t_end = (2.0 * math.pi - phase) / omega
+        P = make_params(p, alpha, nonlinear, GROUND_HARMONIC, ag, omega, phase, t_end, ka,
+                           kl, nu, uplift)
+        t_stop = t_end + t_after
+        segs = np.zeros((1, 6))
+        imps = np.zeros((1, 3))
+        if closed_form:
+            res = linear_run(P, t_stop, True, segs, imps)
+        else:
+            res = rk_run(P, empty, empty, t_stop, rtol, atol, True, 0.0, segs[:, :3], imps)
+        modes[i, j] = _mode(res[0], res[1])
+    return modes

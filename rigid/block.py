@@ -1,0 +1,143 @@
+"""The rocking block: a rigid rectangle 2b wide and 2h tall on a rigid base.
+
+Notation follows the source paper and ``DESIGN.md``: ``b`` and ``h`` are the half width and half
+height of the rocking block (for a cracked column, of one half column: the full column is 4b wide).
+
+    R = sqrt(b^2 + h^2),  alpha = atan(b / h),  J0 = 4/3 m R^2,  p = sqrt(m g R / J0) = sqrt(3 g / (4 R))
+
+Housner's coefficient of restitution for a rectangular block (the paper's Eq. 12 with the sin^2
+restored) is ``nu = 1 - (2 m R^2 / J0) sin^2(alpha) = 1 - 1.5 sin^2(alpha)``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .validation import InputError, require_positive, require_range
+
+STANDARD_GRAVITY = 9.81  # m/s^2, the project's convention (DESIGN.md)
+
+MODELS = ("linear", "nonlinear")
+
+
+def housner_restitution(alpha: float) -> float:
+    """Housner's angular-velocity ratio at impact, 1 - 1.5 sin^2(alpha) (corrected Eq. 12)."""
+    return 1.0 - 1.5 * math.sin(alpha) ** 2
+
+
+@dataclass(frozen=True)
+class Block:
+    """A rigid rectangular block 2b x 2h (m) of mass ``mass`` (kg) rocking on a rigid base.
+
+    ``restitution`` is the ratio of angular velocities after/before an impact; ``None`` means
+    Housner's value. ``mass`` may be ``None`` for dimensionless studies of a free block (the motion
+    does not depend on it); collars need it.
+
+    >>> blk = Block.from_dimensionless(p=2.14, alpha=0.25, restitution=0.9)
+    >>> round(blk.p, 6), round(blk.alpha, 6)
+    (2.14, 0.25)
+    >>> round(Block(b=0.2, h=2.0, mass=1.0).nu, 4)   # Housner: 1 - 1.5 sin^2(atan(0.1))
+    0.9851
+    """
+
+    b: float
+    h: float
+    mass: float | None = None
+    restitution: float | None = None
+    g: float = STANDARD_GRAVITY
+
+    def __post_init__(self):
+        require_positive("b (block half width, m)", self.b)
+        require_positive("h (block half height, m)", self.h)
+        require_positive("g (gravity, m/s^2)", self.g)
+        if self.mass is not None:
+            require_positive("mass (kg)", self.mass)
+        if self.restitution is not None:
+            require_range("restitution", self.restitution, 0.0, 1.0, closed_low=True,
+                          closed_high=True)
+
+    # --- constructors -------------------------------------------------------------------
+    @classmethod
+    def from_dimensionless(cls, p: float, alpha: float, *, restitution: float | None = None,
+                           mass: float | None = None, g: float = STANDARD_GRAVITY) -> "Block":
+        """Block with frequency parameter ``p`` (rad/s) and slenderness ``alpha`` (rad).
+
+        Inverts p^2 = 3 g / (4 R): R = 3 g / (4 p^2), b = R sin(alpha), h = R cos(alpha).
+        """
+        require_positive("p (frequency parameter, rad/s)", p)
+        require_range("alpha (slenderness angle, rad)", alpha, 0.0, math.pi / 2,
+                      range_text="(0, pi/2)")
+        radius = 3.0 * g / (4.0 * p * p)
+        return cls(b=radius * math.sin(alpha), h=radius * math.cos(alpha), mass=mass,
+                   restitution=restitution, g=g)
+
+    @classmethod
+    def from_density(cls, b: float, h: float, density: float, thickness: float, *,
+                     restitution: float | None = None, g: float = STANDARD_GRAVITY) -> "Block":
+        """Block of density (kg/m^3) and out-of-plane thickness (m): m = density * 2b * 2h * t."""
+        require_positive("density (kg/m^3)", density)
+        require_positive("thickness (m)", thickness)
+        require_positive("b (block half width, m)", b)
+        require_positive("h (block half height, m)", h)
+        return cls(b=b, h=h, mass=density * 4.0 * b * h * thickness, restitution=restitution, g=g)
+
+    # --- derived quantities ---------------------------------------------------------------
+    @property
+    def R(self) -> float:
+        """Distance from a base corner to the centre of mass (m)."""
+        return math.hypot(self.b, self.h)
+
+    @property
+    def alpha(self) -> float:
+        """Slenderness angle atan(b/h) (rad)."""
+        return math.atan2(self.b, self.h)
+
+    @property
+    def p(self) -> float:
+        """Frequency parameter sqrt(m g R / J0) = sqrt(3 g / (4 R)) (rad/s)."""
+        return math.sqrt(3.0 * self.g / (4.0 * self.R))
+
+    @property
+    def J0(self) -> float:
+        """Moment of inertia about a base corner, 4/3 m R^2 (kg m^2)."""
+        return 4.0 / 3.0 * self.require_mass("the moment of inertia") * self.R ** 2
+
+    @property
+    def nu(self) -> float:
+        """Coefficient of restitution in use: the given one or Housner's."""
+        return housner_restitution(self.alpha) if self.restitution is None else self.restitution
+
+    @property
+    def restitution_housner(self) -> float:
+        return housner_restitution(self.alpha)
+
+    def uplift_acceleration(self, model: str = "nonlinear") -> float:
+        """Minimum ground acceleration that starts rocking (Eq. 2-3), m/s^2.
+
+        g tan(alpha) for the nonlinear equation, g alpha for the linearised one.
+        """
+        check_model(model)
+        return self.g * (math.tan(self.alpha) if model == "nonlinear" else self.alpha)
+
+    def time_to_vertical(self, theta0: float) -> float:
+        """Free rocking from rest at theta0 to the vertical, linear model (corrected Eq. 13), s.
+
+        t = arccosh(1 / (1 - |theta0| / alpha)) / p: a quarter of the free-rocking period, not the
+        period as the paper prints. Only defined for 0 < |theta0| < alpha.
+        """
+        ratio = abs(theta0) / self.alpha
+        require_range("theta0 / alpha", ratio, 0.0, 1.0)
+        return math.acosh(1.0 / (1.0 - ratio)) / self.p
+
+    def require_mass(self, what: str) -> float:
+        if self.mass is None:
+            raise InputError(f"mass is needed for {what}: give the block mass (or density and "
+                             "thickness)")
+        return self.mass
+
+
+def check_model(model: str) -> str:
+    if model not in MODELS:
+        raise InputError(f"model = {model!r} is not one of {', '.join(MODELS)}")
+    return model

@@ -1,0 +1,48 @@
+"""Input checks that fail with one line naming the parameter and its allowed range."""
+
+from __future__ import annotations
+
+import math
+
+
+class InputError(ValueError):
+    """Bad user input. The message names the parameter and the allowed range."""
+
+
+def require_positive(name: str, value: float) -> float:
+    value = _as_float(name, value)
+    if not value > 0.0:
+        raise InputError(f"{name} = {value:g} is not allowed: it must be > 0")
+    return value
+
+
+def require_non_negative(name: str, value: float) -> float:
+    value = _as_float(name, value)
+    if not value >= 0.0:
+        raise InputError(f"{name} = {value:g} is not allowed: it must be >= 0")
+    return value
+
+
+def require_range(name: str, value: float, low: float, high: float, *,
+                  closed_low: bool = False, closed_high: bool = False,
+                  range_text: str | None = None) -> float:
+    """Check low < value < high (ends included where asked)."""
+    value = _as_float(name, value)
+    ok_low = value >= low if closed_low else value > low
+    ok_high = value <= high if closed_high else value < high
+    if not (ok_low and ok_high):
+        if range_text is None:
+            range_text = (("[" if closed_low else "(") + f"{low:g}, {high:g}"
+                          + ("]" if closed_high else ")"))
+        raise InputError(f"{name} = {value:g} is outside the allowed range {range_text}")
+    return value
+
+
+def _as_float(name: str, value) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} = {value!r} is not a number") from None
+    if math.isnan(value):
+        raise InputError(f"{name} is NaN")
+    return value
