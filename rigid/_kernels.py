@@ -6,8 +6,9 @@ divided by g. For rocking on the side ``s = sign(theta)`` (s = +1 or -1):
 nonlinear   theta'' = -p^2 [sin(s alpha - theta) + (ug''/g) cos(s alpha - theta)] + M_c / (2 J0)
 linear      theta'' =  p^2 theta - p^2 (s alpha + ug''/g)                         + M_c / (2 J0)
 
-with the collar moment M_c / (2 J0) = k_a (cos(theta/2) - 1) sin(theta/2) - k_l tan(theta/2) /
-cos^2(theta/2) (exact) or -k_l theta / 2 (linear model). An impact at theta = 0 maps
+with the collar moment M_c / (2 J0) = -k_a (r - 1) sin(theta) cos(theta) / (2 r) - k_l sin(theta)
+cos(theta) / 2, r = sqrt(1 + sin^2(theta) / 4) (exact, see rigid.collars) or -k_l theta / 2
+(linear model). An impact at theta = 0 maps
 theta' -> nu theta'.
 
 Parameter vector ``P`` layout is given by the ``P_*`` indices below.
@@ -86,9 +87,10 @@ def angular_acceleration(t, theta, s, P, rec_t, rec_a):
         arg = s * P[P_ALPHA] - theta
         acc = -p2 * (math.sin(arg) + ug * math.cos(arg))
         if P[P_KA] != 0.0 or P[P_KL] != 0.0:
-            half = 0.5 * theta
-            ch = math.cos(half)
-            acc += P[P_KA] * (ch - 1.0) * math.sin(half) - P[P_KL] * math.tan(half) / (ch * ch)
+            sn = math.sin(theta)
+            sc = sn * math.cos(theta)
+            root = math.sqrt(1.0 + 0.25 * sn * sn)
+            acc -= P[P_KA] * (root - 1.0) * sc / (2.0 * root) + 0.5 * P[P_KL] * sc
     else:
         acc = p2 * theta - p2 * (s * P[P_ALPHA] + ug) - 0.5 * P[P_KL] * theta
     return acc
@@ -102,8 +104,8 @@ def mechanical_energy(theta, omega, P):
     x = abs(theta)
     if P[P_NONLINEAR] > 0.5:
         e = 0.5 * omega * omega + p2 * (math.cos(a - x) - math.cos(a))
-        half = 0.5 * theta
-        e += P[P_KA] * (math.cos(half) - 1.0) ** 2 + P[P_KL] * math.tan(half) ** 2
+        sn = math.sin(theta)
+        e += P[P_KA] * (math.sqrt(1.0 + 0.25 * sn * sn) - 1.0) ** 2 + 0.25 * P[P_KL] * sn * sn
     else:
         e = 0.5 * omega * omega + p2 * (a * x - 0.5 * x * x) + 0.25 * P[P_KL] * theta * theta
     return e
@@ -276,6 +278,14 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
     t_free = ground_end(P, rec_t)
     has_collars = P[P_KA] != 0.0 or P[P_KL] != 0.0
     barrier = energy_barrier(P)
+    # linear model: the free block diverges once beyond its unstable equilibrium moving outward,
+    # at alpha p^2 / (p^2 - k_l / 2) with collars (none if the collars make it stable)
+    theta_unstable = alpha
+    if has_collars:
+        theta_unstable = HALF_PI
+        lam = P[P_P2] - 0.5 * P[P_KL]
+        if P[P_NONLINEAR] < 0.5 and lam > 0.0:
+            theta_unstable = min(HALF_PI, alpha * P[P_P2] / lam)
     max_out = out.shape[0]
     n_out = 0
     next_out = 0.0
@@ -406,12 +416,14 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
         om = n1
         max_theta = max(max_theta, abs(th))
         if t >= t_free:
-            if not has_collars and s * th > alpha and th * om > 0.0:
+            if s * th > theta_unstable and th * om > 0.0 and (
+                    not has_collars or P[P_NONLINEAR] < 0.5):
                 status = OVERTURNED       # beyond the unstable equilibrium, moving outward
                 t_over = t
                 max_theta = HALF_PI
                 break
-            if early_exit and mechanical_energy(th, om, P) < barrier:
+            # trapped in the well: inside |theta| < alpha without the energy to reach alpha
+            if early_exit and abs(th) < alpha and mechanical_energy(th, om, P) < barrier:
                 status = AT_REST
                 break
         h *= min(5.0, 0.9 * max(err, 1e-10) ** -0.2)
@@ -666,11 +678,13 @@ def _mode(status, n_imp):
 @njit(parallel=True, cache=True)
 def spectrum_modes(p, alpha, nu, nonlinear, cosine, ka, kl, uplift, omega_ratios,
                    amplitude_ratios, t_after, rtol, atol):
-    """Mode map: rows follow amplitude_ratios, columns omega_ratios (codes SAFE, AFTER_IMPACT,
-    WITHOUT_IMPACT). The linear free block uses the closed form, all else DOPRI5."""
+    """Mode map and peak |theta| (up to the moment the fate is settled): rows follow
+    amplitude_ratios, columns omega_ratios (codes SAFE, AFTER_IMPACT, WITHOUT_IMPACT). The linear
+    free block uses the closed form, all else DOPRI5."""
     n_a = amplitude_ratios.size
     n_w = omega_ratios.size
     modes = np.zeros((n_a, n_w), dtype=np.int8)
+    max_theta = np.zeros((n_a, n_w))
     closed_form = (not nonlinear) and ka == 0.0 and kl == 0.0
     empty = np.zeros(1)
     for k in prange(n_a * n_w):
@@ -695,4 +709,5 @@ def spectrum_modes(p, alpha, nu, nonlinear, cosine, ka, kl, uplift, omega_ratios
         else:
             res = rk_run(P, empty, empty, t_stop, rtol, atol, True, 0.0, segs[:, :3], imps)
         modes[i, j] = _mode(res[0], res[1])
-    return modes
+        max_theta[i, j] = res[2]
+    return modes, max_theta

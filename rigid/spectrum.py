@@ -2,7 +2,8 @@
 frequency ratios Omega/p and amplitude ratios a_p / a_uplift, with or without collars.
 
 Each grid point is an independent pulse run from rest; the grid runs in parallel over the CPU
-cores (numba ``prange``). The linear model without collars uses the exact closed form, all other
+cores (numba ``prange``). With collars, a second map tells where a collar reaches f_y (the
+elastic collar model holds only up to there). The linear model without collars uses the exact closed form, all other
 cases the DOPRI5 integrator with event location. A run stops as soon as its fate is certain:
 overturned, or (after the pulse) mechanical energy below the gravity barrier at |theta| = alpha.
 """
@@ -17,7 +18,7 @@ import numpy as np
 
 from . import _kernels as K
 from .block import Block, check_model
-from .collars import collar_kernel_constants, validate_collars
+from .collars import collar_kernel_constants, collar_yield_rotation, validate_collars
 from .ground import PULSE_KINDS
 from .solve import DEFAULT_ATOL, MODE_NAMES
 from .validation import InputError
@@ -30,6 +31,8 @@ class Spectrum:
     omega_ratios: np.ndarray = field(repr=False)
     amplitude_ratios: np.ndarray = field(repr=False)
     codes: np.ndarray = field(repr=False)       # int8, rows: amplitude, columns: omega
+    max_abs_theta: np.ndarray = field(repr=False)   # rad, pi/2 where overturned
+    collar_yields: np.ndarray | None = field(repr=False)   # bool, None without collars
     model: str
     pulse: str
     seconds: float
@@ -46,11 +49,14 @@ class Spectrum:
         return np.where(over.any(axis=0), self.amplitude_ratios[first], np.nan)
 
     def to_dict(self) -> dict:
-        return {"omega_ratios": self.omega_ratios.tolist(),
-                "amplitude_ratios": self.amplitude_ratios.tolist(),
-                "mode": self.modes, "layout": LAYOUT, "model": self.model,
-                "pulse": self.pulse, "with_collars": self.with_collars,
-                "seconds": self.seconds}
+        out = {"omega_ratios": self.omega_ratios.tolist(),
+               "amplitude_ratios": self.amplitude_ratios.tolist(),
+               "mode": self.modes, "layout": LAYOUT, "model": self.model,
+               "pulse": self.pulse, "with_collars": self.with_collars,
+               "seconds": self.seconds}
+        if self.collar_yields is not None:
+            out["collar_yields"] = self.collar_yields.tolist()
+        return out
 
 
 def overturning_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(), *,
@@ -79,11 +85,16 @@ def overturning_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(
     if free_time is None:
         free_time = 50.0 / block.p
     start = time.perf_counter()
-    codes = K.spectrum_modes(block.p, block.alpha, block.nu, nonlinear, pulse == "cosine",
-                             ka, kl, uplift, omega_ratios, amplitude_ratios, free_time,
-                             rtol, atol)
-    return Spectrum(omega_ratios, amplitude_ratios, codes, model, pulse,
-                    time.perf_counter() - start, bool(collars))
+    codes, max_theta = K.spectrum_modes(block.p, block.alpha, block.nu, nonlinear,
+                                        pulse == "cosine", ka, kl, uplift, omega_ratios,
+                                        amplitude_ratios, free_time, rtol, atol)
+    seconds = time.perf_counter() - start
+    yields = None
+    if collars:
+        theta_yield = min(collar_yield_rotation(c, block.b) for c in collars)
+        yields = max_theta >= theta_yield
+    return Spectrum(omega_ratios, amplitude_ratios, codes, max_theta, yields, model, pulse,
+                    seconds, bool(collars))
 
 
 def parse_range(text: str, name: str) -> np.ndarray:

@@ -27,9 +27,10 @@ def reference_rocking(p, alpha, nu, ground_over_g, t_ground_end, *, nonlinear, t
             if nonlinear:
                 arg = s * alpha - th
                 acc = -p2 * (math.sin(arg) + ug * math.cos(arg))
-                half = 0.5 * th
-                acc += collar_ka * (math.cos(half) - 1) * math.sin(half) \
-                    - collar_kl * math.tan(half) / math.cos(half) ** 2
+                # collar moment from U = k_a (sqrt(1 + sin^2/4) - 1)^2 + k_l sin^2 / 4
+                sn, cs = math.sin(th), math.cos(th)
+                r = math.sqrt(1 + 0.25 * sn * sn)
+                acc += -collar_ka * (r - 1) * sn * cs / (2 * r) - 0.5 * collar_kl * sn * cs
             else:
                 acc = p2 * th - p2 * (s * alpha + ug) - 0.5 * collar_kl * th
             return [om, acc]

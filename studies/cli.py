@@ -1,0 +1,268 @@
+"""``colonna`` command line.
+
+    colonna rigid     time history of a rocking block (solid or cracked with collars)
+    colonna spectrum  overturning spectrum (mode map) with or without collars
+    colonna design    collar design numbers (corrected Eq. 22-24) and the design chart
+    colonna validate  the Zhang & Makris validation block (make demo)
+
+Bad input ends with one line ``colonna: error: ...`` naming the parameter, exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from rigid.block import MODELS, Block
+from rigid.collars import Collar, read_collars
+from rigid.ground import PULSE_KINDS, pulse_from_ratios, read_record
+from rigid.validation import InputError
+
+from .output import write_csv, write_json
+
+
+# --- shared option groups ---------------------------------------------------------------------
+
+def _add_block_options(parser: argparse.ArgumentParser) -> None:
+    g = parser.add_argument_group("block (give --p and --alpha, or --b and --h)")
+    g.add_argument("--p", type=float, help="frequency parameter p (rad/s)")
+    g.add_argument("--alpha", type=float, help="slenderness angle alpha (rad), in (0, pi/2)")
+    g.add_argument("--b", type=float, help="half width b of the rocking block (m)")
+    g.add_argument("--h", type=float, help="half height h of the rocking block (m)")
+    g.add_argument("--mass", type=float, help="block mass (kg); needed with collars")
+    g.add_argument("--density", type=float, help="stone density (kg/m^3), instead of --mass")
+    g.add_argument("--thickness", type=float,
+                   help="out-of-plane thickness (m) with --density (default pi b: the mass of a "
+                        "half circular column)")
+    g.add_argument("--restitution", type=float,
+                   help="coefficient of restitution nu (default Housner's 1 - 1.5 sin^2 alpha)")
+    g.add_argument("--model", choices=MODELS, default="nonlinear",
+                   help="equation of motion (default nonlinear)")
+    g.add_argument("--g", type=float, default=9.81, help="gravity (m/s^2), default 9.81")
+
+
+def _block_from_args(args) -> Block:
+    by_ratio = args.p is not None or args.alpha is not None
+    by_size = args.b is not None or args.h is not None
+    if by_ratio and by_size:
+        raise InputError("give either --p and --alpha or --b and --h, not both")
+    if by_ratio:
+        if args.p is None or args.alpha is None:
+            raise InputError("--p and --alpha must be given together")
+        block = Block.from_dimensionless(args.p, args.alpha, restitution=args.restitution,
+                                         g=args.g)
+        b, h = block.b, block.h
+    elif by_size:
+        if args.b is None or args.h is None:
+            raise InputError("--b and --h must be given together")
+        b, h = args.b, args.h
+    else:
+        raise InputError("the block is not given: use --p and --alpha, or --b and --h")
+    if args.mass is not None and args.density is not None:
+        raise InputError("give either --mass or --density, not both")
+    if args.density is not None:
+        thickness = args.thickness if args.thickness is not None else math.pi * b
+        return Block.from_density(b, h, args.density, thickness, restitution=args.restitution,
+                                  g=args.g)
+    return Block(b=b, h=h, mass=args.mass, restitution=args.restitution, g=args.g)
+
+
+def _add_collar_option(parser) -> None:
+    parser.add_argument("--collars", type=Path,
+                        help="TOML file with [[collar]] tables (y, t, h, length, E, fy, "
+                             "pretension); the block is then one half of the cracked column")
+
+
+def _collars_from_args(args):
+    return read_collars(args.collars) if args.collars else ()
+
+
+def _emit(args, summary: dict) -> None:
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        for key, value in summary.items():
+            if not isinstance(value, (list, dict)):
+                print(f"{key:28s} {value}")
+
+
+# --- colonna rigid ------------------------------------------------------------------------------
+
+def _cmd_rigid(args) -> dict:
+    from rigid.solve import rock
+
+    block = _block_from_args(args)
+    collars = _collars_from_args(args)
+    if args.record is not None:
+        if args.omega_ratio is not None or args.amplitude_ratio is not None:
+            raise InputError("give either --record or --omega-ratio/--amplitude-ratio")
+        ground = read_record(args.record, g=block.g).scaled(args.scale)
+    else:
+        if args.omega_ratio is None or args.amplitude_ratio is None:
+            raise InputError("a pulse needs --omega-ratio and --amplitude-ratio "
+                             "(or give --record FILE)")
+        ground = pulse_from_ratios(block, args.pulse, args.omega_ratio, args.amplitude_ratio,
+                                   args.model)
+    result = rock(block, ground, collars, model=args.model, duration=args.duration)
+    summary = result.summary()
+    summary["uplift_acceleration"] = block.uplift_acceleration(args.model)
+    if args.out:
+        out = Path(args.out)
+        columns = {"t": result.time, "theta": result.theta, "theta_dot": result.theta_dot,
+                   "ground_acceleration": ground.acceleration(result.time)}
+        for k, hist in enumerate(result.collar_histories, start=1):
+            columns[f"collar_{k}_axial_force"] = hist.axial_force
+            columns[f"collar_{k}_end_moment"] = hist.end_moment
+            columns[f"collar_{k}_stress"] = hist.stress
+        write_csv(out / "history.csv", columns)
+        write_csv(out / "impacts.csv", {"t": result.impact_times,
+                                        "theta_dot_before": result.impact_velocity_before,
+                                        "theta_dot_after": result.impact_velocity_after})
+        write_json(out / "summary.json", summary)
+        from rigid.plotting import plot_history
+        plot_history(result, out / "history.png")
+    return summary
+
+
+# --- colonna spectrum ---------------------------------------------------------------------------
+
+def _cmd_spectrum(args) -> dict:
+    from rigid.spectrum import overturning_spectrum, parse_range
+
+    block = _block_from_args(args)
+    collars = _collars_from_args(args)
+    omegas = parse_range(args.omega_ratios, "--omega-ratios")
+    amplitudes = parse_range(args.amplitude_ratios, "--amplitude-ratios")
+    spectrum = overturning_spectrum(block, omegas, amplitudes, collars, model=args.model,
+                                    pulse=args.pulse)
+    summary = spectrum.to_dict()
+    if args.out:
+        out = Path(args.out)
+        write_json(out / "spectrum.json", summary)
+        write_csv(out / "minimum_overturning_amplitude.csv",
+                  {"omega_ratio": spectrum.omega_ratios,
+                   "amplitude_ratio": spectrum.minimum_overturning_amplitude()})
+        from rigid.plotting import plot_spectrum
+        plot_spectrum(spectrum, out / "spectrum.png")
+    if not args.json:
+        counts = np.bincount(spectrum.codes.ravel(), minlength=3)
+        return {"points": int(spectrum.codes.size), "safe": int(counts[0]),
+                "after-impact": int(counts[1]), "without-impact": int(counts[2]),
+                "seconds": spectrum.seconds}
+    return summary
+
+
+# --- colonna design -----------------------------------------------------------------------------
+
+def _cmd_design(args) -> dict:
+    from rigid.design import design_chart, design_collars
+
+    block = _block_from_args(args)
+    block.require_mass("the collar design (give --mass or --density)")
+    collar = Collar(y=block.h, t=args.collar_t, h=args.collar_h, length=args.collar_length,
+                    E=args.collar_E, fy=args.collar_fy)
+    if (args.ag is None) == (args.ag_ratio is None):
+        raise InputError("give the design pulse peak with exactly one of --ag (m/s^2) or "
+                         "--ag-ratio (a_g / g)")
+    a_g = args.ag if args.ag is not None else args.ag_ratio * block.g
+    design = design_collars(block, collar, a_g)
+    summary = design.to_dict()
+    summary.update({"alpha": block.alpha, "b": block.b, "h": block.h,
+                    "collar_yield_stress": collar.fy})
+    if args.out:
+        out = Path(args.out)
+        write_json(out / "design.json", summary)
+        if args.density is not None:
+            thickness = args.thickness if args.thickness is not None else math.pi * block.b
+            alphas = np.linspace(0.05, 0.5, 46)
+            ratios = np.linspace(0.05, 1.0, 39)
+            k = design_chart(block.b, args.density, thickness, collar, alphas, ratios, block.g)
+            write_csv(out / "design_chart.csv",
+                      {"alpha": np.repeat(alphas, ratios.size),
+                       "ag_over_g": np.tile(ratios, alphas.size),
+                       "required_stiffness": k.ravel()})
+            from rigid.plotting import plot_design_chart
+            plot_design_chart(alphas, ratios, k, out / "design_chart.png")
+    return summary
+
+
+# --- colonna validate ---------------------------------------------------------------------------
+
+def _cmd_validate(args) -> dict:
+    from .validation import zhang_makris_validation
+
+    return zhang_makris_validation(Path(args.out), progress=not args.json)
+
+
+# --- parser -------------------------------------------------------------------------------------
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="colonna", description=__doc__.split("\n\n")[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    p = sub.add_parser("rigid", help="rocking time history of a rigid block")
+    _add_block_options(p)
+    g = p.add_argument_group("ground motion")
+    g.add_argument("--pulse", choices=PULSE_KINDS, default="sine")
+    g.add_argument("--omega-ratio", type=float, help="Omega / p")
+    g.add_argument("--amplitude-ratio", type=float,
+                   help="a_p / a_uplift (uplift: g tan(alpha) nonlinear, g alpha linear), >= 1")
+    g.add_argument("--record", type=Path, help="accelerogram: PEER .AT2, or two columns t, a")
+    g.add_argument("--scale", type=float, default=1.0, help="scale factor on the record")
+    p.add_argument("--duration", type=float, help="end time (s); default end of motion + 20/p")
+    _add_collar_option(p)
+    p.add_argument("--out", type=Path, help="write history.csv, impacts.csv, summary.json, "
+                                            "history.png here")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=_cmd_rigid)
+
+    p = sub.add_parser("spectrum", help="overturning spectrum (mode map)")
+    _add_block_options(p)
+    p.add_argument("--pulse", choices=PULSE_KINDS, default="sine")
+    p.add_argument("--omega-ratios", required=True, help="START:STOP:N of Omega / p")
+    p.add_argument("--amplitude-ratios", required=True, help="START:STOP:M of a_p / a_uplift")
+    _add_collar_option(p)
+    p.add_argument("--out", type=Path, help="write spectrum.json, spectrum.png, CSV here")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_spectrum)
+
+    p = sub.add_parser("design", help="collar design (corrected Eq. 22-24)")
+    _add_block_options(p)
+    g = p.add_argument_group("collar section and design pulse")
+    g.add_argument("--collar-t", type=float, required=True, help="section thickness t_c (m)")
+    g.add_argument("--collar-h", type=float, required=True, help="section height h_c (m)")
+    g.add_argument("--collar-length", type=float, help="collar length L (m), default 4b")
+    g.add_argument("--collar-E", type=float, default=206e9, help="steel E (Pa)")
+    g.add_argument("--collar-fy", type=float, default=235e6, help="steel f_y (Pa)")
+    g.add_argument("--ag", type=float, help="design peak ground acceleration (m/s^2)")
+    g.add_argument("--ag-ratio", type=float, help="design peak ground acceleration / g")
+    p.add_argument("--out", type=Path, help="write design.json and (with --density) the chart")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_design)
+
+    p = sub.add_parser("validate", help="Zhang & Makris validation block (p = 2.14, alpha = 0.25)")
+    p.add_argument("--out", type=Path, default=Path("out/validation"))
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_validate)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        summary = args.func(args)
+    except InputError as exc:
+        print(f"colonna: error: {exc}", file=sys.stderr)
+        return 2
+    _emit(args, summary)
+    return 0
+
+
+if __name__ == "__main__":   # pragma: no cover
+    sys.exit(main())

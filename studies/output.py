@@ -1,0 +1,62 @@
+"""Writing results: CSV tables and JSON, each written atomically (temp file, then rename), so an
+interrupted run never leaves a half-written file behind."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+
+def _atomic_write_text(path: Path, text: str) -> None:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".part")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+def write_json(path, data) -> None:
+    _atomic_write_text(Path(path), json.dumps(_plain(data), indent=2) + "\n")
+
+
+def write_csv(path, columns: dict) -> None:
+    """Write equal-length 1D columns with a header line, full double precision."""
+    names = list(columns)
+    arrays = [np.asarray(columns[n], dtype=float) for n in names]
+    n = {a.shape[0] for a in arrays}
+    if len(n) != 1:
+        raise ValueError(f"columns of different lengths: {sorted(n)}")
+    table = np.column_stack(arrays) if arrays else np.zeros((0, 0))
+    lines = [",".join(names)]
+    lines += [",".join(repr(float(v)) for v in row) for row in table]
+    _atomic_write_text(Path(path), "\n".join(lines) + "\n")
+
+
+def read_csv(path) -> dict:
+    """Inverse of :func:`write_csv`."""
+    with open(path) as fh:
+        names = fh.readline().strip().split(",")
+        data = np.loadtxt(fh, delimiter=",", ndmin=2)
+    return {name: data[:, i] for i, name in enumerate(names)}
+
+
+def _plain(obj):
+    """JSON-safe copy: numpy scalars/arrays to Python, NaN/inf to None."""
+    if isinstance(obj, dict):
+        return {str(k): _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _plain(obj.tolist())
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        value = float(obj)
+        return value if math.isfinite(value) else None
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    return obj
