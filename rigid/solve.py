@@ -177,6 +177,12 @@ def rock(block: Block, ground, collars=(), *, model: str = "linear",
         solver = "dopri5"
     n_stored = min(n_imp, impacts.shape[0])
     overturned = status == K.OVERTURNED
+    if overturned:
+        # the history ends where the block lies down
+        fallen = np.nonzero(np.abs(theta) >= 0.5 * math.pi)[0]
+        if fallen.size:
+            time, theta, theta_dot = (a[:fallen[0] + 1] for a in (time, theta, theta_dot))
+        max_theta = 0.5 * math.pi
     mode = MODE_NAMES[K.AFTER_IMPACT if n_imp else K.WITHOUT_IMPACT] if overturned else "safe"
     result = RockingResult(
         time=time, theta=theta, theta_dot=theta_dot,
@@ -184,7 +190,8 @@ def rock(block: Block, ground, collars=(), *, model: str = "linear",
         impact_velocity_before=impacts[:n_stored, 1].copy(),
         impact_velocity_after=impacts[:n_stored, 2].copy(),
         overturned=overturned, mode=mode, impacts=int(n_imp),
-        max_abs_theta=float(max(max_theta, np.max(np.abs(theta), initial=0.0))),
+        max_abs_theta=float(max_theta if overturned else
+                            max(max_theta, np.max(np.abs(theta), initial=0.0))),
         overturn_time=float(t_over) if overturned else None,
         model=model, solver=solver, block=block, collars=collars)
     result.collar_histories = [_collar_history(time, theta, block.b, c) for c in collars]

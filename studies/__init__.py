@@ -1,0 +1,1 @@
+"""colonna.studies: the command line, declarative studies and their reports."""

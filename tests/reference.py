@@ -14,7 +14,7 @@ from scipy.integrate import solve_ivp
 
 def reference_rocking(p, alpha, nu, ground_over_g, t_ground_end, *, nonlinear, t_stop,
                       collar_ka=0.0, collar_kl=0.0, rtol=1e-12, atol=1e-14, uplift=None,
-                      max_impacts=2000):
+                      max_impacts=2000, settle=True):
     """Return (overturned, impacts, max_abs_theta, impact_times, (t, theta, omega) pieces)."""
     p2 = p * p
     if uplift is None:
@@ -74,6 +74,11 @@ def reference_rocking(p, alpha, nu, ground_over_g, t_ground_end, *, nonlinear, t
             t = te
             y = [0.0, nu * om]
             s = -s
+            # after the ground stops, a block upright with less kinetic energy than the gravity
+            # barrier at |theta| = alpha can never overturn
+            barrier = p2 * (1 - math.cos(alpha)) if nonlinear else 0.5 * p2 * alpha ** 2
+            if settle and t >= t_ground_end and 0.5 * y[1] ** 2 < barrier:
+                return False, len(impacts), max_theta, impacts, pieces
             if abs(nu * om) < 1e-9 * p:
                 # at rest: wait for the ground to lift it again
                 later = ts[(ts > t) & (np.abs(ug) >= uplift)]

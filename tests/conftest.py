@@ -1,0 +1,21 @@
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+
+from rigid import Block  # noqa: E402
+
+
+@pytest.fixture
+def zm_block():
+    """The Zhang & Makris (2001) validation block of the source paper."""
+    return Block.from_dimensionless(p=2.14, alpha=0.25, restitution=0.9)
+
+
+@pytest.fixture
+def half_column():
+    """One half of a cracked marble column 0.8 m wide, 4 m tall (t = pi b, 2700 kg/m^3)."""
+    import math
+    return Block.from_density(b=0.2, h=2.0, density=2700.0, thickness=math.pi * 0.2)

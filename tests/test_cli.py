@@ -1,0 +1,88 @@
+"""The ``colonna`` command line: JSON contracts, files written, one-line errors."""
+
+import json
+
+import pytest
+
+from studies.cli import main
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+ZM = ("--p", "2.14", "--alpha", "0.25", "--restitution", "0.9")
+
+
+def test_rigid_json_contract(capsys):
+    code, out, _ = run(capsys, "rigid", *ZM, "--model", "linear", "--omega-ratio", "5",
+                       "--amplitude-ratio", "4", "--json")
+    assert code == 0
+    data = json.loads(out)
+    assert data["overturned"] is True and data["mode"] == "after-impact"
+    assert isinstance(data["impacts"], int) and data["impacts"] >= 1
+    assert isinstance(data["max_abs_theta_over_alpha"], float)
+
+
+def test_rigid_out_writes_history(capsys, tmp_path):
+    collars = tmp_path / "collars.toml"
+    collars.write_text("[[collar]]\ny = 1.0\nt = 0.01\nh = 0.04\n\n"
+                       "[[collar]]\ny = 3.0\nt = 0.01\nh = 0.04\n")
+    code, out, _ = run(capsys, "rigid", "--b", "0.2", "--h", "2.0", "--density", "2700",
+                       "--omega-ratio", "2", "--amplitude-ratio", "2", "--collars",
+                       str(collars), "--out", str(tmp_path / "o"), "--json")
+    assert code == 0
+    data = json.loads(out)
+    assert "collar_max_utilisation" in data
+    header = (tmp_path / "o" / "history.csv").read_text().splitlines()[0].split(",")
+    assert header[:3] == ["t", "theta", "theta_dot"] and "collar_2_stress" in header
+    assert (tmp_path / "o" / "history.png").stat().st_size > 1000
+
+
+def test_spectrum_json_contract(capsys, tmp_path):
+    code, out, _ = run(capsys, "spectrum", *ZM, "--model", "linear", "--omega-ratios", "1:9:5",
+                       "--amplitude-ratios", "1.5:10:4", "--json", "--out", str(tmp_path))
+    assert code == 0
+    data = json.loads(out)
+    assert len(data["mode"]) == 4 and len(data["mode"][0]) == 5
+    assert data["omega_ratios"][0] == 1.0 and len(data["amplitude_ratios"]) == 4
+    assert "layout" in data and isinstance(data["seconds"], float)
+    assert (tmp_path / "spectrum.png").exists()
+
+
+def test_design_json(capsys, tmp_path):
+    code, out, _ = run(capsys, "design", "--b", "0.2", "--h", "2.0", "--density", "2700",
+                       "--collar-t", "0.01", "--collar-h", "0.05", "--ag-ratio", "0.3",
+                       "--json", "--out", str(tmp_path))
+    assert code == 0
+    data = json.loads(out)
+    assert data["required_stiffness"] > 0 and data["collars_needed"] >= 1
+    assert (tmp_path / "design_chart.png").exists()
+
+
+@pytest.mark.parametrize("argv, word", [
+    (("rigid", "--p", "2", "--alpha", "2", "--omega-ratio", "2", "--amplitude-ratio", "2"),
+     "alpha"),
+    (("rigid", *ZM, "--omega-ratio", "2", "--amplitude-ratio", "0.5"), "amplitude ratio"),
+    (("rigid", "--b", "-1", "--h", "2", "--omega-ratio", "2", "--amplitude-ratio", "2"), "b "),
+    (("rigid", "--b", "0.2", "--h", "2", "--mass", "-5", "--omega-ratio", "2",
+      "--amplitude-ratio", "2"), "mass"),
+    (("rigid", *ZM, "--record", "/nonexistent/rec.at2"), "rec.at2"),
+    (("spectrum", *ZM, "--omega-ratios", "1:9", "--amplitude-ratios", "1:2:3"),
+     "--omega-ratios"),
+])
+def test_bad_input_one_line_error(capsys, argv, word):
+    code, out, err = run(capsys, *argv)
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("colonna: error:") and word in lines[0]
+
+
+def test_collar_above_top_cli(capsys, tmp_path):
+    collars = tmp_path / "c.toml"
+    collars.write_text("[[collar]]\ny = 9.0\nt = 0.01\nh = 0.04\n")
+    code, _, err = run(capsys, "rigid", "--b", "0.2", "--h", "2.0", "--density", "2700",
+                       "--omega-ratio", "2", "--amplitude-ratio", "2", "--collars", str(collars))
+    assert code == 2 and "collar 1 y" in err

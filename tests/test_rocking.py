@@ -1,0 +1,189 @@
+"""Time histories: both solvers against an independent scipy integration, energy between impacts,
+restitution at every impact, mirror symmetry."""
+
+import math
+
+import numpy as np
+import pytest
+
+from reference import reference_rocking, sine_pulse_over_g
+from rigid import Block, Collar, Record, pulse_from_ratios, rock
+from rigid import _kernels as K
+from rigid.solve import kernel_params
+
+CASES = [(5.0, 3.0), (5.0, 4.5), (2.0, 2.0), (8.0, 6.0), (1.0, 1.5), (5.0, 7.3)]
+
+
+def _reference(block, pulse, model, **kw):
+    return reference_rocking(block.p, block.alpha, block.nu,
+                             sine_pulse_over_g(pulse.amplitude / block.g, pulse.omega,
+                                               pulse.phase, pulse.duration),
+                             pulse.duration, nonlinear=model == "nonlinear",
+                             t_stop=pulse.duration + 20.0 / block.p, settle=False, **kw)
+
+
+def _ref_theta(pieces, t):
+    out = np.full_like(t, np.nan)
+    for sol in pieces:
+        inside = (t >= sol.t[0]) & (t <= sol.t[-1])
+        if inside.any():
+            out[inside] = sol.sol(t[inside])[0]
+    return out
+
+
+@pytest.mark.parametrize("model", ["linear", "nonlinear"])
+@pytest.mark.parametrize("omega_ratio, amplitude_ratio", CASES)
+def test_history_matches_reference_integration(zm_block, model, omega_ratio, amplitude_ratio):
+    pulse = pulse_from_ratios(zm_block, "sine", omega_ratio, amplitude_ratio, model)
+    result = rock(zm_block, pulse, model=model)
+    overturned, impacts, max_theta, impact_times, pieces = _reference(zm_block, pulse, model)
+    assert result.overturned == overturned
+    assert result.impacts == impacts
+    n = min(len(impact_times), 5)
+    np.testing.assert_allclose(result.impact_times[:n], impact_times[:n], rtol=1e-7, atol=1e-9)
+    # theta(t) up to the fifth impact (or the end)
+    t_end = impact_times[n - 1] if n else result.time[-1]
+    t = result.time[result.time <= min(t_end, result.time[-1])]
+    ref = _ref_theta(pieces, t)
+    ok = np.isfinite(ref)
+    np.testing.assert_allclose(result.theta[:t.size][ok], ref[ok], atol=1e-7 * zm_block.alpha)
+    if not overturned:
+        assert result.max_abs_theta >= max_theta * (1 - 1e-9)
+        assert result.max_abs_theta == pytest.approx(max_theta, rel=1e-3)
+
+
+def test_closed_form_and_dopri5_agree(zm_block):
+    """The exact linear closed form and the DOPRI5 integration of the same linear equation."""
+    pulse = pulse_from_ratios(zm_block, "sine", 4.0, 3.5, "linear")
+    exact = rock(zm_block, pulse, model="linear")
+    P, rec_t, rec_a = kernel_params(zm_block, pulse, (), "linear")
+    out = np.zeros((exact.time.size + 10, 3))
+    impacts = np.zeros((1000, 3))
+    dt = exact.time[1] - exact.time[0]
+    status, n_imp, *_ , n_out, _ = K.rk_run(P, rec_t, rec_a, exact.time[-1], 1e-11, 1e-13,
+                                           False, dt, out, impacts)
+    assert exact.solver == "closed-form"
+    assert n_imp == exact.impacts
+    np.testing.assert_allclose(impacts[:n_imp, 0], exact.impact_times, rtol=1e-8)
+    m = min(n_out, exact.time.size)
+    np.testing.assert_allclose(out[:m, 1], exact.theta[:m], atol=1e-7 * zm_block.alpha)
+
+
+@pytest.mark.parametrize("model", ["linear", "nonlinear"])
+def test_restitution_applied_at_every_impact(zm_block, model):
+    result = rock(zm_block, pulse_from_ratios(zm_block, "sine", 5.0, 2.8, model), model=model)
+    assert not result.overturned and result.impacts >= 3
+    np.testing.assert_allclose(result.impact_velocity_after,
+                               0.9 * result.impact_velocity_before, rtol=1e-14)
+    # the block changes side at each impact: successive velocities alternate in sign
+    assert np.all(np.diff(np.sign(result.impact_velocity_before)) != 0)
+
+
+def _energy_per_j0(theta, omega, block, model, ka=0.0, kl=0.0):
+    p2, a = block.p ** 2, block.alpha
+    x = np.abs(theta)
+    if model == "nonlinear":
+        s = np.sin(theta)
+        return (0.5 * omega ** 2 + p2 * (np.cos(a - x) - np.cos(a))
+                + ka * (np.sqrt(1 + 0.25 * s * s) - 1) ** 2 + 0.25 * kl * s * s)
+    return 0.5 * omega ** 2 + p2 * (a * x - 0.5 * x * x) + 0.25 * kl * theta ** 2
+
+
+@pytest.mark.parametrize("model", ["linear", "nonlinear"])
+def test_energy_conserved_between_impacts_after_pulse(zm_block, model):
+    pulse = pulse_from_ratios(zm_block, "sine", 5.0, 2.8, model)
+    result = rock(zm_block, pulse, model=model)
+    assert not result.overturned
+    energy = _energy_per_j0(result.theta, result.theta_dot, zm_block, model)
+    edges = np.concatenate(([pulse.duration], result.impact_times[result.impact_times >
+                                                                  pulse.duration]))
+    checked = 0
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        inside = (result.time > lo + 1e-9) & (result.time < hi - 1e-9)
+        if inside.sum() > 10:
+            e = energy[inside]
+            assert np.ptp(e) <= 1e-8 * np.max(np.abs(e))
+            checked += 1
+    assert checked >= 3
+    # and each impact removes (1 - nu^2) of the kinetic energy
+    ratio = (result.impact_velocity_after / result.impact_velocity_before) ** 2
+    np.testing.assert_allclose(ratio, 0.81, rtol=1e-12)
+
+
+def test_energy_conserved_with_collars(half_column):
+    """Collar springs are conservative: kinetic + gravity + collar energy is constant between
+    impacts once the ground is still."""
+    collars = (Collar(y=1.0, t=0.004, h=0.03), Collar(y=3.0, t=0.004, h=0.03))
+    pulse = pulse_from_ratios(half_column, "sine", 3.0, 3.0, "nonlinear")
+    result = rock(half_column, pulse, collars, model="nonlinear")
+    P, *_ = kernel_params(half_column, pulse, collars, "nonlinear")
+    energy = _energy_per_j0(result.theta, result.theta_dot, half_column, "nonlinear",
+                            P[K.P_KA], P[K.P_KL])
+    edges = np.concatenate(([pulse.duration], result.impact_times[result.impact_times >
+                                                                  pulse.duration]))
+    checked = 0
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        inside = (result.time > lo + 1e-9) & (result.time < hi - 1e-9)
+        if inside.sum() > 10:
+            assert np.ptp(energy[inside]) <= 1e-7 * np.max(energy[inside])
+            checked += 1
+    assert checked >= 2
+
+
+@pytest.mark.parametrize("model", ["linear", "nonlinear"])
+def test_mirror_symmetry(zm_block, model):
+    pulse = pulse_from_ratios(zm_block, "sine", 4.0, 3.3, model)
+    mirrored = type(pulse)(pulse.kind, -pulse.amplitude, pulse.omega, pulse.phase, pulse.duration)
+    a = rock(zm_block, pulse, model=model)
+    b = rock(zm_block, mirrored, model=model)
+    assert a.theta.min() < 0 < b.theta.max()     # positive ground push rocks to negative theta
+    np.testing.assert_allclose(b.theta, -a.theta, atol=1e-12)
+    assert a.mode == b.mode and a.impacts == b.impacts
+
+
+def test_record_path_reproduces_the_pulse(zm_block):
+    """A finely sampled record of the pulse gives the pulse's response (record interpolation)."""
+    pulse = pulse_from_ratios(zm_block, "sine", 3.0, 2.2, "nonlinear")
+    t = np.linspace(0.0, pulse.duration, 20001)
+    record = Record(t, pulse.acceleration(t))
+    a = rock(zm_block, pulse, model="nonlinear", duration=pulse.duration + 5.0)
+    b = rock(zm_block, record, model="nonlinear", duration=pulse.duration + 5.0,
+             dt_out=a.time[1])
+    assert a.impacts == b.impacts
+    n = min(a.time.size, b.time.size)
+    np.testing.assert_allclose(b.theta[:n], a.theta[:n], atol=2e-5 * zm_block.alpha)
+
+
+def test_overturning_modes_named_in_words(zm_block):
+    after = rock(zm_block, pulse_from_ratios(zm_block, "sine", 5.0, 4.0, "linear"))
+    without = rock(zm_block, pulse_from_ratios(zm_block, "sine", 5.0, 9.0, "linear"))
+    safe = rock(zm_block, pulse_from_ratios(zm_block, "sine", 5.0, 2.0, "linear"))
+    assert (after.mode, without.mode, safe.mode) == ("after-impact", "without-impact", "safe")
+    assert after.impacts >= 1 and without.impacts == 0
+    assert after.max_abs_theta == pytest.approx(math.pi / 2)
+
+
+def test_cosine_pulse_starts_rocking_at_once(zm_block):
+    pulse = pulse_from_ratios(zm_block, "cosine", 3.0, 2.0, "nonlinear")
+    assert pulse.acceleration(0.0) == pytest.approx(2.0 * zm_block.uplift_acceleration())
+    result = rock(zm_block, pulse, model="nonlinear")
+    assert abs(result.theta[5]) > 0.0 and result.theta[5] < 0.0
+    overturned, impacts, *_ = reference_rocking(
+        zm_block.p, zm_block.alpha, 0.9,
+        lambda t: pulse.acceleration(t) / zm_block.g, pulse.duration, nonlinear=True,
+        t_stop=pulse.duration + 20 / zm_block.p)
+    assert (result.overturned, result.impacts) == (overturned, impacts)
+
+
+def test_block_stays_put_below_uplift(zm_block):
+    weak = Record(np.linspace(0, 2, 201), 0.5 * zm_block.uplift_acceleration() *
+                  np.sin(np.linspace(0, 2, 201) * 5))
+    result = rock(zm_block, weak, model="nonlinear")
+    assert result.max_abs_theta == 0.0 and result.impacts == 0 and not result.overturned
+
+
+def test_housner_default_restitution_used():
+    blk = Block(b=0.25, h=2.0)
+    result = rock(blk, pulse_from_ratios(blk, "sine", 3.0, 2.5, "nonlinear"), model="nonlinear")
+    np.testing.assert_allclose(result.impact_velocity_after / result.impact_velocity_before,
+                               1 - 1.5 * math.sin(blk.alpha) ** 2, rtol=1e-13)
