@@ -481,7 +481,10 @@ def _lin_segment(t0, th0, om0, s, pulse_on, P, seg):
 
 @njit(cache=True)
 def _lin_root(component, level, seg, P, a, b):
-    """Root in [a, b] of the closed-form theta (0) or omega (1) minus level (Illinois)."""
+    """Root in [a, b] of the closed-form theta (0) or omega (1) minus level (Illinois).
+
+    The twin of :func:`_dense_root` on purpose: a shared root finder taking the function as an
+    argument stops numba from caching the kernels (every process would recompile for ~20 s)."""
     fa = _lin_state(a, seg, P)[component] - level
     fb = _lin_state(b, seg, P)[component] - level
     side = 0

@@ -26,6 +26,13 @@ from rigid.validation import InputError
 from .output import write_csv, write_json
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with the project's one-line error format (no usage block)."""
+
+    def error(self, message):
+        self.exit(2, f"colonna: error: {message} (see '{self.prog} --help')\n")
+
+
 # --- shared option groups ---------------------------------------------------------------------
 
 def _add_block_options(parser: argparse.ArgumentParser) -> None:
@@ -202,7 +209,7 @@ def _cmd_validate(args) -> dict:
 # --- parser -------------------------------------------------------------------------------------
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="colonna", description=__doc__.split("\n\n")[0])
+    parser = _Parser(prog="colonna", description=__doc__.split("\n\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("rigid", help="rocking time history of a rigid block")

@@ -86,3 +86,16 @@ def test_collar_above_top_cli(capsys, tmp_path):
     code, _, err = run(capsys, "rigid", "--b", "0.2", "--h", "2.0", "--density", "2700",
                        "--omega-ratio", "2", "--amplitude-ratio", "2", "--collars", str(collars))
     assert code == 2 and "collar 1 y" in err
+
+
+@pytest.mark.parametrize("argv, word", [
+    (("spectrum", *ZM, "--amplitude-ratios", "1:2:3"), "--omega-ratios"),
+    (("rigid", "--p", "abc"), "--p"),
+    (("rigid", *ZM, "--model", "quadratic"), "--model"),
+])
+def test_argument_errors_are_one_line(capsys, argv, word):
+    with pytest.raises(SystemExit) as exc:
+        main(list(argv))
+    err = capsys.readouterr().err
+    assert exc.value.code == 2
+    assert len(err.strip().splitlines()) == 1 and word in err and err.startswith("colonna: error")
