@@ -1,0 +1,278 @@
+"""The finite-element model of a (cracked) column: bodies, contact, collars, and its stable step.
+
+Penalty stiffness (per contact node, N/m) is ``penalty_factor * E * t * l_trib / h``: the stiffness
+of the adjacent element over the node's tributary length l_trib, h being that element's size normal
+to the surface. With the default factor 1 the contact springs are as stiff as the stone next to them,
+so they neither dominate the stable step nor let the faces sink visibly (penetration ~ strain x h).
+The tangential penalty equals the normal one. Contact damping is a fraction ``damping`` of the
+critical damping of each contact spring with its node's mass.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import sparse
+from scipy.sparse.linalg import eigsh
+
+from meshes.column import ColumnMesh
+from rigid.collars import Collar
+from rigid.validation import InputError, require_non_negative, require_positive, require_range
+
+from . import _kernels as K
+from .assembly import Stone, assemble
+
+
+@dataclass(frozen=True)
+class ContactSettings:
+    """friction: Coulomb mu (base and crack); penalty_factor: scales the default penalty;
+    penalty: a fixed penalty per unit contact area (N/m^3), overrides the factor;
+    damping: fraction of critical damping of each contact spring."""
+
+    friction: float = 0.7
+    penalty_factor: float = 1.0
+    penalty: float | None = None
+    damping: float = 0.05
+
+    def __post_init__(self):
+        require_non_negative("contact friction", self.friction)
+        require_positive("contact penalty_factor", self.penalty_factor)
+        if self.penalty is not None:
+            require_positive("contact penalty (N/m^3)", self.penalty)
+        require_range("contact damping", self.damping, 0.0, 1.0, closed_low=True)
+
+
+@dataclass
+class Model:
+    mesh: ColumnMesh
+    stone: Stone
+    thickness: float
+    collars: tuple
+    contact: ContactSettings
+    g: float
+    stiffness: sparse.csr_matrix = field(repr=False)
+    mass: np.ndarray = field(repr=False)            # per dof
+    gravity: np.ndarray = field(repr=False)
+    X: np.ndarray = field(repr=False)               # reference positions, interleaved
+    centroid_ref: np.ndarray = field(repr=False)    # (n_bodies, 2)
+    base_nodes: np.ndarray = field(repr=False)
+    base_kn: np.ndarray = field(repr=False)
+    base_kt: np.ndarray = field(repr=False)
+    base_cn: np.ndarray = field(repr=False)
+    base_tributary: np.ndarray = field(repr=False)
+    crack_passes: list = field(repr=False)          # [(slaves, masters, sign, kn, kt, cn)]
+    collar_nodes: np.ndarray = field(repr=False)    # (n_collars, 6) int
+    collar_props: np.ndarray = field(repr=False)    # (n_collars, 7)
+
+    @property
+    def n_dofs(self) -> int:
+        return self.X.size
+
+    @property
+    def node_mass(self) -> np.ndarray:
+        return self.mass[0::2]
+
+
+def _tributary(coords: np.ndarray) -> np.ndarray:
+    """Tributary lengths of sorted points on a line."""
+    mid = 0.5 * (coords[1:] + coords[:-1])
+    return np.diff(np.concatenate(([coords[0]], mid, [coords[-1]])))
+
+
+def _penalty(stone, thickness, contact, tributary, h):
+    if contact.penalty is not None:
+        return contact.penalty * thickness * tributary
+    return contact.penalty_factor * stone.E * thickness * tributary / h
+
+
+def build_model(mesh: ColumnMesh, stone: Stone, thickness: float, collars=(),
+                contact: ContactSettings = ContactSettings(), g: float = 9.81) -> Model:
+    """Assemble bodies, contact pairs and collar elements."""
+    a = assemble(mesh, stone, thickness, g)
+    p = mesh.points
+    X = p.T.ravel().copy()
+    node_mass = a.lumped_mass[0::2]
+    centroid_ref = np.zeros((mesh.n_bodies, 2))
+    for b in range(mesh.n_bodies):
+        on = mesh.node_body == b
+        centroid_ref[b] = (p[:, on] * node_mass[on]).sum(axis=1) / node_mass[on].sum()
+
+    # base: every body's base against the ground
+    base_nodes, kn, trib_all = [], [], []
+    for nodes in mesh.base_nodes:
+        xs = p[0, nodes]
+        trib = _tributary(xs)
+        above = _node_above(mesh, nodes)
+        h = p[1, above] - p[1, nodes]
+        base_nodes.append(nodes)
+        kn.append(_penalty(stone, thickness, contact, trib, h))
+        trib_all.append(trib)
+    base_nodes = np.concatenate(base_nodes)
+    base_kn = np.concatenate(kn)
+    base_cn = 2.0 * contact.damping * np.sqrt(base_kn * node_mass[base_nodes])
+
+    # crack: node-to-segment both ways, half the penalty each
+    passes = []
+    if mesh.cracked:
+        left, right = mesh.crack_nodes
+        for slaves, masters, sign in ((right, left, 1.0), (left, right, -1.0)):
+            trib = _tributary(p[1, slaves])
+            h = np.abs(p[0, _node_beside(mesh, slaves)] - p[0, slaves])
+            k = 0.5 * _penalty(stone, thickness, contact, trib, h)
+            c = 2.0 * contact.damping * np.sqrt(k * node_mass[slaves])
+            passes.append((slaves.astype(np.int64), masters.astype(np.int64), sign, k, k.copy(),
+                           c))
+
+    collar_nodes, collar_props = _collar_elements(mesh, collars)
+    return Model(mesh, stone, float(thickness), tuple(collars), contact, g, a.stiffness,
+                 a.lumped_mass, a.gravity, X, centroid_ref, base_nodes.astype(np.int64), base_kn,
+                 base_kn.copy(), base_cn, np.concatenate(trib_all), passes, collar_nodes,
+                 collar_props)
+
+
+def _node_above(mesh: ColumnMesh, nodes: np.ndarray) -> np.ndarray:
+    """For base nodes: the node directly above (sharing an element edge)."""
+    return _neighbour(mesh, nodes, axis=1)
+
+
+def _node_beside(mesh: ColumnMesh, nodes: np.ndarray) -> np.ndarray:
+    """For crack-face nodes: the nearest node inward along x."""
+    return _neighbour(mesh, nodes, axis=0)
+
+
+def _neighbour(mesh: ColumnMesh, nodes: np.ndarray, axis: int) -> np.ndarray:
+    cells = mesh.cells
+    p = mesh.points
+    out = np.empty_like(nodes)
+    for k, i in enumerate(nodes):
+        touching = cells[:, np.any(cells == i, axis=0)]
+        cand = np.unique(touching[touching != i])
+        other = 1 - axis
+        aligned = cand[np.abs(p[other, cand] - p[other, i]) < 1e-9 * (1.0 + abs(p[other, i]))]
+        if aligned.size == 0:
+            aligned = cand
+        out[k] = aligned[np.argmin(np.abs(p[axis, aligned] - p[axis, i]))]
+    return out
+
+
+def _collar_elements(mesh: ColumnMesh, collars):
+    nodes = np.zeros((len(collars), 6), dtype=np.int64)
+    props = np.zeros((len(collars), 7))
+    if not collars:
+        return nodes, props
+    faces = mesh.outer_nodes        # left and right outer faces (of one body if solid)
+    p = mesh.points
+    for c, collar in enumerate(collars):
+        if not 0.0 < collar.y <= mesh.height:
+            raise InputError(f"collar {c + 1} y = {collar.y:g} m is outside the column height "
+                             f"(0, {mesh.height:g}]")
+        row = []
+        for face in faces:
+            k = int(np.argmin(np.abs(p[1, face] - collar.y)))
+            below = face[max(k - 1, 0)]
+            above = face[min(k + 1, face.size - 1)]
+            row += [face[k], below, above]
+        nodes[c] = row
+        chord = p[:, row[3]] - p[:, row[0]]
+        L0 = float(np.hypot(*chord))
+        L = collar.length if collar.length is not None else L0
+        ea_l = collar.E * collar.area / L
+        # bending stiffness scaled so that the lateral stiffness is 12 E I / L^3 over the chord
+        ei_l = collar.E * collar.second_moment * (L0 / L) ** 3 / L0
+        angles = []
+        for side in range(2):
+            below, above = row[1 + 3 * side], row[2 + 3 * side]
+            angles.append(math.atan2(p[1, above] - p[1, below], p[0, above] - p[0, below]))
+        props[c] = (ea_l, ei_l, collar.pretension, L0, math.atan2(chord[1], chord[0]),
+                    angles[0], angles[1])
+    return nodes, props
+
+
+# ------------------------------------------------------------------------------------------
+# linearised stiffness and the stable time step
+# ------------------------------------------------------------------------------------------
+
+def contact_stiffness(model: Model) -> sparse.csr_matrix:
+    """Linearised stiffness of the contact springs in the reference configuration (all closed)."""
+    n = model.n_dofs
+    rows, cols, vals = [], [], []
+
+    def spring(i, j, k):      # dof i to dof j (j < 0: to the ground)
+        rows.append(i), cols.append(i), vals.append(k)
+        if j >= 0:
+            rows.extend([j, i, j]), cols.extend([j, j, i]), vals.extend([k, -k, -k])
+
+    for node, knn, ktt in zip(model.base_nodes, model.base_kn, model.base_kt):
+        spring(2 * node + 1, -1, knn)
+        spring(2 * node, -1, ktt)
+    y = model.mesh.points[1]
+    for slaves, masters, sign, knn, ktt, _ in model.crack_passes:
+        partners = masters[np.argmin(np.abs(y[slaves][:, None] - y[masters][None, :]), axis=1)]
+        for s, m_, k1, k2 in zip(slaves, partners, knn, ktt):   # faces coincide at rest
+            spring(2 * s, 2 * m_, k1)
+            spring(2 * s + 1, 2 * m_ + 1, k2)
+    return sparse.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+
+def collar_stiffness(model: Model, h: float = 1e-7) -> sparse.csr_matrix:
+    """Linearised collar stiffness at the reference configuration (central differences)."""
+    n = model.n_dofs
+    if model.collar_nodes.shape[0] == 0:
+        return sparse.csr_matrix((n, n))
+    dofs = np.unique(np.concatenate([2 * model.collar_nodes.ravel(),
+                                     2 * model.collar_nodes.ravel() + 1]))
+    x = model.X.copy()
+    out = np.zeros((model.collar_nodes.shape[0], 4))
+    cols = []
+    step = h * model.mesh.width
+    for d in dofs:
+        fp, fm = np.zeros(n), np.zeros(n)
+        x[d] += step
+        K.collar_forces(x, model.collar_nodes, model.collar_props, out, fp)
+        x[d] -= 2 * step
+        K.collar_forces(x, model.collar_nodes, model.collar_props, out, fm)
+        x[d] += step
+        cols.append(-(fp - fm)[dofs] / (2 * step))
+    local = np.array(cols).T
+    local = 0.5 * (local + local.T)
+    i, j = np.meshgrid(dofs, dofs, indexing="ij")
+    return sparse.csr_matrix((local.ravel(), (i.ravel(), j.ravel())), shape=(n, n))
+
+
+def max_frequency(stiffness: sparse.spmatrix, mass: np.ndarray) -> float:
+    """Highest circular frequency sqrt(lambda_max(M^-1 K)) with lumped mass (rad/s)."""
+    scale = sparse.diags(1.0 / np.sqrt(mass))
+    A = (scale @ stiffness @ scale).tocsr()
+    lam = eigsh(A, k=1, which="LA", return_eigenvectors=False, tol=1e-8)[0]
+    return float(math.sqrt(max(lam, 0.0)))
+
+
+@dataclass(frozen=True)
+class StableStep:
+    """Critical steps 2 / omega_max (s): stone alone, and with contact springs and collars; the
+    step used is safety * critical * (sqrt(1 + xi^2) - xi) for contact damping xi."""
+
+    critical_elastic: float
+    critical: float
+    safety: float
+    damping: float
+
+    @property
+    def dt(self) -> float:
+        xi = self.damping
+        return self.safety * self.critical * (math.sqrt(1.0 + xi * xi) - xi)
+
+    @property
+    def contact_reduction(self) -> float:
+        """critical / critical_elastic: how much contact and collars shorten the step."""
+        return self.critical / self.critical_elastic
+
+
+def stable_time_step(model: Model, safety: float = 0.9) -> StableStep:
+    require_range("run safety (time-step safety factor)", safety, 0.0, 1.0, closed_high=True)
+    w_el = max_frequency(model.stiffness, model.mass)
+    total = model.stiffness + contact_stiffness(model) + collar_stiffness(model)
+    w_all = max_frequency(total, model.mass)
+    return StableStep(2.0 / w_el, 2.0 / w_all, safety, model.contact.damping)

@@ -1,0 +1,375 @@
+"""Explicit dynamics of the column under gravity and a ground pulse, and the recovered results.
+
+The run starts from static equilibrium under gravity (a linear solve with the contact springs
+closed), then steps with central differences. The compiled kernel advances one output interval
+at a time; between intervals Python recovers the outputs, appends them to ``history.csv`` (so an
+interrupted run keeps every row already computed) and checks for overturning or blow-up.
+
+Outputs per output time (``history``):
+  t; theta_left, theta_right (rad, rigid rotation of each half from a mass-weighted least-squares
+  fit, positive tipping toward +x as in rigid/); uplift_left, uplift_right (m, height of the outer
+  toes); edge_stress_left, edge_stress_right (Pa, compression positive: base contact pressure
+  averaged over ``edge_length`` from the outer toes; edge_stress_inner_* at the crack toes);
+  base and crack contact forces; crack slip and opening; collar_k_axial_force, _moment, _stress,
+  _utilisation; energies (kinetic, strain, gravity, contact, collar, dissipated, external_work)
+  and energy_error = (energy now + dissipated - external work - energy at start) / scale, scale =
+  the largest of the kinetic energy and |external work| seen so far.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy import sparse
+from scipy.sparse.linalg import spsolve
+
+from rigid.validation import InputError, require_positive
+
+from . import _kernels as K
+from .model import Model, collar_stiffness, contact_stiffness, stable_time_step
+
+
+@dataclass
+class FemResult:
+    history: dict = field(repr=False)
+    summary: dict
+    displacement_frames: list = field(repr=False)     # (t, u (n_nodes, 2)) at output times
+    model: Model = field(repr=False)
+
+
+def static_state(model: Model):
+    """Gravity equilibrium with all contact springs closed: displacement and the tangential
+    contact forces that hold it (used as the initial friction state)."""
+    total = (model.stiffness + contact_stiffness(model) + collar_stiffness(model)).tocsc()
+    f = model.gravity.copy()
+    out = np.zeros((model.collar_nodes.shape[0], 4))
+    K.collar_forces(model.X.copy(), model.collar_nodes, model.collar_props, out, f)  # pretension
+    u = spsolve(total, f)
+    base_ft = -model.base_kt * u[2 * model.base_nodes]
+    crack_ft = []
+    for slaves, masters, _sign, _kn, kt, _cn in model.crack_passes:
+        partner = _coincident(model, slaves, masters)
+        crack_ft.append(-kt * (u[2 * slaves + 1] - u[2 * partner + 1]))
+    return u, base_ft, crack_ft
+
+
+def _coincident(model, slaves, masters):
+    y = model.mesh.points[1]
+    return masters[np.argmin(np.abs(y[slaves][:, None] - y[masters][None, :]), axis=1)]
+
+
+def run(model: Model, ground, duration: float, *, dt: float | None = None, safety: float = 0.9,
+        output_interval: float | None = None, edge_length: float | None = None,
+        out_dir=None, progress: bool = True, stop_on_overturn: bool = True) -> FemResult:
+    """Run the model under ``ground`` (a HarmonicPulse or Record of rigid.ground) for ``duration``
+    seconds. ``dt`` (s) may be set by hand but not above the stable step."""
+    require_positive("run duration (s)", duration)
+    step = stable_time_step(model, safety)
+    if dt is None:
+        dt = step.dt
+    else:
+        require_positive("run dt (s)", dt)
+        if dt > step.dt * (1.0 + 1e-9):
+            raise InputError(f"run dt = {dt:.4g} s is above the stable time step {step.dt:.4g} s "
+                             f"(critical {step.critical:.4g} s x safety {safety:g} x damping "
+                             "reduction): lower it or leave it out")
+    if output_interval is None:
+        output_interval = duration / 400.0
+    require_positive("run output_interval (s)", output_interval)
+    steps_per_output = max(1, int(round(output_interval / dt)))
+    n_outputs = int(math.ceil(duration / (steps_per_output * dt)))
+    mesh = model.mesh
+    body_width = mesh.width / mesh.n_bodies
+    if edge_length is None:
+        edge_length = 0.1 * body_width
+    require_positive("edge_length (m)", edge_length)
+    if edge_length > body_width:
+        raise InputError(f"edge_length = {edge_length:g} m is larger than the width of a body "
+                         f"({body_width:g} m)")
+
+    u0, base_ft, crack_ft = static_state(model)
+    x = model.X + u0
+    v = np.zeros_like(x)
+    n_b = mesh.n_bodies
+    frames = np.zeros((n_b, 3))
+    tallies = np.zeros(2)
+    energies = np.zeros(4)
+    u_loc = np.zeros_like(x)
+    f_loc = np.zeros_like(x)
+    f = np.zeros_like(x)
+    base_fn = np.zeros(model.base_nodes.size)
+    collar_out = np.zeros((model.collar_nodes.shape[0], 4))
+    crack = [_crack_state(p, ft) for p, ft in zip(model.crack_passes, crack_ft)]
+    while len(crack) < 2:
+        crack.append(_crack_state(None, None))
+    A = model.stiffness.tobsr(blocksize=(2, 2))
+    indptr, indices, data = (A.indptr.astype(np.int64), A.indices.astype(np.int64),
+                             np.ascontiguousarray(A.data, dtype=float))
+
+    recorder = _Recorder(model, edge_length, out_dir)
+    t = 0.0
+    reason = "completed"
+    overturned = False
+    start = time.perf_counter()
+    last_print = start
+    energy0 = None
+    # initial forces (contact normal forces at rest) for the first record
+    _advance(0, dt, x, v, model, frames, indptr, indices, data, np.zeros(1), base_ft, base_fn,
+             crack, collar_out, u_loc, f_loc, f, tallies, energies)
+    for k in range(n_outputs + 1):
+        row = recorder.record(t, x, v, frames, base_fn, crack, collar_out, energies, tallies,
+                              model.X)
+        if energy0 is None:
+            energy0 = row["energy_total"]
+        recorder.finish_row(row, energy0)
+        state = _check(row, recorder, model, ground, t, stop_on_overturn)
+        if state is not None:
+            reason, overturned = state
+            break
+        if k == n_outputs:
+            break
+        times = t + dt * np.arange(steps_per_output)
+        acc = np.ascontiguousarray(ground.acceleration(times), dtype=float)
+        done = _advance(steps_per_output, dt, x, v, model, frames, indptr, indices, data, acc,
+                        base_ft, base_fn, crack, collar_out, u_loc, f_loc, f, tallies, energies)
+        t += done * dt
+        if done < steps_per_output:
+            reason = (f"numerical blow-up at t = {t:.4g} s: the state stopped being finite "
+                      f"(dt = {dt:.3g} s too large for the contact or collar stiffness?)")
+            break
+        if progress and time.perf_counter() - last_print > 0.5:
+            last_print = time.perf_counter()
+            _progress(t, duration, last_print - start)
+    wall = time.perf_counter() - start
+    if progress and wall > 0.5:
+        _progress(t, duration, wall, end=True)
+    history = recorder.close()
+    summary = _summary(model, history, reason, overturned, dt, step, k, steps_per_output, wall,
+                       edge_length)
+    result = FemResult(history, summary, recorder.frames, model)
+    if out_dir is not None:
+        from .output import write_outputs
+        write_outputs(result, Path(out_dir))
+    return result
+
+
+def _crack_state(crack_pass, ft0):
+    if crack_pass is None:
+        empty_i = np.zeros(0, dtype=np.int64)
+        empty = np.zeros(0)
+        return dict(sl=empty_i, ma=np.zeros(1, dtype=np.int64), sign=1.0, kn=empty, kt=empty,
+                    cn=empty, seg=empty_i.copy(), ft=empty.copy(), fn=empty.copy())
+    slaves, masters, sign, kn, kt, cn = crack_pass
+    return dict(sl=slaves, ma=masters, sign=sign, kn=kn, kt=kt, cn=cn,
+                seg=np.full(slaves.size, -1, dtype=np.int64), ft=ft0.copy(),
+                fn=np.zeros(slaves.size))
+
+
+def _advance(n, dt, x, v, model, frames, indptr, indices, data, acc, base_ft, base_fn, crack,
+             collar_out, u_loc, f_loc, f, tallies, energies):
+    a, b = crack
+    if n == 0:          # evaluate forces once without moving: run one step on copies
+        xs, vs = x.copy(), v.copy()
+        tl, en = tallies.copy(), energies
+        K.advance(1, 0.0, xs, vs, model.X, model.mass, model.mesh.node_body, model.mesh.n_bodies,
+                  model.centroid_ref, frames, indptr, indices, data, model.gravity,
+                  np.zeros(1), model.base_nodes, model.base_kn, model.base_kt, model.base_cn,
+                  model.contact.friction, base_ft.copy(), base_fn,
+                  a["sl"], a["ma"], a["sign"], a["kn"], a["kt"], a["cn"], a["seg"].copy(),
+                  a["ft"].copy(), a["fn"], b["sl"], b["ma"], b["sign"], b["kn"], b["kt"],
+                  b["cn"], b["seg"].copy(), b["ft"].copy(), b["fn"], model.collar_nodes,
+                  model.collar_props, collar_out, u_loc, f_loc, f, tl, en)
+        return 0
+    return K.advance(n, dt, x, v, model.X, model.mass, model.mesh.node_body, model.mesh.n_bodies,
+                     model.centroid_ref, frames, indptr, indices, data, model.gravity, acc,
+                     model.base_nodes, model.base_kn, model.base_kt, model.base_cn,
+                     model.contact.friction, base_ft, base_fn,
+                     a["sl"], a["ma"], a["sign"], a["kn"], a["kt"], a["cn"], a["seg"], a["ft"],
+                     a["fn"], b["sl"], b["ma"], b["sign"], b["kn"], b["kt"], b["cn"], b["seg"],
+                     b["ft"], b["fn"], model.collar_nodes, model.collar_props, collar_out,
+                     u_loc, f_loc, f, tallies, energies)
+
+
+def _progress(t, duration, wall, end=False):
+    frac = min(1.0, t / duration)
+    bar = "#" * int(30 * frac)
+    sys.stderr.write(f"\r[fem] |{bar:<30s}| {100 * frac:5.1f}%  t = {t:.3f}/{duration:.3f} s  "
+                     f"{wall:6.1f} s" + ("\n" if end else ""))
+    sys.stderr.flush()
+
+
+class _Recorder:
+    """Recovers the outputs at each output time and streams them to history.csv."""
+
+    def __init__(self, model: Model, edge_length: float, out_dir):
+        self.model = model
+        mesh = model.mesh
+        p = mesh.points
+        self.rows = []
+        self.frames = []
+        self.scale = 0.0
+        self.w_ext_max = 0.0
+        # toes: outer corners of the column, and the crack corners of each half
+        self.toe_left = mesh.base_nodes[0][0]
+        self.toe_right = mesh.base_nodes[-1][-1]
+        # edge-stress weights: share of each base node's tributary segment within edge_length
+        base = model.base_nodes
+        xb = p[0, base]
+        trib_lo, trib_hi = self._tributary_intervals(mesh)
+        self.edge_weights = {}
+        corners = {"left": (xb.min(), +1), "right": (xb.max(), -1)}
+        if mesh.cracked:
+            corners["inner_left"] = (p[0, mesh.base_nodes[0]].max(), -1)
+            corners["inner_right"] = (p[0, mesh.base_nodes[1]].min(), +1)
+        for name, (x0, direction) in corners.items():
+            lo, hi = (x0, x0 + edge_length) if direction > 0 else (x0 - edge_length, x0)
+            body = 0 if name in ("left", "inner_left") else mesh.n_bodies - 1
+            same_body = mesh.node_body[base] == body
+            overlap = np.clip(np.minimum(trib_hi, hi) - np.maximum(trib_lo, lo), 0.0, None)
+            self.edge_weights[name] = np.where(same_body, overlap / (trib_hi - trib_lo), 0.0)
+        self.edge_area = edge_length * model.thickness
+        self.crack_pairs = None
+        if mesh.cracked:
+            left, right = mesh.crack_nodes
+            self.crack_pairs = (left, right[np.argmin(np.abs(p[1, left][:, None]
+                                                           - p[1, right][None, :]), axis=1)])
+        self.body_alpha = math.atan2(mesh.width / mesh.n_bodies, mesh.height)
+        self.csv = None
+        if out_dir is not None:
+            out = Path(out_dir)
+            out.mkdir(parents=True, exist_ok=True)
+            self.csv_path = out / "history.csv"
+            self.csv = open(self.csv_path.with_name("history.csv.part"), "w")
+        self.header = None
+
+    def _tributary_intervals(self, mesh):
+        lo, hi = [], []
+        for nodes in mesh.base_nodes:
+            xs = mesh.points[0, nodes]
+            mid = 0.5 * (xs[1:] + xs[:-1])
+            lo.append(np.concatenate(([xs[0]], mid)))
+            hi.append(np.concatenate((mid, [xs[-1]])))
+        return np.concatenate(lo), np.concatenate(hi)
+
+    def record(self, t, x, v, frames, base_fn, crack, collar_out, energies, tallies, X):
+        model, mesh = self.model, self.model.mesh
+        theta = -frames[:, 2]
+        row = {"t": t, "theta_left": theta[0], "theta_right": theta[-1]}
+        for b in range(mesh.n_bodies):
+            c = model.centroid_ref[b]
+            row[f"translation_x_{b + 1}"] = frames[b, 0] - c[0]
+            row[f"translation_y_{b + 1}"] = frames[b, 1] - c[1]
+        row["uplift_left"] = max(x[2 * self.toe_left + 1], 0.0)
+        row["uplift_right"] = max(x[2 * self.toe_right + 1], 0.0)
+        for name, w in self.edge_weights.items():
+            row[f"edge_stress_{name}"] = float(w @ base_fn) / self.edge_area
+        body_of_base = mesh.node_body[model.base_nodes]
+        for b in range(mesh.n_bodies):
+            row[f"base_normal_force_{b + 1}"] = float(base_fn[body_of_base == b].sum())
+        if mesh.cracked:
+            row["crack_normal_force"] = float(crack[0]["fn"].sum() + crack[1]["fn"].sum())
+            left, right = self.crack_pairs
+            c, s = math.cos(frames[0, 2]), math.sin(frames[0, 2])
+            d = x.reshape(-1, 2)[right] - x.reshape(-1, 2)[left]
+            opening = c * d[:, 0] + s * d[:, 1]            # along the left half's x axis
+            slip = -s * d[:, 0] + c * d[:, 1]
+            row["crack_opening_max"] = float(opening.max())
+            row["crack_slip_max"] = float(np.abs(slip).max())
+        for k, collar in enumerate(model.collars, start=1):
+            N, M1, M2 = collar_out[k - 1, :3]
+            moment = max(abs(M1), abs(M2))
+            stress = abs(N) / collar.area + moment / collar.section_modulus
+            row[f"collar_{k}_axial_force"] = N
+            row[f"collar_{k}_moment"] = moment
+            row[f"collar_{k}_stress"] = stress
+            row[f"collar_{k}_utilisation"] = stress / collar.fy
+        kinetic = 0.5 * float(model.mass @ (v * v))
+        gravity = -float(model.gravity @ (x - X))
+        row.update(energy_kinetic=kinetic, energy_strain=energies[0],
+                   energy_gravity=gravity, energy_contact=energies[1] + energies[2],
+                   energy_collar=energies[3], energy_dissipated=tallies[0],
+                   energy_external_work=tallies[1])
+        row["energy_total"] = kinetic + energies[0] + gravity + energies[1] + energies[2] \
+            + energies[3]
+        self.frames.append((t, (x - X).reshape(-1, 2).copy()))
+        return row
+
+    def finish_row(self, row, energy0):
+        self.scale = max(self.scale, row["energy_kinetic"], abs(row["energy_external_work"]))
+        imbalance = (row["energy_total"] + row["energy_dissipated"]
+                     - row["energy_external_work"] - energy0)
+        row["energy_error"] = imbalance / self.scale if self.scale > 0.0 else 0.0
+        self.rows.append(row)
+        if self.csv is not None:
+            if self.header is None:
+                self.header = list(row)
+                self.csv.write(",".join(self.header) + "\n")
+            self.csv.write(",".join(repr(float(row[h])) for h in self.header) + "\n")
+            self.csv.flush()
+
+    def close(self) -> dict:
+        if self.csv is not None:
+            self.csv.close()
+            Path(self.csv.name).replace(self.csv_path)
+        keys = list(self.rows[0]) if self.rows else []
+        return {k: np.array([r[k] for r in self.rows]) for k in keys}
+
+
+def _check(row, recorder, model, ground, t, stop_on_overturn):
+    """None to go on, or (reason, overturned)."""
+    thetas = [row["theta_left"], row["theta_right"]]
+    if not all(math.isfinite(v) for v in thetas) or not math.isfinite(row["energy_total"]):
+        return (f"numerical blow-up at t = {t:.4g} s", False)
+    if not stop_on_overturn:
+        return None
+    if max(abs(th) for th in thetas) >= math.pi / 4:
+        return (f"overturned: a half rotated past 45 degrees at t = {t:.4g} s", True)
+    rows = recorder.rows
+    if not model.collars and t > ground.end_time and len(rows) >= 2:
+        for key in ("theta_left", "theta_right"):
+            th, prev = rows[-1][key], rows[-2][key]
+            if abs(th) > recorder.body_alpha and abs(th) > abs(prev):
+                return (f"overturned: past the unstable equilibrium (|theta| > alpha) moving "
+                        f"outward after the ground motion, t = {t:.4g} s", True)
+    return None
+
+
+def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, wall,
+             edge_length):
+    h = history
+    collars = model.collars
+    util = [h[f"collar_{i}_utilisation"] for i in range(1, len(collars) + 1)]
+    first_yield = None
+    for i, u in enumerate(util, start=1):
+        hit = np.nonzero(u >= 1.0)[0]
+        if hit.size:
+            ty = float(h["t"][hit[0]])
+            first_yield = ty if first_yield is None else min(first_yield, ty)
+    edge_keys = [key for key in h if key.startswith("edge_stress_")]
+    edge_max = max(float(np.max(h[key])) for key in edge_keys)
+    return {
+        "overturned": bool(overturned),
+        "status": reason,
+        "max_abs_theta_left": float(np.max(np.abs(h["theta_left"]))),
+        "max_abs_theta_right": float(np.max(np.abs(h["theta_right"]))),
+        "collar_max_utilisation": float(max((np.max(u) for u in util), default=0.0)),
+        "collar_first_yield_time": first_yield,
+        "edge_stress_max": edge_max,
+        "edge_stress_ratio": edge_max / model.stone.fc,
+        "edge_length": edge_length,
+        "energy_error_max": float(np.max(np.abs(h["energy_error"]))),
+        "dt": dt,
+        "dt_critical": step.critical,
+        "dt_critical_elastic": step.critical_elastic,
+        "stable_step_reduction_by_contact": step.contact_reduction,
+        "penalty_base_mean": float(np.mean(model.base_kn)),
+        "steps": int(k * steps_per_output),
+        "dofs": int(model.n_dofs),
+        "wall_seconds": wall,
+        "t_end": float(h["t"][-1]),
+    }
