@@ -61,7 +61,8 @@ def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force):
         limit = mu * fn
         if abs(trial) > limit:
             slip_force = limit if trial > 0.0 else -limit
-            power += abs(slip_force * vt)
+            # dissipation: cone force times the plastic slip (trial - slip_force) / k_t
+            power += slip_force * (trial - slip_force) / (kt[k] * dt) if dt > 0.0 else 0.0
             trial = slip_force
         ft[k] = trial
         f[2 * i] += trial
@@ -139,7 +140,8 @@ def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, 
         limit = mu * fn
         if abs(trial) > limit:
             slip_force = limit if trial > 0.0 else -limit
-            power += abs(slip_force * vt)
+            # dissipation: cone force times the plastic slip (trial - slip_force) / k_t
+            power += slip_force * (trial - slip_force) / (kt[k] * dt) if dt > 0.0 else 0.0
             trial = slip_force
         ft[k] = trial
         fx = fn * nx + trial * tx
@@ -229,8 +231,9 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
 
     ground_acc[k]: ground acceleration (m/s^2) during step k, applied as the body force
     -m ug'' in x (ground frame). tallies += (dissipated energy, external work); energies gets
-    (strain, base contact, crack contact, collar) of the last step. Returns the number of steps
-    done (< n_steps if the state stopped being finite).
+    (strain, base contact, crack contact, collar, gravity, kinetic) of the last step, all at
+    time n (kinetic as m v(n-1/2) . v(n+1/2) / 2, the energy central differences conserve).
+    Returns the number of steps done (< n_steps if the state stopped being finite).
 
     Per step: one pass for the body frames, one for the local displacements, the block mat-vec,
     the contact and collar forces, and one fused pass that rotates the elastic forces back,
@@ -292,6 +295,8 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
         # fused: elastic forces back to the ground frame, update, next step's loads
         ag_next = ground_acc[step + 1] if step + 1 < n_steps else ag
         e_strain = 0.0
+        e_grav = 0.0
+        e_kin = 0.0
         work = 0.0
         vv = 0.0
         for i in range(n_nodes):
@@ -302,8 +307,11 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
             fy = f_loc[2 * i + 1]
             e_strain += 0.5 * (u_loc[2 * i] * fx + u_loc[2 * i + 1] * fy)
             m = mass[2 * i]
+            e_grav -= gravity[2 * i + 1] * (x[2 * i + 1] - X[2 * i + 1])
             vx = v[2 * i] + dt * (f[2 * i] - (c * fx - s * fy)) / m
             vy = v[2 * i + 1] + dt * (f[2 * i + 1] - (s * fx + c * fy)) / m
+            # kinetic energy conserved by central differences: m v(n-1/2) . v(n+1/2) / 2
+            e_kin += 0.5 * m * (v[2 * i] * vx + v[2 * i + 1] * vy)
             v[2 * i] = vx
             v[2 * i + 1] = vy
             x[2 * i] += dt * vx
@@ -318,6 +326,8 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
         energies[1] = e_base
         energies[2] = e_crack
         energies[3] = e_collar
+        energies[4] = e_grav
+        energies[5] = e_kin
         if not (math.isfinite(vv) and math.isfinite(e_strain)):
             return step + 1
     return n_steps

@@ -1,0 +1,192 @@
+"""The explicit contact model against mechanics it must reproduce."""
+
+import math
+
+import numpy as np
+import pytest
+
+from fem import _kernels as K
+from fem.assembly import Stone
+from fem.model import ContactSettings, build_model, stable_time_step
+from fem.solver import run
+from meshes.column import column_mesh
+from rigid import Block, Collar, InputError, Record, pulse_from_ratios, rock
+
+STILL = Record(np.array([0.0, 100.0]), np.zeros(2))
+
+
+def constant_ground(acceleration):
+    return Record(np.array([0.0, 100.0]), np.full(2, acceleration))
+
+
+def test_gravity_start_is_static_and_base_pressure_is_rho_g_h():
+    W, H, T = 0.8, 4.0, 0.5
+    stone = Stone()
+    model = build_model(column_mesh(W, H, 0.05, cracked=True), stone, T)
+    r = run(model, STILL, 0.01, progress=False, output_interval=0.002)
+    h = r.history
+    weight_half = stone.density * 9.81 * 0.5 * W * H * T
+    for b in (1, 2):
+        np.testing.assert_allclose(h[f"base_normal_force_{b}"], weight_half, rtol=1e-3)
+    # no spurious bounce: the column stays where gravity put it
+    m_g_h = stone.density * 9.81 * W * H * T * H
+    assert r.summary["max_abs_theta_left"] < 1e-6
+    assert np.max(np.abs(h["energy_kinetic"])) < 1e-9 * m_g_h
+
+
+def test_crack_is_not_welded():
+    """Pulled apart, the halves separate freely: no force across the crack."""
+    model = build_model(column_mesh(0.8, 2.0, 0.1, cracked=True), Stone(), 0.5,
+                        contact=ContactSettings(friction=0.0))
+    body = model.mesh.node_body
+    left, right = np.nonzero(body == 0)[0], np.nonzero(body == 1)[0]
+    A = model.stiffness
+    dofs = lambda nodes: np.concatenate((2 * nodes, 2 * nodes + 1))   # noqa: E731
+    assert A[dofs(left)][:, dofs(right)].nnz == 0
+    v0 = np.zeros((model.mesh.n_nodes, 2))
+    v0[left, 0], v0[right, 0] = -0.1, 0.1
+    r = run(model, STILL, 0.01, progress=False, initial_velocity=v0, output_interval=0.001)
+    h = r.history
+    separation = h["translation_x_2"] - h["translation_x_1"]
+    # once the faces have let go of the gravity (Poisson) contact pressure, nothing holds them
+    speed = np.diff(separation[2:]) / np.diff(h["t"][2:])
+    np.testing.assert_allclose(speed, 0.2, rtol=1e-3)
+    assert np.all(h["crack_normal_force"][2:] == 0.0)
+
+
+@pytest.mark.parametrize("ratio, slides", [(0.8, False), (1.2, True)])
+def test_block_slides_exactly_when_tilt_exceeds_friction(ratio, slides):
+    """A constant ground acceleration a tilts gravity by atan(a/g) in the ground frame: a squat
+    block (no rocking) slides iff a/g > mu, then at (a - mu g) relative to the ground. (Contact
+    damping is on: undamped penalty contact chatters while sliding, lowering the mean friction.)"""
+    mu = 0.3
+    a = ratio * mu * 9.81
+    model = build_model(column_mesh(2.0, 0.5, 0.125, cracked=False), Stone(), 0.5,
+                        contact=ContactSettings(friction=mu))
+    r = run(model, constant_ground(a), 0.2, progress=False, output_interval=0.005)
+    t, slip = r.history["t"], -r.history["translation_x_1"]    # pushed toward -x
+    if slides:
+        relative_acceleration = 2.0 * np.polyfit(t[4:], slip[4:], 2)[0]
+        assert relative_acceleration == pytest.approx(a - mu * 9.81, rel=0.05)
+    else:
+        assert np.abs(slip).max() < 2e-6
+
+
+def _collar_setup():
+    model = build_model(column_mesh(0.8, 2.0, 0.1, cracked=True, pinned_heights=(1.0,)),
+                        Stone(), 0.5, collars=(Collar(y=1.0, t=0.01, h=0.05),))
+    return model, model.collar_nodes, model.collar_props
+
+
+def test_collar_element_axial_and_lateral_stiffness():
+    model, nodes, props = _collar_setup()
+    collar = model.collars[0]
+    L = 0.8
+    out = np.zeros((1, 4))
+    # axial: move the right end (with its face nodes) along the chord
+    for dx, dy, check in ((1e-6, 0.0, "axial"), (0.0, 1e-6, "lateral")):
+        x = model.X.copy()
+        for node in nodes[0, 3:]:
+            x[2 * node] += dx
+            x[2 * node + 1] += dy
+        f = np.zeros_like(x)
+        K.collar_forces(x, nodes, props, out, f)
+        if check == "axial":
+            assert out[0, 0] == pytest.approx(collar.E * collar.area / L * 1e-6, rel=1e-6)
+        else:
+            shear = abs(out[0, 1] + out[0, 2]) / L
+            assert shear == pytest.approx(12 * collar.E * collar.second_moment / L ** 3 * 1e-6,
+                                          rel=1e-4)
+            assert abs(out[0, 1]) == pytest.approx(6 * collar.E * collar.second_moment
+                                                   / L ** 2 * 1e-6, rel=1e-4)
+
+
+def test_collar_element_is_rotation_invariant():
+    model, nodes, props = _collar_setup()
+    out = np.zeros((1, 4))
+    c, s = math.cos(0.3), math.sin(0.3)
+    P = model.X.reshape(-1, 2)
+    x = np.column_stack((c * P[:, 0] - s * P[:, 1], s * P[:, 0] + c * P[:, 1])).ravel()
+    f = np.zeros_like(x)
+    K.collar_forces(x, nodes, props, out, f)
+    assert np.abs(out[0, :3]).max() < 1e-6 and np.abs(f).max() < 1e-6
+
+
+def test_collar_forces_are_the_energy_gradient():
+    model, nodes, props = _collar_setup()
+    rng = np.random.default_rng(3)
+    x = model.X + 1e-4 * rng.standard_normal(model.X.size)
+    out = np.zeros((1, 4))
+    f = np.zeros_like(x)
+    K.collar_forces(x, nodes, props, out, f)
+    dofs = np.unique(np.concatenate((2 * nodes[0], 2 * nodes[0] + 1)))
+    for d in dofs:
+        e = []
+        for sign in (1, -1):
+            xx = x.copy()
+            xx[d] += sign * 1e-7
+            K.collar_forces(xx, nodes, props, out, np.zeros_like(x))
+            e.append(out[0, 3])
+        assert -(e[0] - e[1]) / 2e-7 == pytest.approx(f[d], rel=1e-4, abs=1e-3)
+
+
+def test_energy_conserved_without_contact_damping():
+    W, H = 0.4, 2.0
+    blk = Block(b=W / 2, h=H / 2)
+    pulse = pulse_from_ratios(blk, "sine", 3.0, 2.5, "nonlinear")
+    model = build_model(column_mesh(W, H, 0.1, cracked=False), Stone(), 0.3,
+                        contact=ContactSettings(friction=1.0, damping=0.0))
+    r = run(model, pulse, 1.5, progress=False, output_interval=2e-3)
+    assert r.summary["max_abs_theta_left"] > 0.5 * blk.alpha      # it really rocked
+    assert r.summary["energy_error_max"] < 0.01
+
+
+def test_stable_step_estimate_is_sharp_for_the_stone():
+    """Central differences on the elastic bodies: 10 % above 2 / omega_max diverges, just
+    below stays bounded (omega_max from the lumped-mass eigenproblem)."""
+    from fem.model import max_frequency
+    model = build_model(column_mesh(0.4, 1.0, 0.1, cracked=True), Stone(), 0.3)
+    K_, m = model.stiffness, model.mass
+    critical = 2.0 / max_frequency(K_, m)
+    rng = np.random.default_rng(0)
+    u0 = 1e-9 * rng.standard_normal(m.size)
+    growth = {}
+    for factor in (0.99, 1.1):
+        dt = factor * critical
+        u, v = u0.copy(), np.zeros_like(u0)
+        for _ in range(400):
+            v -= dt * (K_ @ u) / m
+            u += dt * v
+        growth[factor] = np.abs(u).max() / np.abs(u0).max()
+    assert growth[0.99] < 10.0
+    assert growth[1.1] > 1e6
+
+
+def test_time_step_above_the_stable_one_is_rejected_and_the_estimate_runs():
+    model = build_model(column_mesh(0.4, 1.0, 0.1, cracked=True), Stone(), 0.3,
+                        contact=ContactSettings(damping=0.0))
+    step = stable_time_step(model, safety=1.0)
+    assert step.critical < step.critical_elastic          # contact shortens it, reported
+    with pytest.raises(InputError, match="run dt"):
+        run(model, STILL, 0.002, dt=1.1 * step.dt, safety=1.0, progress=False)
+    at = run(model, STILL, 0.01, dt=step.dt, safety=1.0, progress=False, output_interval=1e-4)
+    assert at.summary["status"] == "completed"
+    assert np.max(np.abs(at.history["energy_kinetic"])) < 1e-6
+
+
+@pytest.mark.parametrize("E, tolerance", [(500e9, 0.05), (5000e9, 0.01)])
+def test_stiff_solid_column_follows_rigid_solution(E, tolerance):
+    """theta(t) up to the first impact: the FEM tends to the rigid nonlinear solution as the
+    column and the contact stiffen (about 5 % at 50 GPa, 1.2 % at 500 GPa, 0.2 % at 5000 GPa)."""
+    W, H = 0.4, 2.0
+    blk = Block(b=W / 2, h=H / 2)
+    pulse = pulse_from_ratios(blk, "sine", 3.0, 3.0, "nonlinear")
+    rigid = rock(blk, pulse, model="nonlinear", dt_out=1e-3)
+    t_impact = rigid.impact_times[0]
+    model = build_model(column_mesh(W, H, 0.1, cracked=False, grading=0.3), Stone(E=E), 0.3,
+                        contact=ContactSettings(friction=1.0, damping=0.0))
+    r = run(model, pulse, t_impact, progress=False, output_interval=1e-3)
+    h = r.history
+    reference = np.interp(h["t"], rigid.time, rigid.theta)
+    error = np.max(np.abs(h["theta_left"] - reference)) / np.max(np.abs(reference))
+    assert error < tolerance
