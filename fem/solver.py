@@ -249,7 +249,6 @@ class _Recorder:
             left, right = mesh.crack_nodes
             self.crack_pairs = (left, right[np.argmin(np.abs(p[1, left][:, None]
                                                            - p[1, right][None, :]), axis=1)])
-        self.body_alpha = math.atan2(mesh.width / mesh.n_bodies, mesh.height)
         self.csv = None
         if out_dir is not None:
             out = Path(out_dir)
@@ -257,6 +256,23 @@ class _Recorder:
             self.csv_path = out / "history.csv"
             self.csv = open(self.csv_path.with_name("history.csv.part"), "w")
         self.header = None
+
+    def falling(self, row, previous) -> str | None:
+        """Which part, if any, has its centre of mass beyond its outer toe and moving outward.
+
+        Collars and crack contact are internal forces: once the ground is still and the whole
+        column's centre of mass is past the outer toe it pivots on, nothing restores it. A half
+        tipping away from the other is judged alone in the same way."""
+        x_toe_left, x_toe_right = row["_toe_x_left"], row["_toe_x_right"]
+        xc, xc_prev = row["_com_x"], previous["_com_x"]
+        if (xc > x_toe_right and xc > xc_prev) or (xc < x_toe_left and xc < xc_prev):
+            return "the column's centre of mass"
+        if self.model.mesh.cracked:
+            if row["_com_x_1"] < x_toe_left and row["_com_x_1"] < previous["_com_x_1"]:
+                return "the left half's centre of mass"
+            if row["_com_x_2"] > x_toe_right and row["_com_x_2"] > previous["_com_x_2"]:
+                return "the right half's centre of mass"
+        return None
 
     def _tributary_intervals(self, mesh):
         lo, hi = [], []
@@ -275,6 +291,13 @@ class _Recorder:
             c = model.centroid_ref[b]
             row[f"translation_x_{b + 1}"] = frames[b, 0] - c[0]
             row[f"translation_y_{b + 1}"] = frames[b, 1] - c[1]
+        body_mass = np.array([model.node_mass[mesh.node_body == b].sum()
+                              for b in range(mesh.n_bodies)])
+        row["_com_x"] = float(body_mass @ frames[:, 0] / body_mass.sum())
+        for b in range(mesh.n_bodies):
+            row[f"_com_x_{b + 1}"] = float(frames[b, 0])
+        row["_toe_x_left"] = float(x[2 * self.toe_left])
+        row["_toe_x_right"] = float(x[2 * self.toe_right])
         row["uplift_left"] = max(x[2 * self.toe_left + 1], 0.0)
         row["uplift_right"] = max(x[2 * self.toe_right + 1], 0.0)
         for name, w in self.edge_weights.items():
@@ -317,7 +340,7 @@ class _Recorder:
         self.rows.append(row)
         if self.csv is not None:
             if self.header is None:
-                self.header = list(row)
+                self.header = [key for key in row if not key.startswith("_")]
                 self.csv.write(",".join(self.header) + "\n")
             self.csv.write(",".join(repr(float(row[h])) for h in self.header) + "\n")
             self.csv.flush()
@@ -326,7 +349,7 @@ class _Recorder:
         if self.csv is not None:
             self.csv.close()
             Path(self.csv.name).replace(self.csv_path)
-        keys = list(self.rows[0]) if self.rows else []
+        keys = [key for key in self.rows[0] if not key.startswith("_")] if self.rows else []
         return {k: np.array([r[k] for r in self.rows]) for k in keys}
 
 
@@ -344,13 +367,11 @@ def _check(row, recorder, model, ground, t, stop_on_overturn):
         return None
     if max(abs(th) for th in thetas) >= math.pi / 4:
         return (f"overturned: a half rotated past 45 degrees at t = {t:.4g} s", True)
-    rows = recorder.rows
-    if not model.collars and t > ground.end_time and len(rows) >= 2:
-        for key in ("theta_left", "theta_right"):
-            th, prev = rows[-1][key], rows[-2][key]
-            if abs(th) > recorder.body_alpha and abs(th) > abs(prev):
-                return (f"overturned: past the unstable equilibrium (|theta| > alpha) moving "
-                        f"outward after the ground motion, t = {t:.4g} s", True)
+    if t > ground.end_time and len(recorder.rows) >= 1:
+        falling = recorder.falling(row, recorder.rows[-1])
+        if falling:
+            return (f"overturned: {falling} is past its toe moving outward after the ground "
+                    f"motion (t = {t:.4g} s): gravity has no restoring moment left", True)
     return None
 
 

@@ -3,6 +3,7 @@
     colonna rigid     time history of a rocking block (solid or cracked with collars)
     colonna spectrum  overturning spectrum (mode map) with or without collars
     colonna design    collar design numbers (corrected Eq. 22-24) and the design chart
+    colonna fem       2D finite-element contact model of a study file
     colonna validate  the Zhang & Makris validation block (make demo)
 
 Bad input ends with one line ``colonna: error: ...`` naming the parameter, exit status 2.
@@ -198,6 +199,28 @@ def _cmd_design(args) -> dict:
     return summary
 
 
+# --- colonna fem --------------------------------------------------------------------------------
+
+def resolve_study(name_or_path: str) -> Path:
+    """A study file path, or the name of a study shipped in studies/ (default, ...)."""
+    path = Path(name_or_path)
+    if path.is_file():
+        return path
+    shipped = Path(__file__).parent / f"{name_or_path}.toml"
+    if shipped.is_file():
+        return shipped
+    names = sorted(p.stem for p in Path(__file__).parent.glob("*.toml"))
+    raise InputError(f"study {name_or_path!r} is neither a file nor one of: {', '.join(names)}")
+
+
+def _cmd_fem(args) -> dict:
+    from .fem_study import load, run_study
+
+    study = load(resolve_study(args.study))
+    result = run_study(study, out_dir=args.out, progress=True)
+    return result.summary
+
+
 # --- colonna validate ---------------------------------------------------------------------------
 
 def _cmd_validate(args) -> dict:
@@ -251,6 +274,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, help="write design.json and (with --density) the chart")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_design)
+
+    p = sub.add_parser("fem", help="2D finite-element contact run of a study file")
+    p.add_argument("study", help="study file (TOML) or the name of a shipped study")
+    p.add_argument("--out", type=Path, required=True,
+                   help="write summary.json, history.csv and VTU/XDMF fields here")
+    p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+    p.set_defaults(func=_cmd_fem)
 
     p = sub.add_parser("validate", help="Zhang & Makris validation block (p = 2.14, alpha = 0.25)")
     p.add_argument("--out", type=Path, default=Path("out/validation"))

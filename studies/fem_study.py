@@ -1,0 +1,218 @@
+"""FEM study files (TOML): what to run, parsed and checked before any computation.
+
+    [column]   height (m), width (m, = 4b), thickness (m, default pi * width / 4: the half
+               column then has the mass of a half circular column), cracked (default true)
+    [stone]    E (Pa), nu, density (kg/m^3), fc (Pa)            defaults: fem.assembly.Stone
+    [[collar]] y, t, h, length, E, fy, pretension               as rigid.collars.Collar
+    [ground]   pulse = "sine" | "cosine" | "record"
+               amplitude (m/s^2) or amplitude_ratio (a_p / (g tan alpha) of the rocking half)
+               period (s) or omega_ratio (Omega / p of the rocking half)
+               record (file, PEER .AT2 or two columns), scale (default 1)
+    [contact]  friction (0.7), penalty_factor (1), penalty (N/m^3, optional), damping (0.05)
+    [mesh]     size (m, default width / 16), grading (0.5), edge_length (m, default 0.1 x the
+               width of a half: the toe length over which the edge stress is averaged)
+    [run]      duration (s, default end of the ground motion + 1.5 s), output_interval (s,
+               default duration / 400), dt (s, default: the stable step), safety (0.9)
+
+Unknown tables or keys and out-of-range values are errors naming the key.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from fem.assembly import Stone
+from fem.model import ContactSettings
+from rigid.block import Block
+from rigid.collars import collars_from_tables
+from rigid.ground import cosine_pulse, read_record, sine_pulse
+from rigid.validation import InputError, require_positive, require_range
+
+SCHEMA = {
+    "column": {"height", "width", "thickness", "cracked"},
+    "stone": {"E", "nu", "density", "fc"},
+    "collar": None,          # array of tables, checked by rigid.collars
+    "ground": {"pulse", "amplitude", "amplitude_ratio", "period", "omega_ratio", "record",
+               "scale"},
+    "contact": {"friction", "penalty_factor", "penalty", "damping"},
+    "mesh": {"size", "grading", "edge_length"},
+    "run": {"duration", "output_interval", "dt", "safety"},
+    "rigid": {"restitution", "model"},
+    "study": {"name", "description"},
+}
+
+
+@dataclass
+class FemStudy:
+    name: str
+    height: float
+    width: float
+    thickness: float
+    cracked: bool
+    stone: Stone
+    collars: tuple
+    ground: object
+    contact: ContactSettings
+    mesh_size: float
+    grading: float
+    edge_length: float
+    duration: float
+    output_interval: float | None
+    dt: float | None
+    safety: float
+    rigid: dict = field(default_factory=dict)
+    source: str = ""
+
+    @property
+    def rocking_block(self) -> Block:
+        """The rigid block that rocks: one half of a cracked column, or the whole column."""
+        b = self.width / (4.0 if self.cracked else 2.0)
+        mass = self.stone.density * 2.0 * b * self.height * self.thickness
+        return Block(b=b, h=0.5 * self.height, mass=mass,
+                     restitution=self.rigid.get("restitution"))
+
+
+def load(path) -> FemStudy:
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text())
+    except OSError as exc:
+        raise InputError(f"study file {path} cannot be read: {exc.strerror}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"study file {path} is not valid TOML: {exc}") from None
+    return from_dict(data, source=str(path), base=path.parent)
+
+
+def _check_keys(data: dict, source: str) -> None:
+    for table, value in data.items():
+        if table not in SCHEMA:
+            raise InputError(f"{source}: unknown table [{table}] (allowed: "
+                             f"{', '.join(sorted(SCHEMA))})")
+        allowed = SCHEMA[table]
+        if allowed is None:
+            continue
+        if not isinstance(value, dict):
+            raise InputError(f"{source}: [{table}] must be a table")
+        for key in value:
+            if key not in allowed:
+                raise InputError(f"{source}: unknown key {table}.{key} (allowed in [{table}]: "
+                                 f"{', '.join(sorted(allowed))})")
+
+
+def _number(table: dict, key: str, where: str, default=None):
+    value = table.get(key, default)
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"{where}.{key} = {value!r} is not a number")
+    return float(value)
+
+
+def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemStudy:
+    _check_keys(data, source)
+    column = data.get("column", {})
+    for key in ("height", "width"):
+        if key not in column:
+            raise InputError(f"{source}: column.{key} is required")
+    height = require_positive("column.height (m)", _number(column, "height", "column"))
+    width = require_positive("column.width (m)", _number(column, "width", "column"))
+    cracked = column.get("cracked", True)
+    if not isinstance(cracked, bool):
+        raise InputError(f"column.cracked = {cracked!r} must be true or false")
+    thickness = require_positive("column.thickness (m)",
+                                 _number(column, "thickness", "column", math.pi * width / 4.0))
+    stone_table = data.get("stone", {})
+    stone = Stone(**{k: _number(stone_table, k, "stone") for k in stone_table})
+    collars = collars_from_tables(data.get("collar", []), source=source)
+    for i, collar in enumerate(collars, start=1):
+        require_range(f"collar {i} y (m)", collar.y, 0.0, height, closed_high=True,
+                      range_text=f"(0, {height:g}] (the column height)")
+    contact_table = data.get("contact", {})
+    contact = ContactSettings(**{k: _number(contact_table, k, "contact") for k in contact_table})
+    mesh = data.get("mesh", {})
+    body_width = width / (2.0 if cracked else 1.0)
+    size = _number(mesh, "size", "mesh", width / 16.0)
+    require_range("mesh.size (m)", size, 0.0, body_width, closed_high=True,
+                  range_text=f"(0, {body_width:g}] (the width of one half)")
+    grading = require_range("mesh.grading", _number(mesh, "grading", "mesh", 0.5), 0.0, 1.0,
+                            closed_low=True)
+    edge_length = _number(mesh, "edge_length", "mesh", 0.1 * body_width)
+    require_range("mesh.edge_length (m)", edge_length, 0.0, body_width, closed_high=True)
+    rigid = dict(data.get("rigid", {}))
+    study = FemStudy(name=str(data.get("study", {}).get("name", Path(source).stem)),
+                     height=height, width=width, thickness=thickness, cracked=cracked,
+                     stone=stone, collars=collars, ground=None, contact=contact,
+                     mesh_size=size, grading=grading, edge_length=edge_length, duration=0.0,
+                     output_interval=None, dt=None, safety=0.9, rigid=rigid, source=source)
+    study.ground = _ground(data.get("ground", {}), study.rocking_block, base, source)
+    run = data.get("run", {})
+    duration = _number(run, "duration", "run", study.ground.end_time + 1.5)
+    study.duration = require_positive("run.duration (s)", duration)
+    study.output_interval = _number(run, "output_interval", "run")
+    if study.output_interval is not None:
+        require_positive("run.output_interval (s)", study.output_interval)
+    study.dt = _number(run, "dt", "run")
+    if study.dt is not None:
+        require_positive("run.dt (s)", study.dt)
+    study.safety = require_range("run.safety", _number(run, "safety", "run", 0.9), 0.0, 1.0,
+                                 closed_high=True)
+    return study
+
+
+def _ground(table: dict, block: Block, base: Path, source: str):
+    kind = table.get("pulse", "sine")
+    if kind not in ("sine", "cosine", "record"):
+        raise InputError(f"ground.pulse = {kind!r} is not one of sine, cosine, record")
+    if kind == "record":
+        if "record" not in table:
+            raise InputError(f"{source}: ground.record (file) is required with pulse = 'record'")
+        record = read_record(base / table["record"], g=block.g)
+        return record.scaled(_number(table, "scale", "ground", 1.0))
+    uplift = block.uplift_acceleration("nonlinear")
+    if ("amplitude" in table) == ("amplitude_ratio" in table):
+        raise InputError(f"{source}: give exactly one of ground.amplitude (m/s^2) and "
+                         "ground.amplitude_ratio")
+    if "amplitude" in table:
+        amplitude = _number(table, "amplitude", "ground")
+    else:
+        ratio = _number(table, "amplitude_ratio", "ground")
+        if not ratio >= 1.0:
+            raise InputError(f"ground.amplitude_ratio = {ratio:g} is below uplift: it must be "
+                             ">= 1")
+        amplitude = ratio * uplift
+    if ("period" in table) == ("omega_ratio" in table):
+        raise InputError(f"{source}: give exactly one of ground.period (s) and "
+                         "ground.omega_ratio")
+    if "period" in table:
+        omega = 2.0 * math.pi / require_positive("ground.period (s)",
+                                                 _number(table, "period", "ground"))
+    else:
+        omega = require_positive("ground.omega_ratio",
+                                 _number(table, "omega_ratio", "ground")) * block.p
+    if abs(amplitude) < uplift:
+        raise InputError(f"ground.amplitude = {amplitude:g} m/s^2 is below the uplift "
+                         f"acceleration g tan(alpha) = {uplift:g} m/s^2 of the rocking half")
+    make = sine_pulse if kind == "sine" else cosine_pulse
+    return make(amplitude, omega, uplift)
+
+
+def build(study: FemStudy):
+    """Mesh and model of the study."""
+    from fem.model import build_model
+    from meshes.column import column_mesh
+
+    mesh = column_mesh(study.width, study.height, study.mesh_size, cracked=study.cracked,
+                       grading=study.grading, pinned_heights=[c.y for c in study.collars])
+    return build_model(mesh, study.stone, study.thickness, study.collars, study.contact)
+
+
+def run_study(study: FemStudy, out_dir=None, progress: bool = True):
+    from fem.solver import run
+
+    model = build(study)
+    return run(model, study.ground, study.duration, dt=study.dt, safety=study.safety,
+               output_interval=study.output_interval, edge_length=study.edge_length,
+               out_dir=out_dir, progress=progress)
