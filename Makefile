@@ -27,6 +27,7 @@ test-all: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_spectrum.py
+	$(BIN)/python benchmarks/bench_fem.py
 
 clean:
 	rm -rf $(VENV) $(OUT) .pytest_cache

@@ -241,6 +241,14 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
     n_nodes = node_body.size
     has_crack = a_sl.size > 0
     sums = np.zeros((n_bodies, 5))
+    # reference positions relative to their body's centroid, and inverse masses
+    rel = np.empty_like(X)
+    inv_mass = np.empty(n_nodes)
+    for i in range(n_nodes):
+        b = node_body[i]
+        rel[2 * i] = X[2 * i] - centroid_ref[b, 0]
+        rel[2 * i + 1] = X[2 * i + 1] - centroid_ref[b, 1]
+        inv_mass[i] = 1.0 / mass[2 * i]
     cos_b = np.ones(n_bodies)
     sin_b = np.zeros(n_bodies)
     ag = ground_acc[0]
@@ -256,8 +264,8 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
             m = mass[2 * i]
             xi = x[2 * i]
             yi = x[2 * i + 1]
-            px = X[2 * i] - centroid_ref[b, 0]
-            py = X[2 * i + 1] - centroid_ref[b, 1]
+            px = rel[2 * i]
+            py = rel[2 * i + 1]
             sums[b, 0] += m
             sums[b, 1] += m * xi
             sums[b, 2] += m * yi
@@ -276,8 +284,8 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
             s = sin_b[b]
             qx = x[2 * i] - frames[b, 0]
             qy = x[2 * i + 1] - frames[b, 1]
-            u_loc[2 * i] = c * qx + s * qy - (X[2 * i] - centroid_ref[b, 0])
-            u_loc[2 * i + 1] = -s * qx + c * qy - (X[2 * i + 1] - centroid_ref[b, 1])
+            u_loc[2 * i] = c * qx + s * qy - rel[2 * i]
+            u_loc[2 * i + 1] = -s * qx + c * qy - rel[2 * i + 1]
         bsr_matvec(indptr, indices, blocks, u_loc, f_loc)
         # contact and collars
         e_base, p_base = base_contact(x, v, base_nodes, base_kn, base_kt, base_cn, mu, dt,
@@ -308,8 +316,9 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
             e_strain += 0.5 * (u_loc[2 * i] * fx + u_loc[2 * i + 1] * fy)
             m = mass[2 * i]
             e_grav -= gravity[2 * i + 1] * (x[2 * i + 1] - X[2 * i + 1])
-            vx = v[2 * i] + dt * (f[2 * i] - (c * fx - s * fy)) / m
-            vy = v[2 * i + 1] + dt * (f[2 * i + 1] - (s * fx + c * fy)) / m
+            dt_m = dt * inv_mass[i]
+            vx = v[2 * i] + dt_m * (f[2 * i] - (c * fx - s * fy))
+            vy = v[2 * i + 1] + dt_m * (f[2 * i + 1] - (s * fx + c * fy))
             # kinetic energy conserved by central differences: m v(n-1/2) . v(n+1/2) / 2
             e_kin += 0.5 * m * (v[2 * i] * vx + v[2 * i + 1] * vy)
             v[2 * i] = vx

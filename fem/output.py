@@ -12,6 +12,39 @@ import numpy as np
 
 from meshes.io import write, write_time_series
 
+from .assembly import element_stress
+
+
+def local_displacement(model, u: np.ndarray) -> np.ndarray:
+    """Displacement of each body in its own best-fit rotated frame (interleaved), from the
+    global nodal displacement u (n_nodes, 2): the strain-producing part of the motion."""
+    X = model.X.reshape(-1, 2)
+    x = X + u
+    m = model.node_mass
+    out = np.zeros_like(x)
+    for b in range(model.mesh.n_bodies):
+        on = model.mesh.node_body == b
+        P = X[on] - model.centroid_ref[b]
+        c = (x[on] * m[on, None]).sum(axis=0) / m[on].sum()
+        Q = x[on] - c
+        phi = np.arctan2((m[on] * (P[:, 0] * Q[:, 1] - P[:, 1] * Q[:, 0])).sum(),
+                         (m[on] * (P * Q).sum(axis=1)).sum())
+        cs, sn = np.cos(phi), np.sin(phi)
+        out[on, 0] = cs * Q[:, 0] + sn * Q[:, 1] - P[:, 0]
+        out[on, 1] = -sn * Q[:, 0] + cs * Q[:, 1] - P[:, 1]
+    return out.ravel()
+
+
+def stress_fields(model, u: np.ndarray) -> dict:
+    """Element stresses (Pa, body frame; compression negative), the minimum principal stress and
+    its ratio to the stone strength f_c, as cell data."""
+    s = element_stress(model.mesh, model.stone, local_displacement(model, u))
+    centre = 0.5 * (s[0] + s[1])
+    radius = np.hypot(0.5 * (s[0] - s[1]), s[2])
+    minimum = centre - radius
+    return {"sigma_xx": s[0], "sigma_yy": s[1], "sigma_xy": s[2],
+            "sigma_min_principal": minimum, "compression_over_fc": -minimum / model.stone.fc}
+
 
 def _json_safe(value):
     if isinstance(value, float) and not math.isfinite(value):
@@ -33,9 +66,11 @@ def write_outputs(result, out: Path) -> None:
     frames = result.displacement_frames
     theta = np.maximum(np.abs(result.history["theta_left"]), np.abs(result.history["theta_right"]))
     peak = int(np.argmax(theta))
+    model = result.model
     for name, k in (("initial", 0), ("peak_rotation", peak), ("final", len(frames) - 1)):
         t, u = frames[k]
-        write(out / f"fields_{name}.vtu", mesh, point_data={"displacement": u})
+        write(out / f"fields_{name}.vtu", mesh, point_data={"displacement": u},
+              cell_data=stress_fields(model, u))
     step = max(1, len(frames) // 60)      # inline XML: keep the series a few MB
     chosen = frames[::step]
     write_time_series(out / "fields.xdmf", mesh, [t for t, _ in chosen],

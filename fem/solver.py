@@ -12,6 +12,7 @@ Outputs per output time (``history``):
   averaged over ``edge_length`` from the outer toes; edge_stress_inner_* at the crack toes);
   base and crack contact forces; crack slip and opening; collar_k_axial_force, _moment, _stress,
   _utilisation; energies (kinetic, strain, gravity, contact, collar, dissipated, external_work)
+  (base_pressure.csv: the contact pressure at every base node, one row per output time)
   and energy_error = (energy now + dissipated - external work - energy at start) / scale, scale =
   the largest of the kinetic energy and |external work| seen so far, and at least the rocking
   energy scale m g R (1 - cos alpha) of the halves (the work that tips them onto a toe).
@@ -255,7 +256,12 @@ class _Recorder:
             out.mkdir(parents=True, exist_ok=True)
             self.csv_path = out / "history.csv"
             self.csv = open(self.csv_path.with_name("history.csv.part"), "w")
+            self.pressure_path = out / "base_pressure.csv"
+            self.pressure_csv = open(out / "base_pressure.csv.part", "w")
+            xb = p[0, model.base_nodes]
+            self.pressure_csv.write("t," + ",".join(f"p_at_x={v:.6f}" for v in xb) + "\n")
         self.header = None
+        self.base_area = model.base_tributary * model.thickness
 
     def falling(self, row, previous) -> str | None:
         """Which part, if any, has its centre of mass beyond its outer toe and moving outward.
@@ -330,6 +336,11 @@ class _Recorder:
         row["energy_total"] = kinetic + energies[0] + gravity + energies[1] + energies[2] \
             + energies[3]
         self.frames.append((t, (x - X).reshape(-1, 2).copy()))
+        if self.csv is not None:   # contact pressure along the base (Pa), one row per output
+            pressure = base_fn / self.base_area
+            self.pressure_csv.write(f"{t!r}," + ",".join(repr(float(q)) for q in pressure)
+                                    + "\n")
+            self.pressure_csv.flush()
         return row
 
     def finish_row(self, row, energy0):
@@ -349,6 +360,8 @@ class _Recorder:
         if self.csv is not None:
             self.csv.close()
             Path(self.csv.name).replace(self.csv_path)
+            self.pressure_csv.close()
+            Path(self.pressure_csv.name).replace(self.pressure_path)
         keys = [key for key in self.rows[0] if not key.startswith("_")] if self.rows else []
         return {k: np.array([r[k] for r in self.rows]) for k in keys}
 

@@ -1,0 +1,98 @@
+"""FEM study files and ``colonna fem``: contracts of the outputs, and bad input named by key."""
+
+import json
+
+import pytest
+
+from rigid import InputError
+from studies.cli import main
+from studies.fem_study import from_dict, load
+
+TINY = """
+[column]
+height = 1.0
+width = 0.2
+[[collar]]
+y = 0.5
+t = 0.004
+h = 0.02
+[ground]
+amplitude_ratio = 2.0
+omega_ratio = 3.0
+[mesh]
+size = 0.05
+grading = 0.0
+[run]
+duration = 0.05
+output_interval = 0.005
+"""
+
+
+def test_fem_command_writes_the_documented_outputs(tmp_path, capsys):
+    study = tmp_path / "tiny.toml"
+    study.write_text(TINY)
+    assert main(["fem", str(study), "--out", str(tmp_path / "out"), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    for key in ("overturned", "max_abs_theta_left", "max_abs_theta_right",
+                "collar_max_utilisation", "collar_first_yield_time", "edge_stress_max",
+                "edge_stress_ratio", "energy_error_max", "dt", "steps", "dofs", "wall_seconds"):
+        assert key in summary
+    header = (tmp_path / "out" / "history.csv").read_text().splitlines()[0].split(",")
+    for column in ("t", "theta_left", "theta_right", "uplift_left", "uplift_right",
+                   "edge_stress_left", "edge_stress_right", "energy_error", "collar_1_stress"):
+        assert column in header
+    for name in ("summary.json", "fields_initial.vtu", "fields_peak_rotation.vtu", "fields.xdmf",
+                 "base_pressure.csv"):
+        assert (tmp_path / "out" / name).stat().st_size > 0
+    import meshio
+    snapshot = meshio.read(tmp_path / "out" / "fields_initial.vtu")
+    # under gravity the column is in compression: sigma_yy < 0 in (almost) every element
+    assert (snapshot.cell_data["sigma_yy"][0] < 0).mean() > 0.9
+    saved = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert saved["steps"] == summary["steps"]
+
+
+def test_default_study_loads():
+    study = load("studies/default.toml")
+    assert study.cracked and len(study.collars) == 3
+    assert study.rocking_block.b == pytest.approx(0.45 / 4)
+
+
+def _study(**changes):
+    import tomllib
+    data = tomllib.loads(TINY)
+    for dotted, value in changes.items():
+        table, key = dotted.split(".")
+        if table == "collar":
+            data["collar"][0][key] = value
+        else:
+            data.setdefault(table, {})[key] = value
+    return data
+
+
+@pytest.mark.parametrize("changes, name", [
+    ({"column.height": -1.0}, "column.height"),
+    ({"column.widht": 0.3}, "column.widht"),
+    ({"collar.y": 2.0}, "collar 1 y"),
+    ({"contact.friction": -0.1}, "friction"),
+    ({"mesh.size": 0.5}, "mesh.size"),
+    ({"ground.amplitude_ratio": 0.5}, "amplitude_ratio"),
+    ({"ground.pulse": "square"}, "ground.pulse"),
+    ({"stone.nu": 0.7}, "nu"),
+])
+def test_bad_study_values_name_the_key(changes, name):
+    with pytest.raises(InputError, match=name.replace(".", r"\.")):
+        from_dict(_study(**changes))
+
+
+def test_time_step_above_stable_is_rejected_on_the_command_line(tmp_path, capsys):
+    study = tmp_path / "dt.toml"
+    study.write_text(TINY.replace("duration = 0.05", "duration = 0.05\ndt = 1e-3"))
+    assert main(["fem", str(study), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "run dt" in err[0] and "stable" in err[0]
+
+
+def test_unknown_study_name(capsys):
+    assert main(["fem", "no-such-study", "--out", "x"]) == 2
+    assert "no-such-study" in capsys.readouterr().err
