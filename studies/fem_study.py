@@ -10,7 +10,8 @@
                record (file, PEER .AT2 or two columns), scale (default 1)
     [contact]  friction (0.7), penalty_factor (1), penalty (N/m^3, optional), damping (0.05)
     [mesh]     size (m, default width / 16), grading (0.5), edge_length (m, default 0.1 x the
-               width of a half: the toe length over which the edge stress is averaged)
+               width of a half: the toe length over which the edge stress is averaged),
+               file (a quadrilateral mesh made elsewhere, e.g. gmsh .msh, instead of size/grading)
     [run]      duration (s, default end of the ground motion + 1.5 s), output_interval (s,
                default duration / 400), dt (s, default: the stable step), safety (0.9)
 
@@ -38,7 +39,7 @@ SCHEMA = {
     "ground": {"pulse", "amplitude", "amplitude_ratio", "period", "omega_ratio", "record",
                "scale"},
     "contact": {"friction", "penalty_factor", "penalty", "damping"},
-    "mesh": {"size", "grading", "edge_length"},
+    "mesh": {"size", "grading", "edge_length", "file"},
     "run": {"duration", "output_interval", "dt", "safety"},
     "rigid": {"restitution", "model"},
     "study": {"name", "description"},
@@ -58,6 +59,7 @@ class FemStudy:
     contact: ContactSettings
     mesh_size: float
     grading: float
+    mesh_file: Path | None
     edge_length: float
     duration: float
     output_interval: float | None
@@ -141,11 +143,17 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
                             closed_low=True)
     edge_length = _number(mesh, "edge_length", "mesh", 0.1 * body_width)
     require_range("mesh.edge_length (m)", edge_length, 0.0, body_width, closed_high=True)
+    mesh_file = None
+    if "file" in mesh:
+        mesh_file = (base / str(mesh["file"])).resolve()
+        if not mesh_file.is_file():
+            raise InputError(f"mesh.file = {mesh['file']!r}: no such file")
     rigid = dict(data.get("rigid", {}))
     study = FemStudy(name=str(data.get("study", {}).get("name", Path(source).stem)),
                      height=height, width=width, thickness=thickness, cracked=cracked,
                      stone=stone, collars=collars, ground=None, contact=contact,
-                     mesh_size=size, grading=grading, edge_length=edge_length, duration=0.0,
+                     mesh_size=size, grading=grading, mesh_file=mesh_file,
+                     edge_length=edge_length, duration=0.0,
                      output_interval=None, dt=None, safety=0.9, rigid=rigid, source=source)
     study.ground = _ground(data.get("ground", {}), study.rocking_block, base, source)
     run = data.get("run", {})
@@ -204,8 +212,20 @@ def build(study: FemStudy):
     from fem.model import build_model
     from meshes.column import column_mesh
 
-    mesh = column_mesh(study.width, study.height, study.mesh_size, cracked=study.cracked,
-                       grading=study.grading, pinned_heights=[c.y for c in study.collars])
+    if study.mesh_file is not None:
+        from meshes.io import read
+        mesh = read(study.mesh_file)
+        for name, value, expected in (("width", mesh.width, study.width),
+                                      ("height", mesh.height, study.height)):
+            if abs(value - expected) > 1e-6 * expected:
+                raise InputError(f"mesh.file {study.mesh_file.name}: its {name} {value:g} m "
+                                 f"differs from column.{name} = {expected:g} m")
+        if mesh.cracked != study.cracked:
+            raise InputError(f"mesh.file {study.mesh_file.name} has {mesh.n_bodies} bodies but "
+                             f"column.cracked = {str(study.cracked).lower()}")
+    else:
+        mesh = column_mesh(study.width, study.height, study.mesh_size, cracked=study.cracked,
+                           grading=study.grading, pinned_heights=[c.y for c in study.collars])
     return build_model(mesh, study.stone, study.thickness, study.collars, study.contact)
 
 

@@ -96,3 +96,20 @@ def test_time_step_above_stable_is_rejected_on_the_command_line(tmp_path, capsys
 def test_unknown_study_name(capsys):
     assert main(["fem", "no-such-study", "--out", "x"]) == 2
     assert "no-such-study" in capsys.readouterr().err
+
+
+def test_study_with_a_mesh_made_elsewhere(tmp_path, capsys):
+    """A gmsh file of the column (here written by meshio) replaces the built-in mesher."""
+    from meshes.column import column_mesh
+    from meshes.io import write
+    write(tmp_path / "column.msh", column_mesh(0.2, 1.0, 0.05, cracked=True))
+    study = tmp_path / "gmsh.toml"
+    study.write_text(TINY.replace("[mesh]\nsize = 0.05\ngrading = 0.0",
+                                  '[mesh]\nfile = "column.msh"'))
+    assert main(["fem", str(study), "--out", str(tmp_path / "o"), "--json"]) == 0
+    # 2 halves x 3 x 21 nodes x 2 dofs
+    assert json.loads(capsys.readouterr().out)["dofs"] == 2 * 3 * 21 * 2
+    wrong = tmp_path / "wrong.toml"
+    wrong.write_text(study.read_text().replace("width = 0.2", "width = 0.3"))
+    assert main(["fem", str(wrong), "--out", str(tmp_path / "o2")]) == 2
+    assert "differs from column.width" in capsys.readouterr().err
