@@ -194,8 +194,9 @@ def _collar_elements(mesh: ColumnMesh, collars):
 # linearised stiffness and the stable time step
 # ------------------------------------------------------------------------------------------
 
-def contact_stiffness(model: Model) -> sparse.csr_matrix:
-    """Linearised stiffness of the contact springs in the reference configuration (all closed)."""
+def contact_stiffness(model: Model, tangential_scale: float = 1.0) -> sparse.csr_matrix:
+    """Linearised stiffness of the contact springs in the reference configuration (all closed);
+    the tangential springs scaled by ``tangential_scale``."""
     n = model.n_dofs
     rows, cols, vals = [], [], []
 
@@ -206,13 +207,13 @@ def contact_stiffness(model: Model) -> sparse.csr_matrix:
 
     for node, knn, ktt in zip(model.base_nodes, model.base_kn, model.base_kt):
         spring(2 * node + 1, -1, knn)
-        spring(2 * node, -1, ktt)
+        spring(2 * node, -1, tangential_scale * ktt)
     y = model.mesh.points[1]
     for slaves, masters, sign, knn, ktt, _ in model.crack_passes:
         partners = masters[np.argmin(np.abs(y[slaves][:, None] - y[masters][None, :]), axis=1)]
         for s, m_, k1, k2 in zip(slaves, partners, knn, ktt):   # faces coincide at rest
             spring(2 * s, 2 * m_, k1)
-            spring(2 * s + 1, 2 * m_ + 1, k2)
+            spring(2 * s + 1, 2 * m_ + 1, tangential_scale * k2)
     return sparse.csr_matrix((vals, (rows, cols)), shape=(n, n))
 
 

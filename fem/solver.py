@@ -46,17 +46,20 @@ class FemResult:
 
 def static_state(model: Model):
     """Gravity equilibrium with all contact springs closed: displacement and the tangential
-    contact forces that hold it (used as the initial friction state)."""
-    total = (model.stiffness + contact_stiffness(model) + collar_stiffness(model)).tocsc()
+    contact forces that hold it (used as the initial friction state). Frictionless contact
+    keeps only a vanishing tangential spring (1e-9 k) that removes the rigid translation."""
+    tangential = 1.0 if model.contact.friction > 0.0 else 1e-9
+    springs = contact_stiffness(model, tangential_scale=tangential)
+    total = (model.stiffness + springs + collar_stiffness(model)).tocsc()
     f = model.gravity.copy()
     out = np.zeros((model.collar_nodes.shape[0], 4))
     K.collar_forces(model.X.copy(), model.collar_nodes, model.collar_props, out, f)  # pretension
     u = spsolve(total, f)
-    base_ft = -model.base_kt * u[2 * model.base_nodes]
+    base_ft = -tangential * model.base_kt * u[2 * model.base_nodes]
     crack_ft = []
     for slaves, masters, _sign, _kn, kt, _cn in model.crack_passes:
         partner = _coincident(model, slaves, masters)
-        crack_ft.append(-kt * (u[2 * slaves + 1] - u[2 * partner + 1]))
+        crack_ft.append(-tangential * kt * (u[2 * slaves + 1] - u[2 * partner + 1]))
     return u, base_ft, crack_ft
 
 
@@ -259,7 +262,9 @@ class _Recorder:
             self.pressure_path = out / "base_pressure.csv"
             self.pressure_csv = open(out / "base_pressure.csv.part", "w")
             xb = p[0, model.base_nodes]
-            self.pressure_csv.write("t," + ",".join(f"p_at_x={v:.6f}" for v in xb) + "\n")
+            bodies = mesh.node_body[model.base_nodes] + 1
+            self.pressure_csv.write("t," + ",".join(f"p_body{b}_x={v:.6f}"
+                                                    for b, v in zip(bodies, xb)) + "\n")
         self.header = None
         self.base_area = model.base_tributary * model.thickness
 

@@ -19,12 +19,24 @@ def constant_ground(acceleration):
     return Record(np.array([0.0, 100.0]), np.full(2, acceleration))
 
 
-def test_gravity_start_is_static_and_base_pressure_is_rho_g_h():
+def test_gravity_start_is_static_and_base_pressure_is_rho_g_h(tmp_path):
+    """On a frictionless base the column is in uniaxial compression: base pressure rho g H.
+    (A rough base restrains the Poisson expansion and shifts pressure to the corners.)"""
     W, H, T = 0.8, 4.0, 0.5
     stone = Stone()
-    model = build_model(column_mesh(W, H, 0.05, cracked=True), stone, T)
-    r = run(model, STILL, 0.01, progress=False, output_interval=0.002)
+    model = build_model(column_mesh(W, H, 0.05, cracked=True), stone, T,
+                        contact=ContactSettings(friction=0.0))
+    r = run(model, STILL, 0.01, progress=False, output_interval=0.002, out_dir=tmp_path)
     h = r.history
+    # contact pressure rho g H along the base, away from the corners (2 %)
+    from studies.output import read_csv
+    pressure = read_csv(tmp_path / "base_pressure.csv")
+    columns = [name for name in pressure if name != "t"]
+    assert len(columns) == model.base_nodes.size
+    x = model.mesh.points[0, model.base_nodes]
+    for name, xv in zip(columns, x):
+        if 0.03 < abs(xv) < 0.37:                       # away from the four corners
+            np.testing.assert_allclose(pressure[name], stone.density * 9.81 * H, rtol=0.02)
     weight_half = stone.density * 9.81 * 0.5 * W * H * T
     for b in (1, 2):
         np.testing.assert_allclose(h[f"base_normal_force_{b}"], weight_half, rtol=1e-3)
@@ -54,11 +66,16 @@ def test_crack_is_not_welded():
     assert np.all(h["crack_normal_force"][2:] == 0.0)
 
 
-@pytest.mark.parametrize("ratio, slides", [(0.8, False), (1.2, True)])
-def test_block_slides_exactly_when_tilt_exceeds_friction(ratio, slides):
+@pytest.mark.parametrize("ratio, slides", [(0.8, False), (1.2, True), (1.5, True)])
+def test_block_sticks_below_and_slides_above_the_friction_limit(ratio, slides):
     """A constant ground acceleration a tilts gravity by atan(a/g) in the ground frame: a squat
-    block (no rocking) slides iff a/g > mu, then at (a - mu g) relative to the ground. (Contact
-    damping is on: undamped penalty contact chatters while sliding, lowering the mean friction.)"""
+    block (no rocking) must stick for a/g < mu and slide at (a - mu g) relative to the ground
+    for a/g > mu.
+
+    Known limitation (issue 3 stays open for it): within about +-5 % of the limit the penalty
+    base chatters (normal forces swinging between 0 and several times the weight, a friction
+    mode-coupling instability of penalty contact), which lowers the mean friction by ~2.5 %:
+    at 0.95 mu the block creeps, at 1.05 mu it slides ~50 % too fast."""
     mu = 0.3
     a = ratio * mu * 9.81
     model = build_model(column_mesh(2.0, 0.5, 0.125, cracked=False), Stone(), 0.5,
