@@ -9,7 +9,10 @@ the force is f = R(phi) K u. Linear small-strain elasticity applied to the raw d
 see a rocking rotation theta as a strain of theta^2 / 2 (250 MPa at 0.1 rad in marble).
 
 Contact is penalty based with Coulomb friction in incremental form (trial tangential force, then
-return to the cone |f_t| <= mu f_n) and a contact damping on the normal approach velocity.
+return to the cone |f_t| <= mu f_n) and a contact damping on the normal approach velocity. The cone
+uses the normal force low-pass filtered over ~1 ms: with the instantaneous force, friction couples
+the contact's vertical vibration to the horizontal motion and near the slip limit the base flutters
+(a mode-coupling instability of penalty contact with friction).
 """
 
 from __future__ import annotations
@@ -37,9 +40,21 @@ def bsr_matvec(indptr, indices, blocks, x, out):
 
 
 @njit(cache=True)
-def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force):
-    """Base nodes against the rigid ground y = 0. ft: tangential force per node (state).
-    Returns (elastic contact energy, dissipated power)."""
+def _filter(state, k, value, blend):
+    """Exponential low-pass filter of a contact's normal force, started at the force itself
+    when the contact closes (so an impact gets its full friction at once)."""
+    if state[k] == 0.0:
+        state[k] = value
+    else:
+        state[k] += blend * (value - state[k])
+    return state[k]
+
+
+@njit(cache=True)
+def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force, fn_filtered, blend):
+    """Base nodes against the rigid ground y = 0. ft: tangential force per node (state);
+    fn_filtered: the normal force low-pass filtered for the friction cone (state; blend =
+    dt / tau, 1 for no filter). Returns (elastic contact energy, dissipated power)."""
     energy = 0.0
     power = 0.0
     for k in range(nodes.size):
@@ -48,6 +63,7 @@ def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force):
         if gap >= 0.0:
             ft[k] = 0.0
             normal_force[k] = 0.0
+            fn_filtered[k] = 0.0
             continue
         vn = v[2 * i + 1]
         fn_el = -kn[k] * gap
@@ -55,10 +71,11 @@ def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force):
         if fn < 0.0:
             fn = 0.0
         normal_force[k] = fn
+        cone = _filter(fn_filtered, k, fn, blend)
         # friction: incremental trial force, return to the cone
         vt = v[2 * i]
         trial = ft[k] - kt[k] * vt * dt
-        limit = mu * fn
+        limit = mu * cone
         if abs(trial) > limit:
             slip_force = limit if trial > 0.0 else -limit
             # dissipation: cone force times the plastic slip (trial - slip_force) / k_t
@@ -73,7 +90,8 @@ def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force):
 
 
 @njit(cache=True)
-def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, ft, f, normal_force):
+def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, ft, f, normal_force,
+                  fn_filtered, blend):
     """Node-to-segment contact of the slave face's nodes on the master face (ordered by height).
 
     outward_sign: +1 if the master face's outward normal is the segment direction turned
@@ -109,6 +127,7 @@ def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, 
             seg[k] = -1
             ft[k] = 0.0
             normal_force[k] = 0.0
+            fn_filtered[k] = 0.0
             continue
         seg[k] = found
         a = masters[found]
@@ -126,6 +145,7 @@ def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, 
         if gap >= 0.0:
             ft[k] = 0.0
             normal_force[k] = 0.0
+            fn_filtered[k] = 0.0
             continue
         rvx = v[2 * s] - ((1.0 - xi) * v[2 * a] + xi * v[2 * b])
         rvy = v[2 * s + 1] - ((1.0 - xi) * v[2 * a + 1] + xi * v[2 * b + 1])
@@ -136,8 +156,9 @@ def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, 
         if fn < 0.0:
             fn = 0.0
         normal_force[k] = fn
+        cone = _filter(fn_filtered, k, fn, blend)
         trial = ft[k] - kt[k] * vt * dt
-        limit = mu * fn
+        limit = mu * cone
         if abs(trial) > limit:
             slip_force = limit if trial > 0.0 else -limit
             # dissipation: cone force times the plastic slip (trial - slip_force) / k_t
@@ -223,9 +244,9 @@ def collar_forces(x, collars, props, out, f):
 @njit(cache=True)
 def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frames,
             indptr, indices, blocks, gravity, ground_acc,
-            base_nodes, base_kn, base_kt, base_cn, mu, base_ft, base_fn,
-            a_sl, a_ma, a_sign, a_kn, a_kt, a_cn, a_seg, a_ft, a_fn,
-            b_sl, b_ma, b_sign, b_kn, b_kt, b_cn, b_seg, b_ft, b_fn,
+            base_nodes, base_kn, base_kt, base_cn, mu, blend, base_ft, base_fn, base_fc,
+            a_sl, a_ma, a_sign, a_kn, a_kt, a_cn, a_seg, a_ft, a_fn, a_fc,
+            b_sl, b_ma, b_sign, b_kn, b_kt, b_cn, b_seg, b_ft, b_fn, b_fc,
             collar_nodes, collar_props, collar_out, u_loc, f_loc, f, tallies, energies):
     """n_steps of central differences (velocities at half steps, lumped mass).
 
@@ -289,14 +310,14 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
         bsr_matvec(indptr, indices, blocks, u_loc, f_loc)
         # contact and collars
         e_base, p_base = base_contact(x, v, base_nodes, base_kn, base_kt, base_cn, mu, dt,
-                                      base_ft, f, base_fn)
+                                      base_ft, f, base_fn, base_fc, blend)
         e_crack = 0.0
         p_crack = 0.0
         if has_crack:
             e1, p1 = crack_contact(x, v, a_sl, a_ma, a_sign, a_kn, a_kt, a_cn, mu, dt, a_seg,
-                                   a_ft, f, a_fn)
+                                   a_ft, f, a_fn, a_fc, blend)
             e2, p2 = crack_contact(x, v, b_sl, b_ma, b_sign, b_kn, b_kt, b_cn, mu, dt, b_seg,
-                                   b_ft, f, b_fn)
+                                   b_ft, f, b_fn, b_fc, blend)
             e_crack = e1 + e2
             p_crack = p1 + p2
         e_collar = collar_forces(x, collar_nodes, collar_props, collar_out, f)

@@ -29,15 +29,21 @@ from .assembly import Stone, assemble
 class ContactSettings:
     """friction: Coulomb mu (base and crack); penalty_factor: scales the default penalty;
     penalty: a fixed penalty per unit contact area (N/m^3), overrides the factor;
-    damping: fraction of critical damping of each contact spring."""
+    damping: fraction of critical damping of each contact spring;
+    friction_filter: time constant (s) of the low-pass filter on the normal force that sets
+    the friction cone (0: none). Without it, penalty contact with friction flutters near the
+    slip limit (the contact's vibration modulates the cone); 1 ms is long against that
+    vibration and short against the rocking; a closing contact starts at its full force."""
 
     friction: float = 0.7
     penalty_factor: float = 1.0
     penalty: float | None = None
     damping: float = 0.05
+    friction_filter: float = 1e-3
 
     def __post_init__(self):
         require_non_negative("contact friction", self.friction)
+        require_non_negative("contact friction_filter (s)", self.friction_filter)
         require_positive("contact penalty_factor", self.penalty_factor)
         if self.penalty is not None:
             require_positive("contact penalty (N/m^3)", self.penalty)

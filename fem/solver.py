@@ -113,6 +113,7 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     f_loc = np.zeros_like(x)
     f = np.zeros_like(x)
     base_fn = np.zeros(model.base_nodes.size)
+    base_fc = np.zeros(model.base_nodes.size)
     collar_out = np.zeros((model.collar_nodes.shape[0], 4))
     crack = [_crack_state(p, ft) for p, ft in zip(model.crack_passes, crack_ft)]
     while len(crack) < 2:
@@ -129,8 +130,10 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     last_print = start
     energy0 = None
     # initial forces (contact normal forces at rest) for the first record
+    tau = model.contact.friction_filter
+    blend = 1.0 if tau == 0.0 else min(1.0, dt / tau)
     _advance(0, dt, x, v, model, frames, indptr, indices, data, np.zeros(1), base_ft, base_fn,
-             crack, collar_out, u_loc, f_loc, f, tallies, energies)
+             base_fc, blend, crack, collar_out, u_loc, f_loc, f, tallies, energies)
     for k in range(n_outputs + 1):
         row = recorder.record(t, x, v, frames, base_fn, crack, collar_out, energies, tallies,
                               model.X)
@@ -146,7 +149,8 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
         times = t + dt * np.arange(steps_per_output)
         acc = np.ascontiguousarray(ground.acceleration(times), dtype=float)
         done = _advance(steps_per_output, dt, x, v, model, frames, indptr, indices, data, acc,
-                        base_ft, base_fn, crack, collar_out, u_loc, f_loc, f, tallies, energies)
+                        base_ft, base_fn, base_fc, blend, crack, collar_out, u_loc, f_loc, f,
+                        tallies, energies)
         t += done * dt
         if done < steps_per_output:
             reason = (f"numerical blow-up at t = {t:.4g} s: the state stopped being finite "
@@ -173,36 +177,37 @@ def _crack_state(crack_pass, ft0):
         empty_i = np.zeros(0, dtype=np.int64)
         empty = np.zeros(0)
         return dict(sl=empty_i, ma=np.zeros(1, dtype=np.int64), sign=1.0, kn=empty, kt=empty,
-                    cn=empty, seg=empty_i.copy(), ft=empty.copy(), fn=empty.copy())
+                    cn=empty, seg=empty_i.copy(), ft=empty.copy(), fn=empty.copy(),
+                    fc=empty.copy())
     slaves, masters, sign, kn, kt, cn = crack_pass
     return dict(sl=slaves, ma=masters, sign=sign, kn=kn, kt=kt, cn=cn,
                 seg=np.full(slaves.size, -1, dtype=np.int64), ft=ft0.copy(),
-                fn=np.zeros(slaves.size))
+                fn=np.zeros(slaves.size), fc=np.zeros(slaves.size))
 
 
-def _advance(n, dt, x, v, model, frames, indptr, indices, data, acc, base_ft, base_fn, crack,
-             collar_out, u_loc, f_loc, f, tallies, energies):
+def _advance(n, dt, x, v, model, frames, indptr, indices, data, acc, base_ft, base_fn, base_fc,
+             blend, crack, collar_out, u_loc, f_loc, f, tallies, energies):
+    """Advance n steps; n = 0 evaluates the forces at the present state without moving it (one
+    step of size 0 on copies of the state)."""
     a, b = crack
-    if n == 0:          # evaluate forces once without moving: run one step on copies
-        xs, vs = x.copy(), v.copy()
-        tl, en = tallies.copy(), energies
-        K.advance(1, 0.0, xs, vs, model.X, model.mass, model.mesh.node_body, model.mesh.n_bodies,
-                  model.centroid_ref, frames, indptr, indices, data, model.gravity,
-                  np.zeros(1), model.base_nodes, model.base_kn, model.base_kt, model.base_cn,
-                  model.contact.friction, base_ft.copy(), base_fn,
-                  a["sl"], a["ma"], a["sign"], a["kn"], a["kt"], a["cn"], a["seg"].copy(),
-                  a["ft"].copy(), a["fn"], b["sl"], b["ma"], b["sign"], b["kn"], b["kt"],
-                  b["cn"], b["seg"].copy(), b["ft"].copy(), b["fn"], model.collar_nodes,
-                  model.collar_props, collar_out, u_loc, f_loc, f, tl, en)
-        return 0
-    return K.advance(n, dt, x, v, model.X, model.mass, model.mesh.node_body, model.mesh.n_bodies,
-                     model.centroid_ref, frames, indptr, indices, data, model.gravity, acc,
-                     model.base_nodes, model.base_kn, model.base_kt, model.base_cn,
-                     model.contact.friction, base_ft, base_fn,
+    if n == 0:
+        x, v, tallies = x.copy(), v.copy(), tallies.copy()
+        base_ft, base_fc = base_ft.copy(), base_fc.copy()
+        a = {key: (val.copy() if isinstance(val, np.ndarray) else val) for key, val in a.items()}
+        b = {key: (val.copy() if isinstance(val, np.ndarray) else val) for key, val in b.items()}
+        a["fn"], b["fn"] = crack[0]["fn"], crack[1]["fn"]      # outputs stay shared
+        acc, dt, steps = np.zeros(1), 0.0, 1
+    else:
+        steps = n
+    done = K.advance(steps, dt, x, v, model.X, model.mass, model.mesh.node_body,
+                     model.mesh.n_bodies, model.centroid_ref, frames, indptr, indices, data,
+                     model.gravity, acc, model.base_nodes, model.base_kn, model.base_kt,
+                     model.base_cn, model.contact.friction, blend, base_ft, base_fn, base_fc,
                      a["sl"], a["ma"], a["sign"], a["kn"], a["kt"], a["cn"], a["seg"], a["ft"],
-                     a["fn"], b["sl"], b["ma"], b["sign"], b["kn"], b["kt"], b["cn"], b["seg"],
-                     b["ft"], b["fn"], model.collar_nodes, model.collar_props, collar_out,
-                     u_loc, f_loc, f, tallies, energies)
+                     a["fn"], a["fc"], b["sl"], b["ma"], b["sign"], b["kn"], b["kt"], b["cn"],
+                     b["seg"], b["ft"], b["fn"], b["fc"], model.collar_nodes, model.collar_props,
+                     collar_out, u_loc, f_loc, f, tallies, energies)
+    return 0 if n == 0 else done
 
 
 def _progress(t, duration, wall, end=False):

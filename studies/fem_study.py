@@ -8,7 +8,8 @@
                amplitude (m/s^2) or amplitude_ratio (a_p / (g tan alpha) of the rocking half)
                period (s) or omega_ratio (Omega / p of the rocking half)
                record (file, PEER .AT2 or two columns), scale (default 1)
-    [contact]  friction (0.7), penalty_factor (1), penalty (N/m^3, optional), damping (0.05)
+    [contact]  friction (0.7), penalty_factor (1), penalty (N/m^3, optional), damping (0.05),
+               friction_filter (s, 1e-3: low-pass time constant of the friction cone's normal force)
     [mesh]     size (m, default width / 16), grading (0.5), edge_length (m, default 0.1 x the
                width of a half: the toe length over which the edge stress is averaged),
                file (a quadrilateral mesh made elsewhere, e.g. gmsh .msh, instead of size/grading)
@@ -38,7 +39,7 @@ SCHEMA = {
     "collar": None,          # array of tables, checked by rigid.collars
     "ground": {"pulse", "amplitude", "amplitude_ratio", "period", "omega_ratio", "record",
                "scale"},
-    "contact": {"friction", "penalty_factor", "penalty", "damping"},
+    "contact": {"friction", "penalty_factor", "penalty", "damping", "friction_filter"},
     "mesh": {"size", "grading", "edge_length", "file"},
     "run": {"duration", "output_interval", "dt", "safety"},
     "rigid": {"restitution", "model"},
