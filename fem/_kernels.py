@@ -105,23 +105,24 @@ def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, 
         sx = x[2 * s]
         sy = x[2 * s + 1]
         j0 = seg[k] if seg[k] >= 0 else 0
+        # the segment used last step nearly always still holds the projection; else search
+        # outward from it, alternating up and down
         found = -1
         xi = 0.0
-        # local search outward from the last segment
-        for step in range(n_seg):
-            for j in (j0 + step, j0 - step):
-                if j < 0 or j >= n_seg or found >= 0:
-                    continue
-                a = masters[j]
-                b = masters[j + 1]
-                dx = x[2 * b] - x[2 * a]
-                dy = x[2 * b + 1] - x[2 * a + 1]
-                ll = dx * dx + dy * dy
-                t = ((sx - x[2 * a]) * dx + (sy - x[2 * a + 1]) * dy) / ll
-                if -1e-12 <= t <= 1.0 + 1e-12:
-                    found = j
-                    xi = min(max(t, 0.0), 1.0)
-            if found >= 0:
+        for step in range(2 * n_seg):
+            j = j0 + (step + 1) // 2 if step % 2 == 0 else j0 - (step + 1) // 2
+            if j < 0 or j >= n_seg:
+                if j0 + step // 2 >= n_seg and j0 - step // 2 < 0:
+                    break
+                continue
+            a = masters[j]
+            b = masters[j + 1]
+            dx = x[2 * b] - x[2 * a]
+            dy = x[2 * b + 1] - x[2 * a + 1]
+            t = ((sx - x[2 * a]) * dx + (sy - x[2 * a + 1]) * dy) / (dx * dx + dy * dy)
+            if -1e-12 <= t <= 1.0 + 1e-12:
+                found = j
+                xi = min(max(t, 0.0), 1.0)
                 break
         if found < 0:
             seg[k] = -1

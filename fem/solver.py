@@ -390,8 +390,8 @@ def _check(row, recorder, model, ground, t, stop_on_overturn):
         return None
     if max(abs(th) for th in thetas) >= math.pi / 4:
         return (f"overturned: a half rotated past 45 degrees at t = {t:.4g} s", True)
-    if t > ground.end_time and len(recorder.rows) >= 1:
-        falling = recorder.falling(row, recorder.rows[-1])
+    if t > ground.end_time and len(recorder.rows) >= 2:     # rows[-1] is this row
+        falling = recorder.falling(row, recorder.rows[-2])
         if falling:
             return (f"overturned: {falling} is past its toe moving outward after the ground "
                     f"motion (t = {t:.4g} s): gravity has no restoring moment left", True)

@@ -218,3 +218,18 @@ def test_stress_recovery_ignores_rigid_rotation():
     u = np.column_stack((c * X[:, 0] - s * X[:, 1], s * X[:, 0] + c * X[:, 1])) - X
     fields = stress_fields(model, u)
     assert np.abs(fields["sigma_min_principal"]).max() < 1e-3 * model.stone.fc
+
+
+def test_overturning_is_detected_and_stops_the_run():
+    """A slender solid column under a strong long pulse falls: once the ground is still and its
+    centre of mass is past the toe moving outward, the run stops and says so."""
+    W, H = 0.2, 2.0
+    blk = Block(b=W / 2, h=H / 2)
+    pulse = pulse_from_ratios(blk, "sine", 1.0, 3.0, "nonlinear")
+    rigid = rock(blk, pulse, model="nonlinear")
+    assert rigid.overturned
+    model = build_model(column_mesh(W, H, 0.05, cracked=False), Stone(), 0.2,
+                        contact=ContactSettings(friction=1.0))
+    r = run(model, pulse, pulse.duration + 3.0, progress=False, output_interval=5e-3)
+    assert r.summary["overturned"] and "overturned" in r.summary["status"]
+    assert r.summary["t_end"] < pulse.duration + 3.0
