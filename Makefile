@@ -7,7 +7,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 OUT    ?= out
 
-.PHONY: demo test test-all bench clean
+.PHONY: demo validate test test-all bench clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -16,8 +16,11 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 demo: $(STAMP)
-	$(BIN)/colonna validate --out $(OUT)/demo
-	@echo "report: $(OUT)/demo/report.md"
+	$(BIN)/colonna study default --out $(OUT)/demo
+	@echo "report: $(OUT)/demo/index.html"
+
+validate: $(STAMP)
+	$(BIN)/colonna validate --out $(OUT)/validation
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q

@@ -277,13 +277,13 @@ class _Recorder:
         """Which part, if any, has its centre of mass beyond its outer toe and moving outward.
 
         Collars and crack contact are internal forces: once the ground is still and the whole
-        column's centre of mass is past the outer toe it pivots on, nothing restores it. A half
-        tipping away from the other is judged alone in the same way."""
+        column's centre of mass is past the outer toe it pivots on, nothing restores it. Without
+        collars a half tipping away from the other is free, and is judged alone the same way."""
         x_toe_left, x_toe_right = row["_toe_x_left"], row["_toe_x_right"]
         xc, xc_prev = row["_com_x"], previous["_com_x"]
         if (xc > x_toe_right and xc > xc_prev) or (xc < x_toe_left and xc < xc_prev):
             return "the column's centre of mass"
-        if self.model.mesh.cracked:
+        if self.model.mesh.cracked and not self.model.collars:   # a free half, on its own
             if row["_com_x_1"] < x_toe_left and row["_com_x_1"] < previous["_com_x_1"]:
                 return "the left half's centre of mass"
             if row["_com_x_2"] > x_toe_right and row["_com_x_2"] > previous["_com_x_2"]:

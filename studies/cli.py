@@ -4,6 +4,7 @@
     colonna spectrum  overturning spectrum (mode map) with or without collars
     colonna design    collar design numbers (corrected Eq. 22-24) and the design chart
     colonna fem       2D finite-element contact model of a study file
+    colonna study     cross-check study (FEM and rigid side by side) with an HTML report
     colonna validate  the Zhang & Makris validation block (make demo)
 
 Bad input ends with one line ``colonna: error: ...`` naming the parameter, exit status 2.
@@ -221,6 +222,21 @@ def _cmd_fem(args) -> dict:
     return result.summary
 
 
+# --- colonna study ------------------------------------------------------------------------------
+
+def _cmd_study(args) -> dict:
+    from .crosscheck import run_crosscheck
+    from .sweep import default_workers
+
+    path = resolve_study(args.study)
+    workers = args.workers if args.workers is not None else default_workers()
+    if workers < 1:
+        raise InputError(f"--workers = {workers} must be >= 1")
+    summary = run_crosscheck(path, Path(args.out), workers=workers, scheduler=args.scheduler)
+    return summary if args.json else {"report": str(Path(args.out) / "index.html"),
+                                      **{k: v for k, v in summary["verdict"].items()}}
+
+
 # --- colonna validate ---------------------------------------------------------------------------
 
 def _cmd_validate(args) -> dict:
@@ -281,6 +297,16 @@ def build_parser() -> argparse.ArgumentParser:
                    help="write summary.json, history.csv and VTU/XDMF fields here")
     p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
     p.set_defaults(func=_cmd_fem)
+
+    p = sub.add_parser("study", help="cross-check study: FEM and rigid side by side, report")
+    p.add_argument("study", help="study file (TOML) or the name of a shipped study")
+    p.add_argument("--out", type=Path, required=True,
+                   help="write index.html, summary.json, CSV data and fields here")
+    p.add_argument("--scheduler", help="address of a Dask distributed scheduler (default: "
+                                       "local processes)")
+    p.add_argument("--workers", type=int, help="local worker processes (default: the cores)")
+    p.add_argument("--json", action="store_true", help="print summary.json")
+    p.set_defaults(func=_cmd_study)
 
     p = sub.add_parser("validate", help="Zhang & Makris validation block (p = 2.14, alpha = 0.25)")
     p.add_argument("--out", type=Path, default=Path("out/validation"))

@@ -43,7 +43,7 @@ SCHEMA = {
     "mesh": {"size", "grading", "edge_length", "file"},
     "run": {"duration", "output_interval", "dt", "safety"},
     "rigid": {"restitution", "model"},
-    "study": {"name", "description"},
+    "study": {"name", "description", "kind"},
 }
 
 

@@ -1,0 +1,177 @@
+"""The cross-check study: one column and pulse through the FEM contact model and the rigid
+rocking solver, side by side, with the safety checks and a verdict.
+
+Cases (run through :mod:`studies.sweep`, each saved as it completes):
+  fem        the 2D contact model of the study
+  rigid      the paper's model: one half block with the collars, both halves rotating equally
+  monolith   the whole column as one rigid block (the limit of a crack held shut)
+  spectrum   the rigid overturning spectrum around the study's pulse (half block, collars)
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from rigid.block import Block
+from rigid.solve import rock
+from rigid.spectrum import overturning_spectrum
+
+from .fem_study import from_dict
+from .output import read_csv, write_csv, write_json
+from .sweep import run_cases
+
+PEAK_TOLERANCE = 0.20       # |theta_FEM / theta_rigid - 1| for the rigid assumption to hold
+
+
+def _study_from_case(case):
+    return from_dict(case["study"], source=case["source"], base=Path(case["base"]))
+
+
+def fem_case(case: dict, directory: str) -> dict:
+    from .fem_study import run_study
+    study = _study_from_case(case)
+    result = run_study(study, out_dir=directory, progress=case.get("progress", False))
+    h = result.history
+    restitution = effective_restitution(h["t"], h["theta_left"])
+    return {"summary": result.summary, "effective_restitution": restitution}
+
+
+def rigid_case(case: dict, directory: str) -> dict:
+    study = _study_from_case(case)
+    if case["key"] == "monolith":
+        half = study.rocking_block
+        block = Block(b=study.width / 2.0, h=half.h, mass=2.0 * half.mass if study.cracked
+                      else half.mass, restitution=study.rigid.get("restitution"))
+        collars = ()
+    else:
+        block, collars = study.rocking_block, study.collars
+    result = rock(block, study.ground, collars, model="nonlinear", duration=study.duration)
+    columns = {"t": result.time, "theta": result.theta, "theta_dot": result.theta_dot}
+    for k, hist in enumerate(result.collar_histories, start=1):
+        columns[f"collar_{k}_stress"] = hist.stress
+    write_csv(Path(directory) / "history.csv", columns)
+    summary = result.summary()
+    summary["alpha"] = block.alpha
+    return summary
+
+
+def spectrum_case(case: dict, directory: str) -> dict:
+    study = _study_from_case(case)
+    block = study.rocking_block
+    omega_ratio = study.ground.omega / block.p
+    amplitude_ratio = abs(study.ground.amplitude) / block.uplift_acceleration("nonlinear")
+    omegas = np.linspace(max(0.2, 0.25 * omega_ratio), 2.0 * omega_ratio + 1.0, 60)
+    amplitudes = np.linspace(1.0, max(2.0 * amplitude_ratio, 4.0), 50)
+    spec = overturning_spectrum(block, omegas, amplitudes, study.collars, model="nonlinear")
+    data = spec.to_dict()
+    data.update(study_omega_ratio=omega_ratio, study_amplitude_ratio=amplitude_ratio)
+    write_json(Path(directory) / "spectrum.json", data)
+    return {"omega_ratio": omega_ratio, "amplitude_ratio": amplitude_ratio,
+            "seconds": spec.seconds}
+
+
+def _case_runner(case: dict, directory: str) -> dict:
+    kind = case["kind"]
+    if kind == "fem":
+        return fem_case(case, directory)
+    if kind == "rigid":
+        return rigid_case(case, directory)
+    return spectrum_case(case, directory)
+
+
+def effective_restitution(t, theta, window: int = 4) -> float | None:
+    """Mean ratio |theta' after / theta' before| over the impacts (theta changing sign) of a
+    sampled rotation history; slopes from linear fits over ``window`` samples either side.
+    None when there is no clean impact."""
+    t, theta = np.asarray(t), np.asarray(theta)
+    crossings = np.nonzero(np.sign(theta[1:]) * np.sign(theta[:-1]) < 0)[0]
+    ratios = []
+    scale = np.max(np.abs(theta)) if theta.size else 0.0
+    for k in crossings:
+        lo, hi = k - window + 1, k + 1 + window
+        if lo < 0 or hi > t.size:
+            continue
+        before = np.polyfit(t[lo:k + 1], theta[lo:k + 1], 1)[0]
+        after = np.polyfit(t[k + 1:hi], theta[k + 1:hi], 1)[0]
+        if abs(before) * (t[1] - t[0]) * window < 1e-3 * scale:
+            continue
+        ratios.append(abs(after / before))
+    return float(np.mean(ratios[:5])) if ratios else None
+
+
+def run_crosscheck(study_path: Path, out: Path, *, workers: int | None = None,
+                   scheduler: str | None = None, progress: bool = True) -> dict:
+    """Run (or resume) the cross-check of a study file and write its report."""
+    study_path = Path(study_path)
+    data = tomllib.loads(study_path.read_text())
+    study = from_dict(data, source=str(study_path), base=study_path.parent)   # fails early
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    base = {"study": data, "source": str(study_path), "base": str(study_path.parent.resolve())}
+    cases = [dict(base, key="fem", kind="fem", progress=progress and not scheduler),
+             dict(base, key="rigid", kind="rigid"),
+             dict(base, key="monolith", kind="rigid"), dict(base, key="spectrum",
+                                                             kind="spectrum")]
+    start = time.perf_counter()
+    results = run_cases(_case_runner, cases, out, workers=workers, scheduler=scheduler,
+                        progress=progress)
+    summary = assemble_summary(study, results)
+    summary["wall_seconds"] = time.perf_counter() - start
+    write_json(out / "summary.json", summary)
+    from .report import write_crosscheck_report
+    write_crosscheck_report(out)
+    if progress:
+        print(f"[study] report: {out / 'index.html'}", file=sys.stderr, flush=True)
+    return summary
+
+
+def assemble_summary(study, results: dict) -> dict:
+    fem = results["fem"]["summary"]
+    rigid, monolith = results["rigid"], results["monolith"]
+    fem_peak = max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
+    ratio = fem_peak / rigid["max_abs_theta"] if rigid["max_abs_theta"] > 0 else math.nan
+    ratio_monolith = (fem_peak / monolith["max_abs_theta"] if monolith["max_abs_theta"] > 0
+                      else math.nan)
+    same_fate = bool(fem["overturned"]) == bool(rigid["overturned"])
+    rigid_ok = same_fate and (fem["overturned"] or abs(ratio - 1.0) <= PEAK_TOLERANCE)
+    block = study.rocking_block
+    return {
+        "study": study.name,
+        "verdict": {
+            "rigid_assumption_ok": bool(rigid_ok),
+            "collars_yield": bool(fem["collar_max_utilisation"] >= 1.0),
+            "toe_crushes": bool(fem["edge_stress_ratio"] >= 1.0),
+            "rocks_as_one_block": bool(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
+        },
+        "fem": fem,
+        "rigid": {"overturned": rigid["overturned"], "mode": rigid["mode"],
+                  "max_abs_theta": rigid["max_abs_theta"],
+                  "collar_max_utilisation": rigid.get("collar_max_utilisation"),
+                  "impacts": rigid["impacts"]},
+        "rigid_monolith": {"overturned": monolith["overturned"], "mode": monolith["mode"],
+                           "max_abs_theta": monolith["max_abs_theta"],
+                           "impacts": monolith["impacts"]},
+        "theta_peak_ratio_fem_over_rigid": ratio,
+        "theta_peak_ratio_fem_over_monolith": ratio_monolith,
+        "effective_restitution_fem": results["fem"]["effective_restitution"],
+        "restitution_housner": block.restitution_housner,
+        "pulse": {"omega_ratio": results["spectrum"]["omega_ratio"],
+                  "amplitude_ratio": results["spectrum"]["amplitude_ratio"],
+                  "amplitude": study.ground.amplitude, "omega": study.ground.omega},
+        "peak_tolerance": PEAK_TOLERANCE,
+    }
+
+
+def load_summary(out: Path) -> dict:
+    return json.loads((Path(out) / "summary.json").read_text())
+
+
+def fem_history(out: Path) -> dict:
+    return read_csv(Path(out) / "cases" / "fem" / "history.csv")

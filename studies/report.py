@@ -1,0 +1,266 @@
+"""The HTML report of a cross-check study. Presentation only: every number comes from
+``summary.json`` and every curve from the CSV files of the run directory.
+
+Each figure's data is written next to it as CSV. Numbers in the HTML carry a ``data-key``
+attribute naming their place in summary.json (dotted path), so a test can check that the report
+says what the data say.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import json
+import math
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .output import read_csv, write_csv  # noqa: E402
+
+
+def fmt(value, digits: int = 4) -> str:
+    """The report's number format (the consistency test uses the same function)."""
+    if value is None:
+        return "n/a"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, (int,)) and not isinstance(value, bool):
+        return str(value)
+    value = float(value)
+    if not math.isfinite(value):
+        return "n/a"
+    return f"{value:.{digits}g}"
+
+
+def _get(summary: dict, dotted: str):
+    node = summary
+    for part in dotted.split("."):
+        node = node[part]
+    return node
+
+
+def _num(summary, dotted, digits=4):
+    return f'<span data-key="{dotted}">{html.escape(fmt(_get(summary, dotted), digits))}</span>'
+
+
+def _png(fig) -> str:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110)
+    plt.close(fig)
+    return base64.b64encode(buf.getvalue()).decode()
+
+
+def _figure(out: Path, name: str, fig, caption: str) -> str:
+    data = _png(fig)
+    (out / "figures").mkdir(exist_ok=True)
+    (out / "figures" / f"{name}.png").write_bytes(base64.b64decode(data))
+    return (f'<figure><img alt="{html.escape(caption)}" src="data:image/png;base64,{data}">'
+            f'<figcaption>{html.escape(caption)} (data: figures/{name}.csv)</figcaption></figure>')
+
+
+def write_crosscheck_report(out: Path) -> Path:
+    out = Path(out)
+    summary = json.loads((out / "summary.json").read_text())
+    fem_h = read_csv(out / "cases" / "fem" / "history.csv")
+    rigid_h = read_csv(out / "cases" / "rigid" / "history.csv")
+    mono_h = read_csv(out / "cases" / "monolith" / "history.csv")
+    spectrum = json.loads((out / "cases" / "spectrum" / "spectrum.json").read_text())
+    (out / "figures").mkdir(exist_ok=True)
+    figs = []
+
+    # 1. rotations, FEM vs rigid
+    t = fem_h["t"]
+    write_csv(out / "figures" / "theta.csv", {
+        "t": t, "theta_fem_left": fem_h["theta_left"], "theta_fem_right": fem_h["theta_right"],
+        "theta_rigid_half_with_collars": np.interp(t, rigid_h["t"], rigid_h["theta"]),
+        "theta_rigid_monolith": np.interp(t, mono_h["t"], mono_h["theta"])})
+    fig, ax = plt.subplots(figsize=(8, 3.6))
+    ax.plot(t, fem_h["theta_left"], label="FEM, left half")
+    ax.plot(t, fem_h["theta_right"], "--", label="FEM, right half")
+    m = rigid_h["t"] <= t[-1]
+    ax.plot(rigid_h["t"][m], rigid_h["theta"][m], label="rigid, half block + collars")
+    m = mono_h["t"] <= t[-1]
+    ax.plot(mono_h["t"][m], mono_h["theta"][m], ":", label="rigid, whole column (monolith)")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(r"$\theta$ (rad)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    figs.append(_figure(out, "theta", fig, "Rotation of each half: FEM against the rigid models"))
+
+    # 2. where the pulse sits on the rigid spectrum
+    codes = np.array([[{"safe": 0, "after-impact": 1, "without-impact": 2}[c] for c in row]
+                      for row in spectrum["mode"]])
+    w = np.array(spectrum["omega_ratios"])
+    a = np.array(spectrum["amplitude_ratios"])
+    write_csv(out / "figures" / "spectrum.csv", {
+        "omega_ratio": np.tile(w, a.size), "amplitude_ratio": np.repeat(a, w.size),
+        "mode_code": codes.ravel()})
+    from rigid.plotting import MODE_COLOURS
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.pcolormesh(w, a, codes, cmap=ListedColormap(MODE_COLOURS),
+                  norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3), shading="nearest")
+    if "collar_yields" in spectrum:
+        ax.contour(w, a, np.array(spectrum["collar_yields"], dtype=float), levels=[0.5],
+                   colors="k", linewidths=0.8)
+    ax.plot(spectrum["study_omega_ratio"], spectrum["study_amplitude_ratio"], "r*",
+            markersize=14, label="this study's pulse")
+    ax.set_xlabel(r"$\Omega/p$")
+    ax.set_ylabel(r"$a_p/(g\tan\alpha)$")
+    ax.legend(fontsize=8, loc="upper left")
+    ax.set_title("Rigid overturning spectrum (half block with collars); black: collar yield")
+    fig.tight_layout()
+    figs.append(_figure(out, "spectrum", fig, "The study's pulse on the rigid spectrum "
+                        "(grey: safe, orange: overturns after impact, green: without impact)"))
+
+    # 3. collar stress against f_y
+    collar_cols = sorted(k for k in fem_h if k.startswith("collar_") and k.endswith("_stress"))
+    if collar_cols:
+        write_csv(out / "figures" / "collars.csv",
+                  {"t": t, **{k: fem_h[k] for k in collar_cols}})
+        fig, ax = plt.subplots(figsize=(8, 3.4))
+        for k in collar_cols:
+            ax.plot(t, fem_h[k] / 1e6, label=f"FEM {k.replace('_stress', '')}")
+        fy = fem_h[collar_cols[0]].max() / max(summary["fem"]["collar_max_utilisation"], 1e-30)
+        ax.axhline(fy / 1e6, color="k", ls="--", lw=1, label=r"$f_y$")
+        ax.set_xlabel("t (s)")
+        ax.set_ylabel("extreme-fibre stress (MPa)")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        figs.append(_figure(out, "collars", fig, "Collar stress against the yield stress"))
+
+    # 4. toe stress against f_c
+    edge_cols = [k for k in fem_h if k.startswith("edge_stress_")]
+    write_csv(out / "figures" / "toe_stress.csv", {"t": t, **{k: fem_h[k] for k in edge_cols}})
+    fig, ax = plt.subplots(figsize=(8, 3.4))
+    for k in edge_cols:
+        ax.plot(t, fem_h[k] / 1e6, label=k.replace("edge_stress_", "toe "))
+    fc = summary["fem"]["edge_stress_max"] / max(summary["fem"]["edge_stress_ratio"], 1e-30)
+    ax.axhline(fc / 1e6, color="k", ls="--", lw=1, label=r"$f_c$")
+    ax.set_yscale("symlog", linthresh=1.0)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(f"toe stress over {1e3 * summary['fem']['edge_length']:.0f} mm (MPa)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    figs.append(_figure(out, "toe_stress", fig, "Base-edge compressive stress at the toes "
+                        "against the stone strength"))
+
+    # 5. base contact pressure at peak rotation
+    pressure = read_csv(out / "cases" / "fem" / "base_pressure.csv")
+    peak = int(np.argmax(np.maximum(np.abs(fem_h["theta_left"]), np.abs(fem_h["theta_right"]))))
+    names = [k for k in pressure if k != "t"]
+    x = np.array([float(n.split("_x=")[1]) for n in names])
+    row = min(peak, pressure["t"].size - 1)
+    p_peak = np.array([pressure[n][row] for n in names])
+    p_rest = np.array([pressure[n][0] for n in names])
+    write_csv(out / "figures" / "base_pressure.csv",
+              {"x": x, "pressure_at_rest": p_rest, "pressure_at_peak_rotation": p_peak})
+    fig, ax = plt.subplots(figsize=(8, 3.2))
+    ax.plot(x, p_rest / 1e6, "o-", ms=3, label="at rest (gravity)")
+    ax.plot(x, p_peak / 1e6, "s-", ms=3, label=f"at peak rotation, t = {pressure['t'][row]:.3f} s")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("base contact pressure (MPa)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    figs.append(_figure(out, "base_pressure", fig, "Base contact pressure"))
+
+    renders = _renders(out)
+    body = _html(summary, figs, renders)
+    path = out / "index.html"
+    tmp = out / "index.html.part"
+    tmp.write_text(body)
+    tmp.replace(path)
+    return path
+
+
+def _renders(out: Path) -> str:
+    """pyvista renders of the deformed halves (x10) coloured by the minimum principal stress."""
+    try:
+        from .render import render_snapshots
+        images = render_snapshots(out)
+    except Exception as exc:     # rendering is a picture, never a reason to lose the report
+        return f"<p>Renders unavailable: {html.escape(str(exc))}</p>"
+    parts = []
+    for name, caption in images:
+        data = base64.b64encode((out / "figures" / name).read_bytes()).decode()
+        mime = "image/gif" if name.endswith(".gif") else "image/png"
+        parts.append(f'<figure><img alt="{html.escape(caption)}" src="data:{mime};base64,'
+                     f'{data}"><figcaption>{html.escape(caption)}</figcaption></figure>')
+    return "\n".join(parts)
+
+
+def _verdict_row(summary, key, label, detail):
+    ok = _get(summary, f"verdict.{key}")
+    good = ok if key == "rigid_assumption_ok" else not ok
+    colour = "#1b9e77" if good else "#d95f02"
+    return (f'<tr><th>{label}</th><td style="color:{colour};font-weight:bold">'
+            f'{_num(summary, "verdict." + key)}</td><td>{detail}</td></tr>')
+
+
+def _html(s: dict, figs: list, renders: str) -> str:
+    fem = s["fem"]
+    verdict = "\n".join([
+        _verdict_row(s, "rigid_assumption_ok", "Rigid-body assumption good enough?",
+                     f"peak rotation FEM / rigid = {_num(s, 'theta_peak_ratio_fem_over_rigid')} "
+                     f"(tolerance {_num(s, 'peak_tolerance', 2)}); FEM / whole-column rigid = "
+                     f"{_num(s, 'theta_peak_ratio_fem_over_monolith')}; overturned: FEM "
+                     f"{_num(s, 'fem.overturned')}, rigid {_num(s, 'rigid.overturned')}; "
+                     f"effective restitution FEM {_num(s, 'effective_restitution_fem', 3)} vs "
+                     f"Housner {_num(s, 'restitution_housner', 3)}"),
+        _verdict_row(s, "collars_yield", "Do the collars yield?",
+                     f"max utilisation {_num(s, 'fem.collar_max_utilisation', 3)}, first yield "
+                     f"at t = {_num(s, 'fem.collar_first_yield_time')} s"),
+        _verdict_row(s, "toe_crushes", "Does the toe crush?",
+                     f"max toe stress / f_c = {_num(s, 'fem.edge_stress_ratio', 3)} (averaged "
+                     f"over {_num(s, 'fem.edge_length', 3)} m)"),
+    ])
+    rows = [("FEM peak rotation, left half (rad)", "fem.max_abs_theta_left"),
+            ("FEM peak rotation, right half (rad)", "fem.max_abs_theta_right"),
+            ("rigid peak rotation, half + collars (rad)", "rigid.max_abs_theta"),
+            ("rigid mode", "rigid.mode"),
+            ("rigid peak rotation, whole column (rad)", "rigid_monolith.max_abs_theta"),
+            ("halves rock as one block", "verdict.rocks_as_one_block"),
+            ("FEM status", "fem.status"),
+            ("toe stress max (Pa)", "fem.edge_stress_max"),
+            ("energy balance error (max, relative)", "fem.energy_error_max"),
+            ("time step (s)", "fem.dt"), ("stable-step reduction by contact",
+                                           "fem.stable_step_reduction_by_contact"),
+            ("steps", "fem.steps"), ("dofs", "fem.dofs"),
+            ("FEM wall time (s)", "fem.wall_seconds"),
+            ("pulse Omega/p", "pulse.omega_ratio"),
+            ("pulse a_p / (g tan alpha)", "pulse.amplitude_ratio")]
+    table = "\n".join(f"<tr><th>{html.escape(label)}</th><td>{_num(s, key)}</td></tr>"
+                      if not isinstance(_get(s, key), str) else
+                      f'<tr><th>{html.escape(label)}</th><td><span data-key="{key}">'
+                      f'{html.escape(_get(s, key))}</span></td></tr>' for label, key in rows)
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<title>colonna: {html.escape(s['study'])}</title>
+<style>
+body {{ font-family: sans-serif; max-width: 980px; margin: 2em auto; color: #222; }}
+table {{ border-collapse: collapse; margin: 1em 0; }}
+th, td {{ border: 1px solid #ccc; padding: 4px 8px; text-align: left; vertical-align: top; }}
+figure {{ margin: 1.5em 0; page-break-inside: avoid; }}
+img {{ max-width: 100%; }}
+figcaption {{ font-size: 0.9em; color: #555; }}
+@media print {{ body {{ max-width: none; }} }}
+</style></head><body>
+<h1>colonna cross-check: {html.escape(s['study'])}</h1>
+<h2>Verdict</h2>
+<table>{verdict}</table>
+<h2>Numbers</h2>
+<table>{table}</table>
+<h2>Figures</h2>
+{''.join(figs)}
+<h2>Deformed halves</h2>
+{renders}
+<p>Data: summary.json, cases/*/history.csv, cases/fem/base_pressure.csv, figures/*.csv;
+fields for ParaView: cases/fem/*.vtu and fields.xdmf.</p>
+</body></html>
+"""

@@ -1,0 +1,132 @@
+"""``colonna study``: the report says what the data say, bad studies fail before any work,
+sweeps resume after an interruption, and the Dask path equals the local one."""
+
+import json
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from studies.cli import main
+from studies.crosscheck import run_crosscheck
+from studies.output import read_csv
+from studies.report import fmt
+
+TINY = """
+[study]
+name = "tiny"
+[column]
+height = 1.0
+width = 0.2
+[[collar]]
+y = 0.5
+t = 0.004
+h = 0.02
+[ground]
+amplitude_ratio = 2.5
+omega_ratio = 3.0
+[mesh]
+size = 0.05
+grading = 0.0
+[run]
+duration = 0.6
+output_interval = 0.005
+"""
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory):
+    root = tmp_path_factory.mktemp("study")
+    study = root / "tiny.toml"
+    study.write_text(TINY)
+    summary = run_crosscheck(study, root / "out", workers=1, progress=False)
+    return root, study, summary
+
+
+def _comparable(summary):
+    s = json.loads(json.dumps(summary))
+    s.pop("wall_seconds", None)
+    s["fem"].pop("wall_seconds", None)
+    return s
+
+
+def test_summary_keys(tiny_run):
+    _, _, s = tiny_run
+    assert set(s["verdict"]) >= {"rigid_assumption_ok", "collars_yield", "toe_crushes"}
+    assert {"overturned", "mode", "max_abs_theta"} <= set(s["rigid"])
+    for key in ("fem", "theta_peak_ratio_fem_over_rigid", "effective_restitution_fem",
+                "restitution_housner"):
+        assert key in s
+
+
+def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
+    root, _, _ = tiny_run
+    out = root / "out"
+    summary = json.loads((out / "summary.json").read_text())
+    page = (out / "index.html").read_text()
+    spans = re.findall(r'<span data-key="([^"]+)">([^<]*)</span>', page)
+    assert len(spans) >= 20
+    for key, shown in spans:
+        node = summary
+        for part in key.split("."):
+            node = node[part]
+        import html
+        if isinstance(node, str):
+            assert html.unescape(shown) == node, key
+        else:
+            assert shown in (fmt(node, 4), fmt(node, 3), fmt(node, 2)), (key, shown, node)
+    # figure data are the run's data
+    theta = read_csv(out / "figures" / "theta.csv")
+    history = read_csv(out / "cases" / "fem" / "history.csv")
+    np.testing.assert_array_equal(theta["theta_fem_left"], history["theta_left"])
+    assert page.count("data:image/png") >= 5 and "data:image/gif" in page
+
+
+def test_study_with_a_typo_fails_before_any_work(tmp_path, capsys):
+    study = tmp_path / "typo.toml"
+    study.write_text(TINY.replace("[ground]", "[grund]"))
+    assert main(["study", str(study), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "grund" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "out").exists()
+    study.write_text(TINY.replace("omega_ratio = 3.0", "omega_ratio = -3.0"))
+    assert main(["study", str(study), "--out", str(tmp_path / "out")]) == 2
+    assert "omega_ratio" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
+
+
+def test_interrupted_study_resumes_with_identical_results(tiny_run, tmp_path):
+    _, study, reference = tiny_run
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "studies.cli", "study", str(study), "--out", str(out),
+           "--workers", "1"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            cwd=Path(__file__).parents[1])
+    deadline = time.time() + 120
+    while time.time() < deadline and not (out / "cases" / "fem" / "result.json").exists():
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGKILL)          # killed mid-way: after the first case
+    proc.wait()
+    done = sorted(p.parent.name for p in (out / "cases").glob("*/result.json"))
+    assert "fem" in done and len(done) < 4
+    first = {k: (out / "cases" / k / "result.json").read_text() for k in done}
+    resumed = run_crosscheck(study, out, workers=1, progress=False)
+    for key, text in first.items():             # nothing already computed was redone or lost
+        assert (out / "cases" / key / "result.json").read_text() == text
+    assert _comparable(resumed) == _comparable(reference)
+
+
+def test_dask_path_gives_the_local_summary(tiny_run, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    _, study, reference = tiny_run
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        summary = run_crosscheck(study, tmp_path / "dask", scheduler=cluster.scheduler_address,
+                                 progress=False)
+    assert _comparable(summary) == _comparable(reference)
