@@ -7,7 +7,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 OUT    ?= out
 
-.PHONY: demo validate test test-all bench clean
+.PHONY: demo validate test test-all bench clean browser
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -22,10 +22,23 @@ demo: $(STAMP)
 validate: $(STAMP)
 	$(BIN)/colonna validate --out $(OUT)/validation
 
-test: $(STAMP)
+# The report-render test needs a headless browser: installed where apt-get can (as root).
+BROWSER := $(shell command -v chromium || command -v chromium-browser || command -v google-chrome)
+
+browser:
+ifeq ($(BROWSER),)
+	@if command -v apt-get >/dev/null 2>&1 && [ "$$(id -u)" = 0 ]; then \
+	  echo "installing chromium for the report-render test"; \
+	  (apt-get install -y -q chromium >/dev/null 2>&1 || \
+	   (apt-get update -q >/dev/null 2>&1 && apt-get install -y -q chromium >/dev/null 2>&1)) \
+	  || echo "chromium not installed: the report-render test will be skipped"; \
+	else echo "no chromium and no apt-get as root: the report-render test will be skipped"; fi
+endif
+
+test: $(STAMP) browser
 	$(BIN)/python -m pytest -q
 
-test-all: $(STAMP)
+test-all: $(STAMP) browser
 	$(BIN)/python -m pytest -q -m ""
 
 bench: $(STAMP)

@@ -130,3 +130,26 @@ def test_dask_path_gives_the_local_summary(tiny_run, tmp_path):
         summary = run_crosscheck(study, tmp_path / "dask", scheduler=cluster.scheduler_address,
                                  progress=False)
     assert _comparable(summary) == _comparable(reference)
+
+
+def test_report_renders_in_a_headless_browser(tiny_run, tmp_path):
+    """The report opens in headless Chromium and every figure decodes and renders."""
+    browser = shutil.which("chromium") or shutil.which("chromium-browser") \
+        or shutil.which("google-chrome")
+    if browser is None:
+        pytest.skip("no headless browser (make test installs chromium where apt is available)")
+    root, _, _ = tiny_run
+    page = (root / "out" / "index.html").read_text()
+    probe = ("<script>window.addEventListener('load', () => {"
+             "const imgs = [...document.images];"
+             "const ok = imgs.filter(i => i.complete && i.naturalWidth > 0).length;"
+             "document.title = 'rendered ' + ok + ' of ' + imgs.length; });</script>")
+    check = tmp_path / "check.html"
+    check.write_text(page.replace("</body>", probe + "</body>"))
+    run = subprocess.run([browser, "--headless=new", "--no-sandbox", "--disable-gpu",
+                          "--virtual-time-budget=10000", "--dump-dom", check.as_uri()],
+                         capture_output=True, text=True, timeout=120)
+    match = re.search(r"<title>rendered (\d+) of (\d+)</title>", run.stdout)
+    assert match, run.stderr[-2000:]
+    rendered, total = int(match.group(1)), int(match.group(2))
+    assert total >= 9 and rendered == total
