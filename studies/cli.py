@@ -228,13 +228,33 @@ def _cmd_study(args) -> dict:
     from .crosscheck import run_crosscheck
     from .sweep import default_workers
 
+    import tomllib
+
+    from .sweeps import SWEEP_KINDS, run_sweep_study
+
     path = resolve_study(args.study)
     workers = args.workers if args.workers is not None else default_workers()
     if workers < 1:
         raise InputError(f"--workers = {workers} must be >= 1")
-    summary = run_crosscheck(path, Path(args.out), workers=workers, scheduler=args.scheduler)
-    return summary if args.json else {"report": str(Path(args.out) / "index.html"),
-                                      **{k: v for k, v in summary["verdict"].items()}}
+    try:
+        kind = tomllib.loads(path.read_text()).get("study", {}).get("kind", "cross-check")
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"study file {path} is not valid TOML: {exc}") from None
+    kinds = ("cross-check", "zhang-makris") + SWEEP_KINDS
+    if kind not in kinds:
+        raise InputError(f"study.kind = {kind!r} is not one of {', '.join(kinds)}")
+    out = Path(args.out)
+    if kind == "cross-check":
+        summary = run_crosscheck(path, out, workers=workers, scheduler=args.scheduler)
+        short = summary["verdict"]
+    elif kind == "zhang-makris":
+        from .validation import zhang_makris_study
+        summary = zhang_makris_study(out)
+        short = {"boundaries_linear": summary["boundaries"]["linear"]}
+    else:
+        summary = run_sweep_study(kind, path, out, workers=workers, scheduler=args.scheduler)
+        short = {}
+    return summary if args.json else {"report": str(out / "index.html"), **short}
 
 
 # --- colonna validate ---------------------------------------------------------------------------

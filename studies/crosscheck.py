@@ -31,7 +31,11 @@ PEAK_TOLERANCE = 0.20       # |theta_FEM / theta_rigid - 1| for the rigid assump
 
 
 def _study_from_case(case):
-    return from_dict(case["study"], source=case["source"], base=Path(case["base"]))
+    study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
+    if "ground_study" in case:     # a variant shaken by the original study's ground motion
+        study.ground = from_dict(case["ground_study"], source=case["source"],
+                                 base=Path(case["base"])).ground
+    return study
 
 
 def fem_case(case: dict, directory: str) -> dict:

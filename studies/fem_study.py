@@ -44,6 +44,7 @@ SCHEMA = {
     "run": {"duration", "output_interval", "dt", "safety"},
     "rigid": {"restitution", "model"},
     "study": {"name", "description", "kind"},
+    "convergence": None,     # mesh-convergence studies, checked by studies.sweeps
 }
 
 

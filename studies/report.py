@@ -41,7 +41,7 @@ def fmt(value, digits: int = 4) -> str:
 def _get(summary: dict, dotted: str):
     node = summary
     for part in dotted.split("."):
-        node = node[part]
+        node = node[int(part)] if isinstance(node, list) else node[part]
     return node
 
 
@@ -171,12 +171,7 @@ def write_crosscheck_report(out: Path) -> Path:
     figs.append(_figure(out, "base_pressure", fig, "Base contact pressure"))
 
     renders = _renders(out)
-    body = _html(summary, figs, renders)
-    path = out / "index.html"
-    tmp = out / "index.html.part"
-    tmp.write_text(body)
-    tmp.replace(path)
-    return path
+    return _write_page(out, _html(summary, figs, renders))
 
 
 def _renders(out: Path) -> str:
@@ -239,19 +234,7 @@ def _html(s: dict, figs: list, renders: str) -> str:
                       if not isinstance(_get(s, key), str) else
                       f'<tr><th>{html.escape(label)}</th><td><span data-key="{key}">'
                       f'{html.escape(_get(s, key))}</span></td></tr>' for label, key in rows)
-    return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8">
-<title>colonna: {html.escape(s['study'])}</title>
-<style>
-body {{ font-family: sans-serif; max-width: 980px; margin: 2em auto; color: #222; }}
-table {{ border-collapse: collapse; margin: 1em 0; }}
-th, td {{ border: 1px solid #ccc; padding: 4px 8px; text-align: left; vertical-align: top; }}
-figure {{ margin: 1.5em 0; page-break-inside: avoid; }}
-img {{ max-width: 100%; }}
-figcaption {{ font-size: 0.9em; color: #555; }}
-@media print {{ body {{ max-width: none; }} }}
-</style></head><body>
-<h1>colonna cross-check: {html.escape(s['study'])}</h1>
+    return _page(f"colonna cross-check: {s['study']}", f"""
 <h2>Verdict</h2>
 <table>{verdict}</table>
 <h2>Numbers</h2>
@@ -261,6 +244,110 @@ figcaption {{ font-size: 0.9em; color: #555; }}
 <h2>Deformed halves</h2>
 {renders}
 <p>Data: summary.json, cases/*/history.csv, cases/fem/base_pressure.csv, figures/*.csv;
-fields for ParaView: cases/fem/*.vtu and fields.xdmf.</p>
+fields for ParaView: cases/fem/*.vtu and fields.xdmf.</p>""")
+
+
+def _page(title: str, body: str) -> str:
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<title>{html.escape(title)}</title>
+<style>
+body {{ font-family: sans-serif; max-width: 980px; margin: 2em auto; color: #222; }}
+table {{ border-collapse: collapse; margin: 1em 0; }}
+th, td {{ border: 1px solid #ccc; padding: 4px 8px; text-align: left; vertical-align: top; }}
+figure {{ margin: 1.5em 0; page-break-inside: avoid; }}
+img {{ max-width: 100%; }}
+figcaption {{ font-size: 0.9em; color: #555; }}
+@media print {{ body {{ max-width: none; }} }}
+</style></head><body>
+<h1>{html.escape(title)}</h1>
+{body}
 </body></html>
 """
+
+
+def _write_page(out: Path, text: str) -> Path:
+    path = Path(out) / "index.html"
+    tmp = Path(out) / "index.html.part"
+    tmp.write_text(text)
+    tmp.replace(path)
+    return path
+
+
+def write_sweep_report(out: Path, kind: str) -> Path:
+    out = Path(out)
+    s = json.loads((out / "summary.json").read_text())
+    (out / "figures").mkdir(exist_ok=True)
+    if kind == "mesh-convergence":
+        return _write_page(out, _page(f"colonna mesh convergence: {s['study']}",
+                                      _convergence_body(out, s)))
+    return _write_page(out, _page(f"colonna solid vs cracked: {s['study']}",
+                                  _variants_body(out, s)))
+
+
+def _convergence_body(out: Path, s: dict) -> str:
+    sizes = s["sizes"]
+    head = "".join(f"<th>h = {fmt(h, 3)} m ({n} dofs)</th>" for h, n in zip(sizes, s["dofs"]))
+    rows = []
+    labels = {"peak_rotation": "peak rotation (rad)",
+              "collar_max_utilisation": "collar utilisation sigma/f_y",
+              "edge_stress_max": "toe stress (Pa)"}
+    columns = {"h": np.array(sizes)}
+    fig, axes = plt.subplots(1, 3, figsize=(10, 3.2))
+    for ax, (name, label) in zip(axes, labels.items()):
+        c = s["convergence"][name]
+        cells = "".join(f'<td>{_num(s, f"convergence.{name}.values.{k}")}</td>'
+                        for k in range(len(sizes)))
+        rows.append(f"<tr><th>{label}</th>{cells}"
+                    f"<td>{_num(s, f'convergence.{name}.observed_order', 3)}</td>"
+                    f"<td>{_num(s, f'convergence.{name}.richardson')}</td>"
+                    f"<td>{_num(s, f'convergence.{name}.fine_relative_error', 2)}</td></tr>")
+        columns[name] = np.array(c["values"], dtype=float)
+        ax.plot(sizes, c["values"], "o-")
+        if c["richardson"] is not None:
+            ax.axhline(c["richardson"], color="k", ls="--", lw=0.8, label="Richardson")
+        ax.set_xscale("log")
+        ax.set_xlabel("mesh size h (m)")
+        ax.set_title(label, fontsize=9)
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    write_csv(out / "figures" / "convergence.csv", columns)
+    figure = _figure(out, "convergence", fig, "FEM numbers against the mesh size")
+    return (f"<table><tr><th></th>{head}<th>observed order</th><th>Richardson</th>"
+            f"<th>fine-mesh relative error</th></tr>{''.join(rows)}</table>{figure}")
+
+
+def _variants_body(out: Path, s: dict) -> str:
+    names = list(s["variants"])
+    fields = [("fem_peak_rotation", "FEM peak rotation (rad)"), ("fem_overturned",
+              "FEM overturned"), ("rigid_peak_rotation", "rigid peak rotation (rad)"),
+              ("rigid_mode", "rigid mode"), ("collar_max_utilisation", "collar utilisation"),
+              ("edge_stress_ratio", "toe stress / f_c"), ("status", "FEM status")]
+    head = "".join(f"<th>{html.escape(n)}</th>" for n in names)
+    rows = []
+    for key, label in fields:
+        cells = []
+        for n in names:
+            value = s["variants"][n][key]
+            dotted = f"variants.{n}.{key}"
+            cells.append(f'<td><span data-key="{dotted}">{html.escape(value)}</span></td>'
+                         if isinstance(value, str) else f"<td>{_num(s, dotted)}</td>")
+        rows.append(f"<tr><th>{label}</th>{''.join(cells)}</tr>")
+    fig, ax = plt.subplots(figsize=(8, 3.6))
+    for k, n in enumerate(names):
+        fem = read_csv(out / "cases" / f"{n}-fem" / "history.csv")
+        rig = read_csv(out / "cases" / f"{n}-rigid" / "history.csv")
+        write_csv(out / "figures" / f"theta_{n}.csv",
+                  {"t": fem["t"], "theta_fem_left": fem["theta_left"],
+                   "theta_fem_right": fem["theta_right"],
+                   "theta_rigid": np.interp(fem["t"], rig["t"], rig["theta"])})
+        ax.plot(fem["t"], fem["theta_left"], color=f"C{k}", label=f"{n}: FEM")
+        m = rig["t"] <= fem["t"][-1]
+        ax.plot(rig["t"][m], rig["theta"][m], "--", color=f"C{k}", label=f"{n}: rigid")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(r"$\theta$ (rad)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    figure = _figure(out, "theta_variants", fig, "Rotation (left half): what the crack and the "
+                     "collars change; FEM solid, rigid dashed")
+    return f"<table><tr><th></th>{head}</tr>{''.join(rows)}</table>{figure}"

@@ -153,3 +153,43 @@ def test_report_renders_in_a_headless_browser(tiny_run, tmp_path):
     assert match, run.stderr[-2000:]
     rendered, total = int(match.group(1)), int(match.group(2))
     assert total >= 9 and rendered == total
+
+
+SWEEP = TINY.replace('name = "tiny"', 'name = "tiny"\nkind = "{kind}"').replace(
+    "[run]", "[convergence]\nsizes = [0.1, 0.05, 0.025]\n\n[run]")
+
+
+@pytest.mark.parametrize("kind", ["mesh-convergence", "solid-vs-cracked"])
+def test_sweep_studies(tmp_path, capsys, kind):
+    study = tmp_path / "sweep.toml"
+    text = SWEEP.replace("{kind}", kind).replace("duration = 0.6", "duration = 0.3")
+    if kind == "solid-vs-cracked":
+        text = text.replace("[convergence]\nsizes = [0.1, 0.05, 0.025]\n\n", "")
+    study.write_text(text)
+    out = tmp_path / "out"
+    assert main(["study", str(study), "--out", str(out), "--workers", "2", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    page = (out / "index.html").read_text()
+    for key, shown in re.findall(r'<span data-key="([^"]+)">([^<]*)</span>', page):
+        node = summary
+        for part in key.split("."):
+            node = node[int(part)] if isinstance(node, list) else node[part]
+        assert shown == (node if isinstance(node, str) else fmt(node, 4)) or \
+            shown in (fmt(node, 3), fmt(node, 2), fmt(node, 5)), key
+    if kind == "mesh-convergence":
+        table = summary["convergence"]["peak_rotation"]
+        assert len(table["values"]) == 3 and summary["dofs"][0] < summary["dofs"][-1]
+        assert (out / "figures" / "convergence.csv").exists()
+    else:
+        assert set(summary["variants"]) == {"solid", "cracked", "cracked-collars"}
+        # the crack makes the rocking halves more slender: larger rotation than the solid
+        v = summary["variants"]
+        assert v["cracked"]["rigid_peak_rotation"] > v["solid"]["rigid_peak_rotation"]
+
+
+@pytest.mark.slow
+def test_zhang_makris_study(tmp_path, capsys):
+    assert main(["study", "zhang-makris", "--out", str(tmp_path), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert 3.00 * 0.997 < summary["boundaries"]["linear"][0] < 3.01 * 1.003
+    assert (tmp_path / "index.html").read_text().count("data:image/png") == 8

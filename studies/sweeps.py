@@ -1,0 +1,137 @@
+"""Studies that sweep a column over variants: mesh convergence, and solid vs cracked.
+
+Each variant is a case of :mod:`studies.sweep` (saved as it completes, resumable, local or
+Dask). ``[study] kind`` in the study file picks the study:
+
+  mesh-convergence   the FEM model on meshes h, h/r, h/r^2, ... ([convergence] sizes, or levels
+                     and ratio from [mesh] size): peak rotation, collar stress and toe stress with
+                     the observed order and a Richardson estimate
+  solid-vs-cracked   the same column uncracked, cracked without collars and cracked with its
+                     collars, FEM and rigid for each, all under the study's ground motion (its
+                     ratios refer to the half column of the cracked study)
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from fem.convergence import convergence_table
+
+from .crosscheck import fem_case, rigid_case
+from .fem_study import from_dict
+from .output import read_csv, write_csv, write_json
+from .sweep import run_cases
+
+SWEEP_KINDS = ("mesh-convergence", "solid-vs-cracked")
+
+
+def _runner(case: dict, directory: str) -> dict:
+    return fem_case(case, directory) if case["kind"] == "fem" else rigid_case(case, directory)
+
+
+def _base(data: dict, study_path: Path) -> dict:
+    return {"source": str(study_path), "base": str(study_path.parent.resolve())}
+
+
+def mesh_sizes(data: dict, study) -> list[float]:
+    conv = data.get("convergence", {})
+    unknown = sorted(set(conv) - {"sizes", "levels", "ratio"})
+    if unknown:
+        from rigid.validation import InputError
+        raise InputError(f"unknown key convergence.{unknown[0]} (allowed: levels, ratio, sizes)")
+    if "sizes" in conv:
+        sizes = [float(s) for s in conv["sizes"]]
+    else:
+        levels, ratio = int(conv.get("levels", 3)), float(conv.get("ratio", 2.0))
+        sizes = [study.mesh_size * ratio ** (levels - 1 - k) for k in range(levels)]
+    if len(sizes) < 3 or any(b >= a for a, b in zip(sizes, sizes[1:])):
+        from rigid.validation import InputError
+        raise InputError("convergence.sizes needs three or more decreasing mesh sizes")
+    return sizes
+
+
+def run_sweep_study(kind: str, study_path: Path, out: Path, *, workers=None, scheduler=None,
+                    progress: bool = True) -> dict:
+    study_path = Path(study_path)
+    data = tomllib.loads(study_path.read_text())
+    study = from_dict(data, source=str(study_path), base=study_path.parent)   # fails early
+    out = Path(out)
+    start = time.perf_counter()
+    if kind == "mesh-convergence":
+        sizes = mesh_sizes(data, study)
+        out.mkdir(parents=True, exist_ok=True)
+        cases = []
+        for k, size in enumerate(sizes):
+            variant = copy.deepcopy(data)
+            variant.setdefault("mesh", {})["size"] = size
+            cases.append(dict(_base(data, study_path), study=variant, key=f"mesh-{k + 1}",
+                              kind="fem", size=size))
+        results = run_cases(_runner, cases, out, workers=workers, scheduler=scheduler,
+                            progress=progress)
+        summary = _convergence_summary(study, cases, results)
+    else:
+        out.mkdir(parents=True, exist_ok=True)
+        variants = {"solid": (False, False), "cracked": (True, False),
+                    "cracked-collars": (True, True)}
+        cases = []
+        for name, (cracked, collars) in variants.items():
+            variant = copy.deepcopy(data)
+            variant["column"]["cracked"] = cracked
+            if not collars:
+                variant.pop("collar", None)
+            for kind_ in ("fem", "rigid"):
+                cases.append(dict(_base(data, study_path), study=variant, ground_study=data,
+                                  key=f"{name}-{kind_}", kind=kind_, variant=name))
+        results = run_cases(_runner, cases, out, workers=workers, scheduler=scheduler,
+                            progress=progress)
+        summary = _variants_summary(study, variants, results)
+    summary["wall_seconds"] = time.perf_counter() - start
+    summary["kind"] = kind
+    write_json(out / "summary.json", summary)
+    from .report import write_sweep_report
+    write_sweep_report(out, kind)
+    if progress:
+        print(f"[study] report: {out / 'index.html'}", file=sys.stderr, flush=True)
+    return summary
+
+
+def _convergence_summary(study, cases, results) -> dict:
+    quantities = {
+        "peak_rotation": lambda s: max(s["max_abs_theta_left"], s["max_abs_theta_right"]),
+        "collar_max_utilisation": lambda s: s["collar_max_utilisation"],
+        "edge_stress_max": lambda s: s["edge_stress_max"],
+    }
+    sizes = [c["size"] for c in cases]
+    ratio = sizes[0] / sizes[1]
+    table = {}
+    for name, get in quantities.items():
+        values = [get(results[c["key"]]["summary"]) for c in cases]
+        table[name] = convergence_table(values, ratio)
+    return {"study": study.name, "sizes": sizes, "ratio": ratio, "convergence": table,
+            "dofs": [results[c["key"]]["summary"]["dofs"] for c in cases],
+            "fem": {c["key"]: results[c["key"]]["summary"] for c in cases}}
+
+
+def _variants_summary(study, variants, results) -> dict:
+    rows = {}
+    for name in variants:
+        fem = results[f"{name}-fem"]["summary"]
+        rigid = results[f"{name}-rigid"]
+        rows[name] = {
+            "fem_peak_rotation": max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]),
+            "fem_overturned": fem["overturned"],
+            "rigid_peak_rotation": rigid["max_abs_theta"],
+            "rigid_overturned": rigid["overturned"],
+            "rigid_mode": rigid["mode"],
+            "collar_max_utilisation": fem["collar_max_utilisation"],
+            "edge_stress_ratio": fem["edge_stress_ratio"],
+            "status": fem["status"],
+        }
+    return {"study": study.name, "variants": rows}
