@@ -198,21 +198,33 @@ def _verdict_row(summary, key, label, detail):
             f'{_num(summary, "verdict." + key)}</td><td>{detail}</td></tr>')
 
 
+def _uncertain(s: dict, quantity: str) -> str:
+    """' (mesh: +-x %)' from the convergence estimate, where there is one."""
+    conv = s.get("convergence")
+    if not conv or conv[quantity]["fine_relative_error"] is None:
+        return " (mesh uncertainty: not estimated)" if conv else ""
+    return (f" (mesh: &plusmn;{_num(s, f'convergence.{quantity}.fine_relative_error', 2)}, "
+            f"order {_num(s, f'convergence.{quantity}.observed_order', 2)})")
+
+
 def _html(s: dict, figs: list, renders: str) -> str:
     fem = s["fem"]
     verdict = "\n".join([
         _verdict_row(s, "rigid_assumption_ok", "Rigid-body assumption good enough?",
                      f"peak rotation FEM / rigid = {_num(s, 'theta_peak_ratio_fem_over_rigid')} "
                      f"(tolerance {_num(s, 'peak_tolerance', 2)}); FEM / whole-column rigid = "
-                     f"{_num(s, 'theta_peak_ratio_fem_over_monolith')}; overturned: FEM "
+                     f"{_num(s, 'theta_peak_ratio_fem_over_monolith')}"
+                     f"{_uncertain(s, 'peak_rotation')}; overturned: FEM "
                      f"{_num(s, 'fem.overturned')}, rigid {_num(s, 'rigid.overturned')}; "
                      f"effective restitution FEM {_num(s, 'effective_restitution_fem', 3)} vs "
                      f"Housner {_num(s, 'restitution_housner', 3)}"),
         _verdict_row(s, "collars_yield", "Do the collars yield?",
-                     f"max utilisation {_num(s, 'fem.collar_max_utilisation', 3)}, first yield "
+                     f"max utilisation {_num(s, 'fem.collar_max_utilisation', 3)}"
+                     f"{_uncertain(s, 'collar_max_utilisation')}, first yield "
                      f"at t = {_num(s, 'fem.collar_first_yield_time')} s"),
         _verdict_row(s, "toe_crushes", "Does the toe crush?",
-                     f"max toe stress / f_c = {_num(s, 'fem.edge_stress_ratio', 3)} (averaged "
+                     f"max toe stress / f_c = {_num(s, 'fem.edge_stress_ratio', 3)}"
+                     f"{_uncertain(s, 'edge_stress_ratio')} (averaged "
                      f"over {_num(s, 'fem.edge_length', 3)} m)"),
     ])
     rows = [("FEM peak rotation, left half (rad)", "fem.max_abs_theta_left"),
