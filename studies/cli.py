@@ -240,13 +240,18 @@ def _cmd_study(args) -> dict:
         kind = tomllib.loads(path.read_text()).get("study", {}).get("kind", "cross-check")
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"study file {path} is not valid TOML: {exc}") from None
-    kinds = ("cross-check", "zhang-makris") + SWEEP_KINDS
+    kinds = ("cross-check", "zhang-makris", "collar-design") + SWEEP_KINDS
     if kind not in kinds:
         raise InputError(f"study.kind = {kind!r} is not one of {', '.join(kinds)}")
     out = Path(args.out)
     if kind == "cross-check":
         summary = run_crosscheck(path, out, workers=workers, scheduler=args.scheduler)
         short = summary["verdict"]
+    elif kind == "collar-design":
+        from .design_study import run_design_study
+        summary = run_design_study(path, out, workers=workers, scheduler=args.scheduler)
+        short = {"design_adequate": summary["design_adequate"],
+                 "fem_collar_max_utilisation": summary["fem_collar_max_utilisation"]}
     elif kind == "zhang-makris":
         from .validation import zhang_makris_study
         summary = zhang_makris_study(out)

@@ -363,3 +363,52 @@ def _variants_body(out: Path, s: dict) -> str:
     figure = _figure(out, "theta_variants", fig, "Rotation (left half): what the crack and the "
                      "collars change; FEM solid, rigid dashed")
     return f"<table><tr><th></th>{head}</tr>{''.join(rows)}</table>{figure}"
+
+
+def write_design_report(out: Path) -> Path:
+    out = Path(out)
+    s = json.loads((out / "summary.json").read_text())
+    chart = read_csv(out / "figures" / "design_chart.csv")
+    alphas = np.unique(chart["alpha"])
+    ratios = np.unique(chart["ag_over_g"])
+    k = chart["required_stiffness"].reshape(alphas.size, ratios.size)
+    from rigid.plotting import plot_design_chart
+    plot_design_chart(alphas, ratios, k, out / "figures" / "design_chart.png")
+    data = base64.b64encode((out / "figures" / "design_chart.png").read_bytes()).decode()
+    chart_fig = (f'<figure><img alt="design chart" src="data:image/png;base64,{data}">'
+                 "<figcaption>Minimum total lateral collar stiffness over alpha and a_g/g "
+                 "(corrected Eq. 22-24; data: figures/design_chart.csv)</figcaption></figure>")
+    history = read_csv(out / "cases" / "fem" / "history.csv")
+    cols = sorted(c for c in history if c.startswith("collar_") and c.endswith("_utilisation"))
+    write_csv(out / "figures" / "collar_utilisation.csv",
+              {"t": history["t"], **{c: history[c] for c in cols}})
+    fig, ax = plt.subplots(figsize=(8, 3.2))
+    for c in cols:
+        ax.plot(history["t"], history[c], label=c.replace("_utilisation", ""))
+    ax.axhline(1.0, color="k", ls="--", lw=1, label="f_y")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("sigma / f_y")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    util_fig = _figure(out, "collar_utilisation", fig, "FEM collar utilisation over time")
+    rows = [("yield moment M_y (N m)", "design.yield_moment"),
+            ("yield offset d_y (m), corrected Eq. 22", "design.yield_displacement"),
+            ("yield rotation theta_y (rad), Eq. 23", "design.yield_rotation"),
+            ("required lateral stiffness k (N/m), corrected Eq. 24",
+             "design.required_stiffness"),
+            ("one collar's lateral stiffness K_l (N/m)", "design.collar_lateral_stiffness"),
+            ("collars needed", "design.collars_needed"),
+            ("collars provided", "collars_provided"),
+            ("lateral stiffness provided (N/m)", "lateral_stiffness_provided"),
+            ("design adequate", "design_adequate"),
+            ("FEM collar utilisation (max)", "fem_collar_max_utilisation"),
+            ("FEM first yield (s)", "fem_collar_first_yield_time"),
+            ("FEM overturned", "fem_overturned"),
+            ("FEM peak rotation / theta_y", "fem_max_rotation_over_yield_rotation")]
+    table = "".join(f"<tr><th>{html.escape(label)}</th><td>{_num(s, key)}</td></tr>"
+                    for label, key in rows)
+    body = (f"<p>Design pulse peak a_g = {_num(s, 'design.design_acceleration')} m/s^2 "
+            f"(a_g/g = {_num(s, 'design_ag_over_g', 3)}), alpha = {_num(s, 'design_alpha', 3)} "
+            f"rad; mass held {_num(s, 'design.column_mass')} kg.</p>"
+            f"<table>{table}</table>{chart_fig}{util_fig}")
+    return _write_page(out, _page(f"colonna collar design: {s['study']}", body))

@@ -193,3 +193,22 @@ def test_zhang_makris_study(tmp_path, capsys):
     summary = json.loads(capsys.readouterr().out)
     assert 3.00 * 0.997 < summary["boundaries"]["linear"][0] < 3.01 * 1.003
     assert (tmp_path / "index.html").read_text().count("data:image/png") == 8
+
+
+def test_collar_design_study(tmp_path, capsys):
+    study = tmp_path / "design.toml"
+    study.write_text(TINY.replace('name = "tiny"', 'name = "tiny"\nkind = "collar-design"')
+                     .replace("duration = 0.6", "duration = 0.2"))
+    out = tmp_path / "out"
+    assert main(["study", str(study), "--out", str(out), "--json"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    d = s["design"]
+    assert d["yield_rotation"] > 0 and s["design_adequate"] == (
+        s["lateral_stiffness_provided"] >= d["required_stiffness"])
+    page = (out / "index.html").read_text()
+    assert page.count("data:image/png") == 2
+    for key, shown in re.findall(r'<span data-key="([^"]+)">([^<]*)</span>', page):
+        node = s
+        for part in key.split("."):
+            node = node[part]
+        assert shown in (fmt(node, 4), fmt(node, 3), fmt(node, 2)), key
