@@ -51,6 +51,19 @@ def _filter(state, k, value, blend):
 
 
 @njit(cache=True)
+def _coulomb(force, kt, vt, dt, limit):
+    """Incremental Coulomb friction: the trial force force - k_t v_t dt, returned to the cone
+    |f| <= limit. Returns (tangential force, dissipated power): the cone force times the
+    plastic slip (trial - cone force) / k_t, per unit time."""
+    trial = force - kt * vt * dt
+    if abs(trial) <= limit:
+        return trial, 0.0
+    slip_force = limit if trial > 0.0 else -limit
+    power = slip_force * (trial - slip_force) / (kt * dt) if dt > 0.0 else 0.0
+    return slip_force, power
+
+
+@njit(cache=True)
 def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force, fn_filtered, blend):
     """Base nodes against the rigid ground y = 0. ft: tangential force per node (state);
     fn_filtered: the normal force low-pass filtered for the friction cone (state; blend =
@@ -74,13 +87,8 @@ def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force, fn_filter
         cone = _filter(fn_filtered, k, fn, blend)
         # friction: incremental trial force, return to the cone
         vt = v[2 * i]
-        trial = ft[k] - kt[k] * vt * dt
-        limit = mu * cone
-        if abs(trial) > limit:
-            slip_force = limit if trial > 0.0 else -limit
-            # dissipation: cone force times the plastic slip (trial - slip_force) / k_t
-            power += slip_force * (trial - slip_force) / (kt[k] * dt) if dt > 0.0 else 0.0
-            trial = slip_force
+        trial, slip_power = _coulomb(ft[k], kt[k], vt, dt, mu * cone)
+        power += slip_power
         ft[k] = trial
         f[2 * i] += trial
         f[2 * i + 1] += fn
@@ -158,13 +166,8 @@ def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, 
             fn = 0.0
         normal_force[k] = fn
         cone = _filter(fn_filtered, k, fn, blend)
-        trial = ft[k] - kt[k] * vt * dt
-        limit = mu * cone
-        if abs(trial) > limit:
-            slip_force = limit if trial > 0.0 else -limit
-            # dissipation: cone force times the plastic slip (trial - slip_force) / k_t
-            power += slip_force * (trial - slip_force) / (kt[k] * dt) if dt > 0.0 else 0.0
-            trial = slip_force
+        trial, slip_power = _coulomb(ft[k], kt[k], vt, dt, mu * cone)
+        power += slip_power
         ft[k] = trial
         fx = fn * nx + trial * tx
         fy = fn * ny + trial * ty

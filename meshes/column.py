@@ -107,19 +107,24 @@ def column_mesh(width: float, height: float, size: float, *, cracked: bool = Tru
         cell_body.append(np.full(quads.shape[1], body))
         node_body.append(np.full(X.size, body))
         base_nodes.append(idx[0, :].copy())
-        left_edge, right_edge = idx[:, 0].copy(), idx[:, -1].copy()
-        if not cracked:
-            outer_nodes.extend([left_edge, right_edge])
-        elif body == 0:
-            outer_nodes.append(left_edge)
-            crack_nodes.append(right_edge)
-        else:
-            outer_nodes.append(right_edge)
-            crack_nodes.append(left_edge)
+        _sort_faces(body, cracked, idx[:, 0].copy(), idx[:, -1].copy(), outer_nodes,
+                    crack_nodes)
         start += X.size
     return ColumnMesh(np.hstack(points), np.hstack(cells), np.concatenate(cell_body),
                       np.concatenate(node_body), float(width), float(height), bool(cracked),
                       base_nodes, outer_nodes, crack_nodes)
+
+
+def _sort_faces(body, cracked, left_edge, right_edge, outer, crack) -> None:
+    """Append a body's vertical edges to the outer-face and crack-face lists."""
+    if not cracked:
+        outer.extend([left_edge, right_edge])
+    elif body == 0:
+        outer.append(left_edge)
+        crack.append(right_edge)
+    else:
+        outer.append(right_edge)
+        crack.append(left_edge)
 
 
 def from_arrays(points: np.ndarray, cells: np.ndarray, *, tol: float = 1e-9) -> ColumnMesh:
@@ -165,14 +170,7 @@ def from_arrays(points: np.ndarray, cells: np.ndarray, *, tol: float = 1e-9) -> 
         left = nodes[np.abs(points[0, nodes] - bx_min) <= scale]
         right = nodes[np.abs(points[0, nodes] - bx_max) <= scale]
         left, right = left[np.argsort(points[1, left])], right[np.argsort(points[1, right])]
-        if comps.size == 1:
-            outer.extend([left, right])
-        elif b == 0:
-            outer.append(left)
-            crack.append(right)
-        else:
-            outer.append(right)
-            crack.append(left)
+        _sort_faces(b, comps.size == 2, left, right, outer, crack)
     # counter-clockwise orientation
     p = points[:, cells]
     area2 = ((p[0, 1] - p[0, 0]) * (p[1, 2] - p[1, 0]) - (p[0, 2] - p[0, 0]) * (p[1, 1] - p[1, 0]))

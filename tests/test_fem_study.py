@@ -7,25 +7,9 @@ import pytest
 from rigid import InputError
 from studies.cli import main
 from studies.fem_study import from_dict, load
+from tiny_study import TINY_STUDY
 
-TINY = """
-[column]
-height = 1.0
-width = 0.2
-[[collar]]
-y = 0.5
-t = 0.004
-h = 0.02
-[ground]
-amplitude_ratio = 2.0
-omega_ratio = 3.0
-[mesh]
-size = 0.05
-grading = 0.0
-[run]
-duration = 0.05
-output_interval = 0.005
-"""
+TINY = TINY_STUDY.format(amplitude_ratio=2.0, duration=0.05)
 
 
 def test_fem_command_writes_the_documented_outputs(tmp_path, capsys):

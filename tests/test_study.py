@@ -17,27 +17,9 @@ from studies.cli import main
 from studies.crosscheck import run_crosscheck
 from studies.output import read_csv
 from studies.report import fmt
+from tiny_study import TINY_STUDY
 
-TINY = """
-[study]
-name = "tiny"
-[column]
-height = 1.0
-width = 0.2
-[[collar]]
-y = 0.5
-t = 0.004
-h = 0.02
-[ground]
-amplitude_ratio = 2.5
-omega_ratio = 3.0
-[mesh]
-size = 0.05
-grading = 0.0
-[run]
-duration = 0.6
-output_interval = 0.005
-"""
+TINY = TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6)
 
 
 @pytest.fixture(scope="module")
