@@ -220,8 +220,8 @@ def _html(s: dict, figs: list, renders: str) -> str:
                      f"Housner {_num(s, 'restitution_housner', 3)}"),
         _verdict_row(s, "collars_yield", "Do the collars yield?",
                      f"max utilisation {_num(s, 'fem.collar_max_utilisation', 3)}"
-                     f"{_uncertain(s, 'collar_max_utilisation')}, first yield "
-                     f"at t = {_num(s, 'fem.collar_first_yield_time')} s"),
+                     f"{_uncertain(s, 'collar_max_utilisation')}; time of first yield (s): "
+                     f"{_num(s, 'fem.collar_first_yield_time')}"),
         _verdict_row(s, "toe_crushes", "Does the toe crush?",
                      f"max toe stress / f_c = {_num(s, 'fem.edge_stress_ratio', 3)}"
                      f"{_uncertain(s, 'edge_stress_ratio')} (averaged "
