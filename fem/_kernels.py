@@ -22,6 +22,9 @@ import math
 import numpy as np
 from numba import njit
 
+# fast-math without the no-NaN / no-Inf assumptions: the blow-up check must keep its meaning
+SAFE_FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
+
 
 @njit(cache=True, fastmath=True)
 def bsr_matvec(indptr, indices, blocks, x, out):
@@ -63,7 +66,23 @@ def _coulomb(force, kt, vt, dt, limit):
     return slip_force, power
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=SAFE_FASTMATH)
+def _penalty_contact(k, gap, vn, vt, kn, kt, cn, mu, dt, ft, normal_force, fn_filtered, blend):
+    """One closed contact (gap < 0, normal velocity vn, tangential vt): damped penalty normal
+    force (never tensile), Coulomb friction on the filtered cone. Updates the state of contact
+    k; returns (normal force, tangential force, elastic energy, dissipated power)."""
+    fn_el = -kn[k] * gap
+    fn = max(fn_el - cn[k] * vn, 0.0)
+    normal_force[k] = fn
+    cone = _filter(fn_filtered, k, fn, blend)
+    trial, power = _coulomb(ft[k], kt[k], vt, dt, mu * cone)
+    ft[k] = trial
+    power += (fn - fn_el) * (-vn)      # damping, or the clipped tensile part
+    energy = 0.5 * kn[k] * gap * gap + 0.5 * trial * trial / kt[k]
+    return fn, trial, energy, power
+
+
+@njit(cache=True, fastmath=SAFE_FASTMATH)
 def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force, fn_filtered, blend):
     """Base nodes against the rigid ground y = 0. ft: tangential force per node (state);
     fn_filtered: the normal force low-pass filtered for the friction cone (state; blend =
@@ -78,26 +97,16 @@ def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force, fn_filter
             normal_force[k] = 0.0
             fn_filtered[k] = 0.0
             continue
-        vn = v[2 * i + 1]
-        fn_el = -kn[k] * gap
-        fn = fn_el - cn[k] * vn
-        if fn < 0.0:
-            fn = 0.0
-        normal_force[k] = fn
-        cone = _filter(fn_filtered, k, fn, blend)
-        # friction: incremental trial force, return to the cone
-        vt = v[2 * i]
-        trial, slip_power = _coulomb(ft[k], kt[k], vt, dt, mu * cone)
-        power += slip_power
-        ft[k] = trial
+        fn, trial, e, p = _penalty_contact(k, gap, v[2 * i + 1], v[2 * i], kn, kt, cn, mu, dt,
+                                           ft, normal_force, fn_filtered, blend)
         f[2 * i] += trial
         f[2 * i + 1] += fn
-        power += (fn - fn_el) * (-vn)      # damping, or the clipped tensile part
-        energy += 0.5 * kn[k] * gap * gap + 0.5 * trial * trial / kt[k]
+        energy += e
+        power += p
     return energy, power
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=SAFE_FASTMATH)
 def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, ft, f, normal_force,
                   fn_filtered, blend):
     """Node-to-segment contact of the slave face's nodes on the master face (ordered by height).
@@ -158,17 +167,11 @@ def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, 
             continue
         rvx = v[2 * s] - ((1.0 - xi) * v[2 * a] + xi * v[2 * b])
         rvy = v[2 * s + 1] - ((1.0 - xi) * v[2 * a + 1] + xi * v[2 * b + 1])
-        vn = rvx * nx + rvy * ny
-        vt = rvx * tx + rvy * ty
-        fn_el = -kn[k] * gap
-        fn = fn_el - cn[k] * vn
-        if fn < 0.0:
-            fn = 0.0
-        normal_force[k] = fn
-        cone = _filter(fn_filtered, k, fn, blend)
-        trial, slip_power = _coulomb(ft[k], kt[k], vt, dt, mu * cone)
-        power += slip_power
-        ft[k] = trial
+        fn, trial, e, p = _penalty_contact(k, gap, rvx * nx + rvy * ny, rvx * tx + rvy * ty,
+                                           kn, kt, cn, mu, dt, ft, normal_force, fn_filtered,
+                                           blend)
+        energy += e
+        power += p
         fx = fn * nx + trial * tx
         fy = fn * ny + trial * ty
         f[2 * s] += fx
@@ -177,8 +180,6 @@ def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, 
         f[2 * a + 1] -= (1.0 - xi) * fy
         f[2 * b] -= xi * fx
         f[2 * b + 1] -= xi * fy
-        power += (fn - fn_el) * (-vn)      # damping, or the clipped tensile part
-        energy += 0.5 * kn[k] * gap * gap + 0.5 * trial * trial / kt[k]
     return energy, power
 
 
@@ -187,7 +188,7 @@ def _face_angle(x, below, above):
     return math.atan2(x[2 * above + 1] - x[2 * below + 1], x[2 * above] - x[2 * below])
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=SAFE_FASTMATH)
 def collar_forces(x, collars, props, out, f):
     """Co-rotational Euler-Bernoulli frame elements.
 
@@ -245,7 +246,7 @@ def collar_forces(x, collars, props, out, f):
     return energy
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=SAFE_FASTMATH)
 def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frames,
             indptr, indices, blocks, gravity, ground_acc,
             base_nodes, base_kn, base_kt, base_cn, mu, blend, base_ft, base_fn, base_fc,

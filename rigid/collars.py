@@ -29,7 +29,6 @@ halves is -dU/dtheta, U = sum(K_a delta_a^2 + K_l delta_l^2) / 2, shared by the 
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -37,7 +36,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .block import Block
-from .validation import InputError, require_non_negative, require_positive, require_range
+from .validation import (InputError, read_toml, require_non_negative, require_positive,
+                         require_range)
 
 STEEL_E = 206e9      # Pa
 STEEL_FY = 235e6     # Pa
@@ -123,13 +123,7 @@ def validate_collars(collars, block: Block) -> tuple[Collar, ...]:
 
 def read_collars(path) -> tuple[Collar, ...]:
     """Read ``[[collar]]`` tables (keys y, t, h, length, E, fy, pretension) from a TOML file."""
-    path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text())
-    except OSError as exc:
-        raise InputError(f"collar file {path} cannot be read: {exc.strerror}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"collar file {path} is not valid TOML: {exc}") from None
+    data = read_toml(path, "collar file")
     return collars_from_tables(data.get("collar", []), source=str(path))
 
 

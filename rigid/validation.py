@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import tomllib
+from pathlib import Path
 
 
 class InputError(ValueError):
@@ -46,3 +48,14 @@ def _as_float(name: str, value) -> float:
     if math.isnan(value):
         raise InputError(f"{name} is NaN")
     return value
+
+
+def read_toml(path, what: str = "file") -> dict:
+    """Parse a TOML file; an unreadable or malformed one is an InputError naming it."""
+    path = Path(path)
+    try:
+        return tomllib.loads(path.read_text())
+    except OSError as exc:
+        raise InputError(f"{what} {path} cannot be read: {exc.strerror}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{what} {path} is not valid TOML: {exc}") from None

@@ -228,7 +228,7 @@ def _cmd_study(args) -> dict:
     from .crosscheck import run_crosscheck
     from .sweep import default_workers
 
-    import tomllib
+    from rigid.validation import read_toml
 
     from .sweeps import SWEEP_KINDS, run_sweep_study
 
@@ -236,10 +236,7 @@ def _cmd_study(args) -> dict:
     workers = args.workers if args.workers is not None else default_workers()
     if workers < 1:
         raise InputError(f"--workers = {workers} must be >= 1")
-    try:
-        kind = tomllib.loads(path.read_text()).get("study", {}).get("kind", "cross-check")
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"study file {path} is not valid TOML: {exc}") from None
+    kind = read_toml(path, "study file").get("study", {}).get("kind", "cross-check")
     kinds = ("cross-check", "zhang-makris", "collar-design") + SWEEP_KINDS
     if kind not in kinds:
         raise InputError(f"study.kind = {kind!r} is not one of {', '.join(kinds)}")

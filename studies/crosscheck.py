@@ -14,7 +14,6 @@ import json
 import math
 import sys
 import time
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +21,8 @@ import numpy as np
 from rigid.block import Block
 from rigid.solve import rock
 from rigid.spectrum import overturning_spectrum
+
+from rigid.validation import read_toml
 
 from .fem_study import from_dict
 from .output import read_csv, write_csv, write_json
@@ -114,7 +115,7 @@ def run_crosscheck(study_path: Path, out: Path, *, workers: int | None = None,
                    scheduler: str | None = None, progress: bool = True) -> dict:
     """Run (or resume) the cross-check of a study file and write its report."""
     study_path = Path(study_path)
-    data = tomllib.loads(study_path.read_text())
+    data = read_toml(study_path, "study file")
     study = from_dict(data, source=str(study_path), base=study_path.parent)   # fails early
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import sys
 import time
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -14,6 +13,8 @@ import numpy as np
 from rigid.design import design_chart, design_collars
 
 from .crosscheck import fem_case
+from rigid.validation import read_toml
+
 from .fem_study import from_dict
 from .output import write_csv, write_json
 from .sweep import run_cases
@@ -25,7 +26,7 @@ RATIOS = np.linspace(0.05, 1.0, 39)
 def run_design_study(study_path: Path, out: Path, *, workers=None, scheduler=None,
                      progress: bool = True) -> dict:
     study_path = Path(study_path)
-    data = tomllib.loads(study_path.read_text())
+    data = read_toml(study_path, "study file")
     study = from_dict(data, source=str(study_path), base=study_path.parent)   # fails early
     if not study.collars:
         from rigid.validation import InputError

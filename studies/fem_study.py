@@ -22,7 +22,6 @@ Unknown tables or keys and out-of-range values are errors naming the key.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -31,7 +30,7 @@ from fem.model import ContactSettings
 from rigid.block import Block
 from rigid.collars import collars_from_tables
 from rigid.ground import cosine_pulse, read_record, sine_pulse
-from rigid.validation import InputError, require_positive, require_range
+from rigid.validation import InputError, read_toml, require_positive, require_range
 
 SCHEMA = {
     "column": {"height", "width", "thickness", "cracked"},
@@ -81,13 +80,7 @@ class FemStudy:
 
 def load(path) -> FemStudy:
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text())
-    except OSError as exc:
-        raise InputError(f"study file {path} cannot be read: {exc.strerror}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"study file {path} is not valid TOML: {exc}") from None
-    return from_dict(data, source=str(path), base=path.parent)
+    return from_dict(read_toml(path, "study file"), source=str(path), base=path.parent)
 
 
 def _check_keys(data: dict, source: str) -> None:

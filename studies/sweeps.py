@@ -17,7 +17,6 @@ import copy
 import math
 import sys
 import time
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +24,8 @@ import numpy as np
 from fem.convergence import convergence_table
 
 from .crosscheck import fem_case, rigid_case
+from rigid.validation import read_toml
+
 from .fem_study import from_dict
 from .output import read_csv, write_csv, write_json
 from .sweep import run_cases
@@ -60,7 +61,7 @@ def mesh_sizes(data: dict, study) -> list[float]:
 def run_sweep_study(kind: str, study_path: Path, out: Path, *, workers=None, scheduler=None,
                     progress: bool = True) -> dict:
     study_path = Path(study_path)
-    data = tomllib.loads(study_path.read_text())
+    data = read_toml(study_path, "study file")
     study = from_dict(data, source=str(study_path), base=study_path.parent)   # fails early
     out = Path(out)
     start = time.perf_counter()

@@ -187,6 +187,11 @@ def test_time_step_above_the_stable_one_is_rejected_and_the_estimate_runs():
         run(model, STILL, 0.002, dt=1.1 * step.dt, safety=1.0, progress=False)
     at = run(model, STILL, 0.01, dt=step.dt, safety=1.0, progress=False, output_interval=1e-4)
     assert at.summary["status"] == "completed"
+    # far above it (guard lifted) the run goes unstable: stopped and reported as a blow-up,
+    # not mistaken for overturning
+    wild = run(model, STILL, 0.01, dt=3.0 * step.critical, safety=1.0, check_dt=False,
+               progress=False, output_interval=1e-4)
+    assert "blow-up" in wild.summary["status"] and not wild.summary["overturned"]
     assert np.max(np.abs(at.history["energy_kinetic"])) < 1e-6
 
 
