@@ -18,7 +18,6 @@ from scipy import sparse
 from scipy.sparse.linalg import eigsh
 
 from meshes.column import ColumnMesh
-from rigid.collars import Collar
 from rigid.validation import InputError, require_non_negative, require_positive, require_range
 
 from . import _kernels as K
@@ -214,13 +213,18 @@ def contact_stiffness(model: Model, tangential_scale: float = 1.0) -> sparse.csr
     for node, knn, ktt in zip(model.base_nodes, model.base_kn, model.base_kt):
         spring(2 * node + 1, -1, knn)
         spring(2 * node, -1, tangential_scale * ktt)
-    y = model.mesh.points[1]
     for slaves, masters, sign, knn, ktt, _ in model.crack_passes:
-        partners = masters[np.argmin(np.abs(y[slaves][:, None] - y[masters][None, :]), axis=1)]
+        partners = coincident_nodes(model.mesh, slaves, masters)
         for s, m_, k1, k2 in zip(slaves, partners, knn, ktt):   # faces coincide at rest
             spring(2 * s, 2 * m_, k1)
             spring(2 * s + 1, 2 * m_ + 1, tangential_scale * k2)
     return sparse.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+
+def coincident_nodes(mesh: ColumnMesh, slaves: np.ndarray, masters: np.ndarray) -> np.ndarray:
+    """For each node of one crack face, the node of the other face at the same height."""
+    y = mesh.points[1]
+    return masters[np.argmin(np.abs(y[slaves][:, None] - y[masters][None, :]), axis=1)]
 
 
 def collar_stiffness(model: Model, h: float = 1e-7) -> sparse.csr_matrix:

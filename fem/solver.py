@@ -27,13 +27,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from scipy import sparse
 from scipy.sparse.linalg import spsolve
 
 from rigid.validation import InputError, require_positive
 
 from . import _kernels as K
-from .model import Model, collar_stiffness, contact_stiffness, stable_time_step
+from .model import (Model, coincident_nodes, collar_stiffness, contact_stiffness,
+                    stable_time_step)
 
 
 @dataclass
@@ -58,14 +58,9 @@ def static_state(model: Model):
     base_ft = -tangential * model.base_kt * u[2 * model.base_nodes]
     crack_ft = []
     for slaves, masters, _sign, _kn, kt, _cn in model.crack_passes:
-        partner = _coincident(model, slaves, masters)
+        partner = coincident_nodes(model.mesh, slaves, masters)
         crack_ft.append(-tangential * kt * (u[2 * slaves + 1] - u[2 * partner + 1]))
     return u, base_ft, crack_ft
-
-
-def _coincident(model, slaves, masters):
-    y = model.mesh.points[1]
-    return masters[np.argmin(np.abs(y[slaves][:, None] - y[masters][None, :]), axis=1)]
 
 
 def run(model: Model, ground, duration: float, *, dt: float | None = None, safety: float = 0.9,
@@ -234,6 +229,8 @@ class _Recorder:
         alpha_b = math.atan2(w_b, mesh.height)
         self.scale = (float(model.mass[0::2].sum()) * model.g * r_b * (1.0 - math.cos(alpha_b)))
         self.potential_scale = float(model.mass[0::2].sum()) * model.g * mesh.height
+        self.body_mass = np.array([model.node_mass[mesh.node_body == b].sum()
+                                   for b in range(mesh.n_bodies)])
         # toes: outer corners of the column, and the crack corners of each half
         self.toe_left = mesh.base_nodes[0][0]
         self.toe_right = mesh.base_nodes[-1][-1]
@@ -256,8 +253,7 @@ class _Recorder:
         self.crack_pairs = None
         if mesh.cracked:
             left, right = mesh.crack_nodes
-            self.crack_pairs = (left, right[np.argmin(np.abs(p[1, left][:, None]
-                                                           - p[1, right][None, :]), axis=1)])
+            self.crack_pairs = (left, coincident_nodes(mesh, left, right))
         self.csv = None
         if out_dir is not None:
             out = Path(out_dir)
@@ -307,9 +303,7 @@ class _Recorder:
             c = model.centroid_ref[b]
             row[f"translation_x_{b + 1}"] = frames[b, 0] - c[0]
             row[f"translation_y_{b + 1}"] = frames[b, 1] - c[1]
-        body_mass = np.array([model.node_mass[mesh.node_body == b].sum()
-                              for b in range(mesh.n_bodies)])
-        row["_com_x"] = float(body_mass @ frames[:, 0] / body_mass.sum())
+        row["_com_x"] = float(self.body_mass @ frames[:, 0] / self.body_mass.sum())
         for b in range(mesh.n_bodies):
             row[f"_com_x_{b + 1}"] = float(frames[b, 0])
         row["_toe_x_left"] = float(x[2 * self.toe_left])

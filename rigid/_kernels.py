@@ -560,7 +560,7 @@ def linear_run(P, t_stop, early_exit, segs, impacts):
             else:
                 h = h_max / 64.0
             ta = t
-            tha, oma = th, om
+            oma = om
             while True:
                 tb = min(ta + h, t_lim)
                 thb, omb = _lin_state(tb, seg, P)
@@ -579,7 +579,7 @@ def linear_run(P, t_stop, early_exit, segs, impacts):
                 if tb >= t_lim:
                     t_seg_end = t_lim
                     break
-                ta, tha, oma = tb, thb, omb
+                ta, oma = tb, omb
                 h = min(2.0 * h, h_max)
         else:
             # --- free rocking: next zero in closed form ---------------------------------------

@@ -29,8 +29,7 @@ halves is -dU/dtheta, U = sum(K_a delta_a^2 + K_l delta_l^2) / 2, shared by the 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq
@@ -144,10 +143,6 @@ def collars_from_tables(tables, source: str = "collar") -> tuple[Collar, ...]:
     return tuple(collars)
 
 
-def with_default_length(collars, b: float) -> tuple[Collar, ...]:
-    return tuple(c if c.length is not None else replace(c, length=4.0 * b) for c in collars)
-
-
 # --- kinematics -------------------------------------------------------------------------------
 
 def collar_end_positions(theta, b: float, y: float):
@@ -213,12 +208,17 @@ def collar_deformation(theta, b: float):
     return 4.0 * b * (np.sqrt(1.0 + 0.25 * s * s) - 1.0), 2.0 * b * s
 
 
+def total_stiffness(collars, b: float) -> tuple[float, float]:
+    """Summed axial and lateral spring stiffness of the collars (N/m)."""
+    return (sum(c.axial_stiffness(b) for c in collars),
+            sum(c.lateral_stiffness(b) for c in collars))
+
+
 def collar_strain_energy(theta, b: float, collars) -> np.ndarray:
     """U(theta) = sum(K_a delta_a^2 + K_l delta_l^2) / 2, J (pretension excluded: it is balanced
     by crack-face contact and does no work under equal rotations)."""
     delta_a, delta_l = collar_deformation(theta, b)
-    ka = sum(c.axial_stiffness(b) for c in collars)
-    kl = sum(c.lateral_stiffness(b) for c in collars)
+    ka, kl = total_stiffness(collars, b)
     return 0.5 * (ka * delta_a ** 2 + kl * delta_l ** 2)
 
 
@@ -227,8 +227,7 @@ def collar_restoring_moment(theta, b: float, collars) -> np.ndarray:
     theta = np.asarray(theta, dtype=float)
     s, c = np.sin(theta), np.cos(theta)
     root = np.sqrt(1.0 + 0.25 * s * s)
-    ka = sum(cl.axial_stiffness(b) for cl in collars)
-    kl = sum(cl.lateral_stiffness(b) for cl in collars)
+    ka, kl = total_stiffness(collars, b)
     delta_a = 4.0 * b * (root - 1.0)
     return -(ka * delta_a * b * s * c / root + kl * 2.0 * b * s * 2.0 * b * c)
 
@@ -264,8 +263,7 @@ def collar_kernel_constants(block: Block, collars) -> tuple[float, float]:
     if not collars:
         return 0.0, 0.0
     b, j0 = block.b, block.J0
-    ka = sum(c.axial_stiffness(b) for c in collars)
-    kl = sum(c.lateral_stiffness(b) for c in collars)
+    ka, kl = total_stiffness(collars, b)
     return 4.0 * b * b * ka / j0, 4.0 * b * b * kl / j0
 
 

@@ -25,7 +25,7 @@ from rigid.spectrum import overturning_spectrum
 from rigid.validation import read_toml
 
 from .fem_study import from_dict
-from .output import read_csv, write_csv, write_json
+from .output import write_csv, write_json
 from .sweep import run_cases
 
 PEAK_TOLERANCE = 0.20       # |theta_FEM / theta_rigid - 1| for the rigid assumption to hold
@@ -196,11 +196,3 @@ def _uncertainty(results: dict) -> dict | None:
     }
     return {name: convergence_table([get(results[k]["summary"]) for k in keys], 2.0)
             for name, get in quantities.items()}
-
-
-def load_summary(out: Path) -> dict:
-    return json.loads((Path(out) / "summary.json").read_text())
-
-
-def fem_history(out: Path) -> dict:
-    return read_csv(Path(out) / "cases" / "fem" / "history.csv")

@@ -208,7 +208,6 @@ def _uncertain(s: dict, quantity: str) -> str:
 
 
 def _html(s: dict, figs: list, renders: str) -> str:
-    fem = s["fem"]
     verdict = "\n".join([
         _verdict_row(s, "rigid_assumption_ok", "Rigid-body assumption good enough?",
                      f"peak rotation FEM / rigid = {_num(s, 'theta_peak_ratio_fem_over_rigid')} "

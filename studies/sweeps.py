@@ -14,12 +14,9 @@ Dask). ``[study] kind`` in the study file picks the study:
 from __future__ import annotations
 
 import copy
-import math
 import sys
 import time
 from pathlib import Path
-
-import numpy as np
 
 from fem.convergence import convergence_table
 
@@ -27,7 +24,7 @@ from .crosscheck import fem_case, rigid_case
 from rigid.validation import read_toml
 
 from .fem_study import from_dict
-from .output import read_csv, write_csv, write_json
+from .output import write_json
 from .sweep import run_cases
 
 SWEEP_KINDS = ("mesh-convergence", "solid-vs-cracked")
