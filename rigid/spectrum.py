@@ -69,16 +69,8 @@ def overturning_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(
     not settled earlier (default 50 / p).
     """
     check_model(model)
-    if pulse not in PULSE_KINDS:
-        raise InputError(f"pulse = {pulse!r} is not one of {', '.join(PULSE_KINDS)}")
+    omega_ratios, amplitude_ratios = check_spectrum_grid(omega_ratios, amplitude_ratios, pulse)
     collars = validate_collars(collars, block)
-    omega_ratios = np.ascontiguousarray(omega_ratios, dtype=float)
-    amplitude_ratios = np.ascontiguousarray(amplitude_ratios, dtype=float)
-    if omega_ratios.ndim != 1 or omega_ratios.size == 0 or np.any(omega_ratios <= 0):
-        raise InputError("omega ratios must be a non-empty list of values > 0")
-    if amplitude_ratios.ndim != 1 or amplitude_ratios.size == 0 or np.any(amplitude_ratios < 1):
-        raise InputError("amplitude ratios must be a non-empty list of values >= 1 "
-                         "(a_p / a_uplift; below 1 the block does not rock)")
     ka, kl = collar_kernel_constants(block, collars)
     nonlinear = model == "nonlinear"
     uplift = math.tan(block.alpha) if nonlinear else block.alpha
@@ -95,6 +87,22 @@ def overturning_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(
         yields = max_theta >= theta_yield
     return Spectrum(omega_ratios, amplitude_ratios, codes, max_theta, yields, model, pulse,
                     seconds, bool(collars))
+
+
+def check_spectrum_grid(omega_ratios, amplitude_ratios, pulse: str):
+    """The grid as float arrays, or an InputError naming what is wrong."""
+    if pulse not in PULSE_KINDS:
+        raise InputError(f"pulse = {pulse!r} is not one of {', '.join(PULSE_KINDS)}")
+    omega_ratios = np.ascontiguousarray(omega_ratios, dtype=float)
+    amplitude_ratios = np.ascontiguousarray(amplitude_ratios, dtype=float)
+    if (omega_ratios.ndim != 1 or omega_ratios.size == 0 or not np.all(omega_ratios > 0)
+            or not np.all(np.isfinite(omega_ratios))):
+        raise InputError("omega ratios must be a non-empty list of finite values > 0")
+    if (amplitude_ratios.ndim != 1 or amplitude_ratios.size == 0
+            or not np.all(amplitude_ratios >= 1) or not np.all(np.isfinite(amplitude_ratios))):
+        raise InputError("amplitude ratios must be a non-empty list of finite values >= 1 "
+                         "(a_p / a_uplift; below 1 the block does not rock)")
+    return omega_ratios, amplitude_ratios
 
 
 def parse_range(text: str, name: str) -> np.ndarray:

@@ -1,0 +1,657 @@
+"""Compiled (numba) kernels of the rigid multibody contact model. Private: use
+:mod:`rigid.multibody`.
+
+State: per body the centroid (x, y) and the counter-clockwise angle phi, and their velocities,
+in the ground frame (the ground acceleration acts as the body force -m ug''). Reported rotations
+follow the paper (theta = -phi: positive tipping toward +x).
+
+Time stepping is Moreau-Jean's midpoint scheme at the velocity-impulse level (Moreau 1988, Jean
+1999; the scheme of Siconos and LMGC90):
+
+    q_m     = q_k + h/2 v_k                  contacts detected at q_m (gap <= 0: active)
+    M (v_k+1 - v_k) = h f(q_m, t_m) + G^T P  smooth forces: gravity, ground, collars
+    q_k+1   = q_m + h/2 v_k+1
+
+with, for every active contact, Newton's impact law U_N+ + e_n U_N- >= 0 complementary to the
+normal impulse P_N >= 0, and Coulomb friction |P_T| <= mu P_N with P_T opposing the sliding
+velocity U_T+ (zero velocity while it sticks). The per-step problem is solved by non-smooth
+Gauss-Seidel over the contacts, each local 2 x 2 problem exactly (open, stick, slip +/-).
+
+Energy bookkeeping is exact for this scheme: kinetic energy changes by the work of the smooth
+forces at q_m over q_k+1 - q_k plus the impulses' work P . (U+ + U-) / 2, which is the energy that
+impacts and friction dissipate.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+GROUND_NONE = 0
+GROUND_HARMONIC = 1
+GROUND_RECORD = 2
+
+# statuses
+FINISHED = 0        # ran to the requested duration
+OVERTURNED = 1
+SETTLED = 2         # early exit: after the ground motion the energy is below every barrier
+UNSTABLE = 3        # non-finite state or energy out of bounds
+
+# why it overturned
+OVER_NONE = 0
+OVER_HALF_PI = 1    # a body rotated past pi/2
+OVER_COLUMN = 2     # the column's centre of mass past an outer toe, moving outward
+OVER_HALF = 3       # a free half's centre of mass past its outer toe, moving outward
+
+CONTACT_BASE = 0
+CONTACT_CRACK = 1
+
+# output columns, per row: t, then per body x, y, phi, vx, vy, omega, then the tallies
+OUT_T = 0
+N_BODY_COLS = 6
+# after the body columns: kinetic, gravity, collar, dissipated, external work, crack normal
+# force, crack tangential force (N_TAIL columns), then per body its base normal and
+# tangential force
+N_TAIL = 7
+
+
+@njit(cache=True)
+def ground_acceleration(t, kind, gpar, rec_t, rec_a):
+    """Ground acceleration (m/s^2): harmonic gpar = (amplitude, omega, phase, duration) or a
+    record (linear interpolation, zero outside)."""
+    if kind == GROUND_HARMONIC:
+        if 0.0 <= t <= gpar[3]:
+            return gpar[0] * math.sin(gpar[1] * t + gpar[2])
+        return 0.0
+    if kind == GROUND_RECORD:
+        n = rec_t.size
+        if t < rec_t[0] or t > rec_t[n - 1]:
+            return 0.0
+        lo = 0
+        hi = n - 1
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if rec_t[mid] <= t:
+                lo = mid
+            else:
+                hi = mid
+        w = (t - rec_t[lo]) / (rec_t[hi] - rec_t[lo])
+        return (1.0 - w) * rec_a[lo] + w * rec_a[hi]
+    return 0.0
+
+
+@njit(cache=True)
+def _world(q, body, lx, ly):
+    """World position of the body-fixed point (lx, ly) (relative to the centroid)."""
+    c = math.cos(q[3 * body + 2])
+    s = math.sin(q[3 * body + 2])
+    return q[3 * body] + c * lx - s * ly, q[3 * body + 1] + s * lx + c * ly
+
+
+@njit(cache=True)
+def collar_forces(q, col_a, col_b, col_r, props, f, out):
+    """Co-rotational Euler-Bernoulli frame elements between body-fixed attachment points (the
+    FEM's collar element with rigid end sections).
+
+    col_r[c] = (x1, y1, x2, y2): attachment points in the frames of bodies col_a[c], col_b[c];
+    props[c] = (EA/L, EI'/L0, pretension, L0, chord angle at rest). Adds the generalised
+    forces -dU/dq to f (if f.size) and writes out[c] = (N, M1, M2, energy). Returns U (J)."""
+    energy = 0.0
+    for c in range(col_a.size):
+        a = col_a[c]
+        b = col_b[c]
+        x1, y1 = _world(q, a, col_r[c, 0], col_r[c, 1])
+        x2, y2 = _world(q, b, col_r[c, 2], col_r[c, 3])
+        dx = x2 - x1
+        dy = y2 - y1
+        length = math.sqrt(dx * dx + dy * dy)
+        beta = math.atan2(dy, dx) - props[c, 4]
+        th1 = q[3 * a + 2] - beta
+        th2 = q[3 * b + 2] - beta
+        ea_l = props[c, 0]
+        ei_l = props[c, 1]
+        stretch = length - props[c, 3]
+        N = props[c, 2] + ea_l * stretch
+        M1 = ei_l * (4.0 * th1 + 2.0 * th2)
+        M2 = ei_l * (2.0 * th1 + 4.0 * th2)
+        e = (props[c, 2] * stretch + 0.5 * ea_l * stretch * stretch
+             + ei_l * (2.0 * th1 * th1 + 2.0 * th1 * th2 + 2.0 * th2 * th2))
+        out[c, 0] = N
+        out[c, 1] = M1
+        out[c, 2] = M2
+        out[c, 3] = e
+        energy += e
+        if f.size == 0:
+            continue
+        ex = dx / length
+        ey = dy / length
+        shear = (M1 + M2) / length
+        # force on end 1: N e - shear n, n = (-ey, ex); on end 2 the opposite
+        f1x = N * ex + shear * ey
+        f1y = N * ey - shear * ex
+        r1x = x1 - q[3 * a]
+        r1y = y1 - q[3 * a + 1]
+        r2x = x2 - q[3 * b]
+        r2y = y2 - q[3 * b + 1]
+        f[3 * a] += f1x
+        f[3 * a + 1] += f1y
+        f[3 * a + 2] += r1x * f1y - r1y * f1x - M1
+        f[3 * b] -= f1x
+        f[3 * b + 1] -= f1y
+        f[3 * b + 2] += -(r2x * f1y - r2y * f1x) - M2
+    return energy
+
+
+@njit(cache=True)
+def _contact_row(q, c, cand_a, cand_b, cand_pt, cand_face, G, j, n_dof):
+    """Gap of candidate contact c at q and, if it is on its face, its velocity rows
+    G[2j] (normal) and G[2j+1] (tangential). Returns (gap, on_face)."""
+    a = cand_a[c]
+    b = cand_b[c]
+    px, py = _world(q, a, cand_pt[c, 0], cand_pt[c, 1])
+    if b < 0:                       # the ground y = 0
+        nx = 0.0
+        ny = 1.0
+        gap = py
+        on_face = True
+    else:                           # a face of body b: local x = face_x, outward sign
+        cb = math.cos(q[3 * b + 2])
+        sb = math.sin(q[3 * b + 2])
+        rx = px - q[3 * b]
+        ry = py - q[3 * b + 1]
+        lx = cb * rx + sb * ry
+        ly = -sb * rx + cb * ry
+        sign = cand_face[c, 1]
+        gap = (lx - cand_face[c, 0]) * sign
+        on_face = abs(ly) <= cand_face[c, 2] * (1.0 + 1e-9)
+        nx = sign * cb
+        ny = sign * sb
+    if not on_face:
+        return gap, False
+    tx = ny
+    ty = -nx
+    for k in range(n_dof):
+        G[2 * j, k] = 0.0
+        G[2 * j + 1, k] = 0.0
+    rax = px - q[3 * a]
+    ray = py - q[3 * a + 1]
+    G[2 * j, 3 * a] = nx
+    G[2 * j, 3 * a + 1] = ny
+    G[2 * j, 3 * a + 2] = rax * ny - ray * nx
+    G[2 * j + 1, 3 * a] = tx
+    G[2 * j + 1, 3 * a + 1] = ty
+    G[2 * j + 1, 3 * a + 2] = rax * ty - ray * tx
+    if b >= 0:
+        rbx = px - q[3 * b]
+        rby = py - q[3 * b + 1]
+        G[2 * j, 3 * b] = -nx
+        G[2 * j, 3 * b + 1] = -ny
+        G[2 * j, 3 * b + 2] = -(rbx * ny - rby * nx)
+        G[2 * j + 1, 3 * b] = -tx
+        G[2 * j + 1, 3 * b + 1] = -ty
+        G[2 * j + 1, 3 * b + 2] = -(rbx * ty - rby * tx)
+    return gap, True
+
+
+@njit(cache=True)
+def _normal_velocity(G, j, v):
+    un = 0.0
+    for k in range(v.size):
+        un += G[2 * j, k] * v[k]
+    return un
+
+
+@njit(cache=True)
+def local_coulomb(wnn, wnt, wtn, wtt, rn, rt, mu):
+    """Exact solution of one contact's problem U = W P + r with 0 <= U_N _|_ P_N >= 0 and
+    Coulomb's law in the plane: open, sticking (U_T = 0, |P_T| <= mu P_N) or sliding
+    (P_T = -mu P_N sgn U_T). Returns (P_N, P_T)."""
+    if rn >= 0.0:
+        return 0.0, 0.0
+    if mu <= 0.0:
+        return -rn / wnn, 0.0
+    det = wnn * wtt - wnt * wtn
+    if det > 0.0:
+        pn = (-rn * wtt + rt * wnt) / det
+        pt = (-rt * wnn + rn * wtn) / det
+        if pn >= 0.0 and abs(pt) <= mu * pn:
+            return pn, pt
+    best_pn = -rn / wnn
+    best_pt = 0.0
+    for s in (1.0, -1.0):
+        denom = wnn - s * mu * wnt
+        if denom <= 0.0:
+            continue
+        pn = -rn / denom
+        ut = (wtn - s * mu * wtt) * pn + rt
+        if s * ut >= 0.0:
+            return pn, -s * mu * pn
+    return best_pn, best_pt
+
+
+@njit(cache=True)
+def _solve_contacts(W, bvec, P, mu, n_act, tol, max_iter):
+    """Non-smooth Gauss-Seidel over the active contacts. Returns the iterations used."""
+    it = 0
+    for it in range(1, max_iter + 1):
+        change = 0.0
+        size = 0.0
+        for j in range(n_act):
+            rn = bvec[2 * j]
+            rt = bvec[2 * j + 1]
+            for k in range(2 * n_act):
+                rn += W[2 * j, k] * P[k]
+                rt += W[2 * j + 1, k] * P[k]
+            pn0 = P[2 * j]
+            pt0 = P[2 * j + 1]
+            rn -= W[2 * j, 2 * j] * pn0 + W[2 * j, 2 * j + 1] * pt0
+            rt -= W[2 * j + 1, 2 * j] * pn0 + W[2 * j + 1, 2 * j + 1] * pt0
+            pn, pt = local_coulomb(W[2 * j, 2 * j], W[2 * j, 2 * j + 1], W[2 * j + 1, 2 * j],
+                                   W[2 * j + 1, 2 * j + 1], rn, rt, mu[j])
+            change = max(change, abs(pn - pn0), abs(pt - pt0))
+            size = max(size, abs(pn))
+            P[2 * j] = pn
+            P[2 * j + 1] = pt
+        if change <= tol * size or size == 0.0:
+            break
+    return it
+
+
+@njit(cache=True)
+def _step(t, h, q, v, mass, minv, g, cand_a, cand_b, cand_pt, cand_face, cand_mu, cand_kind,
+          col_a, col_b, col_r, col_props, ground_kind, gpar, rec_t, rec_a, e_n, tol, max_iter,
+          ws, P_prev, was_active, pivot_side, armed, impact_tol, impacts, tallies, forces):
+    """One Moreau-Jean step of size h from time t; q, v and the contact state updated in place.
+
+    tallies = (dissipated energy, external work, impacts, max solver iterations); forces =
+    (crack normal, crack tangential, then per body base normal and tangential), mean over the
+    step (N). Returns True if a contact closed in this step: open in the last step, closed at
+    this one's midpoint or end, approaching faster than gravity alone makes it in a few steps
+    (4 g h; slower closures are a resting contact settling back after the midpoint scheme's
+    O(h^2) lift of a pivot)."""
+    nb = mass.size
+    n_dof = 3 * nb
+    nc = cand_a.size
+    qm, f, vfree, vnew, bvec, umin, P, mu_act, G, W, act, n_base, col_out = ws
+    tm = t + 0.5 * h
+    ag = ground_acceleration(tm, ground_kind, gpar, rec_t, rec_a)
+    for k in range(n_dof):
+        qm[k] = q[k] + 0.5 * h * v[k]
+        f[k] = 0.0
+    for i in range(nb):
+        f[3 * i] = -mass[i] * ag
+        f[3 * i + 1] = -mass[i] * g
+    if col_a.size:
+        collar_forces(qm, col_a, col_b, col_r, col_props, f, col_out)
+    for k in range(n_dof):
+        vfree[k] = v[k] + h * minv[k] * f[k]
+        vnew[k] = vfree[k]
+    # active contacts at the midpoint
+    n_act = 0
+    closed = False
+    v_impact = 4.0 * g * h      # slower closures are resting contacts settling back
+    for c in range(nc):
+        gap, on_face = _contact_row(qm, c, cand_a, cand_b, cand_pt, cand_face, G, n_act, n_dof)
+        if on_face and gap <= 0.0:
+            act[n_act] = c
+            mu_act[n_act] = cand_mu[c]
+            if not was_active[c] and _normal_velocity(G, n_act, v) < -v_impact:
+                closed = True
+            n_act += 1
+    for k in range(forces.size):
+        forces[k] = 0.0
+    if n_act > 0:
+        m2 = 2 * n_act
+        for r in range(m2):
+            acc = 0.0
+            acc_minus = 0.0
+            for k in range(n_dof):
+                acc += G[r, k] * vfree[k]
+                acc_minus += G[r, k] * v[k]
+            bvec[r] = acc
+            umin[r] = acc_minus
+            for s in range(r, m2):
+                w = 0.0
+                for k in range(n_dof):
+                    w += G[r, k] * minv[k] * G[s, k]
+                W[r, s] = w
+                W[s, r] = w
+        for j in range(n_act):
+            if e_n > 0.0 and umin[2 * j] < 0.0:
+                bvec[2 * j] += e_n * umin[2 * j]
+            c = act[j]
+            P[2 * j] = P_prev[c, 0] if was_active[c] else 0.0
+            P[2 * j + 1] = P_prev[c, 1] if was_active[c] else 0.0
+        it = _solve_contacts(W, bvec, P, mu_act, n_act, tol, max_iter)
+        tallies[3] = max(tallies[3], it)
+        for k in range(n_dof):
+            acc = 0.0
+            for r in range(m2):
+                acc += G[r, k] * P[r]
+            vnew[k] += minv[k] * acc
+        for j in range(n_act):
+            un = 0.0
+            ut = 0.0
+            for k in range(n_dof):
+                un += G[2 * j, k] * vnew[k]
+                ut += G[2 * j + 1, k] * vnew[k]
+            tallies[0] -= 0.5 * (P[2 * j] * (un + umin[2 * j])
+                                 + P[2 * j + 1] * (ut + umin[2 * j + 1]))
+            c = act[j]
+            if cand_kind[c] == CONTACT_BASE:
+                forces[2 + 2 * cand_a[c]] += P[2 * j] / h
+                forces[3 + 2 * cand_a[c]] += P[2 * j + 1] / h
+            else:
+                forces[0] += P[2 * j] / h
+                forces[1] += P[2 * j + 1] / h
+    for i in range(nb):
+        tallies[1] -= mass[i] * ag * 0.5 * (v[3 * i] + vnew[3 * i]) * h
+    # impacts: a base corner closing, approaching, on the other side of its body from the
+    # corner it last pivoted on (the step whose impulse switches the pivot)
+    for i in range(nb):
+        n_base[i] = 0
+    for j in range(n_act):
+        c = act[j]
+        if cand_kind[c] == CONTACT_BASE and P[2 * j] > 0.0:
+            n_base[cand_a[c]] += 1
+    for j in range(n_act):
+        c = act[j]
+        if cand_kind[c] != CONTACT_BASE or P[2 * j] <= 0.0:
+            continue
+        i = cand_a[c]
+        side = 1 if cand_pt[c, 0] > 0.0 else -1
+        if (not was_active[c] and umin[2 * j] < 0.0 and armed[i]
+                and pivot_side[i] != 0 and side != pivot_side[i]):
+            n_imp = int(tallies[2])
+            if n_imp < impacts.shape[0]:
+                impacts[n_imp, 0] = tm
+                impacts[n_imp, 1] = i
+                impacts[n_imp, 2] = -v[3 * i + 2]
+                impacts[n_imp, 3] = -vnew[3 * i + 2]
+            tallies[2] += 1.0
+            armed[i] = False
+        if n_base[i] == 1 or not was_active[c]:
+            pivot_side[i] = side
+    for i in range(nb):
+        if abs(qm[3 * i + 2]) > impact_tol:
+            armed[i] = True
+    for c in range(nc):
+        was_active[c] = False
+    for j in range(n_act):
+        c = act[j]
+        was_active[c] = True
+        P_prev[c, 0] = P[2 * j]
+        P_prev[c, 1] = P[2 * j + 1]
+    for k in range(n_dof):
+        q[k] = qm[k] + 0.5 * h * vnew[k]
+        v[k] = vnew[k]
+    if not closed:      # a contact that will be closed at the end of the step closes in it
+        for c in range(nc):
+            if was_active[c]:
+                continue
+            gap, on_face = _contact_row(q, c, cand_a, cand_b, cand_pt, cand_face, G, nc - 1,
+                                        n_dof)
+            if on_face and gap <= 0.0 and _normal_velocity(G, nc - 1, v) < -v_impact:
+                closed = True
+                break
+    return closed
+
+
+@njit(cache=True)
+def simulate(q, v, mass, inertia, half, g,
+             cand_a, cand_b, cand_pt, cand_face, cand_mu, cand_kind,
+             col_a, col_b, col_r, col_props,
+             ground_kind, gpar, rec_t, rec_a, t_ground_end,
+             h, n_steps, refine, e_n, out_every, out, impacts,
+             free_halves, barrier, early_exit, impact_tol, energy_scale,
+             tol, max_iter):
+    """Advance the bodies n_steps of size h from t = 0 (q, v updated in place).
+
+    A step in which a contact closes is done again as ``refine`` steps of h / refine: the
+    impact then happens within h / refine of its time, on the geometry of that instant
+    (Moreau-Jean alone is first order at impacts; between them it is second order).
+
+    out rows every out_every steps (row 0: the initial state); impacts rows (t, body,
+    theta' before, theta' after; theta = -phi) at each impact: a base corner that closes
+    approaching the ground on the other side from the corner its body last pivoted on, once
+    |theta| has exceeded impact_tol since the last impact.
+    free_halves: judge each half alone for overturning (cracked column without collars).
+    barrier: the least mechanical energy (J above rest) any part needs to overturn; with
+    early_exit the run stops as settled once the ground is still and the energy is below it.
+    energy_scale: J, for the blow-up check.
+
+    Returns (status, steps done, rows written, impacts, overturn reason, overturn time, peak
+    |theta| (rad) of each body as a 2-vector, most solver iterations in a step)."""
+    nb = mass.size
+    n_dof = 3 * nb
+    nc = cand_a.size
+    minv = np.empty(n_dof)
+    for i in range(nb):
+        minv[3 * i] = 1.0 / mass[i]
+        minv[3 * i + 1] = 1.0 / mass[i]
+        minv[3 * i + 2] = 1.0 / inertia[i]
+    y_rest = np.empty(nb)
+    for i in range(nb):
+        y_rest[i] = half[i, 1]
+    ws = (np.empty(n_dof), np.empty(n_dof), np.empty(n_dof), np.empty(n_dof),
+          np.zeros(2 * nc), np.zeros(2 * nc), np.zeros(2 * nc), np.zeros(nc),
+          np.zeros((2 * nc, n_dof)), np.zeros((2 * nc, 2 * nc)), np.zeros(nc, dtype=np.int64),
+          np.zeros(nb, dtype=np.int64), np.zeros((col_a.size, 4)))
+    col_out = ws[12]
+    no_force = np.zeros(0)
+    P_prev = np.zeros((nc, 2))
+    was_active = np.zeros(nc, dtype=np.bool_)
+    pivot_side = np.zeros(nb, dtype=np.int64)    # side of the base corner last pivoted on
+    armed = np.zeros(nb, dtype=np.bool_)
+    for i in range(nb):
+        if abs(q[3 * i + 2]) > impact_tol:     # released tilted: pivoting on the low side
+            pivot_side[i] = 1 if q[3 * i + 2] < 0.0 else -1
+            armed[i] = True
+    tallies = np.zeros(4)
+    forces = np.zeros(2 + 2 * nb)
+    saved = (q.copy(), v.copy(), P_prev.copy(), was_active.copy(), pivot_side.copy(),
+             armed.copy(), tallies.copy())
+    peak = np.zeros(2)
+    n_rows = 0
+    status = FINISHED
+    reason = OVER_NONE
+    t_over = -1.0
+    _write_row(out, n_rows, 0.0, q, v, mass, inertia, y_rest, g, col_a, col_b, col_r,
+               col_props, col_out, no_force, tallies, forces)
+    n_rows += 1
+    step = 0
+    for step in range(1, n_steps + 1):
+        t = (step - 1) * h
+        if refine > 1:
+            saved[0][:] = q
+            saved[1][:] = v
+            saved[2][:] = P_prev
+            saved[3][:] = was_active
+            saved[4][:] = pivot_side
+            saved[5][:] = armed
+            saved[6][:] = tallies
+        closed = _step(t, h, q, v, mass, minv, g, cand_a, cand_b, cand_pt, cand_face, cand_mu,
+                       cand_kind, col_a, col_b, col_r, col_props, ground_kind, gpar, rec_t,
+                       rec_a, e_n, tol, max_iter, ws, P_prev, was_active, pivot_side, armed,
+                       impact_tol, impacts, tallies, forces)
+        if closed and refine > 1:
+            q[:] = saved[0]
+            v[:] = saved[1]
+            P_prev[:] = saved[2]
+            was_active[:] = saved[3]
+            pivot_side[:] = saved[4]
+            armed[:] = saved[5]
+            tallies[:] = saved[6]
+            hs = h / refine
+            for sub in range(refine):
+                _step(t + sub * hs, hs, q, v, mass, minv, g, cand_a, cand_b, cand_pt,
+                      cand_face, cand_mu, cand_kind, col_a, col_b, col_r, col_props,
+                      ground_kind, gpar, rec_t, rec_a, e_n, tol, max_iter, ws, P_prev,
+                      was_active, pivot_side, armed, impact_tol, impacts, tallies, forces)
+        t_new = step * h
+        finite = True
+        for k in range(n_dof):
+            if not math.isfinite(q[k]) or not math.isfinite(v[k]):
+                finite = False
+        if not finite:
+            status = UNSTABLE
+            break
+        for i in range(nb):
+            peak[min(i, 1)] = max(peak[min(i, 1)], abs(q[3 * i + 2]))
+        if nb == 1:
+            peak[1] = peak[0]
+        # overturning
+        for i in range(nb):
+            if abs(q[3 * i + 2]) >= 0.5 * math.pi:
+                reason = OVER_HALF_PI
+        if reason == OVER_NONE and t_new > t_ground_end:
+            reason = _falling(q, v, mass, half, free_halves)
+        if reason != OVER_NONE:
+            status = OVERTURNED
+            t_over = t_new
+        write = status != FINISHED or step % out_every == 0 or step == n_steps
+        mech = 0.0
+        if write or early_exit or step % 64 == 0:
+            mech = _mechanical(q, v, mass, inertia, y_rest, g, col_a, col_b, col_r, col_props,
+                               col_out, no_force)
+            if not (abs(mech) <= 1e3 * energy_scale + 1e3 * abs(tallies[1])):
+                status = UNSTABLE
+        if write and n_rows < out.shape[0]:
+            _write_row(out, n_rows, t_new, q, v, mass, inertia, y_rest, g, col_a, col_b, col_r,
+                       col_props, col_out, no_force, tallies, forces)
+            n_rows += 1
+        if status != FINISHED:
+            break
+        if early_exit and t_new > t_ground_end and mech < barrier:
+            status = SETTLED
+            break
+    return status, step, n_rows, int(tallies[2]), reason, t_over, peak, int(tallies[3])
+
+
+@njit(cache=True)
+def _mechanical(q, v, mass, inertia, y_rest, g, col_a, col_b, col_r, col_props, col_out,
+                no_force):
+    """Kinetic + gravity (above rest) + collar energy (J)."""
+    e = 0.0
+    for i in range(mass.size):
+        e += 0.5 * mass[i] * (v[3 * i] ** 2 + v[3 * i + 1] ** 2)
+        e += 0.5 * inertia[i] * v[3 * i + 2] ** 2
+        e += mass[i] * g * (q[3 * i + 1] - y_rest[i])
+    if col_a.size:
+        e += collar_forces(q, col_a, col_b, col_r, col_props, no_force, col_out)
+    return e
+
+
+@njit(cache=True)
+def _write_row(out, row, t, q, v, mass, inertia, y_rest, g, col_a, col_b, col_r, col_props,
+               col_out, no_force, tallies, forces):
+    nb = mass.size
+    out[row, OUT_T] = t
+    kinetic = 0.0
+    gravity = 0.0
+    for i in range(nb):
+        for k in range(3):
+            out[row, 1 + N_BODY_COLS * i + k] = q[3 * i + k]
+            out[row, 1 + N_BODY_COLS * i + 3 + k] = v[3 * i + k]
+        kinetic += 0.5 * mass[i] * (v[3 * i] ** 2 + v[3 * i + 1] ** 2)
+        kinetic += 0.5 * inertia[i] * v[3 * i + 2] ** 2
+        gravity += mass[i] * g * (q[3 * i + 1] - y_rest[i])
+    collar = 0.0
+    if col_a.size:
+        collar = collar_forces(q, col_a, col_b, col_r, col_props, no_force, col_out)
+    k0 = 1 + N_BODY_COLS * nb
+    out[row, k0] = kinetic
+    out[row, k0 + 1] = gravity
+    out[row, k0 + 2] = collar
+    out[row, k0 + 3] = tallies[0]
+    out[row, k0 + 4] = tallies[1]
+    for k in range(forces.size):
+        out[row, k0 + 5 + k] = forces[k]
+
+
+@njit(cache=True)
+def _falling(q, v, mass, half, free_halves):
+    """After the ground motion: the column's centre of mass past its outer toe moving outward
+    (nothing restores it: collars and crack contact are internal), or, for free halves, a
+    half's past its own outer toe moving outward (the rule of the FEM model)."""
+    nb = mass.size
+    total = 0.0
+    xc = 0.0
+    vc = 0.0
+    toe_left = 1e300
+    toe_right = -1e300
+    for i in range(nb):
+        total += mass[i]
+        xc += mass[i] * q[3 * i]
+        vc += mass[i] * v[3 * i]
+        c = math.cos(q[3 * i + 2])
+        s = math.sin(q[3 * i + 2])
+        for sx in (-1.0, 1.0):
+            x = q[3 * i] + c * sx * half[i, 0] + s * half[i, 1]
+            toe_left = min(toe_left, x)
+            toe_right = max(toe_right, x)
+    xc /= total
+    vc /= total
+    if (xc > toe_right and vc > 0.0) or (xc < toe_left and vc < 0.0):
+        return OVER_COLUMN
+    if free_halves and nb == 2:
+        for i in range(2):
+            c = math.cos(q[3 * i + 2])
+            s = math.sin(q[3 * i + 2])
+            sx = -1.0 if i == 0 else 1.0
+            toe = q[3 * i] + c * sx * half[i, 0] + s * half[i, 1]
+            if sx * (q[3 * i] - toe) > 0.0 and sx * v[3 * i] > 0.0:
+                return OVER_HALF
+    return OVER_NONE
+
+
+@njit(cache=True, parallel=True)
+def spectrum_modes(q0, mass, inertia, half, g,
+                   cand_a, cand_b, cand_pt, cand_face, cand_mu, cand_kind,
+                   col_a, col_b, col_r, col_props,
+                   omegas, amplitudes, uplift, cosine, h_max, refine, free_time, e_n,
+                   free_halves, barrier, impact_tol, energy_scale, tol, max_iter):
+    """Mode code (0 safe, 1 after impact, 2 without impact) and the peak |theta| (rad) of every
+    (amplitude, omega) pair: sine pulses phased to start rocking at t = 0 (or cosine pulses),
+    amplitude a_p = amplitudes[i] * uplift (m/s^2), Omega = omegas[j] (rad/s)."""
+    na = amplitudes.size
+    no = omegas.size
+    codes = np.zeros((na, no), dtype=np.int8)
+    peaks = np.zeros((na, no))
+    status_out = np.zeros((na, no), dtype=np.int8)
+    for idx in prange(na * no):
+        i = idx // no
+        j = idx % no
+        amp = amplitudes[i] * uplift
+        om = omegas[j]
+        gpar = np.empty(4)
+        gpar[0] = amp
+        gpar[1] = om
+        if cosine:
+            gpar[2] = 0.5 * math.pi
+            gpar[3] = 2.0 * math.pi / om
+        else:
+            phase = math.asin(min(1.0, uplift / abs(amp)))
+            gpar[2] = phase
+            gpar[3] = (2.0 * math.pi - phase) / om
+        t_end = gpar[3]
+        h = min(h_max, (2.0 * math.pi / om) / 400.0)
+        n_steps = int(math.ceil((t_end + free_time) / h))
+        q = q0.copy()
+        v = np.zeros_like(q0)
+        out = np.zeros((1, 1 + N_BODY_COLS * mass.size + N_TAIL + 2 * mass.size))
+        impacts = np.zeros((1, 4))
+        status, steps, rows, n_imp, reason, t_over, peak, it = simulate(
+            q, v, mass, inertia, half, g, cand_a, cand_b, cand_pt, cand_face, cand_mu,
+            cand_kind, col_a, col_b, col_r, col_props, GROUND_HARMONIC, gpar, np.zeros(1),
+            np.zeros(1), t_end, h, n_steps, refine, e_n, n_steps + 1, out, impacts, free_halves,
+            barrier, True, impact_tol, energy_scale, tol, max_iter)
+        status_out[i, j] = status
+        if status == OVERTURNED:
+            codes[i, j] = 1 if n_imp > 0 else 2
+            peaks[i, j] = 0.5 * math.pi
+        else:
+            peaks[i, j] = max(peak[0], peak[1])
+    return codes, peaks, status_out

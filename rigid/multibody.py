@@ -1,0 +1,530 @@
+"""Rigid multibody model of the column with the FEM's contact topology.
+
+One rigid body (solid column) or two (cracked column: left and right half), each with (x, y,
+theta) in the plane; unilateral contact with Coulomb friction between each body's base corners and
+the ground, and between the crack faces (each half's two crack-face corners against the other
+half's face, so that the halves can open, close and slide vertically along the crack); collars as
+the FEM's co-rotational frame element between their true attachment points on the outer faces.
+This is the rigid reference with no kinematic assumption: what the source paper ran in Working
+Model 2D.
+
+Numerics: Moreau-Jean time stepping at the velocity-impulse level (see :mod:`rigid._multibody`),
+Newton's impact law with e_n = 0 by default. With a plastic impact and no slip an impact conserves
+the angular momentum about the new pivot, so the scheme gives Housner's ratio
+1 - 1.5 sin^2(alpha) by itself: no restitution coefficient is imposed.
+
+Geometry follows the other solvers: ``block`` is the rocking block, 2b x 2h. For a cracked column
+it is one half (the column is 4b wide) and the two halves are copies of it side by side, the
+crack at x = 0; a solid column is the block itself. Rotations are reported as in the paper
+(theta > 0 tipping toward +x).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _multibody as K
+from .block import Block
+from .collars import validate_collars
+from .ground import HarmonicPulse, Record
+from .solve import CollarHistory
+from .validation import InputError, require_non_negative, require_positive, require_range
+
+DEFAULT_FRICTION = 0.7          # as the FEM's ContactSettings
+STEPS_PER_ROCKING_TIME = 1000   # default step: (1/p) / 1000
+COLLAR_STEP_SAFETY = 0.25       # h <= 0.25 * 2 / omega_collars (explicit collar forces)
+SOLVER_TOLERANCE = 1e-10        # relative change of the impulses that ends the Gauss-Seidel
+SOLVER_MAX_ITERATIONS = 500
+IMPACT_REFINEMENT = 32          # a step in which a contact closes is redone as 32 substeps
+IMPACT_THRESHOLD = 1e-4         # an impact counts once |theta| > 1e-4 alpha since the last one
+
+OVERTURN_REASONS = {
+    K.OVER_HALF_PI: "a body rotated past pi/2",
+    K.OVER_COLUMN: "the column's centre of mass passed its outer toe moving outward after the "
+                   "ground motion",
+    K.OVER_HALF: "a free half's centre of mass passed its outer toe moving outward after the "
+                 "ground motion",
+}
+
+
+@dataclass(frozen=True)
+class MultibodyColumn:
+    """The bodies, contact candidates and collar elements, as arrays for the kernel."""
+
+    block: Block
+    cracked: bool
+    collars: tuple
+    friction: float
+    crack_friction: float
+    mass: np.ndarray = field(repr=False)            # (n_bodies,) kg
+    inertia: np.ndarray = field(repr=False)         # (n_bodies,) kg m^2, centroidal
+    half: np.ndarray = field(repr=False)            # (n_bodies, 2): half width, half height
+    q_rest: np.ndarray = field(repr=False)          # (3 n_bodies,)
+    cand_a: np.ndarray = field(repr=False)
+    cand_b: np.ndarray = field(repr=False)
+    cand_pt: np.ndarray = field(repr=False)
+    cand_face: np.ndarray = field(repr=False)
+    cand_mu: np.ndarray = field(repr=False)
+    cand_kind: np.ndarray = field(repr=False)
+    col_a: np.ndarray = field(repr=False)
+    col_b: np.ndarray = field(repr=False)
+    col_r: np.ndarray = field(repr=False)
+    col_props: np.ndarray = field(repr=False)
+
+    @property
+    def n_bodies(self) -> int:
+        return self.mass.size
+
+    @property
+    def total_mass(self) -> float:
+        return float(self.mass.sum())
+
+    @property
+    def column_width(self) -> float:
+        return 2.0 * float(self.half[:, 0].sum())
+
+    def overturning_barrier(self) -> float:
+        """The least energy above rest (J) with which any part can pass its toe: the whole
+        column tipping as one block, or (cracked) one half alone."""
+        g, h = self.block.g, self.block.h
+        b_col = 0.5 * self.column_width
+        barrier = self.total_mass * g * (math.hypot(b_col, h) - h)
+        for m, (bw, hh) in zip(self.mass, self.half):
+            barrier = min(barrier, m * g * (math.hypot(bw, hh) - hh))
+        return float(barrier)
+
+    def rocking_energy(self) -> float:
+        """m g R (1 - cos alpha) of the rocking block (J): the scale of the energy balance."""
+        blk = self.block
+        return self.total_mass * blk.g * blk.R * (1.0 - math.cos(blk.alpha))
+
+    def collar_stable_step(self) -> float:
+        """2 / omega_max of the collar springs on the rigid bodies (s); inf without collars."""
+        if self.col_a.size == 0 or not self.cracked:
+            return math.inf
+        n = self.q_rest.size
+        stiffness = np.zeros((n, n))
+        step = 1e-7 * self.column_width
+        out = np.zeros((self.col_a.size, 4))
+        for k in range(n):
+            q = self.q_rest.copy()
+            fp, fm = np.zeros(n), np.zeros(n)
+            q[k] += step
+            K.collar_forces(q, self.col_a, self.col_b, self.col_r, self.col_props, fp, out)
+            q[k] -= 2.0 * step
+            K.collar_forces(q, self.col_a, self.col_b, self.col_r, self.col_props, fm, out)
+            stiffness[:, k] = -(fp - fm) / (2.0 * step)
+        stiffness = 0.5 * (stiffness + stiffness.T)
+        m = np.stack((self.mass, self.mass, self.inertia), axis=1).ravel()
+        scale = 1.0 / np.sqrt(m)
+        lam = np.linalg.eigvalsh(stiffness * scale[:, None] * scale[None, :]).max()
+        return 2.0 / math.sqrt(lam) if lam > 0.0 else math.inf
+
+
+def build_column(block: Block, *, cracked: bool = False, collars=(),
+                 friction: float = DEFAULT_FRICTION,
+                 crack_friction: float | None = None) -> MultibodyColumn:
+    """Bodies, contact candidates and collar elements of a solid or cracked column.
+
+    ``block`` is the rocking block (one half of a cracked column). Its mass is needed with
+    collars; a free block may have none (the motion does not depend on it: 1 kg is used).
+    Collars need a cracked column (on a solid one both ends sit on the same rigid body)."""
+    require_non_negative("friction (base Coulomb coefficient)", friction)
+    crack_friction = friction if crack_friction is None else crack_friction
+    require_non_negative("crack friction (Coulomb coefficient)", crack_friction)
+    collars = validate_collars(collars, block)
+    if collars and not cracked:
+        raise InputError("collars need a cracked column (--cracked): on a solid rigid column "
+                         "both collar ends sit on the same body")
+    b, h = block.b, block.h
+    m = block.mass if block.mass is not None else 1.0
+    inertia = m * (b * b + h * h) / 3.0          # (2b)^2 + (2h)^2 over 12
+    n = 2 if cracked else 1
+    centres = [(-b, h), (b, h)] if cracked else [(0.0, h)]
+    q_rest = np.array([c for xy in centres for c in (*xy, 0.0)], dtype=float)
+    cand_a, cand_b, cand_pt, cand_face, cand_mu, cand_kind = [], [], [], [], [], []
+
+    def add(a, b_, pt, face, mu, kind):
+        cand_a.append(a), cand_b.append(b_), cand_pt.append(pt), cand_face.append(face)
+        cand_mu.append(mu), cand_kind.append(kind)
+
+    for body in range(n):
+        for sx in (-1.0, 1.0):
+            add(body, -1, (sx * b, -h), (0.0, 0.0, 0.0), friction, K.CONTACT_BASE)
+    if cracked:
+        # the left half's crack-face corners on the right half's face (its local x = -b,
+        # outward normal -x), and the right half's corners on the left half's face
+        for sy in (-1.0, 1.0):
+            add(0, 1, (b, sy * h), (-b, -1.0, h), crack_friction, K.CONTACT_CRACK)
+        for sy in (-1.0, 1.0):
+            add(1, 0, (-b, sy * h), (b, 1.0, h), crack_friction, K.CONTACT_CRACK)
+    col_a = np.zeros(len(collars), dtype=np.int64)
+    col_b = np.ones(len(collars), dtype=np.int64)
+    col_r = np.zeros((len(collars), 4))
+    col_props = np.zeros((len(collars), 5))
+    for c, collar in enumerate(collars):
+        y = collar.y - h                         # height relative to the centroids
+        col_r[c] = (-b, y, b, y)                 # outer faces: left half x = -2b, right x = 2b
+        chord = 4.0 * b
+        span = collar.span(b)
+        ea_l = collar.E * collar.area / span
+        # as the FEM: bending stiffness scaled so that the lateral one is 12 E I / L^3
+        ei_l = collar.E * collar.second_moment * (chord / span) ** 3 / chord
+        col_props[c] = (ea_l, ei_l, collar.pretension, chord, 0.0)
+    return MultibodyColumn(
+        block, bool(cracked), collars, float(friction), float(crack_friction),
+        np.full(n, float(m)), np.full(n, inertia), np.tile([b, h], (n, 1)).astype(float),
+        q_rest, np.array(cand_a, dtype=np.int64), np.array(cand_b, dtype=np.int64),
+        np.array(cand_pt, dtype=float), np.array(cand_face, dtype=float),
+        np.array(cand_mu, dtype=float), np.array(cand_kind, dtype=np.int64), col_a, col_b,
+        col_r, col_props)
+
+
+def tilted_state(column: MultibodyColumn, tilt: float, angular_velocity: float = 0.0):
+    """Positions and velocities of the column turned rigidly by ``tilt`` (rad, theta sign:
+    > 0 toward +x) about the outer toe it tips on, spinning at ``angular_velocity`` (rad/s)."""
+    require_range("initial tilt (rad)", tilt, -0.5 * math.pi, 0.5 * math.pi,
+                  range_text="(-pi/2, pi/2)")
+    q = column.q_rest.copy()
+    v = np.zeros_like(q)
+    if tilt == 0.0 and angular_velocity == 0.0:
+        return q, v
+    side = 1.0 if (tilt > 0.0 or (tilt == 0.0 and angular_velocity > 0.0)) else -1.0
+    pivot = np.array([side * 0.5 * column.column_width, 0.0])
+    phi = -tilt
+    c, s = math.cos(phi), math.sin(phi)
+    omega = -angular_velocity
+    for i in range(column.n_bodies):
+        r = q[3 * i:3 * i + 2] - pivot
+        r_new = np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+        q[3 * i:3 * i + 2] = pivot + r_new
+        q[3 * i + 2] = phi
+        v[3 * i:3 * i + 3] = (-omega * r_new[1], omega * r_new[0], omega)
+    return q, v
+
+
+@dataclass
+class MultibodyResult:
+    """Histories of the rigid multibody model (SI units, theta positive toward +x).
+
+    ``theta``, ``theta_dot``: (n_times, n_bodies), left half first. ``impacts``: rows (t, body,
+    theta' before, theta' after) at each change of sign of a body's rotation."""
+
+    time: np.ndarray = field(repr=False)
+    theta: np.ndarray = field(repr=False)
+    theta_dot: np.ndarray = field(repr=False)
+    centroid: np.ndarray = field(repr=False)        # (n_times, n_bodies, 2) m
+    uplift: np.ndarray = field(repr=False)          # (n_times, 2) outer toes' height, m
+    crack_opening: np.ndarray = field(repr=False)   # (n_times,) m, max over the face
+    crack_slip: np.ndarray = field(repr=False)      # (n_times,) m, right relative to left
+    base_normal_force: np.ndarray = field(repr=False)       # (n_times, n_bodies) N
+    base_tangential_force: np.ndarray = field(repr=False)   # (n_times, n_bodies) N
+    crack_normal_force: np.ndarray = field(repr=False)      # (n_times,) N
+    energies: dict = field(repr=False)
+    impacts_table: np.ndarray = field(repr=False)
+    column: MultibodyColumn = field(repr=False)
+    status: str
+    overturned: bool
+    mode: str
+    impacts: int
+    overturn_time: float | None
+    dt: float
+    steps: int
+    wall_seconds: float
+    solver_iterations_max: int
+    collar_histories: list = field(default_factory=list, repr=False)
+
+    @property
+    def cracked(self) -> bool:
+        return self.column.cracked
+
+    @property
+    def max_abs_theta(self) -> float:
+        if self.overturned:
+            return 0.5 * math.pi
+        return float(np.max(np.abs(self.theta))) if self.theta.size else 0.0
+
+    @property
+    def max_abs_theta_over_alpha(self) -> float:
+        return self.max_abs_theta / self.column.block.alpha
+
+    def impact_velocity_ratios(self, body: int = 0) -> np.ndarray:
+        """|theta' after / theta' before| at each impact of ``body``."""
+        rows = self.impacts_table[self.impacts_table[:, 1] == body]
+        return np.abs(rows[:, 3] / rows[:, 2])
+
+    def summary(self) -> dict:
+        """Plain-data summary (the CLI's ``--json`` object)."""
+        blk = self.column.block
+        left = np.max(np.abs(self.theta[:, 0])) if self.theta.size else 0.0
+        right = np.max(np.abs(self.theta[:, -1])) if self.theta.size else 0.0
+        e = self.energies
+        out = {
+            "model": "multibody",
+            "overturned": bool(self.overturned),
+            "mode": self.mode,
+            "status": self.status,
+            "impacts": int(self.impacts),
+            "max_abs_theta": self.max_abs_theta,
+            "max_abs_theta_over_alpha": self.max_abs_theta_over_alpha,
+            "max_abs_theta_left": float(left),
+            "max_abs_theta_right": float(right),
+            "overturn_time": self.overturn_time,
+            "cracked": self.cracked,
+            "friction": self.column.friction,
+            "crack_friction": self.column.crack_friction,
+            "p": blk.p,
+            "alpha": blk.alpha,
+            "restitution_housner": blk.restitution_housner,
+            "impact_velocity_ratio_mean": _mean_or_none(self.impact_velocity_ratios(0)),
+            "max_uplift": float(np.max(self.uplift)) if self.uplift.size else 0.0,
+            "max_crack_opening": float(np.max(self.crack_opening)) if self.cracked else 0.0,
+            "max_abs_crack_slip": float(np.max(np.abs(self.crack_slip))) if self.cracked else 0.0,
+            "energy_dissipated": float(e["dissipated"][-1]),
+            "energy_external_work": float(e["external_work"][-1]),
+            "energy_error_max": float(np.max(np.abs(e["error"]))),
+            "dt": self.dt,
+            "steps": self.steps,
+            "wall_seconds": self.wall_seconds,
+        }
+        if self.collar_histories:
+            out["collars"] = [{
+                "y": hist.collar.y,
+                "max_stress": float(np.max(hist.stress)),
+                "max_utilisation": hist.max_utilisation,
+                "first_yield_time": hist.first_yield_time,
+            } for hist in self.collar_histories]
+            out["collar_max_utilisation"] = max(h.max_utilisation for h in self.collar_histories)
+            yields = [h.first_yield_time for h in self.collar_histories
+                      if h.first_yield_time is not None]
+            out["collar_first_yield_time"] = min(yields) if yields else None
+        return out
+
+
+def _mean_or_none(values) -> float | None:
+    return float(np.mean(values)) if len(values) else None
+
+
+def _ground_arrays(ground, g: float):
+    if ground is None:
+        return K.GROUND_NONE, np.zeros(4), np.zeros(1), np.zeros(1), 0.0
+    if isinstance(ground, HarmonicPulse):
+        gpar = np.array([ground.amplitude, ground.omega, ground.phase, ground.duration])
+        return K.GROUND_HARMONIC, gpar, np.zeros(1), np.zeros(1), ground.duration
+    if isinstance(ground, Record):
+        return (K.GROUND_RECORD, np.zeros(4), np.ascontiguousarray(ground.time),
+                np.ascontiguousarray(ground.acceleration_values), ground.end_time)
+    raise InputError(f"ground motion of type {type(ground).__name__} is not supported")
+
+
+def default_step(column: MultibodyColumn, ground=None) -> float:
+    """(1/p)/1000, at most 1/400 of the pulse period, and a quarter of the collars' stable
+    step (their forces are explicit) (s)."""
+    h = 1.0 / (column.block.p * STEPS_PER_ROCKING_TIME)
+    if isinstance(ground, HarmonicPulse):
+        h = min(h, 2.0 * math.pi / ground.omega / 400.0)
+    return min(h, 0.5 * COLLAR_STEP_SAFETY * column.collar_stable_step())
+
+
+def rock_multibody(block: Block, ground=None, collars=(), *, cracked: bool = False,
+                   friction: float = DEFAULT_FRICTION, crack_friction: float | None = None,
+                   restitution_normal: float = 0.0, duration: float | None = None,
+                   dt: float | None = None, dt_out: float | None = None,
+                   initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
+                   refine: int = IMPACT_REFINEMENT,
+                   max_impacts_stored: int = 10_000) -> MultibodyResult:
+    """Time history of the rigid multibody column under ``ground`` (a pulse, a record, or
+    None for free rocking from ``initial_tilt``).
+
+    duration: s (default: end of the ground motion + 20 / p); dt: time step (s, default
+    :func:`default_step`); dt_out: output interval (s, default 1/200 of 1/p, at least dt).
+    ``restitution_normal`` is Newton's e_n (0: plastic impacts, which give Housner's ratio).
+    ``refine``: a step in which a contact closes is redone as that many substeps (1: plain
+    Moreau-Jean, first order at impacts)."""
+    column = build_column(block, cracked=cracked, collars=collars, friction=friction,
+                          crack_friction=crack_friction)
+    require_range("restitution_normal (Newton's e_n)", restitution_normal, 0.0, 1.0,
+                  closed_low=True, closed_high=True)
+    kind, gpar, rec_t, rec_a, t_ground = _ground_arrays(ground, block.g)
+    if duration is None:
+        duration = t_ground + 20.0 / block.p
+    require_positive("duration (s)", duration)
+    h_stable = 0.5 * column.collar_stable_step()     # a quarter of 2/omega is the default
+    if dt is None:
+        dt = default_step(column, ground)
+    require_positive("dt (s)", dt)
+    if dt > h_stable:
+        raise InputError(f"dt = {dt:g} s is above the collars' stable step {h_stable:g} s "
+                         "(half of 2/omega_max of the collar springs)")
+    if dt_out is None:
+        dt_out = 1.0 / (200.0 * block.p)
+    require_positive("dt_out (s)", dt_out)
+    out_every = max(1, int(round(dt_out / dt)))
+    n_steps = int(math.ceil(duration / dt))
+    q, v = tilted_state(column, initial_tilt, initial_angular_velocity)
+    n_cols = 1 + K.N_BODY_COLS * column.n_bodies + K.N_TAIL + 2 * column.n_bodies
+    out = np.zeros((n_steps // out_every + 3, n_cols))
+    impacts = np.zeros((max_impacts_stored, 4))
+    energy_scale = max(column.rocking_energy(), 1e-300)
+    start = time.perf_counter()
+    status, steps, rows, n_imp, reason, t_over, _peak, iters = K.simulate(
+        q, v, column.mass, column.inertia, column.half, block.g,
+        column.cand_a, column.cand_b, column.cand_pt, column.cand_face, column.cand_mu,
+        column.cand_kind, column.col_a, column.col_b, column.col_r, column.col_props,
+        kind, gpar, rec_t, rec_a, t_ground, dt, n_steps, _check_refine(refine),
+        restitution_normal, out_every, out, impacts, column.cracked and not column.collars,
+        column.overturning_barrier(), False,
+        IMPACT_THRESHOLD * block.alpha, energy_scale, SOLVER_TOLERANCE, SOLVER_MAX_ITERATIONS)
+    wall = time.perf_counter() - start
+    if status == K.UNSTABLE:
+        raise InputError(f"the multibody run went unstable at t = {steps * dt:.4g} s "
+                         f"(dt = {dt:g} s): lower dt")
+    overturned = status == K.OVERTURNED
+    table = impacts[:min(n_imp, max_impacts_stored)].copy()
+    if overturned:
+        n_imp = int(np.sum(table[:, 0] <= t_over)) if n_imp <= max_impacts_stored else n_imp
+        text = f"overturned: {OVERTURN_REASONS[reason]} (t = {t_over:.4g} s)"
+        mode = "after-impact" if n_imp > 0 else "without-impact"
+    else:
+        text = f"finished at t = {steps * dt:.4g} s"
+        mode = "safe"
+    result = _result(column, out[:rows], table, text, overturned, mode, int(n_imp),
+                     t_over if overturned else None, dt, steps, wall, iters)
+    return result
+
+
+def _check_refine(refine) -> int:
+    if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or refine < 1:
+        raise InputError(f"refine = {refine!r} must be an integer >= 1 (substeps per step "
+                         "in which a contact closes)")
+    return int(refine)
+
+
+def _result(column, rows, table, status, overturned, mode, n_imp, t_over, dt, steps, wall,
+            iters) -> MultibodyResult:
+    nb = column.n_bodies
+    t = rows[:, 0]
+    body = rows[:, 1:1 + K.N_BODY_COLS * nb].reshape(-1, nb, K.N_BODY_COLS)
+    q = body[:, :, :3]
+    k0 = 1 + K.N_BODY_COLS * nb
+    tail = rows[:, k0:]
+    theta = -q[:, :, 2]
+    theta_dot = -body[:, :, 5]
+    toes = _outer_toe_heights(column, q)
+    opening, slip = _crack_kinematics(column, q)
+    energies = {"kinetic": tail[:, 0], "gravity": tail[:, 1], "collar": tail[:, 2],
+                "dissipated": tail[:, 3], "external_work": tail[:, 4]}
+    total = tail[:, 0] + tail[:, 1] + tail[:, 2]
+    balance = total + tail[:, 3] - tail[:, 4] - total[0]
+    scale = max(np.max(np.abs(tail[:, 4]), initial=0.0), total[0], column.rocking_energy())
+    energies["total"] = total
+    energies["error"] = balance / scale
+    result = MultibodyResult(
+        time=t, theta=theta, theta_dot=theta_dot, centroid=q[:, :, :2].copy(), uplift=toes,
+        crack_opening=opening, crack_slip=slip,
+        base_normal_force=tail[:, K.N_TAIL::2][:, :nb],
+        base_tangential_force=tail[:, K.N_TAIL + 1::2][:, :nb],
+        crack_normal_force=tail[:, 5], energies=energies, impacts_table=table, column=column,
+        status=status, overturned=overturned, mode=mode, impacts=n_imp, overturn_time=t_over,
+        dt=dt, steps=int(steps), wall_seconds=wall, solver_iterations_max=int(iters))
+    result.collar_histories = collar_histories(column, t, q)
+    return result
+
+
+def _corner(q, half, sx, sy):
+    """World position of corner (sx b, sy h) for q rows (n, 3)."""
+    c, s = np.cos(q[:, 2]), np.sin(q[:, 2])
+    lx, ly = sx * half[0], sy * half[1]
+    return q[:, 0] + c * lx - s * ly, q[:, 1] + s * lx + c * ly
+
+
+def _outer_toe_heights(column, q):
+    first, last = 0, column.n_bodies - 1
+    _, y_left = _corner(q[:, first], column.half[first], -1.0, -1.0)
+    _, y_right = _corner(q[:, last], column.half[last], 1.0, -1.0)
+    return np.stack((y_left, y_right), axis=1)
+
+
+def _crack_kinematics(column, q):
+    """Opening (max over the face, normal to the left half's face) and slip (right half
+    relative to the left, along it) of the crack, m."""
+    n = q.shape[0]
+    if not column.cracked:
+        return np.zeros(n), np.zeros(n)
+    c, s = np.cos(q[:, 0, 2]), np.sin(q[:, 0, 2])
+    openings, slips = [], []
+    for sy in (-1.0, 1.0):
+        xl, yl = _corner(q[:, 0], column.half[0], 1.0, sy)
+        xr, yr = _corner(q[:, 1], column.half[1], -1.0, sy)
+        dx, dy = xr - xl, yr - yl
+        openings.append(c * dx + s * dy)
+        slips.append(-s * dx + c * dy)
+    return np.maximum(*openings), 0.5 * (slips[0] + slips[1])
+
+
+def collar_histories(column: MultibodyColumn, t, q) -> list[CollarHistory]:
+    """N (tension +), end moment, extreme-fibre stress |N|/A + max|M|/W and utilisation of
+    every collar over time, from the frame element (as the FEM reports them)."""
+    if not column.collars:
+        return []
+    n = q.shape[0]
+    forces = np.zeros((n, column.col_a.size, 4))
+    out = np.zeros((column.col_a.size, 4))
+    flat = q.reshape(n, -1)
+    for k in range(n):
+        K.collar_forces(flat[k], column.col_a, column.col_b, column.col_r, column.col_props,
+                        np.zeros(0), out)
+        forces[k] = out
+    histories = []
+    for c, collar in enumerate(column.collars):
+        axial = forces[:, c, 0]
+        moment = np.maximum(np.abs(forces[:, c, 1]), np.abs(forces[:, c, 2]))
+        shear = (forces[:, c, 1] + forces[:, c, 2]) / collar.span(column.block.b)
+        stress = np.abs(axial) / collar.area + moment / collar.section_modulus
+        util = stress / collar.fy
+        hit = np.nonzero(util >= 1.0)[0]
+        histories.append(CollarHistory(collar, axial, shear, moment, stress, util,
+                                       float(t[hit[0]]) if hit.size else None))
+    return histories
+
+
+def multibody_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(), *,
+                       cracked: bool = False, friction: float = DEFAULT_FRICTION,
+                       crack_friction: float | None = None, pulse: str = "sine",
+                       restitution_normal: float = 0.0, dt: float | None = None,
+                       refine: int = IMPACT_REFINEMENT, free_time: float | None = None):
+    """Overturning spectrum of the multibody column: mode code per (amplitude ratio, omega
+    ratio), amplitudes normalised by g tan(alpha) of ``block``, Omega by its p. Runs in
+    parallel over the cores; each run stops once its fate is certain (overturned, or after the
+    pulse with less energy than any part needs to overturn). Returns a
+    :class:`rigid.spectrum.Spectrum` (model "multibody")."""
+    from .spectrum import Spectrum, check_spectrum_grid
+
+    omega_ratios, amplitude_ratios = check_spectrum_grid(omega_ratios, amplitude_ratios, pulse)
+    column = build_column(block, cracked=cracked, collars=collars, friction=friction,
+                          crack_friction=crack_friction)
+    require_range("restitution_normal (Newton's e_n)", restitution_normal, 0.0, 1.0,
+                  closed_low=True, closed_high=True)
+    h_max = dt if dt is not None else default_step(column)
+    require_positive("dt (s)", h_max)
+    if free_time is None:
+        free_time = 50.0 / block.p
+    uplift = block.uplift_acceleration("nonlinear")
+    start = time.perf_counter()
+    codes, peaks, _status = K.spectrum_modes(
+        column.q_rest, column.mass, column.inertia, column.half, block.g,
+        column.cand_a, column.cand_b, column.cand_pt, column.cand_face, column.cand_mu,
+        column.cand_kind, column.col_a, column.col_b, column.col_r, column.col_props,
+        omega_ratios * block.p, amplitude_ratios, uplift, pulse == "cosine", h_max,
+        _check_refine(refine),
+        free_time,
+        restitution_normal, column.cracked and not column.collars,
+        column.overturning_barrier(), IMPACT_THRESHOLD * block.alpha,
+        max(column.rocking_energy(), 1e-300), SOLVER_TOLERANCE, SOLVER_MAX_ITERATIONS)
+    seconds = time.perf_counter() - start
+    return Spectrum(omega_ratios, amplitude_ratios, codes, peaks, None, "multibody", pulse,
+                    seconds, bool(column.collars))

@@ -1,0 +1,288 @@
+"""The rigid multibody contact model against closed forms, the SDOF solvers and its own limits."""
+
+import math
+
+import numpy as np
+import pytest
+
+from rigid import Block, Collar, InputError, Record, housner_restitution, pulse_from_ratios, rock
+from rigid import _multibody as K
+from rigid.multibody import build_column, multibody_spectrum, rock_multibody
+
+STICK = 2.0          # a friction coefficient that forbids sliding of these blocks
+
+
+def zm_block():
+    return Block.from_dimensionless(p=2.14, alpha=0.25)      # Housner restitution
+
+
+def marble_half():
+    """One half of the default study's column: 0.45 m wide, 4 m tall, t = pi * width / 4."""
+    return Block.from_density(b=0.1125, h=2.0, density=2700.0, thickness=math.pi * 0.45 / 4)
+
+
+def theta_error(result, reference, t_end, body=0, alpha=None):
+    """max |theta_mb - theta_ref| / alpha for t <= t_end."""
+    sel = result.time <= t_end
+    ref = np.interp(result.time[sel], reference.time, reference.theta)
+    alpha = alpha if alpha is not None else result.column.block.alpha
+    return np.max(np.abs(result.theta[sel, body] - ref)) / alpha
+
+
+def assert_energy_closes(result, tol=1e-2):
+    assert result.summary()["energy_error_max"] < tol
+
+
+# --- one solid block: the SDOF nonlinear model is its no-slip limit ---------------------------
+
+@pytest.mark.parametrize("omega_ratio, amplitude_ratio", [(5.0, 2.0), (5.0, 2.5), (8.0, 3.0)])
+def test_solid_block_follows_nonlinear_sdof_to_the_third_impact(omega_ratio, amplitude_ratio):
+    blk = zm_block()
+    pulse = pulse_from_ratios(blk, "sine", omega_ratio, amplitude_ratio, "nonlinear")
+    ref = rock(blk, pulse, model="nonlinear", duration=8.0, dt_out=1e-3)
+    mb = rock_multibody(blk, pulse, friction=STICK, duration=8.0, dt_out=1e-3)
+    assert ref.impacts >= 3 and mb.impacts >= 3
+    assert theta_error(mb, ref, ref.impact_times[2]) < 1e-3
+    np.testing.assert_allclose(mb.impacts_table[:3, 0], ref.impact_times[:3], atol=2e-3)
+    assert mb.mode == ref.mode
+    assert_energy_closes(mb)
+
+
+def _sdof_boundaries(blk, omega_ratio, low, high, n=60):
+    """Amplitude ratios where the nonlinear SDOF's overturning verdict changes, by bisection."""
+    def over(a):
+        return rock(blk, pulse_from_ratios(blk, "sine", omega_ratio, a, "nonlinear"),
+                    model="nonlinear").overturned
+
+    grid = np.linspace(low, high, n)
+    fate = [over(a) for a in grid]
+    out = []
+    for k in range(1, n):
+        if fate[k] != fate[k - 1]:
+            lo, hi = grid[k - 1], grid[k]
+            for _ in range(30):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if over(mid) == fate[k - 1] else (lo, mid)
+            out.append(0.5 * (lo + hi))
+    return out
+
+
+def test_overturning_classification_matches_sdof_on_both_sides_of_zhang_makris_boundaries():
+    blk = zm_block()
+    boundaries = _sdof_boundaries(blk, 5.0, 1.5, 10.0)
+    assert len(boundaries) >= 2          # the safe region, the overturning one, the safe island
+    for boundary in boundaries:
+        for side in (0.99, 1.01):
+            pulse = pulse_from_ratios(blk, "sine", 5.0, side * boundary, "nonlinear")
+            ref = rock(blk, pulse, model="nonlinear")
+            mb = rock_multibody(blk, pulse, friction=STICK)
+            assert mb.mode == ref.mode, (boundary, side)
+
+
+@pytest.mark.parametrize("alpha", [0.1, 0.2, 0.3])
+def test_plastic_impact_gives_housners_ratio(alpha):
+    """e_n = 0 and no slip: angular momentum about the new pivot is conserved, which is
+    Housner's 1 - 1.5 sin^2(alpha); nothing in the model imposes it."""
+    blk = Block.from_dimensionless(p=2.0, alpha=alpha)
+    mb = rock_multibody(blk, None, friction=STICK, duration=4.0, initial_tilt=0.5 * alpha)
+    ratios = mb.impact_velocity_ratios(0)
+    assert ratios.size >= 2
+    np.testing.assert_allclose(ratios[:3], housner_restitution(alpha), rtol=5e-3)
+    assert_energy_closes(mb)
+
+
+def test_free_rocking_from_rest_reaches_the_vertical_at_the_closed_form_time():
+    """Corrected Eq. 13 (linearised): t = arccosh(1 / (1 - theta0/alpha)) / p; the nonlinear
+    block of small alpha is within alpha^2 of it."""
+    blk = Block.from_dimensionless(p=2.0, alpha=0.05)
+    mb = rock_multibody(blk, None, friction=STICK, duration=2.0, initial_tilt=0.5 * 0.05)
+    assert mb.impacts_table[0, 0] == pytest.approx(blk.time_to_vertical(0.025), rel=5e-3)
+
+
+def test_mirror_symmetry():
+    blk = zm_block()
+    pulse = pulse_from_ratios(blk, "sine", 4.0, 2.5, "nonlinear")
+    mirrored = type(pulse)(pulse.kind, -pulse.amplitude, pulse.omega, pulse.phase, pulse.duration)
+    a = rock_multibody(blk, pulse, friction=STICK, duration=3.0)
+    b = rock_multibody(blk, mirrored, friction=STICK, duration=3.0)
+    np.testing.assert_allclose(a.theta, -b.theta, atol=1e-9 * blk.alpha)
+
+
+def test_time_step_convergence():
+    """theta up to the third impact converges with the step. Impacts are first order in the
+    substep h / refine (where an impact falls within it is luck, so the error is bounded rather
+    than monotonic): refining the step or the impact substeps both reduce it."""
+    blk = zm_block()
+    pulse = pulse_from_ratios(blk, "sine", 5.0, 2.0, "nonlinear")
+    ref = rock(blk, pulse, model="nonlinear", duration=4.0, dt_out=1e-5)
+    t3 = ref.impact_times[2]
+
+    def error(dt, refine=32):
+        mb = rock_multibody(blk, pulse, friction=STICK, duration=4.0, dt=dt, dt_out=dt,
+                            refine=refine)
+        return theta_error(mb, ref, t3)
+
+    by_step = [error(dt) for dt in (2e-3, 1e-3, 5e-4, 2.5e-4)]
+    assert max(by_step[1:]) < 0.1 * by_step[0]
+    assert by_step[-1] < 1e-4
+    by_refinement = [error(5e-4, refine) for refine in (1, 32, 256)]
+    assert by_refinement[0] > 5.0 * by_refinement[1] > 5.0 * by_refinement[2]
+
+
+# --- friction: sliding and the rock/slide criterion ---------------------------------------------
+
+def constant_ground(acceleration, duration):
+    return Record(np.array([0.0, duration]), np.array([acceleration, acceleration]), "constant")
+
+
+@pytest.mark.parametrize("factor", [0.95, 1.05, 1.5])
+def test_block_on_tilted_ground_slides_exactly_when_tilt_exceeds_friction_angle(factor):
+    """A constant ground acceleration a tilts gravity by atan(a/g) in the ground frame. A squat
+    block (tan alpha > mu: it cannot rock first) sticks for a < mu g and slides at a - mu g."""
+    mu = 0.4
+    blk = Block(b=1.0, h=0.5, mass=100.0)
+    g = blk.g
+    a = factor * mu * g
+    mb = rock_multibody(blk, constant_ground(a, 2.0), friction=mu, duration=1.0, dt_out=1e-2)
+    x = mb.centroid[:, 0, 0]
+    if factor < 1.0:
+        assert np.max(np.abs(x)) < 1e-9
+    else:
+        expected = -0.5 * (a - mu * g) * mb.time ** 2       # body force -m a, friction + mu m g
+        np.testing.assert_allclose(x, expected, rtol=2e-2, atol=1e-9)
+    assert np.max(np.abs(mb.theta)) < 1e-9
+    assert_energy_closes(mb)
+
+
+def test_slender_block_slides_instead_of_rocking_when_mu_is_below_tan_alpha():
+    """Rock or slide (Shenton 1996): friction can pass at most mu m g to the base; rocking needs
+    m g tan(alpha). With mu < tan(alpha) the block slides and never tips; with mu > tan(alpha)
+    it rocks."""
+    blk = zm_block()
+    pulse = pulse_from_ratios(blk, "sine", 3.0, 3.0, "nonlinear")
+    tan_alpha = math.tan(blk.alpha)
+    slides = rock_multibody(blk, pulse, friction=0.8 * tan_alpha, duration=2.0)
+    rocks = rock_multibody(blk, pulse, friction=1.2 * tan_alpha, duration=2.0)
+    assert slides.max_abs_theta < 1e-4 * blk.alpha and slides.impacts == 0
+    assert np.max(np.abs(slides.centroid[:, 0, 0])) > 0.05          # metres of sliding
+    assert slides.summary()["energy_dissipated"] > 0.0
+    assert rocks.max_abs_theta > 0.5 * blk.alpha
+    assert_energy_closes(slides)
+    assert_energy_closes(rocks)
+
+
+# --- two halves ---------------------------------------------------------------------------------
+
+def test_halves_with_frictionless_crack_rock_as_independent_half_blocks():
+    """No collars, no crack friction: each half is the SDOF half block up to the first impact.
+    They touch at second order only (equal rotations about different toes overlap the faces by
+    2b (1 - cos theta)): the half that leans on the other is held back slightly."""
+    half = marble_half()
+    pulse = pulse_from_ratios(half, "sine", 5.0, 2.0, "nonlinear")
+    ref = rock(half, pulse, model="nonlinear", duration=6.0, dt_out=1e-3)
+    mb = rock_multibody(half, pulse, cracked=True, friction=STICK, crack_friction=0.0,
+                        duration=6.0, dt_out=1e-3)
+    t1 = ref.impact_times[0]
+    leading = theta_error(mb, ref, t1, body=0)
+    leaning = theta_error(mb, ref, t1, body=1)
+    assert leading < 1e-3
+    assert leaning < 1e-2
+    assert mb.mode == ref.mode
+    assert_energy_closes(mb)
+
+
+def test_stiff_collars_and_crack_friction_lock_the_halves_into_the_whole_column_block():
+    half = marble_half()
+    whole = Block(b=2.0 * half.b, h=half.h, mass=2.0 * half.mass)
+    pulse = pulse_from_ratios(half, "sine", 3.0, 3.0, "nonlinear")
+    ref = rock(whole, pulse, model="nonlinear", duration=5.0, dt_out=1e-3)
+    t1 = ref.impact_times[0]
+    errors = []
+    for stiffening in (1.0, 10.0, 100.0):
+        collars = tuple(Collar(y=y, t=0.008, h=0.06, E=206e9 * stiffening)
+                        for y in (0.5, 2.0, 3.5))
+        mb = rock_multibody(half, pulse, collars, cracked=True, friction=STICK,
+                            crack_friction=0.7, duration=t1 + 0.05, dt_out=1e-3)
+        errors.append(max(theta_error(mb, ref, t1, body=b, alpha=whole.alpha) for b in (0, 1)))
+        assert_energy_closes(mb)
+    assert errors[0] > errors[1] > errors[2]
+    assert errors[2] < 1e-2
+
+
+def test_collar_element_forces_are_the_gradient_of_its_energy():
+    half = marble_half()
+    collars = (Collar(y=1.0, t=0.008, h=0.06, pretension=5e3),
+               Collar(y=3.0, t=0.01, h=0.05, length=0.5))
+    col = build_column(half, cracked=True, collars=collars)
+    rng = np.random.default_rng(1)
+    q = col.q_rest + rng.normal(scale=[1e-3, 1e-3, 1e-3] * 2)
+    f = np.zeros(6)
+    out = np.zeros((2, 4))
+    K.collar_forces(q, col.col_a, col.col_b, col.col_r, col.col_props, f, out)
+    step = 1e-7
+    for k in range(6):
+        qp, qm = q.copy(), q.copy()
+        qp[k] += step
+        qm[k] -= step
+        up = K.collar_forces(qp, col.col_a, col.col_b, col.col_r, col.col_props, np.zeros(0), out)
+        um = K.collar_forces(qm, col.col_a, col.col_b, col.col_r, col.col_props, np.zeros(0), out)
+        assert f[k] == pytest.approx(-(up - um) / (2 * step), rel=1e-5, abs=1e-3)
+
+
+def test_collar_element_axial_and_lateral_stiffness():
+    """Right half moved out by d: N = E A / L d; moved up by d (no rotation): the end moment is
+    6 E I d / L^2 and the shear 12 E I d / L^3, as the FEM's frame element."""
+    half = marble_half()
+    collar = Collar(y=2.0, t=0.008, h=0.06)
+    col = build_column(half, cracked=True, collars=(collar,))
+    L = 4.0 * half.b
+    d = 1e-5
+    out = np.zeros((1, 4))
+    for dof, check in ((3, "axial"), (4, "lateral")):
+        q = col.q_rest.copy()
+        q[dof] += d
+        f = np.zeros(6)
+        K.collar_forces(q, col.col_a, col.col_b, col.col_r, col.col_props, f, out)
+        if check == "axial":
+            assert out[0, 0] == pytest.approx(collar.E * collar.area / L * d, rel=1e-4)
+        else:
+            EI = collar.E * collar.second_moment
+            assert -out[0, 1] == pytest.approx(6 * EI * d / L ** 2, rel=1e-4)
+            assert f[1] == pytest.approx(12 * EI * d / L ** 3, rel=1e-4)   # pulls left half up
+
+
+# --- spectra and input checks -------------------------------------------------------------------
+
+def test_spectrum_points_equal_single_histories_and_the_sdof_away_from_boundaries():
+    blk = zm_block()
+    omegas = np.array([2.0, 5.0, 9.0])
+    amplitudes = np.array([1.5, 4.0, 12.0])
+    spec = multibody_spectrum(blk, omegas, amplitudes, friction=STICK)
+    for i, a in enumerate(amplitudes):
+        for j, om in enumerate(omegas):
+            pulse = pulse_from_ratios(blk, "sine", om, a, "nonlinear")
+            single = rock_multibody(blk, pulse, friction=STICK)
+            ref = rock(blk, pulse, model="nonlinear")
+            assert spec.modes[i][j] == single.mode == ref.mode, (a, om)
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    ({"friction": -0.1}, "friction"),
+    ({"crack_friction": float("nan"), "cracked": True}, "crack friction"),
+    ({"restitution_normal": 1.5}, "restitution_normal"),
+    ({"dt": 0.0}, "dt"),
+    ({"refine": 0}, "refine"),
+    ({"initial_tilt": 2.0}, "initial tilt"),
+    ({"collars": (Collar(y=1.0, t=0.01, h=0.05),)}, "cracked"),
+])
+def test_bad_input_is_named(kwargs, word):
+    blk = Block(b=0.2, h=2.0, mass=800.0)
+    with pytest.raises(InputError, match=word):
+        rock_multibody(blk, None, duration=0.1, **kwargs)
+
+
+def test_a_step_above_the_collars_stable_step_is_refused():
+    half = marble_half()
+    collars = (Collar(y=2.0, t=0.008, h=0.06),)
+    with pytest.raises(InputError, match="stable step"):
+        rock_multibody(half, None, collars, cracked=True, dt=1e-2, duration=0.1)
