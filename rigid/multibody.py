@@ -238,9 +238,32 @@ class MultibodyResult:
     solver_iterations_max: int
     collar_histories: list = field(default_factory=list, repr=False)
 
+    model = "multibody"
+
     @property
     def cracked(self) -> bool:
         return self.column.cracked
+
+    @property
+    def block(self) -> Block:
+        return self.column.block
+
+    @property
+    def impact_times(self) -> np.ndarray:
+        return self.impacts_table[:, 0]
+
+    @property
+    def impact_bodies(self) -> np.ndarray:
+        """Which body hit the ground at each impact (0: left half or the solid column)."""
+        return self.impacts_table[:, 1].astype(int)
+
+    @property
+    def impact_velocity_before(self) -> np.ndarray:
+        return self.impacts_table[:, 2]
+
+    @property
+    def impact_velocity_after(self) -> np.ndarray:
+        return self.impacts_table[:, 3]
 
     @property
     def max_abs_theta(self) -> float:
@@ -254,8 +277,8 @@ class MultibodyResult:
 
     def impact_velocity_ratios(self, body: int = 0) -> np.ndarray:
         """|theta' after / theta' before| at each impact of ``body``."""
-        rows = self.impacts_table[self.impacts_table[:, 1] == body]
-        return np.abs(rows[:, 3] / rows[:, 2])
+        mine = self.impact_bodies == body
+        return np.abs(self.impact_velocity_after[mine] / self.impact_velocity_before[mine])
 
     def summary(self) -> dict:
         """Plain-data summary (the CLI's ``--json`` object)."""
@@ -303,6 +326,33 @@ class MultibodyResult:
                       if h.first_yield_time is not None]
             out["collar_first_yield_time"] = min(yields) if yields else None
         return out
+
+
+def history_columns(result: MultibodyResult) -> dict:
+    """The histories as named 1D arrays (SI units), one per CSV column."""
+    names = ("left", "right") if result.cracked else ("column",)
+    columns = {"t": result.time}
+    for k, name in enumerate(names):
+        columns[f"theta_{name}"] = result.theta[:, k]
+        columns[f"theta_dot_{name}"] = result.theta_dot[:, k]
+        columns[f"x_{name}"] = result.centroid[:, k, 0]
+        columns[f"y_{name}"] = result.centroid[:, k, 1]
+        columns[f"base_normal_force_{name}"] = result.base_normal_force[:, k]
+        columns[f"base_tangential_force_{name}"] = result.base_tangential_force[:, k]
+    columns["uplift_left"] = result.uplift[:, 0]
+    columns["uplift_right"] = result.uplift[:, 1]
+    if result.cracked:
+        columns["crack_opening"] = result.crack_opening
+        columns["crack_slip"] = result.crack_slip
+        columns["crack_normal_force"] = result.crack_normal_force
+    for k, hist in enumerate(result.collar_histories, start=1):
+        columns[f"collar_{k}_axial_force"] = hist.axial_force
+        columns[f"collar_{k}_moment"] = hist.end_moment
+        columns[f"collar_{k}_stress"] = hist.stress
+        columns[f"collar_{k}_utilisation"] = hist.utilisation
+    for key, values in result.energies.items():
+        columns[f"energy_{key}"] = values
+    return columns
 
 
 def _mean_or_none(values) -> float | None:

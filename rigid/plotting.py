@@ -19,14 +19,20 @@ def plot_history(result, path, title: str | None = None):
     n_rows = 3 if result.collar_histories else 2
     fig, axes = plt.subplots(n_rows, 1, figsize=(8, 2.6 * n_rows), sharex=True)
     alpha, p = result.block.alpha, result.block.p
-    axes[0].plot(result.time, result.theta / alpha, lw=1.2)
+    theta = result.theta.reshape(result.time.size, -1)
+    theta_dot = result.theta_dot.reshape(result.time.size, -1)
+    labels = ("left half", "right half") if theta.shape[1] == 2 else (None,)
+    for k, label in enumerate(labels):
+        axes[0].plot(result.time, theta[:, k] / alpha, lw=1.2, label=label)
+        axes[1].plot(result.time, theta_dot[:, k] / p, lw=1.2, label=label)
     axes[0].axhline(1.0, color="0.6", lw=0.8, ls="--")
     axes[0].axhline(-1.0, color="0.6", lw=0.8, ls="--")
     for t in result.impact_times:
         axes[0].axvline(t, color="0.85", lw=0.5, zorder=0)
     axes[0].set_ylabel(r"$\theta/\alpha$")
-    axes[1].plot(result.time, result.theta_dot / p, lw=1.2, color="C1")
     axes[1].set_ylabel(r"$\dot\theta/p$")
+    if labels[0] is not None:
+        axes[0].legend(fontsize=8)
     if result.collar_histories:
         for k, hist in enumerate(result.collar_histories, start=1):
             axes[2].plot(result.time, hist.utilisation, lw=1.0,

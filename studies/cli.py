@@ -50,8 +50,9 @@ def _add_block_options(parser: argparse.ArgumentParser) -> None:
                         "half circular column)")
     g.add_argument("--restitution", type=float,
                    help="coefficient of restitution nu (default Housner's 1 - 1.5 sin^2 alpha)")
-    g.add_argument("--model", choices=MODELS, default="nonlinear",
-                   help="equation of motion (default nonlinear)")
+    g.add_argument("--model", choices=MODELS + ("multibody",), default="nonlinear",
+                   help="linear or nonlinear: the SDOF rocking equation; multibody: rigid "
+                        "bodies with contact and friction (default nonlinear)")
     g.add_argument("--g", type=float, default=9.81, help="gravity (m/s^2), default 9.81")
 
 
@@ -91,6 +92,31 @@ def _collars_from_args(args):
     return read_collars(args.collars) if args.collars else ()
 
 
+def _add_multibody_options(parser) -> None:
+    g = parser.add_argument_group("multibody model (--model multibody)")
+    g.add_argument("--cracked", action="store_true",
+                   help="two half columns, each the block given (implied by --collars)")
+    g.add_argument("--friction", type=float,
+                   help="Coulomb coefficient at the base and the crack (default 0.7)")
+    g.add_argument("--crack-friction", type=float,
+                   help="Coulomb coefficient along the crack (default: --friction)")
+
+
+def _multibody_options(args) -> dict:
+    """Keyword arguments of the multibody solvers; an error if given for another model."""
+    given = [name for name in ("cracked", "friction", "crack_friction")
+             if getattr(args, name) not in (None, False)]
+    if args.model != "multibody":
+        if given:
+            raise InputError(f"--{given[0].replace('_', '-')} applies to --model multibody "
+                             f"only (the {args.model} model has no contact)")
+        return {}
+    from rigid.multibody import DEFAULT_FRICTION
+    return {"cracked": bool(args.cracked or args.collars),
+            "friction": DEFAULT_FRICTION if args.friction is None else args.friction,
+            "crack_friction": args.crack_friction}
+
+
 def _emit(args, summary: dict) -> None:
     if args.json:
         print(json.dumps(summary))
@@ -107,6 +133,7 @@ def _cmd_rigid(args) -> dict:
 
     block = _block_from_args(args)
     collars = _collars_from_args(args)
+    sdof_model = "linear" if args.model == "linear" else "nonlinear"   # a_uplift of the ratios
     if args.record is not None:
         if args.omega_ratio is not None or args.amplitude_ratio is not None:
             raise InputError("give either --record or --omega-ratio/--amplitude-ratio")
@@ -116,22 +143,31 @@ def _cmd_rigid(args) -> dict:
             raise InputError("a pulse needs --omega-ratio and --amplitude-ratio "
                              "(or give --record FILE)")
         ground = pulse_from_ratios(block, args.pulse, args.omega_ratio, args.amplitude_ratio,
-                                   args.model)
-    result = rock(block, ground, collars, model=args.model, duration=args.duration)
-    summary = result.summary()
-    summary["uplift_acceleration"] = block.uplift_acceleration(args.model)
-    if args.out:
-        out = Path(args.out)
-        columns = {"t": result.time, "theta": result.theta, "theta_dot": result.theta_dot,
-                   "ground_acceleration": ground.acceleration(result.time)}
+                                   sdof_model)
+    multibody = _multibody_options(args)
+    if multibody:
+        from rigid.multibody import history_columns, rock_multibody
+        result = rock_multibody(block, ground, collars, duration=args.duration, **multibody)
+        columns = history_columns(result)
+    else:
+        result = rock(block, ground, collars, model=args.model, duration=args.duration)
+        columns = {"t": result.time, "theta": result.theta, "theta_dot": result.theta_dot}
         for k, hist in enumerate(result.collar_histories, start=1):
             columns[f"collar_{k}_axial_force"] = hist.axial_force
             columns[f"collar_{k}_end_moment"] = hist.end_moment
             columns[f"collar_{k}_stress"] = hist.stress
+    summary = result.summary()
+    summary["uplift_acceleration"] = block.uplift_acceleration(sdof_model)
+    if args.out:
+        out = Path(args.out)
+        columns["ground_acceleration"] = ground.acceleration(result.time)
         write_csv(out / "history.csv", columns)
-        write_csv(out / "impacts.csv", {"t": result.impact_times,
-                                        "theta_dot_before": result.impact_velocity_before,
-                                        "theta_dot_after": result.impact_velocity_after})
+        impacts = {"t": result.impact_times,
+                   "theta_dot_before": result.impact_velocity_before,
+                   "theta_dot_after": result.impact_velocity_after}
+        if multibody:
+            impacts["body"] = result.impact_bodies
+        write_csv(out / "impacts.csv", impacts)
         write_json(out / "summary.json", summary)
         from rigid.plotting import plot_history
         plot_history(result, out / "history.png")
@@ -147,8 +183,14 @@ def _cmd_spectrum(args) -> dict:
     collars = _collars_from_args(args)
     omegas = parse_range(args.omega_ratios, "--omega-ratios")
     amplitudes = parse_range(args.amplitude_ratios, "--amplitude-ratios")
-    spectrum = overturning_spectrum(block, omegas, amplitudes, collars, model=args.model,
-                                    pulse=args.pulse)
+    multibody = _multibody_options(args)
+    if multibody:
+        from rigid.multibody import multibody_spectrum
+        spectrum = multibody_spectrum(block, omegas, amplitudes, collars, pulse=args.pulse,
+                                      **multibody)
+    else:
+        spectrum = overturning_spectrum(block, omegas, amplitudes, collars, model=args.model,
+                                        pulse=args.pulse)
     summary = spectrum.to_dict()
     if args.out:
         out = Path(args.out)
@@ -284,6 +326,7 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--scale", type=float, default=1.0, help="scale factor on the record")
     p.add_argument("--duration", type=float, help="end time (s); default end of motion + 20/p")
     _add_collar_option(p)
+    _add_multibody_options(p)
     p.add_argument("--out", type=Path, help="write history.csv, impacts.csv, summary.json, "
                                             "history.png here")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -295,6 +338,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--omega-ratios", required=True, help="START:STOP:N of Omega / p")
     p.add_argument("--amplitude-ratios", required=True, help="START:STOP:M of a_p / a_uplift")
     _add_collar_option(p)
+    _add_multibody_options(p)
     p.add_argument("--out", type=Path, help="write spectrum.json, spectrum.png, CSV here")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_spectrum)

@@ -70,28 +70,44 @@ def write_crosscheck_report(out: Path) -> Path:
     fem_h = read_csv(out / "cases" / "fem" / "history.csv")
     rigid_h = read_csv(out / "cases" / "rigid" / "history.csv")
     mono_h = read_csv(out / "cases" / "monolith" / "history.csv")
+    mb_h = read_csv(out / "cases" / "multibody" / "history.csv")
+    mb_names = ("left", "right") if "theta_left" in mb_h else ("column", "column")
     spectrum = json.loads((out / "cases" / "spectrum" / "spectrum.json").read_text())
     (out / "figures").mkdir(exist_ok=True)
     figs = []
 
-    # 1. rotations, FEM vs rigid
+    # 1. rotations, FEM vs the rigid models (the CSV on the FEM's times, where all ran)
     t = fem_h["t"]
+
+    def on_fem_times(h, key):
+        return np.interp(t, h["t"], h[key], right=np.nan)
+
     write_csv(out / "figures" / "theta.csv", {
         "t": t, "theta_fem_left": fem_h["theta_left"], "theta_fem_right": fem_h["theta_right"],
-        "theta_rigid_half_with_collars": np.interp(t, rigid_h["t"], rigid_h["theta"]),
-        "theta_rigid_monolith": np.interp(t, mono_h["t"], mono_h["theta"])})
+        "theta_multibody_left": on_fem_times(mb_h, f"theta_{mb_names[0]}"),
+        "theta_multibody_right": on_fem_times(mb_h, f"theta_{mb_names[1]}"),
+        "theta_rigid_half_with_collars": on_fem_times(rigid_h, "theta"),
+        "theta_rigid_monolith": on_fem_times(mono_h, "theta")})
     fig, ax = plt.subplots(figsize=(8, 3.6))
-    ax.plot(t, fem_h["theta_left"], label="FEM, left half")
-    ax.plot(t, fem_h["theta_right"], "--", label="FEM, right half")
+    ax.plot(t, fem_h["theta_left"], color="C0", lw=1.6, label="FEM, left half")
+    ax.plot(t, fem_h["theta_right"], "--", color="C0", lw=1.6, label="FEM, right half")
+    m = mb_h["t"] <= t[-1]
+    ax.plot(mb_h["t"][m], mb_h[f"theta_{mb_names[0]}"][m], color="C3", lw=1.0,
+            label="rigid multibody, left half")
+    ax.plot(mb_h["t"][m], mb_h[f"theta_{mb_names[1]}"][m], "--", color="C3", lw=1.0,
+            label="rigid multibody, right half")
     m = rigid_h["t"] <= t[-1]
-    ax.plot(rigid_h["t"][m], rigid_h["theta"][m], label="rigid, half block + collars")
+    ax.plot(rigid_h["t"][m], rigid_h["theta"][m], color="C1", lw=1.0,
+            label="SDOF, half block + collars (paper)")
     m = mono_h["t"] <= t[-1]
-    ax.plot(mono_h["t"][m], mono_h["theta"][m], ":", label="rigid, whole column (monolith)")
+    ax.plot(mono_h["t"][m], mono_h["theta"][m], ":", color="C2", lw=1.2,
+            label="SDOF, whole column (monolith)")
     ax.set_xlabel("t (s)")
     ax.set_ylabel(r"$\theta$ (rad)")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    figs.append(_figure(out, "theta", fig, "Rotation of each half: FEM against the rigid models"))
+    figs.append(_figure(out, "theta", fig, "Rotation of each half: FEM against the rigid "
+                        "multibody model (the rigid reference) and the two SDOF models"))
 
     # 2. where the pulse sits on the rigid spectrum
     codes = np.array([[{"safe": 0, "after-impact": 1, "without-impact": 2}[c] for c in row]
@@ -192,7 +208,7 @@ def _renders(out: Path) -> str:
 
 def _verdict_row(summary, key, label, detail):
     ok = _get(summary, f"verdict.{key}")
-    good = ok if key == "rigid_assumption_ok" else not ok
+    good = ok if key in ("rigid_assumption_ok", "sdof_half_model_ok") else not ok
     colour = "#1b9e77" if good else "#d95f02"
     return (f'<tr><th>{label}</th><td style="color:{colour};font-weight:bold">'
             f'{_num(summary, "verdict." + key)}</td><td>{detail}</td></tr>')
@@ -210,13 +226,25 @@ def _uncertain(s: dict, quantity: str) -> str:
 def _html(s: dict, figs: list, renders: str) -> str:
     verdict = "\n".join([
         _verdict_row(s, "rigid_assumption_ok", "Rigid-body assumption good enough?",
-                     f"peak rotation FEM / rigid = {_num(s, 'theta_peak_ratio_fem_over_rigid')} "
-                     f"(tolerance {_num(s, 'peak_tolerance', 2)}); FEM / whole-column rigid = "
-                     f"{_num(s, 'theta_peak_ratio_fem_over_monolith')}"
-                     f"{_uncertain(s, 'peak_rotation')}; overturned: FEM "
-                     f"{_num(s, 'fem.overturned')}, rigid {_num(s, 'rigid.overturned')}; "
-                     f"effective restitution FEM {_num(s, 'effective_restitution_fem', 3)} vs "
+                     "judged against the rigid multibody model (same contacts, friction and "
+                     "collars, rigid halves): overturned: FEM "
+                     f"{_num(s, 'fem.overturned')}, multibody "
+                     f"{_num(s, 'rigid_multibody.overturned')}; peak rotation FEM / multibody "
+                     f"= {_num(s, 'theta_peak_ratio_fem_over_multibody')} (tolerance "
+                     f"{_num(s, 'peak_tolerance', 2)}){_uncertain(s, 'peak_rotation')}; "
+                     f"effective restitution FEM {_num(s, 'effective_restitution_fem', 3)}, "
+                     f"multibody {_num(s, 'rigid_multibody.impact_velocity_ratio_mean', 3)}, "
                      f"Housner {_num(s, 'restitution_housner', 3)}"),
+        _verdict_row(s, "sdof_half_model_ok", "SDOF half-block model (the paper's) good enough?",
+                     "its kinematic assumption (halves rotating equally, each on its own toe) "
+                     f"against the multibody model: overturned: SDOF "
+                     f"{_num(s, 'rigid.overturned')}, multibody "
+                     f"{_num(s, 'rigid_multibody.overturned')}; peak rotation SDOF / multibody "
+                     f"= {_num(s, 'theta_peak_ratio_rigid_over_multibody')}; whole-column SDOF "
+                     f"/ multibody = {_num(s, 'theta_peak_ratio_monolith_over_multibody')}; "
+                     f"FEM / SDOF half block = {_num(s, 'theta_peak_ratio_fem_over_rigid')}, "
+                     f"FEM / whole-column SDOF = "
+                     f"{_num(s, 'theta_peak_ratio_fem_over_monolith')}"),
         _verdict_row(s, "collars_yield", "Do the collars yield?",
                      f"max utilisation {_num(s, 'fem.collar_max_utilisation', 3)}"
                      f"{_uncertain(s, 'collar_max_utilisation')}; time of first yield (s): "
@@ -228,9 +256,19 @@ def _html(s: dict, figs: list, renders: str) -> str:
     ])
     rows = [("FEM peak rotation, left half (rad)", "fem.max_abs_theta_left"),
             ("FEM peak rotation, right half (rad)", "fem.max_abs_theta_right"),
-            ("rigid peak rotation, half + collars (rad)", "rigid.max_abs_theta"),
-            ("rigid mode", "rigid.mode"),
-            ("rigid peak rotation, whole column (rad)", "rigid_monolith.max_abs_theta"),
+            ("multibody peak rotation, left half (rad)", "rigid_multibody.max_abs_theta_left"),
+            ("multibody peak rotation, right half (rad)",
+             "rigid_multibody.max_abs_theta_right"),
+            ("multibody mode", "rigid_multibody.mode"),
+            ("multibody status", "rigid_multibody.status"),
+            ("multibody crack slip max (m)", "rigid_multibody.max_abs_crack_slip"),
+            ("multibody collar utilisation max", "rigid_multibody.collar_max_utilisation"),
+            ("multibody energy balance error (max, relative)",
+             "rigid_multibody.energy_error_max"),
+            ("multibody wall time (s)", "rigid_multibody.wall_seconds"),
+            ("SDOF peak rotation, half + collars (rad)", "rigid.max_abs_theta"),
+            ("SDOF mode, half + collars", "rigid.mode"),
+            ("SDOF peak rotation, whole column (rad)", "rigid_monolith.max_abs_theta"),
             ("halves rock as one block", "verdict.rocks_as_one_block"),
             ("FEM status", "fem.status"),
             ("toe stress max (Pa)", "fem.edge_stress_max"),

@@ -99,3 +99,63 @@ def test_argument_errors_are_one_line(capsys, argv, word):
     err = capsys.readouterr().err
     assert exc.value.code == 2
     assert len(err.strip().splitlines()) == 1 and word in err and err.startswith("colonna: error")
+
+
+# --- the multibody model ------------------------------------------------------------------------
+
+def test_rigid_multibody_json_contract_matches_the_python_api(capsys):
+    from rigid import Block, pulse_from_ratios
+    from rigid.multibody import rock_multibody
+
+    code, out, _ = run(capsys, "rigid", "--p", "2.14", "--alpha", "0.25", "--model",
+                       "multibody", "--friction", "2", "--omega-ratio", "5",
+                       "--amplitude-ratio", "3", "--json")
+    assert code == 0
+    data = json.loads(out)
+    blk = Block.from_dimensionless(p=2.14, alpha=0.25)
+    direct = rock_multibody(blk, pulse_from_ratios(blk, "sine", 5.0, 3.0, "nonlinear"),
+                            friction=2.0)
+    assert data["overturned"] is direct.overturned and data["mode"] == direct.mode
+    assert data["impacts"] == direct.impacts
+    for key in ("max_abs_theta_over_alpha", "max_abs_theta_left", "max_abs_theta_right"):
+        assert isinstance(data[key], float)
+
+
+def test_rigid_multibody_cracked_with_collars_writes_its_histories(capsys, tmp_path):
+    collars = tmp_path / "collars.toml"
+    collars.write_text("[[collar]]\ny = 2.0\nt = 0.008\nh = 0.06\n")
+    code, out, _ = run(capsys, "rigid", "--b", "0.1125", "--h", "2.0", "--density", "2700",
+                       "--model", "multibody", "--crack-friction", "0.3", "--collars",
+                       str(collars), "--omega-ratio", "3", "--amplitude-ratio", "2",
+                       "--duration", "1.0", "--out", str(tmp_path / "o"), "--json")
+    assert code == 0
+    data = json.loads(out)
+    assert data["cracked"] is True and data["crack_friction"] == 0.3 and data["friction"] == 0.7
+    header = (tmp_path / "o" / "history.csv").read_text().splitlines()[0].split(",")
+    for column in ("theta_left", "theta_right", "crack_slip", "collar_1_stress",
+                   "energy_error"):
+        assert column in header
+    assert (tmp_path / "o" / "impacts.csv").is_file()
+
+
+def test_spectrum_multibody_json(capsys):
+    code, out, _ = run(capsys, "spectrum", "--p", "2.14", "--alpha", "0.25", "--model",
+                       "multibody", "--friction", "2", "--omega-ratios", "2:8:3",
+                       "--amplitude-ratios", "1.5:12:3", "--json")
+    assert code == 0
+    data = json.loads(out)
+    assert data["model"] == "multibody"
+    assert len(data["mode"]) == 3 and len(data["mode"][0]) == 3
+
+
+@pytest.mark.parametrize("argv, word", [
+    (("--model", "nonlinear", "--friction", "0.5"), "--friction"),
+    (("--model", "linear", "--cracked"), "--cracked"),
+    (("--model", "multibody", "--friction", "-0.5"), "friction"),
+    (("--model", "multibody", "--crack-friction", "nan"), "crack friction"),
+])
+def test_multibody_options_errors_are_one_line(capsys, argv, word):
+    code, _, err = run(capsys, "rigid", "--p", "2", "--alpha", "0.2", "--omega-ratio", "3",
+                       "--amplitude-ratio", "2", *argv)
+    assert code == 2
+    assert err.count("\n") == 1 and err.startswith("colonna: error:") and word in err

@@ -35,6 +35,7 @@ def _comparable(summary):
     s = json.loads(json.dumps(summary))
     s.pop("wall_seconds", None)
     s["fem"].pop("wall_seconds", None)
+    s["rigid_multibody"].pop("wall_seconds", None)
     return s
 
 
@@ -43,8 +44,24 @@ def test_summary_keys(tiny_run):
     assert set(s["verdict"]) >= {"rigid_assumption_ok", "collars_yield", "toe_crushes"}
     assert {"overturned", "mode", "max_abs_theta"} <= set(s["rigid"])
     for key in ("fem", "theta_peak_ratio_fem_over_rigid", "effective_restitution_fem",
-                "restitution_housner"):
+                "restitution_housner", "theta_peak_ratio_fem_over_multibody"):
         assert key in s
+    assert {"overturned", "mode", "max_abs_theta_left", "max_abs_theta_right",
+            "max_abs_crack_slip", "energy_error_max"} <= set(s["rigid_multibody"])
+
+
+def test_verdict_is_judged_against_the_multibody_model(tiny_run):
+    """rigid_assumption_ok: the FEM and the rigid multibody model give the same outcome and
+    (when neither overturns) peak rotations within the stated tolerance."""
+    _, _, s = tiny_run
+    fem, mb = s["fem"], s["rigid_multibody"]
+    ratio = (max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
+             / max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]))
+    assert s["theta_peak_ratio_fem_over_multibody"] == pytest.approx(ratio)
+    expected = fem["overturned"] == mb["overturned"] and (
+        fem["overturned"] or abs(ratio - 1.0) <= s["peak_tolerance"])
+    assert s["verdict"]["rigid_assumption_ok"] == expected
+    assert mb["energy_error_max"] < 1e-2
 
 
 def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
@@ -67,6 +84,10 @@ def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
     theta = read_csv(out / "figures" / "theta.csv")
     history = read_csv(out / "cases" / "fem" / "history.csv")
     np.testing.assert_array_equal(theta["theta_fem_left"], history["theta_left"])
+    multibody = read_csv(out / "cases" / "multibody" / "history.csv")
+    np.testing.assert_allclose(theta["theta_multibody_right"],
+                               np.interp(theta["t"], multibody["t"], multibody["theta_right"],
+                                         right=np.nan))
     assert page.count("data:image/png") >= 5 and "data:image/gif" in page
 
 
