@@ -419,7 +419,8 @@ def simulate(q, v, mass, inertia, half, g,
     |theta| has exceeded impact_tol since the last impact.
     free_halves: judge each half alone for overturning (cracked column without collars).
     barrier: the least mechanical energy (J above rest) any part needs to overturn; with
-    early_exit the run stops as settled once the ground is still and the energy is below it.
+    early_exit the run stops as settled once the ground is still, the energy is below it and
+    every body stands within its toes.
     energy_scale: J, for the blow-up check.
 
     Returns (status, steps done, rows written, impacts, overturn reason, overturn time, peak
@@ -524,7 +525,7 @@ def simulate(q, v, mass, inertia, half, g,
             n_rows += 1
         if status != FINISHED:
             break
-        if early_exit and t_new > t_ground_end and mech < barrier:
+        if early_exit and t_new > t_ground_end and mech < barrier and _upright(q, half):
             status = SETTLED
             break
     return status, step, n_rows, int(tallies[2]), reason, t_over, peak, int(tallies[3])
@@ -569,6 +570,21 @@ def _write_row(out, row, t, q, v, mass, inertia, y_rest, g, col_a, col_b, col_r,
     out[row, k0 + 4] = tallies[1]
     for k in range(forces.size):
         out[row, k0 + 5 + k] = forces[k]
+
+
+@njit(cache=True)
+def _upright(q, half):
+    """Every body's centre of mass between its own base corners: with less energy than the
+    least overturning barrier, no part can then reach a toe (one past its toe falls with
+    less potential energy than the barrier)."""
+    for i in range(half.shape[0]):
+        c = math.cos(q[3 * i + 2])
+        s = math.sin(q[3 * i + 2])
+        x_a = q[3 * i] - c * half[i, 0] + s * half[i, 1]
+        x_b = q[3 * i] + c * half[i, 0] + s * half[i, 1]
+        if not min(x_a, x_b) < q[3 * i] < max(x_a, x_b):
+            return False
+    return True
 
 
 @njit(cache=True)

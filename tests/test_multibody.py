@@ -266,6 +266,19 @@ def test_spectrum_points_equal_single_histories_and_the_sdof_away_from_boundarie
             assert spec.modes[i][j] == single.mode == ref.mode, (a, om)
 
 
+def test_solid_block_spectrum_equals_the_nonlinear_sdof_spectrum():
+    """The no-slip solid block is the nonlinear SDOF model: the two mode maps agree over a grid
+    that holds all three outcomes (a point may differ only on a boundary)."""
+    from rigid.spectrum import overturning_spectrum
+    blk = zm_block()
+    omegas = np.linspace(1.0, 12.0, 12)
+    amplitudes = np.linspace(1.2, 16.0, 10)
+    mb = multibody_spectrum(blk, omegas, amplitudes, friction=STICK)
+    sdof = overturning_spectrum(blk, omegas, amplitudes, model="nonlinear")
+    assert set(np.unique(sdof.codes)) == {0, 1, 2}
+    assert np.mean(mb.codes == sdof.codes) >= 0.98
+
+
 @pytest.mark.parametrize("kwargs, word", [
     ({"friction": -0.1}, "friction"),
     ({"crack_friction": float("nan"), "cracked": True}, "crack friction"),
