@@ -286,6 +286,17 @@ def _html(s: dict, figs: list, renders: str) -> str:
     return _page(f"colonna cross-check: {s['study']}", f"""
 <h2>Verdict</h2>
 <table>{verdict}</table>
+<h2>FEM against the rigid multibody model</h2>
+<p>The multibody model has the FEM's contact topology with rigid halves: the same ground and
+crack contacts and friction, the same collar frame elements. What separates the two is the
+deformability of the stone, and the penalty contact's compliance and damping. Peak rotation
+FEM / multibody: {_num(s, 'theta_peak_ratio_fem_over_multibody')}; overturned: FEM
+{_num(s, 'fem.overturned')}, multibody {_num(s, 'rigid_multibody.overturned')}; run end
+(overturning or the study's duration), FEM {_num(s, 'fem_vs_multibody.t_end_fem')} s,
+multibody overturning time {_num(s, 'fem_vs_multibody.t_end_multibody')} s; collar utilisation
+FEM / multibody: {_num(s, 'fem_vs_multibody.collar_utilisation_ratio', 3)}; largest crack slip
+FEM {_num(s, 'fem_vs_multibody.crack_slip_fem', 3)} m, multibody
+{_num(s, 'fem_vs_multibody.crack_slip_multibody', 3)} m.</p>
 <h2>Numbers</h2>
 <table>{table}</table>
 <h2>Figures</h2>
