@@ -402,7 +402,7 @@ def _step(t, h, q, v, mass, minv, g, cand_a, cand_b, cand_pt, cand_face, cand_mu
 @njit(cache=True)
 def simulate(q, v, mass, inertia, half, g,
              cand_a, cand_b, cand_pt, cand_face, cand_mu, cand_kind,
-             col_a, col_b, col_r, col_props,
+             col_a, col_b, col_r, col_props, col_limits,
              ground_kind, gpar, rec_t, rec_a, t_ground_end,
              h, n_steps, refine, e_n, out_every, out, impacts,
              free_halves, barrier, early_exit, impact_tol, energy_scale,
@@ -421,10 +421,12 @@ def simulate(q, v, mass, inertia, half, g,
     barrier: the least mechanical energy (J above rest) any part needs to overturn; with
     early_exit the run stops as settled once the ground is still, the energy is below it and
     every body stands within its toes.
-    energy_scale: J, for the blow-up check.
+    energy_scale: J, for the blow-up check. col_limits[c] = (A, W, f_y) of each collar: the
+    largest utilisation (|N|/A + max|M|/W) / f_y over the steps' midpoints is returned.
 
     Returns (status, steps done, rows written, impacts, overturn reason, overturn time, peak
-    |theta| (rad) of each body as a 2-vector, most solver iterations in a step)."""
+    |theta| (rad) of each body as a 2-vector, most solver iterations in a step, largest collar
+    utilisation)."""
     nb = mass.size
     n_dof = 3 * nb
     nc = cand_a.size
@@ -455,6 +457,7 @@ def simulate(q, v, mass, inertia, half, g,
     saved = (q.copy(), v.copy(), P_prev.copy(), was_active.copy(), pivot_side.copy(),
              armed.copy(), tallies.copy())
     peak = np.zeros(2)
+    max_util = 0.0
     n_rows = 0
     status = FINISHED
     reason = OVER_NONE
@@ -492,6 +495,10 @@ def simulate(q, v, mass, inertia, half, g,
                       ground_kind, gpar, rec_t, rec_a, e_n, tol, max_iter, ws, P_prev,
                       was_active, pivot_side, armed, impact_tol, impacts, tallies, forces)
         t_new = step * h
+        for c in range(col_limits.shape[0]):
+            stress = (abs(col_out[c, 0]) / col_limits[c, 0]
+                      + max(abs(col_out[c, 1]), abs(col_out[c, 2])) / col_limits[c, 1])
+            max_util = max(max_util, stress / col_limits[c, 2])
         finite = True
         for k in range(n_dof):
             if not math.isfinite(q[k]) or not math.isfinite(v[k]):
@@ -528,7 +535,8 @@ def simulate(q, v, mass, inertia, half, g,
         if early_exit and t_new > t_ground_end and mech < barrier and _upright(q, half):
             status = SETTLED
             break
-    return status, step, n_rows, int(tallies[2]), reason, t_over, peak, int(tallies[3])
+    return (status, step, n_rows, int(tallies[2]), reason, t_over, peak, int(tallies[3]),
+            max_util)
 
 
 @njit(cache=True)
@@ -626,17 +634,19 @@ def _falling(q, v, mass, half, free_halves):
 @njit(cache=True, parallel=True)
 def spectrum_modes(q0, mass, inertia, half, g,
                    cand_a, cand_b, cand_pt, cand_face, cand_mu, cand_kind,
-                   col_a, col_b, col_r, col_props,
+                   col_a, col_b, col_r, col_props, col_limits,
                    omegas, amplitudes, uplift, cosine, h_max, refine, free_time, e_n,
                    free_halves, barrier, impact_tol, energy_scale, tol, max_iter):
-    """Mode code (0 safe, 1 after impact, 2 without impact) and the peak |theta| (rad) of every
-    (amplitude, omega) pair: sine pulses phased to start rocking at t = 0 (or cosine pulses),
-    amplitude a_p = amplitudes[i] * uplift (m/s^2), Omega = omegas[j] (rad/s)."""
+    """Mode code (0 safe, 1 after impact, 2 without impact), the peak |theta| (rad) and the
+    largest collar utilisation of every (amplitude, omega) pair: sine pulses phased to start
+    rocking at t = 0 (or cosine pulses), amplitude a_p = amplitudes[i] * uplift (m/s^2),
+    Omega = omegas[j] (rad/s)."""
     na = amplitudes.size
     no = omegas.size
     codes = np.zeros((na, no), dtype=np.int8)
     peaks = np.zeros((na, no))
     status_out = np.zeros((na, no), dtype=np.int8)
+    utilisation = np.zeros((na, no))
     for idx in prange(na * no):
         i = idx // no
         j = idx % no
@@ -659,15 +669,16 @@ def spectrum_modes(q0, mass, inertia, half, g,
         v = np.zeros_like(q0)
         out = np.zeros((1, 1 + N_BODY_COLS * mass.size + N_TAIL + 2 * mass.size))
         impacts = np.zeros((1, 4))
-        status, steps, rows, n_imp, reason, t_over, peak, it = simulate(
+        status, steps, rows, n_imp, reason, t_over, peak, it, util = simulate(
             q, v, mass, inertia, half, g, cand_a, cand_b, cand_pt, cand_face, cand_mu,
-            cand_kind, col_a, col_b, col_r, col_props, GROUND_HARMONIC, gpar, np.zeros(1),
+            cand_kind, col_a, col_b, col_r, col_props, col_limits, GROUND_HARMONIC, gpar, np.zeros(1),
             np.zeros(1), t_end, h, n_steps, refine, e_n, n_steps + 1, out, impacts, free_halves,
             barrier, True, impact_tol, energy_scale, tol, max_iter)
         status_out[i, j] = status
+        utilisation[i, j] = util
         if status == OVERTURNED:
             codes[i, j] = 1 if n_imp > 0 else 2
             peaks[i, j] = 0.5 * math.pi
         else:
             peaks[i, j] = max(peak[0], peak[1])
-    return codes, peaks, status_out
+    return codes, peaks, status_out, utilisation

@@ -76,6 +76,12 @@ class MultibodyColumn:
     col_props: np.ndarray = field(repr=False)
 
     @property
+    def col_limits(self) -> np.ndarray:
+        """(A, W, f_y) of each collar: area (m^2), section modulus (m^3), yield stress (Pa)."""
+        return np.array([(c.area, c.section_modulus, c.fy) for c in self.collars],
+                        dtype=float).reshape(-1, 3)
+
+    @property
     def n_bodies(self) -> int:
         return self.mass.size
 
@@ -421,10 +427,11 @@ def rock_multibody(block: Block, ground=None, collars=(), *, cracked: bool = Fal
     impacts = np.zeros((max_impacts_stored, 4))
     energy_scale = max(column.rocking_energy(), 1e-300)
     start = time.perf_counter()
-    status, steps, rows, n_imp, reason, t_over, _peak, iters = K.simulate(
+    status, steps, rows, n_imp, reason, t_over, _peak, iters, _util = K.simulate(
         q, v, column.mass, column.inertia, column.half, block.g,
         column.cand_a, column.cand_b, column.cand_pt, column.cand_face, column.cand_mu,
         column.cand_kind, column.col_a, column.col_b, column.col_r, column.col_props,
+        column.col_limits,
         kind, gpar, rec_t, rec_a, t_ground, dt, n_steps, _check_refine(refine),
         restitution_normal, out_every, out, impacts, column.cracked and not column.collars,
         column.overturning_barrier(), False,
@@ -550,7 +557,8 @@ def multibody_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(),
     """Overturning spectrum of the multibody column: mode code per (amplitude ratio, omega
     ratio), amplitudes normalised by g tan(alpha) of ``block``, Omega by its p. Runs in
     parallel over the cores; each run stops once its fate is certain (overturned, or after the
-    pulse with less energy than any part needs to overturn). Returns a
+    pulse with less energy than any part needs to overturn). With collars, ``collar_yields``
+    maps where a collar's extreme-fibre stress reaches f_y. Returns a
     :class:`rigid.spectrum.Spectrum` (model "multibody")."""
     from .spectrum import Spectrum, check_spectrum_grid
 
@@ -565,10 +573,11 @@ def multibody_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(),
         free_time = 50.0 / block.p
     uplift = block.uplift_acceleration("nonlinear")
     start = time.perf_counter()
-    codes, peaks, _status = K.spectrum_modes(
+    codes, peaks, _status, utilisation = K.spectrum_modes(
         column.q_rest, column.mass, column.inertia, column.half, block.g,
         column.cand_a, column.cand_b, column.cand_pt, column.cand_face, column.cand_mu,
         column.cand_kind, column.col_a, column.col_b, column.col_r, column.col_props,
+        column.col_limits,
         omega_ratios * block.p, amplitude_ratios, uplift, pulse == "cosine", h_max,
         _check_refine(refine),
         free_time,
@@ -576,5 +585,6 @@ def multibody_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(),
         column.overturning_barrier(), IMPACT_THRESHOLD * block.alpha,
         max(column.rocking_energy(), 1e-300), SOLVER_TOLERANCE, SOLVER_MAX_ITERATIONS)
     seconds = time.perf_counter() - start
-    return Spectrum(omega_ratios, amplitude_ratios, codes, peaks, None, "multibody", pulse,
+    yields = utilisation >= 1.0 if column.collars else None
+    return Spectrum(omega_ratios, amplitude_ratios, codes, peaks, yields, "multibody", pulse,
                     seconds, bool(column.collars))

@@ -279,6 +279,22 @@ def test_solid_block_spectrum_equals_the_nonlinear_sdof_spectrum():
     assert np.mean(mb.codes == sdof.codes) >= 0.98
 
 
+def test_collar_yield_map_of_the_spectrum_is_that_of_the_histories():
+    half = marble_half()
+    collars = (Collar(y=2.0, t=0.008, h=0.06),)
+    omegas, amplitudes = np.array([3.0]), np.array([1.2, 3.0])
+    spec = multibody_spectrum(half, omegas, amplitudes, collars, cracked=True)
+    assert spec.collar_yields is not None
+    assert spec.collar_yields.tolist() == [[False], [True]]
+    for i, a in enumerate(amplitudes):
+        pulse = pulse_from_ratios(half, "sine", 3.0, a, "nonlinear")
+        one = rock_multibody(half, pulse, collars, cracked=True, dt_out=1e-4)
+        assert spec.modes[i][0] == one.mode
+        util = one.summary()["collar_max_utilisation"]
+        if abs(util - 1.0) > 0.05:
+            assert bool(spec.collar_yields[i, 0]) == (util >= 1.0), (a, util)
+
+
 @pytest.mark.parametrize("kwargs, word", [
     ({"friction": -0.1}, "friction"),
     ({"crack_friction": float("nan"), "cracked": True}, "crack friction"),
