@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from fem.solver import run
-from studies.fem_study import build, load
+from colonna.fem.solver import run
+from colonna.studies.fem_study import build, load
 
 STUDY = Path(__file__).resolve().parents[1] / "studies" / "default.toml"
 
@@ -23,7 +23,7 @@ def main() -> None:
     model = build(study)
     A = model.stiffness.tocsr()
     x = np.random.default_rng(0).standard_normal(A.shape[0])
-    from fem.model import stable_time_step
+    from colonna.fem.model import stable_time_step
     dt = stable_time_step(model, study.safety).dt
     run(model, study.ground, 1e-3, progress=False)          # compilation
     # interleave the two measurements and take medians: this machine's timings are noisy

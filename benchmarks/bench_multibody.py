@@ -16,10 +16,10 @@ import time
 
 import numpy as np
 
-from rigid import Block, pulse_from_ratios
-from rigid.multibody import multibody_spectrum, rock_multibody
-from studies.cli import resolve_study
-from studies.fem_study import load
+from colonna.rigid import Block, pulse_from_ratios
+from colonna.rigid.multibody import multibody_spectrum, rock_multibody
+from colonna.studies.cli import resolve_study
+from colonna.studies.fem_study import load
 
 TARGET_HISTORY = 0.2
 TARGET_SPECTRUM = 60.0

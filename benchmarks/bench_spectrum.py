@@ -12,8 +12,8 @@ import time
 
 import numpy as np
 
-from rigid import Block, Collar
-from rigid.spectrum import overturning_spectrum
+from colonna.rigid import Block, Collar
+from colonna.rigid.spectrum import overturning_spectrum
 
 TARGETS = {"linear": 10.0, "nonlinear": 120.0}
 

@@ -15,8 +15,8 @@ from skfem import Basis, BilinearForm, ElementQuad1, ElementVector, LinearForm, 
 from skfem.helpers import dot
 from skfem.models.elasticity import linear_elasticity, plane_stress
 
-from meshes.column import ColumnMesh
-from rigid.validation import require_positive, require_range
+from ..meshes.column import ColumnMesh
+from ..rigid.validation import require_positive, require_range
 
 
 @dataclass(frozen=True)

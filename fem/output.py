@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from meshes.io import write, write_time_series
+from ..meshes.io import write, write_time_series
 
 from .assembly import element_stress
 

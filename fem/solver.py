@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 from scipy.sparse.linalg import spsolve
 
-from rigid.validation import InputError, require_positive
+from ..rigid.validation import InputError, require_positive
 
 from . import _kernels as K
 from .model import (Model, coincident_nodes, collar_stiffness, contact_stiffness,

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rigid.validation import InputError, require_positive, require_range
+from ..rigid.validation import InputError, require_positive, require_range
 
 
 @dataclass

@@ -8,7 +8,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-from rigid.validation import InputError
+from ..rigid.validation import InputError
 
 from .column import ColumnMesh, from_arrays
 

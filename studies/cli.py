@@ -20,10 +20,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rigid.block import MODELS, Block
-from rigid.collars import Collar, read_collars
-from rigid.ground import PULSE_KINDS, pulse_from_ratios, read_record
-from rigid.validation import InputError
+from ..rigid.block import MODELS, Block
+from ..rigid.collars import Collar, read_collars
+from ..rigid.ground import PULSE_KINDS, pulse_from_ratios, read_record
+from ..rigid.validation import InputError
 
 from .output import write_csv, write_json
 
@@ -111,7 +111,7 @@ def _multibody_options(args) -> dict:
             raise InputError(f"--{given[0].replace('_', '-')} applies to --model multibody "
                              f"only (the {args.model} model has no contact)")
         return {}
-    from rigid.multibody import DEFAULT_FRICTION
+    from ..rigid.multibody import DEFAULT_FRICTION
     return {"cracked": bool(args.cracked or args.collars),
             "friction": DEFAULT_FRICTION if args.friction is None else args.friction,
             "crack_friction": args.crack_friction}
@@ -129,7 +129,7 @@ def _emit(args, summary: dict) -> None:
 # --- colonna rigid ------------------------------------------------------------------------------
 
 def _cmd_rigid(args) -> dict:
-    from rigid.solve import rock
+    from ..rigid.solve import rock
 
     block = _block_from_args(args)
     collars = _collars_from_args(args)
@@ -146,7 +146,7 @@ def _cmd_rigid(args) -> dict:
                                    sdof_model)
     multibody = _multibody_options(args)
     if multibody:
-        from rigid.multibody import history_columns, rock_multibody
+        from ..rigid.multibody import history_columns, rock_multibody
         result = rock_multibody(block, ground, collars, duration=args.duration, **multibody)
         columns = history_columns(result)
     else:
@@ -169,7 +169,7 @@ def _cmd_rigid(args) -> dict:
             impacts["body"] = result.impact_bodies
         write_csv(out / "impacts.csv", impacts)
         write_json(out / "summary.json", summary)
-        from rigid.plotting import plot_history
+        from ..rigid.plotting import plot_history
         plot_history(result, out / "history.png")
     return summary
 
@@ -177,7 +177,7 @@ def _cmd_rigid(args) -> dict:
 # --- colonna spectrum ---------------------------------------------------------------------------
 
 def _cmd_spectrum(args) -> dict:
-    from rigid.spectrum import overturning_spectrum, parse_range
+    from ..rigid.spectrum import overturning_spectrum, parse_range
 
     block = _block_from_args(args)
     collars = _collars_from_args(args)
@@ -185,7 +185,7 @@ def _cmd_spectrum(args) -> dict:
     amplitudes = parse_range(args.amplitude_ratios, "--amplitude-ratios")
     multibody = _multibody_options(args)
     if multibody:
-        from rigid.multibody import multibody_spectrum
+        from ..rigid.multibody import multibody_spectrum
         spectrum = multibody_spectrum(block, omegas, amplitudes, collars, pulse=args.pulse,
                                       **multibody)
     else:
@@ -198,7 +198,7 @@ def _cmd_spectrum(args) -> dict:
         write_csv(out / "minimum_overturning_amplitude.csv",
                   {"omega_ratio": spectrum.omega_ratios,
                    "amplitude_ratio": spectrum.minimum_overturning_amplitude()})
-        from rigid.plotting import plot_spectrum
+        from ..rigid.plotting import plot_spectrum
         plot_spectrum(spectrum, out / "spectrum.png")
     if not args.json:
         counts = np.bincount(spectrum.codes.ravel(), minlength=3)
@@ -211,7 +211,7 @@ def _cmd_spectrum(args) -> dict:
 # --- colonna design -----------------------------------------------------------------------------
 
 def _cmd_design(args) -> dict:
-    from rigid.design import design_chart, design_collars
+    from ..rigid.design import design_chart, design_collars
 
     block = _block_from_args(args)
     block.require_mass("the collar design (give --mass or --density)")
@@ -237,7 +237,7 @@ def _cmd_design(args) -> dict:
                       {"alpha": np.repeat(alphas, ratios.size),
                        "ag_over_g": np.tile(ratios, alphas.size),
                        "required_stiffness": k.ravel()})
-            from rigid.plotting import plot_design_chart
+            from ..rigid.plotting import plot_design_chart
             plot_design_chart(alphas, ratios, k, out / "design_chart.png")
     return summary
 
@@ -270,7 +270,7 @@ def _cmd_study(args) -> dict:
     from .crosscheck import run_crosscheck
     from .sweep import default_workers
 
-    from rigid.validation import read_toml
+    from ..rigid.validation import read_toml
 
     from .sweeps import SWEEP_KINDS, run_sweep_study
 

@@ -24,11 +24,11 @@ from pathlib import Path
 
 import numpy as np
 
-from rigid.block import Block
-from rigid.solve import rock
-from rigid.spectrum import overturning_spectrum
+from ..rigid.block import Block
+from ..rigid.solve import rock
+from ..rigid.spectrum import overturning_spectrum
 
-from rigid.validation import read_toml
+from ..rigid.validation import read_toml
 
 from .fem_study import from_dict
 from .output import write_csv, write_json
@@ -76,7 +76,7 @@ def rigid_case(case: dict, directory: str) -> dict:
 
 
 def multibody_case(case: dict, directory: str) -> dict:
-    from rigid.multibody import history_columns, rock_multibody
+    from ..rigid.multibody import history_columns, rock_multibody
     study = _study_from_case(case)
     result = rock_multibody(study.rocking_block, study.ground, study.collars,
                             cracked=study.cracked, friction=study.contact.friction,
@@ -248,7 +248,7 @@ def _fem_vs_multibody(fem_case_result: dict, multibody: dict) -> dict:
 def _uncertainty(results: dict) -> dict | None:
     """Observed order, Richardson estimate and fine-mesh relative error of the FEM numbers from
     the runs on 4h, 2h and h (None when the coarse runs were not made)."""
-    from fem.convergence import convergence_table
+    from ..fem.convergence import convergence_table
     keys = ["fem-mesh-4h", "fem-mesh-2h", "fem"]
     if not all(k in results for k in keys):
         return None

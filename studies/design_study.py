@@ -10,10 +10,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rigid.design import design_chart, design_collars
+from ..rigid.design import design_chart, design_collars
 
 from .crosscheck import fem_case
-from rigid.validation import read_toml
+from ..rigid.validation import read_toml
 
 from .fem_study import from_dict
 from .output import write_csv, write_json
@@ -29,7 +29,7 @@ def run_design_study(study_path: Path, out: Path, *, workers=None, scheduler=Non
     data = read_toml(study_path, "study file")
     study = from_dict(data, source=str(study_path), base=study_path.parent)   # fails early
     if not study.collars:
-        from rigid.validation import InputError
+        from ..rigid.validation import InputError
         raise InputError(f"{study_path}: a collar-design study needs at least one [[collar]]")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -25,12 +25,12 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from fem.assembly import Stone
-from fem.model import ContactSettings
-from rigid.block import Block
-from rigid.collars import collars_from_tables
-from rigid.ground import cosine_pulse, read_record, sine_pulse
-from rigid.validation import InputError, read_toml, require_positive, require_range
+from ..fem.assembly import Stone
+from ..fem.model import ContactSettings
+from ..rigid.block import Block
+from ..rigid.collars import collars_from_tables
+from ..rigid.ground import cosine_pulse, read_record, sine_pulse
+from ..rigid.validation import InputError, read_toml, require_positive, require_range
 
 SCHEMA = {
     "column": {"height", "width", "thickness", "cracked"},
@@ -204,11 +204,11 @@ def _ground(table: dict, block: Block, base: Path, source: str):
 
 def build(study: FemStudy):
     """Mesh and model of the study."""
-    from fem.model import build_model
-    from meshes.column import column_mesh
+    from ..fem.model import build_model
+    from ..meshes.column import column_mesh
 
     if study.mesh_file is not None:
-        from meshes.io import read
+        from ..meshes.io import read
         mesh = read(study.mesh_file)
         for name, value, expected in (("width", mesh.width, study.width),
                                       ("height", mesh.height, study.height)):
@@ -225,7 +225,7 @@ def build(study: FemStudy):
 
 
 def run_study(study: FemStudy, out_dir=None, progress: bool = True):
-    from fem.solver import run
+    from ..fem.solver import run
 
     model = build(study)
     return run(model, study.ground, study.duration, dt=study.dt, safety=study.safety,

@@ -117,7 +117,7 @@ def write_crosscheck_report(out: Path) -> Path:
     write_csv(out / "figures" / "spectrum.csv", {
         "omega_ratio": np.tile(w, a.size), "amplitude_ratio": np.repeat(a, w.size),
         "mode_code": codes.ravel()})
-    from rigid.plotting import MODE_COLOURS
+    from ..rigid.plotting import MODE_COLOURS
     from matplotlib.colors import BoundaryNorm, ListedColormap
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.pcolormesh(w, a, codes, cmap=ListedColormap(MODE_COLOURS),
@@ -420,7 +420,7 @@ def write_design_report(out: Path) -> Path:
     alphas = np.unique(chart["alpha"])
     ratios = np.unique(chart["ag_over_g"])
     k = chart["required_stiffness"].reshape(alphas.size, ratios.size)
-    from rigid.plotting import plot_design_chart
+    from ..rigid.plotting import plot_design_chart
     plot_design_chart(alphas, ratios, k, out / "figures" / "design_chart.png")
     data = base64.b64encode((out / "figures" / "design_chart.png").read_bytes()).decode()
     chart_fig = (f'<figure><img alt="design chart" src="data:image/png;base64,{data}">'

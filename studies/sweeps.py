@@ -18,10 +18,10 @@ import sys
 import time
 from pathlib import Path
 
-from fem.convergence import convergence_table
+from ..fem.convergence import convergence_table
 
 from .crosscheck import fem_case, rigid_case
-from rigid.validation import read_toml
+from ..rigid.validation import read_toml
 
 from .fem_study import from_dict
 from .output import write_json
@@ -42,7 +42,7 @@ def mesh_sizes(data: dict, study) -> list[float]:
     conv = data.get("convergence", {})
     unknown = sorted(set(conv) - {"sizes", "levels", "ratio"})
     if unknown:
-        from rigid.validation import InputError
+        from ..rigid.validation import InputError
         raise InputError(f"unknown key convergence.{unknown[0]} (allowed: levels, ratio, sizes)")
     if "sizes" in conv:
         sizes = [float(s) for s in conv["sizes"]]
@@ -50,7 +50,7 @@ def mesh_sizes(data: dict, study) -> list[float]:
         levels, ratio = int(conv.get("levels", 3)), float(conv.get("ratio", 2.0))
         sizes = [study.mesh_size * ratio ** (levels - 1 - k) for k in range(levels)]
     if len(sizes) < 3 or any(b >= a for a, b in zip(sizes, sizes[1:])):
-        from rigid.validation import InputError
+        from ..rigid.validation import InputError
         raise InputError("convergence.sizes needs three or more decreasing mesh sizes")
     return sizes
 

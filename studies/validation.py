@@ -14,11 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from rigid.block import Block
-from rigid.collars import Collar
-from rigid.ground import pulse_from_ratios
-from rigid.solve import rock
-from rigid.spectrum import overturning_spectrum
+from ..rigid.block import Block
+from ..rigid.collars import Collar
+from ..rigid.ground import pulse_from_ratios
+from ..rigid.solve import rock
+from ..rigid.spectrum import overturning_spectrum
 
 from .output import write_csv, write_json
 
@@ -55,7 +55,7 @@ def mode_boundaries(block: Block, omega_ratio: float, model: str, brackets,
 
 
 def zhang_makris_validation(out: Path, progress: bool = True) -> dict:
-    from rigid.plotting import plot_history, plot_spectrum
+    from ..rigid.plotting import plot_history, plot_spectrum
 
     def say(msg):
         if progress:

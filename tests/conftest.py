@@ -5,7 +5,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
 
-from rigid import Block  # noqa: E402
+from colonna.rigid import Block  # noqa: E402
 
 
 @pytest.fixture

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from rigid import Block, InputError, housner_restitution
+from colonna.rigid import Block, InputError, housner_restitution
 
 
 def test_dimensionless_round_trip():

@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from studies.cli import main
+from colonna.studies.cli import main
 
 
 def run(capsys, *argv):
@@ -104,8 +104,8 @@ def test_argument_errors_are_one_line(capsys, argv, word):
 # --- the multibody model ------------------------------------------------------------------------
 
 def test_rigid_multibody_json_contract_matches_the_python_api(capsys):
-    from rigid import Block, pulse_from_ratios
-    from rigid.multibody import rock_multibody
+    from colonna.rigid import Block, pulse_from_ratios
+    from colonna.rigid.multibody import rock_multibody
 
     code, out, _ = run(capsys, "rigid", "--p", "2.14", "--alpha", "0.25", "--model",
                        "multibody", "--friction", "2", "--omega-ratio", "5",

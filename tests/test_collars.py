@@ -5,13 +5,13 @@ import math
 import numpy as np
 import pytest
 
-from rigid import Block, Collar, InputError, rock, pulse_from_ratios
-from rigid import _kernels as K
-from rigid.collars import (collar_deformation, collar_deformation_from_positions,
+from colonna.rigid import Block, Collar, InputError, rock, pulse_from_ratios
+from colonna.rigid import _kernels as K
+from colonna.rigid.collars import (collar_deformation, collar_deformation_from_positions,
                            collar_response, collar_restoring_moment, collar_strain_energy,
                            crack_face_overlap, read_collars)
-from rigid.design import design_collars, design_chart
-from rigid.solve import kernel_params
+from colonna.rigid.design import design_collars, design_chart
+from colonna.rigid.solve import kernel_params
 
 E, FY = 206e9, 235e6
 

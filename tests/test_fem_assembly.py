@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from scipy.sparse.linalg import spsolve
 
-from fem.assembly import Stone, assemble, element_stress
-from meshes.column import column_mesh
+from colonna.fem.assembly import Stone, assemble, element_stress
+from colonna.meshes.column import column_mesh
 
 STONE = Stone(E=50e9, nu=0.2, density=2700.0)
 W, H, T = 0.8, 4.0, 0.6

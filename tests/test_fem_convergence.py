@@ -4,12 +4,12 @@ import math
 
 import pytest
 
-from fem.assembly import Stone
-from fem.convergence import convergence_table, observed_order, richardson
-from fem.model import ContactSettings, build_model
-from fem.solver import run
-from meshes.column import column_mesh
-from rigid import Block, pulse_from_ratios
+from colonna.fem.assembly import Stone
+from colonna.fem.convergence import convergence_table, observed_order, richardson
+from colonna.fem.model import ContactSettings, build_model
+from colonna.fem.solver import run
+from colonna.meshes.column import column_mesh
+from colonna.rigid import Block, pulse_from_ratios
 
 
 def test_observed_order_and_richardson_are_exact_for_a_power_law():

@@ -5,12 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from fem import _kernels as K
-from fem.assembly import Stone
-from fem.model import ContactSettings, build_model, stable_time_step
-from fem.solver import run
-from meshes.column import column_mesh
-from rigid import Block, Collar, InputError, Record, pulse_from_ratios, rock
+from colonna.fem import _kernels as K
+from colonna.fem.assembly import Stone
+from colonna.fem.model import ContactSettings, build_model, stable_time_step
+from colonna.fem.solver import run
+from colonna.meshes.column import column_mesh
+from colonna.rigid import Block, Collar, InputError, Record, pulse_from_ratios, rock
 
 STILL = Record(np.array([0.0, 100.0]), np.zeros(2))
 
@@ -29,7 +29,7 @@ def test_gravity_start_is_static_and_base_pressure_is_rho_g_h(tmp_path):
     r = run(model, STILL, 0.01, progress=False, output_interval=0.002, out_dir=tmp_path)
     h = r.history
     # contact pressure rho g H along the base, away from the corners (2 %)
-    from studies.output import read_csv
+    from colonna.studies.output import read_csv
     pressure = read_csv(tmp_path / "base_pressure.csv")
     columns = [name for name in pressure if name != "t"]
     assert len(columns) == model.base_nodes.size
@@ -160,7 +160,7 @@ def test_energy_conserved_without_contact_damping():
 def test_stable_step_estimate_is_sharp_for_the_stone():
     """Central differences on the elastic bodies: 10 % above 2 / omega_max diverges, just
     below stays bounded (omega_max from the lumped-mass eigenproblem)."""
-    from fem.model import max_frequency
+    from colonna.fem.model import max_frequency
     model = build_model(column_mesh(0.4, 1.0, 0.1, cracked=True), Stone(), 0.3)
     K_, m = model.stiffness, model.mass
     critical = 2.0 / max_frequency(K_, m)
@@ -216,7 +216,7 @@ def test_stiff_solid_column_follows_rigid_solution(E, tolerance):
 def test_stress_recovery_ignores_rigid_rotation():
     """Element stresses come from the body-frame displacement: a rigid rotation of 0.3 rad
     (a rocking column) produces none, where small-strain elasticity would read ~1 GPa."""
-    from fem.output import stress_fields
+    from colonna.fem.output import stress_fields
     model = build_model(column_mesh(0.8, 2.0, 0.1, cracked=True), Stone(), 0.5)
     X = model.X.reshape(-1, 2)
     c, s = math.cos(0.3), math.sin(0.3)

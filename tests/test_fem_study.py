@@ -4,9 +4,9 @@ import json
 
 import pytest
 
-from rigid import InputError
-from studies.cli import main
-from studies.fem_study import from_dict, load
+from colonna.rigid import InputError
+from colonna.studies.cli import main
+from colonna.studies.fem_study import from_dict, load
 from tiny_study import TINY_STUDY
 
 TINY = TINY_STUDY.format(amplitude_ratio=2.0, duration=0.05)
@@ -84,8 +84,8 @@ def test_unknown_study_name(capsys):
 
 def test_study_with_a_mesh_made_elsewhere(tmp_path, capsys):
     """A gmsh file of the column (here written by meshio) replaces the built-in mesher."""
-    from meshes.column import column_mesh
-    from meshes.io import write
+    from colonna.meshes.column import column_mesh
+    from colonna.meshes.io import write
     write(tmp_path / "column.msh", column_mesh(0.2, 1.0, 0.05, cracked=True))
     study = tmp_path / "gmsh.toml"
     study.write_text(TINY.replace("[mesh]\nsize = 0.05\ngrading = 0.0",

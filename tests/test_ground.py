@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from rigid import (InputError, Record, pulse_from_ratios, read_peer_at2, read_record,
+from colonna.rigid import (InputError, Record, pulse_from_ratios, read_peer_at2, read_record,
                    read_two_column, sine_pulse)
 
 

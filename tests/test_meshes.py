@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from meshes.column import column_mesh, from_arrays
-from meshes.io import read, write, write_time_series
-from rigid import InputError
+from colonna.meshes.column import column_mesh, from_arrays
+from colonna.meshes.io import read, write, write_time_series
+from colonna.rigid import InputError
 
 
 @pytest.fixture(params=[True, False], ids=["cracked", "solid"])

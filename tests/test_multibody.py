@@ -5,9 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from rigid import Block, Collar, InputError, Record, housner_restitution, pulse_from_ratios, rock
-from rigid import _multibody as K
-from rigid.multibody import build_column, multibody_spectrum, rock_multibody
+from colonna.rigid import (Block, Collar, InputError, Record, housner_restitution,
+                           pulse_from_ratios, rock)
+from colonna.rigid import _multibody as K
+from colonna.rigid.multibody import build_column, multibody_spectrum, rock_multibody
 
 STICK = 2.0          # a friction coefficient that forbids sliding of these blocks
 
@@ -269,7 +270,7 @@ def test_spectrum_points_equal_single_histories_and_the_sdof_away_from_boundarie
 def test_solid_block_spectrum_equals_the_nonlinear_sdof_spectrum():
     """The no-slip solid block is the nonlinear SDOF model: the two mode maps agree over a grid
     that holds all three outcomes (a point may differ only on a boundary)."""
-    from rigid.spectrum import overturning_spectrum
+    from colonna.rigid.spectrum import overturning_spectrum
     blk = zm_block()
     omegas = np.linspace(1.0, 12.0, 12)
     amplitudes = np.linspace(1.2, 16.0, 10)

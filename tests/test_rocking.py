@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from reference import reference_rocking, sine_pulse_over_g
-from rigid import Block, Collar, Record, pulse_from_ratios, rock
-from rigid import _kernels as K
-from rigid.solve import kernel_params
+from colonna.rigid import Block, Collar, Record, pulse_from_ratios, rock
+from colonna.rigid import _kernels as K
+from colonna.rigid.solve import kernel_params
 
 CASES = [(5.0, 3.0), (5.0, 4.5), (2.0, 2.0), (8.0, 6.0), (1.0, 1.5), (5.0, 7.3)]
 

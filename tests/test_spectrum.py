@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 from reference import reference_rocking, sine_pulse_over_g
-from rigid import Collar, InputError, pulse_from_ratios
-from rigid.collars import collar_yield_rotation
-from rigid.spectrum import overturning_spectrum
-from studies.validation import mode_boundaries
+from colonna.rigid import Collar, InputError, pulse_from_ratios
+from colonna.rigid.collars import collar_yield_rotation
+from colonna.rigid.spectrum import overturning_spectrum
+from colonna.studies.validation import mode_boundaries
 
 
 def _reference_mode(block, omega_ratio, amplitude_ratio, model, **kw):
@@ -41,7 +41,7 @@ def test_spectrum_matches_reference_at_sampled_points(zm_block, model):
 
 
 def test_spectrum_with_collars_matches_reference(half_column):
-    from rigid.collars import collar_kernel_constants
+    from colonna.rigid.collars import collar_kernel_constants
     collars = (Collar(y=1.0, t=0.002, h=0.02), Collar(y=3.0, t=0.002, h=0.02))
     ka, kl = collar_kernel_constants(half_column, collars)
     omegas = np.array([1.0, 3.0, 6.0])

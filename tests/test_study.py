@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from studies.cli import main
-from studies.crosscheck import run_crosscheck
-from studies.output import read_csv
-from studies.report import fmt
+from colonna.studies.cli import main
+from colonna.studies.crosscheck import run_crosscheck
+from colonna.studies.output import read_csv
+from colonna.studies.report import fmt
 from tiny_study import TINY_STUDY
 
 TINY = TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6)
@@ -107,7 +107,7 @@ def test_study_with_a_typo_fails_before_any_work(tmp_path, capsys):
 def test_interrupted_study_resumes_with_identical_results(tiny_run, tmp_path):
     _, study, reference = tiny_run
     out = tmp_path / "out"
-    cmd = [sys.executable, "-m", "studies.cli", "study", str(study), "--out", str(out),
+    cmd = [sys.executable, "-m", "colonna.studies.cli", "study", str(study), "--out", str(out),
            "--workers", "1"]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                             cwd=Path(__file__).parents[1])
