@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 from scipy.sparse.linalg import spsolve
 
-from ..rigid.validation import InputError, require_positive
+from ..rigid.validation import InputError, require_positive, require_range
 
 from . import _kernels as K
 from .model import (Model, coincident_nodes, collar_stiffness, contact_stiffness,
@@ -66,12 +66,18 @@ def static_state(model: Model):
 def run(model: Model, ground, duration: float, *, dt: float | None = None, safety: float = 0.9,
         output_interval: float | None = None, edge_length: float | None = None,
         out_dir=None, progress: bool = True, stop_on_overturn: bool = True,
-        initial_velocity: np.ndarray | None = None, check_dt: bool = True) -> FemResult:
-    """Run the model under ``ground`` (a HarmonicPulse or Record of rigid.ground) for ``duration``
-    seconds from gravity equilibrium. ``dt`` (s) may be set by hand but not above the stable step
-    (``check_dt=False`` lifts that guard, for tests of the estimate). ``initial_velocity``: nodal
-    velocities (n_nodes, 2) added at t = 0."""
+        initial_velocity: np.ndarray | None = None, check_dt: bool = True,
+        initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0) -> FemResult:
+    """Run the model under ``ground`` (a HarmonicPulse, Record or NoMotion of rigid.ground) for
+    ``duration`` seconds from gravity equilibrium. ``dt`` (s) may be set by hand but not above
+    the stable step (``check_dt=False`` lifts that guard, for tests of the estimate).
+    ``initial_velocity``: nodal velocities (n_nodes, 2) added at t = 0. ``initial_tilt`` (rad,
+    > 0 toward +x) and ``initial_angular_velocity`` (rad/s): the column released at t = 0 turned
+    rigidly by that angle about the outer toe it tips on, spinning about it at that rate; its
+    elastic state is the upright static state, turned with it."""
     require_positive("run duration (s)", duration)
+    require_range("run initial_tilt (rad)", initial_tilt, -0.25 * math.pi, 0.25 * math.pi,
+                  range_text="(-pi/4, pi/4)")
     step = stable_time_step(model, safety)
     if dt is None:
         dt = step.dt
@@ -98,6 +104,9 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     u0, base_ft, crack_ft = static_state(model)
     x = model.X + u0
     v = np.zeros_like(x)
+    if initial_tilt != 0.0 or initial_angular_velocity != 0.0:
+        x, v = turned_about_toe(model, x, initial_tilt, initial_angular_velocity)
+        base_ft = np.zeros_like(base_ft)       # only the toe touches: its friction starts at 0
     if initial_velocity is not None:
         v += np.asarray(initial_velocity, dtype=float).reshape(-1)
     n_b = mesh.n_bodies
@@ -165,6 +174,21 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
         from .output import write_outputs
         write_outputs(result, Path(out_dir))
     return result
+
+
+def turned_about_toe(model: Model, x: np.ndarray, tilt: float, angular_velocity: float):
+    """Positions x turned by ``tilt`` (rad, theta sign: > 0 toward +x, clockwise) about the
+    outer toe the column tips on, and the velocities of a rotation at ``angular_velocity``
+    (rad/s, theta sign) about it."""
+    p = model.mesh.points
+    side = 1.0 if (tilt > 0.0 or (tilt == 0.0 and angular_velocity > 0.0)) else -1.0
+    pivot = np.array([p[0].max() if side > 0 else p[0].min(), p[1].min()])
+    phi, omega = -tilt, -angular_velocity          # counter-clockwise
+    c, s = math.cos(phi), math.sin(phi)
+    r = x.reshape(-1, 2) - pivot
+    turned = np.stack((c * r[:, 0] - s * r[:, 1], s * r[:, 0] + c * r[:, 1]), axis=1)
+    v = omega * np.stack((-turned[:, 1], turned[:, 0]), axis=1)
+    return (pivot + turned).ravel(), v.ravel()
 
 
 def _crack_state(crack_pass, ft0):

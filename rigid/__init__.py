@@ -7,11 +7,12 @@ finite-element model (``fem``). Solvers: :func:`rock` (time history) and
 
 from .block import Block, housner_restitution
 from .collars import Collar, read_collars
-from .ground import (HarmonicPulse, Record, cosine_pulse, pulse_from_ratios, read_peer_at2,
+from .ground import (HarmonicPulse, NoMotion, Record, cosine_pulse, pulse_from_ratios, read_peer_at2,
                      read_record, read_two_column, sine_pulse)
 from .solve import RockingResult, rock
 from .validation import InputError
 
-__all__ = ["Block", "Collar", "HarmonicPulse", "InputError", "Record", "RockingResult",
+__all__ = ["Block", "Collar", "HarmonicPulse", "InputError", "NoMotion", "Record",
+           "RockingResult",
            "cosine_pulse", "housner_restitution", "pulse_from_ratios", "read_collars",
            "read_peer_at2", "read_record", "read_two_column", "rock", "sine_pulse"]

@@ -22,8 +22,8 @@ import numpy as np
 from numba import njit, prange
 
 P_P2, P_ALPHA, P_NONLINEAR, P_GROUND, P_AG, P_OMEGA, P_PHASE, P_TEND, P_KA, P_KL, P_NU, \
-    P_UPLIFT = range(12)
-N_PARAMS = 12
+    P_UPLIFT, P_TH0, P_OM0 = range(14)
+N_PARAMS = 14      # P_TH0, P_OM0: initial rotation (rad) and angular velocity (rad/s), 0: at rest
 
 GROUND_NONE, GROUND_HARMONIC, GROUND_RECORD = 0, 1, 2
 
@@ -293,16 +293,23 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
     max_theta = 0.0
     t_over = -1.0
 
-    t, s_up = next_uplift(0.0, P, rec_t, rec_a)
-    if t < 0.0:
-        return AT_REST, 0, 0.0, t_stop, _fill_rest(out, 0, 0.0, t_stop, dt_out), -1.0
-    # the block sits upright until it lifts
-    n_out = _fill_rest(out, 0, 0.0, t, dt_out)
-    if dt_out > 0.0:
-        next_out = n_out * dt_out
-    s = -s_up
-    th = 0.0
-    om = 0.0
+    released = P[P_TH0] != 0.0 or P[P_OM0] != 0.0
+    if released:            # released at t = 0, tilted or spinning
+        t = 0.0
+        th = P[P_TH0]
+        om = P[P_OM0]
+        s = 1.0 if (th > 0.0 or (th == 0.0 and om > 0.0)) else -1.0
+    else:
+        t, s_up = next_uplift(0.0, P, rec_t, rec_a)
+        if t < 0.0:
+            return AT_REST, 0, 0.0, t_stop, _fill_rest(out, 0, 0.0, t_stop, dt_out), -1.0
+        # the block sits upright until it lifts
+        n_out = _fill_rest(out, 0, 0.0, t, dt_out)
+        if dt_out > 0.0:
+            next_out = n_out * dt_out
+        s = -s_up
+        th = 0.0
+        om = 0.0
     h = 1e-3 / max(p, P[P_OMEGA])
     h_max = 0.1 / max(p, P[P_OMEGA]) if P[P_GROUND] == GROUND_HARMONIC else 0.1 / p
     status = RUNNING
@@ -533,12 +540,18 @@ def linear_run(P, t_stop, early_exit, segs, impacts):
     max_theta = 0.0
     empty = np.zeros(1)
 
-    t, s_up = next_uplift(0.0, P, empty, empty)
-    if t < 0.0:
-        return AT_REST, 0, 0.0, t_stop, 0, -1.0
-    s = -s_up
-    th = 0.0
-    om = 0.0
+    if P[P_TH0] != 0.0 or P[P_OM0] != 0.0:      # released at t = 0, tilted or spinning
+        t = 0.0
+        th = P[P_TH0]
+        om = P[P_OM0]
+        s = 1.0 if (th > 0.0 or (th == 0.0 and om > 0.0)) else -1.0
+    else:
+        t, s_up = next_uplift(0.0, P, empty, empty)
+        if t < 0.0:
+            return AT_REST, 0, 0.0, t_stop, 0, -1.0
+        s = -s_up
+        th = 0.0
+        om = 0.0
     status = RUNNING
     t_over = -1.0
     while status == RUNNING:

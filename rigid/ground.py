@@ -84,6 +84,20 @@ class Record:
         return float(np.max(np.abs(self.acceleration_values)))
 
 
+@dataclass(frozen=True)
+class NoMotion:
+    """No ground motion: free rocking from the initial conditions of a run."""
+
+    kind: str = "none"
+
+    def acceleration(self, t):
+        return np.zeros_like(np.asarray(t, dtype=float))
+
+    @property
+    def end_time(self) -> float:
+        return 0.0
+
+
 def sine_pulse(amplitude: float, omega: float, uplift_acceleration: float) -> HarmonicPulse:
     """One-sine pulse whose phase makes rocking start at t = 0 (Eq. 6, phi = asin(a_up / a_p))."""
     _check_amplitude(amplitude, uplift_acceleration)

@@ -30,7 +30,7 @@ import numpy as np
 from . import _multibody as K
 from .block import Block
 from .collars import validate_collars
-from .ground import HarmonicPulse, Record
+from .ground import HarmonicPulse, NoMotion, Record
 from .solve import CollarHistory
 from .validation import InputError, require_non_negative, require_positive, require_range
 
@@ -366,7 +366,7 @@ def _mean_or_none(values) -> float | None:
 
 
 def _ground_arrays(ground, g: float):
-    if ground is None:
+    if ground is None or isinstance(ground, NoMotion):
         return K.GROUND_NONE, np.zeros(4), np.zeros(1), np.zeros(1), 0.0
     if isinstance(ground, HarmonicPulse):
         gpar = np.array([ground.amplitude, ground.omega, ground.phase, ground.duration])

@@ -23,8 +23,8 @@ import numpy as np
 from . import _kernels as K
 from .block import Block, check_model
 from .collars import (Collar, collar_kernel_constants, collar_response, validate_collars)
-from .ground import HarmonicPulse, Record
-from .validation import InputError, require_positive
+from .ground import HarmonicPulse, NoMotion, Record
+from .validation import InputError, require_positive, require_range
 
 MODE_NAMES = {K.SAFE: "safe", K.AFTER_IMPACT: "after-impact", K.WITHOUT_IMPACT: "without-impact"}
 
@@ -110,8 +110,9 @@ class RockingResult:
         return out
 
 
-def kernel_params(block: Block, ground, collars=(), model: str = "linear"):
-    """Parameter vector and record arrays for the kernels."""
+def kernel_params(block: Block, ground, collars=(), model: str = "linear",
+                  initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0):
+    """Parameter vector and record arrays for the kernels (ground None: free rocking)."""
     check_model(model)
     g = block.g
     nonlinear = model == "nonlinear"
@@ -127,25 +128,48 @@ def kernel_params(block: Block, ground, collars=(), model: str = "linear"):
         rec_a = np.ascontiguousarray(ground.acceleration_values / g)
         P = K.make_params(block.p, block.alpha, nonlinear, K.GROUND_RECORD, 0.0, 0.0, 0.0,
                           float(rec_t[-1]), ka, kl, block.nu, uplift)
+    elif ground is None or isinstance(ground, NoMotion):
+        rec_t = rec_a = np.zeros(1)
+        P = K.make_params(block.p, block.alpha, nonlinear, K.GROUND_NONE, 0.0, 0.0, 0.0, 0.0,
+                          ka, kl, block.nu, uplift)
     else:
         raise InputError(f"ground motion of type {type(ground).__name__} is not supported")
+    require_range("initial tilt (rad)", initial_tilt, -0.5 * math.pi, 0.5 * math.pi,
+                  range_text="(-pi/2, pi/2)")
+    P[K.P_TH0] = initial_tilt
+    P[K.P_OM0] = _as_finite("initial angular velocity (rad/s)", initial_angular_velocity)
     return P, rec_t, rec_a
+
+
+def _as_finite(name: str, value) -> float:
+    value = float(value)
+    if not math.isfinite(value):
+        raise InputError(f"{name} = {value!r} is not a finite number")
+    return value
 
 
 def rock(block: Block, ground, collars=(), *, model: str = "linear",
          duration: float | None = None, dt_out: float | None = None,
          rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
+         initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
          max_impacts_stored: int = 20_000) -> RockingResult:
-    """Rocking response of ``block`` to ``ground`` (a pulse or a record), starting at rest.
+    """Rocking response of ``block`` to ``ground`` (a pulse, a record, or None: free rocking),
+    starting at rest upright, or released at t = 0 from ``initial_tilt`` (rad) with
+    ``initial_angular_velocity`` (rad/s).
 
     duration: end of the computed history, s (default: end of the ground motion + 20 / p).
     dt_out:   output interval, s (default: 1/200 of the shortest of 1/p and 2 pi/Omega).
     """
     check_model(model)
     collars = validate_collars(collars, block)
-    P, rec_t, rec_a = kernel_params(block, ground, collars, model)
+    P, rec_t, rec_a = kernel_params(block, ground, collars, model, initial_tilt,
+                                    initial_angular_velocity)
     p = block.p
-    t_ground = ground.end_time
+    t_ground = 0.0 if ground is None else ground.end_time
+    if ((ground is None or isinstance(ground, NoMotion)) and initial_tilt == 0.0
+            and initial_angular_velocity == 0.0):
+        raise InputError("no ground motion and no initial tilt or angular velocity: the block "
+                         "stays at rest")
     if duration is None:
         duration = t_ground + 20.0 / p
     require_positive("duration (s)", duration)

@@ -4,7 +4,8 @@
                column then has the mass of a half circular column), cracked (default true)
     [stone]    E (Pa), nu, density (kg/m^3), fc (Pa)            defaults: fem.assembly.Stone
     [[collar]] y, t, h, length, E, fy, pretension               as rigid.collars.Collar
-    [ground]   pulse = "sine" | "cosine" | "record"
+    [ground]   pulse = "sine" | "cosine" | "record" | "none" (free rocking from [run]
+               initial_tilt or initial_angular_velocity)
                amplitude (m/s^2) or amplitude_ratio (a_p / (g tan alpha) of the rocking half)
                period (s) or omega_ratio (Omega / p of the rocking half)
                record (file, PEER .AT2 or two columns), scale (default 1)
@@ -14,7 +15,10 @@
                width of a half: the toe length over which the edge stress is averaged),
                file (a quadrilateral mesh made elsewhere, e.g. gmsh .msh, instead of size/grading)
     [run]      duration (s, default end of the ground motion + 1.5 s), output_interval (s,
-               default duration / 400), dt (s, default: the stable step), safety (0.9)
+               default duration / 400), dt (s, default: the stable step), safety (0.9),
+               initial_tilt (rad, default 0: the column released at t = 0 turned rigidly
+               about the outer toe it tips on, > 0 toward +x, |tilt| < pi/4),
+               initial_angular_velocity (rad/s, default 0, about that toe)
 
 Unknown tables or keys and out-of-range values are errors naming the key.
 """
@@ -29,7 +33,7 @@ from ..fem.assembly import Stone
 from ..fem.model import ContactSettings
 from ..rigid.block import Block
 from ..rigid.collars import collars_from_tables
-from ..rigid.ground import cosine_pulse, read_record, sine_pulse
+from ..rigid.ground import NoMotion, cosine_pulse, read_record, sine_pulse
 from ..rigid.validation import InputError, read_toml, require_positive, require_range
 
 SCHEMA = {
@@ -40,7 +44,8 @@ SCHEMA = {
                "scale"},
     "contact": {"friction", "penalty_factor", "penalty", "damping", "friction_filter"},
     "mesh": {"size", "grading", "edge_length", "file"},
-    "run": {"duration", "output_interval", "dt", "safety"},
+    "run": {"duration", "output_interval", "dt", "safety", "initial_tilt",
+            "initial_angular_velocity"},
     "rigid": {"restitution", "model"},
     "study": {"name", "description", "kind"},
     "convergence": None,     # mesh-convergence studies, checked by studies.sweeps
@@ -67,6 +72,8 @@ class FemStudy:
     dt: float | None
     safety: float
     rigid: dict = field(default_factory=dict)
+    initial_tilt: float = 0.0                 # rad, theta sign
+    initial_angular_velocity: float = 0.0     # rad/s
     source: str = ""
 
     @property
@@ -162,13 +169,29 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
         require_positive("run.dt (s)", study.dt)
     study.safety = require_range("run.safety", _number(run, "safety", "run", 0.9), 0.0, 1.0,
                                  closed_high=True)
+    study.initial_tilt = require_range("run.initial_tilt (rad)",
+                                       _number(run, "initial_tilt", "run", 0.0),
+                                       -0.25 * math.pi, 0.25 * math.pi,
+                                       range_text="(-pi/4, pi/4)")
+    study.initial_angular_velocity = _number(run, "initial_angular_velocity", "run", 0.0)
+    if not math.isfinite(study.initial_angular_velocity):
+        raise InputError("run.initial_angular_velocity is not a finite number")
+    if (isinstance(study.ground, NoMotion) and study.initial_tilt == 0.0
+            and study.initial_angular_velocity == 0.0):
+        raise InputError(f"{source}: ground.pulse = 'none' needs run.initial_tilt or "
+                         "run.initial_angular_velocity (else the column stays at rest)")
     return study
 
 
 def _ground(table: dict, block: Block, base: Path, source: str):
     kind = table.get("pulse", "sine")
-    if kind not in ("sine", "cosine", "record"):
-        raise InputError(f"ground.pulse = {kind!r} is not one of sine, cosine, record")
+    if kind not in ("sine", "cosine", "record", "none"):
+        raise InputError(f"ground.pulse = {kind!r} is not one of sine, cosine, record, none")
+    if kind == "none":
+        extra = sorted(set(table) - {"pulse"})
+        if extra:
+            raise InputError(f"{source}: ground.{extra[0]} has no meaning with pulse = 'none'")
+        return NoMotion()
     if kind == "record":
         if "record" not in table:
             raise InputError(f"{source}: ground.record (file) is required with pulse = 'record'")
@@ -230,4 +253,5 @@ def run_study(study: FemStudy, out_dir=None, progress: bool = True):
     model = build(study)
     return run(model, study.ground, study.duration, dt=study.dt, safety=study.safety,
                output_interval=study.output_interval, edge_length=study.edge_length,
-               out_dir=out_dir, progress=progress)
+               out_dir=out_dir, progress=progress, initial_tilt=study.initial_tilt,
+               initial_angular_velocity=study.initial_angular_velocity)

@@ -63,6 +63,8 @@ def _study(**changes):
     ({"ground.amplitude_ratio": 0.5}, "amplitude_ratio"),
     ({"ground.pulse": "square"}, "ground.pulse"),
     ({"stone.nu": 0.7}, "nu"),
+    ({"run.initial_tilt": 1.0}, "run.initial_tilt"),
+    ({"run.initial_angular_velocity": float("inf")}, "run.initial_angular_velocity"),
 ])
 def test_bad_study_values_name_the_key(changes, name):
     with pytest.raises(InputError, match=name.replace(".", r"\.")):
@@ -97,3 +99,27 @@ def test_study_with_a_mesh_made_elsewhere(tmp_path, capsys):
     wrong.write_text(study.read_text().replace("width = 0.2", "width = 0.3"))
     assert main(["fem", str(wrong), "--out", str(tmp_path / "o2")]) == 2
     assert "differs from column.width" in capsys.readouterr().err
+
+
+def test_free_rocking_study_needs_initial_conditions_and_no_pulse_keys():
+    import tomllib
+    data = tomllib.loads(TINY)
+    data["ground"] = {"pulse": "none"}
+    with pytest.raises(InputError, match="initial_tilt"):
+        from_dict(data)
+    data["run"]["initial_tilt"] = 0.02
+    study = from_dict(data)
+    assert study.ground.end_time == 0.0 and study.initial_tilt == 0.02
+    data["ground"]["amplitude_ratio"] = 2.0
+    with pytest.raises(InputError, match="ground.amplitude_ratio"):
+        from_dict(data)
+
+
+def test_cross_check_refuses_a_ground_motion_that_is_not_a_pulse(tmp_path, capsys):
+    study = tmp_path / "free.toml"
+    study.write_text(TINY.replace("[ground]", "[ground]\npulse = \"none\"")
+                     .replace("amplitude_ratio = 2.0\n", "").replace("omega_ratio = 3.0\n", "")
+                     .replace("[run]", "[run]\ninitial_tilt = 0.02"))
+    assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "sine or cosine pulse" in err and err.count("\n") == 1

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from reference import reference_rocking, sine_pulse_over_g
-from colonna.rigid import Block, Collar, Record, pulse_from_ratios, rock
+from colonna.rigid import Block, Collar, InputError, Record, pulse_from_ratios, rock
 from colonna.rigid import _kernels as K
 from colonna.rigid.solve import kernel_params
 
@@ -184,3 +184,35 @@ def test_housner_default_restitution_used():
     result = rock(blk, pulse_from_ratios(blk, "sine", 3.0, 2.5, "nonlinear"), model="nonlinear")
     np.testing.assert_allclose(result.impact_velocity_after / result.impact_velocity_before,
                                1 - 1.5 * math.sin(blk.alpha) ** 2, rtol=1e-13)
+
+
+@pytest.mark.parametrize("model", ["linear", "nonlinear"])
+def test_release_from_a_tilt_reaches_the_vertical_at_the_corrected_eq13_time(model):
+    """Free rocking (no ground motion) from rest at theta0: the linear model reaches theta = 0
+    at arccosh(1 / (1 - theta0/alpha)) / p exactly (corrected Eq. 13); the nonlinear one within
+    alpha^2; each impact then keeps Housner's ratio."""
+    blk = Block.from_dimensionless(p=2.0, alpha=0.2)
+    result = rock(blk, None, model=model, initial_tilt=-0.1, duration=3.0)
+    expected = blk.time_to_vertical(0.1)
+    rel = 1e-9 if model == "linear" else 0.2 ** 2
+    assert result.impact_times[0] == pytest.approx(expected, rel=rel)
+    assert result.theta[0] == -0.1 and not result.overturned
+    np.testing.assert_allclose(result.impact_velocity_after / result.impact_velocity_before,
+                               blk.restitution_housner, rtol=1e-12)
+
+
+def test_release_with_an_outward_spin_above_the_barrier_overturns_without_impact():
+    """From upright, theta' > p sqrt(2 (1 - cos alpha)) carries the free block past alpha."""
+    blk = Block.from_dimensionless(p=2.0, alpha=0.2)
+    barrier = blk.p * math.sqrt(2.0 * (1.0 - math.cos(blk.alpha)))
+    over = rock(blk, None, model="nonlinear", initial_angular_velocity=1.01 * barrier,
+                duration=10.0)
+    back = rock(blk, None, model="nonlinear", initial_angular_velocity=0.99 * barrier,
+                duration=10.0)
+    assert over.mode == "without-impact" and back.mode == "safe" and back.impacts >= 1
+
+
+def test_no_ground_motion_and_no_initial_state_is_an_error():
+    blk = Block.from_dimensionless(p=2.0, alpha=0.2)
+    with pytest.raises(InputError, match="stays at rest"):
+        rock(blk, None, model="nonlinear")
