@@ -279,7 +279,9 @@ def _cmd_study(args) -> dict:
     if workers < 1:
         raise InputError(f"--workers = {workers} must be >= 1")
     kind = read_toml(path, "study file").get("study", {}).get("kind", "cross-check")
-    kinds = ("cross-check", "zhang-makris", "collar-design") + SWEEP_KINDS
+    kinds = ("cross-check", "zhang-makris", "collar-design", "spectrum-crosscheck") + SWEEP_KINDS
+    if args.grid is not None and kind != "spectrum-crosscheck":
+        raise InputError(f"--grid applies to studies of kind spectrum-crosscheck, not {kind!r}")
     if kind not in kinds:
         raise InputError(f"study.kind = {kind!r} is not one of {', '.join(kinds)}")
     out = Path(args.out)
@@ -291,6 +293,13 @@ def _cmd_study(args) -> dict:
         summary = run_design_study(path, out, workers=workers, scheduler=args.scheduler)
         short = {"design_adequate": summary["design_adequate"],
                  "fem_collar_max_utilisation": summary["fem_collar_max_utilisation"]}
+    elif kind == "spectrum-crosscheck":
+        from .spectrum_crosscheck import parse_grid_size, run_spectrum_crosscheck
+        grid = parse_grid_size(args.grid) if args.grid is not None else None
+        summary = run_spectrum_crosscheck(path, out, workers=workers, scheduler=args.scheduler,
+                                          grid=grid)
+        short = {"agreement_fem_multibody": summary["agreement_fem_multibody"],
+                 "agreement_fem_sdof": summary["agreement_fem_sdof"]}
     elif kind == "zhang-makris":
         from .validation import zhang_makris_study
         summary = zhang_makris_study(out)
@@ -371,6 +380,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", help="address of a Dask distributed scheduler (default: "
                                        "local processes)")
     p.add_argument("--workers", type=int, help="local worker processes (default: the cores)")
+    p.add_argument("--grid", help="NxM: the spectrum cross-check's grid, N omega ratios by M "
+                                  "amplitude ratios (overrides [grid] points)")
     p.add_argument("--json", action="store_true", help="print summary.json")
     p.set_defaults(func=_cmd_study)
 

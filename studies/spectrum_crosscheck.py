@@ -1,0 +1,201 @@
+"""The cross-check over the pulse space: one column, a grid of pulses Omega/p x a_p/a_uplift, each
+run through the FEM model, the rigid multibody model and the paper's SDOF model.
+
+The study file is a cross-check file (column, stone, collars, contact, mesh, run) whose [ground]
+gives the pulse shape (sine or cosine), plus a [grid] table:
+
+    [grid]
+    omega_ratios = [1.0, 8.0]       # range of Omega / p (p of the rocking half), inclusive
+    amplitude_ratios = [1.2, 6.0]   # range of a_p / (g tan alpha) of the rocking half
+    points = [6, 5]                 # number of omega ratios x number of amplitude ratios
+
+Each grid point is one case of :mod:`studies.sweep` (local processes or Dask, saved as it
+completes, resumable). Its FEM run writes no field files: a grid point keeps only its numbers.
+Maps are 2D lists with rows following the amplitude ratios and columns the omega ratios, as in
+the rigid spectra.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..rigid.impacts import half_cycles
+from ..rigid.validation import InputError, read_toml
+from .fem_study import from_dict
+from .output import write_json
+from .sweep import run_cases
+
+GRID_KEYS = ("omega_ratios", "amplitude_ratios", "points")
+DEFAULT_GRID = {"omega_ratios": [1.0, 8.0], "amplitude_ratios": [1.2, 6.0], "points": [6, 5]}
+MODES = ("safe", "after-impact", "without-impact")
+
+
+def parse_grid_size(text: str) -> tuple[int, int]:
+    """'NxM' -> (N omega ratios, M amplitude ratios), each >= 1."""
+    try:
+        n, m = (int(part) for part in text.lower().split("x"))
+    except ValueError:
+        raise InputError(f"--grid = {text!r} is not of the form NxM (omega ratios x amplitude "
+                         "ratios, e.g. 3x3)") from None
+    if n < 1 or m < 1:
+        raise InputError(f"--grid = {text!r}: both counts must be >= 1")
+    return n, m
+
+
+def grid_of(data: dict, size: tuple[int, int] | None = None):
+    """(omega ratios, amplitude ratios) of the study's [grid], ``size`` overriding the counts."""
+    table = dict(DEFAULT_GRID, **data.get("grid", {}))
+    unknown = sorted(set(data.get("grid", {})) - set(GRID_KEYS))
+    if unknown:
+        raise InputError(f"unknown key grid.{unknown[0]} (allowed: {', '.join(GRID_KEYS)})")
+    ranges = {}
+    for key, low in (("omega_ratios", 0.0), ("amplitude_ratios", 1.0)):
+        value = table[key]
+        if (not isinstance(value, list) or len(value) != 2
+                or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                           and math.isfinite(v) for v in value)
+                or not low < value[0] <= value[1] or (key == "amplitude_ratios"
+                                                      and value[0] < 1.0)):
+            raise InputError(f"grid.{key} = {value!r} must be [start, stop] with "
+                             f"{'0 <' if low == 0.0 else '1 <='} start <= stop")
+        ranges[key] = value
+    points = table["points"] if size is None else list(size)
+    if (not isinstance(points, list) or len(points) != 2
+            or not all(isinstance(v, int) and not isinstance(v, bool) and v >= 1
+                       for v in points)):
+        raise InputError(f"grid.points = {points!r} must be [number of omega ratios, number of "
+                         "amplitude ratios], each an integer >= 1")
+    return (np.linspace(*ranges["omega_ratios"], points[0]),
+            np.linspace(*ranges["amplitude_ratios"], points[1]))
+
+
+def grid_point_case(case: dict, directory: str) -> dict:
+    """One pulse through the FEM, multibody and SDOF models: modes and the FEM's safety
+    numbers."""
+    from ..fem.solver import run
+    from ..rigid.multibody import rock_multibody
+    from ..rigid.solve import rock
+    from .fem_study import build
+
+    study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
+    model = build(study)
+    fem = run(model, study.ground, study.duration, dt=study.dt, safety=study.safety,
+              output_interval=study.output_interval, edge_length=study.edge_length,
+              progress=False)
+    s = fem.summary
+    fem_impacts = max(_impacts_before(fem.history, key, s["t_end"])
+                      for key in ("theta_left", "theta_right"))
+    block = study.rocking_block
+    mb = rock_multibody(block, study.ground, study.collars, cracked=study.cracked,
+                        friction=study.contact.friction, duration=study.duration)
+    sdof = rock(block, study.ground, study.collars, model="nonlinear", duration=study.duration)
+    return {
+        "omega_ratio": case["omega_ratio"], "amplitude_ratio": case["amplitude_ratio"],
+        "mode_fem": _mode(s["overturned"], fem_impacts),
+        "mode_multibody": mb.mode, "mode_sdof": sdof.mode,
+        "peak_fem": max(s["max_abs_theta_left"], s["max_abs_theta_right"]),
+        "peak_multibody": max(mb.summary()["max_abs_theta_left"],
+                              mb.summary()["max_abs_theta_right"]),
+        "collar_utilisation_fem": s["collar_max_utilisation"],
+        "toe_ratio_fem": s["edge_stress_ratio"],
+        "energy_error_fem": s["energy_error_max"],
+        "status_fem": s["status"], "fem_seconds": s["wall_seconds"], "fem_steps": s["steps"],
+    }
+
+
+def _impacts_before(history: dict, key: str, t_end: float) -> int:
+    """Changes of sign of a half's rotation (impacts) in the FEM history, ignoring wiggles."""
+    theta = history[key]
+    return int(np.sum(history["t"][half_cycles(theta)] <= t_end)) if theta.size else 0
+
+
+def _mode(overturned: bool, impacts: int) -> str:
+    if not overturned:
+        return "safe"
+    return "after-impact" if impacts > 0 else "without-impact"
+
+
+def run_spectrum_crosscheck(study_path: Path, out: Path, *, workers=None, scheduler=None,
+                            grid: tuple[int, int] | None = None, progress: bool = True) -> dict:
+    """Run (or resume) the grid of a spectrum cross-check study and write its report."""
+    study_path = Path(study_path)
+    data = read_toml(study_path, "study file")
+    base_data = {k: v for k, v in data.items() if k != "grid"}
+    ground = dict(base_data.get("ground", {}))
+    kind = ground.pop("pulse", "sine")
+    if kind not in ("sine", "cosine"):
+        raise InputError(f"{study_path}: ground.pulse = {kind!r}: the spectrum cross-check needs "
+                         "'sine' or 'cosine' (the grid sets its amplitude and frequency)")
+    if ground:
+        raise InputError(f"{study_path}: ground.{sorted(ground)[0]} is set by the grid of a "
+                         "spectrum cross-check: leave it out")
+    omegas, amplitudes = grid_of(data, grid)
+
+    def with_pulse(omega_ratio, amplitude_ratio):
+        variant = copy.deepcopy(base_data)
+        variant["ground"] = {"pulse": kind, "amplitude_ratio": float(amplitude_ratio),
+                             "omega_ratio": float(omega_ratio)}
+        return variant
+
+    study = from_dict(with_pulse(omegas[0], amplitudes[0]), source=str(study_path),
+                      base=study_path.parent)                                     # fails early
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    cases = []
+    for i, a in enumerate(amplitudes):
+        for j, w in enumerate(omegas):
+            cases.append({"study": with_pulse(w, a), "source": str(study_path),
+                          "base": str(study_path.parent.resolve()),
+                          "key": f"a{a:.6g}-w{w:.6g}", "omega_ratio": float(w),
+                          "amplitude_ratio": float(a), "row": i, "column": j})
+    start = time.perf_counter()
+    results = run_cases(grid_point_case, cases, out, workers=workers, scheduler=scheduler,
+                        progress=progress)
+    summary = assemble_summary(study, omegas, amplitudes, cases, results)
+    summary["wall_seconds"] = time.perf_counter() - start
+    write_json(out / "summary.json", summary)
+    from .report import write_spectrum_crosscheck_report
+    write_spectrum_crosscheck_report(out)
+    if progress:
+        print(f"[study] report: {out / 'index.html'}", file=sys.stderr, flush=True)
+    return summary
+
+
+def assemble_summary(study, omegas, amplitudes, cases, results) -> dict:
+    shape = (len(amplitudes), len(omegas))
+
+    def grid(key):
+        values = [[None] * shape[1] for _ in range(shape[0])]
+        for case in cases:
+            values[case["row"]][case["column"]] = results[case["key"]][key]
+        return values
+
+    mode_fem, mode_mb, mode_sdof = grid("mode_fem"), grid("mode_multibody"), grid("mode_sdof")
+    seconds = [results[c["key"]]["fem_seconds"] for c in cases]
+    return {
+        "study": study.name, "kind": "spectrum-crosscheck",
+        "layout": "maps[i][j]: i indexes amplitude_ratios (rows), j indexes omega_ratios",
+        "omega_ratios": [float(w) for w in omegas],
+        "amplitude_ratios": [float(a) for a in amplitudes],
+        "mode_fem": mode_fem, "mode_multibody": mode_mb, "mode_sdof": mode_sdof,
+        "collar_yield_fem": [[u >= 1.0 for u in row] for row in grid("collar_utilisation_fem")],
+        "collar_utilisation_fem": grid("collar_utilisation_fem"),
+        "toe_ratio_fem": grid("toe_ratio_fem"),
+        "agreement_fem_multibody": agreement(mode_fem, mode_mb),
+        "agreement_fem_sdof": agreement(mode_fem, mode_sdof),
+        "energy_error_fem_max": max(results[c["key"]]["energy_error_fem"] for c in cases),
+        "fem_seconds_per_point": float(np.mean(seconds)),
+        "points": len(cases),
+    }
+
+
+def agreement(a: list, b: list) -> float:
+    """Fraction of grid points where two mode maps give the same outcome."""
+    pairs = [(x, y) for row_a, row_b in zip(a, b) for x, y in zip(row_a, row_b)]
+    return sum(x == y for x, y in pairs) / len(pairs)

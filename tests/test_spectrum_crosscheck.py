@@ -1,0 +1,136 @@
+"""The spectrum cross-check study: FEM, multibody and SDOF outcomes over a grid of pulses."""
+
+import json
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from colonna.studies.cli import main
+from colonna.studies.spectrum_crosscheck import agreement
+
+GRID_STUDY = """
+[study]
+name = "tiny-grid"
+kind = "spectrum-crosscheck"
+[column]
+height = 1.0
+width = 0.2
+[[collar]]
+y = 0.5
+t = 0.004
+h = 0.02
+[ground]
+pulse = "sine"
+[mesh]
+size = 0.05
+grading = 0.0
+[run]
+duration = 0.6
+output_interval = 0.005
+[grid]
+omega_ratios = [1.5, 6.0]
+amplitude_ratios = [1.5, 8.0]
+points = [4, 4]
+"""
+
+
+@pytest.fixture(scope="module")
+def grid_run(tmp_path_factory):
+    root = tmp_path_factory.mktemp("grid")
+    study = root / "grid.toml"
+    study.write_text(GRID_STUDY)
+    out = root / "out"
+    code = main(["study", str(study), "--out", str(out), "--grid", "3x3", "--workers", "2"])
+    assert code == 0
+    return study, out, json.loads((out / "summary.json").read_text())
+
+
+def test_grid_option_sets_the_grid_and_the_summary_has_its_maps(grid_run):
+    _, out, s = grid_run
+    assert len(s["omega_ratios"]) == 3 and len(s["amplitude_ratios"]) == 3
+    for key in ("mode_fem", "mode_multibody", "mode_sdof", "collar_yield_fem", "toe_ratio_fem"):
+        assert len(s[key]) == 3 and all(len(row) == 3 for row in s[key]), key
+    words = {w for key in ("mode_fem", "mode_multibody", "mode_sdof") for row in s[key]
+             for w in row}
+    assert words <= {"safe", "after-impact", "without-impact"} and len(words) >= 2
+    assert len(list((out / "cases").glob("*/result.json"))) == 9
+    page = (out / "index.html").read_text()
+    assert page.count("data:image/png") == 3
+
+
+def test_agreement_numbers_are_those_of_the_maps(grid_run):
+    _, _, s = grid_run
+    for other in ("multibody", "sdof"):
+        same = [a == b for ra, rb in zip(s["mode_fem"], s[f"mode_{other}"])
+                for a, b in zip(ra, rb)]
+        assert s[f"agreement_fem_{other}"] == pytest.approx(sum(same) / len(same))
+    assert agreement([["safe", "safe"]], [["safe", "after-impact"]]) == 0.5
+
+
+def test_rows_follow_amplitudes_and_points_are_the_runs(grid_run):
+    _, out, s = grid_run
+    for i, a in enumerate(s["amplitude_ratios"]):
+        for j, w in enumerate(s["omega_ratios"]):
+            point = json.loads((out / "cases" / f"a{a:.6g}-w{w:.6g}" / "result.json").read_text())
+            assert point["mode_fem"] == s["mode_fem"][i][j]
+            assert point["mode_multibody"] == s["mode_multibody"][i][j]
+            assert point["toe_ratio_fem"] == s["toe_ratio_fem"][i][j]
+
+
+def test_killed_grid_resumes_with_the_same_summary_and_no_point_redone(grid_run, tmp_path):
+    study, _, reference = grid_run
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "colonna.studies.cli", "study", str(study), "--out", str(out),
+           "--grid", "3x3", "--workers", "1"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            cwd=Path(__file__).parents[1])
+    deadline = time.time() + 240
+    while time.time() < deadline and len(list((out / "cases").glob("*/result.json"))) < 2:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    done = {p: p.stat().st_mtime_ns for p in (out / "cases").glob("*/result.json")}
+    assert 2 <= len(done) < 9
+    assert main(["study", str(study), "--out", str(out), "--grid", "3x3", "--workers", "1"]) == 0
+    assert all(p.stat().st_mtime_ns == t for p, t in done.items())      # none redone
+    resumed = json.loads((out / "summary.json").read_text())
+    for s in (resumed, reference):
+        s.pop("wall_seconds")
+        s.pop("fem_seconds_per_point")
+    assert resumed == reference
+
+
+@pytest.mark.parametrize("change, word", [
+    (("--grid", "3by3"), "--grid"),
+    (("--grid", "0x3"), "--grid"),
+    ("points = [4, 4]|points = [4, -1]", "grid.points"),
+    ("omega_ratios = [1.5, 6.0]|omega_ratios = [6.0, 1.5]", "grid.omega_ratios"),
+    ('pulse = "sine"|pulse = "sine"\namplitude_ratio = 2.0', "ground.amplitude_ratio"),
+    ('pulse = "sine"|pulse = "record"', "ground.pulse"),
+])
+def test_bad_grid_input_is_one_line_naming_it(tmp_path, capsys, change, word):
+    text = GRID_STUDY
+    extra = []
+    if isinstance(change, tuple):
+        extra = list(change)
+    else:
+        old, new = change.split("|")
+        text = text.replace(old, new)
+    study = tmp_path / "bad.toml"
+    study.write_text(text)
+    assert main(["study", str(study), "--out", str(tmp_path / "o"), *extra]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and word in err
+    assert not (tmp_path / "o" / "cases").exists()          # failed before any work
+
+
+@pytest.mark.slow
+def test_shipped_grid_runs(tmp_path):
+    """The full shipped grid (30 pulses of the default column): make test-all."""
+    assert main(["study", "spectrum-crosscheck", "--out", str(tmp_path / "o")]) == 0
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert s["points"] == 30 and s["energy_error_fem_max"] < 0.05
