@@ -45,6 +45,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_spectrum.py
 	$(BIN)/python benchmarks/bench_fem.py
 	$(BIN)/python benchmarks/bench_multibody.py
+	$(BIN)/python benchmarks/bench_spectrum_crosscheck.py
 
 clean:
 	rm -rf $(VENV) $(OUT) .pytest_cache

@@ -442,8 +442,11 @@ def rock_multibody(block: Block, ground=None, collars=(), *, cracked: bool = Fal
                          f"(dt = {dt:g} s): lower dt")
     overturned = status == K.OVERTURNED
     table = impacts[:min(n_imp, max_impacts_stored)].copy()
+    if n_imp <= max_impacts_stored:
+        # the column's impacts: the halves of a cracked column often land together
+        n_imp = max((int(np.sum(table[:, 1] == body)) for body in range(column.n_bodies)),
+                    default=0)
     if overturned:
-        n_imp = int(np.sum(table[:, 0] <= t_over)) if n_imp <= max_impacts_stored else n_imp
         text = f"overturned: {OVERTURN_REASONS[reason]} (t = {t_over:.4g} s)"
         mode = "after-impact" if n_imp > 0 else "without-impact"
     else:

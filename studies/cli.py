@@ -279,7 +279,8 @@ def _cmd_study(args) -> dict:
     if workers < 1:
         raise InputError(f"--workers = {workers} must be >= 1")
     kind = read_toml(path, "study file").get("study", {}).get("kind", "cross-check")
-    kinds = ("cross-check", "zhang-makris", "collar-design", "spectrum-crosscheck") + SWEEP_KINDS
+    kinds = ("cross-check", "zhang-makris", "collar-design", "spectrum-crosscheck",
+             "free-rocking") + SWEEP_KINDS
     if args.grid is not None and kind != "spectrum-crosscheck":
         raise InputError(f"--grid applies to studies of kind spectrum-crosscheck, not {kind!r}")
     if kind not in kinds:
@@ -300,6 +301,12 @@ def _cmd_study(args) -> dict:
                                           grid=grid)
         short = {"agreement_fem_multibody": summary["agreement_fem_multibody"],
                  "agreement_fem_sdof": summary["agreement_fem_sdof"]}
+    elif kind == "free-rocking":
+        from .free_rocking import run_free_rocking
+        summary = run_free_rocking(path, out, workers=workers, scheduler=args.scheduler)
+        short = {"fem_ratio_study_stone": summary["fem_ratio_study_stone"],
+                 "multibody_ratio": summary["multibody_ratio"],
+                 "restitution_housner": summary["restitution_housner"]}
     elif kind == "zhang-makris":
         from .validation import zhang_makris_study
         summary = zhang_makris_study(out)

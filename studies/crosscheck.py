@@ -26,17 +26,20 @@ import numpy as np
 
 from ..rigid.block import Block
 from ..rigid.ground import HarmonicPulse
-from ..rigid.impacts import impact_ratios_from_fit
+from ..rigid.impacts import half_cycles, impact_ratios_from_fit
 from ..rigid.solve import rock
 from ..rigid.spectrum import overturning_spectrum
 
 from ..rigid.validation import InputError, read_toml
 
 from .fem_study import from_dict
-from .output import write_csv, write_json
+from .output import read_csv, write_csv, write_json
 from .sweep import run_cases
 
+# tolerances of the verdict "rigid assumption good enough?" (FEM against the multibody model)
 PEAK_TOLERANCE = 0.20       # |theta / theta_reference - 1| for two models to give one answer
+HISTORY_TOLERANCE = 0.10    # max |theta_FEM - theta_rigid| / max |theta_rigid| to the first impact
+IMPACT_TOLERANCE = 0        # impacts before the end of the pulse may differ by this many
 
 
 def _study_from_case(case):
@@ -152,7 +155,9 @@ def run_crosscheck(study_path: Path, out: Path, *, workers: int | None = None,
     start = time.perf_counter()
     results = run_cases(_case_runner, cases, out, workers=workers, scheduler=scheduler,
                         progress=progress)
-    summary = assemble_summary(study, results)
+    summary = assemble_summary(study, results, criteria=verdict_criteria(
+        study, results, read_csv(out / "cases" / "fem" / "history.csv"),
+        read_csv(out / "cases" / "multibody" / "history.csv")))
     summary["wall_seconds"] = time.perf_counter() - start
     write_json(out / "summary.json", summary)
     from .report import write_crosscheck_report
@@ -172,7 +177,54 @@ def _same_answer(fate, peak_ratio, reference_fate) -> bool:
         bool(fate) or abs(peak_ratio - 1.0) <= PEAK_TOLERANCE)
 
 
-def assemble_summary(study, results: dict) -> dict:
+def verdict_criteria(study, results: dict, fem_history: dict, multibody_history: dict) -> dict:
+    """The FEM against the rigid multibody model on four counts, each with its tolerance:
+    outcome; peak rotation (when neither overturns); impacts before the end of the pulse; and
+    the history error max |theta_FEM - theta_mb| / max |theta_mb| up to the first impact (of
+    the multibody model; the end of the pulse without one), both halves."""
+    fem, mb = results["fem"]["summary"], results["multibody"]
+    t_pulse = study.ground.end_time
+    mb_t = multibody_history["t"]
+    names = ("left", "right") if study.cracked else ("column", "column")
+    theta_mb = [multibody_history[f"theta_{n}"] for n in names]
+    theta_fem = [fem_history["theta_left"], fem_history["theta_right"]]
+    crossings = [mb_t[half_cycles(th)] for th in theta_mb]
+    firsts = [c[0] for c in crossings if c.size]
+    t_first = min(firsts) if firsts else t_pulse
+    window = mb_t <= t_first
+    scale = max(np.max(np.abs(th[window]), initial=0.0) for th in theta_mb)
+    errors = [np.max(np.abs(np.interp(mb_t[window], fem_history["t"], tf) - tm[window]),
+                     initial=0.0) for tf, tm in zip(theta_fem, theta_mb)]
+    history_error = float(max(errors) / scale) if scale > 0 else math.nan
+
+    def impacts(t, thetas):
+        return max(int(np.sum(t[half_cycles(th)] <= t_pulse)) for th in thetas)
+
+    impacts_fem = impacts(fem_history["t"], theta_fem)
+    impacts_mb = impacts(mb_t, theta_mb)
+    fem_peak = max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
+    peak_ratio = _peak_ratio(fem_peak, max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]))
+    either_over = bool(fem["overturned"]) or bool(mb["overturned"])
+    out = {
+        "same_outcome": bool(fem["overturned"]) == bool(mb["overturned"]),
+        "peak_ratio": peak_ratio,
+        "peak_ok": either_over or abs(peak_ratio - 1.0) <= PEAK_TOLERANCE,
+        "impacts_before_pulse_end_fem": impacts_fem,
+        "impacts_before_pulse_end_multibody": impacts_mb,
+        "impacts_ok": abs(impacts_fem - impacts_mb) <= IMPACT_TOLERANCE,
+        "history_error_to_first_impact": history_error,
+        "history_window_end": float(t_first),
+        "history_ok": bool(history_error <= HISTORY_TOLERANCE),
+        "tolerances": {"peak": PEAK_TOLERANCE, "history": HISTORY_TOLERANCE,
+                       "impacts": IMPACT_TOLERANCE},
+    }
+    out["all_ok"] = all(out[k] for k in ("same_outcome", "peak_ok", "impacts_ok",
+                                         "history_ok"))
+    return out
+
+
+def assemble_summary(study, results: dict, criteria: dict) -> dict:
+    """summary.json of the cross-check; ``criteria`` from :func:`verdict_criteria`."""
     fem = results["fem"]["summary"]
     rigid, monolith, multibody = results["rigid"], results["monolith"], results["multibody"]
     fem_peak = max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
@@ -186,8 +238,7 @@ def assemble_summary(study, results: dict) -> dict:
     return {
         "study": study.name,
         "verdict": {
-            "rigid_assumption_ok": _same_answer(fem["overturned"], ratio_multibody,
-                                                multibody["overturned"]),
+            "rigid_assumption_ok": criteria["all_ok"],
             "sdof_half_model_ok": _same_answer(rigid["overturned"],
                                                _peak_ratio(rigid["max_abs_theta"], mb_peak),
                                                multibody["overturned"]),
@@ -211,6 +262,7 @@ def assemble_summary(study, results: dict) -> dict:
                            "impacts": monolith["impacts"]},
         "theta_peak_ratio_fem_over_multibody": ratio_multibody,
         "fem_vs_multibody": _fem_vs_multibody(results["fem"], multibody),
+        "verdict_criteria": criteria,
         "theta_peak_ratio_fem_over_rigid": ratio,
         "theta_peak_ratio_fem_over_monolith": ratio_monolith,
         # an overturned SDOF block reports pi/2 by convention: no rotation to compare

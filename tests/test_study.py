@@ -51,16 +51,23 @@ def test_summary_keys(tiny_run):
 
 
 def test_verdict_is_judged_against_the_multibody_model(tiny_run):
-    """rigid_assumption_ok: the FEM and the rigid multibody model give the same outcome and
-    (when neither overturns) peak rotations within the stated tolerance."""
+    """rigid_assumption_ok: the FEM and the rigid multibody model give the same outcome, peaks
+    within the tolerance (when neither overturns), the same impacts before the end of the pulse
+    and a history error up to the first impact within its tolerance."""
     _, _, s = tiny_run
-    fem, mb = s["fem"], s["rigid_multibody"]
+    fem, mb, c = s["fem"], s["rigid_multibody"], s["verdict_criteria"]
     ratio = (max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
              / max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]))
     assert s["theta_peak_ratio_fem_over_multibody"] == pytest.approx(ratio)
-    expected = fem["overturned"] == mb["overturned"] and (
-        fem["overturned"] or abs(ratio - 1.0) <= s["peak_tolerance"])
-    assert s["verdict"]["rigid_assumption_ok"] == expected
+    assert c["peak_ratio"] == pytest.approx(ratio)
+    assert c["same_outcome"] == (fem["overturned"] == mb["overturned"])
+    assert c["impacts_ok"] == (abs(c["impacts_before_pulse_end_fem"]
+                                   - c["impacts_before_pulse_end_multibody"])
+                               <= c["tolerances"]["impacts"])
+    assert c["history_ok"] == (c["history_error_to_first_impact"] <= c["tolerances"]["history"])
+    assert s["verdict"]["rigid_assumption_ok"] == (c["same_outcome"] and c["peak_ok"]
+                                                   and c["impacts_ok"] and c["history_ok"])
+    assert 0.0 <= c["history_error_to_first_impact"] < 1.0
     assert mb["energy_error_max"] < 1e-2
 
 

@@ -1,0 +1,161 @@
+"""The free-rocking study: the energy lost at impact, measured cleanly.
+
+The column is released from rest at a few tilts (no ground motion) and rocks freely. At every
+impact the angular-velocity ratio is measured from the rotation peaks on either side through the
+free-rocking energy (:mod:`colonna.rigid.impacts`), for the FEM model and the rigid multibody
+model, beside Housner's 1 - 1.5 sin^2(alpha). The FEM is also run with other contact dampings and
+meshes at the first tilt, to show what its value depends on.
+
+    [free_rocking]
+    tilt_fractions = [0.3, 0.6]     # release tilts, fractions of alpha (default [0.5])
+    damping = [0.0, 0.2]            # extra contact dampings to try (default [0.0, 0.2])
+    mesh_sizes = [0.075]            # extra mesh sizes to try, m (default: twice the study's)
+
+alpha is that of the body that rocks: the whole column when it is solid or held by collars
+(the halves then lock together), one half when a cracked column has no collars. The study's
+[ground] must be pulse = "none" or left out; [run] duration defaults to 3 s.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import sys
+import time
+from pathlib import Path
+
+from ..rigid.block import Block
+from ..rigid.impacts import impact_ratios_from_peaks
+from ..rigid.validation import InputError, read_toml
+from .fem_study import from_dict
+from .output import write_csv, write_json
+from .sweep import run_cases
+
+KEYS = ("tilt_fractions", "damping", "mesh_sizes")
+
+
+def rocking_alpha(study) -> float:
+    """Slenderness of the body that rocks (see the module)."""
+    if study.cracked and not study.collars:
+        return math.atan2(study.width / 4.0, study.height / 2.0)
+    return math.atan2(study.width / 2.0, study.height / 2.0)
+
+
+def _numbers(table: dict, key: str, default: list, low: float, high: float, *,
+             closed_low: bool = False) -> list[float]:
+    """A list of numbers in (low, high) ([low, high) with closed_low), or an InputError."""
+    values = table.get(key, default)
+
+    def ok(v):
+        return (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+                and (low <= v if closed_low else low < v) and v < high)
+
+    if not isinstance(values, list) or not values or not all(ok(v) for v in values):
+        raise InputError(f"free_rocking.{key} = {values!r} must be a non-empty list of numbers "
+                         f"in {'[' if closed_low else '('}{low:g}, {high:g})")
+    return [float(v) for v in values]
+
+
+def free_rocking_case(case: dict, directory: str) -> dict:
+    from ..rigid.multibody import rock_multibody
+    from .fem_study import run_study
+
+    study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
+    alpha = case["alpha"]
+    tilt = case["tilt_fraction"] * alpha
+    if case["kind"] == "fem":
+        study.initial_tilt = tilt
+        result = run_study(study, progress=False)
+        t, theta = result.history["t"], result.history["theta_left"]
+        write_csv(Path(directory) / "history.csv", {"t": t, "theta_left": theta,
+                                                    "theta_right": result.history["theta_right"]})
+        extra = {"status": result.summary["status"],
+                 "energy_error_max": result.summary["energy_error_max"],
+                 "wall_seconds": result.summary["wall_seconds"]}
+    else:
+        result = rock_multibody(study.rocking_block, None, study.collars, cracked=study.cracked,
+                                friction=study.contact.friction, duration=study.duration,
+                                initial_tilt=tilt)
+        t, theta = result.time, result.theta[:, 0]
+        write_csv(Path(directory) / "history.csv", {"t": t, "theta_left": theta,
+                                                    "theta_right": result.theta[:, -1]})
+        extra = {"status": result.status,
+                 "impulse_ratios": result.impact_velocity_ratios(0)[:10].tolist(),
+                 "energy_error_max": result.summary()["energy_error_max"]}
+    measured = impact_ratios_from_peaks(t, theta, alpha)
+    return {"tilt": tilt, "damping": case.get("damping"), "mesh_size": case.get("mesh_size"),
+            "impact_times": measured.times.tolist(), "ratios": measured.ratios.tolist(),
+            "ratio_first": float(measured.ratios[0]) if measured.ratios.size else None,
+            "ratio_mean": measured.mean, **extra}
+
+
+def run_free_rocking(study_path: Path, out: Path, *, workers=None, scheduler=None,
+                     progress: bool = True) -> dict:
+    study_path = Path(study_path)
+    data = read_toml(study_path, "study file")
+    table = data.get("free_rocking", {})
+    unknown = sorted(set(table) - set(KEYS))
+    if unknown:
+        raise InputError(f"unknown key free_rocking.{unknown[0]} (allowed: {', '.join(KEYS)})")
+    base_data = {k: v for k, v in data.items() if k != "free_rocking"}
+    ground = base_data.setdefault("ground", {"pulse": "none"})
+    if ground != {"pulse": "none"}:
+        raise InputError(f"{study_path}: a free-rocking study has no ground motion: "
+                         "ground.pulse = 'none' (or leave [ground] out)")
+    base_data.setdefault("run", {}).setdefault("duration", 3.0)
+    base_data["run"].setdefault("initial_tilt", 0.01)        # replaced per case
+    study = from_dict(base_data, source=str(study_path), base=study_path.parent)  # fails early
+    alpha = rocking_alpha(study)
+    tilts = _numbers(table, "tilt_fractions", [0.5], 0.0, 1.0)
+    dampings = _numbers(table, "damping", [0.0, 0.2], 0.0, 1.0, closed_low=True)
+    body_width = study.width / (2.0 if study.cracked else 1.0)
+    sizes = _numbers(table, "mesh_sizes", [min(2.0 * study.mesh_size, body_width)], 0.0,
+                     body_width * (1.0 + 1e-9))
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    common = {"source": str(study_path), "base": str(study_path.parent.resolve()),
+              "alpha": alpha}
+    cases = []
+    for k, fraction in enumerate(tilts):
+        for kind in ("fem", "multibody"):
+            cases.append(dict(common, study=base_data, key=f"{kind}-tilt{k + 1}", kind=kind,
+                              tilt_fraction=fraction, damping=study.contact.damping,
+                              mesh_size=study.mesh_size))
+    for k, damping in enumerate(dampings):
+        variant = copy.deepcopy(base_data)
+        variant.setdefault("contact", {})["damping"] = damping
+        cases.append(dict(common, study=variant, key=f"fem-damping{k + 1}", kind="fem",
+                          tilt_fraction=tilts[0], damping=damping, mesh_size=study.mesh_size))
+    for k, size in enumerate(sizes):
+        variant = copy.deepcopy(base_data)
+        variant.setdefault("mesh", {})["size"] = size
+        cases.append(dict(common, study=variant, key=f"fem-mesh{k + 1}", kind="fem",
+                          tilt_fraction=tilts[0], damping=study.contact.damping,
+                          mesh_size=size))
+    start = time.perf_counter()
+    results = run_cases(free_rocking_case, cases, out, workers=workers, scheduler=scheduler,
+                        progress=progress)
+    housner = Block(b=1.0, h=1.0 / math.tan(alpha)).restitution_housner
+    base_fem = results["fem-tilt1"]
+    summary = {
+        "study": study.name, "kind": "free-rocking", "alpha": alpha,
+        "restitution_housner": housner,
+        "E": study.stone.E,
+        "fem_ratio_study_stone": base_fem["ratio_first"],
+        "fem_ratio_study_stone_mean": base_fem["ratio_mean"],
+        "multibody_ratio": results["multibody-tilt1"]["ratio_first"],
+        "tilts": [{"tilt_fraction": f, "tilt": f * alpha,
+                   "fem": results[f"fem-tilt{k + 1}"],
+                   "multibody": results[f"multibody-tilt{k + 1}"]}
+                  for k, f in enumerate(tilts)],
+        "damping_variants": [results[f"fem-damping{k + 1}"] for k in range(len(dampings))],
+        "mesh_variants": [results[f"fem-mesh{k + 1}"] for k in range(len(sizes))],
+        "damping": study.contact.damping, "mesh_size": study.mesh_size,
+    }
+    summary["wall_seconds"] = time.perf_counter() - start
+    write_json(out / "summary.json", summary)
+    from .report import write_free_rocking_report
+    write_free_rocking_report(out)
+    if progress:
+        print(f"[study] report: {out / 'index.html'}", file=sys.stderr, flush=True)
+    return summary

@@ -1,0 +1,70 @@
+"""The free-rocking study: velocity ratio at impact of the FEM and the multibody model."""
+
+import json
+
+import pytest
+
+from colonna.studies.cli import main
+
+FREE = """
+[study]
+name = "tiny-free"
+kind = "free-rocking"
+[column]
+height = 1.0
+width = 0.2
+cracked = false
+[ground]
+pulse = "none"
+[mesh]
+size = 0.05
+grading = 0.0
+[run]
+duration = 1.2
+output_interval = 0.002
+[free_rocking]
+tilt_fractions = [0.5]
+damping = [0.0]
+mesh_sizes = [0.1]
+"""
+
+
+@pytest.fixture(scope="module")
+def free_run(tmp_path_factory):
+    root = tmp_path_factory.mktemp("free")
+    study = root / "free.toml"
+    study.write_text(FREE)
+    assert main(["study", str(study), "--out", str(root / "out"), "--workers", "2"]) == 0
+    return root / "out", json.loads((root / "out" / "summary.json").read_text())
+
+
+def test_multibody_gives_housner_and_the_fem_keeps_more_energy(free_run):
+    _, s = free_run
+    assert s["multibody_ratio"] == pytest.approx(s["restitution_housner"], rel=2e-3)
+    assert s["restitution_housner"] < s["fem_ratio_study_stone"] < 1.0
+    assert s["alpha"] == pytest.approx(0.1 / 0.5 * 1.0, rel=0.02)     # atan(0.1 / 0.5)
+    for variant in s["damping_variants"] + s["mesh_variants"]:
+        assert s["restitution_housner"] < variant["ratio_first"] < 1.0
+
+
+def test_report_states_the_fem_value_for_the_studys_stone(free_run):
+    out, s = free_run
+    page = (out / "index.html").read_text()
+    from colonna.studies.report import fmt
+    assert (f'<span data-key="fem_ratio_study_stone">{fmt(s["fem_ratio_study_stone"], 4)}'
+            '</span>') in page
+    assert page.count("data:image/png") == 2
+
+
+@pytest.mark.parametrize("old, new, word", [
+    ('pulse = "none"', 'pulse = "sine"\namplitude_ratio = 2.0\nomega_ratio = 3.0',
+     "ground.pulse"),
+    ("tilt_fractions = [0.5]", "tilt_fractions = [1.5]", "free_rocking.tilt_fractions"),
+    ("damping = [0.0]", "dampng = [0.0]", "free_rocking.dampng"),
+])
+def test_bad_free_rocking_input_is_one_line(tmp_path, capsys, old, new, word):
+    study = tmp_path / "bad.toml"
+    study.write_text(FREE.replace(old, new))
+    assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and word in err
