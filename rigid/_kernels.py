@@ -121,6 +121,20 @@ def energy_barrier(P):
 
 
 @njit(cache=True)
+def _released(P):
+    return P[P_TH0] != 0.0 or P[P_OM0] != 0.0
+
+
+@njit(cache=True)
+def _release_state(P):
+    """(t, theta, omega, side) of a block released at t = 0 from the initial state of P."""
+    th = P[P_TH0]
+    om = P[P_OM0]
+    s = 1.0 if (th > 0.0 or (th == 0.0 and om > 0.0)) else -1.0
+    return 0.0, th, om, s
+
+
+@njit(cache=True)
 def ground_end(P, rec_t):
     if P[P_GROUND] == GROUND_HARMONIC:
         return P[P_TEND]
@@ -293,12 +307,8 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
     max_theta = 0.0
     t_over = -1.0
 
-    released = P[P_TH0] != 0.0 or P[P_OM0] != 0.0
-    if released:            # released at t = 0, tilted or spinning
-        t = 0.0
-        th = P[P_TH0]
-        om = P[P_OM0]
-        s = 1.0 if (th > 0.0 or (th == 0.0 and om > 0.0)) else -1.0
+    if _released(P):            # released at t = 0, tilted or spinning
+        t, th, om, s = _release_state(P)
     else:
         t, s_up = next_uplift(0.0, P, rec_t, rec_a)
         if t < 0.0:
@@ -540,11 +550,8 @@ def linear_run(P, t_stop, early_exit, segs, impacts):
     max_theta = 0.0
     empty = np.zeros(1)
 
-    if P[P_TH0] != 0.0 or P[P_OM0] != 0.0:      # released at t = 0, tilted or spinning
-        t = 0.0
-        th = P[P_TH0]
-        om = P[P_OM0]
-        s = 1.0 if (th > 0.0 or (th == 0.0 and om > 0.0)) else -1.0
+    if _released(P):            # released at t = 0, tilted or spinning
+        t, th, om, s = _release_state(P)
     else:
         t, s_up = next_uplift(0.0, P, empty, empty)
         if t < 0.0:

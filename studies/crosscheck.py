@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 import time
 from pathlib import Path
 
@@ -33,7 +32,7 @@ from ..rigid.spectrum import overturning_spectrum
 from ..rigid.validation import InputError, read_toml
 
 from .fem_study import from_dict
-from .output import read_csv, write_csv, write_json
+from .output import finish_study, read_csv, write_csv, write_json
 from .sweep import run_cases
 
 # tolerances of the verdict "rigid assumption good enough?" (FEM against the multibody model)
@@ -159,12 +158,8 @@ def run_crosscheck(study_path: Path, out: Path, *, workers: int | None = None,
         study, results, read_csv(out / "cases" / "fem" / "history.csv"),
         read_csv(out / "cases" / "multibody" / "history.csv")))
     summary["wall_seconds"] = time.perf_counter() - start
-    write_json(out / "summary.json", summary)
     from .report import write_crosscheck_report
-    write_crosscheck_report(out)
-    if progress:
-        print(f"[study] report: {out / 'index.html'}", file=sys.stderr, flush=True)
-    return summary
+    return finish_study(out, summary, write_crosscheck_report, progress)
 
 
 def _peak_ratio(value: float, reference: float) -> float:

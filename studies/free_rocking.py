@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import copy
 import math
-import sys
 import time
 from pathlib import Path
 
@@ -28,7 +27,7 @@ from ..rigid.block import Block
 from ..rigid.impacts import impact_ratios_from_peaks
 from ..rigid.validation import InputError, read_toml
 from .fem_study import from_dict
-from .output import write_csv, write_json
+from .output import finish_study, write_csv
 from .sweep import run_cases
 
 KEYS = ("tilt_fractions", "damping", "mesh_sizes")
@@ -153,9 +152,5 @@ def run_free_rocking(study_path: Path, out: Path, *, workers=None, scheduler=Non
         "damping": study.contact.damping, "mesh_size": study.mesh_size,
     }
     summary["wall_seconds"] = time.perf_counter() - start
-    write_json(out / "summary.json", summary)
     from .report import write_free_rocking_report
-    write_free_rocking_report(out)
-    if progress:
-        print(f"[study] report: {out / 'index.html'}", file=sys.stderr, flush=True)
-    return summary
+    return finish_study(out, summary, write_free_rocking_report, progress)

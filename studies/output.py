@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -34,6 +35,15 @@ def write_csv(path, columns: dict) -> None:
     lines = [",".join(names)]
     lines += [",".join(repr(float(v)) for v in row) for row in table]
     _atomic_write_text(Path(path), "\n".join(lines) + "\n")
+
+
+def finish_study(out: Path, summary: dict, write_report, progress: bool) -> dict:
+    """Write summary.json, then the report from it (``write_report(out)``), and say where."""
+    write_json(Path(out) / "summary.json", summary)
+    write_report(out)
+    if progress:
+        print(f"[study] report: {Path(out) / 'index.html'}", file=sys.stderr, flush=True)
+    return summary
 
 
 def read_csv(path) -> dict:

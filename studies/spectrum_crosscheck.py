@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import copy
 import math
-import sys
 import time
 from pathlib import Path
 
@@ -28,7 +27,7 @@ import numpy as np
 from ..rigid.impacts import half_cycles
 from ..rigid.validation import InputError, read_toml
 from .fem_study import from_dict
-from .output import write_json
+from .output import finish_study
 from .sweep import run_cases
 
 GRID_KEYS = ("omega_ratios", "amplitude_ratios", "points")
@@ -159,12 +158,8 @@ def run_spectrum_crosscheck(study_path: Path, out: Path, *, workers=None, schedu
                         progress=progress)
     summary = assemble_summary(study, omegas, amplitudes, cases, results)
     summary["wall_seconds"] = time.perf_counter() - start
-    write_json(out / "summary.json", summary)
     from .report import write_spectrum_crosscheck_report
-    write_spectrum_crosscheck_report(out)
-    if progress:
-        print(f"[study] report: {out / 'index.html'}", file=sys.stderr, flush=True)
-    return summary
+    return finish_study(out, summary, write_spectrum_crosscheck_report, progress)
 
 
 def assemble_summary(study, omegas, amplitudes, cases, results) -> dict:
