@@ -252,13 +252,19 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
             base_nodes, base_kn, base_kt, base_cn, mu, blend, base_ft, base_fn, base_fc,
             a_sl, a_ma, a_sign, a_kn, a_kt, a_cn, a_seg, a_ft, a_fn, a_fc,
             b_sl, b_ma, b_sign, b_kn, b_kt, b_cn, b_seg, b_ft, b_fn, b_fc,
-            collar_nodes, collar_props, collar_out, u_loc, f_loc, f, tallies, energies):
+            collar_nodes, collar_props, collar_out, u_loc, f_loc, f, tallies, energies,
+            edge_weights, edge_buffer, edge_state, edge_peak):
     """n_steps of central differences (velocities at half steps, lumped mass).
 
     ground_acc[k]: ground acceleration (m/s^2) during step k, applied as the body force
     -m ug'' in x (ground frame). tallies += (dissipated energy, external work); energies gets
     (strain, base contact, crack contact, collar, gravity, kinetic) of the last step, all at
     time n (kinetic as m v(n-1/2) . v(n+1/2) / 2, the energy central differences conserve).
+    edge_weights (n_edges, n_base): each toe's share of every base node's normal force. The toe
+    resultants edge_weights . base_fn are averaged over the last n_avg = edge_buffer.shape[1]
+    steps (a ring buffer; edge_state = [position, running sums...]) and edge_peak[e] keeps the
+    largest average over every step, so that an impact shorter than an output interval is not
+    missed and penalty-contact chatter faster than the averaging time is not taken for stress.
     Returns the number of steps done (< n_steps if the state stopped being finite).
 
     Per step: one pass for the body frames, one for the local displacements, the block mat-vec,
@@ -316,6 +322,22 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
         # contact and collars
         e_base, p_base = base_contact(x, v, base_nodes, base_kn, base_kt, base_cn, mu, dt,
                                       base_ft, f, base_fn, base_fc, blend)
+        n_avg = edge_buffer.shape[1]
+        slot = int(edge_state[0])
+        for e in range(edge_peak.size):
+            resultant = 0.0
+            for k in range(base_fn.size):
+                resultant += edge_weights[e, k] * base_fn[k]
+            edge_state[1 + e] += resultant - edge_buffer[e, slot]
+            edge_buffer[e, slot] = resultant
+            if slot == n_avg - 1:          # resum once per lap: no drift of the running sum
+                edge_state[1 + e] = 0.0
+                for j in range(n_avg):
+                    edge_state[1 + e] += edge_buffer[e, j]
+            average = edge_state[1 + e] / n_avg
+            if average > edge_peak[e]:
+                edge_peak[e] = average
+        edge_state[0] = (slot + 1) % n_avg
         e_crack = 0.0
         p_crack = 0.0
         if has_crack:

@@ -9,7 +9,9 @@ Outputs per output time (``history``):
   t; theta_left, theta_right (rad, rigid rotation of each half from a mass-weighted least-squares
   fit, positive tipping toward +x as in rigid/); uplift_left, uplift_right (m, height of the outer
   toes); edge_stress_left, edge_stress_right (Pa, compression positive: base contact pressure
-  averaged over ``edge_length`` from the outer toes; edge_stress_inner_* at the crack toes);
+  averaged over ``edge_length`` from the outer toes and over the last ``edge_time`` seconds,
+  its peak over every time step of the output interval ending at t, so that a short impact is
+  not missed; edge_stress_inner_* at the crack toes);
   base and crack contact forces; crack slip and opening; collar_k_axial_force, _moment, _stress,
   _utilisation; energies (kinetic, strain, gravity, contact, collar, dissipated, external_work)
   (base_pressure.csv: the contact pressure at every base node, one row per output time)
@@ -36,12 +38,18 @@ from .model import (Model, coincident_nodes, collar_stiffness, contact_stiffness
                     stable_time_step)
 
 
+EDGE_TIME = 2.5e-4   # s: default averaging time of the toe stress (see run)
+
+
 @dataclass
 class FemResult:
     history: dict = field(repr=False)
     summary: dict
     displacement_frames: list = field(repr=False)     # (t, u (n_nodes, 2)) at output times
     model: Model = field(repr=False)
+    velocity_frames: list = field(default_factory=list, repr=False)   # (t, v (n_nodes, 2))
+    # (t, contact state: dict of base_ft, base_fc, crack_ft, crack_fc; see run's initial_contact)
+    contact_frames: list = field(default_factory=list, repr=False)
 
 
 def static_state(model: Model):
@@ -65,16 +73,27 @@ def static_state(model: Model):
 
 def run(model: Model, ground, duration: float, *, dt: float | None = None, safety: float = 0.9,
         output_interval: float | None = None, edge_length: float | None = None,
+        edge_time: float = None,
         out_dir=None, progress: bool = True, stop_on_overturn: bool = True,
         initial_velocity: np.ndarray | None = None, check_dt: bool = True,
-        initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0) -> FemResult:
+        initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
+        start_time: float = 0.0, initial_state: tuple | None = None,
+        initial_contact: dict | None = None) -> FemResult:
     """Run the model under ``ground`` (a HarmonicPulse, Record or NoMotion of rigid.ground) for
     ``duration`` seconds from gravity equilibrium. ``dt`` (s) may be set by hand but not above
     the stable step (``check_dt=False`` lifts that guard, for tests of the estimate).
     ``initial_velocity``: nodal velocities (n_nodes, 2) added at t = 0. ``initial_tilt`` (rad,
     > 0 toward +x) and ``initial_angular_velocity`` (rad/s): the column released at t = 0 turned
     rigidly by that angle about the outer toe it tips on, spinning about it at that rate; its
-    elastic state is the upright static state, turned with it."""
+    elastic state is the upright static state, turned with it.
+
+    ``initial_state`` = (x, v): node positions and velocities (m, m/s; flat, 2 per node) to
+    start from instead of the static state, at ``start_time`` (s; the ground motion is read at
+    start_time + t): a restart, for instance of another mesh's state transferred by
+    :func:`colonna.fem.transfer.transfer_state`. ``initial_contact``: the contact state it
+    starts with (zero if left out), a dict as in ``FemResult.contact_frames`` or from
+    :func:`colonna.fem.transfer.transfer_contact`: base_ft, base_fc (tangential and filtered
+    normal force per base node, N), crack_ft, crack_fc (lists, one array per crack pass)."""
     require_positive("run duration (s)", duration)
     require_range("run initial_tilt (rad)", initial_tilt, -0.25 * math.pi, 0.25 * math.pi,
                   range_text="(-pi/4, pi/4)")
@@ -97,13 +116,32 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     if edge_length is None:
         edge_length = 0.1 * body_width
     require_positive("edge_length (m)", edge_length)
+    if edge_time is None:
+        edge_time = EDGE_TIME
+    require_range("edge_time (s)", edge_time, 0.0, 0.01, closed_low=True, closed_high=True,
+                  range_text="[0, 0.01] s")
     if edge_length > body_width:
         raise InputError(f"edge_length = {edge_length:g} m is larger than the width of a body "
                          f"({body_width:g} m)")
 
-    u0, base_ft, crack_ft = static_state(model)
-    x = model.X + u0
-    v = np.zeros_like(x)
+    if initial_contact is not None and initial_state is None:
+        raise InputError("run initial_contact needs initial_state (a restart)")
+    if initial_state is not None:
+        if initial_tilt != 0.0 or initial_angular_velocity != 0.0:
+            raise InputError("run: give either initial_state or initial_tilt / "
+                             "initial_angular_velocity, not both")
+        x, v = (np.array(a, dtype=float).reshape(-1) for a in initial_state)
+        if x.size != model.n_dofs or v.size != model.n_dofs:
+            raise InputError(f"run initial_state: x and v need {model.n_dofs} values each "
+                             f"(2 per node), got {x.size} and {v.size}")
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+            raise InputError("run initial_state: x and v must be finite")
+        base_ft = np.zeros(model.base_nodes.size)
+        crack_ft = [np.zeros(p[0].size) for p in model.crack_passes]
+    else:
+        u0, base_ft, crack_ft = static_state(model)
+        x = model.X + u0
+        v = np.zeros_like(x)
     if initial_tilt != 0.0 or initial_angular_velocity != 0.0:
         x, v = turned_about_toe(model, x, initial_tilt, initial_angular_velocity)
         base_ft = np.zeros_like(base_ft)       # only the toe touches: its friction starts at 0
@@ -120,14 +158,19 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     base_fc = np.zeros(model.base_nodes.size)
     collar_out = np.zeros((model.collar_nodes.shape[0], 4))
     crack = [_crack_state(p, ft) for p, ft in zip(model.crack_passes, crack_ft)]
+    if initial_contact is not None:
+        base_ft, base_fc = _restore_contact(model, initial_contact, crack)
     while len(crack) < 2:
         crack.append(_crack_state(None, None))
     A = model.stiffness.tobsr(blocksize=(2, 2))
     indptr, indices, data = (A.indptr.astype(np.int64), A.indices.astype(np.int64),
                              np.ascontiguousarray(A.data, dtype=float))
 
-    recorder = _Recorder(model, edge_length, out_dir)
-    t = 0.0
+    recorder = _Recorder(model, edge_length, out_dir, max(1, int(round(edge_time / dt))))
+    if not math.isfinite(start_time):
+        raise InputError(f"run start_time = {start_time!r} s must be finite")
+    t = float(start_time)
+    steps_done = 0
     reason = "completed"
     overturned = False
     start = time.perf_counter()
@@ -137,10 +180,13 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     tau = model.contact.friction_filter
     blend = 1.0 if tau == 0.0 else min(1.0, dt / tau)
     _advance(0, dt, x, v, model, frames, indptr, indices, data, np.zeros(1), base_ft, base_fn,
-             base_fc, blend, crack, collar_out, u_loc, f_loc, f, tallies, energies)
+             base_fc, blend, crack, collar_out, u_loc, f_loc, f, tallies, energies,
+             recorder.edge_matrix, recorder.edge_buffer, recorder.edge_state,
+             recorder.edge_peak)
+    recorder.start_edge_average(base_fn)
     for k in range(n_outputs + 1):
         row = recorder.record(t, x, v, frames, base_fn, crack, collar_out, energies, tallies,
-                              model.X)
+                              model.X, base_ft, base_fc)
         if energy0 is None:
             energy0 = row["energy_total"]
         recorder.finish_row(row, energy0)
@@ -150,26 +196,32 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
             break
         if k == n_outputs:
             break
-        times = t + dt * np.arange(steps_per_output)
+        # times from the step count, not accumulated: the trajectory then does not depend on
+        # how the steps are grouped into output intervals (contact stick/slip decisions amplify
+        # round-off differences)
+        times = start_time + dt * (steps_done + np.arange(steps_per_output))
         acc = np.ascontiguousarray(ground.acceleration(times), dtype=float)
         done = _advance(steps_per_output, dt, x, v, model, frames, indptr, indices, data, acc,
                         base_ft, base_fn, base_fc, blend, crack, collar_out, u_loc, f_loc, f,
-                        tallies, energies)
-        t += done * dt
+                        tallies, energies, recorder.edge_matrix, recorder.edge_buffer,
+                        recorder.edge_state, recorder.edge_peak)
+        steps_done += done
+        t = start_time + steps_done * dt
         if done < steps_per_output:
             reason = (f"numerical blow-up at t = {t:.4g} s: the state stopped being finite "
                       f"(dt = {dt:.3g} s too large for the contact or collar stiffness?)")
             break
         if progress and time.perf_counter() - last_print > 0.5:
             last_print = time.perf_counter()
-            _progress(t, duration, last_print - start)
+            _progress(t - start_time, duration, last_print - start)
     wall = time.perf_counter() - start
     if progress and wall > 0.5:
-        _progress(t, duration, wall, end=True)
+        _progress(t - start_time, duration, wall, end=True)
     history = recorder.close()
     summary = _summary(model, history, reason, overturned, dt, step, k, steps_per_output, wall,
-                       edge_length)
-    result = FemResult(history, summary, recorder.frames, model)
+                       edge_length, edge_time)
+    result = FemResult(history, summary, recorder.frames, model, recorder.velocity_frames,
+                       recorder.contact_frames)
     if out_dir is not None:
         from .output import write_outputs
         write_outputs(result, Path(out_dir))
@@ -191,6 +243,27 @@ def turned_about_toe(model: Model, x: np.ndarray, tilt: float, angular_velocity:
     return (pivot + turned).ravel(), v.ravel()
 
 
+def _restore_contact(model, state: dict, crack: list):
+    """The base contact arrays (ft, fc) from a restart's contact state, the crack passes' set in
+    place; shapes checked."""
+    try:
+        base = [np.array(state[key], dtype=float) for key in ("base_ft", "base_fc")]
+        passes = [[np.array(a, dtype=float) for a in state[key]] for key in ("crack_ft",
+                                                                            "crack_fc")]
+    except (KeyError, TypeError, ValueError) as err:
+        raise InputError(f"run initial_contact: needs base_ft, base_fc, crack_ft, crack_fc "
+                         f"({err})") from None
+    expected = [(model.base_nodes.size,)] * 2 + [(p[0].size,) for p in model.crack_passes] * 2
+    given = [a.shape for a in base] + [a.shape for a in passes[0] + passes[1]]
+    if given != expected:
+        raise InputError(f"run initial_contact: expected arrays of shapes {expected}, got "
+                         f"{given}")
+    for c, ft, fc in zip(crack, *passes):
+        c["ft"][:] = ft
+        c["fc"][:] = fc
+    return base[0], base[1]
+
+
 def _crack_state(crack_pass, ft0):
     if crack_pass is None:
         empty_i = np.zeros(0, dtype=np.int64)
@@ -205,7 +278,8 @@ def _crack_state(crack_pass, ft0):
 
 
 def _advance(n, dt, x, v, model, frames, indptr, indices, data, acc, base_ft, base_fn, base_fc,
-             blend, crack, collar_out, u_loc, f_loc, f, tallies, energies):
+             blend, crack, collar_out, u_loc, f_loc, f, tallies, energies, edge_weights,
+             edge_buffer, edge_state, edge_peak):
     """Advance n steps; n = 0 evaluates the forces at the present state without moving it (one
     step of size 0 on copies of the state)."""
     a, b = crack
@@ -216,6 +290,8 @@ def _advance(n, dt, x, v, model, frames, indptr, indices, data, acc, base_ft, ba
         b = {key: (val.copy() if isinstance(val, np.ndarray) else val) for key, val in b.items()}
         a["fn"], b["fn"] = crack[0]["fn"], crack[1]["fn"]      # outputs stay shared
         acc, dt, steps = np.zeros(1), 0.0, 1
+        edge_buffer, edge_state, edge_peak = edge_buffer.copy(), edge_state.copy(), \
+            edge_peak.copy()
     else:
         steps = n
     done = K.advance(steps, dt, x, v, model.X, model.mass, model.mesh.node_body,
@@ -225,7 +301,8 @@ def _advance(n, dt, x, v, model, frames, indptr, indices, data, acc, base_ft, ba
                      a["sl"], a["ma"], a["sign"], a["kn"], a["kt"], a["cn"], a["seg"], a["ft"],
                      a["fn"], a["fc"], b["sl"], b["ma"], b["sign"], b["kn"], b["kt"], b["cn"],
                      b["seg"], b["ft"], b["fn"], b["fc"], model.collar_nodes, model.collar_props,
-                     collar_out, u_loc, f_loc, f, tallies, energies)
+                     collar_out, u_loc, f_loc, f, tallies, energies, edge_weights, edge_buffer,
+                     edge_state, edge_peak)
     return 0 if n == 0 else done
 
 
@@ -240,12 +317,14 @@ def _progress(t, duration, wall, end=False):
 class _Recorder:
     """Recovers the outputs at each output time and streams them to history.csv."""
 
-    def __init__(self, model: Model, edge_length: float, out_dir):
+    def __init__(self, model: Model, edge_length: float, out_dir, edge_steps: int):
         self.model = model
         mesh = model.mesh
         p = mesh.points
         self.rows = []
         self.frames = []
+        self.velocity_frames = []
+        self.contact_frames = []
         # energy scale floor: the gravity work that tips the halves onto a toe,
         # m g R (1 - cos alpha) summed over the bodies
         w_b = mesh.width / mesh.n_bodies
@@ -274,6 +353,12 @@ class _Recorder:
             overlap = np.clip(np.minimum(trib_hi, hi) - np.maximum(trib_lo, lo), 0.0, None)
             self.edge_weights[name] = np.where(same_body, overlap / (trib_hi - trib_lo), 0.0)
         self.edge_area = edge_length * model.thickness
+        # the kernel keeps each toe resultant's peak over the steps since the last record
+        self.edge_matrix = np.ascontiguousarray(np.array(list(self.edge_weights.values())))
+        self.edge_peak = np.zeros(len(self.edge_weights))
+        self.edge_buffer = np.zeros((len(self.edge_weights), edge_steps))
+        self.edge_state = np.zeros(1 + len(self.edge_weights))
+
         self.crack_pairs = None
         if mesh.cracked:
             left, right = mesh.crack_nodes
@@ -292,6 +377,13 @@ class _Recorder:
                                                     for b, v in zip(bodies, xb)) + "\n")
         self.header = None
         self.base_area = model.base_tributary * model.thickness
+
+    def start_edge_average(self, base_fn):
+        """Fill the toe resultants' averaging buffers with their values at the start."""
+        resultants = self.edge_matrix @ base_fn
+        self.edge_buffer[:] = resultants[:, None]
+        self.edge_state[0] = 0.0
+        self.edge_state[1:] = resultants * self.edge_buffer.shape[1]
 
     def falling(self, row, previous) -> str | None:
         """Which part, if any, has its centre of mass beyond its outer toe and moving outward.
@@ -319,7 +411,8 @@ class _Recorder:
             hi.append(np.concatenate((mid, [xs[-1]])))
         return np.concatenate(lo), np.concatenate(hi)
 
-    def record(self, t, x, v, frames, base_fn, crack, collar_out, energies, tallies, X):
+    def record(self, t, x, v, frames, base_fn, crack, collar_out, energies, tallies, X,
+               base_ft, base_fc):
         model, mesh = self.model, self.model.mesh
         theta = -frames[:, 2]
         row = {"t": t, "theta_left": theta[0], "theta_right": theta[-1]}
@@ -334,8 +427,11 @@ class _Recorder:
         row["_toe_x_right"] = float(x[2 * self.toe_right])
         row["uplift_left"] = max(x[2 * self.toe_left + 1], 0.0)
         row["uplift_right"] = max(x[2 * self.toe_right + 1], 0.0)
-        for name, w in self.edge_weights.items():
-            row[f"edge_stress_{name}"] = float(w @ base_fn) / self.edge_area
+        # peak over the output interval ending at t (every step of it), not a sample at t
+        for e, (name, w) in enumerate(self.edge_weights.items()):
+            peak = float(self.edge_peak[e]) if self.rows else float(w @ base_fn)
+            row[f"edge_stress_{name}"] = peak / self.edge_area
+        self.edge_peak[:] = 0.0
         body_of_base = mesh.node_body[model.base_nodes]
         for b in range(mesh.n_bodies):
             row[f"base_normal_force_{b + 1}"] = float(base_fn[body_of_base == b].sum())
@@ -364,6 +460,11 @@ class _Recorder:
         row["energy_total"] = kinetic + energies[0] + gravity + energies[1] + energies[2] \
             + energies[3]
         self.frames.append((t, (x - X).reshape(-1, 2).copy()))
+        self.velocity_frames.append((t, v.reshape(-1, 2).copy()))
+        passes = [c for c in crack if c["sl"].size]
+        self.contact_frames.append((t, {"base_ft": base_ft.copy(), "base_fc": base_fc.copy(),
+                                        "crack_ft": [c["ft"].copy() for c in passes],
+                                        "crack_fc": [c["fc"].copy() for c in passes]}))
         if self.csv is not None:   # contact pressure along the base (Pa), one row per output
             pressure = base_fn / self.base_area
             self.pressure_csv.write(f"{t!r}," + ",".join(repr(float(q)) for q in pressure)
@@ -419,7 +520,7 @@ def _check(row, recorder, model, ground, t, stop_on_overturn):
 
 
 def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, wall,
-             edge_length):
+             edge_length, edge_time):
     h = history
     collars = model.collars
     util = [h[f"collar_{i}_utilisation"] for i in range(1, len(collars) + 1)]
@@ -441,6 +542,7 @@ def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, 
         "edge_stress_max": edge_max,
         "edge_stress_ratio": edge_max / model.stone.fc,
         "edge_length": edge_length,
+        "edge_time": edge_time,
         "energy_error_max": float(np.max(np.abs(h["energy_error"]))),
         "dt": dt,
         "dt_critical": step.critical,

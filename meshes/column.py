@@ -8,6 +8,11 @@ and weld the crack shut, so the arrays are stacked by hand.
 Grading: each body's columns of nodes cluster toward its two vertical edges (the rocking toes are
 the base corners), its rows toward the base; ``grading`` in [0, 1) sets how strongly (0: uniform).
 Rows can be pinned at given heights (the collars) so that attachment points are nodes.
+
+Toe refinement: the element columns within ``toe_zone`` of a body's vertical edges and the rows
+within ``toe_zone`` of the base are each split into ``toe_refinement`` equal parts, so that the
+base corners (the rocking toes, outer and at the crack) are refined that many times in both
+directions while the rest of the column keeps its size: a local h-refinement for the toe stress.
 """
 
 from __future__ import annotations
@@ -68,12 +73,25 @@ def _graded(n: int, grading: float, both_ends: bool) -> np.ndarray:
     return (1.0 - grading) * s + grading * clustered
 
 
+def _split(coords: np.ndarray, near, parts: int) -> np.ndarray:
+    """The node coordinates with every interval for which ``near(lo, hi)`` holds divided into
+    ``parts`` equal intervals."""
+    out = [coords[:1]]
+    for lo, hi in zip(coords[:-1], coords[1:]):
+        n = parts if near(lo, hi) else 1
+        out.append(lo + (hi - lo) * np.arange(1, n + 1) / n)
+    return np.concatenate(out)
+
+
 def column_mesh(width: float, height: float, size: float, *, cracked: bool = True,
-                grading: float = 0.5, pinned_heights=()) -> ColumnMesh:
+                grading: float = 0.5, pinned_heights=(), toe_refinement: int = 1,
+                toe_zone: float = 0.0) -> ColumnMesh:
     """Structured, graded quadrilateral mesh of the column.
 
     size: target element size (m), at most the width of one body; grading in [0, 1);
-    pinned_heights: heights (m) at which a row of nodes is placed exactly (collar positions).
+    pinned_heights: heights (m) at which a row of nodes is placed exactly (collar positions);
+    toe_refinement: how many times the elements within toe_zone (m) of a base corner are
+    split in x and in y (1: none).
     """
     require_positive("column width (m)", width)
     require_positive("column height (m)", height)
@@ -92,6 +110,15 @@ def column_mesh(width: float, height: float, size: float, *, cracked: bool = Tru
         raise InputError("mesh size is too coarse for the pinned (collar) heights: two collars "
                          "fall on the same row of nodes; use a smaller [mesh] size")
     xs = body_width * _graded(n_x, grading, both_ends=True)
+    if isinstance(toe_refinement, bool) or not isinstance(toe_refinement, (int, np.integer)) \
+            or not 1 <= toe_refinement <= 64:
+        raise InputError(f"mesh toe_refinement = {toe_refinement!r} must be an integer in "
+                         "[1, 64]")
+    if toe_refinement > 1:
+        require_positive("mesh toe_zone (m)", toe_zone)
+        ys = _split(ys, lambda lo, hi: lo < toe_zone, toe_refinement)
+        xs = _split(xs, lambda lo, hi: lo < toe_zone or hi > body_width - toe_zone,
+                    toe_refinement)
     offsets = [-0.5 * width, 0.0] if cracked else [-0.5 * width]
 
     points, cells, cell_body, node_body = [], [], [], []

@@ -56,8 +56,15 @@ def fem_case(case: dict, directory: str) -> dict:
     h = result.history
     restitution = effective_restitution(h["t"], h["theta_left"])
     slip = float(np.max(h["crack_slip_max"])) if "crack_slip_max" in h else 0.0
-    return {"summary": result.summary, "effective_restitution": restitution,
-            "crack_slip_max": slip}
+    out = {"summary": result.summary, "effective_restitution": restitution,
+           "crack_slip_max": slip}
+    if case.get("toe_refinement") and study.mesh_file is None and study.toe_refinements:
+        from ..fem.toe_stress import toe_stress_refinement
+        from .fem_study import toe_mesh
+        out["toe_refinement"] = toe_stress_refinement(
+            result, study.ground, lambda r: toe_mesh(study, r), study.toe_refinements)
+        write_json(Path(directory) / "toe_refinement.json", out["toe_refinement"])
+    return out
 
 
 def rigid_case(case: dict, directory: str) -> dict:
@@ -139,7 +146,8 @@ def run_crosscheck(study_path: Path, out: Path, *, workers: int | None = None,
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     base = {"study": data, "source": str(study_path), "base": str(study_path.parent.resolve())}
-    cases = [dict(base, key="fem", kind="fem", progress=progress and not scheduler),
+    cases = [dict(base, key="fem", kind="fem", progress=progress and not scheduler,
+                  toe_refinement=True),
              dict(base, key="multibody", kind="multibody"),
              dict(base, key="rigid", kind="rigid"),
              dict(base, key="monolith", kind="rigid"), dict(base, key="spectrum",
@@ -238,10 +246,11 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
                                                _peak_ratio(rigid["max_abs_theta"], mb_peak),
                                                multibody["overturned"]),
             "collars_yield": bool(fem["collar_max_utilisation"] >= 1.0),
-            "toe_crushes": bool(fem["edge_stress_ratio"] >= 1.0),
+            "toe_crushes": bool(_toe_ratio(study, results) >= 1.0),
             "rocks_as_one_block": bool(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
         },
         "fem": fem,
+        "toe_stress": _toe_stress(study, results),
         "rigid_multibody": {key: multibody.get(key) for key in (
             "overturned", "mode", "status", "impacts", "max_abs_theta_left",
             "max_abs_theta_right", "overturn_time", "max_abs_crack_slip", "max_crack_opening",
@@ -301,5 +310,35 @@ def _uncertainty(results: dict) -> dict | None:
         "collar_max_utilisation": lambda s: s["collar_max_utilisation"],
         "edge_stress_ratio": lambda s: s["edge_stress_ratio"],
     }
-    return {name: convergence_table([get(results[k]["summary"]) for k in keys], 2.0)
-            for name, get in quantities.items()}
+    table = {name: convergence_table([get(results[k]["summary"]) for k in keys], 2.0)
+             for name, get in quantities.items()}
+    table["edge_stress_ratio"]["method"] = "meshes 4h, 2h, h"
+    return table
+
+
+def _toe_stress(study, results: dict) -> dict | None:
+    """The toe stress from the local refinement over its impact (None when not run): the
+    quoted ratio to f_c is the refined meshes' largest, their spread its mesh uncertainty."""
+    refined = results["fem"].get("toe_refinement")
+    if not refined:
+        return None
+    fc = study.stone.fc
+
+    def finite(value):       # NaN (no monotone convergence) is null, in memory as in JSON
+        return None if value is None or not math.isfinite(value) else value
+
+    richardson = finite(refined["richardson"])
+    return {"ratio": refined["stress_bound"] / fc, "stress": refined["stress_bound"],
+            "spread": refined["spread"], "ratios": [p / fc for p in refined["peaks"]],
+            "unrefined_ratio": results["fem"]["summary"]["edge_stress_ratio"],
+            **{key: refined[key] for key in (
+                "toe", "t_start", "t_end", "t_peak", "refinements", "dofs", "steps",
+                "handover_error", "edge_length", "edge_time")},
+            "observed_order": finite(refined["observed_order"]),
+            "richardson_ratio": None if richardson is None else richardson / fc}
+
+
+def _toe_ratio(study, results: dict) -> float:
+    """Toe stress / f_c for the crushing verdict: the refined value where there is one."""
+    refined = _toe_stress(study, results)
+    return refined["ratio"] if refined else results["fem"]["summary"]["edge_stress_ratio"]

@@ -13,6 +13,9 @@
                friction_filter (s, 1e-3: low-pass time constant of the friction cone's normal force)
     [mesh]     size (m, default width / 16), grading (0.5), edge_length (m, default 0.1 x the
                width of a half: the toe length over which the edge stress is averaged),
+               edge_time (s, default 2.5e-4: the time over which it is averaged too),
+               toe_refinements (default [1, 2, 4, 8]: the cross-check reruns the impact that
+               gives the peak toe stress with the toe zones refined so many times; [] for none),
                file (a quadrilateral mesh made elsewhere, e.g. gmsh .msh, instead of size/grading)
     [run]      duration (s, default end of the ground motion + 1.5 s), output_interval (s,
                default duration / 400), dt (s, default: the stable step), safety (0.9),
@@ -31,6 +34,8 @@ from pathlib import Path
 
 from ..fem.assembly import Stone
 from ..fem.model import ContactSettings
+from ..fem.solver import EDGE_TIME
+from ..fem.toe_stress import REFINEMENTS
 from ..rigid.block import Block
 from ..rigid.collars import collars_from_tables
 from ..rigid.ground import NoMotion, cosine_pulse, read_record, sine_pulse
@@ -43,7 +48,7 @@ SCHEMA = {
     "ground": {"pulse", "amplitude", "amplitude_ratio", "period", "omega_ratio", "record",
                "scale"},
     "contact": {"friction", "penalty_factor", "penalty", "damping", "friction_filter"},
-    "mesh": {"size", "grading", "edge_length", "file"},
+    "mesh": {"size", "grading", "edge_length", "edge_time", "toe_refinements", "file"},
     "run": {"duration", "output_interval", "dt", "safety", "initial_tilt",
             "initial_angular_velocity"},
     "rigid": {"restitution", "model"},
@@ -75,6 +80,8 @@ class FemStudy:
     initial_tilt: float = 0.0                 # rad, theta sign
     initial_angular_velocity: float = 0.0     # rad/s
     source: str = ""
+    edge_time: float = EDGE_TIME              # s
+    toe_refinements: tuple = REFINEMENTS
 
     @property
     def rocking_block(self) -> Block:
@@ -83,6 +90,28 @@ class FemStudy:
         mass = self.stone.density * 2.0 * b * self.height * self.thickness
         return Block(b=b, h=0.5 * self.height, mass=mass,
                      restitution=self.rigid.get("restitution"))
+
+
+def _toe_refinements(value) -> tuple:
+    """[] or 1, 2, 4, ... (at least three, at most 16)."""
+    allowed = "[] or [1, 2, 4] or [1, 2, 4, 8] or [1, 2, 4, 8, 16]"
+    if not isinstance(value, list) or any(isinstance(v, bool) or not isinstance(v, int)
+                                          for v in value):
+        raise InputError(f"mesh.toe_refinements = {value!r} must be a list of integers: "
+                         f"{allowed}")
+    if value and (len(value) < 3 or value != [2 ** k for k in range(len(value))]
+                  or value[-1] > 16):
+        raise InputError(f"mesh.toe_refinements = {value!r} must be {allowed}")
+    return tuple(value)
+
+
+def toe_mesh(study: FemStudy, refinement: int):
+    """The study's generated mesh with its toe zones (edge_length from each base corner)
+    refined ``refinement`` times."""
+    from ..meshes.column import column_mesh
+    return column_mesh(study.width, study.height, study.mesh_size, cracked=study.cracked,
+                       grading=study.grading, pinned_heights=[c.y for c in study.collars],
+                       toe_refinement=refinement, toe_zone=study.edge_length)
 
 
 def load(path) -> FemStudy:
@@ -145,6 +174,10 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
                             closed_low=True)
     edge_length = _number(mesh, "edge_length", "mesh", 0.1 * body_width)
     require_range("mesh.edge_length (m)", edge_length, 0.0, body_width, closed_high=True)
+    edge_time = require_range("mesh.edge_time (s)", _number(mesh, "edge_time", "mesh", EDGE_TIME),
+                              0.0, 0.01, closed_low=True, closed_high=True,
+                              range_text="[0, 0.01] s")
+    toe_refinements = _toe_refinements(mesh.get("toe_refinements", list(REFINEMENTS)))
     mesh_file = None
     if "file" in mesh:
         mesh_file = (base / str(mesh["file"])).resolve()
@@ -156,7 +189,8 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
                      stone=stone, collars=collars, ground=None, contact=contact,
                      mesh_size=size, grading=grading, mesh_file=mesh_file,
                      edge_length=edge_length, duration=0.0,
-                     output_interval=None, dt=None, safety=0.9, rigid=rigid, source=source)
+                     output_interval=None, dt=None, safety=0.9, rigid=rigid, source=source,
+                     edge_time=edge_time, toe_refinements=toe_refinements)
     study.ground = _ground(data.get("ground", {}), study.rocking_block, base, source)
     run = data.get("run", {})
     duration = _number(run, "duration", "run", study.ground.end_time + 1.5)
@@ -242,8 +276,7 @@ def build(study: FemStudy):
             raise InputError(f"mesh.file {study.mesh_file.name} has {mesh.n_bodies} bodies but "
                              f"column.cracked = {str(study.cracked).lower()}")
     else:
-        mesh = column_mesh(study.width, study.height, study.mesh_size, cracked=study.cracked,
-                           grading=study.grading, pinned_heights=[c.y for c in study.collars])
+        mesh = toe_mesh(study, 1)
     return build_model(mesh, study.stone, study.thickness, study.collars, study.contact)
 
 
@@ -253,5 +286,5 @@ def run_study(study: FemStudy, out_dir=None, progress: bool = True):
     model = build(study)
     return run(model, study.ground, study.duration, dt=study.dt, safety=study.safety,
                output_interval=study.output_interval, edge_length=study.edge_length,
-               out_dir=out_dir, progress=progress, initial_tilt=study.initial_tilt,
+               edge_time=study.edge_time, out_dir=out_dir, progress=progress, initial_tilt=study.initial_tilt,
                initial_angular_velocity=study.initial_angular_velocity)

@@ -81,7 +81,7 @@ def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
     for key, shown in spans:
         node = summary
         for part in key.split("."):
-            node = node[part]
+            node = node[int(part)] if isinstance(node, list) else node[part]
         import html
         if isinstance(node, str):
             assert html.unescape(shown) == node, key
@@ -96,6 +96,12 @@ def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
                                np.interp(theta["t"], multibody["t"], multibody["theta_right"],
                                          right=np.nan))
     assert page.count("data:image/png") >= 5 and "data:image/gif" in page
+    # the toe stress refined over its impact, quoted in the verdict and tabulated
+    toe = summary["toe_stress"]
+    assert "Toe stress, refined" in page and f'data-key="toe_stress.ratios.{len(toe["refinements"]) - 1}"' in page
+    assert toe["ratio"] == max(toe["ratios"][1:])
+    assert summary["verdict"]["toe_crushes"] == (toe["ratio"] >= 1.0)
+    assert toe["handover_error"] < 0.05        # round-off amplified at the landings
 
 
 def test_study_with_a_typo_fails_before_any_work(tmp_path, capsys):
