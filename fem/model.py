@@ -70,6 +70,7 @@ class Model:
     crack_passes: list = field(repr=False)          # [(slaves, masters, sign, kn, kt, cn)]
     collar_nodes: np.ndarray = field(repr=False)    # (n_collars, 6) int
     collar_props: np.ndarray = field(repr=False)    # (n_collars, 7)
+    top_load: float = 0.0                           # N, on the capital (see build_model)
 
     @property
     def n_dofs(self) -> int:
@@ -93,9 +94,24 @@ def _penalty(stone, thickness, contact, tributary, h):
 
 
 def build_model(mesh: ColumnMesh, stone: Stone, thickness: float, collars=(),
-                contact: ContactSettings = ContactSettings(), g: float = 9.81) -> Model:
-    """Assemble bodies, contact pairs and collar elements."""
+                contact: ContactSettings = ContactSettings(), g: float = 9.81,
+                top_load: float = 0.0) -> Model:
+    """Assemble bodies, contact pairs and collar elements.
+
+    ``top_load`` (N): a vertical dead load on the capital, spread as a uniform pressure
+    top_load / (width x thickness) over the top faces and lumped to the top nodes by their
+    tributary lengths. It joins gravity in the constant load vector ``gravity``, so the
+    energy balance counts its work as potential energy."""
+    require_range("column top_load (N)", top_load, 0.0, math.inf, closed_low=True,
+                  range_text="[0, inf)")
     a = assemble(mesh, stone, thickness, g)
+    if top_load > 0.0:
+        p = mesh.points
+        for body in range(mesh.n_bodies):
+            nodes = mesh.body_nodes(body)
+            top = nodes[np.abs(p[1, nodes] - mesh.height) <= 1e-9 * mesh.height]
+            top = top[np.argsort(p[0, top])]
+            a.gravity[2 * top + 1] -= top_load / mesh.width * _tributary(p[0, top])
     p = mesh.points
     X = p.T.ravel().copy()
     node_mass = a.lumped_mass[0::2]
@@ -134,7 +150,7 @@ def build_model(mesh: ColumnMesh, stone: Stone, thickness: float, collars=(),
     return Model(mesh, stone, float(thickness), tuple(collars), contact, g, a.stiffness,
                  a.lumped_mass, a.gravity, X, centroid_ref, base_nodes.astype(np.int64), base_kn,
                  base_kn.copy(), base_cn, np.concatenate(trib_all), passes, collar_nodes,
-                 collar_props)
+                 collar_props, float(top_load))
 
 
 def _node_above(mesh: ColumnMesh, nodes: np.ndarray) -> np.ndarray:

@@ -219,7 +219,9 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
         _progress(t - start_time, duration, wall, end=True)
     history = recorder.close()
     summary = _summary(model, history, reason, overturned, dt, step, k, steps_per_output, wall,
-                       edge_length, edge_time)
+                       edge_length, edge_time,
+                       initial_state is None and initial_tilt == 0.0
+                       and initial_angular_velocity == 0.0 and initial_velocity is None)
     result = FemResult(history, summary, recorder.frames, model, recorder.velocity_frames,
                        recorder.contact_frames)
     if out_dir is not None:
@@ -520,7 +522,7 @@ def _check(row, recorder, model, ground, t, stop_on_overturn):
 
 
 def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, wall,
-             edge_length, edge_time):
+             edge_length, edge_time, static_start):
     h = history
     collars = model.collars
     util = [h[f"collar_{i}_utilisation"] for i in range(1, len(collars) + 1)]
@@ -530,6 +532,8 @@ def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, 
         if hit.size:
             ty = float(h["t"][hit[0]])
             first_yield = ty if first_yield is None else min(first_yield, ty)
+    bodies = [key for key in h if key.startswith("base_normal_force_")]
+    reaction0 = float(sum(h[key][0] for key in bodies))
     edge_keys = [key for key in h if key.startswith("edge_stress_")]
     edge_max = max(float(np.max(h[key])) for key in edge_keys)
     return {
@@ -543,6 +547,10 @@ def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, 
         "edge_stress_ratio": edge_max / model.stone.fc,
         "edge_length": edge_length,
         "edge_time": edge_time,
+        # the base's total normal force at t = 0: the static reaction, weight + top load,
+        # when the run starts from the static state (None for a release or a restart)
+        "base_reaction_static": reaction0 if static_start else None,
+        "top_load": model.top_load,
         "energy_error_max": float(np.max(np.abs(h["energy_error"]))),
         "dt": dt,
         "dt_critical": step.critical,

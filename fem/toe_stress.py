@@ -90,7 +90,7 @@ def toe_stress_refinement(result: FemResult, ground, mesh_for: Callable[[int], C
     for r in refinements:
         mesh = mesh_for(r)
         fine = build_model(mesh, model.stone, model.thickness, model.collars, model.contact,
-                           model.g)
+                           model.g, model.top_load)
         window = run(fine, ground, t_end - t_start, start_time=t_start,
                      initial_state=transfer_state(model.mesh, mesh, u, v),
                      initial_contact=transfer_contact(model, fine, contact),

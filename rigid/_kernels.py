@@ -4,7 +4,11 @@ Everything is written per unit of the half block's inertia J0 and with the groun
 divided by g. For rocking on the side ``s = sign(theta)`` (s = +1 or -1):
 
 nonlinear   theta'' = -p^2 [sin(s alpha - theta) + (ug''/g) cos(s alpha - theta)] + M_c / (2 J0)
+                      - p^2 lambda [sin(s alpha - theta) - cos(alpha) sin(theta)]   (top load)
 linear      theta'' =  p^2 theta - p^2 (s alpha + ug''/g)                         + M_c / (2 J0)
+
+(lambda = top load / m g, see rigid.block; the linear model takes a top load through the
+equivalent free block of :func:`rigid.solve.kernel_params`, so P_LOAD is 0 there)
 
 with the collar moment M_c / (2 J0) = -k_a (r - 1) sin(theta) cos(theta) / (2 r) - k_l sin(theta)
 cos(theta) / 2, r = sqrt(1 + sin^2(theta) / 4) (exact, see rigid.collars) or -k_l theta / 2
@@ -22,8 +26,9 @@ import numpy as np
 from numba import njit, prange
 
 P_P2, P_ALPHA, P_NONLINEAR, P_GROUND, P_AG, P_OMEGA, P_PHASE, P_TEND, P_KA, P_KL, P_NU, \
-    P_UPLIFT, P_TH0, P_OM0 = range(14)
-N_PARAMS = 14      # P_TH0, P_OM0: initial rotation (rad) and angular velocity (rad/s), 0: at rest
+    P_UPLIFT, P_TH0, P_OM0, P_LOAD = range(15)
+N_PARAMS = 15      # P_TH0, P_OM0: initial rotation (rad) and angular velocity (rad/s), 0: at rest
+# P_LOAD: lambda = top load / (m g) (nonlinear model only)
 
 GROUND_NONE, GROUND_HARMONIC, GROUND_RECORD = 0, 1, 2
 
@@ -39,8 +44,10 @@ REST_HOP = 1e-9
 
 
 @njit(cache=True)
-def make_params(p, alpha, nonlinear, ground_kind, ag, omega, phase, t_end, ka, kl, nu, uplift):
+def make_params(p, alpha, nonlinear, ground_kind, ag, omega, phase, t_end, ka, kl, nu, uplift,
+                load):
     P = np.zeros(N_PARAMS)
+    P[P_LOAD] = load
     P[P_P2] = p * p
     P[P_ALPHA] = alpha
     P[P_NONLINEAR] = 1.0 if nonlinear else 0.0
@@ -86,6 +93,8 @@ def angular_acceleration(t, theta, s, P, rec_t, rec_a):
     if P[P_NONLINEAR] > 0.5:
         arg = s * P[P_ALPHA] - theta
         acc = -p2 * (math.sin(arg) + ug * math.cos(arg))
+        if P[P_LOAD] != 0.0:
+            acc -= p2 * P[P_LOAD] * (math.sin(arg) - math.cos(P[P_ALPHA]) * math.sin(theta))
         if P[P_KA] != 0.0 or P[P_KL] != 0.0:
             sn = math.sin(theta)
             sc = sn * math.cos(theta)
@@ -104,6 +113,8 @@ def mechanical_energy(theta, omega, P):
     x = abs(theta)
     if P[P_NONLINEAR] > 0.5:
         e = 0.5 * omega * omega + p2 * (math.cos(a - x) - math.cos(a))
+        # the top load's potential: its height 2h cos(theta) + b sin|theta| above its rest
+        e += p2 * P[P_LOAD] * (2.0 * math.cos(a) * (math.cos(x) - 1.0) + math.sin(a) * math.sin(x))
         sn = math.sin(theta)
         e += P[P_KA] * (math.sqrt(1.0 + 0.25 * sn * sn) - 1.0) ** 2 + 0.25 * P[P_KL] * sn * sn
     else:
@@ -113,11 +124,25 @@ def mechanical_energy(theta, omega, P):
 
 @njit(cache=True)
 def energy_barrier(P):
-    """Gravity potential at |theta| = alpha: below it the free block can never overturn."""
+    """Gravity potential at the unstable equilibrium (|theta| = alpha without a top load):
+    below it the free block can never overturn."""
     a = P[P_ALPHA]
     if P[P_NONLINEAR] > 0.5:
-        return P[P_P2] * (1.0 - math.cos(a))
+        lam = P[P_LOAD]
+        tc = critical_angle(P)
+        return P[P_P2] * (math.cos(a - tc) - math.cos(a) + lam * (
+            2.0 * math.cos(a) * (math.cos(tc) - 1.0) + math.sin(a) * math.sin(tc)))
     return 0.5 * P[P_P2] * a * a
+
+
+@njit(cache=True)
+def critical_angle(P):
+    """The free block's unstable equilibrium: atan((1 + lambda) / (1 + 2 lambda) tan alpha)
+    (alpha without a top load; the linear model's alpha is already the equivalent block's)."""
+    lam = P[P_LOAD]
+    if lam == 0.0 or P[P_NONLINEAR] < 0.5:
+        return P[P_ALPHA]
+    return math.atan((1.0 + lam) / (1.0 + 2.0 * lam) * math.tan(P[P_ALPHA]))
 
 
 @njit(cache=True)
@@ -294,7 +319,8 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
     barrier = energy_barrier(P)
     # linear model: the free block diverges once beyond its unstable equilibrium moving outward,
     # at alpha p^2 / (p^2 - k_l / 2) with collars (none if the collars make it stable)
-    theta_unstable = alpha
+    theta_c = critical_angle(P)
+    theta_unstable = theta_c
     if has_collars:
         theta_unstable = HALF_PI
         lam = P[P_P2] - 0.5 * P[P_KL]
@@ -440,7 +466,7 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
                 max_theta = HALF_PI
                 break
             # trapped in the well: inside |theta| < alpha without the energy to reach alpha
-            if early_exit and abs(th) < alpha and mechanical_energy(th, om, P) < barrier:
+            if early_exit and abs(th) < theta_c and mechanical_energy(th, om, P) < barrier:
                 status = AT_REST
                 break
         h *= min(5.0, 0.9 * max(err, 1e-10) ** -0.2)
@@ -699,7 +725,7 @@ def _mode(status, n_imp):
 
 
 @njit(parallel=True, cache=True)
-def spectrum_modes(p, alpha, nu, nonlinear, cosine, ka, kl, uplift, omega_ratios,
+def spectrum_modes(p, alpha, nu, nonlinear, cosine, ka, kl, uplift, load, omega_ratios,
                    amplitude_ratios, t_after, rtol, atol):
     """Mode map and peak |theta| (up to the moment the fate is settled): rows follow
     amplitude_ratios, columns omega_ratios (codes SAFE, AFTER_IMPACT, WITHOUT_IMPACT). The linear
@@ -723,7 +749,7 @@ def spectrum_modes(p, alpha, nu, nonlinear, cosine, ka, kl, uplift, omega_ratios
             phase = math.asin(min(1.0, 1.0 / abs(ratio)))
             t_end = (2.0 * math.pi - phase) / omega
         P = make_params(p, alpha, nonlinear, GROUND_HARMONIC, ag, omega, phase, t_end, ka,
-                           kl, nu, uplift)
+                        kl, nu, uplift, load)
         t_stop = t_end + t_after
         segs = np.zeros((1, 6))
         imps = np.zeros((1, 3))

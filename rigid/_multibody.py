@@ -260,7 +260,7 @@ def _solve_contacts(W, bvec, P, mu, n_act, tol, max_iter):
 
 
 @njit(cache=True)
-def _step(t, h, q, v, mass, minv, g, cand_a, cand_b, cand_pt, cand_face, cand_mu, cand_kind,
+def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, cand_mu, cand_kind,
           col_a, col_b, col_r, col_props, ground_kind, gpar, rec_t, rec_a, e_n, tol, max_iter,
           ws, P_prev, was_active, pivot_side, armed, impact_tol, impacts, tallies, forces):
     """One Moreau-Jean step of size h from time t; q, v and the contact state updated in place.
@@ -283,6 +283,10 @@ def _step(t, h, q, v, mass, minv, g, cand_a, cand_b, cand_pt, cand_face, cand_mu
     for i in range(nb):
         f[3 * i] = -mass[i] * ag
         f[3 * i + 1] = -mass[i] * g
+        load = half[i, 2]
+        if load != 0.0:       # dead top load at the top's centre, (0, hh) in the body frame
+            f[3 * i + 1] -= load
+            f[3 * i + 2] += load * half[i, 1] * math.sin(qm[3 * i + 2])
     if col_a.size:
         collar_forces(qm, col_a, col_b, col_r, col_props, f, col_out)
     for k in range(n_dof):
@@ -435,9 +439,6 @@ def simulate(q, v, mass, inertia, half, g,
         minv[3 * i] = 1.0 / mass[i]
         minv[3 * i + 1] = 1.0 / mass[i]
         minv[3 * i + 2] = 1.0 / inertia[i]
-    y_rest = np.empty(nb)
-    for i in range(nb):
-        y_rest[i] = half[i, 1]
     ws = (np.empty(n_dof), np.empty(n_dof), np.empty(n_dof), np.empty(n_dof),
           np.zeros(2 * nc), np.zeros(2 * nc), np.zeros(2 * nc), np.zeros(nc),
           np.zeros((2 * nc, n_dof)), np.zeros((2 * nc, 2 * nc)), np.zeros(nc, dtype=np.int64),
@@ -462,7 +463,7 @@ def simulate(q, v, mass, inertia, half, g,
     status = FINISHED
     reason = OVER_NONE
     t_over = -1.0
-    _write_row(out, n_rows, 0.0, q, v, mass, inertia, y_rest, g, col_a, col_b, col_r,
+    _write_row(out, n_rows, 0.0, q, v, mass, inertia, half, g, col_a, col_b, col_r,
                col_props, col_out, no_force, tallies, forces)
     n_rows += 1
     step = 0
@@ -476,7 +477,7 @@ def simulate(q, v, mass, inertia, half, g,
             saved[4][:] = pivot_side
             saved[5][:] = armed
             saved[6][:] = tallies
-        closed = _step(t, h, q, v, mass, minv, g, cand_a, cand_b, cand_pt, cand_face, cand_mu,
+        closed = _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, cand_mu,
                        cand_kind, col_a, col_b, col_r, col_props, ground_kind, gpar, rec_t,
                        rec_a, e_n, tol, max_iter, ws, P_prev, was_active, pivot_side, armed,
                        impact_tol, impacts, tallies, forces)
@@ -490,7 +491,7 @@ def simulate(q, v, mass, inertia, half, g,
             tallies[:] = saved[6]
             hs = h / refine
             for sub in range(refine):
-                _step(t + sub * hs, hs, q, v, mass, minv, g, cand_a, cand_b, cand_pt,
+                _step(t + sub * hs, hs, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt,
                       cand_face, cand_mu, cand_kind, col_a, col_b, col_r, col_props,
                       ground_kind, gpar, rec_t, rec_a, e_n, tol, max_iter, ws, P_prev,
                       was_active, pivot_side, armed, impact_tol, impacts, tallies, forces)
@@ -522,12 +523,12 @@ def simulate(q, v, mass, inertia, half, g,
         write = status != FINISHED or step % out_every == 0 or step == n_steps
         mech = 0.0
         if write or early_exit or step % 64 == 0:
-            mech = _mechanical(q, v, mass, inertia, y_rest, g, col_a, col_b, col_r, col_props,
+            mech = _mechanical(q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props,
                                col_out, no_force)
             if not (abs(mech) <= 1e3 * energy_scale + 1e3 * abs(tallies[1])):
                 status = UNSTABLE
         if write and n_rows < out.shape[0]:
-            _write_row(out, n_rows, t_new, q, v, mass, inertia, y_rest, g, col_a, col_b, col_r,
+            _write_row(out, n_rows, t_new, q, v, mass, inertia, half, g, col_a, col_b, col_r,
                        col_props, col_out, no_force, tallies, forces)
             n_rows += 1
         if status != FINISHED:
@@ -540,21 +541,33 @@ def simulate(q, v, mass, inertia, half, g,
 
 
 @njit(cache=True)
-def _mechanical(q, v, mass, inertia, y_rest, g, col_a, col_b, col_r, col_props, col_out,
+def _potential(q, mass, half, g, i):
+    """Gravity and top-load potential of body i above its rest (J): its centre of mass rests
+    at half[i, 1], the top's centre (0, half[i, 1]) in its frame at 2 half[i, 1]."""
+    hh = half[i, 1]
+    e = mass[i] * g * (q[3 * i + 1] - hh)
+    load = half[i, 2]
+    if load != 0.0:
+        e += load * (q[3 * i + 1] + hh * math.cos(q[3 * i + 2]) - 2.0 * hh)
+    return e
+
+
+@njit(cache=True)
+def _mechanical(q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props, col_out,
                 no_force):
-    """Kinetic + gravity (above rest) + collar energy (J)."""
+    """Kinetic + gravity and top load (above rest) + collar energy (J)."""
     e = 0.0
     for i in range(mass.size):
         e += 0.5 * mass[i] * (v[3 * i] ** 2 + v[3 * i + 1] ** 2)
         e += 0.5 * inertia[i] * v[3 * i + 2] ** 2
-        e += mass[i] * g * (q[3 * i + 1] - y_rest[i])
+        e += _potential(q, mass, half, g, i)
     if col_a.size:
         e += collar_forces(q, col_a, col_b, col_r, col_props, no_force, col_out)
     return e
 
 
 @njit(cache=True)
-def _write_row(out, row, t, q, v, mass, inertia, y_rest, g, col_a, col_b, col_r, col_props,
+def _write_row(out, row, t, q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props,
                col_out, no_force, tallies, forces):
     nb = mass.size
     out[row, OUT_T] = t
@@ -566,7 +579,7 @@ def _write_row(out, row, t, q, v, mass, inertia, y_rest, g, col_a, col_b, col_r,
             out[row, 1 + N_BODY_COLS * i + 3 + k] = v[3 * i + k]
         kinetic += 0.5 * mass[i] * (v[3 * i] ** 2 + v[3 * i + 1] ** 2)
         kinetic += 0.5 * inertia[i] * v[3 * i + 2] ** 2
-        gravity += mass[i] * g * (q[3 * i + 1] - y_rest[i])
+        gravity += _potential(q, mass, half, g, i)
     collar = 0.0
     if col_a.size:
         collar = collar_forces(q, col_a, col_b, col_r, col_props, no_force, col_out)

@@ -7,6 +7,22 @@ height of the rocking block (for a cracked column, of one half column: the full 
 
 Housner's coefficient of restitution for a rectangular block (the paper's Eq. 12 with the sin^2
 restored) is ``nu = 1 - (2 m R^2 / J0) sin^2(alpha) = 1 - 1.5 sin^2(alpha)``.
+
+Top load: a vertical dead load P (N, without mass: the weight of an architrave or of an arch
+springing carried by the block) acting at the centre of the block's top. With lambda = P / (m g),
+rocking on the corner s = sign(theta), the gravity moment about that corner per m g R is
+
+    sin(s alpha - theta) + lambda [sin(s alpha - theta) - cos(alpha) sin(theta)]
+
+(the load's arm is b cos(theta) - 2h sin(theta), twice the centre of mass's height), so that
+
+    uplift at |ug''| = g tan(alpha) (1 + lambda)                                   (Eq. 2 with P)
+    unstable equilibrium theta_c = atan((1 + lambda) / (1 + 2 lambda) tan(alpha))  (< alpha)
+    linearised: theta'' = p^2 (1 + 2 lambda) theta - p^2 ((1 + lambda) s alpha + ug''/g), the
+    free block's linear equation with p' = p sqrt(1 + 2 lambda), alpha' = alpha (1 + lambda) /
+    (1 + 2 lambda) and ug''/g scaled by 1 / (1 + 2 lambda).
+
+The load has no mass, so it gives no impulse at an impact: Housner's restitution is unchanged.
 """
 
 from __future__ import annotations
@@ -46,6 +62,7 @@ class Block:
     mass: float | None = None
     restitution: float | None = None
     g: float = STANDARD_GRAVITY
+    top_load: float = 0.0        # N, dead load at the centre of the top (see the module notes)
 
     def __post_init__(self):
         require_positive("b (block half width, m)", self.b)
@@ -56,6 +73,10 @@ class Block:
         if self.restitution is not None:
             require_range("restitution", self.restitution, 0.0, 1.0, closed_low=True,
                           closed_high=True)
+        require_range("top_load (N)", self.top_load, 0.0, math.inf, closed_low=True,
+                      range_text="[0, inf)")
+        if self.top_load > 0.0:
+            self.require_mass("a top load (it is measured against the block's weight)")
 
     # --- constructors -------------------------------------------------------------------
     @classmethod
@@ -112,13 +133,32 @@ class Block:
     def restitution_housner(self) -> float:
         return housner_restitution(self.alpha)
 
+    @property
+    def load_ratio(self) -> float:
+        """lambda = top_load / (m g): the top load against the block's weight (-)."""
+        if self.top_load == 0.0:
+            return 0.0
+        return self.top_load / (self.require_mass("the load ratio") * self.g)
+
     def uplift_acceleration(self, model: str = "nonlinear") -> float:
         """Minimum ground acceleration that starts rocking (Eq. 2-3), m/s^2.
 
-        g tan(alpha) for the nonlinear equation, g alpha for the linearised one.
+        g tan(alpha) (1 + lambda) for the nonlinear equation, g alpha (1 + lambda) for the
+        linearised one (lambda: :attr:`load_ratio`).
         """
         check_model(model)
-        return self.g * (math.tan(self.alpha) if model == "nonlinear" else self.alpha)
+        slope = math.tan(self.alpha) if model == "nonlinear" else self.alpha
+        return self.g * slope * (1.0 + self.load_ratio)
+
+    def critical_angle(self, model: str = "nonlinear") -> float:
+        """Rotation of the unstable equilibrium of the free block (rad): alpha without a top
+        load; atan((1 + lambda) / (1 + 2 lambda) tan(alpha)) with one (linearised: alpha (1 +
+        lambda) / (1 + 2 lambda))."""
+        check_model(model)
+        lam = self.load_ratio
+        if model == "nonlinear":
+            return math.atan((1.0 + lam) / (1.0 + 2.0 * lam) * math.tan(self.alpha))
+        return self.alpha * (1.0 + lam) / (1.0 + 2.0 * lam)
 
     def time_to_vertical(self, theta0: float) -> float:
         """Free rocking from rest at theta0 to the vertical, linear model (corrected Eq. 13), s.

@@ -62,7 +62,8 @@ class MultibodyColumn:
     crack_friction: float
     mass: np.ndarray = field(repr=False)            # (n_bodies,) kg
     inertia: np.ndarray = field(repr=False)         # (n_bodies,) kg m^2, centroidal
-    half: np.ndarray = field(repr=False)            # (n_bodies, 2): half width, half height
+    # (n_bodies, 3): half width, half height (m), dead load at the top's centre (N)
+    half: np.ndarray = field(repr=False)
     q_rest: np.ndarray = field(repr=False)          # (3 n_bodies,)
     cand_a: np.ndarray = field(repr=False)
     cand_b: np.ndarray = field(repr=False)
@@ -96,11 +97,13 @@ class MultibodyColumn:
     def overturning_barrier(self) -> float:
         """The least energy above rest (J) with which any part can pass its toe: the whole
         column tipping as one block, or (cracked) one half alone."""
-        g, h = self.block.g, self.block.h
-        b_col = 0.5 * self.column_width
-        barrier = self.total_mass * g * (math.hypot(b_col, h) - h)
-        for m, (bw, hh) in zip(self.mass, self.half):
-            barrier = min(barrier, m * g * (math.hypot(bw, hh) - hh))
+        g = self.block.g
+        whole = Block(b=0.5 * self.column_width, h=self.block.h, mass=self.total_mass, g=g,
+                      top_load=float(self.half[:, 2].sum()))
+        barrier = overturning_energy(whole)
+        for m, (bw, hh, load) in zip(self.mass, self.half):
+            barrier = min(barrier, overturning_energy(Block(b=bw, h=hh, mass=m, g=g,
+                                                            top_load=load)))
         return float(barrier)
 
     def rocking_energy(self) -> float:
@@ -131,13 +134,24 @@ class MultibodyColumn:
         return 2.0 / math.sqrt(lam) if lam > 0.0 else math.inf
 
 
+def overturning_energy(block: Block) -> float:
+    """Energy above rest (J) that takes a free block, with its top load, to its unstable
+    equilibrium theta_c: m g R (cos(alpha - theta_c) - cos alpha) + P R (2 cos alpha (cos
+    theta_c - 1) + sin alpha sin theta_c); m g (R - h) without a load."""
+    m = block.require_mass("the overturning energy")
+    a, tc, R = block.alpha, block.critical_angle("nonlinear"), block.R
+    return (m * block.g * R * (math.cos(a - tc) - math.cos(a)) + block.top_load * R * (
+        2.0 * math.cos(a) * (math.cos(tc) - 1.0) + math.sin(a) * math.sin(tc)))
+
+
 def build_column(block: Block, *, cracked: bool = False, collars=(),
                  friction: float = DEFAULT_FRICTION,
                  crack_friction: float | None = None) -> MultibodyColumn:
     """Bodies, contact candidates and collar elements of a solid or cracked column.
 
-    ``block`` is the rocking block (one half of a cracked column). Its mass is needed with
-    collars; a free block may have none (the motion does not depend on it: 1 kg is used).
+    ``block`` is the rocking block (one half of a cracked column), with its top load (each
+    half of a cracked column carries its block's). Its mass is needed with collars or a top
+    load; a free block may have none (the motion does not depend on it: 1 kg is used).
     Collars need a cracked column (on a solid one both ends sit on the same rigid body)."""
     require_non_negative("friction (base Coulomb coefficient)", friction)
     crack_friction = friction if crack_friction is None else crack_friction
@@ -183,7 +197,8 @@ def build_column(block: Block, *, cracked: bool = False, collars=(),
         col_props[c] = (ea_l, ei_l, collar.pretension, chord, 0.0)
     return MultibodyColumn(
         block, bool(cracked), collars, float(friction), float(crack_friction),
-        np.full(n, float(m)), np.full(n, inertia), np.tile([b, h], (n, 1)).astype(float),
+        np.full(n, float(m)), np.full(n, inertia),
+        np.tile([b, h, block.top_load], (n, 1)).astype(float),
         q_rest, np.array(cand_a, dtype=np.int64), np.array(cand_b, dtype=np.int64),
         np.array(cand_pt, dtype=float), np.array(cand_face, dtype=float),
         np.array(cand_mu, dtype=float), np.array(cand_kind, dtype=np.int64), col_a, col_b,

@@ -93,6 +93,8 @@ class RockingResult:
             "alpha": self.block.alpha,
             "restitution": self.block.nu,
             "restitution_housner": self.block.restitution_housner,
+            "top_load": self.block.top_load,
+            "critical_angle": self.block.critical_angle(self.model),
         }
         if self.collar_histories:
             out["collars"] = [{
@@ -110,28 +112,43 @@ class RockingResult:
         return out
 
 
+def kernel_block_constants(block: Block, model: str):
+    """(p, alpha, uplift level / g, ground scale, lambda) as the kernels take them.
+
+    The nonlinear kernel takes the top load's lambda itself. The linear model with a top load is
+    the linear free block with p' = p sqrt(1 + 2 lambda), alpha' = alpha (1 + lambda) / (1 + 2
+    lambda) and the ground acceleration scaled by 1 / (1 + 2 lambda) (see rigid.block), so it
+    gets those constants and lambda = 0."""
+    lam = block.load_ratio
+    if model == "nonlinear":
+        return block.p, block.alpha, math.tan(block.alpha) * (1.0 + lam), 1.0, lam
+    stiffening = 1.0 + 2.0 * lam
+    alpha = block.alpha * (1.0 + lam) / stiffening
+    return block.p * math.sqrt(stiffening), alpha, alpha, 1.0 / stiffening, 0.0
+
+
 def kernel_params(block: Block, ground, collars=(), model: str = "linear",
                   initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0):
     """Parameter vector and record arrays for the kernels (ground None: free rocking)."""
     check_model(model)
     g = block.g
     nonlinear = model == "nonlinear"
-    uplift = math.tan(block.alpha) if nonlinear else block.alpha
+    p, alpha, uplift, scale, load = kernel_block_constants(block, model)
     ka, kl = collar_kernel_constants(block, collars)
     if isinstance(ground, HarmonicPulse):
-        P = K.make_params(block.p, block.alpha, nonlinear, K.GROUND_HARMONIC,
-                          ground.amplitude / g, ground.omega, ground.phase, ground.duration,
-                          ka, kl, block.nu, uplift)
+        P = K.make_params(p, alpha, nonlinear, K.GROUND_HARMONIC,
+                          scale * ground.amplitude / g, ground.omega, ground.phase,
+                          ground.duration, ka, kl, block.nu, uplift, load)
         rec_t = rec_a = np.zeros(1)
     elif isinstance(ground, Record):
         rec_t = np.ascontiguousarray(ground.time)
-        rec_a = np.ascontiguousarray(ground.acceleration_values / g)
-        P = K.make_params(block.p, block.alpha, nonlinear, K.GROUND_RECORD, 0.0, 0.0, 0.0,
-                          float(rec_t[-1]), ka, kl, block.nu, uplift)
+        rec_a = np.ascontiguousarray(scale * ground.acceleration_values / g)
+        P = K.make_params(p, alpha, nonlinear, K.GROUND_RECORD, 0.0, 0.0, 0.0,
+                          float(rec_t[-1]), ka, kl, block.nu, uplift, load)
     elif ground is None or isinstance(ground, NoMotion):
         rec_t = rec_a = np.zeros(1)
-        P = K.make_params(block.p, block.alpha, nonlinear, K.GROUND_NONE, 0.0, 0.0, 0.0, 0.0,
-                          ka, kl, block.nu, uplift)
+        P = K.make_params(p, alpha, nonlinear, K.GROUND_NONE, 0.0, 0.0, 0.0, 0.0,
+                          ka, kl, block.nu, uplift, load)
     else:
         raise InputError(f"ground motion of type {type(ground).__name__} is not supported")
     require_range("initial tilt (rad)", initial_tilt, -0.5 * math.pi, 0.5 * math.pi,

@@ -20,7 +20,7 @@ from . import _kernels as K
 from .block import Block, check_model
 from .collars import collar_kernel_constants, collar_yield_rotation, validate_collars
 from .ground import PULSE_KINDS
-from .solve import DEFAULT_ATOL, MODE_NAMES
+from .solve import DEFAULT_ATOL, MODE_NAMES, kernel_block_constants
 from .validation import InputError
 
 LAYOUT = "mode[i][j]: i indexes amplitude_ratios (rows), j indexes omega_ratios (columns)"
@@ -73,12 +73,14 @@ def overturning_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(
     collars = validate_collars(collars, block)
     ka, kl = collar_kernel_constants(block, collars)
     nonlinear = model == "nonlinear"
-    uplift = math.tan(block.alpha) if nonlinear else block.alpha
+    # (a top load makes the linear model an equivalent free block of another p: the omega
+    # ratios, relative to the block's own p, are carried over to it)
+    p, alpha, uplift, _, load = kernel_block_constants(block, model)
     if free_time is None:
         free_time = 50.0 / block.p
     start = time.perf_counter()
-    codes, max_theta = K.spectrum_modes(block.p, block.alpha, block.nu, nonlinear,
-                                        pulse == "cosine", ka, kl, uplift, omega_ratios,
+    codes, max_theta = K.spectrum_modes(p, alpha, block.nu, nonlinear, pulse == "cosine", ka,
+                                        kl, uplift, load, omega_ratios * (block.p / p),
                                         amplitude_ratios, free_time, rtol, atol)
     seconds = time.perf_counter() - start
     yields = None

@@ -13,6 +13,7 @@ Bad input ends with one line ``colonna: error: ...`` naming the parameter, exit 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import sys
@@ -54,6 +55,9 @@ def _add_block_options(parser: argparse.ArgumentParser) -> None:
                    help="linear or nonlinear: the SDOF rocking equation; multibody: rigid "
                         "bodies with contact and friction (default nonlinear)")
     g.add_argument("--g", type=float, default=9.81, help="gravity (m/s^2), default 9.81")
+    g.add_argument("--top-load", type=float, default=0.0,
+                   help="dead load on the top of the block (N, default 0; needs --mass or "
+                        "--density): an architrave or arch springing, without mass")
 
 
 def _block_from_args(args) -> Block:
@@ -77,9 +81,11 @@ def _block_from_args(args) -> Block:
         raise InputError("give either --mass or --density, not both")
     if args.density is not None:
         thickness = args.thickness if args.thickness is not None else math.pi * b
-        return Block.from_density(b, h, args.density, thickness, restitution=args.restitution,
-                                  g=args.g)
-    return Block(b=b, h=h, mass=args.mass, restitution=args.restitution, g=args.g)
+        block = Block.from_density(b, h, args.density, thickness, restitution=args.restitution,
+                                   g=args.g)
+        return dataclasses.replace(block, top_load=args.top_load)
+    return Block(b=b, h=h, mass=args.mass, restitution=args.restitution, g=args.g,
+                 top_load=args.top_load)
 
 
 def _add_collar_option(parser) -> None:

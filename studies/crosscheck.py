@@ -72,7 +72,8 @@ def rigid_case(case: dict, directory: str) -> dict:
     if case["key"] == "monolith":
         half = study.rocking_block
         block = Block(b=study.width / 2.0, h=half.h, mass=2.0 * half.mass if study.cracked
-                      else half.mass, restitution=study.rigid.get("restitution"))
+                      else half.mass, restitution=study.rigid.get("restitution"),
+                      top_load=study.top_load)
         collars = ()
     else:
         block, collars = study.rocking_block, study.collars

@@ -1,7 +1,9 @@
 """FEM study files (TOML): what to run, parsed and checked before any computation.
 
     [column]   height (m), width (m, = 4b), thickness (m, default pi * width / 4: the half
-               column then has the mass of a half circular column), cracked (default true)
+               column then has the mass of a half circular column), cracked (default true),
+               top_load (N, default 0: a dead load on the capital, e.g. an architrave; a
+               uniform pressure on the top in the FEM, half of it at the top of each rigid half)
     [stone]    E (Pa), nu, density (kg/m^3), fc (Pa)            defaults: fem.assembly.Stone
     [[collar]] y, t, h, length, E, fy, pretension               as rigid.collars.Collar
     [ground]   pulse = "sine" | "cosine" | "record" | "none" (free rocking from [run]
@@ -42,7 +44,7 @@ from ..rigid.ground import NoMotion, cosine_pulse, read_record, sine_pulse
 from ..rigid.validation import InputError, read_toml, require_positive, require_range
 
 SCHEMA = {
-    "column": {"height", "width", "thickness", "cracked"},
+    "column": {"height", "width", "thickness", "cracked", "top_load"},
     "stone": {"E", "nu", "density", "fc"},
     "collar": None,          # array of tables, checked by rigid.collars
     "ground": {"pulse", "amplitude", "amplitude_ratio", "period", "omega_ratio", "record",
@@ -82,6 +84,7 @@ class FemStudy:
     source: str = ""
     edge_time: float = EDGE_TIME              # s
     toe_refinements: tuple = REFINEMENTS
+    top_load: float = 0.0                     # N, on the capital
 
     @property
     def rocking_block(self) -> Block:
@@ -89,7 +92,8 @@ class FemStudy:
         b = self.width / (4.0 if self.cracked else 2.0)
         mass = self.stone.density * 2.0 * b * self.height * self.thickness
         return Block(b=b, h=0.5 * self.height, mass=mass,
-                     restitution=self.rigid.get("restitution"))
+                     restitution=self.rigid.get("restitution"),
+                     top_load=self.top_load / (2.0 if self.cracked else 1.0))
 
 
 def _toe_refinements(value) -> tuple:
@@ -157,6 +161,8 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
         raise InputError(f"column.cracked = {cracked!r} must be true or false")
     thickness = require_positive("column.thickness (m)",
                                  _number(column, "thickness", "column", math.pi * width / 4.0))
+    top_load = require_range("column.top_load (N)", _number(column, "top_load", "column", 0.0),
+                             0.0, math.inf, closed_low=True, range_text="[0, inf)")
     stone_table = data.get("stone", {})
     stone = Stone(**{k: _number(stone_table, k, "stone") for k in stone_table})
     collars = collars_from_tables(data.get("collar", []), source=source)
@@ -190,7 +196,7 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
                      mesh_size=size, grading=grading, mesh_file=mesh_file,
                      edge_length=edge_length, duration=0.0,
                      output_interval=None, dt=None, safety=0.9, rigid=rigid, source=source,
-                     edge_time=edge_time, toe_refinements=toe_refinements)
+                     edge_time=edge_time, toe_refinements=toe_refinements, top_load=top_load)
     study.ground = _ground(data.get("ground", {}), study.rocking_block, base, source)
     run = data.get("run", {})
     duration = _number(run, "duration", "run", study.ground.end_time + 1.5)
@@ -277,7 +283,8 @@ def build(study: FemStudy):
                              f"column.cracked = {str(study.cracked).lower()}")
     else:
         mesh = toe_mesh(study, 1)
-    return build_model(mesh, study.stone, study.thickness, study.collars, study.contact)
+    return build_model(mesh, study.stone, study.thickness, study.collars, study.contact,
+                       top_load=study.top_load)
 
 
 def run_study(study: FemStudy, out_dir=None, progress: bool = True):

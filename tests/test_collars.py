@@ -122,7 +122,7 @@ def test_design_is_consistent_with_the_dynamic_model(half_column):
     P = K.make_params(half_column.p, half_column.alpha, True, K.GROUND_HARMONIC, a_g / 9.81,
                       1e-9, math.pi / 2, 1e9, 0.0,
                       4 * half_column.b ** 2 * d.required_stiffness / half_column.J0,
-                      0.9, math.tan(half_column.alpha))
+                      0.9, math.tan(half_column.alpha), 0.0)
     empty = np.zeros(1)
     acc = K.angular_acceleration(1.0, -d.yield_rotation, -1.0, P, empty, empty)
     gravity = half_column.p ** 2 * math.sin(half_column.alpha - d.yield_rotation)
