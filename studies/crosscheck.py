@@ -185,7 +185,8 @@ def verdict_criteria(study, results: dict, fem_history: dict, multibody_history:
     """The FEM against the rigid multibody model on four counts, each with its tolerance:
     outcome; peak rotation (when neither overturns); impacts before the end of the pulse; and
     the history error max |theta_FEM - theta_mb| / max |theta_mb| up to the first impact (of
-    the multibody model; the end of the pulse without one), both halves."""
+    the multibody model; the end of the pulse without one, or the moment it passes the whole
+    column's unstable equilibrium if that is earlier), both halves."""
     fem, mb = results["fem"]["summary"], results["multibody"]
     t_pulse = study.ground.end_time
     mb_t = multibody_history["t"]
@@ -195,6 +196,15 @@ def verdict_criteria(study, results: dict, fem_history: dict, multibody_history:
     crossings = [mb_t[half_cycles(th)] for th in theta_mb]
     firsts = [c[0] for c in crossings if c.size]
     t_first = min(firsts) if firsts else t_pulse
+    # past the whole column's unstable equilibrium it is falling: beyond that the histories
+    # differ by where each model stops, not by how it moved
+    half = study.rocking_block
+    whole = Block(b=study.width / 2.0, h=half.h, g=half.g, top_load=study.top_load,
+                  mass=half.mass * (2.0 if study.cracked else 1.0))
+    falling = np.nonzero(np.max(np.abs(np.array(theta_mb)), axis=0)
+                         > whole.critical_angle())[0]
+    if falling.size:
+        t_first = min(t_first, float(mb_t[falling[0]]))
     window = mb_t <= t_first
     scale = max(np.max(np.abs(th[window]), initial=0.0) for th in theta_mb)
     errors = [np.max(np.abs(np.interp(mb_t[window], fem_history["t"], tf) - tm[window]),
@@ -336,7 +346,15 @@ def _toe_stress(study, results: dict) -> dict | None:
                 "toe", "t_start", "t_end", "t_peak", "refinements", "dofs", "steps",
                 "handover_error", "edge_length", "edge_time")},
             "observed_order": finite(refined["observed_order"]),
+            # the mean base pressure at rest, (W + P) / A, for scale
+            "static_mean_ratio": _static_mean_pressure(study, results) / fc,
             "richardson_ratio": None if richardson is None else richardson / fc}
+
+
+def _static_mean_pressure(study, results: dict) -> float:
+    """(W + P) / A (Pa): the FEM's static base reaction over the base area."""
+    fem = results["fem"]["summary"]
+    return (fem.get("base_reaction_static") or 0.0) / (study.width * study.thickness)
 
 
 def _toe_ratio(study, results: dict) -> float:

@@ -259,6 +259,9 @@ quoted value is the largest of the refined meshes; their spread, &plusmn;
 {_num(s, 'toe_stress.spread', 2)}, is its mesh uncertainty (observed order of the last three:
 {_num(s, 'toe_stress.observed_order', 3)}; nan when they do not converge monotonically: the
 landing is a burst of contact chatter whose details move with the mesh).</p>
+<p>For scale: at rest the base carries its mean pressure (W + P) / A =
+{_num(s, 'toe_stress.static_mean_ratio', 3)} f_c (P: the top load on the capital,
+{_num(s, 'fem.top_load')} N).</p>
 <table><tr><th>toe refinement</th><th>dofs</th><th>time steps</th>
 <th>toe stress / f_c (-)</th></tr>
 {rows}</table>"""
@@ -330,7 +333,10 @@ def _html(s: dict, figs: list, renders: str) -> str:
             ("steps", "fem.steps"), ("dofs", "fem.dofs"),
             ("FEM wall time (s)", "fem.wall_seconds"),
             ("pulse Omega/p", "pulse.omega_ratio"),
-            ("pulse a_p / (g tan alpha)", "pulse.amplitude_ratio")]
+            ("pulse a_p / a_uplift (a_uplift = g tan alpha (1 + lambda))",
+             "pulse.amplitude_ratio"),
+            ("top load on the capital (N)", "fem.top_load"),
+            ("static base reaction, FEM (N): weight + top load", "fem.base_reaction_static")]
     table = "\n".join(f"<tr><th>{html.escape(label)}</th><td>{_num(s, key)}</td></tr>"
                       if not isinstance(_get(s, key), str) else
                       f'<tr><th>{html.escape(label)}</th><td><span data-key="{key}">'

@@ -1,6 +1,7 @@
 """FEM study files and ``colonna fem``: contracts of the outputs, and bad input named by key."""
 
 import json
+import math
 
 import pytest
 
@@ -42,6 +43,17 @@ def test_default_study_loads():
     assert study.rocking_block.b == pytest.approx(0.45 / 4)
 
 
+def test_top_load_study_shares_the_load_between_the_halves():
+    study = load("studies/default-top-load.toml")
+    assert study.top_load == 40e3 and study.cracked
+    half = study.rocking_block
+    assert half.top_load == pytest.approx(20e3)
+    lam = 20e3 / (half.mass * 9.81)
+    assert half.uplift_acceleration() == pytest.approx(9.81 * math.tan(half.alpha) * (1 + lam))
+    # the pulse is given relative to that uplift level
+    assert study.ground.amplitude == pytest.approx(3.0 * half.uplift_acceleration())
+
+
 def _study(**changes):
     import tomllib
     data = tomllib.loads(TINY)
@@ -64,6 +76,11 @@ def _study(**changes):
     ({"ground.pulse": "square"}, "ground.pulse"),
     ({"stone.nu": 0.7}, "nu"),
     ({"run.initial_tilt": 1.0}, "run.initial_tilt"),
+    ({"column.top_load": -5.0}, "column.top_load"),
+    ({"column.top_load": "heavy"}, "top_load"),
+    ({"mesh.toe_refinements": [1, 3, 9]}, "mesh.toe_refinements"),
+    ({"mesh.toe_refinements": [1, 2]}, "mesh.toe_refinements"),
+    ({"mesh.edge_time": 0.5}, "mesh.edge_time"),
     ({"run.initial_angular_velocity": float("inf")}, "run.initial_angular_velocity"),
 ])
 def test_bad_study_values_name_the_key(changes, name):

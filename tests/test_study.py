@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 import time
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +16,7 @@ import pytest
 
 from colonna.studies.cli import main
 from colonna.studies.crosscheck import run_crosscheck
+from colonna.studies.fem_study import from_dict
 from colonna.studies.output import read_csv
 from colonna.studies.report import fmt
 from tiny_study import TINY_STUDY
@@ -102,6 +104,10 @@ def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
     assert toe["ratio"] == max(toe["ratios"][1:])
     assert summary["verdict"]["toe_crushes"] == (toe["ratio"] >= 1.0)
     assert toe["handover_error"] < 0.05        # round-off amplified at the landings
+    fem = summary["fem"]
+    study = from_dict(tomllib.loads(TINY))
+    assert toe["static_mean_ratio"] == pytest.approx(
+        fem["base_reaction_static"] / (study.width * study.thickness) / study.stone.fc)
 
 
 def test_study_with_a_typo_fails_before_any_work(tmp_path, capsys):
