@@ -328,8 +328,8 @@ def _uncertainty(results: dict) -> dict | None:
 
 
 def _toe_stress(study, results: dict) -> dict | None:
-    """The toe stress from the local refinement over its impact (None when not run): the
-    quoted ratio to f_c is the refined meshes' largest, their spread its mesh uncertainty."""
+    """The toe stress from the local refinement over the impact (None when not run): the
+    quoted ratio to f_c and its mesh uncertainty (see colonna.fem.toe_stress)."""
     refined = results["fem"].get("toe_refinement")
     if not refined:
         return None
@@ -339,8 +339,10 @@ def _toe_stress(study, results: dict) -> dict | None:
         return None if value is None or not math.isfinite(value) else value
 
     richardson = finite(refined["richardson"])
-    return {"ratio": refined["stress_bound"] / fc, "stress": refined["stress_bound"],
-            "spread": refined["spread"], "ratios": [p / fc for p in refined["peaks"]],
+    return {"ratio": refined["stress_estimate"] / fc, "stress": refined["stress_estimate"],
+            "uncertainty": refined["uncertainty"], "spread": refined["spread"],
+            "bound_ratio": refined["stress_bound"] / fc,
+            "ratios": [p / fc for p in refined["peaks"]],
             "unrefined_ratio": results["fem"]["summary"]["edge_stress_ratio"],
             **{key: refined[key] for key in (
                 "toe", "t_start", "t_end", "t_peak", "refinements", "dofs", "steps",

@@ -229,9 +229,9 @@ def _toe_detail(s: dict) -> str:
         return (f"max toe stress / f_c = {_num(s, 'fem.edge_stress_ratio', 3)}"
                 f"{_uncertain(s, 'edge_stress_ratio')} (averaged over "
                 f"{_num(s, 'fem.edge_length', 3)} m and {_num(s, 'fem.edge_time', 2)} s)")
-    return (f"max toe stress / f_c = {_num(s, 'toe_stress.ratio', 3)}, the largest over the "
-            "meshes refined at the toes (mesh uncertainty: their spread &plusmn;"
-            f"{_num(s, 'toe_stress.spread', 2)}; the study mesh alone gives "
+    return (f"max toe stress / f_c = {_num(s, 'toe_stress.ratio', 3)} from the meshes refined "
+            "at the toes (mesh uncertainty &plusmn;"
+            f"{_num(s, 'toe_stress.uncertainty', 2)}; the study mesh alone gives "
             f"{_num(s, 'toe_stress.unrefined_ratio', 3)}); contact pressure averaged over "
             f"{_num(s, 'toe_stress.edge_length', 3)} m from the toe and "
             f"{_num(s, 'toe_stress.edge_time', 2)} s; see \"Toe stress, refined\" below")
@@ -248,17 +248,21 @@ def _toe_section(s: dict) -> str:
         f"<td>{_num(s, f'toe_stress.ratios.{i}', 4)}</td></tr>"
         for i in range(len(t["refinements"])))
     return f"""<h2>Toe stress, refined</h2>
-<p>The peak toe stress comes when the {html.escape(str(t["toe"]).replace("_", " "))} toe lands
-at t = {_num(s, 'toe_stress.t_peak', 4)} s. The FEM rerun only the window
+<p>The peak toe stress comes at the {html.escape(str(t["toe"]).replace("_", " "))} toe at
+t = {_num(s, 'toe_stress.t_peak', 4)} s (a landing, or the column pivoting on that toe). The
+FEM reruns only the window
 {_num(s, 'toe_stress.t_start', 4)}&ndash;{_num(s, 'toe_stress.t_end', 4)} s, started from the
 study run's state (displacements, velocities and contact forces carried to the new mesh), with
 the elements within {_num(s, 'toe_stress.edge_length', 3)} m of each base corner split in both
 directions. Refinement &times;1 restarts the study mesh itself: it differs from the study run by
-{_num(s, 'toe_stress.handover_error', 2)} (relative), which is the error of the hand-over. The
-quoted value is the largest of the refined meshes; their spread, &plusmn;
-{_num(s, 'toe_stress.spread', 2)}, is its mesh uncertainty (observed order of the last three:
-{_num(s, 'toe_stress.observed_order', 3)}; nan when they do not converge monotonically: the
-landing is a burst of contact chatter whose details move with the mesh).</p>
+{_num(s, 'toe_stress.handover_error', 2)} (relative), which is the error of the hand-over.
+The refined meshes give at most {_num(s, 'toe_stress.bound_ratio', 3)} f_c, spread
+&plusmn;{_num(s, 'toe_stress.spread', 2)}; the observed order of the last three is
+{_num(s, 'toe_stress.observed_order', 3)} (none when they do not converge monotonically: a
+landing is a burst of contact chatter whose details move with the mesh). The quoted value is
+the larger of that maximum and the Richardson estimate where there is one,
+{_num(s, 'toe_stress.ratio', 3)} f_c, with the larger of the spread and the finest mesh's
+estimated error as its uncertainty, &plusmn;{_num(s, 'toe_stress.uncertainty', 2)}.</p>
 <p>For scale: at rest the base carries its mean pressure (W + P) / A =
 {_num(s, 'toe_stress.static_mean_ratio', 3)} f_c (P: the top load on the capital,
 {_num(s, 'fem.top_load')} N).</p>

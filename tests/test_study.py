@@ -101,7 +101,7 @@ def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
     # the toe stress refined over its impact, quoted in the verdict and tabulated
     toe = summary["toe_stress"]
     assert "Toe stress, refined" in page and f'data-key="toe_stress.ratios.{len(toe["refinements"]) - 1}"' in page
-    assert toe["ratio"] == max(toe["ratios"][1:])
+    assert toe["ratio"] >= max(toe["ratios"][1:]) == toe["bound_ratio"]
     assert summary["verdict"]["toe_crushes"] == (toe["ratio"] >= 1.0)
     assert toe["handover_error"] < 0.05        # round-off amplified at the landings
     fem = summary["fem"]

@@ -194,6 +194,9 @@ def test_refinement_over_the_impact_window(rocking_run):
     assert out["dofs"][0] < out["dofs"][1] < out["dofs"][2]
     assert out["dt"][2] < out["dt"][0]
     assert out["stress_bound"] == max(out["peaks"][1:])
-    assert 0.0 <= out["spread"] < 1.0
+    assert 0.0 <= out["spread"] <= out["uncertainty"] < 1.0
+    assert out["stress_estimate"] >= out["stress_bound"]
+    if math.isfinite(out["richardson"]):           # a monotone sequence: its extrapolation
+        assert out["stress_estimate"] == max(out["stress_bound"], out["richardson"])
     with pytest.raises(InputError, match="toe refinements"):
         toe_stress_refinement(r, _pulse(), _mesh, (1, 3, 9))
