@@ -248,7 +248,7 @@ def collar_forces(x, collars, props, out, f):
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
 def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frames,
-            indptr, indices, blocks, gravity, ground_acc,
+            indptr, indices, blocks, gravity, ground_acc, ground_vacc,
             base_nodes, base_kn, base_kt, base_cn, mu, blend, base_ft, base_fn, base_fc,
             a_sl, a_ma, a_sign, a_kn, a_kt, a_cn, a_seg, a_ft, a_fn, a_fc,
             b_sl, b_ma, b_sign, b_kn, b_kt, b_cn, b_seg, b_ft, b_fn, b_fc,
@@ -256,8 +256,8 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
             edge_weights, edge_buffer, edge_state, edge_peak):
     """n_steps of central differences (velocities at half steps, lumped mass).
 
-    ground_acc[k]: ground acceleration (m/s^2) during step k, applied as the body force
-    -m ug'' in x (ground frame). tallies += (dissipated energy, external work); energies gets
+    ground_acc[k], ground_vacc[k]: horizontal and vertical (upward) ground acceleration (m/s^2)
+    during step k, applied as the body forces -m ug'' in x and -m vg'' in y (ground frame). tallies += (dissipated energy, external work); energies gets
     (strain, base contact, crack contact, collar, gravity, kinetic) of the last step, all at
     time n (kinetic as m v(n-1/2) . v(n+1/2) / 2, the energy central differences conserve).
     edge_weights (n_edges, n_base): each toe's share of every base node's normal force. The toe
@@ -284,11 +284,13 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
     cos_b = np.ones(n_bodies)
     sin_b = np.zeros(n_bodies)
     ag = ground_acc[0]
+    av = ground_vacc[0]
     for i in range(n_nodes):
         f[2 * i] = gravity[2 * i] - mass[2 * i] * ag
-        f[2 * i + 1] = gravity[2 * i + 1]
+        f[2 * i + 1] = gravity[2 * i + 1] - mass[2 * i] * av
     for step in range(n_steps):
         ag = ground_acc[step]
+        av = ground_vacc[step]
         # body frames: centroid and best-fit rotation in one pass (sum m (X - C) = 0)
         sums[:] = 0.0
         for i in range(n_nodes):
@@ -350,6 +352,7 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
         e_collar = collar_forces(x, collar_nodes, collar_props, collar_out, f)
         # fused: elastic forces back to the ground frame, update, next step's loads
         ag_next = ground_acc[step + 1] if step + 1 < n_steps else ag
+        av_next = ground_vacc[step + 1] if step + 1 < n_steps else av
         e_strain = 0.0
         e_grav = 0.0
         e_kin = 0.0
@@ -373,10 +376,10 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
             v[2 * i + 1] = vy
             x[2 * i] += dt * vx
             x[2 * i + 1] += dt * vy
-            work -= m * ag * vx * dt
+            work -= m * (ag * vx + av * vy) * dt
             vv += vx * vx + vy * vy
             f[2 * i] = gravity[2 * i] - m * ag_next
-            f[2 * i + 1] = gravity[2 * i + 1]
+            f[2 * i + 1] = gravity[2 * i + 1] - m * av_next
         tallies[0] += (p_base + p_crack) * dt
         tallies[1] += work
         energies[0] = e_strain

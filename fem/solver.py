@@ -78,7 +78,7 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
         initial_velocity: np.ndarray | None = None, check_dt: bool = True,
         initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
         start_time: float = 0.0, initial_state: tuple | None = None,
-        initial_contact: dict | None = None) -> FemResult:
+        initial_contact: dict | None = None, vertical=None) -> FemResult:
     """Run the model under ``ground`` (a HarmonicPulse, Record or NoMotion of rigid.ground) for
     ``duration`` seconds from gravity equilibrium. ``dt`` (s) may be set by hand but not above
     the stable step (``check_dt=False`` lifts that guard, for tests of the estimate).
@@ -93,7 +93,9 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     :func:`colonna.fem.transfer.transfer_state`. ``initial_contact``: the contact state it
     starts with (zero if left out), a dict as in ``FemResult.contact_frames`` or from
     :func:`colonna.fem.transfer.transfer_contact`: base_ft, base_fc (tangential and filtered
-    normal force per base node, N), crack_ft, crack_fc (lists, one array per crack pass)."""
+    normal force per base node, N), crack_ft, crack_fc (lists, one array per crack pass).
+    ``vertical``: the vertical ground acceleration (upward positive; a pulse or a record of
+    rigid.ground), applied as the body force -rho vg'' in y."""
     require_positive("run duration (s)", duration)
     require_range("run initial_tilt (rad)", initial_tilt, -0.25 * math.pi, 0.25 * math.pi,
                   range_text="(-pi/4, pi/4)")
@@ -167,6 +169,7 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
                              np.ascontiguousarray(A.data, dtype=float))
 
     recorder = _Recorder(model, edge_length, out_dir, max(1, int(round(edge_time / dt))))
+    ground_end = max(ground.end_time, 0.0 if vertical is None else vertical.end_time)
     if not math.isfinite(start_time):
         raise InputError(f"run start_time = {start_time!r} s must be finite")
     t = float(start_time)
@@ -179,7 +182,8 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     # initial forces (contact normal forces at rest) for the first record
     tau = model.contact.friction_filter
     blend = 1.0 if tau == 0.0 else min(1.0, dt / tau)
-    _advance(0, dt, x, v, model, frames, indptr, indices, data, np.zeros(1), base_ft, base_fn,
+    _advance(0, dt, x, v, model, frames, indptr, indices, data, (np.zeros(1), np.zeros(1)),
+             base_ft, base_fn,
              base_fc, blend, crack, collar_out, u_loc, f_loc, f, tallies, energies,
              recorder.edge_matrix, recorder.edge_buffer, recorder.edge_state,
              recorder.edge_peak)
@@ -190,7 +194,7 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
         if energy0 is None:
             energy0 = row["energy_total"]
         recorder.finish_row(row, energy0)
-        state = _check(row, recorder, model, ground, t, stop_on_overturn)
+        state = _check(row, recorder, model, ground_end, t, stop_on_overturn)
         if state is not None:
             reason, overturned = state
             break
@@ -201,7 +205,10 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
         # round-off differences)
         times = start_time + dt * (steps_done + np.arange(steps_per_output))
         acc = np.ascontiguousarray(ground.acceleration(times), dtype=float)
-        done = _advance(steps_per_output, dt, x, v, model, frames, indptr, indices, data, acc,
+        vacc = (np.zeros_like(acc) if vertical is None
+                else np.ascontiguousarray(vertical.acceleration(times), dtype=float))
+        done = _advance(steps_per_output, dt, x, v, model, frames, indptr, indices, data,
+                        (acc, vacc),
                         base_ft, base_fn, base_fc, blend, crack, collar_out, u_loc, f_loc, f,
                         tallies, energies, recorder.edge_matrix, recorder.edge_buffer,
                         recorder.edge_state, recorder.edge_peak)
@@ -291,14 +298,14 @@ def _advance(n, dt, x, v, model, frames, indptr, indices, data, acc, base_ft, ba
         a = {key: (val.copy() if isinstance(val, np.ndarray) else val) for key, val in a.items()}
         b = {key: (val.copy() if isinstance(val, np.ndarray) else val) for key, val in b.items()}
         a["fn"], b["fn"] = crack[0]["fn"], crack[1]["fn"]      # outputs stay shared
-        acc, dt, steps = np.zeros(1), 0.0, 1
+        acc, dt, steps = (np.zeros(1), np.zeros(1)), 0.0, 1
         edge_buffer, edge_state, edge_peak = edge_buffer.copy(), edge_state.copy(), \
             edge_peak.copy()
     else:
         steps = n
     done = K.advance(steps, dt, x, v, model.X, model.mass, model.mesh.node_body,
                      model.mesh.n_bodies, model.centroid_ref, frames, indptr, indices, data,
-                     model.gravity, acc, model.base_nodes, model.base_kn, model.base_kt,
+                     model.gravity, acc[0], acc[1], model.base_nodes, model.base_kn, model.base_kt,
                      model.base_cn, model.contact.friction, blend, base_ft, base_fn, base_fc,
                      a["sl"], a["ma"], a["sign"], a["kn"], a["kt"], a["cn"], a["seg"], a["ft"],
                      a["fn"], a["fc"], b["sl"], b["ma"], b["sign"], b["kn"], b["kt"], b["cn"],
@@ -497,7 +504,7 @@ class _Recorder:
         return {k: np.array([r[k] for r in self.rows]) for k in keys}
 
 
-def _check(row, recorder, model, ground, t, stop_on_overturn):
+def _check(row, recorder, model, ground_end, t, stop_on_overturn):
     """None to go on, or (reason, overturned)."""
     thetas = [row["theta_left"], row["theta_right"]]
     # no physical motion has more kinetic energy than the column's whole potential energy
@@ -513,7 +520,7 @@ def _check(row, recorder, model, ground, t, stop_on_overturn):
         return None
     if max(abs(th) for th in thetas) >= math.pi / 4:
         return (f"overturned: a half rotated past 45 degrees at t = {t:.4g} s", True)
-    if t > ground.end_time and len(recorder.rows) >= 2:     # rows[-1] is this row
+    if t > ground_end and len(recorder.rows) >= 2:     # rows[-1] is this row
         falling = recorder.falling(row, recorder.rows[-2])
         if falling:
             return (f"overturned: {falling} is past its toe moving outward after the ground "

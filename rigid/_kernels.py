@@ -26,9 +26,11 @@ import numpy as np
 from numba import njit, prange
 
 P_P2, P_ALPHA, P_NONLINEAR, P_GROUND, P_AG, P_OMEGA, P_PHASE, P_TEND, P_KA, P_KL, P_NU, \
-    P_UPLIFT, P_TH0, P_OM0, P_LOAD = range(15)
-N_PARAMS = 15      # P_TH0, P_OM0: initial rotation (rad) and angular velocity (rad/s), 0: at rest
-# P_LOAD: lambda = top load / (m g) (nonlinear model only)
+    P_UPLIFT, P_TH0, P_OM0, P_LOAD, P_NHREC, P_VERT = range(17)
+N_PARAMS = 17      # P_TH0, P_OM0: initial rotation (rad) and angular velocity (rad/s), 0: at rest
+# P_LOAD: lambda = top load / (m g). P_NHREC: how many of the rows of (rec_t, rec_a) are the
+# horizontal record; P_VERT = 1: the rows after them are the vertical ground acceleration / g
+# (piecewise linear, zero outside), 0: no vertical motion
 
 GROUND_NONE, GROUND_HARMONIC, GROUND_RECORD = 0, 1, 2
 
@@ -75,33 +77,52 @@ def ground_over_g(t, P, rec_t, rec_a):
             return 0.0
         return P[P_AG] * math.sin(P[P_OMEGA] * t + P[P_PHASE])
     if kind == GROUND_RECORD:
-        n = rec_t.size
-        if t < rec_t[0] or t > rec_t[n - 1]:
-            return 0.0
-        i = np.searchsorted(rec_t, t)
-        if i == 0:
-            return rec_a[0]
-        w = (t - rec_t[i - 1]) / (rec_t[i] - rec_t[i - 1])
-        return rec_a[i - 1] + w * (rec_a[i] - rec_a[i - 1])
+        n = int(P[P_NHREC])
+        return _table(t, rec_t[:n], rec_a[:n])
     return 0.0
+
+
+@njit(cache=True)
+def _table(t, times, values):
+    """Piecewise-linear value of a table at t, zero outside it."""
+    n = times.size
+    if n == 0 or t < times[0] or t > times[n - 1]:
+        return 0.0
+    i = np.searchsorted(times, t)
+    if i == 0:
+        return values[0]
+    w = (t - times[i - 1]) / (times[i] - times[i - 1])
+    return values[i - 1] + w * (values[i] - values[i - 1])
+
+
+@njit(cache=True)
+def vertical_over_g(t, P, rec_t, rec_a):
+    """Vertical ground acceleration / g (upward positive) at t."""
+    if P[P_VERT] == 0.0:
+        return 0.0
+    n = int(P[P_NHREC])
+    return _table(t, rec_t[n:], rec_a[n:])
 
 
 @njit(cache=True)
 def angular_acceleration(t, theta, s, P, rec_t, rec_a):
     ug = ground_over_g(t, P, rec_t, rec_a)
+    weight = 1.0 + vertical_over_g(t, P, rec_t, rec_a)      # (g + vg'') / g
     p2 = P[P_P2]
+    lam = P[P_LOAD]
     if P[P_NONLINEAR] > 0.5:
         arg = s * P[P_ALPHA] - theta
-        acc = -p2 * (math.sin(arg) + ug * math.cos(arg))
-        if P[P_LOAD] != 0.0:
-            acc -= p2 * P[P_LOAD] * (math.sin(arg) - math.cos(P[P_ALPHA]) * math.sin(theta))
+        acc = -p2 * (weight * math.sin(arg) + ug * math.cos(arg))
+        if lam != 0.0:
+            acc -= p2 * lam * (math.sin(arg) - math.cos(P[P_ALPHA]) * math.sin(theta))
         if P[P_KA] != 0.0 or P[P_KL] != 0.0:
             sn = math.sin(theta)
             sc = sn * math.cos(theta)
             root = math.sqrt(1.0 + 0.25 * sn * sn)
             acc -= P[P_KA] * (root - 1.0) * sc / (2.0 * root) + 0.5 * P[P_KL] * sc
     else:
-        acc = p2 * theta - p2 * (s * P[P_ALPHA] + ug) - 0.5 * P[P_KL] * theta
+        acc = (p2 * (weight + 2.0 * lam) * theta - p2 * ((weight + lam) * s * P[P_ALPHA] + ug)
+               - 0.5 * P[P_KL] * theta)
     return acc
 
 
@@ -161,11 +182,17 @@ def _release_state(P):
 
 @njit(cache=True)
 def ground_end(P, rec_t):
+    """When the ground is still for good: the end of the horizontal motion or of the vertical
+    one, whichever is later."""
+    end = 0.0
+    n = int(P[P_NHREC])
     if P[P_GROUND] == GROUND_HARMONIC:
-        return P[P_TEND]
-    if P[P_GROUND] == GROUND_RECORD:
-        return rec_t[rec_t.size - 1]
-    return 0.0
+        end = P[P_TEND]
+    elif P[P_GROUND] == GROUND_RECORD:
+        end = rec_t[n - 1]
+    if P[P_VERT] != 0.0:
+        end = max(end, rec_t[rec_t.size - 1])
+    return end
 
 
 @njit(cache=True)
@@ -176,6 +203,8 @@ def next_uplift(t, P, rec_t, rec_a):
     """
     thr = P[P_UPLIFT]
     kind = P[P_GROUND]
+    if P[P_VERT] != 0.0:
+        return _next_uplift_scan(t, P, rec_t, rec_a)
     if kind == GROUND_HARMONIC:
         ag = abs(P[P_AG])
         # rocking needs the ground to exceed the uplift level, touching it is not enough
@@ -202,7 +231,7 @@ def next_uplift(t, P, rec_t, rec_a):
             sgn = -sgn
         return max(t_up, t), sgn
     if kind == GROUND_RECORD:
-        n = rec_t.size
+        n = int(P[P_NHREC])
         if t > rec_t[n - 1]:
             return -1.0, 0.0
         ug = ground_over_g(t, P, rec_t, rec_a)
@@ -223,6 +252,46 @@ def next_uplift(t, P, rec_t, rec_a):
             prev_t = rec_t[i]
             prev_a = ai
         return -1.0, 0.0
+    return -1.0, 0.0
+
+
+@njit(cache=True)
+def _uplift_margin(t, P, rec_t, rec_a):
+    """|ug''|/g - (uplift level at (g + vg'')): > 0 where the ground lifts the block (Eq. 2,
+    the level being slope (1 + lambda + vg''/g), slope = P_UPLIFT / (1 + lambda))."""
+    slope = P[P_UPLIFT] / (1.0 + P[P_LOAD])
+    weight = 1.0 + vertical_over_g(t, P, rec_t, rec_a)
+    return abs(ground_over_g(t, P, rec_t, rec_a)) - slope * (weight + P[P_LOAD])
+
+
+@njit(cache=True)
+def _next_uplift_scan(t, P, rec_t, rec_a):
+    """next_uplift with vertical motion: the uplift level moves with vg'', so the first time
+    the margin turns positive is found by scanning (steps of 1/4000 of the pulse period, or a
+    quarter of the finest table spacing) and bisection."""
+    end = ground_end(P, rec_t)
+    if P[P_GROUND] == GROUND_HARMONIC:
+        step = 2.0 * math.pi / P[P_OMEGA] / 4000.0
+    else:
+        step = 1e-3
+    for i in range(1, rec_t.size):
+        if rec_t[i] > rec_t[i - 1]:
+            step = min(step, 0.25 * (rec_t[i] - rec_t[i - 1]))
+    step = max(step, 1e-7)
+    a = t
+    if _uplift_margin(a, P, rec_t, rec_a) > 0.0:
+        return a, 1.0 if ground_over_g(a, P, rec_t, rec_a) > 0.0 else -1.0
+    while a < end:
+        b = min(a + step, end)
+        if _uplift_margin(b, P, rec_t, rec_a) > 0.0:
+            for _ in range(60):
+                m = 0.5 * (a + b)
+                if _uplift_margin(m, P, rec_t, rec_a) > 0.0:
+                    b = m
+                else:
+                    a = m
+            return b, 1.0 if ground_over_g(b, P, rec_t, rec_a) > 0.0 else -1.0
+        a = b
     return -1.0, 0.0
 
 

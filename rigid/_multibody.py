@@ -59,27 +59,44 @@ N_TAIL = 7
 
 @njit(cache=True)
 def ground_acceleration(t, kind, gpar, rec_t, rec_a):
-    """Ground acceleration (m/s^2): harmonic gpar = (amplitude, omega, phase, duration) or a
-    record (linear interpolation, zero outside)."""
+    """Horizontal ground acceleration (m/s^2): harmonic gpar = (amplitude, omega, phase,
+    duration, ...) or a record: the first gpar[4] rows of (rec_t, rec_a), linear
+    interpolation, zero outside."""
     if kind == GROUND_HARMONIC:
         if 0.0 <= t <= gpar[3]:
             return gpar[0] * math.sin(gpar[1] * t + gpar[2])
         return 0.0
     if kind == GROUND_RECORD:
-        n = rec_t.size
-        if t < rec_t[0] or t > rec_t[n - 1]:
-            return 0.0
-        lo = 0
-        hi = n - 1
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            if rec_t[mid] <= t:
-                lo = mid
-            else:
-                hi = mid
-        w = (t - rec_t[lo]) / (rec_t[hi] - rec_t[lo])
-        return (1.0 - w) * rec_a[lo] + w * rec_a[hi]
+        n = int(gpar[4])
+        return _table(t, rec_t[:n], rec_a[:n])
     return 0.0
+
+
+@njit(cache=True)
+def vertical_acceleration(t, gpar, rec_t, rec_a):
+    """Vertical ground acceleration (m/s^2, upward positive): with gpar[5] = 1, the rows of
+    (rec_t, rec_a) after the first gpar[4], linear interpolation, zero outside."""
+    if gpar[5] == 0.0:
+        return 0.0
+    n = int(gpar[4])
+    return _table(t, rec_t[n:], rec_a[n:])
+
+
+@njit(cache=True)
+def _table(t, times, values):
+    n = times.size
+    if n == 0 or t < times[0] or t > times[n - 1]:
+        return 0.0
+    lo = 0
+    hi = n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if times[mid] <= t:
+            lo = mid
+        else:
+            hi = mid
+    w = (t - times[lo]) / (times[hi] - times[lo])
+    return (1.0 - w) * values[lo] + w * values[hi]
 
 
 @njit(cache=True)
@@ -277,12 +294,13 @@ def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, c
     qm, f, vfree, vnew, bvec, umin, P, mu_act, G, W, act, n_base, col_out = ws
     tm = t + 0.5 * h
     ag = ground_acceleration(tm, ground_kind, gpar, rec_t, rec_a)
+    av = vertical_acceleration(tm, gpar, rec_t, rec_a)
     for k in range(n_dof):
         qm[k] = q[k] + 0.5 * h * v[k]
         f[k] = 0.0
     for i in range(nb):
         f[3 * i] = -mass[i] * ag
-        f[3 * i + 1] = -mass[i] * g
+        f[3 * i + 1] = -mass[i] * (g + av)
         load = half[i, 2]
         if load != 0.0:       # dead top load at the top's centre, (0, hh) in the body frame
             f[3 * i + 1] -= load
@@ -352,6 +370,7 @@ def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, c
                 forces[1] += P[2 * j + 1] / h
     for i in range(nb):
         tallies[1] -= mass[i] * ag * 0.5 * (v[3 * i] + vnew[3 * i]) * h
+        tallies[1] -= mass[i] * av * 0.5 * (v[3 * i + 1] + vnew[3 * i + 1]) * h
     # impacts: a base corner closing, approaching, on the other side of its body from the
     # corner it last pivoted on (the step whose impulse switches the pivot)
     for i in range(nb):
@@ -665,7 +684,7 @@ def spectrum_modes(q0, mass, inertia, half, g,
         j = idx % no
         amp = amplitudes[i] * uplift
         om = omegas[j]
-        gpar = np.empty(4)
+        gpar = np.zeros(6)
         gpar[0] = amp
         gpar[1] = om
         if cosine:

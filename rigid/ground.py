@@ -215,3 +215,21 @@ def _read_text(path: Path) -> str:
         return path.read_text(errors="replace")
     except OSError as exc:
         raise InputError(f"record file {path} cannot be read: {exc.strerror}") from None
+
+
+def acceleration_table(motion, samples_per_period: int = 400):
+    """(time (s), acceleration (m/s^2)) of a ground motion as a piecewise-linear table, zero
+    outside it: a record as it is, a harmonic pulse sampled ``samples_per_period`` times per
+    period over its duration (linear interpolation of the sine is then exact to 3e-5 of its
+    amplitude). None or NoMotion: None."""
+    if motion is None or isinstance(motion, NoMotion):
+        return None
+    if isinstance(motion, Record):
+        return motion.time.copy(), motion.acceleration_values.copy()
+    if isinstance(motion, HarmonicPulse):
+        n = max(2, int(math.ceil(samples_per_period * motion.duration * motion.omega
+                                 / (2.0 * math.pi))) + 1)
+        t = np.linspace(0.0, motion.duration, n)
+        return t, motion.acceleration(t)
+    raise InputError(f"ground motion of type {type(motion).__name__} is not supported")
+

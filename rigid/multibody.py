@@ -30,7 +30,7 @@ import numpy as np
 from . import _multibody as K
 from .block import Block
 from .collars import validate_collars
-from .ground import HarmonicPulse, NoMotion, Record
+from .ground import HarmonicPulse, NoMotion, Record, acceleration_table
 from .solve import CollarHistory
 from .validation import InputError, require_non_negative, require_positive, require_range
 
@@ -380,16 +380,31 @@ def _mean_or_none(values) -> float | None:
     return float(np.mean(values)) if len(values) else None
 
 
-def _ground_arrays(ground, g: float):
+def _ground_arrays(ground, g: float, vertical=None):
+    """(kind, gpar, rec_t, rec_a, end of the ground motion) for the kernel: gpar = (amplitude,
+    omega, phase, duration, rows of the horizontal record, 1 if vertical motion follows)."""
+    gpar = np.zeros(6)
+    rec_t = rec_a = np.zeros(0)
     if ground is None or isinstance(ground, NoMotion):
-        return K.GROUND_NONE, np.zeros(4), np.zeros(1), np.zeros(1), 0.0
-    if isinstance(ground, HarmonicPulse):
-        gpar = np.array([ground.amplitude, ground.omega, ground.phase, ground.duration])
-        return K.GROUND_HARMONIC, gpar, np.zeros(1), np.zeros(1), ground.duration
-    if isinstance(ground, Record):
-        return (K.GROUND_RECORD, np.zeros(4), np.ascontiguousarray(ground.time),
-                np.ascontiguousarray(ground.acceleration_values), ground.end_time)
-    raise InputError(f"ground motion of type {type(ground).__name__} is not supported")
+        kind, end = K.GROUND_NONE, 0.0
+    elif isinstance(ground, HarmonicPulse):
+        gpar[:4] = (ground.amplitude, ground.omega, ground.phase, ground.duration)
+        kind, end = K.GROUND_HARMONIC, ground.duration
+    elif isinstance(ground, Record):
+        kind, end = K.GROUND_RECORD, ground.end_time
+        rec_t, rec_a = ground.time, ground.acceleration_values
+    else:
+        raise InputError(f"ground motion of type {type(ground).__name__} is not supported")
+    gpar[4] = rec_t.size
+    table = acceleration_table(vertical)
+    if table is not None:
+        gpar[5] = 1.0
+        rec_t, rec_a = np.concatenate((rec_t, table[0])), np.concatenate((rec_a, table[1]))
+        end = max(end, float(table[0][-1]))
+    if rec_t.size == 0:
+        rec_t = rec_a = np.zeros(1)
+    return (kind, gpar, np.ascontiguousarray(rec_t, float), np.ascontiguousarray(rec_a, float),
+            end)
 
 
 def default_step(column: MultibodyColumn, ground=None) -> float:
@@ -407,7 +422,7 @@ def rock_multibody(block: Block, ground=None, collars=(), *, cracked: bool = Fal
                    dt: float | None = None, dt_out: float | None = None,
                    initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
                    refine: int = IMPACT_REFINEMENT,
-                   max_impacts_stored: int = 10_000) -> MultibodyResult:
+                   max_impacts_stored: int = 10_000, vertical=None) -> MultibodyResult:
     """Time history of the rigid multibody column under ``ground`` (a pulse, a record, or
     None for free rocking from ``initial_tilt``).
 
@@ -415,12 +430,13 @@ def rock_multibody(block: Block, ground=None, collars=(), *, cracked: bool = Fal
     :func:`default_step`); dt_out: output interval (s, default 1/200 of 1/p, at least dt).
     ``restitution_normal`` is Newton's e_n (0: plastic impacts, which give Housner's ratio).
     ``refine``: a step in which a contact closes is redone as that many substeps (1: plain
-    Moreau-Jean, first order at impacts)."""
+    Moreau-Jean, first order at impacts). ``vertical``: the vertical ground acceleration
+    (upward positive; a pulse or a record), applied to every body as -m vg''."""
     column = build_column(block, cracked=cracked, collars=collars, friction=friction,
                           crack_friction=crack_friction)
     require_range("restitution_normal (Newton's e_n)", restitution_normal, 0.0, 1.0,
                   closed_low=True, closed_high=True)
-    kind, gpar, rec_t, rec_a, t_ground = _ground_arrays(ground, block.g)
+    kind, gpar, rec_t, rec_a, t_ground = _ground_arrays(ground, block.g, vertical)
     if duration is None:
         duration = t_ground + 20.0 / block.p
     require_positive("duration (s)", duration)

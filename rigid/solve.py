@@ -23,7 +23,7 @@ import numpy as np
 from . import _kernels as K
 from .block import Block, check_model
 from .collars import (Collar, collar_kernel_constants, collar_response, validate_collars)
-from .ground import HarmonicPulse, NoMotion, Record
+from .ground import HarmonicPulse, NoMotion, Record, acceleration_table
 from .validation import InputError, require_positive, require_range
 
 MODE_NAMES = {K.SAFE: "safe", K.AFTER_IMPACT: "after-impact", K.WITHOUT_IMPACT: "without-impact"}
@@ -112,45 +112,60 @@ class RockingResult:
         return out
 
 
-def kernel_block_constants(block: Block, model: str):
+def kernel_block_constants(block: Block, model: str, vertical: bool = False):
     """(p, alpha, uplift level / g, ground scale, lambda) as the kernels take them.
 
     The nonlinear kernel takes the top load's lambda itself. The linear model with a top load is
     the linear free block with p' = p sqrt(1 + 2 lambda), alpha' = alpha (1 + lambda) / (1 + 2
     lambda) and the ground acceleration scaled by 1 / (1 + 2 lambda) (see rigid.block), so it
-    gets those constants and lambda = 0."""
+    gets those constants and lambda = 0; with vertical ground motion that equivalence fails and
+    its kernel takes lambda too."""
     lam = block.load_ratio
     if model == "nonlinear":
         return block.p, block.alpha, math.tan(block.alpha) * (1.0 + lam), 1.0, lam
+    if vertical:
+        return block.p, block.alpha, block.alpha * (1.0 + lam), 1.0, lam
     stiffening = 1.0 + 2.0 * lam
     alpha = block.alpha * (1.0 + lam) / stiffening
     return block.p * math.sqrt(stiffening), alpha, alpha, 1.0 / stiffening, 0.0
 
 
 def kernel_params(block: Block, ground, collars=(), model: str = "linear",
-                  initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0):
-    """Parameter vector and record arrays for the kernels (ground None: free rocking)."""
+                  initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
+                  vertical=None):
+    """Parameter vector and record arrays for the kernels (ground None: free rocking).
+
+    ``vertical``: the vertical ground acceleration (upward positive), a pulse or a record, or
+    None; it is appended to the record arrays as a table (see rigid._kernels)."""
     check_model(model)
     g = block.g
     nonlinear = model == "nonlinear"
-    p, alpha, uplift, scale, load = kernel_block_constants(block, model)
+    table = acceleration_table(vertical)
+    p, alpha, uplift, scale, load = kernel_block_constants(block, model, table is not None)
     ka, kl = collar_kernel_constants(block, collars)
+    rec_t = rec_a = np.zeros(0)
     if isinstance(ground, HarmonicPulse):
         P = K.make_params(p, alpha, nonlinear, K.GROUND_HARMONIC,
                           scale * ground.amplitude / g, ground.omega, ground.phase,
                           ground.duration, ka, kl, block.nu, uplift, load)
-        rec_t = rec_a = np.zeros(1)
     elif isinstance(ground, Record):
         rec_t = np.ascontiguousarray(ground.time)
         rec_a = np.ascontiguousarray(scale * ground.acceleration_values / g)
         P = K.make_params(p, alpha, nonlinear, K.GROUND_RECORD, 0.0, 0.0, 0.0,
                           float(rec_t[-1]), ka, kl, block.nu, uplift, load)
     elif ground is None or isinstance(ground, NoMotion):
-        rec_t = rec_a = np.zeros(1)
         P = K.make_params(p, alpha, nonlinear, K.GROUND_NONE, 0.0, 0.0, 0.0, 0.0,
                           ka, kl, block.nu, uplift, load)
     else:
         raise InputError(f"ground motion of type {type(ground).__name__} is not supported")
+    P[K.P_NHREC] = rec_t.size
+    if table is not None:
+        P[K.P_VERT] = 1.0
+        rec_t = np.concatenate((rec_t, table[0]))
+        rec_a = np.concatenate((rec_a, table[1] / g))
+    if rec_t.size == 0:
+        rec_t = rec_a = np.zeros(1)      # (numba wants an array; P_NHREC = 0 ignores it)
+    rec_t, rec_a = np.ascontiguousarray(rec_t, float), np.ascontiguousarray(rec_a, float)
     require_range("initial tilt (rad)", initial_tilt, -0.5 * math.pi, 0.5 * math.pi,
                   range_text="(-pi/2, pi/2)")
     P[K.P_TH0] = initial_tilt
@@ -169,10 +184,12 @@ def rock(block: Block, ground, collars=(), *, model: str = "linear",
          duration: float | None = None, dt_out: float | None = None,
          rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
          initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
-         max_impacts_stored: int = 20_000) -> RockingResult:
+         max_impacts_stored: int = 20_000, vertical=None) -> RockingResult:
     """Rocking response of ``block`` to ``ground`` (a pulse, a record, or None: free rocking),
     starting at rest upright, or released at t = 0 from ``initial_tilt`` (rad) with
-    ``initial_angular_velocity`` (rad/s).
+    ``initial_angular_velocity`` (rad/s). ``vertical``: the vertical ground acceleration
+    (upward positive; a pulse or a record), which scales the weight by (g + vg'') / g and the
+    uplift level with it (Eq. 1-2).
 
     duration: end of the computed history, s (default: end of the ground motion + 20 / p).
     dt_out:   output interval, s (default: 1/200 of the shortest of 1/p and 2 pi/Omega).
@@ -180,9 +197,10 @@ def rock(block: Block, ground, collars=(), *, model: str = "linear",
     check_model(model)
     collars = validate_collars(collars, block)
     P, rec_t, rec_a = kernel_params(block, ground, collars, model, initial_tilt,
-                                    initial_angular_velocity)
+                                    initial_angular_velocity, vertical)
     p = block.p
-    t_ground = 0.0 if ground is None else ground.end_time
+    t_ground = max(0.0 if ground is None else ground.end_time,
+                   0.0 if vertical is None else vertical.end_time)
     if ((ground is None or isinstance(ground, NoMotion)) and initial_tilt == 0.0
             and initial_angular_velocity == 0.0):
         raise InputError("no ground motion and no initial tilt or angular velocity: the block "
@@ -199,7 +217,8 @@ def rock(block: Block, ground, collars=(), *, model: str = "linear",
     n_max = int(duration / dt_out) + 2
     impacts = np.zeros((max_impacts_stored, 3))
 
-    closed_form = model == "linear" and not collars and isinstance(ground, HarmonicPulse)
+    closed_form = (model == "linear" and not collars and isinstance(ground, HarmonicPulse)
+                   and P[K.P_VERT] == 0.0)
     if closed_form:
         segs = np.zeros((max(4 * max_impacts_stored, 1000), 6))
         status, n_imp, max_theta, t_end, n_seg, t_over = K.linear_run(P, duration, False, segs,

@@ -150,13 +150,18 @@ def _cmd_rigid(args) -> dict:
                              "(or give --record FILE)")
         ground = pulse_from_ratios(block, args.pulse, args.omega_ratio, args.amplitude_ratio,
                                    sdof_model)
+    vertical = None
+    if args.vertical_record is not None:
+        vertical = read_record(args.vertical_record, g=block.g).scaled(args.vertical_scale)
     multibody = _multibody_options(args)
     if multibody:
         from ..rigid.multibody import history_columns, rock_multibody
-        result = rock_multibody(block, ground, collars, duration=args.duration, **multibody)
+        result = rock_multibody(block, ground, collars, duration=args.duration,
+                                vertical=vertical, **multibody)
         columns = history_columns(result)
     else:
-        result = rock(block, ground, collars, model=args.model, duration=args.duration)
+        result = rock(block, ground, collars, model=args.model, duration=args.duration,
+                      vertical=vertical)
         columns = {"t": result.time, "theta": result.theta, "theta_dot": result.theta_dot}
         for k, hist in enumerate(result.collar_histories, start=1):
             columns[f"collar_{k}_axial_force"] = hist.axial_force
@@ -346,6 +351,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="a_p / a_uplift (uplift: g tan(alpha) nonlinear, g alpha linear), >= 1")
     g.add_argument("--record", type=Path, help="accelerogram: PEER .AT2, or two columns t, a")
     g.add_argument("--scale", type=float, default=1.0, help="scale factor on the record")
+    g.add_argument("--vertical-record", type=Path,
+                   help="vertical accelerogram (upward positive), as --record")
+    g.add_argument("--vertical-scale", type=float, default=1.0,
+                   help="scale factor on the vertical record")
     p.add_argument("--duration", type=float, help="end time (s); default end of motion + 20/p")
     _add_collar_option(p)
     _add_multibody_options(p)

@@ -44,8 +44,9 @@ IMPACT_TOLERANCE = 0        # impacts before the end of the pulse may differ by 
 def _study_from_case(case):
     study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
     if "ground_study" in case:     # a variant shaken by the original study's ground motion
-        study.ground = from_dict(case["ground_study"], source=case["source"],
-                                 base=Path(case["base"])).ground
+        shaking = from_dict(case["ground_study"], source=case["source"],
+                            base=Path(case["base"]))
+        study.ground, study.vertical = shaking.ground, shaking.vertical
     return study
 
 
@@ -78,7 +79,7 @@ def rigid_case(case: dict, directory: str) -> dict:
     else:
         block, collars = study.rocking_block, study.collars
     result = rock(block, study.ground, collars, model="nonlinear", duration=study.duration,
-                  initial_tilt=study.initial_tilt,
+                  vertical=study.vertical, initial_tilt=study.initial_tilt,
                   initial_angular_velocity=study.initial_angular_velocity)
     columns = {"t": result.time, "theta": result.theta, "theta_dot": result.theta_dot}
     for k, hist in enumerate(result.collar_histories, start=1):
@@ -94,7 +95,8 @@ def multibody_case(case: dict, directory: str) -> dict:
     study = _study_from_case(case)
     result = rock_multibody(study.rocking_block, study.ground, study.collars,
                             cracked=study.cracked, friction=study.contact.friction,
-                            duration=study.duration, initial_tilt=study.initial_tilt,
+                            duration=study.duration, vertical=study.vertical,
+                            initial_tilt=study.initial_tilt,
                             initial_angular_velocity=study.initial_angular_velocity)
     write_csv(Path(directory) / "history.csv", history_columns(result))
     return result.summary()

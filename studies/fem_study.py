@@ -11,6 +11,11 @@
                amplitude (m/s^2) or amplitude_ratio (a_p / (g tan alpha) of the rocking half)
                period (s) or omega_ratio (Omega / p of the rocking half)
                record (file, PEER .AT2 or two columns), scale (default 1)
+               vertical ground acceleration (upward positive), either harmonic:
+               vertical_amplitude (m/s^2), vertical_period (s), vertical_phase (rad, default 0),
+               vertical_duration (s, default: that of the horizontal motion), i.e.
+               a_v sin(2 pi t / T + phase) on [0, duration]; or vertical_record (file) and
+               vertical_scale (default 1)
     [contact]  friction (0.7), penalty_factor (1), penalty (N/m^3, optional), damping (0.05),
                friction_filter (s, 1e-3: low-pass time constant of the friction cone's normal force)
     [mesh]     size (m, default width / 16), grading (0.5), edge_length (m, default 0.1 x the
@@ -40,7 +45,7 @@ from ..fem.solver import EDGE_TIME
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid.block import Block
 from ..rigid.collars import collars_from_tables
-from ..rigid.ground import NoMotion, cosine_pulse, read_record, sine_pulse
+from ..rigid.ground import HarmonicPulse, NoMotion, cosine_pulse, read_record, sine_pulse
 from ..rigid.validation import InputError, read_toml, require_positive, require_range
 
 SCHEMA = {
@@ -48,7 +53,8 @@ SCHEMA = {
     "stone": {"E", "nu", "density", "fc"},
     "collar": None,          # array of tables, checked by rigid.collars
     "ground": {"pulse", "amplitude", "amplitude_ratio", "period", "omega_ratio", "record",
-               "scale"},
+               "scale", "vertical_amplitude", "vertical_period", "vertical_phase",
+               "vertical_duration", "vertical_record", "vertical_scale"},
     "contact": {"friction", "penalty_factor", "penalty", "damping", "friction_filter"},
     "mesh": {"size", "grading", "edge_length", "edge_time", "toe_refinements", "file"},
     "run": {"duration", "output_interval", "dt", "safety", "initial_tilt",
@@ -85,6 +91,7 @@ class FemStudy:
     edge_time: float = EDGE_TIME              # s
     toe_refinements: tuple = REFINEMENTS
     top_load: float = 0.0                     # N, on the capital
+    vertical: object = None                   # vertical ground motion (rigid.ground), or None
 
     @property
     def rocking_block(self) -> Block:
@@ -198,8 +205,11 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
                      output_interval=None, dt=None, safety=0.9, rigid=rigid, source=source,
                      edge_time=edge_time, toe_refinements=toe_refinements, top_load=top_load)
     study.ground = _ground(data.get("ground", {}), study.rocking_block, base, source)
+    study.vertical = _vertical(data.get("ground", {}), study.ground, study.rocking_block, base,
+                               source)
     run = data.get("run", {})
-    duration = _number(run, "duration", "run", study.ground.end_time + 1.5)
+    end = max(study.ground.end_time, 0.0 if study.vertical is None else study.vertical.end_time)
+    duration = _number(run, "duration", "run", end + 1.5)
     study.duration = require_positive("run.duration (s)", duration)
     study.output_interval = _number(run, "output_interval", "run")
     if study.output_interval is not None:
@@ -223,7 +233,40 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
     return study
 
 
+def _vertical(table: dict, horizontal, block: Block, base: Path, source: str):
+    """The vertical ground motion of [ground] vertical_* (None without one)."""
+    keys = {k for k in table if k.startswith("vertical_")}
+    if not keys:
+        return None
+    if "vertical_record" in keys:
+        extra = sorted(keys - {"vertical_record", "vertical_scale"})
+        if extra:
+            raise InputError(f"{source}: ground.{extra[0]} has no meaning with "
+                             "ground.vertical_record")
+        record = read_record(base / table["vertical_record"], g=block.g)
+        return record.scaled(_number(table, "vertical_scale", "ground", 1.0))
+    for key in ("vertical_amplitude", "vertical_period"):
+        if key not in keys:
+            raise InputError(f"{source}: ground.{key} is required for a vertical pulse (or "
+                             "give ground.vertical_record)")
+    if "vertical_scale" in keys:
+        raise InputError(f"{source}: ground.vertical_scale goes with ground.vertical_record")
+    amplitude = _number(table, "vertical_amplitude", "ground")
+    require_range("ground.vertical_amplitude (m/s^2)", abs(amplitude), 0.0, 10.0 * block.g,
+                  closed_low=True, range_text=f"|a_v| < 10 g = {10.0 * block.g:g}")
+    period = require_positive("ground.vertical_period (s)",
+                              _number(table, "vertical_period", "ground"))
+    phase = _number(table, "vertical_phase", "ground", 0.0)
+    default_duration = horizontal.end_time if horizontal.end_time > 0.0 else period
+    duration = require_positive("ground.vertical_duration (s)",
+                                _number(table, "vertical_duration", "ground",
+                                        default_duration))
+    return HarmonicPulse("sine", float(amplitude), 2.0 * math.pi / period, float(phase),
+                         float(duration))
+
+
 def _ground(table: dict, block: Block, base: Path, source: str):
+    table = {k: v for k, v in table.items() if not k.startswith("vertical_")}
     kind = table.get("pulse", "sine")
     if kind not in ("sine", "cosine", "record", "none"):
         raise InputError(f"ground.pulse = {kind!r} is not one of sine, cosine, record, none")
@@ -293,5 +336,6 @@ def run_study(study: FemStudy, out_dir=None, progress: bool = True):
     model = build(study)
     return run(model, study.ground, study.duration, dt=study.dt, safety=study.safety,
                output_interval=study.output_interval, edge_length=study.edge_length,
-               edge_time=study.edge_time, out_dir=out_dir, progress=progress, initial_tilt=study.initial_tilt,
+               edge_time=study.edge_time, out_dir=out_dir, vertical=study.vertical,
+               progress=progress, initial_tilt=study.initial_tilt,
                initial_angular_velocity=study.initial_angular_velocity)

@@ -54,6 +54,15 @@ def test_top_load_study_shares_the_load_between_the_halves():
     assert study.ground.amplitude == pytest.approx(3.0 * half.uplift_acceleration())
 
 
+def test_vertical_ground_motion_of_a_study():
+    study = from_dict(_study(**{"ground.vertical_amplitude": -3.0, "ground.vertical_period": 0.25,
+                                "ground.vertical_phase": 0.5}))
+    v = study.vertical
+    assert (v.amplitude, v.omega, v.phase) == (-3.0, pytest.approx(2 * math.pi / 0.25), 0.5)
+    assert v.duration == pytest.approx(study.ground.end_time)   # the horizontal pulse's
+    assert from_dict(_study()).vertical is None
+
+
 def _study(**changes):
     import tomllib
     data = tomllib.loads(TINY)
@@ -81,6 +90,12 @@ def _study(**changes):
     ({"mesh.toe_refinements": [1, 3, 9]}, "mesh.toe_refinements"),
     ({"mesh.toe_refinements": [1, 2]}, "mesh.toe_refinements"),
     ({"mesh.edge_time": 0.5}, "mesh.edge_time"),
+    ({"ground.vertical_amplitude": 3.0}, "ground.vertical_period"),
+    ({"ground.vertical_scale": 2.0}, "ground.vertical_amplitude"),
+    ({"ground.vertical_amplitude": 1e3, "ground.vertical_period": 0.2},
+     "ground.vertical_amplitude"),
+    ({"ground.vertical_amplitude": 2.0, "ground.vertical_period": -0.2},
+     "ground.vertical_period"),
     ({"run.initial_angular_velocity": float("inf")}, "run.initial_angular_velocity"),
 ])
 def test_bad_study_values_name_the_key(changes, name):
