@@ -189,14 +189,22 @@ def _face_angle(x, below, above):
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
-def collar_forces(x, collars, props, out, f):
-    """Co-rotational Euler-Bernoulli frame elements.
+def collar_forces(x, collars, props, out, f, state, commit):
+    """Co-rotational Euler-Bernoulli frame elements, elastic or bilinear in the axial force.
 
     collars[c] = (left node, left face below, left face above, right node, right below, right
     above); props[c] = (EA/L, EI'/L0, pretension, L0, chord angle0, left face angle0,
-    right face angle0). out[c] = (N, M1, M2, energy). End rotations are the rotations of the
-    face segments (below -> above); their moments enter as force couples on those nodes."""
+    right face angle0, N_y = f_y A (0: elastic), E A, H A with H = E E_h / (E - E_h)).
+    out[c] = (N, M1, M2, elastic energy, plastic strain). End rotations are the rotations of
+    the face segments (below -> above); their moments enter as force couples on those nodes.
+
+    Plasticity (axial, isotropic linear hardening, return mapping): state[c] = (plastic
+    elongation s_p (m), accumulated plastic strain, plastic work (J)); N = pretension + EA/L
+    (stretch - s_p), |N| <= N_y + H A alpha. With commit the state is updated (a time step);
+    otherwise the forces are those of the trial state. Returns (elastic energy, plastic work
+    of this call)."""
     energy = 0.0
+    work = 0.0
     for c in range(collars.shape[0]):
         n1 = collars[c, 0]
         n2 = collars[c, 3]
@@ -211,13 +219,29 @@ def collar_forces(x, collars, props, out, f):
         ea_l = props[c, 0]
         ei_l = props[c, 1]
         stretch = length - props[c, 3]
-        N = props[c, 2] + ea_l * stretch
+        s_p = state[c, 0]
+        N = props[c, 2] + ea_l * (stretch - s_p)
+        if props[c, 7] > 0.0:
+            span = props[c, 8] / ea_l
+            limit = props[c, 7] + props[c, 9] * state[c, 1]
+            if abs(N) > limit:
+                ds = (abs(N) - limit) / (ea_l + props[c, 9] / span)
+                sgn = 1.0 if N > 0.0 else -1.0
+                N -= sgn * ea_l * ds
+                s_p += sgn * ds
+                if commit:
+                    state[c, 0] = s_p
+                    state[c, 1] += ds / span
+                    state[c, 2] += abs(N) * ds
+                    work += abs(N) * ds
+            out[c, 4] = s_p / span
         M1 = ei_l * (4.0 * th1 + 2.0 * th2)
         M2 = ei_l * (2.0 * th1 + 4.0 * th2)
         out[c, 0] = N
         out[c, 1] = M1
         out[c, 2] = M2
-        e = (props[c, 2] * stretch + 0.5 * ea_l * stretch * stretch
+        elastic = stretch - s_p
+        e = (props[c, 2] * elastic + 0.5 * ea_l * elastic * elastic
              + ei_l * (2.0 * th1 * th1 + 2.0 * th1 * th2 + 2.0 * th2 * th2))
         out[c, 3] = e
         energy += e
@@ -243,7 +267,7 @@ def collar_forces(x, collars, props, out, f):
             f[2 * above + 1] -= M * sx / ss
             f[2 * below] += M * (-sy) / ss
             f[2 * below + 1] += M * sx / ss
-    return energy
+    return energy, work
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
@@ -252,8 +276,8 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
             base_nodes, base_kn, base_kt, base_cn, mu, blend, base_ft, base_fn, base_fc,
             a_sl, a_ma, a_sign, a_kn, a_kt, a_cn, a_seg, a_ft, a_fn, a_fc,
             b_sl, b_ma, b_sign, b_kn, b_kt, b_cn, b_seg, b_ft, b_fn, b_fc,
-            collar_nodes, collar_props, collar_out, u_loc, f_loc, f, tallies, energies,
-            edge_weights, edge_buffer, edge_state, edge_peak):
+            collar_nodes, collar_props, collar_out, collar_state, u_loc, f_loc, f, tallies,
+            energies, edge_weights, edge_buffer, edge_state, edge_peak):
     """n_steps of central differences (velocities at half steps, lumped mass).
 
     ground_acc[k], ground_vacc[k]: horizontal and vertical (upward) ground acceleration (m/s^2)
@@ -349,7 +373,8 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
                                    b_ft, f, b_fn, b_fc, blend)
             e_crack = e1 + e2
             p_crack = p1 + p2
-        e_collar = collar_forces(x, collar_nodes, collar_props, collar_out, f)
+        e_collar, w_plastic = collar_forces(x, collar_nodes, collar_props, collar_out, f,
+                                            collar_state, True)
         # fused: elastic forces back to the ground frame, update, next step's loads
         ag_next = ground_acc[step + 1] if step + 1 < n_steps else ag
         av_next = ground_vacc[step + 1] if step + 1 < n_steps else av
@@ -380,7 +405,7 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
             vv += vx * vx + vy * vy
             f[2 * i] = gravity[2 * i] - m * ag_next
             f[2 * i + 1] = gravity[2 * i + 1] - m * av_next
-        tallies[0] += (p_base + p_crack) * dt
+        tallies[0] += (p_base + p_crack) * dt + w_plastic
         tallies[1] += work
         energies[0] = e_strain
         energies[1] = e_base

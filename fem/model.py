@@ -69,7 +69,7 @@ class Model:
     base_tributary: np.ndarray = field(repr=False)
     crack_passes: list = field(repr=False)          # [(slaves, masters, sign, kn, kt, cn)]
     collar_nodes: np.ndarray = field(repr=False)    # (n_collars, 6) int
-    collar_props: np.ndarray = field(repr=False)    # (n_collars, 7)
+    collar_props: np.ndarray = field(repr=False)    # (n_collars, 10), see _kernels
     top_load: float = 0.0                           # N, on the capital (see build_model)
 
     @property
@@ -180,7 +180,7 @@ def _neighbour(mesh: ColumnMesh, nodes: np.ndarray, axis: int) -> np.ndarray:
 
 def _collar_elements(mesh: ColumnMesh, collars):
     nodes = np.zeros((len(collars), 6), dtype=np.int64)
-    props = np.zeros((len(collars), 7))
+    props = np.zeros((len(collars), 10))
     if not collars:
         return nodes, props
     faces = mesh.outer_nodes        # left and right outer faces (of one body if solid)
@@ -207,7 +207,8 @@ def _collar_elements(mesh: ColumnMesh, collars):
             below, above = row[1 + 3 * side], row[2 + 3 * side]
             angles.append(math.atan2(p[1, above] - p[1, below], p[0, above] - p[0, below]))
         props[c] = (ea_l, ei_l, collar.pretension, L0, math.atan2(chord[1], chord[0]),
-                    angles[0], angles[1])
+                    angles[0], angles[1], collar.fy * collar.area if collar.plastic else 0.0,
+                    collar.E * collar.area, collar.plastic_modulus * collar.area)
     return nodes, props
 
 
@@ -251,15 +252,16 @@ def collar_stiffness(model: Model, h: float = 1e-7) -> sparse.csr_matrix:
     dofs = np.unique(np.concatenate([2 * model.collar_nodes.ravel(),
                                      2 * model.collar_nodes.ravel() + 1]))
     x = model.X.copy()
-    out = np.zeros((model.collar_nodes.shape[0], 4))
+    out = np.zeros((model.collar_nodes.shape[0], 5))
+    state = np.zeros((model.collar_nodes.shape[0], 3))
     cols = []
     step = h * model.mesh.width
     for d in dofs:
         fp, fm = np.zeros(n), np.zeros(n)
         x[d] += step
-        K.collar_forces(x, model.collar_nodes, model.collar_props, out, fp)
+        K.collar_forces(x, model.collar_nodes, model.collar_props, out, fp, state, False)
         x[d] -= 2 * step
-        K.collar_forces(x, model.collar_nodes, model.collar_props, out, fm)
+        K.collar_forces(x, model.collar_nodes, model.collar_props, out, fm, state, False)
         x[d] += step
         cols.append(-(fp - fm)[dofs] / (2 * step))
     local = np.array(cols).T

@@ -60,8 +60,9 @@ def static_state(model: Model):
     springs = contact_stiffness(model, tangential_scale=tangential)
     total = (model.stiffness + springs + collar_stiffness(model)).tocsc()
     f = model.gravity.copy()
-    out = np.zeros((model.collar_nodes.shape[0], 4))
-    K.collar_forces(model.X.copy(), model.collar_nodes, model.collar_props, out, f)  # pretension
+    out = np.zeros((model.collar_nodes.shape[0], 5))
+    K.collar_forces(model.X.copy(), model.collar_nodes, model.collar_props, out, f,   # pretension
+                    np.zeros((model.collar_nodes.shape[0], 3)), False)
     u = spsolve(total, f)
     base_ft = -tangential * model.base_kt * u[2 * model.base_nodes]
     crack_ft = []
@@ -158,10 +159,14 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     f = np.zeros_like(x)
     base_fn = np.zeros(model.base_nodes.size)
     base_fc = np.zeros(model.base_nodes.size)
-    collar_out = np.zeros((model.collar_nodes.shape[0], 4))
+    collar_out = np.zeros((model.collar_nodes.shape[0], 5))
+    # per collar: plastic elongation (m), accumulated plastic strain, plastic work (J)
+    collar_state = np.zeros((model.collar_nodes.shape[0], 3))
     crack = [_crack_state(p, ft) for p, ft in zip(model.crack_passes, crack_ft)]
     if initial_contact is not None:
         base_ft, base_fc = _restore_contact(model, initial_contact, crack)
+        if "collar_state" in initial_contact:      # the plastic state of the collars
+            collar_state[:] = np.asarray(initial_contact["collar_state"], dtype=float)
     while len(crack) < 2:
         crack.append(_crack_state(None, None))
     A = model.stiffness.tobsr(blocksize=(2, 2))
@@ -184,13 +189,13 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     blend = 1.0 if tau == 0.0 else min(1.0, dt / tau)
     _advance(0, dt, x, v, model, frames, indptr, indices, data, (np.zeros(1), np.zeros(1)),
              base_ft, base_fn,
-             base_fc, blend, crack, collar_out, u_loc, f_loc, f, tallies, energies,
-             recorder.edge_matrix, recorder.edge_buffer, recorder.edge_state,
+             base_fc, blend, crack, collar_out, collar_state, u_loc, f_loc, f, tallies,
+             energies, recorder.edge_matrix, recorder.edge_buffer, recorder.edge_state,
              recorder.edge_peak)
     recorder.start_edge_average(base_fn)
     for k in range(n_outputs + 1):
         row = recorder.record(t, x, v, frames, base_fn, crack, collar_out, energies, tallies,
-                              model.X, base_ft, base_fc)
+                              model.X, base_ft, base_fc, collar_state)
         if energy0 is None:
             energy0 = row["energy_total"]
         recorder.finish_row(row, energy0)
@@ -209,8 +214,8 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
                 else np.ascontiguousarray(vertical.acceleration(times), dtype=float))
         done = _advance(steps_per_output, dt, x, v, model, frames, indptr, indices, data,
                         (acc, vacc),
-                        base_ft, base_fn, base_fc, blend, crack, collar_out, u_loc, f_loc, f,
-                        tallies, energies, recorder.edge_matrix, recorder.edge_buffer,
+                        base_ft, base_fn, base_fc, blend, crack, collar_out, collar_state,
+                        u_loc, f_loc, f, tallies, energies, recorder.edge_matrix, recorder.edge_buffer,
                         recorder.edge_state, recorder.edge_peak)
         steps_done += done
         t = start_time + steps_done * dt
@@ -228,7 +233,8 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     summary = _summary(model, history, reason, overturned, dt, step, k, steps_per_output, wall,
                        edge_length, edge_time,
                        initial_state is None and initial_tilt == 0.0
-                       and initial_angular_velocity == 0.0 and initial_velocity is None)
+                       and initial_angular_velocity == 0.0 and initial_velocity is None,
+                       collar_state)
     result = FemResult(history, summary, recorder.frames, model, recorder.velocity_frames,
                        recorder.contact_frames)
     if out_dir is not None:
@@ -287,8 +293,8 @@ def _crack_state(crack_pass, ft0):
 
 
 def _advance(n, dt, x, v, model, frames, indptr, indices, data, acc, base_ft, base_fn, base_fc,
-             blend, crack, collar_out, u_loc, f_loc, f, tallies, energies, edge_weights,
-             edge_buffer, edge_state, edge_peak):
+             blend, crack, collar_out, collar_state, u_loc, f_loc, f, tallies, energies,
+             edge_weights, edge_buffer, edge_state, edge_peak):
     """Advance n steps; n = 0 evaluates the forces at the present state without moving it (one
     step of size 0 on copies of the state)."""
     a, b = crack
@@ -301,6 +307,7 @@ def _advance(n, dt, x, v, model, frames, indptr, indices, data, acc, base_ft, ba
         acc, dt, steps = (np.zeros(1), np.zeros(1)), 0.0, 1
         edge_buffer, edge_state, edge_peak = edge_buffer.copy(), edge_state.copy(), \
             edge_peak.copy()
+        collar_state = collar_state.copy()
     else:
         steps = n
     done = K.advance(steps, dt, x, v, model.X, model.mass, model.mesh.node_body,
@@ -310,8 +317,8 @@ def _advance(n, dt, x, v, model, frames, indptr, indices, data, acc, base_ft, ba
                      a["sl"], a["ma"], a["sign"], a["kn"], a["kt"], a["cn"], a["seg"], a["ft"],
                      a["fn"], a["fc"], b["sl"], b["ma"], b["sign"], b["kn"], b["kt"], b["cn"],
                      b["seg"], b["ft"], b["fn"], b["fc"], model.collar_nodes, model.collar_props,
-                     collar_out, u_loc, f_loc, f, tallies, energies, edge_weights, edge_buffer,
-                     edge_state, edge_peak)
+                     collar_out, collar_state, u_loc, f_loc, f, tallies, energies,
+                     edge_weights, edge_buffer, edge_state, edge_peak)
     return 0 if n == 0 else done
 
 
@@ -421,7 +428,7 @@ class _Recorder:
         return np.concatenate(lo), np.concatenate(hi)
 
     def record(self, t, x, v, frames, base_fn, crack, collar_out, energies, tallies, X,
-               base_ft, base_fc):
+               base_ft, base_fc, collar_state):
         model, mesh = self.model, self.model.mesh
         theta = -frames[:, 2]
         row = {"t": t, "theta_left": theta[0], "theta_right": theta[-1]}
@@ -461,6 +468,8 @@ class _Recorder:
             row[f"collar_{k}_moment"] = moment
             row[f"collar_{k}_stress"] = stress
             row[f"collar_{k}_utilisation"] = stress / collar.fy
+            if collar.plastic:
+                row[f"collar_{k}_plastic_strain"] = collar_out[k - 1, 4]
         kinetic, gravity = energies[5], energies[4]
         row.update(energy_kinetic=kinetic, energy_strain=energies[0],
                    energy_gravity=gravity, energy_contact=energies[1] + energies[2],
@@ -473,7 +482,8 @@ class _Recorder:
         passes = [c for c in crack if c["sl"].size]
         self.contact_frames.append((t, {"base_ft": base_ft.copy(), "base_fc": base_fc.copy(),
                                         "crack_ft": [c["ft"].copy() for c in passes],
-                                        "crack_fc": [c["fc"].copy() for c in passes]}))
+                                        "crack_fc": [c["fc"].copy() for c in passes],
+                                        "collar_state": collar_state.copy()}))
         if self.csv is not None:   # contact pressure along the base (Pa), one row per output
             pressure = base_fn / self.base_area
             self.pressure_csv.write(f"{t!r}," + ",".join(repr(float(q)) for q in pressure)
@@ -529,7 +539,7 @@ def _check(row, recorder, model, ground_end, t, stop_on_overturn):
 
 
 def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, wall,
-             edge_length, edge_time, static_start):
+             edge_length, edge_time, static_start, collar_state):
     h = history
     collars = model.collars
     util = [h[f"collar_{i}_utilisation"] for i in range(1, len(collars) + 1)]
@@ -557,6 +567,12 @@ def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, 
         # the base's total normal force at t = 0: the static reaction, weight + top load,
         # when the run starts from the static state (None for a release or a restart)
         "base_reaction_static": reaction0 if static_start else None,
+        # plastic collars: the largest |plastic strain| reached, and the work done yielding
+        "collar_max_plastic_strain": max((float(np.max(np.abs(h[key]))) for key in h
+                                          if key.endswith("_plastic_strain")), default=0.0),
+        "collar_plastic_work": float(collar_state[:, 2].sum()),
+        # what the run leaves behind: the crack slip at its end (m)
+        "crack_slip_residual": float(h["crack_slip_max"][-1]) if "crack_slip_max" in h else 0.0,
         "top_load": model.top_load,
         "energy_error_max": float(np.max(np.abs(h["energy_error"]))),
         "dt": dt,

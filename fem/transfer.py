@@ -95,4 +95,6 @@ def transfer_contact(source, target, state: dict) -> dict:
             yt = target.mesh.points[1, pass_t[0]]
             out[key].append(_traction_transfer(ys, np.asarray(force, dtype=float), yt,
                                                _tributary(ys), _tributary(yt)))
+    if "collar_state" in state:          # the same collars on both meshes
+        out["collar_state"] = np.array(state["collar_state"], dtype=float)
     return out

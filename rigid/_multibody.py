@@ -53,7 +53,7 @@ OUT_T = 0
 N_BODY_COLS = 6
 # after the body columns: kinetic, gravity, collar, dissipated, external work, crack normal
 # force, crack tangential force (N_TAIL columns), then per body its base normal and
-# tangential force
+# tangential force, then per collar its plastic elongation (m) and accumulated plastic strain
 N_TAIL = 7
 
 
@@ -108,13 +108,17 @@ def _world(q, body, lx, ly):
 
 
 @njit(cache=True)
-def collar_forces(q, col_a, col_b, col_r, props, f, out):
+def collar_forces(q, col_a, col_b, col_r, props, f, out, state, commit):
     """Co-rotational Euler-Bernoulli frame elements between body-fixed attachment points (the
-    FEM's collar element with rigid end sections).
+    FEM's collar element with rigid end sections), elastic or bilinear in the axial force.
 
     col_r[c] = (x1, y1, x2, y2): attachment points in the frames of bodies col_a[c], col_b[c];
-    props[c] = (EA/L, EI'/L0, pretension, L0, chord angle at rest). Adds the generalised
-    forces -dU/dq to f (if f.size) and writes out[c] = (N, M1, M2, energy). Returns U (J)."""
+    props[c] = (EA/L, EI'/L0, pretension, L0, chord angle at rest, N_y = f_y A (0: elastic),
+    E A, H A). Adds the generalised forces -dU/dq to f (if f.size) and writes out[c] = (N, M1,
+    M2, elastic energy, plastic strain). Plasticity as the FEM's (colonna.fem._kernels):
+    state[c] = (plastic elongation, accumulated plastic strain, plastic work), updated with
+    commit. Returns the elastic energy U (J); the plastic work of a committed call is added
+    to state[c, 2]."""
     energy = 0.0
     for c in range(col_a.size):
         a = col_a[c]
@@ -130,10 +134,25 @@ def collar_forces(q, col_a, col_b, col_r, props, f, out):
         ea_l = props[c, 0]
         ei_l = props[c, 1]
         stretch = length - props[c, 3]
-        N = props[c, 2] + ea_l * stretch
+        s_p = state[c, 0]
+        N = props[c, 2] + ea_l * (stretch - s_p)
+        if props[c, 5] > 0.0:
+            span = props[c, 6] / ea_l
+            limit = props[c, 5] + props[c, 7] * state[c, 1]
+            if abs(N) > limit:
+                ds = (abs(N) - limit) / (ea_l + props[c, 7] / span)
+                sgn = 1.0 if N > 0.0 else -1.0
+                N -= sgn * ea_l * ds
+                s_p += sgn * ds
+                if commit:
+                    state[c, 0] = s_p
+                    state[c, 1] += ds / span
+                    state[c, 2] += abs(N) * ds
+            out[c, 4] = s_p / span
+        elastic = stretch - s_p
         M1 = ei_l * (4.0 * th1 + 2.0 * th2)
         M2 = ei_l * (2.0 * th1 + 4.0 * th2)
-        e = (props[c, 2] * stretch + 0.5 * ea_l * stretch * stretch
+        e = (props[c, 2] * elastic + 0.5 * ea_l * elastic * elastic
              + ei_l * (2.0 * th1 * th1 + 2.0 * th1 * th2 + 2.0 * th2 * th2))
         out[c, 0] = N
         out[c, 1] = M1
@@ -291,7 +310,7 @@ def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, c
     nb = mass.size
     n_dof = 3 * nb
     nc = cand_a.size
-    qm, f, vfree, vnew, bvec, umin, P, mu_act, G, W, act, n_base, col_out = ws
+    qm, f, vfree, vnew, bvec, umin, P, mu_act, G, W, act, n_base, col_out, col_state = ws
     tm = t + 0.5 * h
     ag = ground_acceleration(tm, ground_kind, gpar, rec_t, rec_a)
     av = vertical_acceleration(tm, gpar, rec_t, rec_a)
@@ -306,7 +325,13 @@ def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, c
             f[3 * i + 1] -= load
             f[3 * i + 2] += load * half[i, 1] * math.sin(qm[3 * i + 2])
     if col_a.size:
-        collar_forces(qm, col_a, col_b, col_r, col_props, f, col_out)
+        work_before = 0.0
+        for c in range(col_a.size):
+            work_before += col_state[c, 2]
+        collar_forces(qm, col_a, col_b, col_r, col_props, f, col_out, col_state, True)
+        for c in range(col_a.size):
+            tallies[0] += col_state[c, 2]
+        tallies[0] -= work_before
     for k in range(n_dof):
         vfree[k] = v[k] + h * minv[k] * f[k]
         vnew[k] = vfree[k]
@@ -461,8 +486,11 @@ def simulate(q, v, mass, inertia, half, g,
     ws = (np.empty(n_dof), np.empty(n_dof), np.empty(n_dof), np.empty(n_dof),
           np.zeros(2 * nc), np.zeros(2 * nc), np.zeros(2 * nc), np.zeros(nc),
           np.zeros((2 * nc, n_dof)), np.zeros((2 * nc, 2 * nc)), np.zeros(nc, dtype=np.int64),
-          np.zeros(nb, dtype=np.int64), np.zeros((col_a.size, 4)))
+          np.zeros(nb, dtype=np.int64), np.zeros((col_a.size, 5)), np.zeros((col_a.size, 3)))
     col_out = ws[12]
+    col_state = ws[13]
+    saved_col = col_state.copy()
+    max_plastic = 0.0
     no_force = np.zeros(0)
     P_prev = np.zeros((nc, 2))
     was_active = np.zeros(nc, dtype=np.bool_)
@@ -483,7 +511,7 @@ def simulate(q, v, mass, inertia, half, g,
     reason = OVER_NONE
     t_over = -1.0
     _write_row(out, n_rows, 0.0, q, v, mass, inertia, half, g, col_a, col_b, col_r,
-               col_props, col_out, no_force, tallies, forces)
+               col_props, col_out, no_force, tallies, forces, col_state)
     n_rows += 1
     step = 0
     for step in range(1, n_steps + 1):
@@ -496,6 +524,7 @@ def simulate(q, v, mass, inertia, half, g,
             saved[4][:] = pivot_side
             saved[5][:] = armed
             saved[6][:] = tallies
+            saved_col[:] = col_state
         closed = _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, cand_mu,
                        cand_kind, col_a, col_b, col_r, col_props, ground_kind, gpar, rec_t,
                        rec_a, e_n, tol, max_iter, ws, P_prev, was_active, pivot_side, armed,
@@ -508,6 +537,7 @@ def simulate(q, v, mass, inertia, half, g,
             pivot_side[:] = saved[4]
             armed[:] = saved[5]
             tallies[:] = saved[6]
+            col_state[:] = saved_col
             hs = h / refine
             for sub in range(refine):
                 _step(t + sub * hs, hs, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt,
@@ -519,6 +549,7 @@ def simulate(q, v, mass, inertia, half, g,
             stress = (abs(col_out[c, 0]) / col_limits[c, 0]
                       + max(abs(col_out[c, 1]), abs(col_out[c, 2])) / col_limits[c, 1])
             max_util = max(max_util, stress / col_limits[c, 2])
+            max_plastic = max(max_plastic, abs(col_out[c, 4]))
         finite = True
         for k in range(n_dof):
             if not math.isfinite(q[k]) or not math.isfinite(v[k]):
@@ -543,20 +574,23 @@ def simulate(q, v, mass, inertia, half, g,
         mech = 0.0
         if write or early_exit or step % 64 == 0:
             mech = _mechanical(q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props,
-                               col_out, no_force)
+                               col_out, no_force, col_state)
             if not (abs(mech) <= 1e3 * energy_scale + 1e3 * abs(tallies[1])):
                 status = UNSTABLE
         if write and n_rows < out.shape[0]:
             _write_row(out, n_rows, t_new, q, v, mass, inertia, half, g, col_a, col_b, col_r,
-                       col_props, col_out, no_force, tallies, forces)
+                       col_props, col_out, no_force, tallies, forces, col_state)
             n_rows += 1
         if status != FINISHED:
             break
         if early_exit and t_new > t_ground_end and mech < barrier and _upright(q, half):
             status = SETTLED
             break
+    plastic_work = 0.0
+    for c in range(col_a.size):
+        plastic_work += col_state[c, 2]
     return (status, step, n_rows, int(tallies[2]), reason, t_over, peak, int(tallies[3]),
-            max_util)
+            max_util, max_plastic, plastic_work)
 
 
 @njit(cache=True)
@@ -573,7 +607,7 @@ def _potential(q, mass, half, g, i):
 
 @njit(cache=True)
 def _mechanical(q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props, col_out,
-                no_force):
+                no_force, col_state):
     """Kinetic + gravity and top load (above rest) + collar energy (J)."""
     e = 0.0
     for i in range(mass.size):
@@ -581,13 +615,14 @@ def _mechanical(q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props, co
         e += 0.5 * inertia[i] * v[3 * i + 2] ** 2
         e += _potential(q, mass, half, g, i)
     if col_a.size:
-        e += collar_forces(q, col_a, col_b, col_r, col_props, no_force, col_out)
+        e += collar_forces(q, col_a, col_b, col_r, col_props, no_force, col_out, col_state,
+                           False)
     return e
 
 
 @njit(cache=True)
 def _write_row(out, row, t, q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props,
-               col_out, no_force, tallies, forces):
+               col_out, no_force, tallies, forces, col_state):
     nb = mass.size
     out[row, OUT_T] = t
     kinetic = 0.0
@@ -601,7 +636,8 @@ def _write_row(out, row, t, q, v, mass, inertia, half, g, col_a, col_b, col_r, c
         gravity += _potential(q, mass, half, g, i)
     collar = 0.0
     if col_a.size:
-        collar = collar_forces(q, col_a, col_b, col_r, col_props, no_force, col_out)
+        collar = collar_forces(q, col_a, col_b, col_r, col_props, no_force, col_out,
+                               col_state, False)
     k0 = 1 + N_BODY_COLS * nb
     out[row, k0] = kinetic
     out[row, k0 + 1] = gravity
@@ -610,6 +646,10 @@ def _write_row(out, row, t, q, v, mass, inertia, half, g, col_a, col_b, col_r, c
     out[row, k0 + 4] = tallies[1]
     for k in range(forces.size):
         out[row, k0 + 5 + k] = forces[k]
+    k1 = k0 + 5 + forces.size        # then per collar: plastic elongation (m), its accumulation
+    for c in range(col_state.shape[0]):
+        out[row, k1 + 2 * c] = col_state[c, 0]
+        out[row, k1 + 2 * c + 1] = col_state[c, 1]
 
 
 @njit(cache=True)
@@ -699,9 +739,10 @@ def spectrum_modes(q0, mass, inertia, half, g,
         n_steps = int(math.ceil((t_end + free_time) / h))
         q = q0.copy()
         v = np.zeros_like(q0)
-        out = np.zeros((1, 1 + N_BODY_COLS * mass.size + N_TAIL + 2 * mass.size))
+        out = np.zeros((1, 1 + N_BODY_COLS * mass.size + N_TAIL + 2 * mass.size
+                        + 2 * col_a.size))
         impacts = np.zeros((1, 4))
-        status, steps, rows, n_imp, reason, t_over, peak, it, util = simulate(
+        status, steps, rows, n_imp, reason, t_over, peak, it, util, _pl, _pw = simulate(
             q, v, mass, inertia, half, g, cand_a, cand_b, cand_pt, cand_face, cand_mu,
             cand_kind, col_a, col_b, col_r, col_props, col_limits, GROUND_HARMONIC, gpar, np.zeros(1),
             np.zeros(1), t_end, h, n_steps, refine, e_n, n_steps + 1, out, impacts, free_halves,

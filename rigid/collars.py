@@ -60,6 +60,8 @@ class Collar:
     E: float = STEEL_E
     fy: float = STEEL_FY
     pretension: float = 0.0
+    plastic: bool = False           # bilinear in tension and compression (FEM and multibody)
+    Eh: float | None = None         # Pa, hardening (tangent) modulus past f_y; default 1 % of E
 
     def __post_init__(self):
         require_positive("collar y (height, m)", self.y)
@@ -70,6 +72,22 @@ class Collar:
         require_positive("collar E (Pa)", self.E)
         require_positive("collar fy (Pa)", self.fy)
         require_non_negative("collar pretension (N)", self.pretension)
+        if not isinstance(self.plastic, bool):
+            raise InputError(f"collar plastic = {self.plastic!r} must be true or false")
+        if self.Eh is not None:
+            require_range("collar Eh (hardening modulus, Pa)", self.Eh, 0.0, self.E,
+                          closed_low=True, range_text=f"[0, E = {self.E:g})")
+
+    @property
+    def hardening_modulus(self) -> float:
+        """E_h (Pa): the slope of stress against strain past f_y (default 0.01 E)."""
+        return 0.01 * self.E if self.Eh is None else self.Eh
+
+    @property
+    def plastic_modulus(self) -> float:
+        """H = E E_h / (E - E_h) (Pa): the slope of stress against *plastic* strain."""
+        eh = self.hardening_modulus
+        return self.E * eh / (self.E - eh)
 
     @property
     def area(self) -> float:
@@ -126,7 +144,7 @@ def read_collars(path) -> tuple[Collar, ...]:
     return collars_from_tables(data.get("collar", []), source=str(path))
 
 
-COLLAR_KEYS = ("y", "t", "h", "length", "E", "fy", "pretension")
+COLLAR_KEYS = ("y", "t", "h", "length", "E", "fy", "pretension", "plastic", "Eh")
 
 
 def collars_from_tables(tables, source: str = "collar") -> tuple[Collar, ...]:

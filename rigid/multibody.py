@@ -118,14 +118,17 @@ class MultibodyColumn:
         n = self.q_rest.size
         stiffness = np.zeros((n, n))
         step = 1e-7 * self.column_width
-        out = np.zeros((self.col_a.size, 4))
+        out = np.zeros((self.col_a.size, 5))
+        state = np.zeros((self.col_a.size, 3))
         for k in range(n):
             q = self.q_rest.copy()
             fp, fm = np.zeros(n), np.zeros(n)
             q[k] += step
-            K.collar_forces(q, self.col_a, self.col_b, self.col_r, self.col_props, fp, out)
+            K.collar_forces(q, self.col_a, self.col_b, self.col_r, self.col_props, fp, out,
+                            state, False)
             q[k] -= 2.0 * step
-            K.collar_forces(q, self.col_a, self.col_b, self.col_r, self.col_props, fm, out)
+            K.collar_forces(q, self.col_a, self.col_b, self.col_r, self.col_props, fm, out,
+                            state, False)
             stiffness[:, k] = -(fp - fm) / (2.0 * step)
         stiffness = 0.5 * (stiffness + stiffness.T)
         m = np.stack((self.mass, self.mass, self.inertia), axis=1).ravel()
@@ -185,7 +188,7 @@ def build_column(block: Block, *, cracked: bool = False, collars=(),
     col_a = np.zeros(len(collars), dtype=np.int64)
     col_b = np.ones(len(collars), dtype=np.int64)
     col_r = np.zeros((len(collars), 4))
-    col_props = np.zeros((len(collars), 5))
+    col_props = np.zeros((len(collars), 8))
     for c, collar in enumerate(collars):
         y = collar.y - h                         # height relative to the centroids
         col_r[c] = (-b, y, b, y)                 # outer faces: left half x = -2b, right x = 2b
@@ -194,7 +197,9 @@ def build_column(block: Block, *, cracked: bool = False, collars=(),
         ea_l = collar.E * collar.area / span
         # as the FEM: bending stiffness scaled so that the lateral one is 12 E I / L^3
         ei_l = collar.E * collar.second_moment * (chord / span) ** 3 / chord
-        col_props[c] = (ea_l, ei_l, collar.pretension, chord, 0.0)
+        col_props[c] = (ea_l, ei_l, collar.pretension, chord, 0.0,
+                        collar.fy * collar.area if collar.plastic else 0.0,
+                        collar.E * collar.area, collar.plastic_modulus * collar.area)
     return MultibodyColumn(
         block, bool(cracked), collars, float(friction), float(crack_friction),
         np.full(n, float(m)), np.full(n, inertia),
@@ -258,6 +263,8 @@ class MultibodyResult:
     wall_seconds: float
     solver_iterations_max: int
     collar_histories: list = field(default_factory=list, repr=False)
+    collar_max_plastic_strain: float = 0.0       # largest |plastic strain| of a plastic collar
+    collar_plastic_work: float = 0.0             # J, work done yielding the collars
 
     model = "multibody"
 
@@ -346,6 +353,8 @@ class MultibodyResult:
             yields = [h.first_yield_time for h in self.collar_histories
                       if h.first_yield_time is not None]
             out["collar_first_yield_time"] = min(yields) if yields else None
+            out["collar_max_plastic_strain"] = self.collar_max_plastic_strain
+            out["collar_plastic_work"] = self.collar_plastic_work
         return out
 
 
@@ -453,12 +462,13 @@ def rock_multibody(block: Block, ground=None, collars=(), *, cracked: bool = Fal
     out_every = max(1, int(round(dt_out / dt)))
     n_steps = int(math.ceil(duration / dt))
     q, v = tilted_state(column, initial_tilt, initial_angular_velocity)
-    n_cols = 1 + K.N_BODY_COLS * column.n_bodies + K.N_TAIL + 2 * column.n_bodies
+    n_cols = (1 + K.N_BODY_COLS * column.n_bodies + K.N_TAIL + 2 * column.n_bodies
+              + 2 * column.col_a.size)
     out = np.zeros((n_steps // out_every + 3, n_cols))
     impacts = np.zeros((max_impacts_stored, 4))
     energy_scale = max(column.rocking_energy(), 1e-300)
     start = time.perf_counter()
-    status, steps, rows, n_imp, reason, t_over, _peak, iters, _util = K.simulate(
+    status, steps, rows, n_imp, reason, t_over, _peak, iters, _util, plastic, work = K.simulate(
         q, v, column.mass, column.inertia, column.half, block.g,
         column.cand_a, column.cand_b, column.cand_pt, column.cand_face, column.cand_mu,
         column.cand_kind, column.col_a, column.col_b, column.col_r, column.col_props,
@@ -485,6 +495,8 @@ def rock_multibody(block: Block, ground=None, collars=(), *, cracked: bool = Fal
         mode = "safe"
     result = _result(column, out[:rows], table, text, overturned, mode, int(n_imp),
                      t_over if overturned else None, dt, steps, wall, iters)
+    result.collar_max_plastic_strain = float(plastic)
+    result.collar_plastic_work = float(work)
     return result
 
 
@@ -522,7 +534,9 @@ def _result(column, rows, table, status, overturned, mode, n_imp, t_over, dt, st
         crack_normal_force=tail[:, 5], energies=energies, impacts_table=table, column=column,
         status=status, overturned=overturned, mode=mode, impacts=n_imp, overturn_time=t_over,
         dt=dt, steps=int(steps), wall_seconds=wall, solver_iterations_max=int(iters))
-    result.collar_histories = collar_histories(column, t, q)
+    ncol = column.col_a.size
+    plastic = tail[:, K.N_TAIL + 2 * nb:K.N_TAIL + 2 * nb + 2 * ncol].reshape(t.size, ncol, 2)
+    result.collar_histories = collar_histories(column, t, q, plastic)
     return result
 
 
@@ -557,18 +571,24 @@ def _crack_kinematics(column, q):
     return np.maximum(*openings), 0.5 * (slips[0] + slips[1])
 
 
-def collar_histories(column: MultibodyColumn, t, q) -> list[CollarHistory]:
+def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[CollarHistory]:
     """N (tension +), end moment, extreme-fibre stress |N|/A + max|M|/W and utilisation of
-    every collar over time, from the frame element (as the FEM reports them)."""
+    every collar over time, from the frame element (as the FEM reports them). ``plastic``:
+    (n_times, n_collars, 2) plastic elongation and accumulated plastic strain of plastic
+    collars at those times (zero if None)."""
     if not column.collars:
         return []
     n = q.shape[0]
-    forces = np.zeros((n, column.col_a.size, 4))
-    out = np.zeros((column.col_a.size, 4))
+    ncol = column.col_a.size
+    forces = np.zeros((n, ncol, 5))
+    out = np.zeros((ncol, 5))
+    state = np.zeros((ncol, 3))
     flat = q.reshape(n, -1)
     for k in range(n):
+        if plastic is not None:
+            state[:, :2] = plastic[k]
         K.collar_forces(flat[k], column.col_a, column.col_b, column.col_r, column.col_props,
-                        np.zeros(0), out)
+                        np.zeros(0), out, state, False)
         forces[k] = out
     histories = []
     for c, collar in enumerate(column.collars):

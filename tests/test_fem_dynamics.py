@@ -98,7 +98,7 @@ def test_collar_element_axial_and_lateral_stiffness():
     model, nodes, props = _collar_setup()
     collar = model.collars[0]
     L = 0.8
-    out = np.zeros((1, 4))
+    out = np.zeros((1, 5))
     # axial: move the right end (with its face nodes) along the chord
     for dx, dy, check in ((1e-6, 0.0, "axial"), (0.0, 1e-6, "lateral")):
         x = model.X.copy()
@@ -106,7 +106,7 @@ def test_collar_element_axial_and_lateral_stiffness():
             x[2 * node] += dx
             x[2 * node + 1] += dy
         f = np.zeros_like(x)
-        K.collar_forces(x, nodes, props, out, f)
+        K.collar_forces(x, nodes, props, out, f, np.zeros((1, 3)), False)
         if check == "axial":
             assert out[0, 0] == pytest.approx(collar.E * collar.area / L * 1e-6, rel=1e-6)
         else:
@@ -119,12 +119,12 @@ def test_collar_element_axial_and_lateral_stiffness():
 
 def test_collar_element_is_rotation_invariant():
     model, nodes, props = _collar_setup()
-    out = np.zeros((1, 4))
+    out = np.zeros((1, 5))
     c, s = math.cos(0.3), math.sin(0.3)
     P = model.X.reshape(-1, 2)
     x = np.column_stack((c * P[:, 0] - s * P[:, 1], s * P[:, 0] + c * P[:, 1])).ravel()
     f = np.zeros_like(x)
-    K.collar_forces(x, nodes, props, out, f)
+    K.collar_forces(x, nodes, props, out, f, np.zeros((1, 3)), False)
     assert np.abs(out[0, :3]).max() < 1e-6 and np.abs(f).max() < 1e-6
 
 
@@ -132,16 +132,16 @@ def test_collar_forces_are_the_energy_gradient():
     model, nodes, props = _collar_setup()
     rng = np.random.default_rng(3)
     x = model.X + 1e-4 * rng.standard_normal(model.X.size)
-    out = np.zeros((1, 4))
+    out = np.zeros((1, 5))
     f = np.zeros_like(x)
-    K.collar_forces(x, nodes, props, out, f)
+    K.collar_forces(x, nodes, props, out, f, np.zeros((1, 3)), False)
     dofs = np.unique(np.concatenate((2 * nodes[0], 2 * nodes[0] + 1)))
     for d in dofs:
         e = []
         for sign in (1, -1):
             xx = x.copy()
             xx[d] += sign * 1e-7
-            K.collar_forces(xx, nodes, props, out, np.zeros_like(x))
+            K.collar_forces(xx, nodes, props, out, np.zeros_like(x), np.zeros((1, 3)), False)
             e.append(out[0, 3])
         assert -(e[0] - e[1]) / 2e-7 == pytest.approx(f[d], rel=1e-4, abs=1e-3)
 

@@ -218,15 +218,18 @@ def test_collar_element_forces_are_the_gradient_of_its_energy():
     rng = np.random.default_rng(1)
     q = col.q_rest + rng.normal(scale=[1e-3, 1e-3, 1e-3] * 2)
     f = np.zeros(6)
-    out = np.zeros((2, 4))
-    K.collar_forces(q, col.col_a, col.col_b, col.col_r, col.col_props, f, out)
+    out = np.zeros((2, 5))
+    K.collar_forces(q, col.col_a, col.col_b, col.col_r, col.col_props, f, out,
+                    np.zeros((col.col_a.size, 3)), False)
     step = 1e-7
     for k in range(6):
         qp, qm = q.copy(), q.copy()
         qp[k] += step
         qm[k] -= step
-        up = K.collar_forces(qp, col.col_a, col.col_b, col.col_r, col.col_props, np.zeros(0), out)
-        um = K.collar_forces(qm, col.col_a, col.col_b, col.col_r, col.col_props, np.zeros(0), out)
+        up = K.collar_forces(qp, col.col_a, col.col_b, col.col_r, col.col_props, np.zeros(0), out,
+                            np.zeros((col.col_a.size, 3)), False)
+        um = K.collar_forces(qm, col.col_a, col.col_b, col.col_r, col.col_props, np.zeros(0), out,
+                            np.zeros((col.col_a.size, 3)), False)
         assert f[k] == pytest.approx(-(up - um) / (2 * step), rel=1e-5, abs=1e-3)
 
 
@@ -238,12 +241,13 @@ def test_collar_element_axial_and_lateral_stiffness():
     col = build_column(half, cracked=True, collars=(collar,))
     L = 4.0 * half.b
     d = 1e-5
-    out = np.zeros((1, 4))
+    out = np.zeros((1, 5))
     for dof, check in ((3, "axial"), (4, "lateral")):
         q = col.q_rest.copy()
         q[dof] += d
         f = np.zeros(6)
-        K.collar_forces(q, col.col_a, col.col_b, col.col_r, col.col_props, f, out)
+        K.collar_forces(q, col.col_a, col.col_b, col.col_r, col.col_props, f, out,
+                    np.zeros((col.col_a.size, 3)), False)
         if check == "axial":
             assert out[0, 0] == pytest.approx(collar.E * collar.area / L * d, rel=1e-4)
         else:
