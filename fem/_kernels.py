@@ -281,7 +281,8 @@ def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frame
     """n_steps of central differences (velocities at half steps, lumped mass).
 
     ground_acc[k], ground_vacc[k]: horizontal and vertical (upward) ground acceleration (m/s^2)
-    during step k, applied as the body forces -m ug'' in x and -m vg'' in y (ground frame). tallies += (dissipated energy, external work); energies gets
+    during step k, applied as the body forces -m ug'' in x and -m vg'' in y (ground frame).
+    tallies += (dissipated energy, external work); energies gets
     (strain, base contact, crack contact, collar, gravity, kinetic) of the last step, all at
     time n (kinetic as m v(n-1/2) . v(n+1/2) / 2, the energy central differences conserve).
     edge_weights (n_edges, n_base): each toe's share of every base node's normal force. The toe

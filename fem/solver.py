@@ -215,7 +215,8 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
         done = _advance(steps_per_output, dt, x, v, model, frames, indptr, indices, data,
                         (acc, vacc),
                         base_ft, base_fn, base_fc, blend, crack, collar_out, collar_state,
-                        u_loc, f_loc, f, tallies, energies, recorder.edge_matrix, recorder.edge_buffer,
+                        u_loc, f_loc, f, tallies, energies, recorder.edge_matrix,
+                        recorder.edge_buffer,
                         recorder.edge_state, recorder.edge_peak)
         steps_done += done
         t = start_time + steps_done * dt

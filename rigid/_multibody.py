@@ -744,7 +744,8 @@ def spectrum_modes(q0, mass, inertia, half, g,
         impacts = np.zeros((1, 4))
         status, steps, rows, n_imp, reason, t_over, peak, it, util, _pl, _pw = simulate(
             q, v, mass, inertia, half, g, cand_a, cand_b, cand_pt, cand_face, cand_mu,
-            cand_kind, col_a, col_b, col_r, col_props, col_limits, GROUND_HARMONIC, gpar, np.zeros(1),
+            cand_kind, col_a, col_b, col_r, col_props, col_limits, GROUND_HARMONIC, gpar,
+            np.zeros(1),
             np.zeros(1), t_end, h, n_steps, refine, e_n, n_steps + 1, out, impacts, free_halves,
             barrier, True, impact_tol, energy_scale, tol, max_iter)
         status_out[i, j] = status

@@ -233,3 +233,13 @@ def acceleration_table(motion, samples_per_period: int = 400):
         return t, motion.acceleration(t)
     raise InputError(f"ground motion of type {type(motion).__name__} is not supported")
 
+
+
+def peak_acceleration(motion) -> float:
+    """Peak |acceleration| (m/s^2) of a pulse (its amplitude) or a record (its largest
+    sample); an InputError for no motion."""
+    if isinstance(motion, HarmonicPulse):
+        return abs(motion.amplitude)
+    if isinstance(motion, Record):
+        return motion.peak_acceleration
+    raise InputError("the study needs a ground motion (a pulse or a record) here, not 'none'")

@@ -10,7 +10,6 @@ overturned, or (after the pulse) mechanical energy below the gravity barrier at 
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 

@@ -11,10 +11,9 @@ from pathlib import Path
 import numpy as np
 
 from ..rigid.design import design_chart, design_collars
-
-from .crosscheck import fem_case
+from ..rigid.ground import peak_acceleration
 from ..rigid.validation import read_toml
-
+from .crosscheck import fem_case
 from .fem_study import from_dict
 from .output import write_csv, write_json
 from .sweep import run_cases
@@ -36,7 +35,7 @@ def run_design_study(study_path: Path, out: Path, *, workers=None, scheduler=Non
     start = time.perf_counter()
     block = study.rocking_block
     collar = study.collars[0]
-    a_g = abs(study.ground.amplitude)
+    a_g = peak_acceleration(study.ground)       # a pulse's amplitude or a record's peak
     design = design_collars(block, collar, a_g).to_dict()
     provided = sum(c.lateral_stiffness(block.b) for c in study.collars)
     chart = design_chart(block.b, study.stone.density, study.thickness, collar, ALPHAS, RATIOS,

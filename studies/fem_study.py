@@ -10,7 +10,8 @@
                initial_tilt or initial_angular_velocity)
                amplitude (m/s^2) or amplitude_ratio (a_p / (g tan alpha) of the rocking half)
                period (s) or omega_ratio (Omega / p of the rocking half)
-               record (file, PEER .AT2 or two columns), scale (default 1)
+               record (file, PEER .AT2 or two columns), scale (default 1), time_scale
+               (default 1; 2 plays the record twice as fast)
                vertical ground acceleration (upward positive), either harmonic:
                vertical_amplitude (m/s^2), vertical_period (s), vertical_phase (rad, default 0),
                vertical_duration (s, default: that of the horizontal motion), i.e.
@@ -45,7 +46,8 @@ from ..fem.solver import EDGE_TIME
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid.block import Block
 from ..rigid.collars import collars_from_tables
-from ..rigid.ground import HarmonicPulse, NoMotion, cosine_pulse, read_record, sine_pulse
+from ..rigid.ground import (HarmonicPulse, NoMotion, Record, cosine_pulse, read_record,
+                            sine_pulse)
 from ..rigid.validation import InputError, read_toml, require_positive, require_range
 
 SCHEMA = {
@@ -53,7 +55,7 @@ SCHEMA = {
     "stone": {"E", "nu", "density", "fc"},
     "collar": None,          # array of tables, checked by rigid.collars
     "ground": {"pulse", "amplitude", "amplitude_ratio", "period", "omega_ratio", "record",
-               "scale", "vertical_amplitude", "vertical_period", "vertical_phase",
+               "scale", "time_scale", "vertical_amplitude", "vertical_period", "vertical_phase",
                "vertical_duration", "vertical_record", "vertical_scale"},
     "contact": {"friction", "penalty_factor", "penalty", "damping", "friction_filter"},
     "mesh": {"size", "grading", "edge_length", "edge_time", "toe_refinements", "file"},
@@ -279,6 +281,10 @@ def _ground(table: dict, block: Block, base: Path, source: str):
         if "record" not in table:
             raise InputError(f"{source}: ground.record (file) is required with pulse = 'record'")
         record = read_record(base / table["record"], g=block.g)
+        speed = require_positive("ground.time_scale",
+                                 _number(table, "time_scale", "ground", 1.0))
+        if speed != 1.0:                 # t -> t / time_scale: the record played faster
+            record = Record(record.time / speed, record.acceleration_values, record.name)
         return record.scaled(_number(table, "scale", "ground", 1.0))
     uplift = block.uplift_acceleration("nonlinear")
     if ("amplitude" in table) == ("amplitude_ratio" in table):
@@ -311,7 +317,6 @@ def _ground(table: dict, block: Block, base: Path, source: str):
 def build(study: FemStudy):
     """Mesh and model of the study."""
     from ..fem.model import build_model
-    from ..meshes.column import column_mesh
 
     if study.mesh_file is not None:
         from ..meshes.io import read

@@ -72,7 +72,8 @@ def write_crosscheck_report(out: Path) -> Path:
     mono_h = read_csv(out / "cases" / "monolith" / "history.csv")
     mb_h = read_csv(out / "cases" / "multibody" / "history.csv")
     mb_names = ("left", "right") if "theta_left" in mb_h else ("column", "column")
-    spectrum = json.loads((out / "cases" / "spectrum" / "spectrum.json").read_text())
+    spectrum_file = out / "cases" / "spectrum" / "spectrum.json"      # pulses only
+    spectrum = json.loads(spectrum_file.read_text()) if spectrum_file.exists() else None
     (out / "figures").mkdir(exist_ok=True)
     figs = []
 
@@ -109,31 +110,9 @@ def write_crosscheck_report(out: Path) -> Path:
     figs.append(_figure(out, "theta", fig, "Rotation of each half: FEM against the rigid "
                         "multibody model (the rigid reference) and the two SDOF models"))
 
-    # 2. where the pulse sits on the rigid spectrum
-    codes = np.array([[{"safe": 0, "after-impact": 1, "without-impact": 2}[c] for c in row]
-                      for row in spectrum["mode"]])
-    w = np.array(spectrum["omega_ratios"])
-    a = np.array(spectrum["amplitude_ratios"])
-    write_csv(out / "figures" / "spectrum.csv", {
-        "omega_ratio": np.tile(w, a.size), "amplitude_ratio": np.repeat(a, w.size),
-        "mode_code": codes.ravel()})
-    from ..rigid.plotting import MODE_COLOURS
-    from matplotlib.colors import BoundaryNorm, ListedColormap
-    fig, ax = plt.subplots(figsize=(7, 4))
-    ax.pcolormesh(w, a, codes, cmap=ListedColormap(MODE_COLOURS),
-                  norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3), shading="nearest")
-    if "collar_yields" in spectrum:
-        ax.contour(w, a, np.array(spectrum["collar_yields"], dtype=float), levels=[0.5],
-                   colors="k", linewidths=0.8)
-    ax.plot(spectrum["study_omega_ratio"], spectrum["study_amplitude_ratio"], "r*",
-            markersize=14, label="this study's pulse")
-    ax.set_xlabel(r"$\Omega/p$")
-    ax.set_ylabel(r"$a_p/(g\tan\alpha)$")
-    ax.legend(fontsize=8, loc="upper left")
-    ax.set_title("Rigid overturning spectrum (half block with collars); black: collar yield")
-    fig.tight_layout()
-    figs.append(_figure(out, "spectrum", fig, "The study's pulse on the rigid spectrum "
-                        "(grey: safe, orange: overturns after impact, green: without impact)"))
+    # 2. where the pulse sits on the rigid spectrum (a record has no place on it)
+    if spectrum is not None:
+        _spectrum_figure(out, spectrum, figs)
 
     # 3. collar stress against f_y
     collar_cols = sorted(k for k in fem_h if k.startswith("collar_") and k.endswith("_stress"))
@@ -150,6 +129,21 @@ def write_crosscheck_report(out: Path) -> Path:
         ax.legend(fontsize=8)
         fig.tight_layout()
         figs.append(_figure(out, "collars", fig, "Collar stress against the yield stress"))
+
+    # 3b. plastic strain of plastic collars
+    plastic_cols = sorted(k for k in fem_h if k.endswith("_plastic_strain"))
+    if plastic_cols:
+        write_csv(out / "figures" / "collar_plastic_strain.csv",
+                  {"t": t, **{k: fem_h[k] for k in plastic_cols}})
+        fig, ax = plt.subplots(figsize=(8, 3.0))
+        for k in plastic_cols:
+            ax.plot(t, 1e3 * fem_h[k], label=f"FEM {k.replace('_plastic_strain', '')}")
+        ax.set_xlabel("t (s)")
+        ax.set_ylabel("plastic strain (per mille)")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        figs.append(_figure(out, "collar_plastic_strain", fig, "Plastic strain of the plastic "
+                            "collars (bilinear law, hardening E_h)"))
 
     # 4. toe stress against f_c
     edge_cols = [k for k in fem_h if k.startswith("edge_stress_")]
@@ -204,6 +198,34 @@ def _renders(out: Path) -> str:
         parts.append(f'<figure><img alt="{html.escape(caption)}" src="data:{mime};base64,'
                      f'{data}"><figcaption>{html.escape(caption)}</figcaption></figure>')
     return "\n".join(parts)
+
+
+def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
+    """The study's pulse on the rigid overturning spectrum."""
+    codes = np.array([[{"safe": 0, "after-impact": 1, "without-impact": 2}[c] for c in row]
+                      for row in spectrum["mode"]])
+    w = np.array(spectrum["omega_ratios"])
+    a = np.array(spectrum["amplitude_ratios"])
+    write_csv(out / "figures" / "spectrum.csv", {
+        "omega_ratio": np.tile(w, a.size), "amplitude_ratio": np.repeat(a, w.size),
+        "mode_code": codes.ravel()})
+    from ..rigid.plotting import MODE_COLOURS
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.pcolormesh(w, a, codes, cmap=ListedColormap(MODE_COLOURS),
+                  norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3), shading="nearest")
+    if "collar_yields" in spectrum:
+        ax.contour(w, a, np.array(spectrum["collar_yields"], dtype=float), levels=[0.5],
+                   colors="k", linewidths=0.8)
+    ax.plot(spectrum["study_omega_ratio"], spectrum["study_amplitude_ratio"], "r*",
+            markersize=14, label="this study's pulse")
+    ax.set_xlabel(r"$\Omega/p$")
+    ax.set_ylabel(r"$a_p/(g\tan\alpha)$")
+    ax.legend(fontsize=8, loc="upper left")
+    ax.set_title("Rigid overturning spectrum (half block with collars); black: collar yield")
+    fig.tight_layout()
+    figs.append(_figure(out, "spectrum", fig, "The study's pulse on the rigid spectrum "
+                        "(grey: safe, orange: overturns after impact, green: without impact)"))
 
 
 def _verdict_row(summary, key, label, detail):
@@ -336,10 +358,14 @@ def _html(s: dict, figs: list, renders: str) -> str:
                                            "fem.stable_step_reduction_by_contact"),
             ("steps", "fem.steps"), ("dofs", "fem.dofs"),
             ("FEM wall time (s)", "fem.wall_seconds"),
-            ("pulse Omega/p", "pulse.omega_ratio"),
+            ("pulse Omega/p (n/a for a record)", "pulse.omega_ratio"),
+            ("peak ground acceleration (m/s^2)", "pulse.amplitude"),
             ("pulse a_p / a_uplift (a_uplift = g tan alpha (1 + lambda))",
              "pulse.amplitude_ratio"),
             ("top load on the capital (N)", "fem.top_load"),
+            ("collar plastic strain max, FEM (-)", "fem.collar_max_plastic_strain"),
+            ("collar plastic work, FEM (J)", "fem.collar_plastic_work"),
+            ("crack slip left at the end of the run, FEM (m)", "fem.crack_slip_residual"),
             ("static base reaction, FEM (N): weight + top load", "fem.base_reaction_static")]
     table = "\n".join(f"<tr><th>{html.escape(label)}</th><td>{_num(s, key)}</td></tr>"
                       if not isinstance(_get(s, key), str) else
@@ -525,6 +551,17 @@ def write_design_report(out: Path) -> Path:
     return _write_page(out, _page(f"colonna collar design: {s['study']}", body))
 
 
+def _record_axes(s: dict) -> str:
+    """What the axes mean when the grid runs a record instead of a pulse."""
+    if s.get("x_axis") != "time_scale":
+        return ""
+    return (f"<p>The grid runs the record <span data-key=\"record\">"
+            f"{html.escape(str(s['record']))}</span>: each row scales it to a peak of the row's "
+            "amplitude ratio times the uplift acceleration, each column plays it that many "
+            "times as fast (the record time scale on the horizontal axis, in place of "
+            "Omega / p).</p>")
+
+
 def write_spectrum_crosscheck_report(out: Path) -> Path:
     """Mode maps of the FEM, multibody and SDOF models side by side, where they disagree, and
     their overturning boundaries overlaid; every map also as CSV."""
@@ -536,6 +573,9 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
     s = json.loads((out / "summary.json").read_text())
     (out / "figures").mkdir(exist_ok=True)
     w, a = np.array(s["omega_ratios"]), np.array(s["amplitude_ratios"])
+    # a record's grid moves its time scale where a pulse's moves Omega / p
+    x_label = (r"record time scale (2: twice as fast)" if s.get("x_axis") == "time_scale"
+               else r"$\Omega / p$")
     code = {"safe": 0, "after-impact": 1, "without-impact": 2}
     models = (("fem", "FEM"), ("multibody", "rigid multibody"), ("sdof", "SDOF half block"))
     maps = {m: np.array([[code[c] for c in row] for row in s[f"mode_{m}"]]) for m, _ in models}
@@ -554,7 +594,7 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
     for ax, (m, label) in zip(axes, models):
         ax.pcolormesh(w, a, maps[m], cmap=cmap, norm=norm, shading="nearest")
         ax.set_title(label)
-        ax.set_xlabel(r"$\Omega / p$")
+        ax.set_xlabel(x_label)
     if yields.any():
         axes[0].scatter(ww[yields], aa[yields], marker="x", color="k", s=25)
     axes[0].set_ylabel(r"$a_p / (g\,\tan\alpha)$")
@@ -574,7 +614,7 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
         ax.pcolormesh(w, a, differ, cmap=ListedColormap(["#f2f2f2", "#7570b3"]), vmin=0, vmax=1,
                       shading="nearest")
         ax.set_title(label)
-        ax.set_xlabel(r"$\Omega / p$")
+        ax.set_xlabel(x_label)
     axes[0].set_ylabel(r"$a_p / (g\,\tan\alpha)$")
     fig.legend(handles=[Patch(color="#f2f2f2", label="same outcome"),
                         Patch(color="#7570b3", label="different outcome")],
@@ -590,7 +630,7 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
         boundary[f"lowest_overturning_amplitude_{m}"] = lowest
         ax.plot(w, lowest, style, label=label)
     write_csv(out / "figures" / "boundaries.csv", {"omega_ratio": w, **boundary})
-    ax.set_xlabel(r"$\Omega / p$")
+    ax.set_xlabel(x_label)
     ax.set_ylabel(r"lowest overturning $a_p / (g\,\tan\alpha)$")
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -615,6 +655,7 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
 overturns without impact (their mode 2). Amplitudes are normalised by g tan(alpha) and
 frequencies by p of the rocking half. The FEM runs on the study's mesh; see the
 mesh-convergence study for how far its numbers are converged.</p>
+{_record_axes(s)}
 <h2>Figures</h2>
 {''.join(figs)}
 <p>Data: summary.json (maps: rows follow the amplitude ratios), figures/*.csv,

@@ -9,6 +9,11 @@ gives the pulse shape (sine or cosine), plus a [grid] table:
     amplitude_ratios = [1.2, 6.0]   # range of a_p / (g tan alpha) of the rocking half
     points = [6, 5]                 # number of omega ratios x number of amplitude ratios
 
+With ``pulse = "record"`` (and ``record``, a file) the grid runs the record instead of a pulse:
+the amplitude axis scales it to a peak of amplitude_ratio x a_uplift, and the other axis,
+``time_scales = [start, stop]`` in place of ``omega_ratios``, compresses its time by that factor
+(2: twice as fast, its frequencies doubled), as the omega ratio moves a pulse.
+
 Each grid point is one case of :mod:`studies.sweep` (local processes or Dask, saved as it
 completes, resumable). Its FEM run writes no field files: a grid point keeps only its numbers.
 Maps are 2D lists with rows following the amplitude ratios and columns the omega ratios, as in
@@ -30,7 +35,7 @@ from .fem_study import from_dict
 from .output import finish_study
 from .sweep import run_cases
 
-GRID_KEYS = ("omega_ratios", "amplitude_ratios", "points")
+GRID_KEYS = ("omega_ratios", "amplitude_ratios", "points", "time_scales")
 DEFAULT_GRID = {"omega_ratios": [1.0, 8.0], "amplitude_ratios": [1.2, 6.0], "points": [6, 5]}
 MODES = ("safe", "after-impact", "without-impact")
 
@@ -47,14 +52,22 @@ def parse_grid_size(text: str) -> tuple[int, int]:
     return n, m
 
 
-def grid_of(data: dict, size: tuple[int, int] | None = None):
-    """(omega ratios, amplitude ratios) of the study's [grid], ``size`` overriding the counts."""
-    table = dict(DEFAULT_GRID, **data.get("grid", {}))
-    unknown = sorted(set(data.get("grid", {})) - set(GRID_KEYS))
+def grid_of(data: dict, size: tuple[int, int] | None = None, record: bool = False):
+    """(omega ratios, or time scales for a record; amplitude ratios) of the study's [grid],
+    ``size`` overriding the counts."""
+    given = data.get("grid", {})
+    x_key = "time_scales" if record else "omega_ratios"
+    other = "omega_ratios" if record else "time_scales"
+    if other in given:
+        raise InputError(f"grid.{other} goes with "
+                         + ("a pulse" if record else "ground.pulse = \"record\"")
+                         + f": use grid.{x_key}")
+    table = {**DEFAULT_GRID, **({"time_scales": [0.5, 2.0]} if record else {}), **given}
+    unknown = sorted(set(given) - set(GRID_KEYS))
     if unknown:
         raise InputError(f"unknown key grid.{unknown[0]} (allowed: {', '.join(GRID_KEYS)})")
     ranges = {}
-    for key, low in (("omega_ratios", 0.0), ("amplitude_ratios", 1.0)):
+    for key, low in ((x_key, 0.0), ("amplitude_ratios", 1.0)):
         value = table[key]
         if (not isinstance(value, list) or len(value) != 2
                 or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
@@ -68,9 +81,9 @@ def grid_of(data: dict, size: tuple[int, int] | None = None):
     if (not isinstance(points, list) or len(points) != 2
             or not all(isinstance(v, int) and not isinstance(v, bool) and v >= 1
                        for v in points)):
-        raise InputError(f"grid.points = {points!r} must be [number of omega ratios, number of "
+        raise InputError(f"grid.points = {points!r} must be [number of {x_key}, number of "
                          "amplitude ratios], each an integer >= 1")
-    return (np.linspace(*ranges["omega_ratios"], points[0]),
+    return (np.linspace(*ranges[x_key], points[0]),
             np.linspace(*ranges["amplitude_ratios"], points[1]))
 
 
@@ -105,6 +118,10 @@ def grid_point_case(case: dict, directory: str) -> dict:
         "toe_ratio_fem": s["edge_stress_ratio"],
         "energy_error_fem": s["energy_error_max"],
         "status_fem": s["status"], "fem_seconds": s["wall_seconds"], "fem_steps": s["steps"],
+        # the ground motion this point ran: its peak (m/s^2) and when it ends (s)
+        "ground_peak": float(np.max(np.abs(study.ground.acceleration(
+            np.linspace(0.0, study.ground.end_time, 20001))))),
+        "ground_end_time": float(study.ground.end_time),
     }
 
 
@@ -128,18 +145,36 @@ def run_spectrum_crosscheck(study_path: Path, out: Path, *, workers=None, schedu
     base_data = {k: v for k, v in data.items() if k != "grid"}
     ground = dict(base_data.get("ground", {}))
     kind = ground.pop("pulse", "sine")
-    if kind not in ("sine", "cosine"):
+    if kind not in ("sine", "cosine", "record"):
         raise InputError(f"{study_path}: ground.pulse = {kind!r}: the spectrum cross-check needs "
-                         "'sine' or 'cosine' (the grid sets its amplitude and frequency)")
+                         "'sine', 'cosine' or 'record' (the grid sets its amplitude and "
+                         "frequency or time scale)")
+    record_file = ground.pop("record", None) if kind == "record" else None
+    if kind == "record" and record_file is None:
+        raise InputError(f"{study_path}: ground.record (file) is required with pulse = 'record'")
     if ground:
         raise InputError(f"{study_path}: ground.{sorted(ground)[0]} is set by the grid of a "
                          "spectrum cross-check: leave it out")
-    omegas, amplitudes = grid_of(data, grid)
+    omegas, amplitudes = grid_of(data, grid, record=kind == "record")
+    if kind == "record":
+        from ..rigid.ground import read_record
+        probe = from_dict({**base_data, "ground": {"pulse": "none"},
+                           "run": {**base_data.get("run", {}), "initial_tilt": 0.01}},
+                          source=str(study_path), base=study_path.parent)
+        block = probe.rocking_block
+        original = read_record(study_path.parent / record_file, g=block.g)
+        uplift = block.uplift_acceleration("nonlinear")
 
     def with_pulse(omega_ratio, amplitude_ratio):
         variant = copy.deepcopy(base_data)
-        variant["ground"] = {"pulse": kind, "amplitude_ratio": float(amplitude_ratio),
-                             "omega_ratio": float(omega_ratio)}
+        if kind == "record":          # omega_ratio is the time scale here
+            variant["ground"] = {"pulse": "record", "record": str(record_file),
+                                 "scale": float(amplitude_ratio * uplift
+                                                / original.peak_acceleration),
+                                 "time_scale": float(omega_ratio)}
+        else:
+            variant["ground"] = {"pulse": kind, "amplitude_ratio": float(amplitude_ratio),
+                                 "omega_ratio": float(omega_ratio)}
         return variant
 
     study = from_dict(with_pulse(omegas[0], amplitudes[0]), source=str(study_path),
@@ -157,6 +192,10 @@ def run_spectrum_crosscheck(study_path: Path, out: Path, *, workers=None, schedu
     results = run_cases(grid_point_case, cases, out, workers=workers, scheduler=scheduler,
                         progress=progress)
     summary = assemble_summary(study, omegas, amplitudes, cases, results)
+    summary["x_axis"] = "time_scale" if kind == "record" else "omega_ratio"
+    if kind == "record":
+        summary["record"] = original.name
+        summary["time_scales"] = summary["omega_ratios"]
     summary["wall_seconds"] = time.perf_counter() - start
     from .report import write_spectrum_crosscheck_report
     return finish_study(out, summary, write_spectrum_crosscheck_report, progress)

@@ -147,11 +147,11 @@ def test_free_rocking_study_needs_initial_conditions_and_no_pulse_keys():
         from_dict(data)
 
 
-def test_cross_check_refuses_a_ground_motion_that_is_not_a_pulse(tmp_path, capsys):
+def test_cross_check_refuses_a_study_without_ground_motion(tmp_path, capsys):
     study = tmp_path / "free.toml"
     study.write_text(TINY.replace("[ground]", "[ground]\npulse = \"none\"")
                      .replace("amplitude_ratio = 2.0\n", "").replace("omega_ratio = 3.0\n", "")
                      .replace("[run]", "[run]\ninitial_tilt = 0.02"))
     assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
-    assert "sine or cosine pulse" in err and err.count("\n") == 1
+    assert "free-rocking" in err and err.count("\n") == 1

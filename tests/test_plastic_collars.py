@@ -118,3 +118,34 @@ def test_multibody_rocking_with_plastic_collars_keeps_its_energy_balance():
     assert plastic["collar_max_plastic_strain"] > 0.1 * 235e6 / 206e9
     assert plastic["collar_plastic_work"] > 0.0 and elastic["collar_plastic_work"] == 0.0
     assert plastic["energy_error_max"] < 1e-2
+
+
+def test_fem_collar_element_pulled_quasi_statically_follows_the_bilinear_law():
+    """The FEM frame element pulled along its chord to 4 strain-at-yield and part way back,
+    one committed evaluation per increment (quasi-static): slopes E A, E_h A past f_y A, E A
+    on unloading; the work put in = elastic energy + plastic work to 1e-3."""
+    from colonna.fem import _kernels as K
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True)
+    mesh = column_mesh(0.4, 2.0, 0.1, cracked=True, grading=0.0, pinned_heights=[1.0])
+    model = build_model(mesh, Stone(), 0.3, (collar,))
+    span = collar.span(0.1)
+    eps_y = collar.fy / collar.E
+    path = np.concatenate((np.linspace(0.0, 4.0 * eps_y, 400),
+                           np.linspace(4.0 * eps_y, 2.5 * eps_y, 400)[1:]))
+    state, out = np.zeros((1, 3)), np.zeros((1, 5))
+    right = model.collar_nodes[0, 3:]
+    forces = []
+    for eps in path:
+        x = model.X.copy()
+        x[2 * right] += eps * span           # the right end and its face nodes move out
+        K.collar_forces(x, model.collar_nodes, model.collar_props, out, np.zeros_like(x),
+                        state, True)
+        forces.append(out[0, 0])
+    N = np.array(forces)
+    A, E, Eh = collar.area, collar.E, collar.hardening_modulus
+    assert N[50] == pytest.approx(E * A * path[50], rel=1e-9)
+    assert N[399] == pytest.approx(A * (collar.fy + Eh * 3.0 * eps_y), rel=1e-9)
+    plastic = state[0, 0] / span
+    assert N[-1] == pytest.approx(E * A * (2.5 * eps_y - plastic), rel=1e-6)
+    work = np.sum(0.5 * (N[1:] + N[:-1]) * np.diff(path) * span)
+    assert work == pytest.approx(out[0, 3] + state[0, 2], rel=1e-3)

@@ -110,7 +110,9 @@ def test_killed_grid_resumes_with_the_same_summary_and_no_point_redone(grid_run,
     ("points = [4, 4]|points = [4, -1]", "grid.points"),
     ("omega_ratios = [1.5, 6.0]|omega_ratios = [6.0, 1.5]", "grid.omega_ratios"),
     ('pulse = "sine"|pulse = "sine"\namplitude_ratio = 2.0', "ground.amplitude_ratio"),
-    ('pulse = "sine"|pulse = "record"', "ground.pulse"),
+    ('pulse = "sine"|pulse = "square"', "ground.pulse"),
+    ('pulse = "sine"|pulse = "record"', "ground.record"),
+    ('pulse = "sine"|pulse = "record"\nrecord = "x.AT2"', "grid.omega_ratios"),
 ])
 def test_bad_grid_input_is_one_line_naming_it(tmp_path, capsys, change, word):
     text = GRID_STUDY
@@ -134,3 +136,31 @@ def test_shipped_grid_runs(tmp_path):
     assert main(["study", "spectrum-crosscheck", "--out", str(tmp_path / "o")]) == 0
     s = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert s["points"] == 30 and s["energy_error_fem_max"] < 0.05
+
+
+def test_grid_over_a_recorded_motion(tmp_path):
+    """pulse = "record": the grid scales the shipped synthetic record to a peak of
+    amplitude_ratio x a_uplift and plays it time_scale times as fast; each point's ground
+    motion is that, and the report labels the axis."""
+    from colonna.rigid.ground import read_record
+    record = Path(__file__).parent / "data" / "synthetic.AT2"
+    text = (GRID_STUDY.replace('pulse = "sine"', f'pulse = "record"\nrecord = "{record}"')
+            .replace("omega_ratios", "time_scales"))
+    text = text.replace("duration = 0.6", "duration = 3.0")      # the record peaks at 1.5 s
+    study = tmp_path / "grid-record.toml"
+    study.write_text(text)
+    out = tmp_path / "out"
+    assert main(["study", str(study), "--out", str(out), "--grid", "2x1", "--workers", "1"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["x_axis"] == "time_scale" and s["record"] == "synthetic"
+    assert s["time_scales"] == s["omega_ratios"] and len(s["mode_fem"][0]) == 2
+    original = read_record(record)
+    from colonna.rigid.block import Block
+    block = Block(b=0.2 / 4, h=1.0 / 2)           # the rocking half of the grid's column
+    results = [json.loads(p.read_text()) for p in (out / "cases").glob("*/result.json")]
+    assert len(results) == 2
+    for r in results:
+        assert r["ground_peak"] == pytest.approx(r["amplitude_ratio"]
+                                                 * block.uplift_acceleration(), rel=1e-3)
+        assert r["ground_end_time"] == pytest.approx(original.end_time / r["omega_ratio"])
+    assert "record time scale" in (out / "index.html").read_text()
