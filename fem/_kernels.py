@@ -22,6 +22,8 @@ import math
 import numpy as np
 from numba import njit
 
+from ..rigid._collar_law import axial_return_mapping
+
 # fast-math without the no-NaN / no-Inf assumptions: the blow-up check must keep its meaning
 SAFE_FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 
@@ -219,22 +221,13 @@ def collar_forces(x, collars, props, out, f, state, commit):
         ea_l = props[c, 0]
         ei_l = props[c, 1]
         stretch = length - props[c, 3]
-        s_p = state[c, 0]
-        N = props[c, 2] + ea_l * (stretch - s_p)
-        if props[c, 7] > 0.0:
-            span = props[c, 8] / ea_l
-            limit = props[c, 7] + props[c, 9] * state[c, 1]
-            if abs(N) > limit:
-                ds = (abs(N) - limit) / (ea_l + props[c, 9] / span)
-                sgn = 1.0 if N > 0.0 else -1.0
-                N -= sgn * ea_l * ds
-                s_p += sgn * ds
-                if commit:
-                    state[c, 0] = s_p
-                    state[c, 1] += ds / span
-                    state[c, 2] += abs(N) * ds
-                    work += abs(N) * ds
-            out[c, 4] = s_p / span
+        work_before = state[c, 2]
+        N, plastic_strain = axial_return_mapping(
+            props[c, 2] + ea_l * (stretch - state[c, 0]), ea_l, props[c, 7], props[c, 8],
+            props[c, 9], state, c, commit)
+        work += state[c, 2] - work_before
+        s_p = plastic_strain * props[c, 8] / ea_l
+        out[c, 4] = plastic_strain
         M1 = ei_l * (4.0 * th1 + 2.0 * th2)
         M2 = ei_l * (2.0 * th1 + 4.0 * th2)
         out[c, 0] = N

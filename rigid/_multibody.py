@@ -29,6 +29,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ._collar_law import axial_return_mapping
+
 GROUND_NONE = 0
 GROUND_HARMONIC = 1
 GROUND_RECORD = 2
@@ -134,21 +136,11 @@ def collar_forces(q, col_a, col_b, col_r, props, f, out, state, commit):
         ea_l = props[c, 0]
         ei_l = props[c, 1]
         stretch = length - props[c, 3]
-        s_p = state[c, 0]
-        N = props[c, 2] + ea_l * (stretch - s_p)
-        if props[c, 5] > 0.0:
-            span = props[c, 6] / ea_l
-            limit = props[c, 5] + props[c, 7] * state[c, 1]
-            if abs(N) > limit:
-                ds = (abs(N) - limit) / (ea_l + props[c, 7] / span)
-                sgn = 1.0 if N > 0.0 else -1.0
-                N -= sgn * ea_l * ds
-                s_p += sgn * ds
-                if commit:
-                    state[c, 0] = s_p
-                    state[c, 1] += ds / span
-                    state[c, 2] += abs(N) * ds
-            out[c, 4] = s_p / span
+        N, plastic_strain = axial_return_mapping(
+            props[c, 2] + ea_l * (stretch - state[c, 0]), ea_l, props[c, 5], props[c, 6],
+            props[c, 7], state, c, commit)
+        s_p = plastic_strain * props[c, 6] / ea_l
+        out[c, 4] = plastic_strain
         elastic = stretch - s_p
         M1 = ei_l * (4.0 * th1 + 2.0 * th2)
         M2 = ei_l * (2.0 * th1 + 4.0 * th2)
