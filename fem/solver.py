@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 from scipy.sparse.linalg import spsolve
+from tqdm import tqdm
 
 from ..rigid.validation import InputError, require_positive, require_range
 
@@ -182,7 +183,11 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     reason = "completed"
     overturned = False
     start = time.perf_counter()
-    last_print = start
+    # a progress bar on a terminal only (quiet in logs and under a sweep's workers)
+    bar = tqdm(total=round(duration, 6), desc="[fem]", unit="s", dynamic_ncols=True,
+               disable=not (progress and sys.stderr.isatty()),
+               bar_format="{desc} {percentage:5.1f}%|{bar}| t = {n:.3f}/{total:.3f} s "
+                          "[{elapsed}<{remaining}]")
     energy0 = None
     # initial forces (contact normal forces at rest) for the first record
     tau = model.contact.friction_filter
@@ -224,12 +229,9 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
             reason = (f"numerical blow-up at t = {t:.4g} s: the state stopped being finite "
                       f"(dt = {dt:.3g} s too large for the contact or collar stiffness?)")
             break
-        if progress and time.perf_counter() - last_print > 0.5:
-            last_print = time.perf_counter()
-            _progress(t - start_time, duration, last_print - start)
+        bar.update(min(done * dt, bar.total - bar.n))
     wall = time.perf_counter() - start
-    if progress and wall > 0.5:
-        _progress(t - start_time, duration, wall, end=True)
+    bar.close()
     history = recorder.close()
     summary = _summary(model, history, reason, overturned, dt, step, k, steps_per_output, wall,
                        edge_length, edge_time,
@@ -321,14 +323,6 @@ def _advance(n, dt, x, v, model, frames, indptr, indices, data, acc, base_ft, ba
                      collar_out, collar_state, u_loc, f_loc, f, tallies, energies,
                      edge_weights, edge_buffer, edge_state, edge_peak)
     return 0 if n == 0 else done
-
-
-def _progress(t, duration, wall, end=False):
-    frac = min(1.0, t / duration)
-    bar = "#" * int(30 * frac)
-    sys.stderr.write(f"\r[fem] |{bar:<30s}| {100 * frac:5.1f}%  t = {t:.3f}/{duration:.3f} s  "
-                     f"{wall:6.1f} s" + ("\n" if end else ""))
-    sys.stderr.flush()
 
 
 class _Recorder:
@@ -487,8 +481,8 @@ class _Recorder:
                                         "collar_state": collar_state.copy()}))
         if self.csv is not None:   # contact pressure along the base (Pa), one row per output
             pressure = base_fn / self.base_area
-            self.pressure_csv.write(f"{t!r}," + ",".join(repr(float(q)) for q in pressure)
-                                    + "\n")
+            np.savetxt(self.pressure_csv, np.concatenate(([t], pressure))[None, :],
+                       fmt="%.17g", delimiter=",")
             self.pressure_csv.flush()
         return row
 
@@ -502,7 +496,8 @@ class _Recorder:
             if self.header is None:
                 self.header = [key for key in row if not key.startswith("_")]
                 self.csv.write(",".join(self.header) + "\n")
-            self.csv.write(",".join(repr(float(row[h])) for h in self.header) + "\n")
+            np.savetxt(self.csv, np.array([[float(row[h]) for h in self.header]]),
+                       fmt="%.17g", delimiter=",")
             self.csv.flush()
 
     def close(self) -> dict:

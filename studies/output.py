@@ -3,6 +3,7 @@ interrupted run never leaves a half-written file behind."""
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import os
@@ -24,17 +25,22 @@ def write_json(path, data) -> None:
     _atomic_write_text(Path(path), json.dumps(_plain(data), indent=2) + "\n")
 
 
+CSV_FORMAT = "%.17g"      # round-trips every double
+
+
 def write_csv(path, columns: dict) -> None:
-    """Write equal-length 1D columns with a header line, full double precision."""
+    """Write equal-length 1D columns with a header line, full double precision
+    (``numpy.savetxt``)."""
     names = list(columns)
     arrays = [np.asarray(columns[n], dtype=float) for n in names]
     n = {a.shape[0] for a in arrays}
     if len(n) != 1:
         raise ValueError(f"columns of different lengths: {sorted(n)}")
     table = np.column_stack(arrays) if arrays else np.zeros((0, 0))
-    lines = [",".join(names)]
-    lines += [",".join(repr(float(v)) for v in row) for row in table]
-    _atomic_write_text(Path(path), "\n".join(lines) + "\n")
+    buffer = io.StringIO()
+    np.savetxt(buffer, table, fmt=CSV_FORMAT, delimiter=",", header=",".join(names),
+               comments="")
+    _atomic_write_text(Path(path), buffer.getvalue())
 
 
 def finish_study(out: Path, summary: dict, write_report, progress: bool) -> dict:

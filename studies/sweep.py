@@ -16,6 +16,8 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Callable
 
+from tqdm import tqdm
+
 from .output import write_json
 
 
@@ -47,18 +49,19 @@ def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Pat
             results[case["key"]] = done
         else:
             todo.append(case)
-    if progress and results:
-        _say(f"{len(results)} of {len(cases)} cases already done, {len(todo)} to run")
     if not todo:
         return results
     for case in todo:
         case_dir(out, case["key"]).mkdir(parents=True, exist_ok=True)
+    # a progress bar on a terminal, nothing in a log (cases already done count as done)
+    bar = tqdm(total=len(cases), initial=len(results), desc="[study] cases", unit="case",
+               disable=not (progress and sys.stderr.isatty()), dynamic_ncols=True)
 
     def finish(case, result):
         write_json(case_dir(out, case["key"]) / "result.json", result)
         results[case["key"]] = result
-        if progress:
-            _say(f"case {case['key']} done ({len(results)}/{len(cases)})")
+        bar.set_postfix_str(case["key"], refresh=False)
+        bar.update(1)
 
     if scheduler:
         from distributed import Client, as_completed as dask_completed
@@ -76,6 +79,7 @@ def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Pat
                        for case in todo}
             for future in as_completed(futures):
                 finish(futures[future], future.result())
+    bar.close()
     return results
 
 
@@ -83,6 +87,3 @@ def default_workers() -> int:
     return max(1, min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
                       else os.cpu_count() or 1, 8))
 
-
-def _say(message: str) -> None:
-    print(f"[study] {message}", file=sys.stderr, flush=True)

@@ -155,3 +155,19 @@ def test_cross_check_refuses_a_study_without_ground_motion(tmp_path, capsys):
     assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert "free-rocking" in err and err.count("\n") == 1
+
+
+def test_progress_bars_stay_quiet_off_a_terminal(tmp_path):
+    """Run as a CI log would (stderr a pipe, not a terminal): no progress bar, no carriage
+    returns; the only stderr lines are the study's own messages."""
+    import subprocess
+    import sys
+    from pathlib import Path
+    study = tmp_path / "tiny.toml"
+    study.write_text(TINY)
+    proc = subprocess.run([sys.executable, "-m", "colonna.studies.cli", "fem", str(study),
+                           "--out", str(tmp_path / "out")], capture_output=True, text=True,
+                          cwd=Path(__file__).parents[1], timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert "\r" not in proc.stderr and "%|" not in proc.stderr
+    assert (tmp_path / "out" / "history.csv").exists()
