@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
+
 import os
 from pathlib import Path
 
@@ -46,9 +49,15 @@ def read(path) -> ColumnMesh:
     """Read a quadrilateral column mesh (gmsh .msh 2.2/4.x, VTU, ...) and classify it."""
     path = Path(path)
     try:
-        m = meshio.read(path)
+        with contextlib.redirect_stderr(io.StringIO()):    # meshio prints before it exits
+            m = meshio.read(path)
     except (OSError, meshio.ReadError) as exc:
         raise InputError(f"mesh file {path} cannot be read: {exc}") from None
+    except SystemExit:       # meshio exits instead of raising when no reader fits the file
+        raise InputError(f"mesh file {path} cannot be read: not a mesh meshio knows "
+                         "(gmsh .msh 2.2/4.x, VTU, ...)") from None
+    except (ValueError, KeyError, IndexError, UnicodeDecodeError) as exc:
+        raise InputError(f"mesh file {path} cannot be read: malformed ({exc})") from None
     quads = [block.data for block in m.cells if block.type == "quad"]
     if not quads:
         raise InputError(f"mesh file {path} has no quadrilateral cells")

@@ -13,15 +13,15 @@ class InputError(ValueError):
 
 def require_positive(name: str, value: float) -> float:
     value = _as_float(name, value)
-    if not value > 0.0:
-        raise InputError(f"{name} = {value:g} is not allowed: it must be > 0")
+    if not 0.0 < value < math.inf:
+        raise InputError(f"{name} = {value:g} is not allowed: it must be > 0 and finite")
     return value
 
 
 def require_non_negative(name: str, value: float) -> float:
     value = _as_float(name, value)
-    if not value >= 0.0:
-        raise InputError(f"{name} = {value:g} is not allowed: it must be >= 0")
+    if not 0.0 <= value < math.inf:
+        raise InputError(f"{name} = {value:g} is not allowed: it must be >= 0 and finite")
     return value
 
 
@@ -57,5 +57,7 @@ def read_toml(path, what: str = "file") -> dict:
         return tomllib.loads(path.read_text())
     except OSError as exc:
         raise InputError(f"{what} {path} cannot be read: {exc.strerror}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{what} {path} is not UTF-8 text (a binary file?)") from None
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{what} {path} is not valid TOML: {exc}") from None

@@ -422,6 +422,10 @@ def main(argv=None) -> int:
     except InputError as exc:
         print(f"colonna: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:          # an output path that cannot be made or written
+        where = exc.filename if exc.filename is not None else ""
+        print(f"colonna: error: cannot write {where}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
     _emit(args, summary)
     return 0
 

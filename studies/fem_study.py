@@ -154,6 +154,8 @@ def _number(table: dict, key: str, where: str, default=None):
         return None
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise InputError(f"{where}.{key} = {value!r} is not a number")
+    if not math.isfinite(value):
+        raise InputError(f"{where}.{key} = {value!r} is not a finite number")
     return float(value)
 
 

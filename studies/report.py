@@ -209,23 +209,30 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
     write_csv(out / "figures" / "spectrum.csv", {
         "omega_ratio": np.tile(w, a.size), "amplitude_ratio": np.repeat(a, w.size),
         "mode_code": codes.ravel()})
-    from ..rigid.plotting import MODE_COLOURS
+    from ..rigid.plotting import MODE_COLOURS, MODE_LABELS
     from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.pcolormesh(w, a, codes, cmap=ListedColormap(MODE_COLOURS),
                   norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3), shading="nearest")
-    if "collar_yields" in spectrum:
-        ax.contour(w, a, np.array(spectrum["collar_yields"], dtype=float), levels=[0.5],
-                   colors="k", linewidths=0.8)
-    ax.plot(spectrum["study_omega_ratio"], spectrum["study_amplitude_ratio"], "r*",
-            markersize=14, label="this study's pulse")
+    # the legend lists what is drawn: the modes present, the yield line if any, the pulse
+    handles = [Patch(facecolor=MODE_COLOURS[k], edgecolor="0.5", label=MODE_LABELS[k])
+               for k in range(3) if np.any(codes == k)]
+    yields = np.array(spectrum.get("collar_yields", [[0]]), dtype=float)
+    if yields.min() < 0.5 < yields.max():
+        ax.contour(w, a, yields, levels=[0.5], colors="k", linewidths=0.8)
+        handles.append(Line2D([], [], color="k", lw=0.8, label="a collar reaches f_y above"))
+    handles += ax.plot(spectrum["study_omega_ratio"], spectrum["study_amplitude_ratio"], "r*",
+                       markersize=14, label="this study's pulse")
     ax.set_xlabel(r"$\Omega/p$")
     ax.set_ylabel(r"$a_p/(g\tan\alpha)$")
-    ax.legend(fontsize=8, loc="upper left")
-    ax.set_title("Rigid overturning spectrum (half block with collars); black: collar yield")
+    ax.legend(handles=handles, fontsize=8, loc="upper left")
+    ax.set_title("Rigid overturning spectrum (half block with collars)")
     fig.tight_layout()
-    figs.append(_figure(out, "spectrum", fig, "The study's pulse on the rigid spectrum "
-                        "(grey: safe, orange: overturns after impact, green: without impact)"))
+    figs.append(_figure(out, "spectrum", fig, "The study's pulse on the rigid overturning "
+                        "spectrum of the SDOF half block with collars: outcome of each pulse "
+                        "(legend), and where a collar reaches its yield stress"))
 
 
 def _verdict_row(summary, key, label, detail):
