@@ -265,6 +265,7 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
             "rocks_as_one_block": bool(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
         },
         "fem": fem,
+        "collar_heights": [c.y for c in study.collars],
         "toe_stress": _toe_stress(study, results),
         "rigid_multibody": {key: multibody.get(key) for key in (
             "overturned", "mode", "status", "impacts", "max_abs_theta_left",

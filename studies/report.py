@@ -20,6 +20,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Patch  # noqa: E402
 
 from .output import read_csv, write_csv  # noqa: E402
 
@@ -109,6 +111,9 @@ def write_crosscheck_report(out: Path) -> Path:
     fig.tight_layout()
     figs.append(_figure(out, "theta", fig, "Rotation of each half: FEM against the rigid "
                         "multibody model (the rigid reference) and the two SDOF models"))
+
+    # 1b. the deformed column at peak rotation: crack, collars, toe pressure
+    _deformed_figure(out, summary, fem_h, figs)
 
     # 2. where the pulse sits on the rigid spectrum (a record has no place on it)
     if spectrum is not None:
@@ -200,6 +205,102 @@ def _renders(out: Path) -> str:
     return "\n".join(parts)
 
 
+def _rigid_fit(X, x):
+    """Rotation R and translations of the best rigid motion taking points X to x (Kabsch)."""
+    cX, cx = X.mean(axis=0), x.mean(axis=0)
+    U, _, Vt = np.linalg.svd((x - cx).T @ (X - cX))
+    R = U @ np.diag([1.0, np.sign(np.linalg.det(U @ Vt))]) @ Vt
+    return R, cX, cx
+
+
+def _magnification(largest: float, height: float) -> float:
+    """A round factor (1, 2 or 5 x 10^k) that draws the largest elastic displacement at about
+    2 % of the column height."""
+    if largest <= 0.0:
+        return 1.0
+    raw = 0.02 * height / largest
+    k = math.floor(math.log10(raw))
+    return max(1.0, max(f * 10.0 ** k for f in (1.0, 2.0, 5.0) if f * 10.0 ** k <= raw))
+
+
+def _deformed_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> None:
+    """The FEM column at its peak rotation, drawn in the ground frame: each half's rigid motion
+    true to scale, its elastic deformation magnified by a stated factor; the collars between
+    their attachment points; the base contact pressure under the toes at that instant."""
+    import meshio
+    fem = out / "cases" / "fem"
+    vtu = fem / "fields_peak_rotation.vtu"
+    if not vtu.exists():
+        return
+    m = meshio.read(vtu)
+    X = m.points[:, :2]
+    u = m.point_data["displacement"][:, :2]
+    quads = np.vstack([c.data for c in m.cells if c.type == "quad"])
+    cell_body = np.concatenate(m.cell_data["body"]).astype(int)
+    node_body = np.full(X.shape[0], -1)
+    node_body[quads.ravel()] = np.repeat(cell_body, 4)
+    height = float(np.ptp(X[:, 1]))
+    rigid, elastic = np.empty_like(X), np.empty_like(X)
+    for b in np.unique(cell_body):
+        on = node_body == b
+        R, cX, cx = _rigid_fit(X[on], X[on] + u[on])
+        rigid[on] = (X[on] - cX) @ R.T + cx
+        elastic[on] = X[on] + u[on] - rigid[on]
+    factor = _magnification(float(np.abs(elastic).max()), height)
+    drawn = rigid + factor * elastic
+    k = int(np.argmax(np.maximum(np.abs(fem_h["theta_left"]), np.abs(fem_h["theta_right"]))))
+    t_peak = float(fem_h["t"][k])
+    fig, ax = plt.subplots(figsize=(7.0, 6.4))
+    handles = []
+    for b in np.unique(cell_body):
+        polys = drawn[quads[cell_body == b]]
+        colour = ("C0", "C1")[min(int(b), 1)]
+        for poly in polys:
+            ax.fill(poly[:, 0], poly[:, 1], facecolor=colour, edgecolor="w", lw=0.2, alpha=0.6)
+        handles.append(Patch(facecolor=colour, alpha=0.6, label=("left half", "right half")[
+            min(int(b), 1)] if cell_body.max() > 0 else "column"))
+    outline = np.array([[X[:, 0].min(), 0.0], [X[:, 0].max(), 0.0],
+                        [X[:, 0].max(), height], [X[:, 0].min(), height], [X[:, 0].min(), 0.0]])
+    handles += ax.plot(outline[:, 0], outline[:, 1], color="0.6", ls=":", lw=1.0,
+                       label="at rest")
+    heights = summary.get("collar_heights") or []
+    left, right = node_body == 0, node_body == node_body.max()
+    for y in heights:
+        a = np.flatnonzero(left)[np.argmin(np.abs(X[left, 0] - X[:, 0].min())
+                                           + np.abs(X[left, 1] - y))]
+        c = np.flatnonzero(right)[np.argmin(np.abs(X[right, 0] - X[:, 0].max())
+                                            + np.abs(X[right, 1] - y))]
+        ax.plot(drawn[[a, c], 0], drawn[[a, c], 1], color="C3", lw=2.0)
+    if heights:
+        handles.append(Line2D([], [], color="C3", lw=2.0, label="collars"))
+    pressure_file = fem / "base_pressure.csv"
+    if pressure_file.exists():
+        with open(pressure_file) as fh:
+            names = fh.readline().strip().split(",")[1:]
+            rows = np.loadtxt(fh, delimiter=",", ndmin=2)
+        row = rows[int(np.argmin(np.abs(rows[:, 0] - t_peak)))]
+        xs = np.array([float(n.split("=")[1]) for n in names])
+        pressure = row[1:] / 1e6
+        scale = 0.12 * height / max(pressure.max(), 1e-12)
+        order = np.argsort(xs, kind="stable")
+        ax.fill_between(xs[order], 0.0, -scale * pressure[order], color="k", alpha=0.35,
+                        step=None)
+        handles.append(Patch(facecolor="k", alpha=0.35,
+                             label=f"base contact pressure (max {pressure.max():.2f} MPa)"))
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(f"FEM at peak rotation, t = {t_peak:.3f} s")
+    ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    fig.tight_layout()
+    figs.append(_figure(out, "deformed", fig, "The FEM column at its peak rotation: each "
+                        "half's rigid motion true to scale, its elastic deformation magnified "
+                        f"x{factor:g}; the crack is the gap between the halves; collars in red; "
+                        "under the base, the contact pressure at that instant (not to the "
+                        "length scale)"))
+
+
 def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
     """The study's pulse on the rigid overturning spectrum."""
     codes = np.array([[{"safe": 0, "after-impact": 1, "without-impact": 2}[c] for c in row]
@@ -211,8 +312,6 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
         "mode_code": codes.ravel()})
     from ..rigid.plotting import MODE_COLOURS, MODE_LABELS
     from matplotlib.colors import BoundaryNorm, ListedColormap
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.pcolormesh(w, a, codes, cmap=ListedColormap(MODE_COLOURS),
                   norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3), shading="nearest")

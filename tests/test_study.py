@@ -97,7 +97,11 @@ def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
     np.testing.assert_allclose(theta["theta_multibody_right"],
                                np.interp(theta["t"], multibody["t"], multibody["theta_right"],
                                          right=np.nan))
-    assert page.count("data:image/png") >= 5 and "data:image/gif" in page
+    assert page.count("data:image/png") >= 6 and "data:image/gif" in page
+    # the deformed column: its magnification stated, collars and toe pressure in the legend
+    assert re.search(r"elastic deformation magnified x\d", page)
+    assert (out / "figures" / "deformed.png").stat().st_size > 0
+    assert summary["collar_heights"] == [0.5]
     # the toe stress refined over its impact, quoted in the verdict and tabulated
     toe = summary["toe_stress"]
     last = len(toe["refinements"]) - 1
