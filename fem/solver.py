@@ -75,7 +75,7 @@ def static_state(model: Model):
 
 def run(model: Model, ground, duration: float, *, dt: float | None = None, safety: float = 0.9,
         output_interval: float | None = None, edge_length: float | None = None,
-        edge_time: float = None,
+        edge_time: float | None = None,
         out_dir=None, progress: bool = True, stop_on_overturn: bool = True,
         initial_velocity: np.ndarray | None = None, check_dt: bool = True,
         initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,

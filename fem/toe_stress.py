@@ -60,9 +60,11 @@ def impact_window(history: dict, lead: float = LEAD_TIME, tail: float = TAIL_TIM
 
 def toe_stress_refinement(result: FemResult, ground, mesh_for: Callable[[int], ColumnMesh],
                           refinements=REFINEMENTS, *, lead: float = LEAD_TIME,
-                          tail: float = TAIL_TIME, progress: bool = False) -> dict:
+                          tail: float = TAIL_TIME, progress: bool = False,
+                          vertical=None) -> dict:
     """Peak toe stress over the impact window on meshes ``mesh_for(r)`` for r in
-    ``refinements`` (1, then doubling), each restarted from ``result``'s state.
+    ``refinements`` (1, then doubling), each restarted from ``result``'s state, under the
+    same ``ground`` and ``vertical`` motions as the run that gave ``result``.
 
     Returns (stresses in Pa): toe, t_start, t_end, t_peak; refinements, dofs, steps, dt;
     peaks_by_toe (one dict per refinement), peaks (the largest over the toes);
@@ -99,7 +101,8 @@ def toe_stress_refinement(result: FemResult, ground, mesh_for: Callable[[int], C
                      initial_state=transfer_state(model.mesh, mesh, u, v),
                      initial_contact=transfer_contact(model, fine, contact),
                      output_interval=interval, edge_length=summary["edge_length"],
-                     edge_time=summary["edge_time"], progress=progress, stop_on_overturn=False)
+                     edge_time=summary["edge_time"], progress=progress, stop_on_overturn=False,
+                     vertical=vertical)
         if window.summary["status"] != "completed":
             raise InputError(f"toe refinement {r}: the restarted run stopped: "
                              f"{window.summary['status']}")

@@ -234,6 +234,24 @@ def acceleration_table(motion, samples_per_period: int = 400):
     raise InputError(f"ground motion of type {type(motion).__name__} is not supported")
 
 
+def kernel_tables(ground, vertical=None, horizontal_scale: float = 1.0):
+    """The tables the compiled solvers read the ground from, one pair of arrays: the
+    horizontal record's rows (times ``horizontal_scale``; none for a pulse, which the kernels
+    compute) followed by the vertical motion's table (:func:`acceleration_table`), m/s^2.
+    Returns (times, accelerations, rows of the horizontal record, whether vertical rows
+    follow); never empty arrays (numba wants one element)."""
+    times = values = np.zeros(0)
+    if isinstance(ground, Record):
+        times, values = ground.time, horizontal_scale * ground.acceleration_values
+    n_horizontal = times.size
+    table = acceleration_table(vertical)
+    if table is not None:
+        times, values = np.concatenate((times, table[0])), np.concatenate((values, table[1]))
+    if times.size == 0:
+        times = values = np.zeros(1)
+    return (np.ascontiguousarray(times, dtype=float), np.ascontiguousarray(values, dtype=float),
+            n_horizontal, table is not None)
+
 
 def peak_acceleration(motion) -> float:
     """Peak |acceleration| (m/s^2) of a pulse (its amplitude) or a record (its largest

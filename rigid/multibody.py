@@ -30,7 +30,7 @@ import numpy as np
 from . import _multibody as K
 from .block import Block
 from .collars import validate_collars
-from .ground import HarmonicPulse, NoMotion, Record, acceleration_table
+from .ground import HarmonicPulse, NoMotion, Record, kernel_tables
 from .solve import CollarHistory
 from .validation import InputError, require_non_negative, require_positive, require_range
 
@@ -393,7 +393,6 @@ def _ground_arrays(ground, g: float, vertical=None):
     """(kind, gpar, rec_t, rec_a, end of the ground motion) for the kernel: gpar = (amplitude,
     omega, phase, duration, rows of the horizontal record, 1 if vertical motion follows)."""
     gpar = np.zeros(6)
-    rec_t = rec_a = np.zeros(0)
     if ground is None or isinstance(ground, NoMotion):
         kind, end = K.GROUND_NONE, 0.0
     elif isinstance(ground, HarmonicPulse):
@@ -401,19 +400,13 @@ def _ground_arrays(ground, g: float, vertical=None):
         kind, end = K.GROUND_HARMONIC, ground.duration
     elif isinstance(ground, Record):
         kind, end = K.GROUND_RECORD, ground.end_time
-        rec_t, rec_a = ground.time, ground.acceleration_values
     else:
         raise InputError(f"ground motion of type {type(ground).__name__} is not supported")
-    gpar[4] = rec_t.size
-    table = acceleration_table(vertical)
-    if table is not None:
+    rec_t, rec_a, gpar[4], has_vertical = kernel_tables(ground, vertical)
+    if has_vertical:
         gpar[5] = 1.0
-        rec_t, rec_a = np.concatenate((rec_t, table[0])), np.concatenate((rec_a, table[1]))
-        end = max(end, float(table[0][-1]))
-    if rec_t.size == 0:
-        rec_t = rec_a = np.zeros(1)
-    return (kind, gpar, np.ascontiguousarray(rec_t, float), np.ascontiguousarray(rec_a, float),
-            end)
+        end = max(end, vertical.end_time)
+    return kind, gpar, rec_t, rec_a, end
 
 
 def default_step(column: MultibodyColumn, ground=None) -> float:

@@ -23,7 +23,7 @@ import numpy as np
 from . import _kernels as K
 from .block import Block, check_model
 from .collars import (Collar, collar_kernel_constants, collar_response, validate_collars)
-from .ground import HarmonicPulse, NoMotion, Record, acceleration_table
+from .ground import HarmonicPulse, NoMotion, Record, kernel_tables
 from .validation import InputError, require_positive, require_range
 
 MODE_NAMES = {K.SAFE: "safe", K.AFTER_IMPACT: "after-impact", K.WITHOUT_IMPACT: "without-impact"}
@@ -121,10 +121,8 @@ def kernel_block_constants(block: Block, model: str, vertical: bool = False):
     gets those constants and lambda = 0; with vertical ground motion that equivalence fails and
     its kernel takes lambda too."""
     lam = block.load_ratio
-    if model == "nonlinear":
-        return block.p, block.alpha, math.tan(block.alpha) * (1.0 + lam), 1.0, lam
-    if vertical:
-        return block.p, block.alpha, block.alpha * (1.0 + lam), 1.0, lam
+    if model == "nonlinear" or vertical:
+        return block.p, block.alpha, block.uplift_acceleration(model) / block.g, 1.0, lam
     stiffening = 1.0 + 2.0 * lam
     alpha = block.alpha * (1.0 + lam) / stiffening
     return block.p * math.sqrt(stiffening), alpha, alpha, 1.0 / stiffening, 0.0
@@ -140,32 +138,25 @@ def kernel_params(block: Block, ground, collars=(), model: str = "linear",
     check_model(model)
     g = block.g
     nonlinear = model == "nonlinear"
-    table = acceleration_table(vertical)
-    p, alpha, uplift, scale, load = kernel_block_constants(block, model, table is not None)
+    has_vertical = vertical is not None and not isinstance(vertical, NoMotion)
+    p, alpha, uplift, scale, load = kernel_block_constants(block, model, has_vertical)
     ka, kl = collar_kernel_constants(block, collars)
-    rec_t = rec_a = np.zeros(0)
+    rec_t, rec_a, n_horizontal, has_vertical = kernel_tables(ground, vertical, scale)
+    rec_a = rec_a / g
     if isinstance(ground, HarmonicPulse):
         P = K.make_params(p, alpha, nonlinear, K.GROUND_HARMONIC,
                           scale * ground.amplitude / g, ground.omega, ground.phase,
                           ground.duration, ka, kl, block.nu, uplift, load)
     elif isinstance(ground, Record):
-        rec_t = np.ascontiguousarray(ground.time)
-        rec_a = np.ascontiguousarray(scale * ground.acceleration_values / g)
         P = K.make_params(p, alpha, nonlinear, K.GROUND_RECORD, 0.0, 0.0, 0.0,
-                          float(rec_t[-1]), ka, kl, block.nu, uplift, load)
+                          ground.end_time, ka, kl, block.nu, uplift, load)
     elif ground is None or isinstance(ground, NoMotion):
         P = K.make_params(p, alpha, nonlinear, K.GROUND_NONE, 0.0, 0.0, 0.0, 0.0,
                           ka, kl, block.nu, uplift, load)
     else:
         raise InputError(f"ground motion of type {type(ground).__name__} is not supported")
-    P[K.P_NHREC] = rec_t.size
-    if table is not None:
-        P[K.P_VERT] = 1.0
-        rec_t = np.concatenate((rec_t, table[0]))
-        rec_a = np.concatenate((rec_a, table[1] / g))
-    if rec_t.size == 0:
-        rec_t = rec_a = np.zeros(1)      # (numba wants an array; P_NHREC = 0 ignores it)
-    rec_t, rec_a = np.ascontiguousarray(rec_t, float), np.ascontiguousarray(rec_a, float)
+    P[K.P_NHREC] = n_horizontal
+    P[K.P_VERT] = 1.0 if has_vertical else 0.0
     require_range("initial tilt (rad)", initial_tilt, -0.5 * math.pi, 0.5 * math.pi,
                   range_text="(-pi/2, pi/2)")
     P[K.P_TH0] = initial_tilt

@@ -23,7 +23,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..rigid.block import Block
 from ..rigid.ground import HarmonicPulse, NoMotion
 from ..rigid.impacts import half_cycles, impact_ratios_from_fit
 from ..rigid.solve import rock
@@ -63,7 +62,8 @@ def fem_case(case: dict, directory: str) -> dict:
         from ..fem.toe_stress import toe_stress_refinement
         from .fem_study import toe_mesh
         out["toe_refinement"] = toe_stress_refinement(
-            result, study.ground, lambda r: toe_mesh(study, r), study.toe_refinements)
+            result, study.ground, lambda r: toe_mesh(study, r), study.toe_refinements,
+            vertical=study.vertical)
         write_json(Path(directory) / "toe_refinement.json", out["toe_refinement"])
     return out
 
@@ -71,11 +71,7 @@ def fem_case(case: dict, directory: str) -> dict:
 def rigid_case(case: dict, directory: str) -> dict:
     study = _study_from_case(case)
     if case["key"] == "monolith":
-        half = study.rocking_block
-        block = Block(b=study.width / 2.0, h=half.h, mass=2.0 * half.mass if study.cracked
-                      else half.mass, restitution=study.rigid.get("restitution"),
-                      top_load=study.top_load)
-        collars = ()
+        block, collars = study.column_block, ()
     else:
         block, collars = study.rocking_block, study.collars
     result = rock(block, study.ground, collars, model="nonlinear", duration=study.duration,
@@ -202,11 +198,8 @@ def verdict_criteria(study, results: dict, fem_history: dict, multibody_history:
     t_first = min(firsts) if firsts else t_pulse
     # past the whole column's unstable equilibrium it is falling: beyond that the histories
     # differ by where each model stops, not by how it moved
-    half = study.rocking_block
-    whole = Block(b=study.width / 2.0, h=half.h, g=half.g, top_load=study.top_load,
-                  mass=half.mass * (2.0 if study.cracked else 1.0))
     falling = np.nonzero(np.max(np.abs(np.array(theta_mb)), axis=0)
-                         > whole.critical_angle())[0]
+                         > study.column_block.critical_angle())[0]
     if falling.size:
         t_first = min(t_first, float(mb_t[falling[0]]))
     window = mb_t <= t_first

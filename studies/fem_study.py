@@ -104,6 +104,13 @@ class FemStudy:
                      restitution=self.rigid.get("restitution"),
                      top_load=self.top_load / (2.0 if self.cracked else 1.0))
 
+    @property
+    def column_block(self) -> Block:
+        """The whole column as one rigid block (4b wide), with the whole top load."""
+        mass = self.stone.density * self.width * self.height * self.thickness
+        return Block(b=0.5 * self.width, h=0.5 * self.height, mass=mass,
+                     restitution=self.rigid.get("restitution"), top_load=self.top_load)
+
 
 def _toe_refinements(value) -> tuple:
     """[] or 1, 2, 4, ... (at least three, at most 16)."""

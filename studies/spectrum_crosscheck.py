@@ -156,14 +156,11 @@ def run_spectrum_crosscheck(study_path: Path, out: Path, *, workers=None, schedu
         raise InputError(f"{study_path}: ground.{sorted(ground)[0]} is set by the grid of a "
                          "spectrum cross-check: leave it out")
     omegas, amplitudes = grid_of(data, grid, record=kind == "record")
-    if kind == "record":
-        from ..rigid.ground import read_record
-        probe = from_dict({**base_data, "ground": {"pulse": "none"},
-                           "run": {**base_data.get("run", {}), "initial_tilt": 0.01}},
-                          source=str(study_path), base=study_path.parent)
-        block = probe.rocking_block
-        original = read_record(study_path.parent / record_file, g=block.g)
-        uplift = block.uplift_acceleration("nonlinear")
+    if kind == "record":          # the study with the record as it is: its block and peak
+        as_given = from_dict({**base_data, "ground": {"pulse": "record", "record": record_file}},
+                             source=str(study_path), base=study_path.parent)
+        original = as_given.ground
+        uplift = as_given.rocking_block.uplift_acceleration("nonlinear")
 
     def with_pulse(omega_ratio, amplitude_ratio):
         variant = copy.deepcopy(base_data)
