@@ -30,10 +30,11 @@ if (not _os.path.isdir(_os.path.join(_here, "rigid"))
     __path__.append(_root)  # noqa: F821 (the package's own search path)
 
 from .rigid import (Block, Collar, HarmonicPulse, InputError, Record,  # noqa: E402
-                    RockingResult, housner_restitution, pulse_from_ratios, read_collars,
-                    read_record, rock)
+                    RockingResult, housner_restitution, pulse_from_ratios, read_record,
+                    rock)
 from .rigid.multibody import MultibodyResult, multibody_spectrum, rock_multibody  # noqa: E402
 from .rigid.spectrum import Spectrum, overturning_spectrum  # noqa: E402
+from .studies.schema import read_collars  # noqa: E402
 
 try:
     from importlib.metadata import PackageNotFoundError, version

@@ -6,7 +6,7 @@ finite-element model (``fem``). Solvers: :func:`rock` (time history) and
 """
 
 from .block import Block, housner_restitution
-from .collars import Collar, read_collars
+from .collars import Collar
 from .ground import (HarmonicPulse, NoMotion, Record, cosine_pulse, pulse_from_ratios, read_peer_at2,
                      read_record, read_two_column, sine_pulse)
 from .solve import RockingResult, rock
@@ -14,5 +14,5 @@ from .validation import InputError
 
 __all__ = ["Block", "Collar", "HarmonicPulse", "InputError", "NoMotion", "Record",
            "RockingResult",
-           "cosine_pulse", "housner_restitution", "pulse_from_ratios", "read_collars",
+           "cosine_pulse", "housner_restitution", "pulse_from_ratios",
            "read_peer_at2", "read_record", "read_two_column", "rock", "sine_pulse"]

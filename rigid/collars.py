@@ -35,7 +35,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .block import Block
-from .validation import (InputError, read_toml, require_non_negative, require_positive,
+from .validation import (InputError, require_non_negative, require_positive,
                          require_range)
 
 STEEL_E = 206e9      # Pa
@@ -137,31 +137,6 @@ def validate_collars(collars, block: Block) -> tuple[Collar, ...]:
                       range_text=f"(0, {2.0 * block.h:g}] (the column height 2h)")
     return collars
 
-
-def read_collars(path) -> tuple[Collar, ...]:
-    """Read ``[[collar]]`` tables (keys y, t, h, length, E, fy, pretension) from a TOML file."""
-    data = read_toml(path, "collar file")
-    return collars_from_tables(data.get("collar", []), source=str(path))
-
-
-COLLAR_KEYS = ("y", "t", "h", "length", "E", "fy", "pretension", "plastic", "Eh")
-
-
-def collars_from_tables(tables, source: str = "collar") -> tuple[Collar, ...]:
-    collars = []
-    for i, table in enumerate(tables, start=1):
-        unknown = sorted(set(table) - set(COLLAR_KEYS))
-        if unknown:
-            raise InputError(f"{source}: collar {i} has unknown key {unknown[0]!r} "
-                             f"(allowed: {', '.join(COLLAR_KEYS)})")
-        missing = [k for k in ("y", "t", "h") if k not in table]
-        if missing:
-            raise InputError(f"{source}: collar {i} lacks the key {missing[0]!r}")
-        collars.append(Collar(**table))
-    return tuple(collars)
-
-
-# --- kinematics -------------------------------------------------------------------------------
 
 def collar_end_positions(theta, b: float, y: float):
     """Positions (x, y) of the collar's left and right ends on the two rotated half columns.

@@ -22,7 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from ..rigid.block import MODELS, Block
-from ..rigid.collars import Collar, read_collars
+from ..rigid.collars import Collar
+from .schema import read_collars
 from ..rigid.ground import PULSE_KINDS, pulse_from_ratios, read_record
 from ..rigid.validation import InputError
 
@@ -123,8 +124,12 @@ def _multibody_options(args) -> dict:
             "crack_friction": args.crack_friction}
 
 
-def _emit(args, summary: dict) -> None:
-    if args.json:
+def _emit(args, summary: dict | None) -> None:
+    if summary is None:          # the command printed its own output
+        return
+    if args.command == "schema":
+        print(json.dumps(summary, indent=2))
+    elif args.json:
         print(json.dumps(summary))
     else:
         for key, value in summary.items():
@@ -283,19 +288,16 @@ def _cmd_study(args) -> dict:
 
     from ..rigid.validation import read_toml
 
-    from .sweeps import SWEEP_KINDS, run_sweep_study
+    from .schema import parse_table
+    from .sweeps import run_sweep_study
 
     path = resolve_study(args.study)
     workers = args.workers if args.workers is not None else default_workers()
     if workers < 1:
         raise InputError(f"--workers = {workers} must be >= 1")
-    kind = read_toml(path, "study file").get("study", {}).get("kind", "cross-check")
-    kinds = ("cross-check", "zhang-makris", "collar-design", "spectrum-crosscheck",
-             "free-rocking") + SWEEP_KINDS
+    kind = parse_table("study", read_toml(path, "study file").get("study", {}), str(path)).kind
     if args.grid is not None and kind != "spectrum-crosscheck":
         raise InputError(f"--grid applies to studies of kind spectrum-crosscheck, not {kind!r}")
-    if kind not in kinds:
-        raise InputError(f"study.kind = {kind!r} is not one of {', '.join(kinds)}")
     out = Path(args.out)
     if kind == "cross-check":
         summary = run_crosscheck(path, out, workers=workers, scheduler=args.scheduler)
@@ -326,6 +328,17 @@ def _cmd_study(args) -> dict:
         summary = run_sweep_study(kind, path, out, workers=workers, scheduler=args.scheduler)
         short = {}
     return summary if args.json else {"report": str(out / "index.html"), **short}
+
+
+# --- colonna schema ------------------------------------------------------------------------------
+
+def _cmd_schema(args) -> dict:
+    from .schema import json_schema, markdown
+
+    if args.markdown:
+        sys.stdout.write(markdown())
+        return None
+    return json_schema()
 
 
 # --- colonna validate ---------------------------------------------------------------------------
@@ -406,6 +419,12 @@ def build_parser() -> argparse.ArgumentParser:
                                   "amplitude ratios (overrides [grid] points)")
     p.add_argument("--json", action="store_true", help="print summary.json")
     p.set_defaults(func=_cmd_study)
+
+    p = sub.add_parser("schema", help="the study file's JSON Schema (keys, types, ranges, "
+                                      "units, defaults), for editors")
+    p.add_argument("--markdown", action="store_true",
+                   help="print the key list as Markdown tables instead (docs/study-file.md)")
+    p.set_defaults(func=_cmd_schema, json=True)
 
     p = sub.add_parser("validate", help="Zhang & Makris validation block (p = 2.14, alpha = 0.25)")
     p.add_argument("--out", type=Path, default=Path("out/validation"))

@@ -26,33 +26,16 @@ from pathlib import Path
 from ..rigid.block import Block
 from ..rigid.impacts import impact_ratios_from_peaks
 from ..rigid.validation import InputError, read_toml
+from . import schema
 from .fem_study import from_dict
 from .output import finish_study, write_csv
 from .sweep import run_cases
-
-KEYS = ("tilt_fractions", "damping", "mesh_sizes")
-
 
 def rocking_alpha(study) -> float:
     """Slenderness of the body that rocks (see the module)."""
     if study.cracked and not study.collars:
         return math.atan2(study.width / 4.0, study.height / 2.0)
     return math.atan2(study.width / 2.0, study.height / 2.0)
-
-
-def _numbers(table: dict, key: str, default: list, low: float, high: float, *,
-             closed_low: bool = False) -> list[float]:
-    """A list of numbers in (low, high) ([low, high) with closed_low), or an InputError."""
-    values = table.get(key, default)
-
-    def ok(v):
-        return (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-                and (low <= v if closed_low else low < v) and v < high)
-
-    if not isinstance(values, list) or not values or not all(ok(v) for v in values):
-        raise InputError(f"free_rocking.{key} = {values!r} must be a non-empty list of numbers "
-                         f"in {'[' if closed_low else '('}{low:g}, {high:g})")
-    return [float(v) for v in values]
 
 
 def free_rocking_case(case: dict, directory: str) -> dict:
@@ -92,10 +75,7 @@ def run_free_rocking(study_path: Path, out: Path, *, workers=None, scheduler=Non
                      progress: bool = True) -> dict:
     study_path = Path(study_path)
     data = read_toml(study_path, "study file")
-    table = data.get("free_rocking", {})
-    unknown = sorted(set(table) - set(KEYS))
-    if unknown:
-        raise InputError(f"unknown key free_rocking.{unknown[0]} (allowed: {', '.join(KEYS)})")
+    table = schema.parse_table("free_rocking", data.get("free_rocking", {}), str(study_path))
     base_data = {k: v for k, v in data.items() if k != "free_rocking"}
     ground = base_data.setdefault("ground", {"pulse": "none"})
     if ground != {"pulse": "none"}:
@@ -105,11 +85,12 @@ def run_free_rocking(study_path: Path, out: Path, *, workers=None, scheduler=Non
     base_data["run"].setdefault("initial_tilt", 0.01)        # replaced per case
     study = from_dict(base_data, source=str(study_path), base=study_path.parent)  # fails early
     alpha = rocking_alpha(study)
-    tilts = _numbers(table, "tilt_fractions", [0.5], 0.0, 1.0)
-    dampings = _numbers(table, "damping", [0.0, 0.2], 0.0, 1.0, closed_low=True)
+    tilts, dampings = table.tilt_fractions, table.damping
     body_width = study.width / (2.0 if study.cracked else 1.0)
-    sizes = _numbers(table, "mesh_sizes", [min(2.0 * study.mesh_size, body_width)], 0.0,
-                     body_width * (1.0 + 1e-9))
+    sizes = table.mesh_sizes or [min(2.0 * study.mesh_size, body_width)]
+    if max(sizes) > body_width * (1.0 + 1e-9):
+        raise InputError(f"{study_path}: free_rocking.mesh_sizes = {sizes!r} m: each must be at "
+                         f"most {body_width:g} m (the width of one half)")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     common = {"source": str(study_path), "base": str(study_path.parent.resolve()),

@@ -23,7 +23,6 @@ the rigid spectra.
 from __future__ import annotations
 
 import copy
-import math
 import time
 from pathlib import Path
 
@@ -31,12 +30,12 @@ import numpy as np
 
 from ..rigid.impacts import half_cycles
 from ..rigid.validation import InputError, read_toml
+from . import schema
 from .fem_study import from_dict
 from .output import finish_study
 from .sweep import run_cases
 
-GRID_KEYS = ("omega_ratios", "amplitude_ratios", "points", "time_scales")
-DEFAULT_GRID = {"omega_ratios": [1.0, 8.0], "amplitude_ratios": [1.2, 6.0], "points": [6, 5]}
+DEFAULT_X_RANGE = {"omega_ratios": [1.0, 8.0], "time_scales": [0.5, 2.0]}
 MODES = ("safe", "after-impact", "without-impact")
 
 
@@ -52,39 +51,20 @@ def parse_grid_size(text: str) -> tuple[int, int]:
     return n, m
 
 
-def grid_of(data: dict, size: tuple[int, int] | None = None, record: bool = False):
-    """(omega ratios, or time scales for a record; amplitude ratios) of the study's [grid],
-    ``size`` overriding the counts."""
-    given = data.get("grid", {})
+def grid_of(data: dict, size: tuple[int, int] | None = None, record: bool = False,
+            source: str = "study"):
+    """(omega ratios, or time scales for a record; amplitude ratios) of the study's [grid]
+    (:class:`studies.schema.Grid`), ``size`` overriding the counts."""
+    grid = schema.parse_table("grid", data.get("grid", {}), source)
     x_key = "time_scales" if record else "omega_ratios"
     other = "omega_ratios" if record else "time_scales"
-    if other in given:
-        raise InputError(f"grid.{other} goes with "
+    if getattr(grid, other) is not None:
+        raise InputError(f"{source}: grid.{other} goes with "
                          + ("a pulse" if record else "ground.pulse = \"record\"")
                          + f": use grid.{x_key}")
-    table = {**DEFAULT_GRID, **({"time_scales": [0.5, 2.0]} if record else {}), **given}
-    unknown = sorted(set(given) - set(GRID_KEYS))
-    if unknown:
-        raise InputError(f"unknown key grid.{unknown[0]} (allowed: {', '.join(GRID_KEYS)})")
-    ranges = {}
-    for key, low in ((x_key, 0.0), ("amplitude_ratios", 1.0)):
-        value = table[key]
-        if (not isinstance(value, list) or len(value) != 2
-                or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                           and math.isfinite(v) for v in value)
-                or not low < value[0] <= value[1] or (key == "amplitude_ratios"
-                                                      and value[0] < 1.0)):
-            raise InputError(f"grid.{key} = {value!r} must be [start, stop] with "
-                             f"{'0 <' if low == 0.0 else '1 <='} start <= stop")
-        ranges[key] = value
-    points = table["points"] if size is None else list(size)
-    if (not isinstance(points, list) or len(points) != 2
-            or not all(isinstance(v, int) and not isinstance(v, bool) and v >= 1
-                       for v in points)):
-        raise InputError(f"grid.points = {points!r} must be [number of {x_key}, number of "
-                         "amplitude ratios], each an integer >= 1")
-    return (np.linspace(*ranges[x_key], points[0]),
-            np.linspace(*ranges["amplitude_ratios"], points[1]))
+    x_range = getattr(grid, x_key) or DEFAULT_X_RANGE[x_key]
+    points = grid.points if size is None else list(size)
+    return np.linspace(*x_range, points[0]), np.linspace(*grid.amplitude_ratios, points[1])
 
 
 def grid_point_case(case: dict, directory: str) -> dict:
@@ -155,7 +135,8 @@ def run_spectrum_crosscheck(study_path: Path, out: Path, *, workers=None, schedu
     if ground:
         raise InputError(f"{study_path}: ground.{sorted(ground)[0]} is set by the grid of a "
                          "spectrum cross-check: leave it out")
-    omegas, amplitudes = grid_of(data, grid, record=kind == "record")
+    omegas, amplitudes = grid_of(data, grid, record=kind == "record",
+                                 source=str(study_path))
     if kind == "record":          # the study with the record as it is: its block and peak
         as_given = from_dict({**base_data, "ground": {"pulse": "record", "record": record_file}},
                              source=str(study_path), base=study_path.parent)

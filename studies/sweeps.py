@@ -23,6 +23,7 @@ from ..fem.convergence import convergence_table
 from .crosscheck import fem_case, rigid_case
 from ..rigid.validation import read_toml
 
+from . import schema
 from .fem_study import from_dict
 from .output import write_json
 from .sweep import run_cases
@@ -39,20 +40,12 @@ def _base(data: dict, study_path: Path) -> dict:
 
 
 def mesh_sizes(data: dict, study) -> list[float]:
-    conv = data.get("convergence", {})
-    unknown = sorted(set(conv) - {"sizes", "levels", "ratio"})
-    if unknown:
-        from ..rigid.validation import InputError
-        raise InputError(f"unknown key convergence.{unknown[0]} (allowed: levels, ratio, sizes)")
-    if "sizes" in conv:
-        sizes = [float(s) for s in conv["sizes"]]
-    else:
-        levels, ratio = int(conv.get("levels", 3)), float(conv.get("ratio", 2.0))
-        sizes = [study.mesh_size * ratio ** (levels - 1 - k) for k in range(levels)]
-    if len(sizes) < 3 or any(b >= a for a, b in zip(sizes, sizes[1:])):
-        from ..rigid.validation import InputError
-        raise InputError("convergence.sizes needs three or more decreasing mesh sizes")
-    return sizes
+    """The sizes of [convergence] (:class:`studies.schema.Convergence`): given, or levels
+    from [mesh] size refined by ratio."""
+    conv = schema.parse_table("convergence", data.get("convergence", {}), study.source)
+    if conv.sizes is not None:
+        return list(conv.sizes)
+    return [study.mesh_size * conv.ratio ** (conv.levels - 1 - k) for k in range(conv.levels)]
 
 
 def run_sweep_study(kind: str, study_path: Path, out: Path, *, workers=None, scheduler=None,

@@ -1,0 +1,545 @@
+"""The study file's schema: every table and key, with its type, range, default and unit, in one
+place (pydantic v2). ``colonna schema`` prints it as JSON Schema for editors (e.g. Taplo /
+Even Better TOML) and ``colonna schema --markdown`` as the key list of docs/study-file.md.
+
+A study file is parsed by :func:`parse`; any error becomes one :class:`InputError` line naming
+the key path (``column.height``, ``collar[2].y``: collars counted from 1) and what is allowed.
+Ranges that depend on other keys (a collar within the column height, the mesh size within the
+width of a half) are checked here too; the ones that need the column's physics (a pulse above the
+uplift acceleration) are checked where the ground motion is built (:mod:`studies.fem_study`).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from ..fem.solver import EDGE_TIME
+from ..fem.toe_stress import REFINEMENTS
+from ..rigid import collars as rigid_collars
+from ..rigid.collars import STEEL_E, STEEL_FY
+from ..rigid.validation import InputError, read_toml
+
+G = 9.81                    # m/s^2, the gravity of every study
+STUDY_KINDS = ("cross-check", "collar-design", "spectrum-crosscheck", "free-rocking",
+               "mesh-convergence", "solid-vs-cracked", "zhang-makris")
+
+
+def quantity(unit: str, description: str, default: Any = None, **limits) -> Any:
+    """A field with its unit (SI) and limits (gt, ge, lt, le), shown in the JSON Schema."""
+    return Field(default, description=description, json_schema_extra={"unit": unit}, **limits)
+
+
+class Table(BaseModel):
+    """A TOML table: unknown keys are errors, numbers are finite, no type coercion (a string or
+    a boolean is never a number)."""
+
+    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, frozen=True)
+
+
+class Column(Table):
+    """[column]: the column's geometry and the load it carries."""
+
+    height: float = quantity("m", "Height of the column shaft.", ..., gt=0)
+    width: float = quantity("m", "Width (diameter) of the column, 4b.", ..., gt=0)
+    thickness: float | None = quantity(
+        "m", "Out-of-plane thickness of the 2D model; default pi * width / 4 (the half column "
+        "then has the mass of a half circular column).", gt=0)
+    cracked: bool = Field(True, description="A full-height vertical crack splits the column "
+                          "into two halves.")
+    top_load: float = quantity("N", "Dead load on the capital (architrave), without mass: a "
+                               "uniform pressure on the top in the FEM, half at the top of each "
+                               "rigid half.", 0.0, ge=0)
+
+
+class Stone(Table):
+    """[stone]: linear elastic stone (defaults: a white marble)."""
+
+    E: float = quantity("Pa", "Young's modulus.", 50e9, gt=0)
+    nu: float = quantity("-", "Poisson's ratio.", 0.2, ge=0, lt=0.5)
+    density: float = quantity("kg/m^3", "Density.", 2700.0, gt=0)
+    fc: float = quantity("Pa", "Compressive strength, for the toe-crushing check.", 110e6, gt=0)
+
+
+class Collar(Table):
+    """[[collar]]: one steel collar (flat bar around the column), counted from 1."""
+
+    y: float = quantity("m", "Height of the collar above the base (at most the column "
+                        "height).", ..., gt=0)
+    t: float = quantity("m", "Section thickness (radial).", ..., gt=0)
+    h: float = quantity("m", "Section height (vertical).", ..., gt=0)
+    length: float | None = quantity("m", "Span between the attachment points; default the "
+                                    "column width.", gt=0)
+    E: float = quantity("Pa", "Young's modulus of the steel.", STEEL_E, gt=0)
+    fy: float = quantity("Pa", "Yield stress of the steel.", STEEL_FY, gt=0)
+    pretension: float = quantity("N", "Axial pretension (tension positive).", 0.0, ge=0)
+    plastic: bool = Field(False, description="Bilinear elastic-plastic collars (FEM and "
+                          "multibody; the SDOF model stays elastic).")
+    Eh: float | None = quantity("Pa", "Hardening (tangent) modulus past f_y, below E; default "
+                                "0.01 E.", ge=0)
+
+    @model_validator(mode="after")
+    def _hardening_below_E(self):
+        if self.Eh is not None and not self.Eh < self.E:
+            raise ValueError(f"Eh = {self.Eh:g} Pa must be below E = {self.E:g} Pa")
+        return self
+
+
+PULSE_PAIRS = (("amplitude", "amplitude_ratio"), ("period", "omega_ratio"))
+HORIZONTAL = ("amplitude", "amplitude_ratio", "period", "omega_ratio", "record", "scale",
+              "time_scale")
+
+
+class Ground(Table):
+    """[ground]: the horizontal ground motion (a pulse, a record or none) and an optional
+    vertical one (harmonic or a record). Ratios refer to the rocking half."""
+
+    pulse: Literal["sine", "cosine", "record", "none"] = Field(
+        "sine", description="One-sine or one-cosine pulse, a record (file), or none (free "
+        "rocking from run.initial_tilt or run.initial_angular_velocity).")
+    amplitude: float | None = quantity("m/s^2", "Pulse amplitude a_p (sign: direction), "
+                                       "|a_p| at least the uplift acceleration; or give "
+                                       "amplitude_ratio.")
+    amplitude_ratio: float | None = quantity("-", "a_p / (g tan alpha (1 + lambda)) of the "
+                                             "rocking half; or give amplitude.", ge=1)
+    period: float | None = quantity("s", "Pulse period T_p; or give omega_ratio.", gt=0)
+    omega_ratio: float | None = quantity("-", "Omega / p of the rocking half; or give period.",
+                                         gt=0)
+    record: str | None = Field(None, description="Record file (PEER .AT2 in g, or two columns "
+                               "t (s), a (m/s^2)), relative to the study file; pulse = record.")
+    scale: float | None = quantity("-", "Factor on the record's acceleration (default 1).")
+    time_scale: float | None = quantity("-", "Plays the record this many times as fast "
+                                        "(default 1).", gt=0)
+    vertical_amplitude: float | None = quantity(
+        "m/s^2", "Vertical harmonic a_v sin(2 pi t / T + phase), upward positive.",
+        gt=-10 * G, lt=10 * G)
+    vertical_period: float | None = quantity("s", "Period T of the vertical harmonic.", gt=0)
+    vertical_phase: float | None = quantity("rad", "Phase of the vertical harmonic "
+                                            "(default 0).")
+    vertical_duration: float | None = quantity("s", "How long the vertical harmonic lasts "
+                                               "(default: as long as the horizontal motion).",
+                                               gt=0)
+    vertical_record: str | None = Field(None, description="Vertical record file (as record), "
+                                        "instead of the harmonic.")
+    vertical_scale: float | None = quantity("-", "Factor on the vertical record (default 1).")
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        given = {k for k in self.model_fields_set if getattr(self, k) is not None}
+        if self.pulse == "none":
+            _none_of(given, HORIZONTAL, "with pulse = 'none'")
+        elif self.pulse == "record":
+            if "record" not in given:
+                raise ValueError("ground.record (a file) is required with pulse = 'record'")
+            _none_of(given, ("amplitude", "amplitude_ratio", "period", "omega_ratio"),
+                     "with pulse = 'record' (use scale and time_scale)")
+        else:
+            _none_of(given, ("record", "scale", "time_scale"), f"with pulse = '{self.pulse}'")
+            for pair in PULSE_PAIRS:
+                if len(given & set(pair)) > 1:
+                    raise ValueError(f"give only one of ground.{pair[0]} and ground.{pair[1]}")
+        vertical = {k for k in given if k.startswith("vertical_")}
+        if "vertical_record" in vertical:
+            _none_of(vertical, ("vertical_amplitude", "vertical_period", "vertical_phase",
+                                "vertical_duration"), "with ground.vertical_record")
+        elif vertical:
+            for key in ("vertical_amplitude", "vertical_period"):
+                if key not in vertical:
+                    raise ValueError(f"ground.{key} is required for a vertical harmonic (or "
+                                     "give ground.vertical_record)")
+            _none_of(vertical, ("vertical_scale",), "without ground.vertical_record")
+        return self
+
+
+def _none_of(given: set, keys, why: str) -> None:
+    extra = sorted(given & set(keys))
+    if extra:
+        raise ValueError(f"ground.{extra[0]} has no meaning {why}")
+
+
+class Contact(Table):
+    """[contact]: penalty frictional contact at the base and along the crack (FEM); the
+    friction also in the multibody model."""
+
+    friction: float = quantity("-", "Coulomb friction coefficient (base and crack).", 0.7, ge=0)
+    penalty_factor: float = quantity("-", "Factor on the default penalty.", 1.0, gt=0)
+    penalty: float | None = quantity("N/m^3", "Penalty per unit contact area; overrides "
+                                      "penalty_factor.", gt=0)
+    damping: float = quantity("-", "Fraction of critical damping of each contact spring.", 0.05,
+                              ge=0, lt=1)
+    friction_filter: float = quantity("s", "Time constant of the low-pass filter on the normal "
+                                      "force that sets the friction cone (0: none).", 1e-3, ge=0)
+
+
+class Mesh(Table):
+    """[mesh]: the FEM mesh, generated (size, grading) or read from a file."""
+
+    size: float | None = quantity("m", "Element size; default width / 16; at most the width "
+                                  "of one half.", gt=0)
+    grading: float = quantity("-", "Grading toward the base and crack (0: uniform).", 0.5,
+                              ge=0, lt=1)
+    edge_length: float | None = quantity("m", "Toe length over which the edge stress is "
+                                         "averaged; default 0.1 x the width of a half.", gt=0)
+    edge_time: float = quantity("s", "Time over which the toe stress is averaged.", EDGE_TIME,
+                                ge=0, le=0.01)
+    toe_refinements: list[int] = Field(list(REFINEMENTS), description="The impact that gives "
+                                       "the peak toe stress is rerun with the toe zones refined "
+                                       "so many times: [] or [1, 2, 4] up to [1, 2, 4, 8, 16].")
+    file: str | None = Field(None, description="A quadrilateral mesh made elsewhere (e.g. "
+                             "gmsh .msh), relative to the study file, instead of size/grading.")
+
+    @model_validator(mode="after")
+    def _powers_of_two(self):
+        value = self.toe_refinements
+        if value and (len(value) < 3 or value != [2 ** k for k in range(len(value))]
+                      or value[-1] > 16):
+            raise ValueError(f"mesh.toe_refinements = {value!r} must be [] or [1, 2, 4] or "
+                             "[1, 2, 4, 8] or [1, 2, 4, 8, 16]")
+        return self
+
+
+class Run(Table):
+    """[run]: the explicit time integration."""
+
+    duration: float | None = quantity("s", "Simulated time; default the end of the ground "
+                                      "motion + 1.5 s.", gt=0)
+    output_interval: float | None = quantity("s", "Time between history rows; default "
+                                             "duration / 400.", gt=0)
+    dt: float | None = quantity("s", "Time step; default the stable step (a larger one is an "
+                                "error).", gt=0)
+    safety: float = quantity("-", "Fraction of the stable step used.", 0.9, gt=0, le=1)
+    initial_tilt: float = quantity("rad", "Release tilt about the outer toe (> 0 toward +x).",
+                                   0.0, gt=-math.pi / 4, lt=math.pi / 4)
+    initial_angular_velocity: float = quantity("rad/s", "Initial angular velocity about that "
+                                               "toe.", 0.0)
+
+
+class Rigid(Table):
+    """[rigid]: options of the rigid models."""
+
+    restitution: float | None = quantity("-", "Coefficient of restitution of the SDOF model; "
+                                         "default Housner's 1 - 1.5 sin^2 alpha.", ge=0, le=1)
+    model: Literal["nonlinear", "linear"] = Field("nonlinear", description="Equation of motion "
+                                                  "of the SDOF model.")
+
+
+class StudyInfo(Table):
+    """[study]: what the file is."""
+
+    name: str | None = Field(None, description="Name in reports; default the file name.")
+    description: str | None = Field(None, description="Free text.")
+    kind: Literal[STUDY_KINDS] = Field("cross-check", description="Which study to run.")
+
+
+class Grid(Table):
+    """[grid] (spectrum-crosscheck): the pulses of the grid, each a [start, stop] range."""
+
+    omega_ratios: list[Annotated[float, Field(gt=0)]] | None = Field(
+        None, min_length=2, max_length=2, description="Omega / p range, inclusive (pulses; "
+        "default [1, 8]).", json_schema_extra={"unit": "-"})
+    amplitude_ratios: list[Annotated[float, Field(ge=1)]] = Field(
+        [1.2, 6.0], min_length=2, max_length=2, description="a_p / (g tan alpha) range, "
+        "inclusive.", json_schema_extra={"unit": "-"})
+    time_scales: list[Annotated[float, Field(gt=0)]] | None = Field(
+        None, min_length=2, max_length=2, description="Record time-scale range (records, in "
+        "place of omega_ratios; default [0.5, 2]).", json_schema_extra={"unit": "-"})
+    points: list[Annotated[int, Field(ge=1)]] = Field(
+        [6, 5], min_length=2, max_length=2, description="Number of points along the first axis "
+        "x number of amplitude ratios.", json_schema_extra={"unit": "-"})
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        for key in ("omega_ratios", "amplitude_ratios", "time_scales"):
+            value = getattr(self, key)
+            if value is not None and not value[0] <= value[1]:
+                raise ValueError(f"grid.{key} = {value!r} must be [start, stop] with start <= "
+                                 "stop")
+        return self
+
+
+class Convergence(Table):
+    """[convergence] (mesh-convergence): the mesh sizes, given or from levels and ratio."""
+
+    sizes: list[Annotated[float, Field(gt=0)]] | None = Field(
+        None, min_length=3, description="Three or more decreasing mesh sizes.",
+        json_schema_extra={"unit": "m"})
+    levels: int = quantity("-", "Number of meshes h, h/r, h/r^2, ... from mesh.size.", 3, ge=3)
+    ratio: float = quantity("-", "Refinement ratio r between meshes.", 2.0, gt=1)
+
+    @model_validator(mode="after")
+    def _decreasing(self):
+        if self.sizes is not None and any(b >= a for a, b in zip(self.sizes, self.sizes[1:])):
+            raise ValueError(f"convergence.sizes = {self.sizes!r} must decrease")
+        return self
+
+
+class FreeRocking(Table):
+    """[free_rocking] (free-rocking): release tilts and the FEM variants to try."""
+
+    tilt_fractions: list[Annotated[float, Field(gt=0, lt=1)]] = Field(
+        [0.5], min_length=1, description="Release tilts, fractions of alpha, in (0, 1).",
+        json_schema_extra={"unit": "-"})
+    damping: list[Annotated[float, Field(ge=0, lt=1)]] = Field(
+        [0.0, 0.2], min_length=1, description="Extra contact dampings to try, in [0, 1).",
+        json_schema_extra={"unit": "-"})
+    mesh_sizes: list[Annotated[float, Field(gt=0)]] | None = Field(
+        None, min_length=1, description="Extra mesh sizes to try, at most the width of a half "
+        "(default: twice the study's).", json_schema_extra={"unit": "m"})
+
+
+class StudyFile(Table):
+    """A colonna study file (TOML). SI units throughout."""
+
+    model_config = ConfigDict(title="colonna study file")
+
+    study: StudyInfo = StudyInfo()
+    column: Column | None = Field(None, description="Required, except for kind = "
+                                  "\"zhang-makris\".")
+    stone: Stone = Stone()
+    collar: list[Collar] = Field([], description="Zero or more collars, each a [[collar]] "
+                                 "table.")
+    ground: Ground = Ground.model_construct(pulse="sine")
+    contact: Contact = Contact()
+    mesh: Mesh = Mesh()
+    run: Run = Run()
+    rigid: Rigid = Rigid()
+    grid: Grid = Grid()
+    convergence: Convergence = Convergence()
+    free_rocking: FreeRocking = FreeRocking()
+
+    @model_validator(mode="after")
+    def _fits_the_column(self):
+        c = self.column
+        if c is None:
+            if self.study.kind != "zhang-makris":
+                raise ValueError("column.height is required: the study has no [column] table")
+            return self
+        if "ground" not in self.model_fields_set:
+            raise ValueError("the study has no [ground] table: give ground.pulse and, for a "
+                             "pulse, exactly one of ground.amplitude and "
+                             "ground.amplitude_ratio and one of ground.period and "
+                             "ground.omega_ratio")
+        ground = self.ground
+        if ground.pulse in ("sine", "cosine") and self.study.kind != "spectrum-crosscheck":
+            for pair in PULSE_PAIRS:        # (the spectrum cross-check's grid sets them)
+                if getattr(ground, pair[0]) is None and getattr(ground, pair[1]) is None:
+                    raise ValueError(f"give exactly one of ground.{pair[0]} and "
+                                     f"ground.{pair[1]} for a {ground.pulse} pulse")
+        for i, collar in enumerate(self.collar, start=1):
+            if collar.y > c.height:
+                raise ValueError(f"collar[{i}].y = {collar.y:g} m is outside the allowed range "
+                                 f"(0, {c.height:g}] m (the column height)")
+        half = c.width / (2.0 if c.cracked else 1.0)
+        for key in ("size", "edge_length"):
+            value = getattr(self.mesh, key)
+            if value is not None and value > half:
+                raise ValueError(f"mesh.{key} = {value:g} m is outside the allowed range "
+                                 f"(0, {half:g}] m (the width of one half)")
+        return self
+
+
+def parse(data: dict, source: str = "study") -> StudyFile:
+    """The validated study, or an :class:`InputError` of one line naming the key."""
+    try:
+        return StudyFile.model_validate(data)
+    except ValidationError as exc:
+        raise InputError(f"{source}: {_one_line(_first(exc))}") from None
+
+
+class CollarFile(Table):
+    """A collar file: [[collar]] tables only, as in a study file."""
+
+    collar: list[Collar] = []
+
+
+def read_collars(path) -> tuple[rigid_collars.Collar, ...]:
+    """The collars of a TOML file of [[collar]] tables (keys as in a study file)."""
+    data = read_toml(path, "collar file")
+    try:
+        spec = CollarFile.model_validate(data)
+    except ValidationError as exc:
+        raise InputError(f"{path}: {_one_line(_first(exc))}") from None
+    return tuple(rigid_collars.Collar(**c.model_dump()) for c in spec.collar)
+
+
+def parse_table(name: str, table, source: str = "study"):
+    """One table of a study file (``grid``, ``convergence``, ...) checked on its own."""
+    model = _model_of(StudyFile.model_fields[name].annotation)
+    try:
+        return model.model_validate(table)
+    except ValidationError as exc:
+        error = _first(exc)
+        raise InputError(f"{source}: {_one_line({**error, 'loc': (name, *error['loc'])})}") \
+            from None
+
+
+def _first(exc: ValidationError) -> dict:
+    """The error to report: an unknown key first (a misspelt key also leaves one missing)."""
+    errors = exc.errors()
+    return min(errors, key=lambda e: e["type"] != "extra_forbidden")
+
+
+def _path(loc) -> str:
+    """('collar', 1, 'y') -> 'collar[2].y' (collars counted from 1, as in the file)."""
+    text = ""
+    for part in loc:
+        text += f"[{part + 1}]" if isinstance(part, int) else ("." if text else "") + str(part)
+    return text
+
+
+def _one_line(error: dict) -> str:
+    kind, loc = error["type"], tuple(p for p in error["loc"] if not str(p).startswith("function"))
+    if kind == "value_error":                 # a model validator's own message names its keys
+        return str(error["ctx"]["error"])
+    if kind == "extra_forbidden":
+        model = _model_at(loc[:-1])
+        where = f"[{_path(loc[:-1])}]" if loc[:-1] else "the study file"
+        allowed = ", ".join(model.model_fields) if model else ""
+        what = "table" if not loc[:-1] else "key"
+        return f"unknown {what} {_path(loc)} (allowed in {where}: {allowed})"
+    field = _field_at(loc)
+    allowed = describe(field) if field is not None else error["msg"].lower()
+    if kind == "missing":
+        return f"{_path(loc)} is required: {allowed}"
+    return f"{_path(loc)} = {error['input']!r} is not allowed: {allowed}"
+
+
+def _model_at(loc) -> type[BaseModel] | None:
+    model: type[BaseModel] = StudyFile
+    for part in loc:
+        if isinstance(part, int):
+            continue
+        field = model.model_fields.get(part)
+        inner = _model_of(field.annotation) if field else None
+        if inner is None:
+            return None
+        model = inner
+    return model
+
+
+def _model_of(annotation) -> type[BaseModel] | None:
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in getattr(annotation, "__args__", ()):
+        found = _model_of(arg)
+        if found is not None:
+            return found
+    return None
+
+
+def _field_at(loc):
+    names = [p for p in loc if not isinstance(p, int)]
+    model = _model_at(loc[:-1] if not isinstance(loc[-1], int) else loc[:-2]) if loc else None
+    if model is None or not names:
+        return None
+    return model.model_fields.get(names[-1])
+
+
+def describe(field) -> str:
+    """What a key allows, in words: type, range and unit ('a number in (0, inf), m')."""
+    model = _model_of(field.annotation)
+    if model is not None:
+        return f"a table of the keys {', '.join(model.model_fields)}"
+    schema = _field_schema(field)
+    unit = (field.json_schema_extra or {}).get("unit") if isinstance(
+        field.json_schema_extra, dict) else None
+    text = _type_words(schema)
+    rng = range_text(schema)
+    if rng:
+        text += f" in {rng}"
+    if unit and unit != "-":
+        text += f", {unit}"
+    return text
+
+
+def _field_schema(field) -> dict:
+    from pydantic import TypeAdapter
+    annotation = field.annotation
+    adapter = TypeAdapter(Annotated[annotation, *field.metadata] if field.metadata
+                          else annotation)
+    return adapter.json_schema()
+
+
+def _strip_optional(schema: dict) -> dict:
+    options = [s for s in schema.get("anyOf", []) if s.get("type") != "null"]
+    return options[0] if len(options) == 1 else schema
+
+
+def _type_words(schema: dict) -> str:
+    schema = _strip_optional(schema)
+    if "enum" in schema:
+        return "one of " + ", ".join(repr(v) for v in schema["enum"])
+    if "const" in schema:
+        return repr(schema["const"])
+    kind = schema.get("type")
+    if kind == "array":
+        items = schema.get("items", {})
+        n = schema.get("minItems"), schema.get("maxItems")
+        count = (f"{n[0]} " if n[0] == n[1] and n[0] else
+                 f"{n[0]} or more " if n[0] else "")
+        inner = _type_words(items)
+        rng = range_text(items)
+        return f"a list of {count}{inner.replace('a number', 'numbers').replace('an integer', 'integers')}" + (f" in {rng}" if rng else "")
+    if kind in ("number", "integer") and not range_text(schema):
+        return "any finite number" if kind == "number" else "any integer"
+    return {"number": "a number", "integer": "an integer", "boolean": "true or false",
+            "string": "a text"}.get(kind, "a value")
+
+
+def range_text(schema: dict) -> str:
+    """'(0, inf)', '[0, 0.5)', ... from JSON Schema limits; '' for none."""
+    schema = _strip_optional(schema)
+    if schema.get("type") not in ("number", "integer"):
+        return ""
+    low = ("(", schema["exclusiveMinimum"]) if "exclusiveMinimum" in schema else \
+        ("[", schema["minimum"]) if "minimum" in schema else ("(", -math.inf)
+    high = (")", schema["exclusiveMaximum"]) if "exclusiveMaximum" in schema else \
+        ("]", schema["maximum"]) if "maximum" in schema else (")", math.inf)
+    if low[1] == -math.inf and high[1] == math.inf:
+        return ""
+    return f"{low[0]}{low[1]:g}, {high[1]:g}{high[0]}"
+
+
+def json_schema() -> dict:
+    """The JSON Schema of a study file (draft 2020-12), with a ``unit`` on every quantity."""
+    schema = StudyFile.model_json_schema()
+    return {"$schema": "https://json-schema.org/draft/2020-12/schema",
+            "$id": "https://github.com/colonna/colonna/study-file.schema.json", **schema}
+
+
+def markdown() -> str:
+    """The key list of docs/study-file.md: one table per TOML table, from the schema."""
+    lines = ["# Study file keys", "",
+             "Generated from the schema (`colonna schema --markdown`); "
+             "`tests/test_schema.py` checks that this file is current. SI units; ranges in "
+             "interval notation; `-` means dimensionless.", ""]
+    for name, field in StudyFile.model_fields.items():
+        model = _model_of(field.annotation)
+        header = f"[[{name}]]" if name == "collar" else f"[{name}]"
+        about = " ".join(model.__doc__.split()).split(": ", 1)[-1]
+        lines += [f"## {header}", "", about[0].upper() + about[1:], "",
+                  "| key | allowed | unit | default | meaning |", "|---|---|---|---|---|"]
+        for key, sub in model.model_fields.items():
+            schema = _field_schema(sub)
+            extra = sub.json_schema_extra if isinstance(sub.json_schema_extra, dict) else {}
+            words = _type_words(schema)
+            rng = range_text(schema)
+            allowed = words + (f" in {rng}" if rng else "")
+            default = "required" if sub.is_required() else (
+                "see meaning" if sub.default is None else _toml(sub.default))
+            cells = [f"`{key}`", allowed, extra.get("unit", ""), default, sub.description or ""]
+            lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def _toml(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'"{value}"'
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)

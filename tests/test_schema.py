@@ -1,0 +1,133 @@
+"""The study-file schema: one place for keys, types, ranges, defaults and units.
+
+The documentation's key list (docs/study-file.md) is generated from it and must be current; the
+defaults it states are the ones the solvers use; every shipped study satisfies it; its errors
+name the key path and the allowed range."""
+
+import dataclasses
+import json
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from colonna.fem.assembly import Stone
+from colonna.fem.model import ContactSettings
+from colonna.rigid.collars import Collar
+from colonna.rigid.validation import InputError
+from colonna.studies import schema
+from colonna.studies.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+STUDIES = sorted((ROOT / "studies").glob("*.toml"))
+
+
+def test_the_documented_key_list_is_generated_from_the_schema():
+    """docs/study-file.md is `colonna schema --markdown`: regenerate it when the schema moves."""
+    assert (ROOT / "docs" / "study-file.md").read_text() == schema.markdown()
+
+
+def test_json_schema_has_every_key_with_its_unit_and_range(capsys):
+    assert main(["schema"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert printed["$schema"].startswith("https://json-schema.org/")
+    defs = printed["$defs"]
+    tables = {name: field for name, field in schema.StudyFile.model_fields.items()}
+    assert set(printed["properties"]) == set(tables)
+    numbers = 0
+    for name, field in tables.items():
+        model = schema._model_of(field.annotation)
+        props = defs[model.__name__]["properties"]
+        assert set(props) == set(model.model_fields), name
+        assert defs[model.__name__]["additionalProperties"] is False
+        for key, prop in props.items():
+            kinds = {prop.get("type")} | {o.get("type") for o in prop.get("anyOf", [])}
+            assert prop.get("description"), f"{name}.{key} has no description"
+            if kinds & {"number", "integer", "array"} and key not in ("toe_refinements",):
+                assert "unit" in prop, f"{name}.{key} has no unit"
+                numbers += 1
+    assert numbers > 50
+    # ranges are in the schema itself, e.g. Poisson's ratio [0, 0.5) and the height (0, inf)
+    stone = defs["Stone"]["properties"]
+    assert stone["nu"]["minimum"] == 0 and stone["nu"]["exclusiveMaximum"] == 0.5
+    assert defs["Column"]["properties"]["height"]["exclusiveMinimum"] == 0
+    assert defs["Column"]["properties"]["height"]["unit"] == "m"
+
+
+@pytest.mark.parametrize("model, table", [(Stone, schema.Stone), (ContactSettings,
+                                                                   schema.Contact)])
+def test_schema_defaults_are_the_solvers_defaults(model, table):
+    for f in dataclasses.fields(model):
+        assert table.model_fields[f.name].default == f.default, f.name
+
+
+def test_collar_defaults_are_the_collar_defaults():
+    given = {"y": 1.0, "t": 0.01, "h": 0.05}
+    assert Collar(**schema.Collar(**given).model_dump()) == Collar(**given)
+
+
+@pytest.mark.parametrize("path", STUDIES, ids=[p.stem for p in STUDIES])
+def test_every_shipped_study_satisfies_the_schema(path):
+    spec = schema.parse(tomllib.loads(path.read_text()), str(path))
+    assert spec.study.kind in schema.STUDY_KINDS
+
+
+BASE = {"column": {"height": 2.0, "width": 0.4},
+        "ground": {"pulse": "sine", "amplitude_ratio": 2.0, "omega_ratio": 3.0}}
+
+
+def _with(table, **keys):
+    data = json.loads(json.dumps(BASE))
+    data.setdefault(table, {}).update(keys)
+    return data
+
+
+@pytest.mark.parametrize("data, words", [
+    (_with("column", height=-1.0), ["column.height = -1.0", "(0, inf), m"]),
+    (_with("column", height=True), ["column.height = True", "(0, inf), m"]),
+    (_with("column", height="2"), ["column.height = '2'"]),
+    (_with("stone", fc=float("inf")), ["stone.fc = inf", "(0, inf), Pa"]),
+    (_with("stone", colour=1), ["unknown key stone.colour", "E, nu, density, fc"]),
+    ({**BASE, "colour": {}}, ["unknown table colour", "column"]),
+    ({**BASE, "collar": [{"y": 1.0, "t": 0.01, "h": 0.05},
+                         {"y": 1.0, "t": 0.01, "h": -0.05}]}, ["collar[2].h = -0.05"]),
+    ({**BASE, "collar": [{"y": 3.0, "t": 0.01, "h": 0.05}]},
+     ["collar[1].y = 3 m", "(0, 2] m"]),
+    ({**BASE, "collar": [{"y": 1.0, "t": 0.01, "h": 0.05, "Eh": 300e9}]}, ["Eh", "below E"]),
+    (_with("mesh", size=0.5), ["mesh.size = 0.5 m", "(0, 0.2] m"]),
+    (_with("mesh", toe_refinements=[1, 3, 9]), ["mesh.toe_refinements", "[1, 2, 4]"]),
+    (_with("mesh", toe_refinements=[1.0, 2.0, 4.0]), ["mesh.toe_refinements[1] = 1.0",
+                                                      "integer"]),
+    (_with("ground", amplitude=3.0), ["only one of ground.amplitude"]),
+    ({**BASE, "ground": {"pulse": "cosine", "omega_ratio": 2.0}},
+     ["exactly one of ground.amplitude and ground.amplitude_ratio for a cosine pulse"]),
+    (_with("ground", record="a.AT2"), ["ground.record has no meaning with pulse = 'sine'"]),
+    (_with("ground", vertical_amplitude=2.0), ["ground.vertical_period is required"]),
+    (_with("ground", vertical_amplitude=200.0), ["ground.vertical_amplitude = 200.0",
+                                                 "(-98.1, 98.1), m/s^2"]),
+    (_with("ground", pulse="square"), ["ground.pulse = 'square'", "'sine', 'cosine'"]),
+    (_with("run", initial_tilt=1.0), ["run.initial_tilt = 1.0", "(-0.785398, 0.785398), rad"]),
+    (_with("contact", damping=1.0), ["contact.damping = 1.0", "[0, 1)"]),
+    (_with("grid", points=[3, 0]), ["grid.points[2] = 0", "[1, inf)"]),
+    (_with("grid", amplitude_ratios=[3.0, 2.0]), ["grid.amplitude_ratios", "start <= stop"]),
+    (_with("convergence", sizes=[0.1, 0.2, 0.05]), ["convergence.sizes", "decrease"]),
+    (_with("free_rocking", tilt_fractions=[1.5]), ["free_rocking.tilt_fractions[1] = 1.5",
+                                                   "(0, 1)"]),
+    (_with("study", kind="wobble"), ["study.kind = 'wobble'", "'cross-check'"]),
+    ({"ground": BASE["ground"]}, ["column.height is required"]),
+    ({"column": BASE["column"]}, ["no [ground] table"]),
+])
+def test_errors_name_the_key_path_and_the_allowed_range(data, words):
+    with pytest.raises(InputError) as raised:
+        schema.parse(data, "s.toml")
+    message = str(raised.value)
+    assert message.startswith("s.toml: ") and "\n" not in message
+    for word in words:
+        assert word in message, (word, message)
+
+
+def test_a_valid_study_gets_its_defaults():
+    spec = schema.parse(BASE)
+    assert spec.column.cracked is True and spec.contact.friction == 0.7
+    assert spec.mesh.toe_refinements == [1, 2, 4, 8] and spec.run.safety == 0.9
+    assert schema.parse({"study": {"kind": "zhang-makris"}}).column is None
