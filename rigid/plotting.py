@@ -57,7 +57,9 @@ def plot_spectrum(spectrum, path, title: str | None = None, ax=None):
     norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5], cmap.N)
     ax.pcolormesh(spectrum.omega_ratios, spectrum.amplitude_ratios, spectrum.codes, cmap=cmap,
                   norm=norm, shading="nearest")
-    handles = [Patch(color=c, label=lab) for c, lab in zip(MODE_COLOURS, MODE_LABELS)]
+    present = np.unique(spectrum.codes)                 # the legend lists what is drawn
+    handles = [Patch(color=MODE_COLOURS[k], label=MODE_LABELS[k]) for k in range(3)
+               if k in present]
     if spectrum.collar_yields is not None and spectrum.collar_yields.any():
         ax.contourf(spectrum.omega_ratios, spectrum.amplitude_ratios,
                     spectrum.collar_yields.astype(float), levels=[0.5, 1.5], colors="none",

@@ -1,29 +1,38 @@
-"""The HTML report of a cross-check study. Presentation only: every number comes from
-``summary.json`` and every curve from the CSV files of the run directory.
+"""The HTML reports of the studies. Presentation only: every number comes from ``summary.json``
+and every curve from the CSV files of the run directory; the pages are Jinja2 templates
+(``studies/templates``).
 
 Each figure's data is written next to it as CSV. Numbers in the HTML carry a ``data-key``
 attribute naming their place in summary.json (dotted path), so a test can check that the report
-says what the data say.
+says what the data say. Figures drawn here are inlined as SVG with their text kept as text, and
+each ``<figure>`` lists its legend entries in ``data-legend``, so a browser test can check that
+every entry is drawn; a PNG copy of each goes to ``figures/``.
 """
 
 from __future__ import annotations
 
 import base64
-import html
 import io
 import json
 import math
 from pathlib import Path
 
+import jinja2
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from markupsafe import Markup, escape  # noqa: E402
+from matplotlib.collections import PolyCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
 from .output import read_csv, write_csv  # noqa: E402
+
+TEMPLATES = jinja2.Environment(
+    loader=jinja2.FileSystemLoader(Path(__file__).with_name("templates")),
+    autoescape=True, undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True)
 
 
 def fmt(value, digits: int = 4) -> str:
@@ -32,7 +41,9 @@ def fmt(value, digits: int = 4) -> str:
         return "n/a"
     if isinstance(value, bool):
         return "yes" if value else "no"
-    if isinstance(value, (int,)) and not isinstance(value, bool):
+    if isinstance(value, str):
+        return value
+    if isinstance(value, (int,)):
         return str(value)
     value = float(value)
     if not math.isfinite(value):
@@ -47,23 +58,52 @@ def _get(summary: dict, dotted: str):
     return node
 
 
-def _num(summary, dotted, digits=4):
-    return f'<span data-key="{dotted}">{html.escape(fmt(_get(summary, dotted), digits))}</span>'
+def _num(summary: dict, dotted: str, digits: int = 4, unit: str = "") -> Markup:
+    """summary.json's value at a dotted key, in a span naming the key, then its unit."""
+    value = _get(summary, dotted)
+    shown = Markup('<span data-key="{}">{}</span>').format(dotted, fmt(value, digits))
+    if unit and value is not None and not isinstance(value, (bool, str)):
+        shown += Markup("&nbsp;") + escape(unit)
+    return shown
 
 
-def _png(fig) -> str:
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=110)
-    plt.close(fig)
-    return base64.b64encode(buf.getvalue()).decode()
+def _render(out: Path, template: str, summary: dict, title: str, **context) -> Path:
+    """Fill a template with the summary (``s``), ``num`` and the figures; write index.html."""
+    text = TEMPLATES.get_template(template).render(
+        s=summary, title=title, num=lambda key, digits=4, unit="": _num(summary, key, digits,
+                                                                        unit), **context)
+    return _write_page(out, text)
 
 
-def _figure(out: Path, name: str, fig, caption: str) -> str:
-    data = _png(fig)
+def _legend_entries(fig) -> list[str]:
+    """The texts of every legend of the figure (figure legends and axes legends)."""
+    legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend()]
+    return [t.get_text() for legend in legends for t in legend.get_texts()]
+
+
+def _figure(out: Path, name: str, fig, caption: str, data_file: str | None = "") -> dict:
+    """A matplotlib figure for a template: inline SVG (text kept as text), its legend entries,
+    and a PNG copy in figures/ (data: figures/NAME.csv unless told otherwise)."""
     (out / "figures").mkdir(exist_ok=True)
-    (out / "figures" / f"{name}.png").write_bytes(base64.b64decode(data))
-    return (f'<figure><img alt="{html.escape(caption)}" src="data:image/png;base64,{data}">'
-            f'<figcaption>{html.escape(caption)} (data: figures/{name}.csv)</figcaption></figure>')
+    fig.savefig(out / "figures" / f"{name}.png", dpi=110)
+    buf = io.StringIO()
+    with plt.rc_context({"svg.fonttype": "none", "svg.hashsalt": name}):
+        fig.savefig(buf, format="svg")
+    legend = _legend_entries(fig)
+    plt.close(fig)
+    svg = buf.getvalue()
+    svg = svg[svg.index("<svg"):]
+    return {"name": name, "caption": caption, "svg": Markup(svg), "legend": legend,
+            "data_file": f"figures/{name}.csv" if data_file == "" else data_file}
+
+
+def _image(path: Path, caption: str, name: str | None = None) -> dict:
+    """An image file (PNG or GIF) for a template, embedded as data."""
+    path = Path(path)
+    mime = "image/gif" if path.suffix == ".gif" else "image/png"
+    return {"name": name or path.stem, "caption": caption, "svg": None, "legend": [],
+            "mime": mime, "data": base64.b64encode(path.read_bytes()).decode(),
+            "data_file": None}
 
 
 def write_crosscheck_report(out: Path) -> Path:
@@ -128,7 +168,7 @@ def write_crosscheck_report(out: Path) -> Path:
         for k in collar_cols:
             ax.plot(t, fem_h[k] / 1e6, label=f"FEM {k.replace('_stress', '')}")
         fy = fem_h[collar_cols[0]].max() / max(summary["fem"]["collar_max_utilisation"], 1e-30)
-        ax.axhline(fy / 1e6, color="k", ls="--", lw=1, label=r"$f_y$")
+        ax.axhline(fy / 1e6, color="k", ls="--", lw=1, label="f_y (yield stress)")
         ax.set_xlabel("t (s)")
         ax.set_ylabel("extreme-fibre stress (MPa)")
         ax.legend(fontsize=8)
@@ -157,7 +197,7 @@ def write_crosscheck_report(out: Path) -> Path:
     for k in edge_cols:
         ax.plot(t, fem_h[k] / 1e6, label=k.replace("edge_stress_", "toe "))
     fc = summary["fem"]["edge_stress_max"] / max(summary["fem"]["edge_stress_ratio"], 1e-30)
-    ax.axhline(fc / 1e6, color="k", ls="--", lw=1, label=r"$f_c$")
+    ax.axhline(fc / 1e6, color="k", ls="--", lw=1, label="f_c (stone strength)")
     ax.set_yscale("symlog", linthresh=1.0)
     ax.set_xlabel("t (s)")
     ax.set_ylabel(f"toe stress over {1e3 * summary['fem']['edge_length']:.0f} mm (MPa)")
@@ -185,24 +225,57 @@ def write_crosscheck_report(out: Path) -> Path:
     fig.tight_layout()
     figs.append(_figure(out, "base_pressure", fig, "Base contact pressure"))
 
-    renders = _renders(out)
-    return _write_page(out, _html(summary, figs, renders))
+    renders, renders_error = _renders(out)
+    return _render(out, "crosscheck.html.j2", summary, f"colonna cross-check: {summary['study']}",
+                   figs=figs, renders=renders, renders_error=renders_error,
+                   rows=CROSSCHECK_NUMBERS)
 
 
-def _renders(out: Path) -> str:
-    """pyvista renders of the deformed halves (x10) coloured by the minimum principal stress."""
+# the Numbers table of the cross-check: (label, summary key, unit; "-" a ratio, "" words)
+CROSSCHECK_NUMBERS = [
+    ("FEM peak rotation, left half", "fem.max_abs_theta_left", "rad"),
+    ("FEM peak rotation, right half", "fem.max_abs_theta_right", "rad"),
+    ("multibody peak rotation, left half", "rigid_multibody.max_abs_theta_left", "rad"),
+    ("multibody peak rotation, right half", "rigid_multibody.max_abs_theta_right", "rad"),
+    ("multibody mode", "rigid_multibody.mode", ""),
+    ("multibody status", "rigid_multibody.status", ""),
+    ("multibody crack slip max", "rigid_multibody.max_abs_crack_slip", "m"),
+    ("multibody collar utilisation max, sigma / f_y", "rigid_multibody.collar_max_utilisation",
+     "-"),
+    ("multibody energy balance error (max, relative)", "rigid_multibody.energy_error_max", "-"),
+    ("multibody wall time", "rigid_multibody.wall_seconds", "s"),
+    ("SDOF peak rotation, half + collars", "rigid.max_abs_theta", "rad"),
+    ("SDOF mode, half + collars", "rigid.mode", ""),
+    ("SDOF peak rotation, whole column", "rigid_monolith.max_abs_theta", "rad"),
+    ("halves rock as one block", "verdict.rocks_as_one_block", ""),
+    ("FEM status", "fem.status", ""),
+    ("toe stress max (study mesh)", "fem.edge_stress_max", "Pa"),
+    ("energy balance error (max, relative)", "fem.energy_error_max", "-"),
+    ("time step", "fem.dt", "s"),
+    ("stable-step reduction by contact", "fem.stable_step_reduction_by_contact", "-"),
+    ("steps", "fem.steps", "-"),
+    ("dofs", "fem.dofs", "-"),
+    ("FEM wall time", "fem.wall_seconds", "s"),
+    ("pulse Omega/p (n/a for a record)", "pulse.omega_ratio", "-"),
+    ("peak ground acceleration", "pulse.amplitude", "m/s^2"),
+    ("pulse a_p / a_uplift (a_uplift = g tan alpha (1 + lambda))", "pulse.amplitude_ratio", "-"),
+    ("top load on the capital", "fem.top_load", "N"),
+    ("collar plastic strain max, FEM", "fem.collar_max_plastic_strain", "-"),
+    ("collar plastic work, FEM", "fem.collar_plastic_work", "J"),
+    ("crack slip left at the end of the run, FEM", "fem.crack_slip_residual", "m"),
+    ("static base reaction, FEM: weight + top load", "fem.base_reaction_static", "N"),
+]
+
+
+def _renders(out: Path) -> tuple[list, str]:
+    """pyvista renders of the deformed halves coloured by the minimum principal stress (and
+    why there are none, if rendering failed)."""
     try:
         from .render import render_snapshots
         images = render_snapshots(out)
     except Exception as exc:     # rendering is a picture, never a reason to lose the report
-        return f"<p>Renders unavailable: {html.escape(str(exc))}</p>"
-    parts = []
-    for name, caption in images:
-        data = base64.b64encode((out / "figures" / name).read_bytes()).decode()
-        mime = "image/gif" if name.endswith(".gif") else "image/png"
-        parts.append(f'<figure><img alt="{html.escape(caption)}" src="data:{mime};base64,'
-                     f'{data}"><figcaption>{html.escape(caption)}</figcaption></figure>')
-    return "\n".join(parts)
+        return [], str(exc)
+    return [_image(out / "figures" / name, caption) for name, caption in images], ""
 
 
 def _rigid_fit(X, x):
@@ -255,8 +328,8 @@ def _deformed_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> None:
     for b in np.unique(cell_body):
         polys = drawn[quads[cell_body == b]]
         colour = ("C0", "C1")[min(int(b), 1)]
-        for poly in polys:
-            ax.fill(poly[:, 0], poly[:, 1], facecolor=colour, edgecolor="w", lw=0.2, alpha=0.6)
+        ax.add_collection(PolyCollection(polys, facecolors=colour, edgecolors="w",
+                                         linewidths=0.2, alpha=0.6))
         handles.append(Patch(facecolor=colour, alpha=0.6, label=("left half", "right half")[
             min(int(b), 1)] if cell_body.max() > 0 else "column"))
     outline = np.array([[X[:, 0].min(), 0.0], [X[:, 0].max(), 0.0],
@@ -334,193 +407,6 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
                         "(legend), and where a collar reaches its yield stress"))
 
 
-def _verdict_row(summary, key, label, detail):
-    ok = _get(summary, f"verdict.{key}")
-    good = ok if key in ("rigid_assumption_ok", "sdof_half_model_ok") else not ok
-    colour = "#1b9e77" if good else "#d95f02"
-    return (f'<tr><th>{label}</th><td style="color:{colour};font-weight:bold">'
-            f'{_num(summary, "verdict." + key)}</td><td>{detail}</td></tr>')
-
-
-def _uncertain(s: dict, quantity: str) -> str:
-    """' (mesh: +-x %)' from the convergence estimate, where there is one."""
-    conv = s.get("convergence")
-    if not conv or conv[quantity]["fine_relative_error"] is None:
-        return " (mesh uncertainty: not estimated)" if conv else ""
-    return (f" (mesh: &plusmn;{_num(s, f'convergence.{quantity}.fine_relative_error', 2)}, "
-            f"order {_num(s, f'convergence.{quantity}.observed_order', 2)})")
-
-
-def _toe_detail(s: dict) -> str:
-    """The crushing verdict's evidence: the toe stress refined at the toes where it was."""
-    if not s.get("toe_stress"):
-        return (f"max toe stress / f_c = {_num(s, 'fem.edge_stress_ratio', 3)}"
-                f"{_uncertain(s, 'edge_stress_ratio')} (averaged over "
-                f"{_num(s, 'fem.edge_length', 3)} m and {_num(s, 'fem.edge_time', 2)} s)")
-    return (f"max toe stress / f_c = {_num(s, 'toe_stress.ratio', 3)} from the meshes refined "
-            "at the toes (mesh uncertainty &plusmn;"
-            f"{_num(s, 'toe_stress.uncertainty', 2)}; the study mesh alone gives "
-            f"{_num(s, 'toe_stress.unrefined_ratio', 3)}); contact pressure averaged over "
-            f"{_num(s, 'toe_stress.edge_length', 3)} m from the toe and "
-            f"{_num(s, 'toe_stress.edge_time', 2)} s; see \"Toe stress, refined\" below")
-
-
-def _toe_section(s: dict) -> str:
-    """How the toe stress was refined: one row per refinement of the impact window."""
-    t = s.get("toe_stress")
-    if not t:
-        return ""
-    rows = "\n".join(
-        f"<tr><td>&times;{_num(s, f'toe_stress.refinements.{i}')}</td>"
-        f"<td>{_num(s, f'toe_stress.dofs.{i}')}</td><td>{_num(s, f'toe_stress.steps.{i}')}</td>"
-        f"<td>{_num(s, f'toe_stress.ratios.{i}', 4)}</td></tr>"
-        for i in range(len(t["refinements"])))
-    return f"""<h2>Toe stress, refined</h2>
-<p>The peak toe stress comes at the {html.escape(str(t["toe"]).replace("_", " "))} toe at
-t = {_num(s, 'toe_stress.t_peak', 4)} s (a landing, or the column pivoting on that toe). The
-FEM reruns only the window
-{_num(s, 'toe_stress.t_start', 4)}&ndash;{_num(s, 'toe_stress.t_end', 4)} s, started from the
-study run's state (displacements, velocities and contact forces carried to the new mesh), with
-the elements within {_num(s, 'toe_stress.edge_length', 3)} m of each base corner split in both
-directions. Refinement &times;1 restarts the study mesh itself: it differs from the study run by
-{_num(s, 'toe_stress.handover_error', 2)} (relative), which is the error of the hand-over.
-The refined meshes give at most {_num(s, 'toe_stress.bound_ratio', 3)} f_c, spread
-&plusmn;{_num(s, 'toe_stress.spread', 2)}; the observed order of the last three is
-{_num(s, 'toe_stress.observed_order', 3)} (none when they do not converge monotonically: a
-landing is a burst of contact chatter whose details move with the mesh). The quoted value is
-the larger of that maximum and the Richardson estimate where there is one,
-{_num(s, 'toe_stress.ratio', 3)} f_c, with the larger of the spread and the finest mesh's
-estimated error as its uncertainty, &plusmn;{_num(s, 'toe_stress.uncertainty', 2)}.</p>
-<p>For scale: at rest the base carries its mean pressure (W + P) / A =
-{_num(s, 'toe_stress.static_mean_ratio', 3)} f_c (P: the top load on the capital,
-{_num(s, 'fem.top_load')} N).</p>
-<table><tr><th>toe refinement</th><th>dofs</th><th>time steps</th>
-<th>toe stress / f_c (-)</th></tr>
-{rows}</table>"""
-
-
-def _html(s: dict, figs: list, renders: str) -> str:
-    verdict = "\n".join([
-        _verdict_row(s, "rigid_assumption_ok", "Rigid-body assumption good enough?",
-                     "judged against the rigid multibody model (same contacts, friction and "
-                     "collars, rigid halves); yes when all four hold. (1) same outcome: "
-                     f"{_num(s, 'verdict_criteria.same_outcome')} (overturned: FEM "
-                     f"{_num(s, 'fem.overturned')}, multibody "
-                     f"{_num(s, 'rigid_multibody.overturned')}); (2) peak rotation FEM / "
-                     f"multibody = {_num(s, 'verdict_criteria.peak_ratio')}, within 1 &plusmn; "
-                     f"{_num(s, 'verdict_criteria.tolerances.peak', 2)} when neither "
-                     f"overturns: {_num(s, 'verdict_criteria.peak_ok')}"
-                     f"{_uncertain(s, 'peak_rotation')}; (3) impacts before the end of the "
-                     f"pulse, FEM {_num(s, 'verdict_criteria.impacts_before_pulse_end_fem')}, "
-                     "multibody "
-                     f"{_num(s, 'verdict_criteria.impacts_before_pulse_end_multibody')}, "
-                     f"differing by at most {_num(s, 'verdict_criteria.tolerances.impacts')}: "
-                     f"{_num(s, 'verdict_criteria.impacts_ok')}; (4) history error max "
-                     "|theta_FEM - theta_multibody| / max |theta_multibody| up to the first "
-                     f"impact (t = {_num(s, 'verdict_criteria.history_window_end', 3)} s) = "
-                     f"{_num(s, 'verdict_criteria.history_error_to_first_impact', 3)}, at most "
-                     f"{_num(s, 'verdict_criteria.tolerances.history', 2)}: "
-                     f"{_num(s, 'verdict_criteria.history_ok')}. Effective restitution under "
-                     f"the pulse: FEM {_num(s, 'effective_restitution_fem', 3)}, multibody "
-                     f"{_num(s, 'rigid_multibody.impact_velocity_ratio_mean', 3)}, Housner "
-                     f"{_num(s, 'restitution_housner', 3)} (the free-rocking study measures "
-                     "it cleanly)"),
-        _verdict_row(s, "sdof_half_model_ok", "SDOF half-block model (the paper's) good enough?",
-                     "its kinematic assumption (halves rotating equally, each on its own toe) "
-                     f"against the multibody model: overturned: SDOF "
-                     f"{_num(s, 'rigid.overturned')}, multibody "
-                     f"{_num(s, 'rigid_multibody.overturned')}; peak rotation SDOF / multibody "
-                     f"= {_num(s, 'theta_peak_ratio_rigid_over_multibody')}; whole-column SDOF "
-                     f"/ multibody = {_num(s, 'theta_peak_ratio_monolith_over_multibody')}; "
-                     f"FEM / SDOF half block = {_num(s, 'theta_peak_ratio_fem_over_rigid')}, "
-                     f"FEM / whole-column SDOF = "
-                     f"{_num(s, 'theta_peak_ratio_fem_over_monolith')}"),
-        _verdict_row(s, "collars_yield", "Do the collars yield?",
-                     f"max utilisation {_num(s, 'fem.collar_max_utilisation', 3)}"
-                     f"{_uncertain(s, 'collar_max_utilisation')}; time of first yield (s): "
-                     f"{_num(s, 'fem.collar_first_yield_time')}"),
-        _verdict_row(s, "toe_crushes", "Does the toe crush?", _toe_detail(s)),
-    ])
-    rows = [("FEM peak rotation, left half (rad)", "fem.max_abs_theta_left"),
-            ("FEM peak rotation, right half (rad)", "fem.max_abs_theta_right"),
-            ("multibody peak rotation, left half (rad)", "rigid_multibody.max_abs_theta_left"),
-            ("multibody peak rotation, right half (rad)",
-             "rigid_multibody.max_abs_theta_right"),
-            ("multibody mode", "rigid_multibody.mode"),
-            ("multibody status", "rigid_multibody.status"),
-            ("multibody crack slip max (m)", "rigid_multibody.max_abs_crack_slip"),
-            ("multibody collar utilisation max", "rigid_multibody.collar_max_utilisation"),
-            ("multibody energy balance error (max, relative)",
-             "rigid_multibody.energy_error_max"),
-            ("multibody wall time (s)", "rigid_multibody.wall_seconds"),
-            ("SDOF peak rotation, half + collars (rad)", "rigid.max_abs_theta"),
-            ("SDOF mode, half + collars", "rigid.mode"),
-            ("SDOF peak rotation, whole column (rad)", "rigid_monolith.max_abs_theta"),
-            ("halves rock as one block", "verdict.rocks_as_one_block"),
-            ("FEM status", "fem.status"),
-            ("toe stress max (Pa)", "fem.edge_stress_max"),
-            ("energy balance error (max, relative)", "fem.energy_error_max"),
-            ("time step (s)", "fem.dt"), ("stable-step reduction by contact",
-                                           "fem.stable_step_reduction_by_contact"),
-            ("steps", "fem.steps"), ("dofs", "fem.dofs"),
-            ("FEM wall time (s)", "fem.wall_seconds"),
-            ("pulse Omega/p (n/a for a record)", "pulse.omega_ratio"),
-            ("peak ground acceleration (m/s^2)", "pulse.amplitude"),
-            ("pulse a_p / a_uplift (a_uplift = g tan alpha (1 + lambda))",
-             "pulse.amplitude_ratio"),
-            ("top load on the capital (N)", "fem.top_load"),
-            ("collar plastic strain max, FEM (-)", "fem.collar_max_plastic_strain"),
-            ("collar plastic work, FEM (J)", "fem.collar_plastic_work"),
-            ("crack slip left at the end of the run, FEM (m)", "fem.crack_slip_residual"),
-            ("static base reaction, FEM (N): weight + top load", "fem.base_reaction_static")]
-    table = "\n".join(f"<tr><th>{html.escape(label)}</th><td>{_num(s, key)}</td></tr>"
-                      if not isinstance(_get(s, key), str) else
-                      f'<tr><th>{html.escape(label)}</th><td><span data-key="{key}">'
-                      f'{html.escape(_get(s, key))}</span></td></tr>' for label, key in rows)
-    return _page(f"colonna cross-check: {s['study']}", f"""
-<h2>Verdict</h2>
-<table>{verdict}</table>
-<h2>FEM against the rigid multibody model</h2>
-<p>The multibody model has the FEM's contact topology with rigid halves: the same ground and
-crack contacts and friction, the same collar frame elements. What separates the two is the
-deformability of the stone, and the penalty contact's compliance and damping. Peak rotation
-FEM / multibody: {_num(s, 'theta_peak_ratio_fem_over_multibody')}; overturned: FEM
-{_num(s, 'fem.overturned')}, multibody {_num(s, 'rigid_multibody.overturned')}; run end
-(overturning or the study's duration), FEM {_num(s, 'fem_vs_multibody.t_end_fem')} s,
-multibody overturning time {_num(s, 'fem_vs_multibody.t_end_multibody')} s; collar utilisation
-FEM / multibody: {_num(s, 'fem_vs_multibody.collar_utilisation_ratio', 3)}; largest crack slip
-FEM {_num(s, 'fem_vs_multibody.crack_slip_fem', 3)} m, multibody
-{_num(s, 'fem_vs_multibody.crack_slip_multibody', 3)} m.</p>
-{_toe_section(s)}
-<h2>Numbers</h2>
-<table>{table}</table>
-<h2>Figures</h2>
-{''.join(figs)}
-<h2>Deformed halves</h2>
-{renders}
-<p>Data: summary.json, cases/*/history.csv, cases/fem/base_pressure.csv, figures/*.csv;
-fields for ParaView: cases/fem/*.vtu and fields.xdmf.</p>""")
-
-
-def _page(title: str, body: str) -> str:
-    return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8">
-<title>{html.escape(title)}</title>
-<style>
-body {{ font-family: sans-serif; max-width: 980px; margin: 2em auto; color: #222; }}
-table {{ border-collapse: collapse; margin: 1em 0; }}
-th, td {{ border: 1px solid #ccc; padding: 4px 8px; text-align: left; vertical-align: top; }}
-figure {{ margin: 1.5em 0; page-break-inside: avoid; }}
-img {{ max-width: 100%; }}
-figcaption {{ font-size: 0.9em; color: #555; }}
-@media print {{ body {{ max-width: none; }} }}
-</style></head><body>
-<h1>{html.escape(title)}</h1>
-{body}
-</body></html>
-"""
-
-
 def _write_page(out: Path, text: str) -> Path:
     path = Path(out) / "index.html"
     tmp = Path(out) / "index.html.part"
@@ -534,62 +420,50 @@ def write_sweep_report(out: Path, kind: str) -> Path:
     s = json.loads((out / "summary.json").read_text())
     (out / "figures").mkdir(exist_ok=True)
     if kind == "mesh-convergence":
-        return _write_page(out, _page(f"colonna mesh convergence: {s['study']}",
-                                      _convergence_body(out, s)))
-    return _write_page(out, _page(f"colonna solid vs cracked: {s['study']}",
-                                  _variants_body(out, s)))
+        return _render(out, "convergence.html.j2", s, f"colonna mesh convergence: {s['study']}",
+                       quantities=CONVERGENCE_QUANTITIES, figs=[_convergence_figure(out, s)])
+    return _render(out, "variants.html.j2", s, f"colonna solid vs cracked: {s['study']}",
+                   fields=VARIANT_FIELDS, figs=[_variants_figure(out, s)])
 
 
-def _convergence_body(out: Path, s: dict) -> str:
+# (summary key, label, unit) of the mesh-convergence table
+CONVERGENCE_QUANTITIES = [("peak_rotation", "peak rotation", "rad"),
+                          ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
+                          ("edge_stress_max", "toe stress", "Pa")]
+
+
+def _convergence_figure(out: Path, s: dict) -> dict:
     sizes = s["sizes"]
-    head = "".join(f"<th>h = {fmt(h, 3)} m ({n} dofs)</th>" for h, n in zip(sizes, s["dofs"]))
-    rows = []
-    labels = {"peak_rotation": "peak rotation (rad)",
-              "collar_max_utilisation": "collar utilisation sigma/f_y",
-              "edge_stress_max": "toe stress (Pa)"}
     columns = {"h": np.array(sizes)}
     fig, axes = plt.subplots(1, 3, figsize=(10, 3.2))
-    for ax, (name, label) in zip(axes, labels.items()):
+    for ax, (name, label, unit) in zip(axes, CONVERGENCE_QUANTITIES):
         c = s["convergence"][name]
-        cells = "".join(f'<td>{_num(s, f"convergence.{name}.values.{k}")}</td>'
-                        for k in range(len(sizes)))
-        rows.append(f"<tr><th>{label}</th>{cells}"
-                    f"<td>{_num(s, f'convergence.{name}.observed_order', 3)}</td>"
-                    f"<td>{_num(s, f'convergence.{name}.richardson')}</td>"
-                    f"<td>{_num(s, f'convergence.{name}.fine_relative_error', 2)}</td></tr>")
         columns[name] = np.array(c["values"], dtype=float)
-        ax.plot(sizes, c["values"], "o-")
+        ax.plot(sizes, c["values"], "o-", label="FEM")
         if c["richardson"] is not None:
             ax.axhline(c["richardson"], color="k", ls="--", lw=0.8, label="Richardson")
         ax.set_xscale("log")
         ax.set_xlabel("mesh size h (m)")
-        ax.set_title(label, fontsize=9)
+        ax.set_title(f"{label} ({unit})", fontsize=9)
     axes[0].legend(fontsize=8)
     fig.tight_layout()
     write_csv(out / "figures" / "convergence.csv", columns)
-    figure = _figure(out, "convergence", fig, "FEM numbers against the mesh size")
-    return (f"<table><tr><th></th>{head}<th>observed order</th><th>Richardson</th>"
-            f"<th>fine-mesh relative error</th></tr>{''.join(rows)}</table>{figure}")
+    return _figure(out, "convergence", fig, "FEM numbers against the mesh size")
 
 
-def _variants_body(out: Path, s: dict) -> str:
-    names = list(s["variants"])
-    fields = [("fem_peak_rotation", "FEM peak rotation (rad)"), ("fem_overturned",
-              "FEM overturned"), ("rigid_peak_rotation", "rigid peak rotation (rad)"),
-              ("rigid_mode", "rigid mode"), ("collar_max_utilisation", "collar utilisation"),
-              ("edge_stress_ratio", "toe stress / f_c"), ("status", "FEM status")]
-    head = "".join(f"<th>{html.escape(n)}</th>" for n in names)
-    rows = []
-    for key, label in fields:
-        cells = []
-        for n in names:
-            value = s["variants"][n][key]
-            dotted = f"variants.{n}.{key}"
-            cells.append(f'<td><span data-key="{dotted}">{html.escape(value)}</span></td>'
-                         if isinstance(value, str) else f"<td>{_num(s, dotted)}</td>")
-        rows.append(f"<tr><th>{label}</th>{''.join(cells)}</tr>")
+# (summary key, label, unit) of the solid-vs-cracked table
+VARIANT_FIELDS = [("fem_peak_rotation", "FEM peak rotation", "rad"),
+                  ("fem_overturned", "FEM overturned", ""),
+                  ("rigid_peak_rotation", "rigid peak rotation", "rad"),
+                  ("rigid_mode", "rigid mode", ""),
+                  ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
+                  ("edge_stress_ratio", "toe stress / f_c", "-"),
+                  ("status", "FEM status", "")]
+
+
+def _variants_figure(out: Path, s: dict) -> dict:
     fig, ax = plt.subplots(figsize=(8, 3.6))
-    for k, n in enumerate(names):
+    for k, n in enumerate(s["variants"]):
         fem = read_csv(out / "cases" / f"{n}-fem" / "history.csv")
         rig = read_csv(out / "cases" / f"{n}-rigid" / "history.csv")
         write_csv(out / "figures" / f"theta_{n}.csv",
@@ -603,9 +477,8 @@ def _variants_body(out: Path, s: dict) -> str:
     ax.set_ylabel(r"$\theta$ (rad)")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    figure = _figure(out, "theta_variants", fig, "Rotation (left half): what the crack and the "
-                     "collars change; FEM solid, rigid dashed")
-    return f"<table><tr><th></th>{head}</tr>{''.join(rows)}</table>{figure}"
+    return _figure(out, "theta_variants", fig, "Rotation (left half): what the crack and the "
+                   "collars change; FEM solid, rigid dashed", data_file="figures/theta_*.csv")
 
 
 def write_design_report(out: Path) -> Path:
@@ -617,10 +490,9 @@ def write_design_report(out: Path) -> Path:
     k = chart["required_stiffness"].reshape(alphas.size, ratios.size)
     from ..rigid.plotting import plot_design_chart
     plot_design_chart(alphas, ratios, k, out / "figures" / "design_chart.png")
-    data = base64.b64encode((out / "figures" / "design_chart.png").read_bytes()).decode()
-    chart_fig = (f'<figure><img alt="design chart" src="data:image/png;base64,{data}">'
-                 "<figcaption>Minimum total lateral collar stiffness over alpha and a_g/g "
-                 "(corrected Eq. 22-24; data: figures/design_chart.csv)</figcaption></figure>")
+    chart_fig = _image(out / "figures" / "design_chart.png", "Minimum total lateral collar "
+                       "stiffness over alpha and a_g/g (corrected Eq. 22-24)")
+    chart_fig["data_file"] = "figures/design_chart.csv"
     history = read_csv(out / "cases" / "fem" / "history.csv")
     cols = sorted(c for c in history if c.startswith("collar_") and c.endswith("_utilisation"))
     write_csv(out / "figures" / "collar_utilisation.csv",
@@ -630,42 +502,30 @@ def write_design_report(out: Path) -> Path:
         ax.plot(history["t"], history[c], label=c.replace("_utilisation", ""))
     ax.axhline(1.0, color="k", ls="--", lw=1, label="f_y")
     ax.set_xlabel("t (s)")
-    ax.set_ylabel("sigma / f_y")
+    ax.set_ylabel("sigma / f_y (-)")
     ax.legend(fontsize=8)
     fig.tight_layout()
     util_fig = _figure(out, "collar_utilisation", fig, "FEM collar utilisation over time")
-    rows = [("yield moment M_y (N m)", "design.yield_moment"),
-            ("yield offset d_y (m), corrected Eq. 22", "design.yield_displacement"),
-            ("yield rotation theta_y (rad), Eq. 23", "design.yield_rotation"),
-            ("required lateral stiffness k (N/m), corrected Eq. 24",
-             "design.required_stiffness"),
-            ("one collar's lateral stiffness K_l (N/m)", "design.collar_lateral_stiffness"),
-            ("collars needed", "design.collars_needed"),
-            ("collars provided", "collars_provided"),
-            ("lateral stiffness provided (N/m)", "lateral_stiffness_provided"),
-            ("design adequate", "design_adequate"),
-            ("FEM collar utilisation (max)", "fem_collar_max_utilisation"),
-            ("FEM first yield (s)", "fem_collar_first_yield_time"),
-            ("FEM overturned", "fem_overturned"),
-            ("FEM peak rotation / theta_y", "fem_max_rotation_over_yield_rotation")]
-    table = "".join(f"<tr><th>{html.escape(label)}</th><td>{_num(s, key)}</td></tr>"
-                    for label, key in rows)
-    body = (f"<p>Design pulse peak a_g = {_num(s, 'design.design_acceleration')} m/s^2 "
-            f"(a_g/g = {_num(s, 'design_ag_over_g', 3)}), alpha = {_num(s, 'design_alpha', 3)} "
-            f"rad; mass held {_num(s, 'design.column_mass')} kg.</p>"
-            f"<table>{table}</table>{chart_fig}{util_fig}")
-    return _write_page(out, _page(f"colonna collar design: {s['study']}", body))
+    return _render(out, "design.html.j2", s, f"colonna collar design: {s['study']}",
+                   rows=DESIGN_NUMBERS, figs=[chart_fig, util_fig])
 
 
-def _record_axes(s: dict) -> str:
-    """What the axes mean when the grid runs a record instead of a pulse."""
-    if s.get("x_axis") != "time_scale":
-        return ""
-    return (f"<p>The grid runs the record <span data-key=\"record\">"
-            f"{html.escape(str(s['record']))}</span>: each row scales it to a peak of the row's "
-            "amplitude ratio times the uplift acceleration, each column plays it that many "
-            "times as fast (the record time scale on the horizontal axis, in place of "
-            "Omega / p).</p>")
+# the collar-design table: (label, summary key, unit)
+DESIGN_NUMBERS = [
+    ("yield moment M_y", "design.yield_moment", "N m"),
+    ("yield offset d_y, corrected Eq. 22", "design.yield_displacement", "m"),
+    ("yield rotation theta_y, Eq. 23", "design.yield_rotation", "rad"),
+    ("required lateral stiffness k, corrected Eq. 24", "design.required_stiffness", "N/m"),
+    ("one collar's lateral stiffness K_l", "design.collar_lateral_stiffness", "N/m"),
+    ("collars needed", "design.collars_needed", "-"),
+    ("collars provided", "collars_provided", "-"),
+    ("lateral stiffness provided", "lateral_stiffness_provided", "N/m"),
+    ("design adequate", "design_adequate", ""),
+    ("FEM collar utilisation (max), sigma / f_y", "fem_collar_max_utilisation", "-"),
+    ("FEM first yield", "fem_collar_first_yield_time", "s"),
+    ("FEM overturned", "fem_overturned", ""),
+    ("FEM peak rotation / theta_y", "fem_max_rotation_over_yield_rotation", "-"),
+]
 
 
 def write_spectrum_crosscheck_report(out: Path) -> Path:
@@ -704,7 +564,8 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
     if yields.any():
         axes[0].scatter(ww[yields], aa[yields], marker="x", color="k", s=25)
     axes[0].set_ylabel(r"$a_p / (g\,\tan\alpha)$")
-    handles = [Patch(color=c, label=lab) for c, lab in zip(MODE_COLOURS, MODE_LABELS)]
+    present = {int(k) for m, _ in models for k in np.unique(maps[m])}   # the legend: what is drawn
+    handles = [Patch(color=MODE_COLOURS[k], label=MODE_LABELS[k]) for k in sorted(present)]
     if yields.any():
         handles.append(plt.Line2D([], [], marker="x", color="k", ls="", label="FEM: a collar "
                                   "reaches f_y"))
@@ -714,59 +575,61 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
                         "multibody and SDOF (the paper's half block with collars)"))
 
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), sharey=True)
+    shades = ("#f2f2f2", "#7570b3")
+    drawn = set()
     for ax, m, label in ((axes[0], "multibody", "FEM vs rigid multibody"),
                          (axes[1], "sdof", "FEM vs SDOF half block")):
         differ = (maps["fem"] != maps[m]).astype(float)
-        ax.pcolormesh(w, a, differ, cmap=ListedColormap(["#f2f2f2", "#7570b3"]), vmin=0, vmax=1,
+        drawn |= {int(v) for v in np.unique(differ)}
+        ax.pcolormesh(w, a, differ, cmap=ListedColormap(shades), vmin=0, vmax=1,
                       shading="nearest")
         ax.set_title(label)
         ax.set_xlabel(x_label)
     axes[0].set_ylabel(r"$a_p / (g\,\tan\alpha)$")
-    fig.legend(handles=[Patch(color="#f2f2f2", label="same outcome"),
-                        Patch(color="#7570b3", label="different outcome")],
-               loc="lower center", ncol=2, fontsize=8)
+    fig.legend(handles=[Patch(color=shades[k], label=("same outcome", "different outcome")[k])
+                        for k in sorted(drawn)], loc="lower center", ncol=2, fontsize=8)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     figs.append(_figure(out, "disagreement", fig, "Where the FEM and each rigid model disagree"))
 
     fig, ax = plt.subplots(figsize=(7, 4))
-    boundary = {}
+    boundary, never = {}, []
     for (m, label), style in zip(models, ("-o", "--s", ":^")):
         over = maps[m] != 0
         lowest = np.where(over.any(axis=0), a[np.argmax(over, axis=0)], np.nan)
         boundary[f"lowest_overturning_amplitude_{m}"] = lowest
-        ax.plot(w, lowest, style, label=label)
+        if np.isfinite(lowest).any():        # the legend lists only what is drawn
+            ax.plot(w, lowest, style, label=label)
+        else:
+            never.append(label)
     write_csv(out / "figures" / "boundaries.csv", {"omega_ratio": w, **boundary})
     ax.set_xlabel(x_label)
     ax.set_ylabel(r"lowest overturning $a_p / (g\,\tan\alpha)$")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    figs.append(_figure(out, "boundaries", fig, "Overturning boundary of each model: the lowest "
-                        "amplitude of the grid that overturns, per frequency (none drawn where "
-                        "no amplitude of the grid does)"))
+    if len(never) < len(models):
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        figs.append(_figure(out, "boundaries", fig, "Overturning boundary of each model: the "
+                            "lowest amplitude of the grid that overturns, per frequency (none "
+                            "drawn where no amplitude of the grid does)" + (
+                                f"; no pulse of the grid overturns the {' or the '.join(never)}"
+                                " model" if never else "")))
+    else:
+        plt.close(fig)
 
-    body = f"""
-<h2>Agreement</h2>
-<table>
-<tr><th>FEM and rigid multibody: same outcome</th>
-<td>{_num(s, 'agreement_fem_multibody', 3)} of the grid points</td></tr>
-<tr><th>FEM and SDOF half block: same outcome</th>
-<td>{_num(s, 'agreement_fem_sdof', 3)} of the grid points</td></tr>
-<tr><th>grid points</th><td>{_num(s, 'points')}</td></tr>
-<tr><th>FEM energy balance error (max over the grid, relative)</th>
-<td>{_num(s, 'energy_error_fem_max', 3)}</td></tr>
-<tr><th>FEM wall time per grid point (s)</th><td>{_num(s, 'fem_seconds_per_point', 3)}</td></tr>
-<tr><th>study wall time (s)</th><td>{_num(s, 'wall_seconds', 3)}</td></tr>
-</table>
-<p>Outcomes: safe, overturns after one or more impacts (Zhang &amp; Makris's mode 1),
-overturns without impact (their mode 2). Amplitudes are normalised by g tan(alpha) and
-frequencies by p of the rocking half. The FEM runs on the study's mesh; see the
-mesh-convergence study for how far its numbers are converged.</p>
-{_record_axes(s)}
-<h2>Figures</h2>
-{''.join(figs)}
-<p>Data: summary.json (maps: rows follow the amplitude ratios), figures/*.csv,
-cases/*/result.json (one per grid point).</p>"""
-    return _write_page(out, _page(f"colonna spectrum cross-check: {s['study']}", body))
+    return _render(out, "spectrum_crosscheck.html.j2", s,
+                   f"colonna spectrum cross-check: {s['study']}", figs=figs,
+                   rows=SPECTRUM_NUMBERS)
+
+
+SPECTRUM_NUMBERS = [
+    ("FEM and rigid multibody: same outcome, fraction of the grid points",
+     "agreement_fem_multibody", "-"),
+    ("FEM and SDOF half block: same outcome, fraction of the grid points",
+     "agreement_fem_sdof", "-"),
+    ("grid points", "points", "-"),
+    ("FEM energy balance error (max over the grid, relative)", "energy_error_fem_max", "-"),
+    ("FEM wall time per grid point", "fem_seconds_per_point", "s"),
+    ("study wall time", "wall_seconds", "s"),
+]
 
 
 def write_free_rocking_report(out: Path) -> Path:
@@ -808,7 +671,7 @@ def write_free_rocking_report(out: Path) -> Path:
                     label=f"{label}, released at {tilt['tilt_fraction']:g} alpha")
             ratio_columns[f"ratio_{kind}_tilt{k}"] = ratios
     ax.axhline(s["restitution_housner"], color="k", lw=0.8, ls=":",
-               label=r"Housner $1 - 1.5\sin^2\alpha$")
+               label="Housner 1 - 1.5 sin²α")
     ax.set_xlabel("impact")
     ax.set_ylabel(r"$\dot\theta_{after} / \dot\theta_{before}$")
     ax.legend(fontsize=8)
@@ -821,29 +684,5 @@ def write_free_rocking_report(out: Path) -> Path:
     figs.append(_figure(out, "ratios", fig, "Velocity ratio at each impact, from the rotation "
                         "peaks either side through the free-rocking energy"))
 
-    variants = "\n".join(
-        f"<tr><td>contact damping {_num(s, f'damping_variants.{k}.damping', 3)}</td>"
-        f"<td>{_num(s, f'damping_variants.{k}.ratio_first', 4)}</td></tr>"
-        for k in range(len(s["damping_variants"])))
-    variants += "\n".join(
-        f"<tr><td>mesh size {_num(s, f'mesh_variants.{k}.mesh_size', 3)} m</td>"
-        f"<td>{_num(s, f'mesh_variants.{k}.ratio_first', 4)}</td></tr>"
-        for k in range(len(s["mesh_variants"])))
-    body = f"""
-<h2>Energy lost at impact</h2>
-<p>The FEM's velocity ratio at the first impact for the study's stone (E =
-{_num(s, 'E', 3)} Pa, contact damping {_num(s, 'damping', 3)}, mesh
-{_num(s, 'mesh_size', 3)} m) is <b>{_num(s, 'fem_ratio_study_stone', 4)}</b> (mean over its
-impacts {_num(s, 'fem_ratio_study_stone_mean', 4)}); the rigid multibody model gives
-{_num(s, 'multibody_ratio', 4)} and Housner's 1 - 1.5 sin^2(alpha)
-{_num(s, 'restitution_housner', 4)}, alpha = {_num(s, 'alpha', 4)} rad (the body that rocks).
-A ratio above Housner's means the FEM column keeps more of its rocking energy at an impact: the
-penalty contact spreads the blow over the elastic base instead of a plastic blow at one corner.
-</p>
-<h2>What the FEM's value depends on (first release tilt)</h2>
-<table><tr><th>variant</th><th>velocity ratio, first impact</th></tr>
-{variants}</table>
-<h2>Figures</h2>
-{''.join(figs)}
-<p>Data: summary.json, figures/*.csv, cases/*/history.csv.</p>"""
-    return _write_page(out, _page(f"colonna free rocking: {s['study']}", body))
+    return _render(out, "free_rocking.html.j2", s, f"colonna free rocking: {s['study']}",
+                   figs=figs)

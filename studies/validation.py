@@ -152,36 +152,15 @@ Mode boundaries at Omega/p = 5 (a_p / a_uplift, bisection to 1e-6):
 
 def zhang_makris_study(out: Path) -> dict:
     """The validation as a study: figures, boundaries and spectra in an HTML report."""
-    import base64
-    import html
-
-    from .report import _page, _write_page, fmt
+    from .report import _image, _render
 
     summary = zhang_makris_validation(Path(out))
     out = Path(out)
-
-    def embed(name, caption):
-        data = base64.b64encode((out / name).read_bytes()).decode()
-        return (f'<figure><img alt="{html.escape(caption)}" src="data:image/png;base64,{data}">'
-                f"<figcaption>{html.escape(caption)}</figcaption></figure>")
-
-    lin, non = summary["boundaries"]["linear"], summary["boundaries"]["nonlinear"]
-    rows = "".join(
-        f"<tr><th>{html.escape(meaning)}</th>"
-        f'<td><span data-key="boundaries.linear.{k}">{fmt(lin[k], 5)}</span></td>'
-        f'<td><span data-key="boundaries.nonlinear.{k}">{fmt(non[k], 5)}</span></td>'
-        f"<td>{html.escape(str(paper) if paper else '-')}</td></tr>"
-        for k, (meaning, paper) in enumerate(zip(summary["boundaries"]["meaning"],
-                                                 summary["boundaries"]["paper_fig5_brackets"])))
-    histories = "".join(embed(f"history_{x.replace('.', '_')}.png",
-                              f"a_p = {x} g alpha, Omega/p = 5")
-                        for x in ("3.00", "3.01", "6.32", "6.33"))
-    spectra = "".join(embed(f"spectrum_{m}_{c}.png", f"{m} model, {c.replace('free', 'free block')}")
-                      for m in ("linear", "nonlinear") for c in ("free", "collars"))
-    body = (f"<p>Block of Zhang &amp; Makris (2001): p = 2.14 rad/s, alpha = 0.25, nu = 0.9, "
-            f"one-sine pulse. See docs/validation.md for the discussion.</p>"
-            f"<h2>Mode boundaries at Omega/p = 5 (a_p / a_uplift)</h2><table><tr><th></th>"
-            f"<th>linear</th><th>nonlinear</th><th>paper Fig. 5</th></tr>{rows}</table>"
-            f"<h2>Time histories</h2>{histories}<h2>Overturning spectra</h2>{spectra}")
-    _write_page(out, _page("colonna validation: Zhang & Makris block", body))
+    histories = [_image(out / f"history_{x.replace('.', '_')}.png",
+                        f"a_p = {x} g alpha, Omega/p = 5") for x in ("3.00", "3.01", "6.32", "6.33")]
+    spectra = [_image(out / f"spectrum_{m}_{c}.png",
+                      f"{m} model, {c.replace('free', 'free block')}")
+               for m in ("linear", "nonlinear") for c in ("free", "collars")]
+    _render(out, "zhang_makris.html.j2", summary, "colonna validation: Zhang & Makris block",
+            histories=histories, spectra=spectra)
     return summary

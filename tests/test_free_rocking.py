@@ -3,6 +3,7 @@
 import json
 
 import pytest
+from browser import assert_every_figure_drawn
 
 from colonna.studies.cli import main
 
@@ -53,7 +54,13 @@ def test_report_states_the_fem_value_for_the_studys_stone(free_run):
     from colonna.studies.report import fmt
     assert (f'<span data-key="fem_ratio_study_stone">{fmt(s["fem_ratio_study_stone"], 4)}'
             '</span>') in page
-    assert page.count("data:image/png") == 2
+    assert page.count("<svg") == 2
+
+
+def test_free_rocking_report_draws_every_figure_and_legend(free_run, tmp_path):
+    out, _ = free_run
+    results = assert_every_figure_drawn(out / "index.html", tmp_path, at_least=2)
+    assert "Housner 1 - 1.5 sin²α" in {e for r in results for e in r["legend"]}
 
 
 @pytest.mark.parametrize("old, new, word", [

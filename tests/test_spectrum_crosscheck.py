@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 import pytest
+from browser import assert_every_figure_drawn
 
 from colonna.studies.cli import main
 from colonna.studies.spectrum_crosscheck import agreement
@@ -59,7 +60,14 @@ def test_grid_option_sets_the_grid_and_the_summary_has_its_maps(grid_run):
     assert words <= {"safe", "after-impact", "without-impact"} and len(words) >= 2
     assert len(list((out / "cases").glob("*/result.json"))) == 9
     page = (out / "index.html").read_text()
-    assert page.count("data:image/png") == 3
+    assert page.count("<svg") == 3
+
+
+def test_spectrum_crosscheck_report_draws_every_figure_and_legend(grid_run, tmp_path):
+    """Each mode in a legend is one drawn on a map (the maps' legends list only those)."""
+    _, out, _ = grid_run
+    results = assert_every_figure_drawn(out / "index.html", tmp_path, at_least=3)
+    assert {r["name"] for r in results} == {"maps", "disagreement", "boundaries"}
 
 
 def test_agreement_numbers_are_those_of_the_maps(grid_run):

@@ -1,0 +1,42 @@
+"""Open a report in headless Chromium and read back what data/report_check.js found."""
+
+import html
+import json
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+CHECK = Path(__file__).with_name("data") / "report_check.js"
+
+
+def browser() -> str:
+    found = (shutil.which("chromium") or shutil.which("chromium-browser")
+             or shutil.which("google-chrome"))
+    if found is None:
+        pytest.skip("no headless browser (make test installs chromium where apt is available)")
+    return found
+
+
+def check_report(page: Path, scratch: Path) -> list[dict]:
+    """One result per <figure>: name, legend entries, problems (empty when all is drawn)."""
+    text = Path(page).read_text()
+    probe = f"<script>{CHECK.read_text()}</script>"
+    checked = Path(scratch) / "check.html"
+    checked.write_text(text.replace("</body>", probe + "</body>"))
+    run = subprocess.run([browser(), "--headless=new", "--no-sandbox", "--disable-gpu",
+                          "--virtual-time-budget=20000", "--dump-dom", checked.as_uri()],
+                         capture_output=True, text=True, timeout=180)
+    found = re.findall(r'<pre id="colonna-check">(.*?)</pre>', run.stdout, re.S)
+    assert found, run.stderr[-2000:]
+    return json.loads(html.unescape(found[-1]))
+
+
+def assert_every_figure_drawn(page: Path, scratch: Path, at_least: int) -> list[dict]:
+    results = check_report(page, scratch)
+    problems = {r["name"]: r["problems"] for r in results if r["problems"]}
+    assert not problems, problems
+    assert len(results) >= at_least, [r["name"] for r in results]
+    return results
