@@ -40,3 +40,31 @@ def assert_every_figure_drawn(page: Path, scratch: Path, at_least: int) -> list[
     assert not problems, problems
     assert len(results) >= at_least, [r["name"] for r in results]
     return results
+
+
+NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+
+def assert_table_numbers_have_units(page_text: str) -> int:
+    """Every table cell that holds one number from summary.json (a data-key span) states its
+    unit: after the number, in the row's unit cell (class="unit", "-" for a ratio), or in its
+    column header as "(unit)". Returns how many cells were checked."""
+    checked = 0
+    for table in re.findall(r"<table[^>]*>(.*?)</table>", page_text, re.S):
+        rows = re.findall(r"<tr>(.*?)</tr>", table, re.S)
+        header = re.findall(r"<t[hd][^>]*>(.*?)</t[hd]>", rows[0], re.S) if rows else []
+        for row in rows[1:]:
+            cells = re.findall(r"<t[hd]([^>]*)>(.*?)</t[hd]>", row, re.S)
+            unit_cell = [c for attrs, c in cells if 'class="unit"' in attrs]
+            for j, (attrs, cell) in enumerate(cells):
+                spans = re.findall(r'<span data-key="[^"]+">([^<]*)</span>', cell)
+                bare = re.sub(r"<[^>]+>", "", cell).replace("&times;", "").strip()
+                if len(spans) != 1 or not NUMBER.match(spans[0]) or bare != spans[0] and \
+                        "&nbsp;" not in cell:
+                    continue                      # not a lone number (words, prose, yes/no)
+                checked += 1
+                has_unit = ("</span>&nbsp;" in cell
+                            or (unit_cell and unit_cell[0].strip())
+                            or (j < len(header) and re.search(r"\([^)]+\)", header[j])))
+                assert has_unit, (row, header)
+    return checked

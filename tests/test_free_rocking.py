@@ -3,7 +3,7 @@
 import json
 
 import pytest
-from browser import assert_every_figure_drawn
+from browser import assert_every_figure_drawn, assert_table_numbers_have_units
 
 from colonna.studies.cli import main
 
@@ -55,6 +55,7 @@ def test_report_states_the_fem_value_for_the_studys_stone(free_run):
     assert (f'<span data-key="fem_ratio_study_stone">{fmt(s["fem_ratio_study_stone"], 4)}'
             '</span>') in page
     assert page.count("<svg") == 2
+    assert assert_table_numbers_have_units(page) >= 3      # the variants' ratios
 
 
 def test_free_rocking_report_draws_every_figure_and_legend(free_run, tmp_path):

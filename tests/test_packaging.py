@@ -29,6 +29,7 @@ def test_wheel_holds_only_the_colonna_package(wheel):
     for sub in ("rigid", "fem", "meshes", "studies"):
         assert f"colonna/{sub}/__init__.py" in names
     assert "colonna/studies/default.toml" in names        # the shipped studies
+    assert "colonna/studies/templates/crosscheck.html.j2" in names   # the report templates
 
 
 def test_installed_package_runs_outside_the_source_tree(wheel, tmp_path):
@@ -37,6 +38,10 @@ def test_installed_package_runs_outside_the_source_tree(wheel, tmp_path):
                     "--target", str(target), str(wheel)], check=True)
     assert not any((target / name).exists() for name in ("rigid", "fem", "meshes", "studies"))
     code = ("import colonna, colonna.studies.cli as cli, colonna.fem, colonna.meshes; "
+            "from colonna.studies.report import TEMPLATES; "
+            "from colonna.studies.schema import json_schema; "
+            "assert TEMPLATES.get_template('crosscheck.html.j2'); "
+            "assert 'column' in json_schema()['properties']; "
             "print(colonna.rigid.__file__); print(cli.resolve_study('default'))")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           cwd=tmp_path, env={"PYTHONPATH": str(target), "PATH": ""},

@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 
 import pytest
-from browser import assert_every_figure_drawn
+from browser import assert_every_figure_drawn, assert_table_numbers_have_units
 
 from colonna.studies.cli import main
 from colonna.studies.spectrum_crosscheck import agreement
@@ -61,6 +61,7 @@ def test_grid_option_sets_the_grid_and_the_summary_has_its_maps(grid_run):
     assert len(list((out / "cases").glob("*/result.json"))) == 9
     page = (out / "index.html").read_text()
     assert page.count("<svg") == 3
+    assert assert_table_numbers_have_units(page) >= 4
 
 
 def test_spectrum_crosscheck_report_draws_every_figure_and_legend(grid_run, tmp_path):

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from browser import assert_every_figure_drawn
+from browser import assert_every_figure_drawn, assert_table_numbers_have_units
 
 from colonna.studies.cli import main
 from colonna.studies.crosscheck import run_crosscheck
@@ -99,6 +99,7 @@ def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
                                np.interp(theta["t"], multibody["t"], multibody["theta_right"],
                                          right=np.nan))
     assert page.count("<svg") >= 6 and "data:image/gif" in page    # figures, renders
+    assert assert_table_numbers_have_units(page) >= 30
     # the deformed column: its magnification stated, collars and toe pressure in the legend
     assert re.search(r"elastic deformation magnified x\d", page)
     assert (out / "figures" / "deformed.png").stat().st_size > 0
@@ -192,6 +193,7 @@ def test_sweep_studies(tmp_path, capsys, kind):
             node = node[int(part)] if isinstance(node, list) else node[part]
         assert shown == (node if isinstance(node, str) else fmt(node, 4)) or \
             shown in (fmt(node, 3), fmt(node, 2), fmt(node, 5)), key
+    assert assert_table_numbers_have_units(page) >= 9
     if kind == "mesh-convergence":
         table = summary["convergence"]["peak_rotation"]
         assert len(table["values"]) == 3 and summary["dofs"][0] < summary["dofs"][-1]
@@ -223,6 +225,7 @@ def test_collar_design_study(tmp_path, capsys):
         s["lateral_stiffness_provided"] >= d["required_stiffness"])
     page = (out / "index.html").read_text()
     assert page.count("data:image/png") == 1 and page.count("<svg") == 1   # chart, history
+    assert assert_table_numbers_have_units(page) >= 10
     for key, shown in re.findall(r'<span data-key="([^"]+)">([^<]*)</span>', page):
         node = s
         for part in key.split("."):
