@@ -131,3 +131,36 @@ def test_a_valid_study_gets_its_defaults():
     assert spec.column.cracked is True and spec.contact.friction == 0.7
     assert spec.mesh.toe_refinements == [1, 2, 4, 8] and spec.run.safety == 0.9
     assert schema.parse({"study": {"kind": "zhang-makris"}}).column is None
+
+
+def _limits(table, key):
+    prop = table.model_json_schema()["properties"][key]
+    prop = next((o for o in prop.get("anyOf", []) if o.get("type") == "number"), prop)
+    return {k: prop[k] for k in ("minimum", "exclusiveMinimum", "maximum", "exclusiveMaximum")
+            if k in prop}
+
+
+@pytest.mark.parametrize("model, table, required", [
+    (Stone, schema.Stone, {}), (ContactSettings, schema.Contact, {}),
+    (Collar, schema.Collar, {"y": 1.0, "t": 0.01, "h": 0.05})])
+def test_the_solvers_own_checks_have_the_schemas_ranges(model, table, required):
+    """The dataclasses check their values for the Python API; at each end of every range of
+    the schema they accept and reject what the schema does."""
+    checked = 0
+    for key in table.model_fields:
+        for bound, value in _limits(table, key).items():
+            inside = {"minimum": value, "maximum": value,
+                      "exclusiveMinimum": value + 1e-9 * max(1.0, abs(value)),
+                      "exclusiveMaximum": value - 1e-9 * max(1.0, abs(value))}[bound]
+            outside = {"minimum": value - 1e-9 * max(1.0, abs(value)),
+                       "maximum": value + 1e-9 * max(1.0, abs(value)),
+                       "exclusiveMinimum": value, "exclusiveMaximum": value}[bound]
+            given = {**required, key: inside}
+            table(**given)
+            model(**given)
+            with pytest.raises(Exception):
+                table(**{**required, key: outside})
+            with pytest.raises(InputError):
+                model(**{**required, key: outside})
+            checked += 1
+    assert checked >= 4
