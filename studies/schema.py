@@ -233,21 +233,23 @@ class StudyInfo(Table):
     kind: Literal[STUDY_KINDS] = Field("cross-check", description="Which study to run.")
 
 
+def pair(default, description: str, unit: str = "-") -> Any:
+    """A two-element list field ([start, stop] or two counts)."""
+    return Field(default, min_length=2, max_length=2, description=description,
+                 json_schema_extra={"unit": unit})
+
+
 class Grid(Table):
     """[grid] (spectrum-crosscheck): the pulses of the grid, each a [start, stop] range."""
 
-    omega_ratios: list[Annotated[float, Field(gt=0)]] | None = Field(
-        None, min_length=2, max_length=2, description="Omega / p range, inclusive (pulses; "
-        "default [1, 8]).", json_schema_extra={"unit": "-"})
-    amplitude_ratios: list[Annotated[float, Field(ge=1)]] = Field(
-        [1.2, 6.0], min_length=2, max_length=2, description="a_p / (g tan alpha) range, "
-        "inclusive.", json_schema_extra={"unit": "-"})
-    time_scales: list[Annotated[float, Field(gt=0)]] | None = Field(
-        None, min_length=2, max_length=2, description="Record time-scale range (records, in "
-        "place of omega_ratios; default [0.5, 2]).", json_schema_extra={"unit": "-"})
-    points: list[Annotated[int, Field(ge=1)]] = Field(
-        [6, 5], min_length=2, max_length=2, description="Number of points along the first axis "
-        "x number of amplitude ratios.", json_schema_extra={"unit": "-"})
+    omega_ratios: list[Annotated[float, Field(gt=0)]] | None = pair(
+        None, "Omega / p range, inclusive (pulses; default [1, 8]).")
+    amplitude_ratios: list[Annotated[float, Field(ge=1)]] = pair(
+        [1.2, 6.0], "a_p / (g tan alpha) range, inclusive.")
+    time_scales: list[Annotated[float, Field(gt=0)]] | None = pair(
+        None, "Record time-scale range (records, in place of omega_ratios; default [0.5, 2]).")
+    points: list[Annotated[int, Field(ge=1)]] = pair(
+        [6, 5], "Number of points along the first axis x number of amplitude ratios.")
 
     @model_validator(mode="after")
     def _ordered(self):
