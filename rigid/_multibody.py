@@ -287,6 +287,112 @@ def _solve_contacts(W, bvec, P, mu, n_act, tol, max_iter):
     return it
 
 
+GS_ITERATIONS = 100          # Gauss-Seidel sweeps before the exact active-set solve
+
+
+@njit(cache=True)
+def _active_set(W, bvec, P, mu, n_act):
+    """The contact problem solved exactly from the Gauss-Seidel iterate P (in place).
+
+    With more contact rows than degrees of freedom (4 active contacts of 2 bodies: 8 rows, 6
+    dof) the Delassus matrix W is singular, the impulses are not unique, and Gauss-Seidel
+    moves along that null space only slowly: its velocities can stay off by 1e-4 after
+    hundreds of sweeps, which then builds up step by step. The velocities are unique, and
+    this finds them: each contact is open (P = 0), sticking (U = 0) or sliding (U_N = 0,
+    P_T = -s mu P_N), its status taken from P; the equations of that status are solved with
+    W + eps I (eps = 1e-9 of W's largest diagonal term, which makes the impulses unique and
+    moves the velocities by 1e-9 of them); the contact that most violates its status's
+    conditions (U_N >= 0 when open; P_N >= 0 and |P_T| <= mu P_N when sticking; P_N >= 0 and
+    sliding in the direction s when sliding) changes status, and again, until none does.
+    Returns False (P unchanged) if that does not settle within 4 n + 10 changes."""
+    m2 = 2 * n_act
+    eps = 0.0
+    scale_u = 0.0
+    for r in range(m2):
+        eps = max(eps, W[r, r])
+        scale_u = max(scale_u, abs(bvec[r]))
+    eps *= 1e-9
+    if scale_u == 0.0:
+        scale_u = 1e-300
+    status = np.zeros(n_act, dtype=np.int64)     # 0 open, 1 sticking, 2 sliding
+    sign = np.ones(n_act)
+    for j in range(n_act):
+        pn = P[2 * j]
+        pt = P[2 * j + 1]
+        if pn <= 0.0:
+            status[j] = 0
+        elif abs(pt) < mu[j] * pn * (1.0 - 1e-6):
+            status[j] = 1
+        else:
+            status[j] = 2
+            sign[j] = -1.0 if pt > 0.0 else 1.0
+    A = np.zeros((m2, m2))
+    rhs = np.zeros(m2)
+    for _ in range(4 * n_act + 10):
+        A[:, :] = 0.0
+        rhs[:] = 0.0
+        for j in range(n_act):
+            n_row = 2 * j
+            t_row = 2 * j + 1
+            if status[j] == 0:
+                A[n_row, n_row] = 1.0
+                A[t_row, t_row] = 1.0
+                continue
+            for k in range(m2):
+                A[n_row, k] = W[n_row, k]
+            A[n_row, n_row] += eps
+            rhs[n_row] = -bvec[n_row]
+            if status[j] == 1:
+                for k in range(m2):
+                    A[t_row, k] = W[t_row, k]
+                A[t_row, t_row] += eps
+                rhs[t_row] = -bvec[t_row]
+            else:
+                A[t_row, t_row] = 1.0
+                A[t_row, n_row] = sign[j] * mu[j]
+        x = np.linalg.lstsq(A, rhs)[0]
+        scale_p = 1e-300
+        for r in range(m2):
+            scale_p = max(scale_p, abs(x[r]))
+        worst = -1
+        worst_v = 1e-10
+        for j in range(n_act):
+            pn = x[2 * j]
+            pt = x[2 * j + 1]
+            un = bvec[2 * j] + eps * pn
+            ut = bvec[2 * j + 1] + eps * pt
+            for k in range(m2):
+                un += W[2 * j, k] * x[k]
+                ut += W[2 * j + 1, k] * x[k]
+            if status[j] == 0:
+                v = -un / scale_u
+            elif status[j] == 1:
+                v = max(-pn, abs(pt) - mu[j] * pn) / scale_p
+            else:
+                v = max(-pn / scale_p, -sign[j] * ut / scale_u)
+            if v > worst_v:
+                worst = j
+                worst_v = v
+        if worst < 0:
+            for r in range(m2):
+                P[r] = x[r]
+            return True
+        j = worst
+        pn = x[2 * j]
+        pt = x[2 * j + 1]
+        if status[j] == 0:
+            status[j] = 1
+        elif status[j] == 1:
+            if abs(pt) > mu[j] * pn and not (pn < 0.0 and abs(pt) < -mu[j] * pn):
+                status[j] = 2
+                sign[j] = -1.0 if pt > 0.0 else 1.0
+            else:
+                status[j] = 0
+        else:
+            status[j] = 0 if pn < 0.0 else 1
+    return False
+
+
 @njit(cache=True)
 def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, cand_mu, cand_kind,
           col_a, col_b, col_r, col_props, ground_kind, gpar, rec_t, rec_a, e_n, tol, max_iter,
@@ -363,7 +469,9 @@ def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, c
             c = act[j]
             P[2 * j] = P_prev[c, 0] if was_active[c] else 0.0
             P[2 * j + 1] = P_prev[c, 1] if was_active[c] else 0.0
-        it = _solve_contacts(W, bvec, P, mu_act, n_act, tol, max_iter)
+        it = _solve_contacts(W, bvec, P, mu_act, n_act, tol, GS_ITERATIONS)
+        if it >= GS_ITERATIONS and not _active_set(W, bvec, P, mu_act, n_act):
+            it += _solve_contacts(W, bvec, P, mu_act, n_act, tol, max_iter)
         tallies[3] = max(tallies[3], it)
         for k in range(n_dof):
             acc = 0.0

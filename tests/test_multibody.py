@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from colonna.rigid import (Block, Collar, InputError, Record, housner_restitution,
-                           pulse_from_ratios, rock)
+from colonna.rigid import (Block, Collar, HarmonicPulse, InputError, Record,
+                           housner_restitution, pulse_from_ratios, rock)
 from colonna.rigid import _multibody as K
 from colonna.rigid.multibody import build_column, multibody_spectrum, rock_multibody
 
@@ -128,6 +128,85 @@ def test_time_step_convergence():
     assert by_step[-1] < 1e-4
     by_refinement = [error(5e-4, refine) for refine in (1, 32, 256)]
     assert by_refinement[0] > 5.0 * by_refinement[1] > 5.0 * by_refinement[2]
+
+
+def _cracked_column(from_rest: bool = False):
+    """Half of a 0.45 x 4 m cracked marble column under a sine pulse of 3 x uplift at
+    Omega/p = 3 (the default study's column and pulse). The paper's pulse starts at the
+    uplift acceleration of a half, where a cracked column is at a tie between rocking modes
+    (a change of the step by 1e-9 can pick the other); ``from_rest`` starts it from zero."""
+    blk = Block.from_density(b=0.1125, h=2.0, density=2700.0, thickness=math.pi * 0.1125)
+    pulse = pulse_from_ratios(blk, "sine", 3.0, 3.0, "nonlinear")
+    if from_rest:
+        pulse = HarmonicPulse("sine", pulse.amplitude, pulse.omega, 0.0,
+                              2.0 * math.pi / pulse.omega)
+    return blk, pulse
+
+
+def test_active_set_solves_the_redundant_contact_problem_exactly():
+    """The contact problem of one step of that column (two base pivots and two crack
+    contacts: 8 rows on 6 dof), solved by enumerating every open / stick / slide status with
+    a linear program for the impulses: exactly one status combination is feasible, and the
+    active-set solve finds its velocities from any start."""
+    import itertools
+
+    from scipy.optimize import linprog
+
+    from colonna.rigid.multibody import IMPACT_THRESHOLD, _ground_arrays, tilted_state
+
+    blk, pulse = _cracked_column(from_rest=True)
+    column = build_column(blk, cracked=True, friction=0.7)
+    kind, gpar, rec_t, rec_a, _ = _ground_arrays(pulse, blk.g)
+    q, v = tilted_state(column, 0.0, 0.0)
+    nb, nc = 2, column.cand_a.size
+    minv = np.repeat(1.0 / column.mass, 3)
+    minv[2::3] = 1.0 / column.inertia
+    ws = (np.empty(6), np.empty(6), np.empty(6), np.empty(6), np.zeros(2 * nc),
+          np.zeros(2 * nc), np.zeros(2 * nc), np.zeros(nc), np.zeros((2 * nc, 6)),
+          np.zeros((2 * nc, 2 * nc)), np.zeros(nc, dtype=np.int64), np.zeros(nb, dtype=np.int64),
+          np.zeros((0, 5)), np.zeros((0, 3)))
+    P_prev, was_active = np.zeros((nc, 2)), np.zeros(nc, dtype=np.bool_)
+    pivot, armed = np.zeros(nb, dtype=np.int64), np.zeros(nb, dtype=np.bool_)
+    h = 9e-5
+    for step in range(int(0.3 / h)):            # to t = 0.3 s: the halves rock together
+        K._step(step * h, h, q, v, column.mass, minv, blk.g, column.half, column.cand_a,
+                column.cand_b, column.cand_pt, column.cand_face, column.cand_mu,
+                column.cand_kind, column.col_a, column.col_b, column.col_r, column.col_props,
+                kind, gpar, rec_t, rec_a, 0.0, 1e-10, 500, ws, P_prev, was_active, pivot, armed,
+                IMPACT_THRESHOLD * blk.alpha, np.zeros((10, 4)), np.zeros(4),
+                np.zeros(2 + 2 * nb))
+    n = int(was_active.sum())                   # the last step's problem
+    assert n == 4
+    rows = ws[10][:n]
+    W, b = ws[9][:2 * n, :2 * n].copy(), ws[4][:2 * n].copy()
+    mu = column.cand_mu[rows]
+    feasible = []
+    for combo in itertools.product(range(4), repeat=n):     # open, stick, slide +, slide -
+        eq, beq, ub, bub = [], [], [], []
+        for j, st in enumerate(combo):
+            en, et = np.eye(2 * n)[2 * j], np.eye(2 * n)[2 * j + 1]
+            if st == 0:
+                eq += [en, et]; beq += [0, 0]; ub.append(-W[2 * j]); bub.append(b[2 * j])
+            elif st == 1:
+                eq += [W[2 * j], W[2 * j + 1]]; beq += [-b[2 * j], -b[2 * j + 1]]
+                ub += [-en, et - mu[j] * en, -et - mu[j] * en]; bub += [0, 0, 0]
+            else:
+                sign = 1.0 if st == 2 else -1.0
+                eq += [W[2 * j], et + sign * mu[j] * en]; beq += [-b[2 * j], 0]
+                ub += [-en, -sign * W[2 * j + 1]]; bub += [0, sign * b[2 * j + 1]]
+        lp = linprog(np.zeros(2 * n), A_ub=np.array(ub), b_ub=bub, A_eq=np.array(eq), b_eq=beq,
+                     bounds=[(None, None)] * (2 * n))
+        if lp.status == 0:
+            feasible.append(W @ lp.x + b)
+    assert len(feasible) == 1
+    exact = feasible[0]
+    scale = np.abs(b).max()
+    for sweeps in (0, 100):            # from nothing, and from the kernel's Gauss-Seidel start
+        P = np.zeros(2 * n)
+        if sweeps:
+            K._solve_contacts(W, b, P, mu, n, 1e-10, sweeps)
+        assert K._active_set(W, b, P, mu, n)
+        assert np.abs(W @ P + b - exact).max() < 1e-8 * scale
 
 
 # --- friction: sliding and the rock/slide criterion ---------------------------------------------
