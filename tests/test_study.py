@@ -72,6 +72,14 @@ def test_verdict_is_judged_against_the_multibody_model(tiny_run):
                                                    and c["impacts_ok"] and c["history_ok"])
     assert 0.0 <= c["history_error_to_first_impact"] < 1.0
     assert mb["energy_error_max"] < 1e-2
+    # the history count is also measured against the multibody model at a quarter of its
+    # step, from that run's own history, and flagged when the two steps answer it differently
+    cases = tiny_run[0] / "out" / "cases"
+    fine = json.loads((cases / "multibody-fine" / "result.json").read_text())
+    assert fine["dt"] == pytest.approx(0.25 * mb["dt"], rel=1e-12)
+    assert 0.0 <= c["history_error_fine_step"] < 1.0 and c["fine_step_factor"] == 0.25
+    assert c["history_step_sensitive"] == ((c["history_error_fine_step"]
+                                            <= c["tolerances"]["history"]) != c["history_ok"])
 
 
 def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
