@@ -8,7 +8,8 @@ follow the paper (theta = -phi: positive tipping toward +x).
 Time stepping is Moreau-Jean's midpoint scheme at the velocity-impulse level (Moreau 1988, Jean
 1999; the scheme of Siconos and LMGC90):
 
-    q_m     = q_k + h/2 v_k                  contacts detected at q_m (gap <= 0: active)
+    q_m     = q_k + h/2 v_k                  contacts detected at q_m (gap <= 0: active; a
+                                             crack contact also within g h^2 and closing)
     M (v_k+1 - v_k) = h f(q_m, t_m) + G^T P  smooth forces: gravity, ground, collars
     q_k+1   = q_m + h/2 v_k+1
 
@@ -437,9 +438,14 @@ def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, c
     n_act = 0
     closed = False
     v_impact = 4.0 * g * h      # slower closures are resting contacts settling back
+    # a crack contact within the midpoint scheme's drift of a closed contact (g h^2) whose
+    # free motion closes it is active too: the crack starts closed with no force across it,
+    # and the drift's sign must not decide whether the halves press
+    touching = g * h * h
     for c in range(nc):
         gap, on_face = _contact_row(qm, c, cand_a, cand_b, cand_pt, cand_face, G, n_act, n_dof)
-        if on_face and gap <= 0.0:
+        if on_face and (gap <= 0.0 or (cand_b[c] >= 0 and gap <= touching
+                                       and _normal_velocity(G, n_act, vfree) < 0.0)):
             act[n_act] = c
             mu_act[n_act] = cand_mu[c]
             if not was_active[c] and _normal_velocity(G, n_act, v) < -v_impact:
