@@ -38,7 +38,8 @@ from .sweep import run_cases
 PEAK_TOLERANCE = 0.20       # |theta / theta_reference - 1| for two models to give one answer
 HISTORY_TOLERANCE = 0.10    # max |theta_FEM - theta_rigid| / max |theta_rigid| to the first impact
 IMPACT_TOLERANCE = 0        # impacts before the end of the pulse may differ by this many
-FINE_STEP = 0.25            # the multibody model rerun at this fraction of its step
+REFERENCE_STEP = 0.25       # the multibody reference runs at this fraction of its default step
+FINE_STEP = 0.25            # and is rerun at this fraction of that
 
 
 def _study_from_case(case):
@@ -155,8 +156,9 @@ def run_crosscheck(study_path: Path, out: Path, *, workers: int | None = None,
     base = {"study": data, "source": str(study_path), "base": str(study_path.parent.resolve())}
     cases = [dict(base, key="fem", kind="fem", progress=progress and not scheduler,
                   toe_refinement=True),
-             dict(base, key="multibody", kind="multibody"),
-             dict(base, key="multibody-fine", kind="multibody", step_factor=FINE_STEP),
+             dict(base, key="multibody", kind="multibody", step_factor=REFERENCE_STEP),
+             dict(base, key="multibody-fine", kind="multibody",
+                  step_factor=REFERENCE_STEP * FINE_STEP),
              dict(base, key="rigid", kind="rigid"),
              dict(base, key="monolith", kind="rigid")]
     if isinstance(study.ground, HarmonicPulse):     # a pulse is placed on the rigid spectrum
@@ -195,6 +197,10 @@ def _same_answer(fate, peak_ratio, reference_fate) -> bool:
 
 def step_check(criteria: dict, fine: dict) -> dict:
     """The history criterion again against the multibody model at FINE_STEP of its step.
+
+    The reference itself runs at REFERENCE_STEP of the default step: at the default step the
+    collar utilisation and crack slip of the default column carry about 1 % of step error, at a
+    quarter of it 0.3 %, for 0.1 s more.
 
     A cracked column under the paper's pulse starts at a tie between rocking modes (the
     crack pressed and sliding, or opening with the halves rocking apart; README, multibody
