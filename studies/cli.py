@@ -127,9 +127,7 @@ def _multibody_options(args) -> dict:
 def _emit(args, summary: dict | None) -> None:
     if summary is None:          # the command printed its own output
         return
-    if args.command == "schema":
-        print(json.dumps(summary, indent=2))
-    elif args.json:
+    if args.json:
         print(json.dumps(summary))
     else:
         for key, value in summary.items():
@@ -332,13 +330,11 @@ def _cmd_study(args) -> dict:
 
 # --- colonna schema ------------------------------------------------------------------------------
 
-def _cmd_schema(args) -> dict:
+def _cmd_schema(args) -> None:
+    """Prints the JSON Schema (indented, for editors) or its Markdown key list itself."""
     from .schema import json_schema, markdown
 
-    if args.markdown:
-        sys.stdout.write(markdown())
-        return None
-    return json_schema()
+    sys.stdout.write(markdown() if args.markdown else json.dumps(json_schema(), indent=2) + "\n")
 
 
 # --- colonna validate ---------------------------------------------------------------------------
@@ -424,7 +420,7 @@ def build_parser() -> argparse.ArgumentParser:
                                       "units, defaults), for editors")
     p.add_argument("--markdown", action="store_true",
                    help="print the key list as Markdown tables instead (docs/study-file.md)")
-    p.set_defaults(func=_cmd_schema, json=True)
+    p.set_defaults(func=_cmd_schema)
 
     p = sub.add_parser("validate", help="Zhang & Makris validation block (p = 2.14, alpha = 0.25)")
     p.add_argument("--out", type=Path, default=Path("out/validation"))

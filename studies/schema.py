@@ -14,7 +14,8 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import (BaseModel, ConfigDict, Field, TypeAdapter, ValidationError,
+                      model_validator)
 
 from ..fem.solver import EDGE_TIME
 from ..fem.toe_stress import REFINEMENTS
@@ -344,10 +345,7 @@ class StudyFile(Table):
 
 def parse(data: dict, source: str = "study") -> StudyFile:
     """The validated study, or an :class:`InputError` of one line naming the key."""
-    try:
-        return StudyFile.model_validate(data)
-    except ValidationError as exc:
-        raise InputError(f"{source}: {_one_line(_first(exc))}") from None
+    return _validate(StudyFile, data, source)
 
 
 class CollarFile(Table):
@@ -358,29 +356,26 @@ class CollarFile(Table):
 
 def read_collars(path) -> tuple[rigid_collars.Collar, ...]:
     """The collars of a TOML file of [[collar]] tables (keys as in a study file)."""
-    data = read_toml(path, "collar file")
-    try:
-        spec = CollarFile.model_validate(data)
-    except ValidationError as exc:
-        raise InputError(f"{path}: {_one_line(_first(exc))}") from None
+    spec = _validate(CollarFile, read_toml(path, "collar file"), str(path))
     return tuple(rigid_collars.Collar(**c.model_dump()) for c in spec.collar)
 
 
 def parse_table(name: str, table, source: str = "study"):
     """One table of a study file (``grid``, ``convergence``, ...) checked on its own."""
-    model = _model_of(StudyFile.model_fields[name].annotation)
+    return _validate(_model_of(StudyFile.model_fields[name].annotation), table, source,
+                     within=(name,))
+
+
+def _validate(model: type[BaseModel], data, source: str, within: tuple = ()):
+    """``model`` validated from ``data``, or one :class:`InputError` line for the error to
+    report: an unknown key first (a misspelt key also leaves one missing). ``within``: the
+    key path of ``data`` in the study file."""
     try:
-        return model.model_validate(table)
+        return model.model_validate(data)
     except ValidationError as exc:
-        error = _first(exc)
-        raise InputError(f"{source}: {_one_line({**error, 'loc': (name, *error['loc'])})}") \
+        error = min(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
+        raise InputError(f"{source}: {_one_line({**error, 'loc': (*within, *error['loc'])})}") \
             from None
-
-
-def _first(exc: ValidationError) -> dict:
-    """The error to report: an unknown key first (a misspelt key also leaves one missing)."""
-    errors = exc.errors()
-    return min(errors, key=lambda e: e["type"] != "extra_forbidden")
 
 
 def _path(loc) -> str:
@@ -444,20 +439,24 @@ def describe(field) -> str:
     model = _model_of(field.annotation)
     if model is not None:
         return f"a table of the keys {', '.join(model.model_fields)}"
-    schema = _field_schema(field)
-    unit = (field.json_schema_extra or {}).get("unit") if isinstance(
-        field.json_schema_extra, dict) else None
-    text = _type_words(schema)
+    text = _allowed(_field_schema(field))
+    unit = _unit(field)
+    return f"{text}, {unit}" if unit and unit != "-" else text
+
+
+def _unit(field) -> str:
+    """The field's unit ('-' dimensionless), '' for a key without one."""
+    extra = field.json_schema_extra
+    return extra.get("unit", "") if isinstance(extra, dict) else ""
+
+
+def _allowed(schema: dict) -> str:
+    """Type and range in words: 'a number in (0, inf)'."""
     rng = range_text(schema)
-    if rng:
-        text += f" in {rng}"
-    if unit and unit != "-":
-        text += f", {unit}"
-    return text
+    return _type_words(schema) + (f" in {rng}" if rng else "")
 
 
 def _field_schema(field) -> dict:
-    from pydantic import TypeAdapter
     annotation = field.annotation
     adapter = TypeAdapter(Annotated[annotation, *field.metadata] if field.metadata
                           else annotation)
@@ -481,9 +480,8 @@ def _type_words(schema: dict) -> str:
         n = schema.get("minItems"), schema.get("maxItems")
         count = (f"{n[0]} " if n[0] == n[1] and n[0] else
                  f"{n[0]} or more " if n[0] else "")
-        inner = _type_words(items)
-        rng = range_text(items)
-        return f"a list of {count}{inner.replace('a number', 'numbers').replace('an integer', 'integers')}" + (f" in {rng}" if rng else "")
+        inner = _allowed(items).replace("a number", "numbers").replace("an integer", "integers")
+        return f"a list of {count}{inner}"
     if kind in ("number", "integer") and not range_text(schema):
         return "any finite number" if kind == "number" else "any integer"
     return {"number": "a number", "integer": "an integer", "boolean": "true or false",
@@ -524,14 +522,10 @@ def markdown() -> str:
         lines += [f"## {header}", "", about[0].upper() + about[1:], "",
                   "| key | allowed | unit | default | meaning |", "|---|---|---|---|---|"]
         for key, sub in model.model_fields.items():
-            schema = _field_schema(sub)
-            extra = sub.json_schema_extra if isinstance(sub.json_schema_extra, dict) else {}
-            words = _type_words(schema)
-            rng = range_text(schema)
-            allowed = words + (f" in {rng}" if rng else "")
             default = "required" if sub.is_required() else (
                 "see meaning" if sub.default is None else _toml(sub.default))
-            cells = [f"`{key}`", allowed, extra.get("unit", ""), default, sub.description or ""]
+            cells = [f"`{key}`", _allowed(_field_schema(sub)), _unit(sub), default,
+                     sub.description or ""]
             lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
         lines.append("")
     return "\n".join(lines)

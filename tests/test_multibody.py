@@ -134,8 +134,7 @@ def test_time_step_convergence():
 def _cracked_column(from_rest: bool = False):
     """Half of a 0.45 x 4 m cracked marble column under a sine pulse of 3 x uplift at
     Omega/p = 3 (the default study's column and pulse). The paper's pulse starts at the
-    uplift acceleration of a half, where a cracked column is at a tie between rocking modes
-    (a change of the step by 1e-9 can pick the other); ``from_rest`` starts it from zero."""
+    uplift acceleration of a half; ``from_rest`` starts it from zero acceleration."""
     blk = Block.from_density(b=0.1125, h=2.0, density=2700.0, thickness=math.pi * 0.1125)
     pulse = pulse_from_ratios(blk, "sine", 3.0, 3.0, "nonlinear")
     if from_rest:
