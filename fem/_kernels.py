@@ -18,6 +18,7 @@ the contact's vertical vibration to the horizontal motion and near the slip limi
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -26,22 +27,6 @@ from ..rigid._collar_law import axial_return_mapping
 
 # fast-math without the no-NaN / no-Inf assumptions: the blow-up check must keep its meaning
 SAFE_FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
-
-
-@njit(cache=True, fastmath=True)
-def bsr_matvec(indptr, indices, blocks, x, out):
-    """out = A x for A in block-sparse-row form with 2 x 2 blocks (one block per node pair)."""
-    for i in range(indptr.size - 1):
-        a0 = 0.0
-        a1 = 0.0
-        for k in range(indptr[i], indptr[i + 1]):
-            j = indices[k]
-            x0 = x[2 * j]
-            x1 = x[2 * j + 1]
-            a0 += blocks[k, 0, 0] * x0 + blocks[k, 0, 1] * x1
-            a1 += blocks[k, 1, 0] * x0 + blocks[k, 1, 1] * x1
-        out[2 * i] = a0
-        out[2 * i + 1] = a1
 
 
 @njit(cache=True)
@@ -263,150 +248,239 @@ def collar_forces(x, collars, props, out, f, state, commit):
     return energy, work
 
 
-@njit(cache=True, fastmath=SAFE_FASTMATH)
-def advance(n_steps, dt, x, v, X, mass, node_body, n_bodies, centroid_ref, frames,
-            indptr, indices, blocks, gravity, ground_acc, ground_vacc,
-            base_nodes, base_kn, base_kt, base_cn, mu, blend, base_ft, base_fn, base_fc,
-            a_sl, a_ma, a_sign, a_kn, a_kt, a_cn, a_seg, a_ft, a_fn, a_fc,
-            b_sl, b_ma, b_sign, b_kn, b_kt, b_cn, b_seg, b_ft, b_fn, b_fc,
-            collar_nodes, collar_props, collar_out, collar_state, u_loc, f_loc, f, tallies,
-            energies, edge_weights, edge_buffer, edge_state, edge_peak):
-    """n_steps of central differences (velocities at half steps, lumped mass).
+# --- the explicit step, batched over states that share the model -----------------------------
+#
+# The arrays travel in bundles (named tuples, which numba compiles as records of arrays):
+# the model's, read-only and shared by every state of a batch, and the states', one row per
+# state (B rows). A batch is replicas of one run perturbed at round-off level (an ensemble, see
+# fem.solver.run_ensemble) or different ground motions on one mesh: one pass through the
+# stiffness serves all of them.
 
-    ground_acc[k], ground_vacc[k]: horizontal and vertical (upward) ground acceleration (m/s^2)
-    during step k, applied as the body forces -m ug'' in x and -m vg'' in y (ground frame).
-    tallies += (dissipated energy, external work); energies gets
+Stiffness = namedtuple("Stiffness", ["indptr", "indices", "blocks"])
+"""The stone's stiffness in block-sparse-row form, 2 x 2 blocks (one block per node pair)."""
+
+Bodies = namedtuple("Bodies", ["X", "mass", "node_body", "centroid_ref", "gravity"])
+"""Reference positions, lumped mass per dof, body of each node, body centroids (n_bodies, 2)
+and gravity load per dof."""
+
+ContactPass = namedtuple("ContactPass", ["nodes", "masters", "sign", "kn", "kt", "cn"])
+"""A contact pass: the base (nodes against the ground; masters and sign unused) or one crack
+pass (slave nodes on the master face; see crack_contact); penalty, tangential penalty and
+damping per contact node."""
+
+ContactState = namedtuple("ContactState", ["seg", "ft", "fn", "fc"])
+"""Per state (rows) and contact node: master segment last used (crack), tangential force,
+normal force and its filtered value for the friction cone."""
+
+Collars = namedtuple("Collars", ["nodes", "props"])
+"""collar_forces' node table and properties."""
+
+CollarState = namedtuple("CollarState", ["out", "plastic"])
+"""Per state: collar_forces' outputs (B, n_collars, 5) and plastic state (B, n_collars, 3)."""
+
+EdgeAverage = namedtuple("EdgeAverage", ["weights", "buffer", "position", "sums", "peak"])
+"""The toe resultants weights . base_fn (weights (n_edges, n_base), shared) averaged over the
+last buffer.shape[2] steps: per state a ring buffer (B, n_edges, n_avg), its position (B,),
+running sums (B, n_edges) and the peak of the average since the last record (B, n_edges)."""
+
+Motion = namedtuple("Motion", ["x", "v", "frames", "tallies", "energies", "alive", "done"])
+"""Per state: positions and velocities (B, n_dofs), body frames (B, n_bodies, 3: centroid x,
+y and rotation), tallies (B, 2: dissipated energy, external work), energies (B, 6: strain,
+base contact, crack contact, collar, gravity, kinetic), alive (B,: False stops a state) and
+done (B,: steps done by the last call)."""
+
+Scratch = namedtuple("Scratch", ["u_loc", "f_loc", "f"])
+"""Work arrays: local displacements and elastic forces (n_dofs, B: a state per column, so
+the block mat-vec reads each block once for all states) and external forces (B, n_dofs)."""
+
+
+@njit(cache=True, fastmath=True)
+def bsr_matmat(indptr, indices, blocks, x, out):
+    """out = A x for A in block-sparse-row form with 2 x 2 blocks and x of shape (n, B): one
+    read of each block serves the B columns."""
+    batch = x.shape[1]
+    for i in range(indptr.size - 1):
+        for r in range(batch):
+            out[2 * i, r] = 0.0
+            out[2 * i + 1, r] = 0.0
+        for k in range(indptr[i], indptr[i + 1]):
+            j = indices[k]
+            a00 = blocks[k, 0, 0]
+            a01 = blocks[k, 0, 1]
+            a10 = blocks[k, 1, 0]
+            a11 = blocks[k, 1, 1]
+            for r in range(batch):
+                x0 = x[2 * j, r]
+                x1 = x[2 * j + 1, r]
+                out[2 * i, r] += a00 * x0 + a01 * x1
+                out[2 * i + 1, r] += a10 * x0 + a11 * x1
+
+
+@njit(cache=True, fastmath=SAFE_FASTMATH)
+def _edge_average(edge, r, base_fn):
+    """Push the toe resultants of state r into its averaging buffer; keep the peak average."""
+    n_avg = edge.buffer.shape[2]
+    slot = edge.position[r]
+    for e in range(edge.peak.shape[1]):
+        resultant = 0.0
+        for k in range(base_fn.size):
+            resultant += edge.weights[e, k] * base_fn[k]
+        edge.sums[r, e] += resultant - edge.buffer[r, e, slot]
+        edge.buffer[r, e, slot] = resultant
+        if slot == n_avg - 1:          # resum once per lap: no drift of the running sum
+            edge.sums[r, e] = 0.0
+            for j in range(n_avg):
+                edge.sums[r, e] += edge.buffer[r, e, j]
+        average = edge.sums[r, e] / n_avg
+        if average > edge.peak[r, e]:
+            edge.peak[r, e] = average
+    edge.position[r] = (slot + 1) % n_avg
+
+
+@njit(cache=True, fastmath=SAFE_FASTMATH)
+def advance(n_steps, dt, mu, blend, stiffness, bodies, base, cracks, collars, ground_acc,
+            ground_vacc, motion, base_state, crack_states, collar_state, edge, scratch):
+    """n_steps of central differences (velocities at half steps, lumped mass) for every live
+    state of a batch (motion.alive); a state whose motion stops being finite is stopped there.
+
+    ground_acc[r, k], ground_vacc[r, k]: horizontal and vertical (upward) ground acceleration
+    (m/s^2) of state r during step k, applied as the body forces -m ug'' in x and -m vg'' in y
+    (ground frame). motion.tallies += (dissipated energy, external work); motion.energies gets
     (strain, base contact, crack contact, collar, gravity, kinetic) of the last step, all at
     time n (kinetic as m v(n-1/2) . v(n+1/2) / 2, the energy central differences conserve).
-    edge_weights (n_edges, n_base): each toe's share of every base node's normal force. The toe
-    resultants edge_weights . base_fn are averaged over the last n_avg = edge_buffer.shape[1]
-    steps (a ring buffer; edge_state = [position, running sums...]) and edge_peak[e] keeps the
-    largest average over every step, so that an impact shorter than an output interval is not
-    missed and penalty-contact chatter faster than the averaging time is not taken for stress.
-    Returns the number of steps done (< n_steps if the state stopped being finite).
+    cracks: two contact passes (empty ones for a solid column). The toe resultants are averaged
+    over the last steps and their peak kept over every step (EdgeAverage), so that an impact
+    shorter than an output interval is not missed and penalty-contact chatter faster than the
+    averaging time is not taken for stress. motion.done[r]: the steps state r did.
 
-    Per step: one pass for the body frames, one for the local displacements, the block mat-vec,
-    the contact and collar forces, and one fused pass that rotates the elastic forces back,
-    updates velocity and position and loads gravity and ground force for the next step."""
+    Per step and state: one pass for the body frames, one for the local displacements; then
+    one block mat-vec for the whole batch; then per state the contact and collar forces and one
+    fused pass that rotates the elastic forces back, updates velocity and position and loads
+    gravity and ground force for the next step."""
+    x, v, frames = motion.x, motion.v, motion.frames
+    X, mass, node_body, centroid_ref, gravity = (bodies.X, bodies.mass, bodies.node_body,
+                                                 bodies.centroid_ref, bodies.gravity)
+    u_loc, f_loc, f = scratch.u_loc, scratch.f_loc, scratch.f
+    batch = x.shape[0]
     n_nodes = node_body.size
-    has_crack = a_sl.size > 0
+    n_bodies = centroid_ref.shape[0]
     sums = np.zeros((n_bodies, 5))
     # reference positions relative to their body's centroid, and inverse masses
-    rel = np.empty_like(X)
+    rel = np.empty(2 * n_nodes)
     inv_mass = np.empty(n_nodes)
     for i in range(n_nodes):
         b = node_body[i]
         rel[2 * i] = X[2 * i] - centroid_ref[b, 0]
         rel[2 * i + 1] = X[2 * i + 1] - centroid_ref[b, 1]
         inv_mass[i] = 1.0 / mass[2 * i]
-    cos_b = np.ones(n_bodies)
-    sin_b = np.zeros(n_bodies)
-    ag = ground_acc[0]
-    av = ground_vacc[0]
-    for i in range(n_nodes):
-        f[2 * i] = gravity[2 * i] - mass[2 * i] * ag
-        f[2 * i + 1] = gravity[2 * i + 1] - mass[2 * i] * av
+    cos_b = np.ones((batch, n_bodies))
+    sin_b = np.zeros((batch, n_bodies))
+    for r in range(batch):
+        motion.done[r] = 0
+        ag = ground_acc[r, 0]
+        av = ground_vacc[r, 0]
+        for i in range(n_nodes):
+            f[r, 2 * i] = gravity[2 * i] - mass[2 * i] * ag
+            f[r, 2 * i + 1] = gravity[2 * i + 1] - mass[2 * i] * av
     for step in range(n_steps):
-        ag = ground_acc[step]
-        av = ground_vacc[step]
-        # body frames: centroid and best-fit rotation in one pass (sum m (X - C) = 0)
-        sums[:] = 0.0
-        for i in range(n_nodes):
-            b = node_body[i]
-            m = mass[2 * i]
-            xi = x[2 * i]
-            yi = x[2 * i + 1]
-            px = rel[2 * i]
-            py = rel[2 * i + 1]
-            sums[b, 0] += m
-            sums[b, 1] += m * xi
-            sums[b, 2] += m * yi
-            sums[b, 3] += m * (px * xi + py * yi)
-            sums[b, 4] += m * (px * yi - py * xi)
-        for b in range(n_bodies):
-            frames[b, 0] = sums[b, 1] / sums[b, 0]
-            frames[b, 1] = sums[b, 2] / sums[b, 0]
-            frames[b, 2] = math.atan2(sums[b, 4], sums[b, 3])
-            cos_b[b] = math.cos(frames[b, 2])
-            sin_b[b] = math.sin(frames[b, 2])
-        # local displacements, then K u_loc
-        for i in range(n_nodes):
-            b = node_body[i]
-            c = cos_b[b]
-            s = sin_b[b]
-            qx = x[2 * i] - frames[b, 0]
-            qy = x[2 * i + 1] - frames[b, 1]
-            u_loc[2 * i] = c * qx + s * qy - rel[2 * i]
-            u_loc[2 * i + 1] = -s * qx + c * qy - rel[2 * i + 1]
-        bsr_matvec(indptr, indices, blocks, u_loc, f_loc)
-        # contact and collars
-        e_base, p_base = base_contact(x, v, base_nodes, base_kn, base_kt, base_cn, mu, dt,
-                                      base_ft, f, base_fn, base_fc, blend)
-        n_avg = edge_buffer.shape[1]
-        slot = int(edge_state[0])
-        for e in range(edge_peak.size):
-            resultant = 0.0
-            for k in range(base_fn.size):
-                resultant += edge_weights[e, k] * base_fn[k]
-            edge_state[1 + e] += resultant - edge_buffer[e, slot]
-            edge_buffer[e, slot] = resultant
-            if slot == n_avg - 1:          # resum once per lap: no drift of the running sum
-                edge_state[1 + e] = 0.0
-                for j in range(n_avg):
-                    edge_state[1 + e] += edge_buffer[e, j]
-            average = edge_state[1 + e] / n_avg
-            if average > edge_peak[e]:
-                edge_peak[e] = average
-        edge_state[0] = (slot + 1) % n_avg
-        e_crack = 0.0
-        p_crack = 0.0
-        if has_crack:
-            e1, p1 = crack_contact(x, v, a_sl, a_ma, a_sign, a_kn, a_kt, a_cn, mu, dt, a_seg,
-                                   a_ft, f, a_fn, a_fc, blend)
-            e2, p2 = crack_contact(x, v, b_sl, b_ma, b_sign, b_kn, b_kt, b_cn, mu, dt, b_seg,
-                                   b_ft, f, b_fn, b_fc, blend)
-            e_crack = e1 + e2
-            p_crack = p1 + p2
-        e_collar, w_plastic = collar_forces(x, collar_nodes, collar_props, collar_out, f,
-                                            collar_state, True)
-        # fused: elastic forces back to the ground frame, update, next step's loads
-        ag_next = ground_acc[step + 1] if step + 1 < n_steps else ag
-        av_next = ground_vacc[step + 1] if step + 1 < n_steps else av
-        e_strain = 0.0
-        e_grav = 0.0
-        e_kin = 0.0
-        work = 0.0
-        vv = 0.0
-        for i in range(n_nodes):
-            b = node_body[i]
-            c = cos_b[b]
-            s = sin_b[b]
-            fx = f_loc[2 * i]
-            fy = f_loc[2 * i + 1]
-            e_strain += 0.5 * (u_loc[2 * i] * fx + u_loc[2 * i + 1] * fy)
-            m = mass[2 * i]
-            e_grav -= gravity[2 * i + 1] * (x[2 * i + 1] - X[2 * i + 1])
-            dt_m = dt * inv_mass[i]
-            vx = v[2 * i] + dt_m * (f[2 * i] - (c * fx - s * fy))
-            vy = v[2 * i + 1] + dt_m * (f[2 * i + 1] - (s * fx + c * fy))
-            # kinetic energy conserved by central differences: m v(n-1/2) . v(n+1/2) / 2
-            e_kin += 0.5 * m * (v[2 * i] * vx + v[2 * i + 1] * vy)
-            v[2 * i] = vx
-            v[2 * i + 1] = vy
-            x[2 * i] += dt * vx
-            x[2 * i + 1] += dt * vy
-            work -= m * (ag * vx + av * vy) * dt
-            vv += vx * vx + vy * vy
-            f[2 * i] = gravity[2 * i] - m * ag_next
-            f[2 * i + 1] = gravity[2 * i + 1] - m * av_next
-        tallies[0] += (p_base + p_crack) * dt + w_plastic
-        tallies[1] += work
-        energies[0] = e_strain
-        energies[1] = e_base
-        energies[2] = e_crack
-        energies[3] = e_collar
-        energies[4] = e_grav
-        energies[5] = e_kin
-        if not (math.isfinite(vv) and math.isfinite(e_strain)):
-            return step + 1
-    return n_steps
+        for r in range(batch):
+            if not motion.alive[r]:
+                continue
+            # body frames: centroid and best-fit rotation in one pass (sum m (X - C) = 0)
+            sums[:] = 0.0
+            for i in range(n_nodes):
+                b = node_body[i]
+                m = mass[2 * i]
+                xi = x[r, 2 * i]
+                yi = x[r, 2 * i + 1]
+                px = rel[2 * i]
+                py = rel[2 * i + 1]
+                sums[b, 0] += m
+                sums[b, 1] += m * xi
+                sums[b, 2] += m * yi
+                sums[b, 3] += m * (px * xi + py * yi)
+                sums[b, 4] += m * (px * yi - py * xi)
+            for b in range(n_bodies):
+                frames[r, b, 0] = sums[b, 1] / sums[b, 0]
+                frames[r, b, 1] = sums[b, 2] / sums[b, 0]
+                frames[r, b, 2] = math.atan2(sums[b, 4], sums[b, 3])
+                cos_b[r, b] = math.cos(frames[r, b, 2])
+                sin_b[r, b] = math.sin(frames[r, b, 2])
+            # local displacements (a column per state)
+            for i in range(n_nodes):
+                b = node_body[i]
+                c = cos_b[r, b]
+                s = sin_b[r, b]
+                qx = x[r, 2 * i] - frames[r, b, 0]
+                qy = x[r, 2 * i + 1] - frames[r, b, 1]
+                u_loc[2 * i, r] = c * qx + s * qy - rel[2 * i]
+                u_loc[2 * i + 1, r] = -s * qx + c * qy - rel[2 * i + 1]
+        bsr_matmat(stiffness.indptr, stiffness.indices, stiffness.blocks, u_loc, f_loc)
+        for r in range(batch):
+            if not motion.alive[r]:
+                continue
+            ag = ground_acc[r, step]
+            av = ground_vacc[r, step]
+            xr, vr, fr = x[r], v[r], f[r]
+            # contact and collars
+            e_base, p_base = base_contact(xr, vr, base.nodes, base.kn, base.kt, base.cn, mu, dt,
+                                          base_state.ft[r], fr, base_state.fn[r],
+                                          base_state.fc[r], blend)
+            _edge_average(edge, r, base_state.fn[r])
+            e_crack = 0.0
+            p_crack = 0.0
+            for p in range(2):
+                crack = cracks[p]
+                if crack.nodes.size == 0:
+                    continue
+                state = crack_states[p]
+                e1, p1 = crack_contact(xr, vr, crack.nodes, crack.masters, crack.sign,
+                                       crack.kn, crack.kt, crack.cn, mu, dt, state.seg[r],
+                                       state.ft[r], fr, state.fn[r], state.fc[r], blend)
+                e_crack += e1
+                p_crack += p1
+            e_collar, w_plastic = collar_forces(xr, collars.nodes, collars.props,
+                                                collar_state.out[r], fr,
+                                                collar_state.plastic[r], True)
+            # fused: elastic forces back to the ground frame, update, next step's loads
+            ag_next = ground_acc[r, step + 1] if step + 1 < n_steps else ag
+            av_next = ground_vacc[r, step + 1] if step + 1 < n_steps else av
+            e_strain = 0.0
+            e_grav = 0.0
+            e_kin = 0.0
+            work = 0.0
+            vv = 0.0
+            for i in range(n_nodes):
+                b = node_body[i]
+                c = cos_b[r, b]
+                s = sin_b[r, b]
+                fx = f_loc[2 * i, r]
+                fy = f_loc[2 * i + 1, r]
+                e_strain += 0.5 * (u_loc[2 * i, r] * fx + u_loc[2 * i + 1, r] * fy)
+                m = mass[2 * i]
+                e_grav -= gravity[2 * i + 1] * (xr[2 * i + 1] - X[2 * i + 1])
+                dt_m = dt * inv_mass[i]
+                vx = vr[2 * i] + dt_m * (fr[2 * i] - (c * fx - s * fy))
+                vy = vr[2 * i + 1] + dt_m * (fr[2 * i + 1] - (s * fx + c * fy))
+                # kinetic energy conserved by central differences: m v(n-1/2) . v(n+1/2) / 2
+                e_kin += 0.5 * m * (vr[2 * i] * vx + vr[2 * i + 1] * vy)
+                vr[2 * i] = vx
+                vr[2 * i + 1] = vy
+                xr[2 * i] += dt * vx
+                xr[2 * i + 1] += dt * vy
+                work -= m * (ag * vx + av * vy) * dt
+                vv += vx * vx + vy * vy
+                fr[2 * i] = gravity[2 * i] - m * ag_next
+                fr[2 * i + 1] = gravity[2 * i + 1] - m * av_next
+            motion.tallies[r, 0] += (p_base + p_crack) * dt + w_plastic
+            motion.tallies[r, 1] += work
+            energies = motion.energies[r]
+            energies[0] = e_strain
+            energies[1] = e_base
+            energies[2] = e_crack
+            energies[3] = e_collar
+            energies[4] = e_grav
+            energies[5] = e_kin
+            motion.done[r] = step + 1
+            if not (math.isfinite(vv) and math.isfinite(e_strain)):
+                motion.alive[r] = False

@@ -40,6 +40,14 @@ from .model import (Model, coincident_nodes, collar_stiffness, contact_stiffness
 
 
 EDGE_TIME = 2.5e-4   # s: default averaging time of the toe stress (see run)
+# energy balance error (relative to the energy scale, see the module) past which a run is
+# unreliable; a correct run closes to about 1e-2 (tests), undamped frictionless penalty
+# contact gains tens of per cent
+ENERGY_ERROR_LIMIT = 0.05
+REPLICAS = 8         # default size of an ensemble (run_ensemble; [run] replicas)
+# replicas start from positions moved by this fraction of the column height (standard normal
+# offsets): far below anything physical, far above the last bit of a position
+REPLICA_PERTURBATION = 1e-12
 
 
 @dataclass
@@ -97,7 +105,83 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     :func:`colonna.fem.transfer.transfer_contact`: base_ft, base_fc (tangential and filtered
     normal force per base node, N), crack_ft, crack_fc (lists, one array per crack pass).
     ``vertical``: the vertical ground acceleration (upward positive; a pulse or a record of
-    rigid.ground), applied as the body force -rho vg'' in y."""
+    rigid.ground), applied as the body force -rho vg'' in y.
+
+    One run is a batch of one: :func:`run_ensemble` runs replicas of it, :func:`run_batch`
+    other ground motions on the same model, each through the same compiled step."""
+    return run_batch(model, [ground], duration, verticals=[vertical], dt=dt, safety=safety,
+                     output_interval=output_interval, edge_length=edge_length,
+                     edge_time=edge_time, out_dirs=[out_dir], progress=progress,
+                     stop_on_overturn=stop_on_overturn, initial_velocity=initial_velocity,
+                     check_dt=check_dt, initial_tilt=initial_tilt,
+                     initial_angular_velocity=initial_angular_velocity,
+                     start_time=start_time, initial_state=initial_state,
+                     initial_contact=initial_contact)[0]
+
+
+def replica_perturbation(model: Model, replica: int,
+                         size: float = REPLICA_PERTURBATION) -> np.ndarray:
+    """The initial position offsets (m, flat, 2 per node) of ensemble replica ``replica``:
+    ``size`` x the column height x standard normal numbers seeded by the replica's number (so
+    the ensemble is reproducible); zero for replica 0, which is the unperturbed run."""
+    if replica == 0:
+        return np.zeros(model.n_dofs)
+    rng = np.random.default_rng(replica)
+    return size * model.mesh.height * rng.standard_normal(model.n_dofs)
+
+
+def run_ensemble(model: Model, ground, duration: float, replicas: int = REPLICAS, *,
+                 perturbation: float = REPLICA_PERTURBATION, out_dir=None,
+                 vertical=None, **options) -> list[FemResult]:
+    """``replicas`` runs of the model that differ only at round-off level: replica r starts
+    from the initial state of :func:`run` moved by :func:`replica_perturbation` (1e-12 of the
+    column height by default; replica 0 is the run itself). Penalty contact with friction is
+    chaotic at landings: a last-bit difference there becomes another landing, so a number that
+    depends on landings is a band over the replicas (:mod:`colonna.fem.ensemble`), not one
+    sample. The replicas advance together, one pass through the stiffness per step for all.
+
+    ``out_dir``: replica 0 writes the files of :func:`run` there, replica r its history.csv and
+    summary.json under ``out_dir/replicas/r``. ``options``: those of :func:`run`."""
+    replicas = int(replicas)
+    if replicas < 1:
+        raise InputError(f"run replicas = {replicas} must be at least 1")
+    require_range("replica perturbation (relative)", perturbation, 0.0, 1e-6,
+                  closed_low=True, closed_high=True, range_text="[0, 1e-6]")
+    out_dirs = [None] * replicas
+    if out_dir is not None:
+        out_dirs = [Path(out_dir)] + [Path(out_dir) / "replicas" / str(r)
+                                      for r in range(1, replicas)]
+    offsets = [replica_perturbation(model, r, perturbation) for r in range(replicas)]
+    return run_batch(model, [ground] * replicas, duration, verticals=[vertical] * replicas,
+                     out_dirs=out_dirs, offsets=offsets, **options)
+
+
+def run_batch(model: Model, grounds: list, duration: float, *, verticals: list | None = None,
+              out_dirs: list | None = None, offsets: list | None = None,
+              dt: float | None = None, safety: float = 0.9,
+              output_interval: float | None = None, edge_length: float | None = None,
+              edge_time: float | None = None, progress: bool = True,
+              stop_on_overturn: bool = True, initial_velocity: np.ndarray | None = None,
+              check_dt: bool = True, initial_tilt: float = 0.0,
+              initial_angular_velocity: float = 0.0, start_time: float = 0.0,
+              initial_state: tuple | None = None,
+              initial_contact: dict | None = None) -> list[FemResult]:
+    """One run of the model per ground motion in ``grounds`` (with ``verticals[k]``, None for
+    none), advanced together: the states share the model and its stable step, and each step
+    reads the stiffness once for all of them. ``offsets[k]``: initial position offsets (m,
+    flat) of state k (replicas, see :func:`run_ensemble`). A state stops on its own (overturned
+    or blown up) while the others go on. ``out_dirs[k]``: where state k writes its files (None:
+    nowhere; only the first also writes its field files). Other arguments as in :func:`run`."""
+    batch = len(grounds)
+    if batch < 1:
+        raise InputError("run_batch: no ground motion given")
+    verticals = [None] * batch if verticals is None else list(verticals)
+    out_dirs = [None] * batch if out_dirs is None else list(out_dirs)
+    if len(verticals) != batch or len(out_dirs) != batch or (
+            offsets is not None and len(offsets) != batch):
+        raise InputError(f"run_batch: {batch} ground motions but {len(verticals)} vertical "
+                         f"motions, {len(out_dirs)} output folders"
+                         + ("" if offsets is None else f", {len(offsets)} offsets"))
     require_positive("run duration (s)", duration)
     require_range("run initial_tilt (rad)", initial_tilt, -0.25 * math.pi, 0.25 * math.pi,
                   range_text="(-pi/4, pi/4)")
@@ -127,123 +211,89 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     if edge_length > body_width:
         raise InputError(f"edge_length = {edge_length:g} m is larger than the width of a body "
                          f"({body_width:g} m)")
-
-    if initial_contact is not None and initial_state is None:
-        raise InputError("run initial_contact needs initial_state (a restart)")
-    if initial_state is not None:
-        if initial_tilt != 0.0 or initial_angular_velocity != 0.0:
-            raise InputError("run: give either initial_state or initial_tilt / "
-                             "initial_angular_velocity, not both")
-        x, v = (np.array(a, dtype=float).reshape(-1) for a in initial_state)
-        if x.size != model.n_dofs or v.size != model.n_dofs:
-            raise InputError(f"run initial_state: x and v need {model.n_dofs} values each "
-                             f"(2 per node), got {x.size} and {v.size}")
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-            raise InputError("run initial_state: x and v must be finite")
-        base_ft = np.zeros(model.base_nodes.size)
-        crack_ft = [np.zeros(p[0].size) for p in model.crack_passes]
-    else:
-        u0, base_ft, crack_ft = static_state(model)
-        x = model.X + u0
-        v = np.zeros_like(x)
-    if initial_tilt != 0.0 or initial_angular_velocity != 0.0:
-        x, v = turned_about_toe(model, x, initial_tilt, initial_angular_velocity)
-        base_ft = np.zeros_like(base_ft)       # only the toe touches: its friction starts at 0
-    if initial_velocity is not None:
-        v += np.asarray(initial_velocity, dtype=float).reshape(-1)
-    n_b = mesh.n_bodies
-    frames = np.zeros((n_b, 3))
-    tallies = np.zeros(2)
-    energies = np.zeros(6)
-    u_loc = np.zeros_like(x)
-    f_loc = np.zeros_like(x)
-    f = np.zeros_like(x)
-    base_fn = np.zeros(model.base_nodes.size)
-    base_fc = np.zeros(model.base_nodes.size)
-    collar_out = np.zeros((model.collar_nodes.shape[0], 5))
-    # per collar: plastic elongation (m), accumulated plastic strain, plastic work (J)
-    collar_state = np.zeros((model.collar_nodes.shape[0], 3))
-    crack = [_crack_state(p, ft) for p, ft in zip(model.crack_passes, crack_ft)]
-    if initial_contact is not None:
-        base_ft, base_fc = _restore_contact(model, initial_contact, crack)
-        if "collar_state" in initial_contact:      # the plastic state of the collars
-            collar_state[:] = np.asarray(initial_contact["collar_state"], dtype=float)
-    while len(crack) < 2:
-        crack.append(_crack_state(None, None))
-    A = model.stiffness.tobsr(blocksize=(2, 2))
-    indptr, indices, data = (A.indptr.astype(np.int64), A.indices.astype(np.int64),
-                             np.ascontiguousarray(A.data, dtype=float))
-
-    recorder = _Recorder(model, edge_length, out_dir, max(1, int(round(edge_time / dt))))
-    ground_end = max(ground.end_time, 0.0 if vertical is None else vertical.end_time)
     if not math.isfinite(start_time):
         raise InputError(f"run start_time = {start_time!r} s must be finite")
-    t = float(start_time)
-    steps_done = 0
-    reason = "completed"
-    overturned = False
-    start = time.perf_counter()
-    # a progress bar on a terminal only (quiet in logs and under a sweep's workers)
-    bar = tqdm(total=round(duration, 6), desc="[fem]", unit="s", dynamic_ncols=True,
-               disable=not (progress and sys.stderr.isatty()),
-               bar_format="{desc} {percentage:5.1f}%|{bar}| t = {n:.3f}/{total:.3f} s "
-                          "[{elapsed}<{remaining}]")
-    energy0 = None
-    # initial forces (contact normal forces at rest) for the first record
+    start = _initial_state(model, initial_state, initial_contact, initial_tilt,
+                           initial_angular_velocity, initial_velocity)
+    state = _BatchState(model, start, batch, max(1, int(round(edge_time / dt))),
+                        edge_length)
+    if offsets is not None:
+        for r, offset in enumerate(offsets):
+            state.motion.x[r] += np.asarray(offset, dtype=float).reshape(-1)
+    recorders = [_Recorder(model, edge_length, out) for out in out_dirs]
     tau = model.contact.friction_filter
     blend = 1.0 if tau == 0.0 else min(1.0, dt / tau)
-    _advance(0, dt, x, v, model, frames, indptr, indices, data, (np.zeros(1), np.zeros(1)),
-             base_ft, base_fn,
-             base_fc, blend, crack, collar_out, collar_state, u_loc, f_loc, f, tallies,
-             energies, recorder.edge_matrix, recorder.edge_buffer, recorder.edge_state,
-             recorder.edge_peak)
-    recorder.start_edge_average(base_fn)
+    stiffness = _stiffness(model)
+    ground_end = [max(g.end_time, 0.0 if vg is None else vg.end_time)
+                  for g, vg in zip(grounds, verticals)]
+    t = float(start_time)
+    steps_done = 0
+    reasons = ["completed"] * batch
+    overturned = [False] * batch
+    energy0 = [None] * batch
+    outputs = [0] * batch
+    start_clock = time.perf_counter()
+    # a progress bar on a terminal only (quiet in logs and under a sweep's workers)
+    bar = tqdm(total=round(duration, 6), desc="[fem]" if batch == 1 else f"[fem x{batch}]",
+               unit="s", dynamic_ncols=True, disable=not (progress and sys.stderr.isatty()),
+               bar_format="{desc} {percentage:5.1f}%|{bar}| t = {n:.3f}/{total:.3f} s "
+                          "[{elapsed}<{remaining}]")
+    # the forces of the initial state (contact normal forces at rest) for the first record
+    state.evaluate(dt, blend, stiffness)
+    for r in range(batch):
+        recorders[r].start_edge_average(state, r)
+    motion = state.motion
     for k in range(n_outputs + 1):
-        row = recorder.record(t, x, v, frames, base_fn, crack, collar_out, energies, tallies,
-                              model.X, base_ft, base_fc, collar_state)
-        if energy0 is None:
-            energy0 = row["energy_total"]
-        recorder.finish_row(row, energy0)
-        state = _check(row, recorder, model, ground_end, t, stop_on_overturn)
-        if state is not None:
-            reason, overturned = state
-            break
-        if k == n_outputs:
+        for r in np.nonzero(motion.alive)[0]:
+            row = recorders[r].record(t, state, r)
+            if energy0[r] is None:
+                energy0[r] = row["energy_total"]
+            recorders[r].finish_row(row, energy0[r])
+            outputs[r] = k
+            stop = _check(row, recorders[r], ground_end[r], t, stop_on_overturn)
+            if stop is not None:
+                reasons[r], overturned[r] = stop
+                motion.alive[r] = False
+        if k == n_outputs or not motion.alive.any():
             break
         # times from the step count, not accumulated: the trajectory then does not depend on
         # how the steps are grouped into output intervals (contact stick/slip decisions amplify
         # round-off differences)
         times = start_time + dt * (steps_done + np.arange(steps_per_output))
-        acc = np.ascontiguousarray(ground.acceleration(times), dtype=float)
-        vacc = (np.zeros_like(acc) if vertical is None
-                else np.ascontiguousarray(vertical.acceleration(times), dtype=float))
-        done = _advance(steps_per_output, dt, x, v, model, frames, indptr, indices, data,
-                        (acc, vacc),
-                        base_ft, base_fn, base_fc, blend, crack, collar_out, collar_state,
-                        u_loc, f_loc, f, tallies, energies, recorder.edge_matrix,
-                        recorder.edge_buffer,
-                        recorder.edge_state, recorder.edge_peak)
-        steps_done += done
+        acc = np.array([g.acceleration(times) for g in grounds], dtype=float)
+        vacc = np.array([np.zeros_like(times) if vg is None else vg.acceleration(times)
+                         for vg in verticals], dtype=float)
+        live = motion.alive.copy()
+        state.advance(steps_per_output, dt, blend, stiffness, acc, vacc)
+        steps_done += steps_per_output
         t = start_time + steps_done * dt
-        if done < steps_per_output:
-            reason = (f"numerical blow-up at t = {t:.4g} s: the state stopped being finite "
-                      f"(dt = {dt:.3g} s too large for the contact or collar stiffness?)")
-            break
-        bar.update(min(done * dt, bar.total - bar.n))
-    wall = time.perf_counter() - start
+        for r in np.nonzero(live & (motion.done < steps_per_output))[0]:
+            t_r = start_time + (steps_done - steps_per_output + motion.done[r]) * dt
+            reasons[r] = (f"numerical blow-up at t = {t_r:.4g} s: the state stopped being "
+                          f"finite (dt = {dt:.3g} s too large for the contact or collar "
+                          "stiffness?)")
+        bar.update(min(steps_per_output * dt, bar.total - bar.n))
+    wall = time.perf_counter() - start_clock
     bar.close()
-    history = recorder.close()
-    summary = _summary(model, history, reason, overturned, dt, step, k, steps_per_output, wall,
-                       edge_length, edge_time,
-                       initial_state is None and initial_tilt == 0.0
-                       and initial_angular_velocity == 0.0 and initial_velocity is None,
-                       collar_state)
-    result = FemResult(history, summary, recorder.frames, model, recorder.velocity_frames,
-                       recorder.contact_frames)
-    if out_dir is not None:
-        from .output import write_outputs
-        write_outputs(result, Path(out_dir))
-    return result
+    static_start = (initial_state is None and initial_tilt == 0.0
+                    and initial_angular_velocity == 0.0 and initial_velocity is None)
+    results = []
+    for r, recorder in enumerate(recorders):
+        history = recorder.close()
+        summary = _summary(model, history, reasons[r], overturned[r], dt, step, outputs[r],
+                           steps_per_output, wall / batch, edge_length, edge_time, static_start,
+                           state.collars.plastic[r])
+        summary["batch_size"] = batch
+        result = FemResult(history, summary, recorder.frames, model, recorder.velocity_frames,
+                           recorder.contact_frames)
+        results.append(result)
+        if out_dirs[r] is not None:
+            from .output import write_outputs, write_summary
+            if r == 0:
+                write_outputs(result, Path(out_dirs[r]))
+            else:
+                write_summary(Path(out_dirs[r]) / "summary.json", summary)
+    return results
 
 
 def turned_about_toe(model: Model, x: np.ndarray, tilt: float, angular_velocity: float):
@@ -261,9 +311,47 @@ def turned_about_toe(model: Model, x: np.ndarray, tilt: float, angular_velocity:
     return (pivot + turned).ravel(), v.ravel()
 
 
-def _restore_contact(model, state: dict, crack: list):
-    """The base contact arrays (ft, fc) from a restart's contact state, the crack passes' set in
-    place; shapes checked."""
+def _initial_state(model: Model, initial_state, initial_contact, initial_tilt,
+                   initial_angular_velocity, initial_velocity) -> dict:
+    """The state a run starts from: x, v (flat) and the contact state (base_ft, base_fc,
+    crack_ft, crack_fc lists, collar_state), checked."""
+    if initial_contact is not None and initial_state is None:
+        raise InputError("run initial_contact needs initial_state (a restart)")
+    n_passes = len(model.crack_passes)
+    contact = {"base_fc": np.zeros(model.base_nodes.size),
+               "crack_fc": [np.zeros(p[0].size) for p in model.crack_passes],
+               "collar_state": np.zeros((model.collar_nodes.shape[0], 3))}
+    if initial_state is not None:
+        if initial_tilt != 0.0 or initial_angular_velocity != 0.0:
+            raise InputError("run: give either initial_state or initial_tilt / "
+                             "initial_angular_velocity, not both")
+        x, v = (np.array(a, dtype=float).reshape(-1) for a in initial_state)
+        if x.size != model.n_dofs or v.size != model.n_dofs:
+            raise InputError(f"run initial_state: x and v need {model.n_dofs} values each "
+                             f"(2 per node), got {x.size} and {v.size}")
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+            raise InputError("run initial_state: x and v must be finite")
+        contact["base_ft"] = np.zeros(model.base_nodes.size)
+        contact["crack_ft"] = [np.zeros(p[0].size) for p in model.crack_passes]
+    else:
+        u0, base_ft, crack_ft = static_state(model)
+        x = model.X + u0
+        v = np.zeros_like(x)
+        contact["base_ft"], contact["crack_ft"] = base_ft, list(crack_ft)
+    if initial_tilt != 0.0 or initial_angular_velocity != 0.0:
+        x, v = turned_about_toe(model, x, initial_tilt, initial_angular_velocity)
+        contact["base_ft"] = np.zeros(model.base_nodes.size)  # only the toe touches: no friction
+    if initial_velocity is not None:
+        v = v + np.asarray(initial_velocity, dtype=float).reshape(-1)
+    if initial_contact is not None:
+        contact.update(_restore_contact(model, initial_contact))
+    assert len(contact["crack_ft"]) == n_passes
+    return {"x": x, "v": v, **contact}
+
+
+def _restore_contact(model, state: dict) -> dict:
+    """A restart's contact state (base_ft, base_fc, crack_ft, crack_fc and, if given, the
+    collars' plastic state), shapes checked."""
     try:
         base = [np.array(state[key], dtype=float) for key in ("base_ft", "base_fc")]
         passes = [[np.array(a, dtype=float) for a in state[key]] for key in ("crack_ft",
@@ -276,62 +364,131 @@ def _restore_contact(model, state: dict, crack: list):
     if given != expected:
         raise InputError(f"run initial_contact: expected arrays of shapes {expected}, got "
                          f"{given}")
-    for c, ft, fc in zip(crack, *passes):
-        c["ft"][:] = ft
-        c["fc"][:] = fc
-    return base[0], base[1]
+    out = {"base_ft": base[0], "base_fc": base[1], "crack_ft": passes[0], "crack_fc": passes[1]}
+    if "collar_state" in state:      # the plastic state of the collars
+        out["collar_state"] = np.asarray(state["collar_state"], dtype=float)
+    return out
 
 
-def _crack_state(crack_pass, ft0):
-    if crack_pass is None:
+def _stiffness(model: Model) -> K.Stiffness:
+    A = model.stiffness.tobsr(blocksize=(2, 2))
+    return K.Stiffness(A.indptr.astype(np.int64), A.indices.astype(np.int64),
+                       np.ascontiguousarray(A.data, dtype=float))
+
+
+class _BatchState:
+    """The kernel's bundles (fem._kernels) for B states of one model, all from ``start``."""
+
+    def __init__(self, model: Model, start: dict, batch: int, edge_steps: int,
+                 edge_length: float):
+        self.model = model
+        n, n_base = model.n_dofs, model.base_nodes.size
+        rows = lambda a: np.ascontiguousarray(np.repeat(np.asarray(a, dtype=float)[None],  # noqa: E731
+                                                        batch, axis=0))
+        self.bodies = K.Bodies(model.X, model.mass, model.mesh.node_body, model.centroid_ref,
+                               model.gravity)
         empty_i = np.zeros(0, dtype=np.int64)
-        empty = np.zeros(0)
-        return dict(sl=empty_i, ma=np.zeros(1, dtype=np.int64), sign=1.0, kn=empty, kt=empty,
-                    cn=empty, seg=empty_i.copy(), ft=empty.copy(), fn=empty.copy(),
-                    fc=empty.copy())
-    slaves, masters, sign, kn, kt, cn = crack_pass
-    return dict(sl=slaves, ma=masters, sign=sign, kn=kn, kt=kt, cn=cn,
-                seg=np.full(slaves.size, -1, dtype=np.int64), ft=ft0.copy(),
-                fn=np.zeros(slaves.size), fc=np.zeros(slaves.size))
+        self.base = K.ContactPass(model.base_nodes, np.zeros(1, dtype=np.int64), 1.0,
+                                  model.base_kn, model.base_kt, model.base_cn)
+        passes = [K.ContactPass(sl, ma, float(sign), kn, kt, cn)
+                  for sl, ma, sign, kn, kt, cn in model.crack_passes]
+        while len(passes) < 2:
+            passes.append(K.ContactPass(empty_i, np.zeros(1, dtype=np.int64), 1.0,
+                                        np.zeros(0), np.zeros(0), np.zeros(0)))
+        self.cracks = tuple(passes)
+        self.motion = K.Motion(rows(start["x"]), rows(start["v"]),
+                               np.zeros((batch, model.mesh.n_bodies, 3)), np.zeros((batch, 2)),
+                               np.zeros((batch, 6)), np.ones(batch, dtype=np.bool_),
+                               np.zeros(batch, dtype=np.int64))
+        self.base_state = K.ContactState(np.zeros((batch, n_base), dtype=np.int64),
+                                         rows(start["base_ft"]), np.zeros((batch, n_base)),
+                                         rows(start["base_fc"]))
+        states = []
+        for p, crack in enumerate(self.cracks):
+            m = crack.nodes.size
+            ft = start["crack_ft"][p] if p < len(start["crack_ft"]) else np.zeros(0)
+            fc = start["crack_fc"][p] if p < len(start["crack_fc"]) else np.zeros(0)
+            states.append(K.ContactState(np.full((batch, m), -1, dtype=np.int64), rows(ft),
+                                         np.zeros((batch, m)), rows(fc)))
+        self.crack_states = tuple(states)
+        n_collars = model.collar_nodes.shape[0]
+        self.collars = K.CollarState(np.zeros((batch, n_collars, 5)),
+                                     rows(start["collar_state"]).reshape(batch, n_collars, 3))
+        self.collar_model = K.Collars(model.collar_nodes, model.collar_props)
+        weights = np.ascontiguousarray(np.array(list(edge_weights(model, edge_length).values())))
+        self.edge = K.EdgeAverage(weights, np.zeros((batch, weights.shape[0], edge_steps)),
+                                  np.zeros(batch, dtype=np.int64),
+                                  np.zeros((batch, weights.shape[0])),
+                                  np.zeros((batch, weights.shape[0])))
+        self.scratch = K.Scratch(np.zeros((n, batch)), np.zeros((n, batch)), np.zeros((batch, n)))
+
+    def advance(self, n_steps, dt, blend, stiffness, acc, vacc):
+        K.advance(n_steps, dt, self.model.contact.friction, blend, stiffness, self.bodies,
+                  self.base, self.cracks, self.collar_model, acc, vacc, self.motion,
+                  self.base_state, self.crack_states, self.collars, self.edge, self.scratch)
+
+    def evaluate(self, dt, blend, stiffness):
+        """The forces at the present state without moving it: one step of size 0 on copies of
+        the state, whose outputs (contact normal forces, collar forces, frames, energies) are
+        kept."""
+        copy = lambda bundle: type(bundle)(*(a.copy() if isinstance(a, np.ndarray) else a  # noqa: E731
+                                             for a in bundle))
+        motion, base, cracks = copy(self.motion), copy(self.base_state), \
+            tuple(copy(c) for c in self.crack_states)
+        collars, edge = copy(self.collars), copy(self.edge)
+        zeros = np.zeros((self.motion.x.shape[0], 1))
+        K.advance(1, 0.0, self.model.contact.friction, blend, stiffness, self.bodies,
+                  self.base, self.cracks, self.collar_model, zeros, zeros, motion, base,
+                  cracks, collars, edge, self.scratch)
+        self.motion.frames[:] = motion.frames
+        self.motion.energies[:] = motion.energies
+        self.base_state.fn[:] = base.fn
+        for mine, new in zip(self.crack_states, cracks):
+            mine.fn[:] = new.fn
+        self.collars.out[:] = collars.out
 
 
-def _advance(n, dt, x, v, model, frames, indptr, indices, data, acc, base_ft, base_fn, base_fc,
-             blend, crack, collar_out, collar_state, u_loc, f_loc, f, tallies, energies,
-             edge_weights, edge_buffer, edge_state, edge_peak):
-    """Advance n steps; n = 0 evaluates the forces at the present state without moving it (one
-    step of size 0 on copies of the state)."""
-    a, b = crack
-    if n == 0:
-        x, v, tallies = x.copy(), v.copy(), tallies.copy()
-        base_ft, base_fc = base_ft.copy(), base_fc.copy()
-        a = {key: (val.copy() if isinstance(val, np.ndarray) else val) for key, val in a.items()}
-        b = {key: (val.copy() if isinstance(val, np.ndarray) else val) for key, val in b.items()}
-        a["fn"], b["fn"] = crack[0]["fn"], crack[1]["fn"]      # outputs stay shared
-        acc, dt, steps = (np.zeros(1), np.zeros(1)), 0.0, 1
-        edge_buffer, edge_state, edge_peak = edge_buffer.copy(), edge_state.copy(), \
-            edge_peak.copy()
-        collar_state = collar_state.copy()
-    else:
-        steps = n
-    done = K.advance(steps, dt, x, v, model.X, model.mass, model.mesh.node_body,
-                     model.mesh.n_bodies, model.centroid_ref, frames, indptr, indices, data,
-                     model.gravity, acc[0], acc[1], model.base_nodes, model.base_kn, model.base_kt,
-                     model.base_cn, model.contact.friction, blend, base_ft, base_fn, base_fc,
-                     a["sl"], a["ma"], a["sign"], a["kn"], a["kt"], a["cn"], a["seg"], a["ft"],
-                     a["fn"], a["fc"], b["sl"], b["ma"], b["sign"], b["kn"], b["kt"], b["cn"],
-                     b["seg"], b["ft"], b["fn"], b["fc"], model.collar_nodes, model.collar_props,
-                     collar_out, collar_state, u_loc, f_loc, f, tallies, energies,
-                     edge_weights, edge_buffer, edge_state, edge_peak)
-    return 0 if n == 0 else done
+def _tributary_intervals(mesh):
+    """Each base node's tributary interval along the base (lo, hi), body by body."""
+    lo, hi = [], []
+    for nodes in mesh.base_nodes:
+        xs = mesh.points[0, nodes]
+        mid = 0.5 * (xs[1:] + xs[:-1])
+        lo.append(np.concatenate(([xs[0]], mid)))
+        hi.append(np.concatenate((mid, [xs[-1]])))
+    return np.concatenate(lo), np.concatenate(hi)
+
+
+def edge_weights(model: Model, edge_length: float) -> dict:
+    """Per toe (left, right and, cracked, inner_left, inner_right): each base node's share of
+    its tributary segment within ``edge_length`` of that toe, so that the toe's resultant is
+    weights . base_fn."""
+    mesh = model.mesh
+    p = mesh.points
+    base = model.base_nodes
+    xb = p[0, base]
+    trib_lo, trib_hi = _tributary_intervals(mesh)
+    weights = {}
+    corners = {"left": (xb.min(), +1), "right": (xb.max(), -1)}
+    if mesh.cracked:
+        corners["inner_left"] = (p[0, mesh.base_nodes[0]].max(), -1)
+        corners["inner_right"] = (p[0, mesh.base_nodes[1]].min(), +1)
+    for name, (x0, direction) in corners.items():
+        lo, hi = (x0, x0 + edge_length) if direction > 0 else (x0 - edge_length, x0)
+        body = 0 if name in ("left", "inner_left") else mesh.n_bodies - 1
+        same_body = mesh.node_body[base] == body
+        overlap = np.clip(np.minimum(trib_hi, hi) - np.maximum(trib_lo, lo), 0.0, None)
+        weights[name] = np.where(same_body, overlap / (trib_hi - trib_lo), 0.0)
+    return weights
 
 
 class _Recorder:
-    """Recovers the outputs at each output time and streams them to history.csv."""
+    """Recovers the outputs of one state of a batch at each output time and streams them to
+    history.csv."""
 
-    def __init__(self, model: Model, edge_length: float, out_dir, edge_steps: int):
+    def __init__(self, model: Model, edge_length: float, out_dir):
         self.model = model
         mesh = model.mesh
-        p = mesh.points
         self.rows = []
         self.frames = []
         self.velocity_frames = []
@@ -348,27 +505,8 @@ class _Recorder:
         # toes: outer corners of the column, and the crack corners of each half
         self.toe_left = mesh.base_nodes[0][0]
         self.toe_right = mesh.base_nodes[-1][-1]
-        # edge-stress weights: share of each base node's tributary segment within edge_length
-        base = model.base_nodes
-        xb = p[0, base]
-        trib_lo, trib_hi = self._tributary_intervals(mesh)
-        self.edge_weights = {}
-        corners = {"left": (xb.min(), +1), "right": (xb.max(), -1)}
-        if mesh.cracked:
-            corners["inner_left"] = (p[0, mesh.base_nodes[0]].max(), -1)
-            corners["inner_right"] = (p[0, mesh.base_nodes[1]].min(), +1)
-        for name, (x0, direction) in corners.items():
-            lo, hi = (x0, x0 + edge_length) if direction > 0 else (x0 - edge_length, x0)
-            body = 0 if name in ("left", "inner_left") else mesh.n_bodies - 1
-            same_body = mesh.node_body[base] == body
-            overlap = np.clip(np.minimum(trib_hi, hi) - np.maximum(trib_lo, lo), 0.0, None)
-            self.edge_weights[name] = np.where(same_body, overlap / (trib_hi - trib_lo), 0.0)
+        self.edge_names = list(edge_weights(model, edge_length))
         self.edge_area = edge_length * model.thickness
-        # the kernel keeps each toe resultant's peak over the steps since the last record
-        self.edge_matrix = np.ascontiguousarray(np.array(list(self.edge_weights.values())))
-        self.edge_peak = np.zeros(len(self.edge_weights))
-        self.edge_buffer = np.zeros((len(self.edge_weights), edge_steps))
-        self.edge_state = np.zeros(1 + len(self.edge_weights))
 
         self.crack_pairs = None
         if mesh.cracked:
@@ -382,19 +520,21 @@ class _Recorder:
             self.csv = open(self.csv_path.with_name("history.csv.part"), "w")
             self.pressure_path = out / "base_pressure.csv"
             self.pressure_csv = open(out / "base_pressure.csv.part", "w")
-            xb = p[0, model.base_nodes]
+            xb = mesh.points[0, model.base_nodes]
             bodies = mesh.node_body[model.base_nodes] + 1
             self.pressure_csv.write("t," + ",".join(f"p_body{b}_x={v:.6f}"
                                                     for b, v in zip(bodies, xb)) + "\n")
         self.header = None
         self.base_area = model.base_tributary * model.thickness
 
-    def start_edge_average(self, base_fn):
-        """Fill the toe resultants' averaging buffers with their values at the start."""
-        resultants = self.edge_matrix @ base_fn
-        self.edge_buffer[:] = resultants[:, None]
-        self.edge_state[0] = 0.0
-        self.edge_state[1:] = resultants * self.edge_buffer.shape[1]
+    @staticmethod
+    def start_edge_average(state, r: int):
+        """Fill state r's toe averaging buffers with the resultants at the start."""
+        edge = state.edge
+        resultants = edge.weights @ state.base_state.fn[r]
+        edge.buffer[r] = resultants[:, None]
+        edge.position[r] = 0
+        edge.sums[r] = resultants * edge.buffer.shape[2]
 
     def falling(self, row, previous) -> str | None:
         """Which part, if any, has its centre of mass beyond its outer toe and moving outward.
@@ -413,18 +553,17 @@ class _Recorder:
                 return "the right half's centre of mass"
         return None
 
-    def _tributary_intervals(self, mesh):
-        lo, hi = [], []
-        for nodes in mesh.base_nodes:
-            xs = mesh.points[0, nodes]
-            mid = 0.5 * (xs[1:] + xs[:-1])
-            lo.append(np.concatenate(([xs[0]], mid)))
-            hi.append(np.concatenate((mid, [xs[-1]])))
-        return np.concatenate(lo), np.concatenate(hi)
-
-    def record(self, t, x, v, frames, base_fn, crack, collar_out, energies, tallies, X,
-               base_ft, base_fc, collar_state):
+    def record(self, t: float, state, r: int) -> dict:
+        """The output row of state r of a batch (a _BatchState) at time t."""
         model, mesh = self.model, self.model.mesh
+        motion = state.motion
+        x, v, frames = motion.x[r], motion.v[r], motion.frames[r]
+        base_fn, base_ft, base_fc = (state.base_state.fn[r], state.base_state.ft[r],
+                                     state.base_state.fc[r])
+        collar_out, collar_state = state.collars.out[r], state.collars.plastic[r]
+        energies, tallies, X = motion.energies[r], motion.tallies[r], model.X
+        passes = [(c.ft[r], c.fn[r], c.fc[r]) for c, p in zip(state.crack_states, state.cracks)
+                  if p.nodes.size]
         theta = -frames[:, 2]
         row = {"t": t, "theta_left": theta[0], "theta_right": theta[-1]}
         for b in range(mesh.n_bodies):
@@ -439,15 +578,16 @@ class _Recorder:
         row["uplift_left"] = max(x[2 * self.toe_left + 1], 0.0)
         row["uplift_right"] = max(x[2 * self.toe_right + 1], 0.0)
         # peak over the output interval ending at t (every step of it), not a sample at t
-        for e, (name, w) in enumerate(self.edge_weights.items()):
-            peak = float(self.edge_peak[e]) if self.rows else float(w @ base_fn)
+        edge = state.edge
+        for e, name in enumerate(self.edge_names):
+            peak = float(edge.peak[r, e]) if self.rows else float(edge.weights[e] @ base_fn)
             row[f"edge_stress_{name}"] = peak / self.edge_area
-        self.edge_peak[:] = 0.0
+        edge.peak[r] = 0.0
         body_of_base = mesh.node_body[model.base_nodes]
         for b in range(mesh.n_bodies):
             row[f"base_normal_force_{b + 1}"] = float(base_fn[body_of_base == b].sum())
         if mesh.cracked:
-            row["crack_normal_force"] = float(crack[0]["fn"].sum() + crack[1]["fn"].sum())
+            row["crack_normal_force"] = float(sum(fn.sum() for _, fn, _ in passes))
             left, right = self.crack_pairs
             c, s = math.cos(frames[0, 2]), math.sin(frames[0, 2])
             d = x.reshape(-1, 2)[right] - x.reshape(-1, 2)[left]
@@ -474,10 +614,9 @@ class _Recorder:
             + energies[3]
         self.frames.append((t, (x - X).reshape(-1, 2).copy()))
         self.velocity_frames.append((t, v.reshape(-1, 2).copy()))
-        passes = [c for c in crack if c["sl"].size]
         self.contact_frames.append((t, {"base_ft": base_ft.copy(), "base_fc": base_fc.copy(),
-                                        "crack_ft": [c["ft"].copy() for c in passes],
-                                        "crack_fc": [c["fc"].copy() for c in passes],
+                                        "crack_ft": [ft.copy() for ft, _, _ in passes],
+                                        "crack_fc": [fc.copy() for _, _, fc in passes],
                                         "collar_state": collar_state.copy()}))
         if self.csv is not None:   # contact pressure along the base (Pa), one row per output
             pressure = base_fn / self.base_area
@@ -510,7 +649,7 @@ class _Recorder:
         return {k: np.array([r[k] for r in self.rows]) for k in keys}
 
 
-def _check(row, recorder, model, ground_end, t, stop_on_overturn):
+def _check(row, recorder, ground_end, t, stop_on_overturn):
     """None to go on, or (reason, overturned)."""
     thetas = [row["theta_left"], row["theta_right"]]
     # no physical motion has more kinetic energy than the column's whole potential energy
@@ -571,6 +710,8 @@ def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, 
         "crack_slip_residual": float(h["crack_slip_max"][-1]) if "crack_slip_max" in h else 0.0,
         "top_load": model.top_load,
         "energy_error_max": float(np.max(np.abs(h["energy_error"]))),
+        # past this the run is unreliable: a study stops rather than report from it
+        "energy_error_limit": ENERGY_ERROR_LIMIT,
         "dt": dt,
         "dt_critical": step.critical,
         "dt_critical_elastic": step.critical_elastic,
