@@ -286,6 +286,7 @@ def _cmd_study(args) -> dict:
 
     from ..rigid.validation import read_toml
 
+    from .output import record_inputs
     from .schema import parse_table
     from .sweeps import run_sweep_study
 
@@ -297,24 +298,28 @@ def _cmd_study(args) -> dict:
     if args.grid is not None and kind != "spectrum-crosscheck":
         raise InputError(f"--grid applies to studies of kind spectrum-crosscheck, not {kind!r}")
     out = Path(args.out)
+    force = args.force
     if kind == "cross-check":
-        summary = run_crosscheck(path, out, workers=workers, scheduler=args.scheduler)
+        summary = run_crosscheck(path, out, workers=workers, scheduler=args.scheduler,
+                                 force=force)
         short = summary["verdict"]
     elif kind == "collar-design":
         from .design_study import run_design_study
-        summary = run_design_study(path, out, workers=workers, scheduler=args.scheduler)
+        summary = run_design_study(path, out, workers=workers, scheduler=args.scheduler,
+                                   force=force)
         short = {"design_adequate": summary["design_adequate"],
                  "fem_collar_max_utilisation": summary["fem_collar_max_utilisation"]}
     elif kind == "spectrum-crosscheck":
         from .spectrum_crosscheck import parse_grid_size, run_spectrum_crosscheck
         grid = parse_grid_size(args.grid) if args.grid is not None else None
         summary = run_spectrum_crosscheck(path, out, workers=workers, scheduler=args.scheduler,
-                                          grid=grid)
+                                          grid=grid, force=force)
         short = {"agreement_fem_multibody": summary["agreement_fem_multibody"],
                  "agreement_fem_sdof": summary["agreement_fem_sdof"]}
     elif kind == "free-rocking":
         from .free_rocking import run_free_rocking
-        summary = run_free_rocking(path, out, workers=workers, scheduler=args.scheduler)
+        summary = run_free_rocking(path, out, workers=workers, scheduler=args.scheduler,
+                                   force=force)
         short = {"fem_ratio_study_stone": summary["fem_ratio_study_stone"],
                  "multibody_ratio": summary["multibody_ratio"],
                  "restitution_housner": summary["restitution_housner"]}
@@ -323,8 +328,12 @@ def _cmd_study(args) -> dict:
         summary = zhang_makris_study(out)
         short = {"boundaries_linear": summary["boundaries"]["linear"]}
     else:
-        summary = run_sweep_study(kind, path, out, workers=workers, scheduler=args.scheduler)
+        summary = run_sweep_study(kind, path, out, workers=workers, scheduler=args.scheduler,
+                                  force=force)
         short = {}
+    # the inputs on record beside the results they gave (every kind; written once it is done,
+    # so that a refused or interrupted run leaves the record of the results in out as it was)
+    record_inputs(out, path, {"grid": args.grid})
     return summary if args.json else {"report": str(out / "index.html"), **short}
 
 
@@ -413,6 +422,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=int, help="local worker processes (default: the cores)")
     p.add_argument("--grid", help="NxM: the spectrum cross-check's grid, N omega ratios by M "
                                   "amplitude ratios (overrides [grid] points)")
+    p.add_argument("--force", action="store_true",
+                   help="recompute the cases in --out saved from other inputs (another study "
+                        "file, record or colonna version) instead of refusing to run")
     p.add_argument("--json", action="store_true", help="print summary.json")
     p.set_defaults(func=_cmd_study)
 

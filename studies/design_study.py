@@ -23,7 +23,7 @@ RATIOS = np.linspace(0.05, 1.0, 39)
 
 
 def run_design_study(study_path: Path, out: Path, *, workers=None, scheduler=None,
-                     progress: bool = True) -> dict:
+                     progress: bool = True, force: bool = False) -> dict:
     study_path = Path(study_path)
     data = read_toml(study_path, "study file")
     study = from_dict(data, source=str(study_path), base=study_path.parent)   # fails early
@@ -33,6 +33,10 @@ def run_design_study(study_path: Path, out: Path, *, workers=None, scheduler=Non
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
+    # the FEM case first: a case saved from other inputs is refused before anything is written
+    base = {"study": data, "source": str(study_path), "base": str(study_path.parent.resolve())}
+    results = run_cases(fem_case, [dict(base, key="fem", kind="fem")], out, workers=workers,
+                        scheduler=scheduler, progress=progress, force=force)
     block = study.rocking_block
     collar = study.collars[0]
     a_g = peak_acceleration(study.ground)       # a pulse's amplitude or a record's peak
@@ -44,9 +48,6 @@ def run_design_study(study_path: Path, out: Path, *, workers=None, scheduler=Non
     write_csv(out / "figures" / "design_chart.csv",
               {"alpha": np.repeat(ALPHAS, RATIOS.size), "ag_over_g": np.tile(RATIOS, ALPHAS.size),
                "required_stiffness": chart.ravel()})
-    base = {"study": data, "source": str(study_path), "base": str(study_path.parent.resolve())}
-    results = run_cases(fem_case, [dict(base, key="fem", kind="fem")], out, workers=workers,
-                        scheduler=scheduler, progress=progress)
     fem = results["fem"]["summary"]
     summary = {
         "study": study.name, "kind": "collar-design",

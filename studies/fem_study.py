@@ -50,6 +50,7 @@ class FemStudy:
     toe_refinements: tuple = REFINEMENTS
     top_load: float = 0.0                     # N, on the capital
     vertical: object = None                   # vertical ground motion (rigid.ground), or None
+    replicas: int = 1                         # FEM runs as an ensemble of this many replicas
 
     @property
     def rocking_block(self) -> Block:
@@ -94,7 +95,7 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
     if mesh.file is not None:
         mesh_file = (base / mesh.file).resolve()
         if not mesh_file.is_file():
-            raise InputError(f"mesh.file = {mesh.file!r}: no such file")
+            raise InputError(f"{source}: mesh.file = {mesh.file!r}: no such file")
     study = FemStudy(
         name=spec.study.name or Path(source).stem,
         height=column.height, width=column.width,
@@ -108,9 +109,10 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
         rigid=spec.rigid.model_dump(exclude_none=True), source=source,
         edge_time=mesh.edge_time, toe_refinements=tuple(mesh.toe_refinements),
         top_load=column.top_load, initial_tilt=spec.run.initial_tilt,
-        initial_angular_velocity=spec.run.initial_angular_velocity)
-    study.ground = _ground(spec.ground, study.rocking_block, base)
-    study.vertical = _vertical(spec.ground, study.ground, base)
+        initial_angular_velocity=spec.run.initial_angular_velocity,
+        replicas=spec.run.replicas)
+    study.ground = _ground(spec.ground, study.rocking_block, base, source)
+    study.vertical = _vertical(spec.ground, study.ground, base, source)
     end = max(study.ground.end_time, 0.0 if study.vertical is None else study.vertical.end_time)
     study.duration = spec.run.duration or end + 1.5
     if (isinstance(study.ground, NoMotion) and study.initial_tilt == 0.0
@@ -120,11 +122,21 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
     return study
 
 
-def _vertical(ground: schema.Ground, horizontal, base: Path):
-    """The vertical ground motion of [ground] vertical_* (None without one)."""
+def _vertical(ground: schema.Ground, horizontal, base: Path, source: str = "study"):
+    """The vertical ground motion of [ground] vertical_* (None without one). Its peak must be
+    below g: at g the ground falls away from the column (the harmonic's amplitude is checked by
+    the schema)."""
     if ground.vertical_record is not None:
+        scale = 1.0 if ground.vertical_scale is None else ground.vertical_scale
         record = read_record(base / ground.vertical_record, g=schema.G)
-        return record.scaled(1.0 if ground.vertical_scale is None else ground.vertical_scale)
+        peak = abs(scale) * record.peak_acceleration
+        if peak >= schema.G:
+            raise InputError(
+                f"{source}: ground.vertical_record {ground.vertical_record!r} peaks at "
+                f"{record.peak_acceleration:g} m/s^2, times ground.vertical_scale = {scale:g} "
+                f"that is {peak:g} m/s^2, which lifts the column off the ground: it must be "
+                f"below g = {schema.G:g} m/s^2")
+        return record.scaled(scale)
     if ground.vertical_amplitude is None:
         return None
     period = ground.vertical_period
@@ -134,7 +146,7 @@ def _vertical(ground: schema.Ground, horizontal, base: Path):
                          ground.vertical_phase or 0.0, duration)
 
 
-def _ground(ground: schema.Ground, block: Block, base: Path):
+def _ground(ground: schema.Ground, block: Block, base: Path, source: str = "study"):
     """The horizontal ground motion; a pulse must reach the rocking half's uplift."""
     if ground.pulse == "none":
         return NoMotion()
@@ -150,8 +162,9 @@ def _ground(ground: schema.Ground, block: Block, base: Path):
     omega = (2.0 * math.pi / ground.period if ground.period is not None
              else ground.omega_ratio * block.p)
     if abs(amplitude) < uplift:
-        raise InputError(f"ground.amplitude = {amplitude:g} m/s^2 is below the uplift "
-                         f"acceleration g tan(alpha) = {uplift:g} m/s^2 of the rocking half")
+        raise InputError(f"{source}: ground.amplitude = {amplitude:g} m/s^2 is below the "
+                         f"uplift acceleration g tan(alpha) = {uplift:g} m/s^2 of the rocking "
+                         "half")
     make = sine_pulse if ground.pulse == "sine" else cosine_pulse
     return make(amplitude, omega, uplift)
 
@@ -178,11 +191,22 @@ def build(study: FemStudy):
 
 
 def run_study(study: FemStudy, out_dir=None, progress: bool = True):
-    from ..fem.solver import run
+    """The FEM run of the study (replica 0 of its ensemble alone)."""
+    return run_study_ensemble(study, out_dir, progress, replicas=1)[0]
+
+
+def run_study_ensemble(study: FemStudy, out_dir=None, progress: bool = True,
+                       replicas: int | None = None):
+    """The study's FEM run as an ensemble of ``replicas`` (default ``study.replicas``) runs
+    perturbed at round-off level (:func:`colonna.fem.solver.run_ensemble`); replica 0 is the
+    unperturbed run and writes the files of a run into ``out_dir``."""
+    from ..fem.solver import run_ensemble
 
     model = build(study)
-    return run(model, study.ground, study.duration, dt=study.dt, safety=study.safety,
-               output_interval=study.output_interval, edge_length=study.edge_length,
-               edge_time=study.edge_time, out_dir=out_dir, vertical=study.vertical,
-               progress=progress, initial_tilt=study.initial_tilt,
-               initial_angular_velocity=study.initial_angular_velocity)
+    return run_ensemble(model, study.ground, study.duration,
+                        study.replicas if replicas is None else replicas, dt=study.dt,
+                        safety=study.safety, output_interval=study.output_interval,
+                        edge_length=study.edge_length, edge_time=study.edge_time,
+                        out_dir=out_dir, vertical=study.vertical, progress=progress,
+                        initial_tilt=study.initial_tilt,
+                        initial_angular_velocity=study.initial_angular_velocity)

@@ -31,6 +31,15 @@ from .fem_study import from_dict
 from .output import finish_study, write_csv
 from .sweep import run_cases
 
+def with_defaults(data: dict) -> dict:
+    """The study file's tables with this study's own defaults: [ground] pulse = "none" and
+    [run] duration = 3 s (a copy)."""
+    data = copy.deepcopy(data)
+    data.setdefault("ground", {"pulse": "none"})
+    data.setdefault("run", {}).setdefault("duration", 3.0)
+    return data
+
+
 def rocking_alpha(study) -> float:
     """Slenderness of the body that rocks (see the module)."""
     if study.cracked and not study.collars:
@@ -72,16 +81,14 @@ def free_rocking_case(case: dict, directory: str) -> dict:
 
 
 def run_free_rocking(study_path: Path, out: Path, *, workers=None, scheduler=None,
-                     progress: bool = True) -> dict:
+                     progress: bool = True, force: bool = False) -> dict:
     study_path = Path(study_path)
     data = read_toml(study_path, "study file")
     table = schema.parse_table("free_rocking", data.get("free_rocking", {}), str(study_path))
-    base_data = {k: v for k, v in data.items() if k != "free_rocking"}
-    ground = base_data.setdefault("ground", {"pulse": "none"})
-    if ground != {"pulse": "none"}:
+    base_data = with_defaults({k: v for k, v in data.items() if k != "free_rocking"})
+    if base_data["ground"] != {"pulse": "none"}:
         raise InputError(f"{study_path}: a free-rocking study has no ground motion: "
                          "ground.pulse = 'none' (or leave [ground] out)")
-    base_data.setdefault("run", {}).setdefault("duration", 3.0)
     base_data["run"].setdefault("initial_tilt", 0.01)        # replaced per case
     study = from_dict(base_data, source=str(study_path), base=study_path.parent)  # fails early
     alpha = rocking_alpha(study)
@@ -114,7 +121,7 @@ def run_free_rocking(study_path: Path, out: Path, *, workers=None, scheduler=Non
                           mesh_size=size))
     start = time.perf_counter()
     results = run_cases(free_rocking_case, cases, out, workers=workers, scheduler=scheduler,
-                        progress=progress)
+                        progress=progress, force=force)
     housner = Block(b=1.0, h=1.0 / math.tan(alpha)).restitution_housner
     base_fem = results["fem-tilt1"]
     summary = {

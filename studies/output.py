@@ -14,10 +14,14 @@ import numpy as np
 
 
 def _atomic_write_text(path: Path, text: str) -> None:
+    _atomic_write_bytes(path, text.encode())
+
+
+def _atomic_write_bytes(path: Path, data: bytes) -> None:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".part")
-    tmp.write_text(text)
+    tmp.write_bytes(data)
     os.replace(tmp, path)
 
 
@@ -50,6 +54,32 @@ def finish_study(out: Path, summary: dict, write_report, progress: bool) -> dict
     if progress:
         print(f"[study] report: {Path(out) / 'index.html'}", file=sys.stderr, flush=True)
     return summary
+
+
+def record_inputs(out: Path, study_path: Path, options: dict | None = None) -> dict:
+    """The inputs of a study on record beside its results: ``out/study.toml``, the study file
+    byte for byte, and ``out/inputs.json``, the validated study with every default filled in
+    (:mod:`studies.schema`), the colonna version, the SHA-256 of the study file and the command
+    line ``options`` that change what is computed (given ones only). Returns inputs.json."""
+    import hashlib
+    import importlib
+    import tomllib
+
+    from . import schema
+    from .free_rocking import with_defaults
+
+    raw = Path(study_path).read_bytes()
+    data = tomllib.loads(raw.decode())
+    if data.get("study", {}).get("kind") == "free-rocking":   # its own defaults, as it runs
+        data = with_defaults(data)
+    inputs = schema.parse(data, str(study_path)).model_dump(mode="json")
+    inputs.update(study_file=Path(study_path).name,
+                  study_sha256=hashlib.sha256(raw).hexdigest(),
+                  colonna_version=importlib.import_module("colonna").__version__,
+                  options={k: v for k, v in (options or {}).items() if v is not None})
+    _atomic_write_bytes(Path(out) / "study.toml", raw)
+    write_json(Path(out) / "inputs.json", inputs)
+    return inputs
 
 
 def read_csv(path) -> dict:

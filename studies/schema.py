@@ -15,9 +15,9 @@ import math
 from typing import Annotated, Any, Literal
 
 from pydantic import (BaseModel, ConfigDict, Field, TypeAdapter, ValidationError,
-                      model_validator)
+                      field_validator, model_validator)
 
-from ..fem.solver import EDGE_TIME
+from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
 from ..rigid.collars import STEEL_E, STEEL_FY
@@ -114,8 +114,8 @@ class Ground(Table):
     time_scale: float | None = quantity("-", "Plays the record this many times as fast "
                                         "(default 1).", gt=0)
     vertical_amplitude: float | None = quantity(
-        "m/s^2", "Vertical harmonic a_v sin(2 pi t / T + phase), upward positive.",
-        gt=-10 * G, lt=10 * G)
+        "m/s^2", "Vertical harmonic a_v sin(2 pi t / T + phase), upward positive; |a_v| below "
+        "g (at g the ground falls away from the column).", gt=-G, lt=G)
     vertical_period: float | None = quantity("s", "Period T of the vertical harmonic.", gt=0)
     vertical_phase: float | None = quantity("rad", "Phase of the vertical harmonic "
                                             "(default 0).")
@@ -124,7 +124,19 @@ class Ground(Table):
                                                gt=0)
     vertical_record: str | None = Field(None, description="Vertical record file (as record), "
                                         "instead of the harmonic.")
-    vertical_scale: float | None = quantity("-", "Factor on the vertical record (default 1).")
+    vertical_scale: float | None = quantity("-", "Factor on the vertical record (default 1); "
+                                            "its peak times this factor below g.")
+
+    @field_validator("vertical_amplitude", mode="before")
+    @classmethod
+    def _on_the_ground(cls, value):
+        """|a_v| >= g: the ground falls away from the column (said in words, not as a range)."""
+        if isinstance(value, (int, float)) and not isinstance(value, bool) \
+                and math.isfinite(value) and abs(value) >= G:
+            size = "it" if value > 0 else "its size"
+            raise ValueError(f"ground.vertical_amplitude = {value:g} m/s^2 lifts the column off "
+                             f"the ground: {size} must be below g = {G:g} m/s^2")
+        return value
 
     @model_validator(mode="after")
     def _consistent(self):
@@ -215,6 +227,11 @@ class Run(Table):
                                    0.0, gt=-math.pi / 4, lt=math.pi / 4)
     initial_angular_velocity: float = quantity("rad/s", "Initial angular velocity about that "
                                                "toe.", 0.0)
+    replicas: int = quantity("-", "Replicas of each FEM run whose initial positions differ by "
+                             "1e-12 of the column height: landing-dependent numbers are reported "
+                             "as median and range over them (the contact is chaotic at "
+                             "landings). The spectrum cross-check's grid points run one each "
+                             "unless set.", REPLICAS, ge=1, le=64)
 
 
 class Rigid(Table):

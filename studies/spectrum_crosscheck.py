@@ -118,7 +118,8 @@ def _mode(overturned: bool, impacts: int) -> str:
 
 
 def run_spectrum_crosscheck(study_path: Path, out: Path, *, workers=None, scheduler=None,
-                            grid: tuple[int, int] | None = None, progress: bool = True) -> dict:
+                            grid: tuple[int, int] | None = None, progress: bool = True,
+                            force: bool = False) -> dict:
     """Run (or resume) the grid of a spectrum cross-check study and write its report."""
     study_path = Path(study_path)
     data = read_toml(study_path, "study file")
@@ -168,7 +169,7 @@ def run_spectrum_crosscheck(study_path: Path, out: Path, *, workers=None, schedu
                           "amplitude_ratio": float(a), "row": i, "column": j})
     start = time.perf_counter()
     results = run_cases(grid_point_case, cases, out, workers=workers, scheduler=scheduler,
-                        progress=progress)
+                        progress=progress, force=force)
     summary = assemble_summary(study, omegas, amplitudes, cases, results)
     summary["x_axis"] = "time_scale" if kind == "record" else "omega_ratio"
     if kind == "record":

@@ -3,14 +3,21 @@
 Local processes by default (``concurrent.futures``), or an existing Dask distributed cluster
 (``scheduler="tcp://..."``). Each case is a plain dict with a unique ``key``; its result (a
 JSON-safe dict) is written atomically to ``<out>/cases/<key>/result.json`` the moment it
-arrives. A rerun loads the cases already done and runs only the rest, so an interrupted sweep
-loses nothing and finishes with the same results.
+arrives, with ``inputs.json`` beside it: the hash of what it was computed from (the case dict,
+the bytes of the files it reads, the colonna version) and those inputs themselves. A rerun loads
+the cases already done from the same inputs and runs only the rest, so an interrupted sweep
+loses nothing and finishes with the same results. A case saved from other inputs (or without a
+record of them) is never reused: the run is refused before any computation, naming the first
+difference, unless ``force`` deletes such cases and computes them again.
 """
 
 from __future__ import annotations
 
+import hashlib
+import importlib
 import json
 import os
+import shutil
 import sys
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
@@ -18,7 +25,18 @@ from typing import Callable
 
 from tqdm import tqdm
 
-from .output import write_json
+from ..rigid.validation import InputError
+from .output import _plain, write_json
+
+# case keys that do not change what a case computes (left out of its inputs): how it reports
+# progress, and where the study file was (the files it names are hashed by their bytes); and
+# the keys of a study dict's [study] table that only name it
+NOT_INPUTS = ("progress", "source", "base")
+NOT_STUDY_INPUTS = ("name", "description")
+# the files a case's study dict may name, relative to the case's "base" (key path: what it is)
+INPUT_FILES = {("ground", "record"): "record file",
+               ("ground", "vertical_record"): "vertical record file",
+               ("mesh", "file"): "mesh file"}
 
 
 def case_dir(out: Path, key: str) -> Path:
@@ -32,15 +50,152 @@ def load_done(out: Path, key: str) -> dict | None:
     return None
 
 
+def colonna_version() -> str:
+    return importlib.import_module("colonna").__version__
+
+
+def canonical_json(data) -> str:
+    """One text for one value: sorted keys, no spaces (what is hashed)."""
+    return json.dumps(_plain(data), sort_keys=True, separators=(",", ":"), default=str)
+
+
+def case_inputs(case: dict, file_hashes: dict | None = None) -> dict:
+    """What a case is computed from: the case dict without :data:`NOT_INPUTS` (nor the name
+    and description of its study dicts), the SHA-256 of each file its study dicts name
+    (resolved against ``case["base"]``; None for a missing file), and the colonna version.
+    ``file_hashes``: a cache by resolved path."""
+    file_hashes = {} if file_hashes is None else file_hashes
+    files = {}
+    base = Path(case.get("base", "."))
+    for name in ("study", "ground_study"):
+        study = case.get(name)
+        if not isinstance(study, dict):
+            continue
+        for table, key in INPUT_FILES:
+            given = (study.get(table) or {}).get(key)
+            if given is None:
+                continue
+            path = (base / str(given)).resolve()
+            if path not in file_hashes:
+                file_hashes[path] = (hashlib.sha256(path.read_bytes()).hexdigest()
+                                     if path.is_file() else None)
+            files[f"{name}.{table}.{key}"] = {"path": str(given), "sha256": file_hashes[path]}
+    kept = {k: v for k, v in case.items() if k not in NOT_INPUTS}
+    for name in ("study", "ground_study"):
+        if isinstance(kept.get(name), dict) and isinstance(kept[name].get("study"), dict):
+            kept[name] = {**kept[name], "study": {k: v for k, v in kept[name]["study"].items()
+                                                  if k not in NOT_STUDY_INPUTS}}
+    return {"case": json.loads(canonical_json(kept)), "files": files,
+            "colonna_version": colonna_version()}
+
+
+def inputs_hash(inputs: dict) -> str:
+    return hashlib.sha256(canonical_json(inputs).encode()).hexdigest()
+
+
+def _load_inputs(out: Path, key: str) -> dict | None:
+    try:
+        saved = json.loads((case_dir(out, key) / "inputs.json").read_text())
+    except (OSError, ValueError):
+        return None
+    return saved if isinstance(saved, dict) and "sha256" in saved else None
+
+
+def _value_text(value, missing: bool) -> str:
+    if missing:
+        return "(not given)"
+    text = json.dumps(value, sort_keys=True, default=str)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _first_difference(old, new, path: str = "") -> str | None:
+    """The first key path where two JSON values differ, as 'path: old -> new' (list items
+    counted from 1, as collar[2] in a study file)."""
+    if isinstance(old, dict) and isinstance(new, dict):
+        for key in sorted(set(old) | set(new)):
+            where = f"{path}.{key}" if path else str(key)
+            if key not in old or key not in new:
+                return (f"{where}: {_value_text(old.get(key), key not in old)} -> "
+                        f"{_value_text(new.get(key), key not in new)}")
+            found = _first_difference(old[key], new[key], where)
+            if found:
+                return found
+        return None
+    if isinstance(old, list) and isinstance(new, list) and len(old) == len(new):
+        for i, (a, b) in enumerate(zip(old, new)):
+            found = _first_difference(a, b, f"{path}[{i + 1}]")
+            if found:
+                return found
+        return None
+    if old != new or type(old) is not type(new):
+        return f"{path}: {_value_text(old, False)} -> {_value_text(new, False)}"
+    return None
+
+
+def describe_difference(old: dict, new: dict) -> str:
+    """The first difference between the saved inputs of a case and the present ones, in
+    words: a key path of the case, a changed file, or the colonna version."""
+    old_case, new_case = old.get("case", {}), new["case"]
+    found = (_first_difference(old_case.get("study"), new_case.get("study"), "study")
+             or _first_difference(old_case, new_case))
+    if found:
+        return found
+    old_files = old.get("files", {})
+    for where, file in new["files"].items():
+        before = old_files.get(where)
+        if before is None or before.get("sha256") != file["sha256"]:
+            what = INPUT_FILES[tuple(where.split(".")[1:])]
+            return f"{what} {file['path']} changed"
+    for where in old_files:
+        if where not in new["files"]:
+            return f"{where}: {old_files[where].get('path')} -> (not given)"
+    if old.get("colonna_version") != new["colonna_version"]:
+        return f"colonna version {old.get('colonna_version')} -> {new['colonna_version']}"
+    return "the inputs differ"
+
+
+def stale_cases(cases: list[dict], out: Path, inputs: dict) -> dict:
+    """Cases of ``out`` saved (result.json) from other inputs than ``inputs`` (by key), or
+    without a record of them: key -> what is wrong with it, in words (the first difference)."""
+    stale = {}
+    for case in cases:
+        key = case["key"]
+        if not (case_dir(out, key) / "result.json").is_file():
+            continue
+        saved = _load_inputs(out, key)
+        if saved is None:
+            stale[key] = ("has no record of the inputs it was computed from (an older colonna "
+                          "saved it)")
+        elif saved["sha256"] != inputs_hash(inputs[key]):
+            stale[key] = ("was computed from other inputs ("
+                          + describe_difference(saved.get("inputs", {}), inputs[key]) + ")")
+    return stale
+
+
 def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Path, *,
               workers: int | None = None, scheduler: str | None = None,
-              progress: bool = True) -> dict:
+              progress: bool = True, force: bool = False) -> dict:
     """Results keyed by case key. ``function(case, case_directory)`` runs one case in a worker
-    and returns its result; it may write files into its case directory."""
+    and returns its result; it may write files into its case directory.
+
+    A saved case is reused only when it was computed from the same inputs
+    (:func:`case_inputs`). One saved from other inputs is an :class:`InputError` naming the
+    first difference, before anything runs; ``force``: such cases are deleted and run again."""
     out = Path(out)
     keys = [c["key"] for c in cases]
     if len(set(keys)) != len(keys):
         raise ValueError("case keys must be unique")
+    file_hashes = {}
+    inputs = {c["key"]: case_inputs(c, file_hashes) for c in cases}
+    stale = stale_cases(cases, out, inputs)
+    if stale and not force:
+        key, why = next(iter(stale.items()))
+        n = len(stale) - 1
+        more = f" (and {n} more case{'s' if n > 1 else ''})" if n else ""
+        raise InputError(f"{case_dir(out, key)} {why}{more}: pass --force to delete and "
+                         f"recompute {'them' if n else 'it'}, or choose another --out")
+    for key in stale:
+        shutil.rmtree(case_dir(out, key))
     results = {}
     todo = []
     for case in cases:
@@ -58,7 +213,10 @@ def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Pat
                disable=not (progress and sys.stderr.isatty()), dynamic_ncols=True)
 
     def finish(case, result):
-        write_json(case_dir(out, case["key"]) / "result.json", result)
+        key = case["key"]
+        write_json(case_dir(out, key) / "inputs.json",       # first: a result has its inputs
+                   {"sha256": inputs_hash(inputs[key]), "inputs": inputs[key]})
+        write_json(case_dir(out, key) / "result.json", result)
         results[case["key"]] = result
         bar.set_postfix_str(case["key"], refresh=False)
         bar.update(1)

@@ -49,7 +49,7 @@ def mesh_sizes(data: dict, study) -> list[float]:
 
 
 def run_sweep_study(kind: str, study_path: Path, out: Path, *, workers=None, scheduler=None,
-                    progress: bool = True) -> dict:
+                    progress: bool = True, force: bool = False) -> dict:
     study_path = Path(study_path)
     data = read_toml(study_path, "study file")
     study = from_dict(data, source=str(study_path), base=study_path.parent)   # fails early
@@ -65,7 +65,7 @@ def run_sweep_study(kind: str, study_path: Path, out: Path, *, workers=None, sch
             cases.append(dict(_base(data, study_path), study=variant, key=f"mesh-{k + 1}",
                               kind="fem", size=size))
         results = run_cases(_runner, cases, out, workers=workers, scheduler=scheduler,
-                            progress=progress)
+                            progress=progress, force=force)
         summary = _convergence_summary(study, cases, results)
     else:
         out.mkdir(parents=True, exist_ok=True)
@@ -81,7 +81,7 @@ def run_sweep_study(kind: str, study_path: Path, out: Path, *, workers=None, sch
                 cases.append(dict(_base(data, study_path), study=variant, ground_study=data,
                                   key=f"{name}-{kind_}", kind=kind_, variant=name))
         results = run_cases(_runner, cases, out, workers=workers, scheduler=scheduler,
-                            progress=progress)
+                            progress=progress, force=force)
         summary = _variants_summary(study, variants, results)
     summary["wall_seconds"] = time.perf_counter() - start
     summary["kind"] = kind

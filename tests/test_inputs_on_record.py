@@ -1,0 +1,284 @@
+"""Results keyed by their inputs, and the inputs on record.
+
+Every saved case carries the hash of what it was computed from (the case dict, the bytes of the
+files it reads, the colonna version): it is reused only when that is identical, and a study
+rerun into an --out computed from other inputs is refused before any work, naming the first
+difference, unless --force. ``colonna study --out DIR`` also writes DIR/study.toml (the file as
+given) and DIR/inputs.json (the validated study with its defaults, the version, the file's
+SHA-256). And a vertical ground acceleration that lifts the column off the ground is an error.
+"""
+
+import hashlib
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+import tomllib
+
+import colonna
+from colonna.fem.toe_stress import REFINEMENTS
+from colonna.rigid.validation import InputError
+from colonna.studies import sweep
+from colonna.studies.cli import main, resolve_study
+from colonna.studies.fem_study import from_dict
+from colonna.studies.output import record_inputs
+from tiny_study import TINY_STUDY
+
+# the smallest study there is: one short FEM run of the tiny column (a collar-design study)
+DESIGN = TINY_STUDY.format(amplitude_ratio=2.5, duration=0.1).replace(
+    'name = "tiny"', 'name = "tiny"\nkind = "collar-design"')
+RECORD = Path(__file__).parent / "data" / "synthetic.AT2"
+
+
+def _files(out: Path) -> dict:
+    """Every file under ``out`` with its bytes and modification time."""
+    return {p.relative_to(out): (p.read_bytes(), p.stat().st_mtime_ns)
+            for p in sorted(out.rglob("*")) if p.is_file()}
+
+
+@pytest.fixture(scope="module")
+def design_run(tmp_path_factory):
+    """The tiny collar-design study run once; each test copies its --out."""
+    root = tmp_path_factory.mktemp("design")
+    study = root / "design.toml"
+    study.write_text(DESIGN)
+    assert main(["study", str(study), "--out", str(root / "out"), "--workers", "1"]) == 0
+    return root / "out"
+
+
+@pytest.fixture
+def copied(design_run, tmp_path):
+    """(study file, out) in a fresh place: a copy of the run (times kept) and of its study."""
+    out = tmp_path / "out"
+    shutil.copytree(design_run, out)
+    study = tmp_path / "design.toml"
+    study.write_text(DESIGN)
+    return study, out
+
+
+def test_edited_study_is_refused_and_force_recomputes_it(copied, capsys):
+    study, out = copied
+    before = _files(out)
+    old = json.loads((out / "summary.json").read_text())
+    study.write_text(DESIGN.replace("amplitude_ratio = 2.5", "amplitude_ratio = 3.0"))
+    capsys.readouterr()
+    assert main(["study", str(study), "--out", str(out), "--workers", "1"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1
+    assert err.startswith("colonna: error: ")
+    assert str(Path("cases") / "fem") in err
+    assert "study.ground.amplitude_ratio: 2.5 -> 3.0" in err
+    assert "--force" in err and "another --out" in err
+    assert _files(out) == before                       # nothing was written, nothing lost
+
+    assert main(["study", str(study), "--out", str(out), "--workers", "1", "--force",
+                 "--json"]) == 0
+    new = json.loads(capsys.readouterr().out)
+    assert json.loads((out / "summary.json").read_text()) == new
+    # the design pulse peak is the amplitude ratio times the uplift acceleration
+    assert new["design_ag_over_g"] == pytest.approx(old["design_ag_over_g"] * 3.0 / 2.5)
+    assert new["fem_collar_max_utilisation"] != old["fem_collar_max_utilisation"]
+    saved = json.loads((out / "cases" / "fem" / "inputs.json").read_text())
+    assert saved["inputs"]["case"]["study"]["ground"]["amplitude_ratio"] == 3.0
+    assert json.loads((out / "inputs.json").read_text())["ground"]["amplitude_ratio"] == 3.0
+    assert (out / "study.toml").read_bytes() == study.read_bytes()
+
+
+def test_unchanged_rerun_reuses_the_saved_case(copied, monkeypatch):
+    study, out = copied
+    result = out / "cases" / "fem" / "result.json"
+    mtime, text = result.stat().st_mtime_ns, result.read_text()
+
+    def must_not_run(case, directory):
+        raise AssertionError(f"case {case['key']} recomputed")
+
+    monkeypatch.setattr("colonna.studies.design_study.fem_case", must_not_run)
+    assert main(["study", str(study), "--out", str(out), "--workers", "1"]) == 0
+    assert result.stat().st_mtime_ns == mtime and result.read_text() == text
+
+
+def test_changed_record_file_is_detected(tmp_path, capsys):
+    record = tmp_path / "quake.AT2"
+    shutil.copyfile(RECORD, record)
+    study = tmp_path / "record.toml"
+    study.write_text(DESIGN.replace("amplitude_ratio = 2.5\nomega_ratio = 3.0\n",
+                                    'pulse = "record"\nrecord = "quake.AT2"\nscale = 2.0\n'))
+    out = tmp_path / "out"
+    assert main(["study", str(study), "--out", str(out), "--workers", "1"]) == 0
+    before = _files(out)
+    # the same record, one sample changed: the study file itself is as it was
+    lines = record.read_text().splitlines(keepends=True)
+    lines[4] = lines[4].replace("4.2846362E-05", "4.2846363E-05", 1)
+    assert "".join(lines) != RECORD.read_text()
+    record.write_text("".join(lines))
+    capsys.readouterr()
+    assert main(["study", str(study), "--out", str(out), "--workers", "1"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "record file quake.AT2 changed" in err
+    assert _files(out) == before
+
+
+def test_study_and_its_resolved_inputs_are_on_record(design_run):
+    out = design_run
+    assert (out / "study.toml").read_text() == DESIGN
+    inputs = json.loads((out / "inputs.json").read_text())
+    assert inputs["colonna_version"] == colonna.__version__
+    assert inputs["study_sha256"] == hashlib.sha256(DESIGN.encode()).hexdigest()
+    assert inputs["study"]["kind"] == "collar-design"
+    # every default filled in: keys the file does not give
+    assert inputs["stone"] == {"E": 50e9, "nu": 0.2, "density": 2700.0, "fc": 110e6}
+    assert inputs["collar"][0]["E"] == 206e9 and inputs["collar"][0]["fy"] == 235e6
+    assert inputs["contact"]["friction"] == 0.7
+    assert inputs["mesh"]["toe_refinements"] == list(REFINEMENTS)
+    assert inputs["ground"] == {**inputs["ground"], "pulse": "sine", "amplitude_ratio": 2.5}
+
+
+def test_a_shipped_study_is_recorded_as_shipped(tmp_path):
+    path = resolve_study("free-rocking")
+    inputs = record_inputs(tmp_path, path)
+    assert (tmp_path / "study.toml").read_bytes() == path.read_bytes()
+    assert json.loads((tmp_path / "inputs.json").read_text()) == inputs
+    assert inputs["ground"]["pulse"] == "none" and inputs["run"]["duration"] == 3.0
+    assert inputs["free_rocking"]["tilt_fractions"] == [0.3, 0.6]
+
+
+# --- run_cases on its own: cheap cases ----------------------------------------------------------
+
+def _square(case, directory):
+    return {"value": case["x"] ** 2}
+
+
+def _cases(tmp_path, x=3.0, **study):
+    return [{"key": "one", "x": x, "study": study, "base": str(tmp_path), "source": "s.toml",
+             "progress": True},
+            {"key": "two", "x": 2 * x, "study": study, "base": str(tmp_path),
+             "source": "s.toml"}]
+
+
+@pytest.mark.parametrize("table, key, what", [("ground", "record", "record file"),
+                                              ("ground", "vertical_record",
+                                               "vertical record file"),
+                                              ("mesh", "file", "mesh file")])
+def test_a_changed_input_file_is_named(tmp_path, table, key, what):
+    (tmp_path / "input.txt").write_text("0 0\n1 1\n")
+    cases = _cases(tmp_path, **{table: {key: "input.txt"}})
+    assert sweep.run_cases(_square, cases, tmp_path / "out", progress=False)["one"] == {
+        "value": 9.0}
+    (tmp_path / "input.txt").write_text("0 0\n1 2\n")
+    with pytest.raises(InputError, match=f"{what} input.txt changed") as raised:
+        sweep.run_cases(_square, cases, tmp_path / "out", progress=False)
+    assert "and 1 more case" in str(raised.value)
+
+
+def test_what_does_not_change_the_computation_is_not_an_input(tmp_path):
+    """Progress reporting, where the study file was and the study's name and description do
+    not change what a case computes; its kind does."""
+    calls = []
+
+    def counted(case, directory):
+        calls.append(case["key"])
+        return _square(case, directory)
+
+    named = {"name": "a", "kind": "cross-check"}
+    sweep.run_cases(counted, _cases(tmp_path, study=named), tmp_path / "out", progress=False)
+    renamed = {"name": "b", "description": "now described", "kind": "cross-check"}
+    moved = [dict(c, base=str(tmp_path / "elsewhere"), source="t.toml", progress=False)
+             for c in _cases(tmp_path, study=renamed)]
+    sweep.run_cases(counted, moved, tmp_path / "out", progress=False)
+    assert calls == ["one", "two"]
+    with pytest.raises(InputError, match='study.study.kind: "cross-check" -> "free-rocking"'):
+        sweep.run_cases(counted, _cases(tmp_path, study={**named, "kind": "free-rocking"}),
+                        tmp_path / "out", progress=False)
+
+
+def test_another_version_is_named_and_nothing_runs_before_the_refusal(tmp_path, monkeypatch):
+    out = tmp_path / "out"
+    sweep.run_cases(_square, _cases(tmp_path)[:1], out, progress=False)
+    before = colonna.__version__
+    monkeypatch.setattr(colonna, "__version__", "99.0")
+    calls = []
+
+    def counted(case, directory):
+        calls.append(case["key"])
+        return _square(case, directory)
+
+    with pytest.raises(InputError) as raised:
+        sweep.run_cases(counted, _cases(tmp_path), out, progress=False)
+    message = str(raised.value)
+    assert f"colonna version {before} -> 99.0" in message
+    assert str(out / "cases" / "one") in message and "\n" not in message
+    assert calls == [] and not (out / "cases" / "two").exists()
+    results = sweep.run_cases(counted, _cases(tmp_path), out, progress=False, force=True)
+    assert sorted(calls) == ["one", "two"] and results["one"] == {"value": 9.0}
+    saved = json.loads((out / "cases" / "one" / "inputs.json").read_text())
+    assert saved["inputs"]["colonna_version"] == "99.0"
+
+
+def test_a_case_without_a_record_of_its_inputs_is_refused_then_forced(tmp_path):
+    out = tmp_path / "out"
+    sweep.run_cases(_square, _cases(tmp_path), out, progress=False)
+    (out / "cases" / "one" / "inputs.json").unlink()         # as an older colonna left it
+    (out / "cases" / "one" / "old.csv").write_text("stale")
+    with pytest.raises(InputError, match="one has no record of the inputs"):
+        sweep.run_cases(_square, _cases(tmp_path), out, progress=False)
+    sweep.run_cases(_square, _cases(tmp_path), out, progress=False, force=True)
+    assert not (out / "cases" / "one" / "old.csv").exists()   # the stale case was deleted
+    assert (out / "cases" / "one" / "inputs.json").is_file()
+
+
+def test_an_interrupted_case_is_computed_again_and_a_done_one_kept(tmp_path):
+    out = tmp_path / "out"
+    sweep.run_cases(_square, _cases(tmp_path), out, progress=False)
+    (out / "cases" / "two" / "result.json").unlink()          # killed before it finished
+    kept = (out / "cases" / "one" / "result.json").stat().st_mtime_ns
+    calls = []
+
+    def counted(case, directory):
+        calls.append(case["key"])
+        return _square(case, directory)
+
+    results = sweep.run_cases(counted, _cases(tmp_path), out, progress=False)
+    assert calls == ["two"] and results["two"] == {"value": 36.0}
+    assert (out / "cases" / "one" / "result.json").stat().st_mtime_ns == kept
+
+
+# --- a vertical acceleration that lifts the column off the ground ------------------------------
+
+def test_vertical_amplitude_of_g_or_more_is_an_error(tmp_path, capsys):
+    study = tmp_path / "study.toml"
+    study.write_text(DESIGN.replace("omega_ratio = 3.0",
+                                    "omega_ratio = 3.0\nvertical_amplitude = 12.0\n"
+                                    "vertical_period = 0.2"))
+    assert main(["study", str(study), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.strip() == (f"colonna: error: {study}: ground.vertical_amplitude = 12 m/s^2 lifts "
+                           "the column off the ground: it must be below g = 9.81 m/s^2")
+    assert not (tmp_path / "out").exists()
+    below = DESIGN.replace("omega_ratio = 3.0", "omega_ratio = 3.0\nvertical_amplitude = -9.8\n"
+                           "vertical_period = 0.2")
+    assert from_dict(tomllib.loads(below)).vertical.amplitude == -9.8
+
+
+@pytest.mark.parametrize("scale, lifts", [(1.9, False), (2.1, True)])
+def test_vertical_record_reaching_g_is_an_error(tmp_path, scale, lifts):
+    (tmp_path / "up.txt").write_text("0 0\n0.1 5.0\n0.2 -3.0\n0.3 0\n")      # peak 5 m/s^2
+    text = DESIGN.replace("omega_ratio = 3.0", "omega_ratio = 3.0\nvertical_record = "
+                          f'"up.txt"\nvertical_scale = {scale}')
+    data = tomllib.loads(text)
+    if not lifts:
+        assert from_dict(data, "s.toml", base=tmp_path).vertical.peak_acceleration == \
+            pytest.approx(5.0 * scale)
+        return
+    with pytest.raises(InputError) as raised:
+        from_dict(data, "s.toml", base=tmp_path)
+    message = str(raised.value)
+    assert message.startswith("s.toml: ground.vertical_record 'up.txt'")
+    assert "lifts the column off the ground" in message and "below g = 9.81 m/s^2" in message
+
+
+def test_a_pulse_below_uplift_names_its_file():
+    data = tomllib.loads(DESIGN.replace("amplitude_ratio = 2.5", "amplitude = 0.1"))
+    with pytest.raises(InputError, match=r"^s\.toml: ground\.amplitude = 0\.1 m/s\^2 is below "
+                                         r"the uplift acceleration"):
+        from_dict(data, "s.toml")
