@@ -24,7 +24,8 @@ from pathlib import Path
 import numpy as np
 
 from ..rigid.ground import HarmonicPulse, NoMotion
-from ..rigid.impacts import half_cycles, impact_ratios_from_fit
+from ..fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide, decide_count
+from ..rigid.impacts import half_cycles, impact_ratios_from_peaks
 from ..rigid.solve import rock
 from ..rigid.spectrum import overturning_spectrum
 
@@ -52,21 +53,80 @@ def _study_from_case(case):
 
 
 def fem_case(case: dict, directory: str) -> dict:
-    from .fem_study import run_study
+    """The study's FEM run as an ensemble of replicas (``case["replicas"]``, default the study's
+    ``[run] replicas``): ``summary`` is :func:`colonna.fem.ensemble.ensemble_summary` of the
+    replicas' (landing-dependent numbers as median and band), ``replica_summaries`` each
+    replica's own; with ``toe_refinement`` the toe stress is refined over the landing of the
+    replica whose toe stress is the median."""
+    from ..fem.ensemble import ensemble_summary, median_replica
+    from .fem_study import run_study_ensemble
     study = _study_from_case(case)
-    result = run_study(study, out_dir=directory, progress=case.get("progress", False))
-    h = result.history
-    restitution = effective_restitution(h["t"], h["theta_left"])
-    slip = float(np.max(h["crack_slip_max"])) if "crack_slip_max" in h else 0.0
-    out = {"summary": result.summary, "effective_restitution": restitution,
-           "crack_slip_max": slip}
+    replicas = run_study_ensemble(study, out_dir=directory, progress=case.get("progress", False),
+                                  replicas=case.get("replicas"))
+    summaries = [fem_run_summary(study, r) for r in replicas]
+    summary = ensemble_summary(summaries, FEM_BANDED)
+    out = {"summary": summary, "replica_summaries": summaries,
+           "crack_slip_max": summary["crack_slip_max"]}
     if case.get("toe_refinement") and study.mesh_file is None and study.toe_refinements:
         from ..fem.toe_stress import toe_stress_refinement
         from .fem_study import toe_mesh
+        m = median_replica([s["edge_stress_max"] for s in summaries])
         out["toe_refinement"] = toe_stress_refinement(
-            result, study.ground, lambda r: toe_mesh(study, r), study.toe_refinements,
+            replicas[m], study.ground, lambda r: toe_mesh(study, r), study.toe_refinements,
             vertical=study.vertical)
+        out["toe_refinement"]["replica"] = m
         write_json(Path(directory) / "toe_refinement.json", out["toe_refinement"])
+    return out
+
+
+# landing-dependent numbers of a FEM run, reported as bands over the replicas
+FEM_BANDED = LANDING_DEPENDENT + ("crack_slip_max", "impacts_before_pulse_end",
+                                  "restitution_after_motion")
+
+
+def rocking_alpha(study) -> float:
+    """Slenderness of the body that rocks: a half of a cracked column without collars, else the
+    whole column (collars and crack friction make the halves rock together)."""
+    if study.cracked and not study.collars:
+        return math.atan2(study.width / 4.0, study.height / 2.0)
+    return math.atan2(study.width / 2.0, study.height / 2.0)
+
+
+def impacts_before(t, thetas, t_end: float) -> int:
+    """Impacts (half cycles of the rotation) up to ``t_end``, the most of the given histories."""
+    return max(int(np.sum(t[half_cycles(th)] <= t_end)) for th in thetas)
+
+
+def restitution_after_motion(study, t, theta) -> float | None:
+    """Mean velocity ratio of the impacts after the ground motion has ended, from the rotation
+    peaks either side through the free-rocking energy (exact for free rocking; see
+    :func:`colonna.rigid.impacts.impact_ratios_from_peaks`); None without such an impact (the
+    column overturned, or came to rest, first). Under the ground motion the ground works
+    through every impact, and a ratio measured there (it can exceed 1) means nothing."""
+    end = max(study.ground.end_time,
+              0.0 if study.vertical is None else study.vertical.end_time)
+    free = np.asarray(t) >= end
+    if np.count_nonzero(free) < 3:
+        return None
+    theta_free = np.asarray(theta)[free]
+    measured = impact_ratios_from_peaks(np.asarray(t)[free], theta_free, rocking_alpha(study))
+    ratios = measured.ratios
+    # the first sample counts as a peak; it is one only if the column was swinging outward
+    if ratios.size and measured.before[0] == abs(theta_free[0]):
+        ratios = ratios[1:]
+    return float(np.mean(ratios[:5])) if ratios.size else None
+
+
+def fem_run_summary(study, result) -> dict:
+    """A FEM run's summary with what the cross-check reads from its history: the largest crack
+    slip (m), the impacts before the end of the pulse and the velocity ratio of the impacts
+    after the ground motion."""
+    h = result.history
+    out = dict(result.summary)
+    out["crack_slip_max"] = float(np.max(h["crack_slip_max"])) if "crack_slip_max" in h else 0.0
+    out["impacts_before_pulse_end"] = impacts_before(h["t"], (h["theta_left"], h["theta_right"]),
+                                                     study.ground.end_time)
+    out["restitution_after_motion"] = restitution_after_motion(study, h["t"], h["theta_left"])
     return out
 
 
@@ -103,7 +163,10 @@ def multibody_case(case: dict, directory: str) -> dict:
                             initial_tilt=study.initial_tilt,
                             initial_angular_velocity=study.initial_angular_velocity, dt=dt)
     write_csv(Path(directory) / "history.csv", history_columns(result))
-    return result.summary()
+    summary = result.summary()
+    summary["restitution_after_motion"] = restitution_after_motion(study, result.time,
+                                                                   result.theta[:, 0])
+    return summary
 
 
 def spectrum_case(case: dict, directory: str) -> dict:
@@ -132,17 +195,9 @@ def _case_runner(case: dict, directory: str) -> dict:
     return spectrum_case(case, directory)
 
 
-def effective_restitution(t, theta, window: int = 4) -> float | None:
-    """Mean velocity ratio over the first five impacts of a sampled rotation history, from
-    local fits either side of each (:func:`colonna.rigid.impacts.impact_ratios_from_fit`); None
-    when there is no clean impact. Under a pulse it is an indicator only: the ground acts
-    through the impact, and a deformable body's vibration enters the slopes."""
-    _, ratios = impact_ratios_from_fit(t, theta, window=window)
-    return float(np.mean(ratios[:5])) if ratios.size else None
-
-
 def run_crosscheck(study_path: Path, out: Path, *, workers: int | None = None,
-                   scheduler: str | None = None, progress: bool = True) -> dict:
+                   scheduler: str | None = None, progress: bool = True,
+                   force: bool = False) -> dict:
     """Run (or resume) the cross-check of a study file and write its report."""
     study_path = Path(study_path)
     data = read_toml(study_path, "study file")
@@ -172,17 +227,43 @@ def run_crosscheck(study_path: Path, out: Path, *, workers: int | None = None,
             cases.append(dict(base, study=coarse, key=f"fem-mesh-{factor}h", kind="fem"))
     start = time.perf_counter()
     results = run_cases(_case_runner, cases, out, workers=workers, scheduler=scheduler,
-                        progress=progress)
-    fem_history = read_csv(out / "cases" / "fem" / "history.csv")
-    criteria = verdict_criteria(study, results, fem_history,
+                        progress=progress, force=force)
+    check_energy(results)
+    fem_histories = replica_histories(out / "cases" / "fem", results["fem"]["summary"]["replicas"])
+    criteria = verdict_criteria(study, results, fem_histories,
                                 read_csv(out / "cases" / "multibody" / "history.csv"))
     criteria.update(step_check(criteria, verdict_criteria(
-        study, {**results, "multibody": results["multibody-fine"]}, fem_history,
+        study, {**results, "multibody": results["multibody-fine"]}, fem_histories,
         read_csv(out / "cases" / "multibody-fine" / "history.csv"))))
     summary = assemble_summary(study, results, criteria=criteria)
     summary["wall_seconds"] = time.perf_counter() - start
     from .report import write_crosscheck_report
     return finish_study(out, summary, write_crosscheck_report, progress)
+
+
+def replica_histories(directory: Path, replicas: int) -> list[dict]:
+    """The history.csv of each replica of a FEM ensemble written by :func:`fem_case`."""
+    directory = Path(directory)
+    return [read_csv(directory / "history.csv")] + [
+        read_csv(directory / "replicas" / str(r) / "history.csv") for r in range(1, replicas)]
+
+
+def check_energy(results: dict) -> None:
+    """Stop the study, with the reason, where a FEM run's energy balance failed: its numbers
+    would be those of a broken integration (the results stay in cases/ to be looked at)."""
+    for key, result in results.items():
+        summary = result.get("summary") if isinstance(result, dict) else None
+        if not summary or "energy_error_limit" not in summary:
+            continue
+        bad = [s["energy_error_max"] for s in result.get("replica_summaries", [summary])
+               if s["energy_error_max"] > s["energy_error_limit"]]
+        if bad:
+            raise InputError(
+                f"FEM case {key}: the energy balance is off by {max(bad):.3g} of the energy "
+                f"scale in {len(bad)} of {len(result.get('replica_summaries', [1]))} replicas "
+                f"(limit {summary['energy_error_limit']:g}): the run is unreliable, so no "
+                "report is written from it (a time step or contact penalty too large, or "
+                "undamped frictionless contact; see cases/" + key + "/history.csv)")
 
 
 def _peak_ratio(value: float, reference: float) -> float:
@@ -211,21 +292,56 @@ def step_check(criteria: dict, fine: dict) -> dict:
     return {"history_error_fine_step": fine["history_error_to_first_impact"],
             "history_window_end_fine_step": fine["history_window_end"],
             "fine_step_factor": FINE_STEP,
+            "history_ok_fine_step": fine["history_ok"],
             "history_step_sensitive": fine["history_ok"] != criteria["history_ok"]}
 
 
-def verdict_criteria(study, results: dict, fem_history: dict, multibody_history: dict) -> dict:
-    """The FEM against the rigid multibody model on four counts, each with its tolerance:
-    outcome; peak rotation (when neither overturns); impacts before the end of the pulse; and
-    the history error max |theta_FEM - theta_mb| / max |theta_mb| up to the first impact (of
-    the multibody model; the end of the pulse without one, or the moment it passes the whole
-    column's unstable equilibrium if that is earlier), both halves."""
-    fem, mb = results["fem"]["summary"], results["multibody"]
+def _criteria_one(study, fem: dict, fem_history: dict, mb: dict, multibody_history: dict,
+                  t_first: float) -> dict:
+    """The four counts for one FEM replica against the multibody model (booleans)."""
     t_pulse = study.ground.end_time
     mb_t = multibody_history["t"]
     names = ("left", "right") if study.cracked else ("column", "column")
     theta_mb = [multibody_history[f"theta_{n}"] for n in names]
     theta_fem = [fem_history["theta_left"], fem_history["theta_right"]]
+    window = mb_t <= t_first
+    scale = max(np.max(np.abs(th[window]), initial=0.0) for th in theta_mb)
+    errors = [np.max(np.abs(np.interp(mb_t[window], fem_history["t"], tf) - tm[window]),
+                     initial=0.0) for tf, tm in zip(theta_fem, theta_mb)]
+    history_error = float(max(errors) / scale) if scale > 0 else math.nan
+    impacts_fem = impacts_before(fem_history["t"], theta_fem, t_pulse)
+    impacts_mb = impacts_before(mb_t, theta_mb, t_pulse)
+    fem_peak = max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
+    peak_ratio = _peak_ratio(fem_peak, max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]))
+    either_over = bool(fem["overturned"]) or bool(mb["overturned"])
+    out = {"same_outcome": bool(fem["overturned"]) == bool(mb["overturned"]),
+           "peak_ratio": peak_ratio,
+           "peak_ok": either_over or abs(peak_ratio - 1.0) <= PEAK_TOLERANCE,
+           "impacts_fem": impacts_fem, "impacts_multibody": impacts_mb,
+           "impacts_ok": abs(impacts_fem - impacts_mb) <= IMPACT_TOLERANCE,
+           "history_error": history_error,
+           "history_ok": bool(history_error <= HISTORY_TOLERANCE)}
+    out["all_ok"] = all(out[k] for k in ("same_outcome", "peak_ok", "impacts_ok", "history_ok"))
+    return out
+
+
+def verdict_criteria(study, results: dict, fem_histories: list[dict],
+                     multibody_history: dict) -> dict:
+    """The FEM against the rigid multibody model on four counts, each with its tolerance:
+    outcome; peak rotation (when neither overturns); impacts before the end of the pulse; and
+    the history error max |theta_FEM - theta_mb| / max |theta_mb| up to the first impact (of
+    the multibody model; the end of the pulse without one, or the moment it passes the whole
+    column's unstable equilibrium if that is earlier), both halves.
+
+    Each count is made for every FEM replica; a count is yes where it holds in all of them, no
+    where it holds in none, undecided otherwise; the numbers are medians with their ``bands``.
+    The answer (``all_ok``) is yes where every replica passes all four counts, no where none
+    does, undecided otherwise."""
+    mb = results["multibody"]
+    t_pulse = study.ground.end_time
+    mb_t = multibody_history["t"]
+    names = ("left", "right") if study.cracked else ("column", "column")
+    theta_mb = [multibody_history[f"theta_{n}"] for n in names]
     crossings = [mb_t[half_cycles(th)] for th in theta_mb]
     firsts = [c[0] for c in crossings if c.size]
     t_first = min(firsts) if firsts else t_pulse
@@ -235,36 +351,33 @@ def verdict_criteria(study, results: dict, fem_history: dict, multibody_history:
                          > study.column_block.critical_angle())[0]
     if falling.size:
         t_first = min(t_first, float(mb_t[falling[0]]))
-    window = mb_t <= t_first
-    scale = max(np.max(np.abs(th[window]), initial=0.0) for th in theta_mb)
-    errors = [np.max(np.abs(np.interp(mb_t[window], fem_history["t"], tf) - tm[window]),
-                     initial=0.0) for tf, tm in zip(theta_fem, theta_mb)]
-    history_error = float(max(errors) / scale) if scale > 0 else math.nan
-
-    def impacts(t, thetas):
-        return max(int(np.sum(t[half_cycles(th)] <= t_pulse)) for th in thetas)
-
-    impacts_fem = impacts(fem_history["t"], theta_fem)
-    impacts_mb = impacts(mb_t, theta_mb)
-    fem_peak = max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
-    peak_ratio = _peak_ratio(fem_peak, max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]))
-    either_over = bool(fem["overturned"]) or bool(mb["overturned"])
+    fem = results["fem"]
+    summaries = fem.get("replica_summaries", [fem["summary"]])
+    per = [_criteria_one(study, s, h, mb, multibody_history, t_first)
+           for s, h in zip(summaries, fem_histories)]
+    bands = {key: band(c[key] for c in per)
+             for key in ("peak_ratio", "impacts_fem", "history_error")}
     out = {
-        "same_outcome": bool(fem["overturned"]) == bool(mb["overturned"]),
-        "peak_ratio": peak_ratio,
-        "peak_ok": either_over or abs(peak_ratio - 1.0) <= PEAK_TOLERANCE,
-        "impacts_before_pulse_end_fem": impacts_fem,
-        "impacts_before_pulse_end_multibody": impacts_mb,
-        "impacts_ok": abs(impacts_fem - impacts_mb) <= IMPACT_TOLERANCE,
-        "history_error_to_first_impact": history_error,
+        "same_outcome": decide_count(c["same_outcome"] for c in per),
+        "peak_ratio": bands["peak_ratio"]["median"],
+        "peak_ok": decide_count(c["peak_ok"] for c in per),
+        "impacts_before_pulse_end_fem": bands["impacts_fem"]["median"],
+        "impacts_before_pulse_end_multibody": per[0]["impacts_multibody"],
+        "impacts_ok": decide_count(c["impacts_ok"] for c in per),
+        "history_error_to_first_impact": bands["history_error"]["median"],
         "history_window_end": float(t_first),
-        "history_ok": bool(history_error <= HISTORY_TOLERANCE),
+        "history_ok": decide_count(c["history_ok"] for c in per),
+        "all_ok": decide_count(c["all_ok"] for c in per),
+        "replicas": len(per),
+        "bands": bands,
         "tolerances": {"peak": PEAK_TOLERANCE, "history": HISTORY_TOLERANCE,
                        "impacts": IMPACT_TOLERANCE},
     }
-    out["all_ok"] = all(out[k] for k in ("same_outcome", "peak_ok", "impacts_ok",
-                                         "history_ok"))
     return out
+
+
+def _word(flag: bool) -> str:
+    return YES if flag else NO
 
 
 def assemble_summary(study, results: dict, criteria: dict) -> dict:
@@ -283,15 +396,19 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "study": study.name,
         "verdict": {
             "rigid_assumption_ok": criteria["all_ok"],
-            "sdof_half_model_ok": _same_answer(rigid["overturned"],
-                                               _peak_ratio(rigid["max_abs_theta"], mb_peak),
-                                               multibody["overturned"]),
-            "collars_yield": bool(fem["collar_max_utilisation"] >= 1.0),
-            "toe_crushes": bool(_toe_ratio(study, results) >= 1.0),
-            "rocks_as_one_block": bool(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
+            "sdof_half_model_ok": _word(_same_answer(rigid["overturned"],
+                                                     _peak_ratio(rigid["max_abs_theta"],
+                                                                 mb_peak),
+                                                     multibody["overturned"])),
+            "collars_yield": collars_yield(fem, results),
+            "toe_crushes": toe_crushes(study, results),
+            "rocks_as_one_block": _word(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
+            "overturns_fem": fem["overturned_answer"],
         },
         "fem": fem,
         "collar_heights": [c.y for c in study.collars],
+        "collar_fy": [c.fy for c in study.collars],       # Pa
+        "stone_fc": study.stone.fc,                       # Pa
         "toe_stress": _toe_stress(study, results),
         "rigid_multibody": {key: multibody.get(key) for key in (
             "overturned", "mode", "status", "impacts", "max_abs_theta_left",
@@ -316,7 +433,10 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
             rigid["max_abs_theta"], mb_peak),
         "theta_peak_ratio_monolith_over_multibody": None if monolith["overturned"] else
         _peak_ratio(monolith["max_abs_theta"], mb_peak),
-        "effective_restitution_fem": results["fem"]["effective_restitution"],
+        # the velocity ratio of the impacts after the ground motion (free rocking), where
+        # there are any: FEM median and band, multibody
+        "restitution_after_motion_fem": fem["restitution_after_motion"],
+        "restitution_after_motion_multibody": multibody.get("restitution_after_motion"),
         "restitution_housner": block.restitution_housner,
         "pulse": _pulse_summary(study, results),
         "peak_tolerance": PEAK_TOLERANCE,
@@ -370,8 +490,11 @@ def _uncertainty(results: dict) -> dict | None:
 
 
 def _toe_stress(study, results: dict) -> dict | None:
-    """The toe stress from the local refinement over the impact (None when not run): the
-    quoted ratio to f_c and its mesh uncertainty (see colonna.fem.toe_stress)."""
+    """The toe stress from the local refinement over the impact of the median replica (None
+    when not run): the quoted ratio to f_c, its mesh uncertainty (see colonna.fem.toe_stress)
+    and its band: the replicas' unrefined toe stresses scaled by the refinement's factor on
+    the median replica (refined / unrefined), widened by the mesh uncertainty. ``uncertainty``
+    is the band's larger relative distance from the quoted value: mesh and replicas together."""
     refined = results["fem"].get("toe_refinement")
     if not refined:
         return None
@@ -381,11 +504,25 @@ def _toe_stress(study, results: dict) -> dict | None:
         return None if value is None or not math.isfinite(value) else value
 
     richardson = finite(refined["richardson"])
-    return {"ratio": refined["stress_estimate"] / fc, "stress": refined["stress_estimate"],
-            "uncertainty": refined["uncertainty"], "spread": refined["spread"],
+    ratio = refined["stress_estimate"] / fc
+    fem = results["fem"]["summary"]
+    replica = refined.get("replica", 0)
+    summaries = results["fem"].get("replica_summaries", [fem])
+    unrefined = [s["edge_stress_ratio"] for s in summaries]
+    factor = ratio / unrefined[replica] if unrefined[replica] > 0 else 1.0
+    mesh = refined["uncertainty"]
+    low = min(unrefined) * factor * (1.0 - mesh)
+    high = max(unrefined) * factor * (1.0 + mesh)
+    return {"ratio": ratio, "stress": refined["stress_estimate"],
+            "mesh_uncertainty": mesh,
+            "replica_spread": (max(unrefined) - min(unrefined)) / unrefined[replica]
+            if unrefined[replica] > 0 else 0.0,
+            "band_ratio": {"min": low, "max": high},
+            "uncertainty": max(high / ratio - 1.0, 1.0 - low / ratio) if ratio > 0 else 0.0,
+            "spread": refined["spread"],
             "bound_ratio": refined["stress_bound"] / fc,
             "ratios": [p / fc for p in refined["peaks"]],
-            "unrefined_ratio": results["fem"]["summary"]["edge_stress_ratio"],
+            "unrefined_ratio": unrefined[replica], "replica": replica,
             **{key: refined[key] for key in (
                 "toe", "t_start", "t_end", "t_peak", "refinements", "dofs", "steps",
                 "handover_error", "edge_length", "edge_time")},
@@ -395,13 +532,35 @@ def _toe_stress(study, results: dict) -> dict | None:
             "richardson_ratio": None if richardson is None else richardson / fc}
 
 
+def _mesh_uncertainty(results: dict, quantity: str) -> float:
+    """The fine mesh's relative error of a quantity where the three meshes converge, else 0."""
+    table = _uncertainty(results)
+    error = table[quantity]["fine_relative_error"] if table else None
+    return error if error is not None and math.isfinite(error) else 0.0
+
+
+def collars_yield(fem: dict, results: dict) -> str:
+    """yes / no / undecided (:func:`colonna.fem.ensemble.decide`): the replicas' largest
+    utilisation against 1, with the mesh uncertainty; no without collars."""
+    b = fem["bands"].get("collar_max_utilisation")
+    if b is None or b["median"] is None or b["max"] == 0.0:
+        return NO
+    return decide(b, 1.0, _mesh_uncertainty(results, "collar_max_utilisation"))
+
+
+def toe_crushes(study, results: dict) -> str:
+    """yes / no / undecided: the toe stress band (refined where it was) against f_c."""
+    toe = _toe_stress(study, results)
+    if toe is None:
+        fem = results["fem"]["summary"]
+        return decide(fem["bands"]["edge_stress_ratio"], 1.0,
+                      _mesh_uncertainty(results, "edge_stress_ratio"))
+    b = toe["band_ratio"]
+    return decide({"median": toe["ratio"], "min": b["min"], "max": b["max"], "missing": 0},
+                  1.0)
+
+
 def _static_mean_pressure(study, results: dict) -> float:
     """(W + P) / A (Pa): the FEM's static base reaction over the base area."""
     fem = results["fem"]["summary"]
     return (fem.get("base_reaction_static") or 0.0) / (study.width * study.thickness)
-
-
-def _toe_ratio(study, results: dict) -> float:
-    """Toe stress / f_c for the crushing verdict: the refined value where there is one."""
-    refined = _toe_stress(study, results)
-    return refined["ratio"] if refined else results["fem"]["summary"]["edge_stress_ratio"]

@@ -240,65 +240,90 @@ def test_overturning_is_detected_and_stops_the_run():
     assert r.summary["t_end"] < pulse.duration + 3.0
 
 
-def test_free_rocking_impact_loss_of_the_fem_approaches_housner_as_the_stone_stiffens():
-    """A solid column released from half its alpha (no ground motion): the velocity ratio at
-    its first impact, measured from the rotation peaks through the free-rocking energy, falls
-    toward Housner's 1 - 1.5 sin^2(alpha) = 0.942 as E grows, but levels off above it: 0.975,
-    0.966, 0.965 at 50, 500, 5000 GPa with the default contact damping (0.977, 0.968, 0.963
-    without). The rigid multibody model gives Housner's value itself. The FEM keeps more of its
-    rocking energy: its impact is spread over the elastic base contact instead of a plastic
-    blow at one corner (the value also moves by 1-2 % with the mesh). With contact at the
-    corners only the FEM does approach Housner (the next test)."""
+def _first_impact_ratios(model, blk, tilt, replicas=8):
+    """The velocity ratio at the first impact of a free release from ``tilt``, measured from
+    the rotation peaks, for each replica of an ensemble: the landing is chaotic, so the ratio
+    is a band (:func:`colonna.fem.ensemble.band`), not one number."""
+    from colonna.fem.ensemble import band
+    from colonna.fem.solver import run_ensemble
     from colonna.rigid.ground import NoMotion
     from colonna.rigid.impacts import impact_ratios_from_peaks
-    from colonna.rigid.multibody import rock_multibody
-    W, H = 0.4, 2.0
-    blk = Block(b=W / 2, h=H / 2)
-    housner = blk.restitution_housner
-    tilt = 0.5 * blk.alpha
+    runs = run_ensemble(model, NoMotion(), 1.2, replicas, progress=False, output_interval=1e-3,
+                        initial_tilt=tilt)
     ratios = []
-    for E in (50e9, 500e9, 5000e9):
-        model = build_model(column_mesh(W, H, 0.1, cracked=False, grading=0.3), Stone(E=E), 0.3,
-                            contact=ContactSettings(friction=1.0))
-        r = run(model, NoMotion(), 1.2, progress=False, output_interval=1e-3,
-                initial_tilt=tilt)
+    for r in runs:
         measured = impact_ratios_from_peaks(r.history["t"], r.history["theta_left"], blk.alpha)
+        # the fall to the first impact is not chaotic: the corrected Eq. 13 time
         assert measured.times[0] == pytest.approx(blk.time_to_vertical(tilt), rel=0.02)
-        ratios.append(measured.ratios[0])
         assert r.summary["energy_error_max"] < 0.01
-    assert ratios[0] > ratios[1] > ratios[2] > housner
-    rigid = rock_multibody(blk, None, friction=1.0, initial_tilt=tilt, duration=0.8)
-    assert rigid.impact_velocity_ratios()[0] == pytest.approx(housner, rel=1e-3)
+        ratios.append(measured.ratios[0])
+    return band(ratios)
 
 
-def test_free_rocking_fem_with_the_rigid_models_base_contact_approaches_housner():
-    """The same release on a mesh one element wide: the base touches the ground at its two
-    corners only, as a rigid block's flat base does (and as in the multibody model). Then the
-    FEM's velocity ratio does approach Housner's 0.942 as E grows (0.955, 0.946, 0.940 at 50,
-    500, 5000 GPa): the plateau above it of the finer mesh comes from the contact spread over
-    the base (an impulse nearer the centre of the base takes less angular momentum), not from
-    the stone's elasticity."""
+STIFFENING = (50e9, 500e9, 5000e9)      # Pa: the stone made ever stiffer
+
+
+@pytest.fixture(scope="module")
+def release_bands():
+    """First-impact velocity ratios (bands over 8 replicas) of a solid column 0.4 x 2 m
+    released from half its alpha, at E = 50, 500 and 5000 GPa, on a meshed base (mesh 0.1 m)
+    and on a base one element wide (contact at its two corners only, as a rigid block's)."""
     from colonna.meshes import from_arrays
-    from colonna.rigid.ground import NoMotion
-    from colonna.rigid.impacts import impact_ratios_from_peaks
     W, H = 0.4, 2.0
     blk = Block(b=W / 2, h=H / 2)
     X, Y = np.meshgrid([-W / 2, W / 2], np.linspace(0.0, H, 21))
     idx = np.arange(X.size).reshape(X.shape)
-    mesh = from_arrays(np.vstack((X.ravel(), Y.ravel())),
-                       np.vstack((idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(),
-                                  idx[1:, 1:].ravel(), idx[1:, :-1].ravel())))
-    assert mesh.base_nodes[0].size == 2
-    errors = []
-    for E in (50e9, 500e9, 5000e9):
-        model = build_model(mesh, Stone(E=E), 0.3, contact=ContactSettings(friction=1.0))
-        r = run(model, NoMotion(), 1.2, progress=False, output_interval=1e-3,
-                initial_tilt=0.5 * blk.alpha)
-        ratio = impact_ratios_from_peaks(r.history["t"], r.history["theta_left"],
-                                         blk.alpha).ratios[0]
-        errors.append(abs(ratio - blk.restitution_housner))
-    assert errors[0] > errors[1] > errors[2]
-    assert errors[2] < 0.005
+    corners = from_arrays(np.vstack((X.ravel(), Y.ravel())),
+                          np.vstack((idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(),
+                                     idx[1:, 1:].ravel(), idx[1:, :-1].ravel())))
+    assert corners.base_nodes[0].size == 2
+    meshes = {"meshed": column_mesh(W, H, 0.1, cracked=False, grading=0.3), "corners": corners}
+    return blk, {name: [_first_impact_ratios(build_model(mesh, Stone(E=E), 0.3,
+                                                         contact=ContactSettings(friction=1.0)),
+                                             blk, 0.5 * blk.alpha)
+                        for E in STIFFENING]
+                 for name, mesh in meshes.items()}
+
+
+def test_free_rocking_impact_loss_of_the_fem_approaches_housner_as_the_stone_stiffens(
+        release_bands):
+    """A solid column released from half its alpha (no ground motion): the velocity ratio at
+    its first impact, measured from the rotation peaks through the free-rocking energy, falls
+    toward Housner's 1 - 1.5 sin^2(alpha) = 0.942 as E grows. Over 8 replicas: 0.970-0.975 at
+    50 GPa, median 0.964 (0.954-0.968) at 500 GPa, median 0.950 (0.932-0.967) at 5000 GPa:
+    the stiffer the stone, the shorter and more chaotic the landing. The rigid multibody model
+    gives Housner's value itself. The meshed base keeps more of the rocking energy than a base
+    touching at its corners only (the next test): its impact is spread over the elastic base
+    contact instead of a blow at one corner.
+
+    The landing is chaotic (a last-bit difference changes which node bounces first), so each
+    ratio is a band over replicas and each claim is made against the bands."""
+    from colonna.rigid.multibody import rock_multibody
+    blk, bands = release_bands
+    housner = blk.restitution_housner
+    soft, stiff, stiffer = bands["meshed"]
+    assert soft["min"] > housner + 0.02                 # elastic stone: far above Housner
+    assert stiff["median"] < soft["min"] and stiffer["median"] < soft["min"]
+    # the spread contact keeps more energy than the corner contact at the same stone
+    assert stiff["median"] > bands["corners"][1]["max"]
+    rigid = rock_multibody(blk, None, friction=1.0, initial_tilt=0.5 * blk.alpha, duration=0.8)
+    assert rigid.impact_velocity_ratios()[0] == pytest.approx(housner, rel=1e-3)
+
+
+def test_free_rocking_fem_with_the_rigid_models_base_contact_approaches_housner(release_bands):
+    """The same release on a mesh one element wide: the base touches the ground at its two
+    corners only, as a rigid block's flat base does (and as in the multibody model). Then the
+    FEM's velocity ratio does approach Housner's 0.942 as E grows: over 8 replicas 0.954-0.956
+    at 50 GPa, 0.940-0.947 (median 0.945) at 500 GPa and 0.939-0.946 (median 0.941) at 5000
+    GPa, Housner's value inside both stiff bands. The landing is chaotic: the claims are made
+    against the bands."""
+    blk, bands = release_bands
+    housner = blk.restitution_housner
+    soft, stiff, stiffer = bands["corners"]
+    assert soft["min"] > housner + 0.008                # elastic stone: above Housner
+    for b in (stiff, stiffer):                          # stiff: Housner within the scatter
+        assert b["min"] - 0.003 <= housner <= b["max"] + 0.003
+        assert abs(b["median"] - housner) < abs(soft["median"] - housner) - 0.005
 
 
 def test_release_from_a_tilt_turns_the_static_state_about_the_toe():

@@ -46,9 +46,12 @@ def test_summary_keys(tiny_run):
     _, _, s = tiny_run
     assert set(s["verdict"]) >= {"rigid_assumption_ok", "collars_yield", "toe_crushes"}
     assert {"overturned", "mode", "max_abs_theta"} <= set(s["rigid"])
-    for key in ("fem", "theta_peak_ratio_fem_over_rigid", "effective_restitution_fem",
+    for key in ("fem", "theta_peak_ratio_fem_over_rigid", "restitution_after_motion_fem",
                 "restitution_housner", "theta_peak_ratio_fem_over_multibody"):
         assert key in s
+    # every answer is a word, decided on the replicas' band
+    assert set(s["verdict"].values()) <= {"yes", "no", "undecided"}
+    assert "effective_restitution_fem" not in s      # a ratio under forcing means nothing
     assert {"overturned", "mode", "max_abs_theta_left", "max_abs_theta_right",
             "max_abs_crack_slip", "energy_error_max"} <= set(s["rigid_multibody"])
 
@@ -57,19 +60,37 @@ def test_verdict_is_judged_against_the_multibody_model(tiny_run):
     """rigid_assumption_ok: the FEM and the rigid multibody model give the same outcome, peaks
     within the tolerance (when neither overturns), the same impacts before the end of the pulse
     and a history error up to the first impact within its tolerance."""
-    _, _, s = tiny_run
+    root, _, s = tiny_run
     fem, mb, c = s["fem"], s["rigid_multibody"], s["verdict_criteria"]
     ratio = (max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
              / max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]))
     assert s["theta_peak_ratio_fem_over_multibody"] == pytest.approx(ratio)
-    assert c["peak_ratio"] == pytest.approx(ratio)
-    assert c["same_outcome"] == (fem["overturned"] == mb["overturned"])
-    assert c["impacts_ok"] == (abs(c["impacts_before_pulse_end_fem"]
-                                   - c["impacts_before_pulse_end_multibody"])
-                               <= c["tolerances"]["impacts"])
-    assert c["history_ok"] == (c["history_error_to_first_impact"] <= c["tolerances"]["history"])
-    assert s["verdict"]["rigid_assumption_ok"] == (c["same_outcome"] and c["peak_ok"]
-                                                   and c["impacts_ok"] and c["history_ok"])
+    # each count is made per replica (from each replica's own history) and answered on them
+    from colonna.studies.crosscheck import replica_histories
+    replicas = json.loads((root / "out" / "cases" / "fem" / "result.json").read_text())
+    histories = replica_histories(root / "out" / "cases" / "fem", fem["replicas"])
+    assert len(histories) == len(replicas["replica_summaries"]) == fem["replicas"] == 8
+    peaks = [max(r["max_abs_theta_left"], r["max_abs_theta_right"])
+             for r in replicas["replica_summaries"]]
+    mb_peak = max(mb["max_abs_theta_left"], mb["max_abs_theta_right"])
+    assert c["bands"]["peak_ratio"]["values"] == pytest.approx([p / mb_peak for p in peaks])
+    assert c["peak_ratio"] == pytest.approx(np.median(peaks) / mb_peak)
+
+    def word(flags):
+        return "yes" if all(flags) else ("no" if not any(flags) else "undecided")
+    overturned = [r["overturned"] for r in replicas["replica_summaries"]]
+    assert c["same_outcome"] == word([o == mb["overturned"] for o in overturned])
+    assert c["impacts_ok"] == word([abs(n - c["impacts_before_pulse_end_multibody"])
+                                    <= c["tolerances"]["impacts"]
+                                    for n in c["bands"]["impacts_fem"]["values"]])
+    assert c["history_ok"] == word([e <= c["tolerances"]["history"]
+                                    for e in c["bands"]["history_error"]["values"]])
+    assert s["verdict"]["rigid_assumption_ok"] in ("yes", "no", "undecided")
+    if "no" in (c["same_outcome"], c["peak_ok"], c["impacts_ok"], c["history_ok"]):
+        assert s["verdict"]["rigid_assumption_ok"] != "yes"
+    if all(w == "yes" for w in (c["same_outcome"], c["peak_ok"], c["impacts_ok"],
+                                c["history_ok"])):
+        assert s["verdict"]["rigid_assumption_ok"] == "yes"
     assert 0.0 <= c["history_error_to_first_impact"] < 1.0
     assert mb["energy_error_max"] < 1e-2
     # the history count is also measured against the multibody model at a quarter of its
@@ -78,8 +99,10 @@ def test_verdict_is_judged_against_the_multibody_model(tiny_run):
     fine = json.loads((cases / "multibody-fine" / "result.json").read_text())
     assert fine["dt"] == pytest.approx(0.25 * mb["dt"], rel=1e-12)
     assert 0.0 <= c["history_error_fine_step"] < 1.0 and c["fine_step_factor"] == 0.25
-    assert c["history_step_sensitive"] == ((c["history_error_fine_step"]
-                                            <= c["tolerances"]["history"]) != c["history_ok"])
+    assert c["history_step_sensitive"] == (c["history_ok_fine_step"] != c["history_ok"])
+    if c["history_ok_fine_step"] != "undecided":    # every replica on one side: the median too
+        assert (c["history_error_fine_step"] <= c["tolerances"]["history"]) == (
+            c["history_ok_fine_step"] == "yes")
 
 
 def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
@@ -117,8 +140,13 @@ def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
     last = len(toe["refinements"]) - 1
     assert "Toe stress, refined" in page and f'data-key="toe_stress.ratios.{last}"' in page
     assert toe["ratio"] >= max(toe["ratios"][1:]) == toe["bound_ratio"]
-    assert summary["verdict"]["toe_crushes"] == (toe["ratio"] >= 1.0)
-    assert toe["handover_error"] < 0.05        # round-off amplified at the landings
+    band = toe["band_ratio"]
+    assert band["min"] <= toe["ratio"] <= band["max"]
+    assert summary["verdict"]["toe_crushes"] == ("yes" if band["min"] >= 1.0 else
+                                                 "no" if band["max"] < 1.0 else "undecided")
+    # the restart gives the refined replica's peak back within the replicas' own scatter:
+    # round-off at the hand-over is amplified at the landing as between replicas
+    assert toe["handover_error"] <= max(toe["replica_spread"], 1e-2)
     fem = summary["fem"]
     study = from_dict(tomllib.loads(TINY))
     assert toe["static_mean_ratio"] == pytest.approx(

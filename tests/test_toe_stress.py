@@ -40,10 +40,25 @@ def _pulse():
 
 
 @pytest.fixture(scope="module")
-def rocking_run():
-    """The small cracked column rocked by a sine pulse through its first landings."""
-    return run(_model(_mesh()), _pulse(), 0.6, output_interval=0.005, edge_length=0.01,
-               progress=False)
+def rocking_ensemble():
+    """The small cracked column rocked by a sine pulse through its first landings: 8 replicas
+    perturbed at round-off level (the landings are chaotic), replica 0 the plain run."""
+    from colonna.fem.solver import run_ensemble
+    return run_ensemble(_model(_mesh()), _pulse(), 0.6, 8, output_interval=0.005,
+                        edge_length=0.01, progress=False)
+
+
+@pytest.fixture(scope="module")
+def rocking_run(rocking_ensemble):
+    """The plain run (replica 0 of the ensemble, bit for bit the run of fem.solver.run)."""
+    return rocking_ensemble[0]
+
+
+def test_replica_zero_is_the_plain_run(rocking_run):
+    plain = run(_model(_mesh()), _pulse(), 0.6, output_interval=0.005, edge_length=0.01,
+                progress=False)
+    for key in ("theta_left", "edge_stress_left", "collar_1_stress", "energy_error"):
+        np.testing.assert_array_equal(plain.history[key], rocking_run.history[key])
 
 
 # --- the mesh -------------------------------------------------------------------------------
@@ -144,7 +159,7 @@ def test_time_averaging_leaves_a_steady_toe_stress_unchanged_and_lowers_a_landin
 
 # --- restart --------------------------------------------------------------------------------
 
-def test_restart_from_a_recorded_state_continues_the_run(rocking_run):
+def test_restart_from_a_recorded_state_continues_the_run(rocking_run, rocking_ensemble):
     """Restarting the same mesh from the state recorded at an output time (positions,
     velocities, friction and filtered normal forces) gives the original history back."""
     r = rocking_run
@@ -166,7 +181,12 @@ def test_restart_from_a_recorded_state_continues_the_run(rocking_run):
     for key in ("theta_left", "theta_right"):
         error = np.abs(again.history[key][1:m] - r.history[key][k + 1:k + m])
         assert error[:5].max() < 1e-9 * scale
-        assert error.max() < 1e-2 * scale
+        # after the landing the restart strays from the run as the replicas (perturbed by
+        # 1e-12 of the height at t = 0) stray from each other: no more than twice the most
+        # any of them does
+        strays = max(np.abs(other.history[key][k + 1:k + m] - r.history[key][k + 1:k + m]).max()
+                     for other in rocking_ensemble[1:])
+        assert error.max() <= 2.0 * strays + 1e-9 * scale
 
 
 def test_restart_input_is_checked(rocking_run):
@@ -183,14 +203,29 @@ def test_restart_input_is_checked(rocking_run):
 
 # --- the refinement study -------------------------------------------------------------------
 
-def test_refinement_over_the_impact_window(rocking_run):
+def _window_spread(runs, t_start, t_end) -> float:
+    """(max - min) / median over the runs of the peak toe stress in (t_start, t_end]."""
+    peaks = []
+    for r in runs:
+        h = r.history
+        inside = (h["t"] > t_start) & (h["t"] <= t_end + 1e-9)
+        peaks.append(max(float(np.max(h[key][inside])) for key in h
+                         if key.startswith("edge_stress_")))
+    return (max(peaks) - min(peaks)) / float(np.median(peaks))
+
+
+def test_refinement_over_the_impact_window(rocking_run, rocking_ensemble):
     r = rocking_run
     toe, t_start, t_end, t_peak = impact_window(r.history)
     assert t_start < t_peak < t_end
     out = toe_stress_refinement(r, _pulse(), _mesh, (1, 2, 4))
-    # refinement 1 restarts the study mesh: the hand-over must give its peak back
-    assert out["handover_error"] < 1e-2
-    assert out["peaks"][0] == pytest.approx(out["original_peak"], rel=1e-2)
+    # refinement 1 restarts the study mesh: the hand-over gives its peak back, up to the
+    # round-off it adds, which the landing amplifies as it amplifies the replicas' 1e-12:
+    # within the replicas' spread of the same window's peak
+    spread = _window_spread(rocking_ensemble, out["t_start"], out["t_end"])
+    assert 0.0 < spread < 0.5
+    assert out["handover_error"] <= spread
+    assert out["peaks"][0] == pytest.approx(out["original_peak"], rel=spread)
     assert out["dofs"][0] < out["dofs"][1] < out["dofs"][2]
     assert out["dt"][2] < out["dt"][0]
     assert out["stress_bound"] == max(out["peaks"][1:])
@@ -204,13 +239,16 @@ def test_refinement_over_the_impact_window(rocking_run):
 
 def test_refinement_restarts_under_the_vertical_motion_too():
     """A run shaken vertically as well: the restarted windows are shaken the same way, so
-    refinement 1 still gives the run's peak back."""
+    refinement 1 still gives the run's peak back. The hand-over error is round-off amplified
+    at a landing, so it is judged over 8 replicas: its median is 0.014 (one replica in eight
+    reaches 0.14, as the landings' own scatter, 0.19, allows), and 0.07 if the windows are not
+    shaken vertically."""
+    from colonna.fem.solver import run_ensemble
     from colonna.rigid.ground import HarmonicPulse
     pulse = _pulse()
     vertical = HarmonicPulse("sine", 0.5 * 9.81, 2.0 * pulse.omega, 0.0, pulse.duration)
-    r = run(_model(_mesh()), pulse, 0.6, output_interval=0.005, edge_length=0.01,
-            progress=False, vertical=vertical)
-    out = toe_stress_refinement(r, pulse, _mesh, (1, 2, 4), vertical=vertical)
-    # 0.02 measured (round-off amplified at the landings); 0.11 if the windows are not
-    # shaken vertically
-    assert out["handover_error"] < 0.05
+    runs = run_ensemble(_model(_mesh()), pulse, 0.6, 8, output_interval=0.005,
+                        edge_length=0.01, progress=False, vertical=vertical)
+    errors = [toe_stress_refinement(r, pulse, _mesh, (1, 2, 4),
+                                    vertical=vertical)["handover_error"] for r in runs]
+    assert np.median(errors) < 0.04
