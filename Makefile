@@ -44,6 +44,7 @@ test-all: $(STAMP) browser
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_spectrum.py
 	$(BIN)/python benchmarks/bench_fem.py
+	$(BIN)/python benchmarks/bench_ensemble.py
 	$(BIN)/python benchmarks/bench_multibody.py
 	$(BIN)/python benchmarks/bench_spectrum_crosscheck.py
 

@@ -712,6 +712,7 @@ def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, 
         "energy_error_max": float(np.max(np.abs(h["energy_error"]))),
         # past this the run is unreliable: a study stops rather than report from it
         "energy_error_limit": ENERGY_ERROR_LIMIT,
+        "energy_reliable": bool(np.max(np.abs(h["energy_error"])) <= ENERGY_ERROR_LIMIT),
         "dt": dt,
         "dt_critical": step.critical,
         "dt_critical_elastic": step.critical_elastic,

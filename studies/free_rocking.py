@@ -55,29 +55,44 @@ def free_rocking_case(case: dict, directory: str) -> dict:
     alpha = case["alpha"]
     tilt = case["tilt_fraction"] * alpha
     if case["kind"] == "fem":
+        from ..fem.ensemble import band
+        from .fem_study import run_study_ensemble
         study.initial_tilt = tilt
-        result = run_study(study, progress=False)
+        replicas = run_study_ensemble(study, progress=False)
+        result = replicas[0]
         t, theta = result.history["t"], result.history["theta_left"]
         write_csv(Path(directory) / "history.csv", {"t": t, "theta_left": theta,
                                                     "theta_right": result.history["theta_right"]})
-        extra = {"status": result.summary["status"],
-                 "energy_error_max": result.summary["energy_error_max"],
-                 "wall_seconds": result.summary["wall_seconds"]}
-    else:
-        result = rock_multibody(study.rocking_block, None, study.collars, cracked=study.cracked,
-                                friction=study.contact.friction, duration=study.duration,
-                                initial_tilt=tilt)
-        t, theta = result.time, result.theta[:, 0]
-        write_csv(Path(directory) / "history.csv", {"t": t, "theta_left": theta,
-                                                    "theta_right": result.theta[:, -1]})
-        extra = {"status": result.status,
-                 "impulse_ratios": result.impact_velocity_ratios(0)[:10].tolist(),
-                 "energy_error_max": result.summary()["energy_error_max"]}
+        # the first landing is chaotic: the ratio is a band over the replicas
+        firsts, means = [], []
+        for r in replicas:
+            measured = impact_ratios_from_peaks(r.history["t"], r.history["theta_left"], alpha)
+            firsts.append(float(measured.ratios[0]) if measured.ratios.size else None)
+            means.append(measured.mean)
+        first, mean = band(firsts), band(means)
+        plain = impact_ratios_from_peaks(t, theta, alpha)       # replica 0, for the figure
+        return {"tilt": tilt, "damping": case.get("damping"),
+                "mesh_size": case.get("mesh_size"),
+                "impact_times": plain.times.tolist(), "ratios": plain.ratios.tolist(),
+                "ratio_first": first["median"], "ratio_first_band": first,
+                "ratio_mean": mean["median"], "ratio_mean_band": mean,
+                "replicas": len(replicas),
+                "status": result.summary["status"],
+                "energy_error_max": max(r.summary["energy_error_max"] for r in replicas),
+                "wall_seconds": result.summary["wall_seconds"]}
+    result = rock_multibody(study.rocking_block, None, study.collars, cracked=study.cracked,
+                            friction=study.contact.friction, duration=study.duration,
+                            initial_tilt=tilt)
+    t, theta = result.time, result.theta[:, 0]
+    write_csv(Path(directory) / "history.csv", {"t": t, "theta_left": theta,
+                                                "theta_right": result.theta[:, -1]})
     measured = impact_ratios_from_peaks(t, theta, alpha)
     return {"tilt": tilt, "damping": case.get("damping"), "mesh_size": case.get("mesh_size"),
             "impact_times": measured.times.tolist(), "ratios": measured.ratios.tolist(),
             "ratio_first": float(measured.ratios[0]) if measured.ratios.size else None,
-            "ratio_mean": measured.mean, **extra}
+            "ratio_mean": measured.mean, "status": result.status,
+            "impulse_ratios": result.impact_velocity_ratios(0)[:10].tolist(),
+            "energy_error_max": result.summary()["energy_error_max"]}
 
 
 def run_free_rocking(study_path: Path, out: Path, *, workers=None, scheduler=None,
@@ -129,6 +144,8 @@ def run_free_rocking(study_path: Path, out: Path, *, workers=None, scheduler=Non
         "restitution_housner": housner,
         "E": study.stone.E,
         "fem_ratio_study_stone": base_fem["ratio_first"],
+        "fem_ratio_study_stone_band": base_fem["ratio_first_band"],
+        "replicas": base_fem["replicas"],
         "fem_ratio_study_stone_mean": base_fem["ratio_mean"],
         "multibody_ratio": results["multibody-tilt1"]["ratio_first"],
         "tilts": [{"tilt_fraction": f, "tilt": f * alpha,

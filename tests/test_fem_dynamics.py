@@ -285,6 +285,7 @@ def release_bands():
                  for name, mesh in meshes.items()}
 
 
+@pytest.mark.landing
 def test_free_rocking_impact_loss_of_the_fem_approaches_housner_as_the_stone_stiffens(
         release_bands):
     """A solid column released from half its alpha (no ground motion): the velocity ratio at
@@ -310,6 +311,7 @@ def test_free_rocking_impact_loss_of_the_fem_approaches_housner_as_the_stone_sti
     assert rigid.impact_velocity_ratios()[0] == pytest.approx(housner, rel=1e-3)
 
 
+@pytest.mark.landing
 def test_free_rocking_fem_with_the_rigid_models_base_contact_approaches_housner(release_bands):
     """The same release on a mesh one element wide: the base touches the ground at its two
     corners only, as a rigid block's flat base does (and as in the multibody model). Then the

@@ -56,6 +56,7 @@ def test_summary_keys(tiny_run):
             "max_abs_crack_slip", "energy_error_max"} <= set(s["rigid_multibody"])
 
 
+@pytest.mark.landing
 def test_verdict_is_judged_against_the_multibody_model(tiny_run):
     """rigid_assumption_ok: the FEM and the rigid multibody model give the same outcome, peaks
     within the tolerance (when neither overturns), the same impacts before the end of the pulse
@@ -105,6 +106,7 @@ def test_verdict_is_judged_against_the_multibody_model(tiny_run):
             c["history_ok_fine_step"] == "yes")
 
 
+@pytest.mark.landing
 def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
     root, _, _ = tiny_run
     out = root / "out"

@@ -143,6 +143,7 @@ def test_toe_stress_peak_does_not_depend_on_the_output_interval():
     assert runs[0].summary["edge_stress_max"] == runs[1].summary["edge_stress_max"]
 
 
+@pytest.mark.landing
 def test_time_averaging_leaves_a_steady_toe_stress_unchanged_and_lowers_a_landing():
     model = _model(_mesh())
     still = [run(model, NoMotion(), 0.01, output_interval=0.005, edge_length=0.01,
@@ -159,6 +160,7 @@ def test_time_averaging_leaves_a_steady_toe_stress_unchanged_and_lowers_a_landin
 
 # --- restart --------------------------------------------------------------------------------
 
+@pytest.mark.landing
 def test_restart_from_a_recorded_state_continues_the_run(rocking_run, rocking_ensemble):
     """Restarting the same mesh from the state recorded at an output time (positions,
     velocities, friction and filtered normal forces) gives the original history back."""
@@ -214,6 +216,7 @@ def _window_spread(runs, t_start, t_end) -> float:
     return (max(peaks) - min(peaks)) / float(np.median(peaks))
 
 
+@pytest.mark.landing
 def test_refinement_over_the_impact_window(rocking_run, rocking_ensemble):
     r = rocking_run
     toe, t_start, t_end, t_peak = impact_window(r.history)
@@ -237,6 +240,7 @@ def test_refinement_over_the_impact_window(rocking_run, rocking_ensemble):
         toe_stress_refinement(r, _pulse(), _mesh, (1, 3, 9))
 
 
+@pytest.mark.landing
 def test_refinement_restarts_under_the_vertical_motion_too():
     """A run shaken vertically as well: the restarted windows are shaken the same way, so
     refinement 1 still gives the run's peak back. The hand-over error is round-off amplified
