@@ -259,9 +259,11 @@ def collar_forces(x, collars, props, out, f, state, commit):
 Stiffness = namedtuple("Stiffness", ["indptr", "indices", "blocks"])
 """The stone's stiffness in block-sparse-row form, 2 x 2 blocks (one block per node pair)."""
 
-Bodies = namedtuple("Bodies", ["X", "mass", "node_body", "centroid_ref", "gravity"])
-"""Reference positions, lumped mass per dof, body of each node, body centroids (n_bodies, 2)
-and gravity load per dof."""
+Bodies = namedtuple("Bodies", ["X", "mass", "node_body", "centroid_ref", "gravity", "order",
+                               "offsets"])
+"""Reference positions, lumped mass per dof, body of each node, body centroids (n_bodies, 2),
+gravity load per dof, and the nodes grouped by body: body b's nodes are
+order[offsets[b]:offsets[b + 1]]."""
 
 ContactPass = namedtuple("ContactPass", ["nodes", "masters", "sign", "kn", "kt", "cn"])
 """A contact pass: the base (nodes against the ground; masters and sign unused) or one crack
@@ -299,6 +301,19 @@ def bsr_matmat(indptr, indices, blocks, x, out):
     """out = A x for A in block-sparse-row form with 2 x 2 blocks and x of shape (n, B): one
     read of each block serves the B columns."""
     batch = x.shape[1]
+    if batch == 1:               # one state: the sums in registers
+        for i in range(indptr.size - 1):
+            a0 = 0.0
+            a1 = 0.0
+            for k in range(indptr[i], indptr[i + 1]):
+                j = indices[k]
+                x0 = x[2 * j, 0]
+                x1 = x[2 * j + 1, 0]
+                a0 += blocks[k, 0, 0] * x0 + blocks[k, 0, 1] * x1
+                a1 += blocks[k, 1, 0] * x0 + blocks[k, 1, 1] * x1
+            out[2 * i, 0] = a0
+            out[2 * i + 1, 0] = a1
+        return
     for i in range(indptr.size - 1):
         for r in range(batch):
             out[2 * i, r] = 0.0
@@ -364,7 +379,6 @@ def advance(n_steps, dt, mu, blend, stiffness, bodies, base, cracks, collars, gr
     batch = x.shape[0]
     n_nodes = node_body.size
     n_bodies = centroid_ref.shape[0]
-    sums = np.zeros((n_bodies, 5))
     # reference positions relative to their body's centroid, and inverse masses
     rel = np.empty(2 * n_nodes)
     inv_mass = np.empty(n_nodes)
@@ -386,35 +400,43 @@ def advance(n_steps, dt, mu, blend, stiffness, bodies, base, cracks, collars, gr
         for r in range(batch):
             if not motion.alive[r]:
                 continue
-            # body frames: centroid and best-fit rotation in one pass (sum m (X - C) = 0)
-            sums[:] = 0.0
-            for i in range(n_nodes):
-                b = node_body[i]
-                m = mass[2 * i]
-                xi = x[r, 2 * i]
-                yi = x[r, 2 * i + 1]
-                px = rel[2 * i]
-                py = rel[2 * i + 1]
-                sums[b, 0] += m
-                sums[b, 1] += m * xi
-                sums[b, 2] += m * yi
-                sums[b, 3] += m * (px * xi + py * yi)
-                sums[b, 4] += m * (px * yi - py * xi)
+            # body frames: centroid and best-fit rotation in one pass (sum m (X - C) = 0),
+            # body by body so that the sums stay in registers
             for b in range(n_bodies):
-                frames[r, b, 0] = sums[b, 1] / sums[b, 0]
-                frames[r, b, 1] = sums[b, 2] / sums[b, 0]
-                frames[r, b, 2] = math.atan2(sums[b, 4], sums[b, 3])
-                cos_b[r, b] = math.cos(frames[r, b, 2])
-                sin_b[r, b] = math.sin(frames[r, b, 2])
-            # local displacements (a column per state)
-            for i in range(n_nodes):
-                b = node_body[i]
-                c = cos_b[r, b]
-                s = sin_b[r, b]
-                qx = x[r, 2 * i] - frames[r, b, 0]
-                qy = x[r, 2 * i + 1] - frames[r, b, 1]
-                u_loc[2 * i, r] = c * qx + s * qy - rel[2 * i]
-                u_loc[2 * i + 1, r] = -s * qx + c * qy - rel[2 * i + 1]
+                s0 = 0.0
+                s1 = 0.0
+                s2 = 0.0
+                s3 = 0.0
+                s4 = 0.0
+                for k in range(bodies.offsets[b], bodies.offsets[b + 1]):
+                    i = bodies.order[k]
+                    m = mass[2 * i]
+                    xi = x[r, 2 * i]
+                    yi = x[r, 2 * i + 1]
+                    px = rel[2 * i]
+                    py = rel[2 * i + 1]
+                    s0 += m
+                    s1 += m * xi
+                    s2 += m * yi
+                    s3 += m * (px * xi + py * yi)
+                    s4 += m * (px * yi - py * xi)
+                cx = s1 / s0
+                cy = s2 / s0
+                phi = math.atan2(s4, s3)
+                frames[r, b, 0] = cx
+                frames[r, b, 1] = cy
+                frames[r, b, 2] = phi
+                c = math.cos(phi)
+                s = math.sin(phi)
+                cos_b[r, b] = c
+                sin_b[r, b] = s
+                # local displacements (a column per state)
+                for k in range(bodies.offsets[b], bodies.offsets[b + 1]):
+                    i = bodies.order[k]
+                    qx = x[r, 2 * i] - cx
+                    qy = x[r, 2 * i + 1] - cy
+                    u_loc[2 * i, r] = c * qx + s * qy - rel[2 * i]
+                    u_loc[2 * i + 1, r] = -s * qx + c * qy - rel[2 * i + 1]
         bsr_matmat(stiffness.indptr, stiffness.indices, stiffness.blocks, u_loc, f_loc)
         for r in range(batch):
             if not motion.alive[r]:

@@ -385,8 +385,11 @@ class _BatchState:
         n, n_base = model.n_dofs, model.base_nodes.size
         rows = lambda a: np.ascontiguousarray(np.repeat(np.asarray(a, dtype=float)[None],  # noqa: E731
                                                         batch, axis=0))
-        self.bodies = K.Bodies(model.X, model.mass, model.mesh.node_body, model.centroid_ref,
-                               model.gravity)
+        node_body = model.mesh.node_body
+        order = np.argsort(node_body, kind="stable").astype(np.int64)
+        offsets = np.searchsorted(node_body[order], np.arange(model.mesh.n_bodies + 1))
+        self.bodies = K.Bodies(model.X, model.mass, node_body, model.centroid_ref,
+                               model.gravity, order, offsets.astype(np.int64))
         empty_i = np.zeros(0, dtype=np.int64)
         self.base = K.ContactPass(model.base_nodes, np.zeros(1, dtype=np.int64), 1.0,
                                   model.base_kn, model.base_kt, model.base_cn)
