@@ -296,10 +296,12 @@ Scratch = namedtuple("Scratch", ["u_loc", "f_loc", "f"])
 the block mat-vec reads each block once for all states) and external forces (B, n_dofs)."""
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True)
 def bsr_matmat(indptr, indices, blocks, x, out):
     """out = A x for A in block-sparse-row form with 2 x 2 blocks and x of shape (n, B): one
-    read of each block serves the B columns."""
+    read of each block serves the B columns. Strict IEEE arithmetic (no fast-math): a state
+    gets the same bits whatever the batch it is in, so replica 0 of an ensemble is the plain
+    run."""
     batch = x.shape[1]
     if batch == 1:               # one state: the sums in registers
         for i in range(indptr.size - 1):
