@@ -299,11 +299,10 @@ the block mat-vec reads each block once for all states) and external forces (B, 
 @njit(cache=True)
 def bsr_matmat(indptr, indices, blocks, x, out):
     """out = A x for A in block-sparse-row form with 2 x 2 blocks and x of shape (n, B): one
-    read of each block serves the B columns. Strict IEEE arithmetic (no fast-math): a state
-    gets the same bits whatever the batch it is in, so replica 0 of an ensemble is the plain
-    run."""
+    read of each block serves the B columns (the loop over them vectorises). One column (a
+    plain run) keeps its sums in registers. Strict IEEE arithmetic (no fast-math)."""
     batch = x.shape[1]
-    if batch == 1:               # one state: the sums in registers
+    if batch == 1:
         for i in range(indptr.size - 1):
             a0 = 0.0
             a1 = 0.0

@@ -135,7 +135,7 @@ def run_ensemble(model: Model, ground, duration: float, replicas: int = REPLICAS
                  vertical=None, **options) -> list[FemResult]:
     """``replicas`` runs of the model that differ only at round-off level: replica r starts
     from the initial state of :func:`run` moved by :func:`replica_perturbation` (1e-12 of the
-    column height by default; replica 0 is the run itself). Penalty contact with friction is
+    column height by default; replica 0 is unperturbed). Penalty contact with friction is
     chaotic at landings: a last-bit difference there becomes another landing, so a number that
     depends on landings is a band over the replicas (:mod:`colonna.fem.ensemble`), not one
     sample. The replicas advance together, one pass through the stiffness per step for all.
