@@ -1,0 +1,67 @@
+"""Bands over replicas and the answers decided on them (colonna.fem.ensemble), and the study's
+stop on a run whose energy balance failed."""
+
+import pytest
+
+from colonna.fem.ensemble import (LANDING_DEPENDENT, band, decide, decide_count,
+                                  ensemble_summary, median_replica)
+from colonna.rigid.validation import InputError
+
+
+def test_band_counts_missing_values_and_keeps_every_value():
+    b = band([0.9, None, 1.1, float("nan"), 1.0])
+    assert (b["median"], b["min"], b["max"]) == (1.0, 0.9, 1.1)
+    assert b["n"] == 5 and b["missing"] == 2
+    assert b["values"][1] is None
+    empty = band([None, None])
+    assert empty["median"] is None and empty["missing"] == 2
+
+
+@pytest.mark.parametrize("values, uncertainty, word", [
+    ([1.01, 1.05, 1.2], 0.0, "yes"),         # the whole band past the limit
+    ([0.5, 0.7, 0.99], 0.0, "no"),           # none of it
+    ([0.95, 1.0, 1.05], 0.0, "undecided"),   # straddles it
+    ([1.01, 1.05], 0.02, "undecided"),       # past it, but not once the mesh error is added
+    ([0.9, 0.97], 0.02, "no"),               # below it even so
+    ([0.97, 0.98], 0.05, "undecided"),       # the mesh error reaches the limit
+])
+def test_decide_follows_the_band_on_each_side_of_the_limit(values, uncertainty, word):
+    assert decide(band(values), 1.0, uncertainty) == word
+
+
+def test_decide_is_undecided_where_some_replicas_have_no_value():
+    assert decide(band([1.2, None, 1.3]), 1.0) == "undecided"
+    assert decide(band([None, None]), 1.0) == "undecided"
+    assert decide(band([0.2, None]), 1.0) == "no"
+
+
+def test_decide_count():
+    assert decide_count([True, True]) == "yes"
+    assert decide_count([False, False]) == "no"
+    assert decide_count([True, False, True]) == "undecided"
+
+
+def test_ensemble_summary_medians_bands_and_majority():
+    runs = [{"overturned": o, "status": "s", "collar_max_utilisation": u,
+             "collar_first_yield_time": ty, "edge_stress_max": 1e6 * u}
+            for o, u, ty in ((True, 0.8, None), (False, 1.1, 0.5), (True, 0.9, None))]
+    s = ensemble_summary(runs, LANDING_DEPENDENT)
+    assert s["collar_max_utilisation"] == 0.9 and s["edge_stress_max"] == 0.9e6
+    assert s["bands"]["collar_max_utilisation"]["max"] == 1.1
+    # a first-yield time only where most replicas yield
+    assert s["collar_first_yield_time"] is None
+    assert s["overturned"] and s["overturned_replicas"] == 2
+    assert s["overturned_answer"] == "undecided" and s["replicas"] == 3
+    assert median_replica([0.8, 1.1, 0.9]) == 2
+
+
+def test_a_run_whose_energy_balance_failed_stops_the_study():
+    from colonna.studies.crosscheck import check_energy
+    good = {"energy_error_max": 1e-3, "energy_error_limit": 0.05}
+    bad = {"energy_error_max": 0.54, "energy_error_limit": 0.05}
+    check_energy({"fem": {"summary": good, "replica_summaries": [good, good]},
+                  "rigid": {"overturned": False}})
+    with pytest.raises(InputError, match=r"FEM case fem-mesh-2h: the energy balance is off by "
+                                         r"0\.54 .* in 1 of 2 replicas"):
+        check_energy({"fem": {"summary": good, "replica_summaries": [good]},
+                      "fem-mesh-2h": {"summary": good, "replica_summaries": [good, bad]}})
