@@ -215,12 +215,13 @@ def run_batch(model: Model, grounds: list, duration: float, *, verticals: list |
         raise InputError(f"run start_time = {start_time!r} s must be finite")
     start = _initial_state(model, initial_state, initial_contact, initial_tilt,
                            initial_angular_velocity, initial_velocity)
+    toes = edge_weights(model, edge_length)
     state = _BatchState(model, start, batch, max(1, int(round(edge_time / dt))),
-                        edge_length)
+                        np.ascontiguousarray(np.array(list(toes.values()))))
     if offsets is not None:
         for r, offset in enumerate(offsets):
             state.motion.x[r] += np.asarray(offset, dtype=float).reshape(-1)
-    recorders = [_Recorder(model, edge_length, out) for out in out_dirs]
+    recorders = [_Recorder(model, edge_length, list(toes), out) for out in out_dirs]
     tau = model.contact.friction_filter
     blend = 1.0 if tau == 0.0 else min(1.0, dt / tau)
     stiffness = _stiffness(model)
@@ -317,7 +318,6 @@ def _initial_state(model: Model, initial_state, initial_contact, initial_tilt,
     crack_ft, crack_fc lists, collar_state), checked."""
     if initial_contact is not None and initial_state is None:
         raise InputError("run initial_contact needs initial_state (a restart)")
-    n_passes = len(model.crack_passes)
     contact = {"base_fc": np.zeros(model.base_nodes.size),
                "crack_fc": [np.zeros(p[0].size) for p in model.crack_passes],
                "collar_state": np.zeros((model.collar_nodes.shape[0], 3))}
@@ -345,7 +345,6 @@ def _initial_state(model: Model, initial_state, initial_contact, initial_tilt,
         v = v + np.asarray(initial_velocity, dtype=float).reshape(-1)
     if initial_contact is not None:
         contact.update(_restore_contact(model, initial_contact))
-    assert len(contact["crack_ft"]) == n_passes
     return {"x": x, "v": v, **contact}
 
 
@@ -380,7 +379,7 @@ class _BatchState:
     """The kernel's bundles (fem._kernels) for B states of one model, all from ``start``."""
 
     def __init__(self, model: Model, start: dict, batch: int, edge_steps: int,
-                 edge_length: float):
+                 weights: np.ndarray):
         self.model = model
         n, n_base = model.n_dofs, model.base_nodes.size
         rows = lambda a: np.ascontiguousarray(np.repeat(np.asarray(a, dtype=float)[None],  # noqa: E731
@@ -418,7 +417,6 @@ class _BatchState:
         self.collars = K.CollarState(np.zeros((batch, n_collars, 5)),
                                      rows(start["collar_state"]).reshape(batch, n_collars, 3))
         self.collar_model = K.Collars(model.collar_nodes, model.collar_props)
-        weights = np.ascontiguousarray(np.array(list(edge_weights(model, edge_length).values())))
         self.edge = K.EdgeAverage(weights, np.zeros((batch, weights.shape[0], edge_steps)),
                                   np.zeros(batch, dtype=np.int64),
                                   np.zeros((batch, weights.shape[0])),
@@ -489,7 +487,7 @@ class _Recorder:
     """Recovers the outputs of one state of a batch at each output time and streams them to
     history.csv."""
 
-    def __init__(self, model: Model, edge_length: float, out_dir):
+    def __init__(self, model: Model, edge_length: float, edge_names: list, out_dir):
         self.model = model
         mesh = model.mesh
         self.rows = []
@@ -508,7 +506,7 @@ class _Recorder:
         # toes: outer corners of the column, and the crack corners of each half
         self.toe_left = mesh.base_nodes[0][0]
         self.toe_right = mesh.base_nodes[-1][-1]
-        self.edge_names = list(edge_weights(model, edge_length))
+        self.edge_names = edge_names        # the toes, in the order of the edge weights
         self.edge_area = edge_length * model.thickness
 
         self.crack_pairs = None

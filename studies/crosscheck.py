@@ -84,14 +84,6 @@ FEM_BANDED = LANDING_DEPENDENT + ("crack_slip_max", "impacts_before_pulse_end",
                                   "restitution_after_motion")
 
 
-def rocking_alpha(study) -> float:
-    """Slenderness of the body that rocks: a half of a cracked column without collars, else the
-    whole column (collars and crack friction make the halves rock together)."""
-    if study.cracked and not study.collars:
-        return math.atan2(study.width / 4.0, study.height / 2.0)
-    return math.atan2(study.width / 2.0, study.height / 2.0)
-
-
 def impacts_before(t, thetas, t_end: float) -> int:
     """Impacts (half cycles of the rotation) up to ``t_end``, the most of the given histories."""
     return max(int(np.sum(t[half_cycles(th)] <= t_end)) for th in thetas)
@@ -109,7 +101,7 @@ def restitution_after_motion(study, t, theta) -> float | None:
     if np.count_nonzero(free) < 3:
         return None
     theta_free = np.asarray(theta)[free]
-    measured = impact_ratios_from_peaks(np.asarray(t)[free], theta_free, rocking_alpha(study))
+    measured = impact_ratios_from_peaks(np.asarray(t)[free], theta_free, study.rocking_alpha)
     ratios = measured.ratios
     # the first sample counts as a peak; it is one only if the column was swinging outward
     if ratios.size and measured.before[0] == abs(theta_free[0]):
@@ -296,21 +288,17 @@ def step_check(criteria: dict, fine: dict) -> dict:
             "history_step_sensitive": fine["history_ok"] != criteria["history_ok"]}
 
 
-def _criteria_one(study, fem: dict, fem_history: dict, mb: dict, multibody_history: dict,
-                  t_first: float) -> dict:
-    """The four counts for one FEM replica against the multibody model (booleans)."""
-    t_pulse = study.ground.end_time
-    mb_t = multibody_history["t"]
-    names = ("left", "right") if study.cracked else ("column", "column")
-    theta_mb = [multibody_history[f"theta_{n}"] for n in names]
+def _criteria_one(study, fem: dict, fem_history: dict, mb: dict, mb_t, theta_mb: list,
+                  impacts_mb: int, t_first: float) -> dict:
+    """The four counts for one FEM replica against the multibody model (booleans); mb_t,
+    theta_mb: the multibody history's times and rotations of the two halves."""
     theta_fem = [fem_history["theta_left"], fem_history["theta_right"]]
     window = mb_t <= t_first
     scale = max(np.max(np.abs(th[window]), initial=0.0) for th in theta_mb)
     errors = [np.max(np.abs(np.interp(mb_t[window], fem_history["t"], tf) - tm[window]),
                      initial=0.0) for tf, tm in zip(theta_fem, theta_mb)]
     history_error = float(max(errors) / scale) if scale > 0 else math.nan
-    impacts_fem = impacts_before(fem_history["t"], theta_fem, t_pulse)
-    impacts_mb = impacts_before(mb_t, theta_mb, t_pulse)
+    impacts_fem = impacts_before(fem_history["t"], theta_fem, study.ground.end_time)
     fem_peak = max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
     peak_ratio = _peak_ratio(fem_peak, max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]))
     either_over = bool(fem["overturned"]) or bool(mb["overturned"])
@@ -353,7 +341,8 @@ def verdict_criteria(study, results: dict, fem_histories: list[dict],
         t_first = min(t_first, float(mb_t[falling[0]]))
     fem = results["fem"]
     summaries = fem.get("replica_summaries", [fem["summary"]])
-    per = [_criteria_one(study, s, h, mb, multibody_history, t_first)
+    impacts_mb = impacts_before(mb_t, theta_mb, t_pulse)
+    per = [_criteria_one(study, s, h, mb, mb_t, theta_mb, impacts_mb, t_first)
            for s, h in zip(summaries, fem_histories)]
     bands = {key: band(c[key] for c in per)
              for key in ("peak_ratio", "impacts_fem", "history_error")}
@@ -362,7 +351,7 @@ def verdict_criteria(study, results: dict, fem_histories: list[dict],
         "peak_ratio": bands["peak_ratio"]["median"],
         "peak_ok": decide_count(c["peak_ok"] for c in per),
         "impacts_before_pulse_end_fem": bands["impacts_fem"]["median"],
-        "impacts_before_pulse_end_multibody": per[0]["impacts_multibody"],
+        "impacts_before_pulse_end_multibody": impacts_mb,
         "impacts_ok": decide_count(c["impacts_ok"] for c in per),
         "history_error_to_first_impact": bands["history_error"]["median"],
         "history_window_end": float(t_first),

@@ -62,6 +62,15 @@ class FemStudy:
                      top_load=self.top_load / (2.0 if self.cracked else 1.0))
 
     @property
+    def rocking_alpha(self) -> float:
+        """Slenderness (rad) of the body whose impacts a rotation history shows: one half of a
+        cracked column without collars, else the whole column (collars and crack friction make
+        the halves rock together)."""
+        if self.cracked and not self.collars:
+            return math.atan2(self.width / 4.0, self.height / 2.0)
+        return math.atan2(self.width / 2.0, self.height / 2.0)
+
+    @property
     def column_block(self) -> Block:
         """The whole column as one rigid block (4b wide), with the whole top load."""
         mass = self.stone.density * self.width * self.height * self.thickness

@@ -40,16 +40,8 @@ def with_defaults(data: dict) -> dict:
     return data
 
 
-def rocking_alpha(study) -> float:
-    """Slenderness of the body that rocks (see the module)."""
-    if study.cracked and not study.collars:
-        return math.atan2(study.width / 4.0, study.height / 2.0)
-    return math.atan2(study.width / 2.0, study.height / 2.0)
-
-
 def free_rocking_case(case: dict, directory: str) -> dict:
     from ..rigid.multibody import rock_multibody
-    from .fem_study import run_study
 
     study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
     alpha = case["alpha"]
@@ -106,7 +98,7 @@ def run_free_rocking(study_path: Path, out: Path, *, workers=None, scheduler=Non
                          "ground.pulse = 'none' (or leave [ground] out)")
     base_data["run"].setdefault("initial_tilt", 0.01)        # replaced per case
     study = from_dict(base_data, source=str(study_path), base=study_path.parent)  # fails early
-    alpha = rocking_alpha(study)
+    alpha = study.rocking_alpha
     tilts, dampings = table.tilt_fractions, table.damping
     body_width = study.width / (2.0 if study.cracked else 1.0)
     sizes = table.mesh_sizes or [min(2.0 * study.mesh_size, body_width)]
