@@ -31,7 +31,7 @@ from . import _multibody as K
 from .block import Block
 from .collars import validate_collars
 from .ground import HarmonicPulse, NoMotion, Record, kernel_tables
-from .solve import CollarHistory
+from .solve import CollarHistory, collar_state, motion_word, verdict
 from .validation import InputError, require_non_negative, require_positive, require_range
 
 DEFAULT_FRICTION = 0.7          # as the FEM's ContactSettings
@@ -318,6 +318,7 @@ class MultibodyResult:
             "model": "multibody",
             "overturned": bool(self.overturned),
             "mode": self.mode,
+            "motion": motion_word(self.overturned, self.max_abs_theta, blk.alpha),
             "status": self.status,
             "impacts": int(self.impacts),
             "max_abs_theta": self.max_abs_theta,
@@ -355,7 +356,9 @@ class MultibodyResult:
             out["collar_first_yield_time"] = min(yields) if yields else None
             out["collar_max_plastic_strain"] = self.collar_max_plastic_strain
             out["collar_plastic_work"] = self.collar_plastic_work
-        return out
+            out["collar_state"] = collar_state(out["collar_max_utilisation"],
+                                               self.collar_max_plastic_strain)
+        return {"verdict": verdict(out), **out}     # first: what a person reads first
 
 
 def history_columns(result: MultibodyResult) -> dict:

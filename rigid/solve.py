@@ -10,7 +10,9 @@
 At an impact (theta = 0) theta' -> nu theta'. Overturning: after the ground motion, a free block
 passing its unstable equilibrium moving outward (|theta| > alpha, theta theta' > 0), or at any time
 |theta| reaching pi/2. Modes are named in words: ``"after-impact"`` (Zhang & Makris's mode 1),
-``"without-impact"`` (their mode 2), ``"safe"``.
+``"without-impact"`` (their mode 2), ``"safe"`` (it does not overturn). The summary adds the motion
+(``"no uplift"``, ``"rocking"``, ``"overturned"``) and, with collars, their state (``"elastic"``,
+``"yielded"``): "safe" speaks of overturning only, never of the collars.
 """
 
 from __future__ import annotations
@@ -28,8 +30,36 @@ from .validation import InputError, require_positive, require_range
 
 MODE_NAMES = {K.SAFE: "safe", K.AFTER_IMPACT: "after-impact", K.WITHOUT_IMPACT: "without-impact"}
 
+UPLIFT_THRESHOLD = 1e-4    # rotations up to 1e-4 alpha are no uplift (multibody contact compliance)
+
 DEFAULT_RTOL = 1e-10
 DEFAULT_ATOL = 1e-12
+
+
+def motion_word(overturned: bool, max_abs_theta: float, alpha: float) -> str:
+    """How the block moved: ``"overturned"``, ``"rocking"`` (it uplifted, |theta| beyond
+    UPLIFT_THRESHOLD alpha, and did not overturn) or ``"no uplift"``."""
+    if overturned:
+        return "overturned"
+    return "rocking" if max_abs_theta > UPLIFT_THRESHOLD * alpha else "no uplift"
+
+
+def collar_state(max_utilisation: float, max_plastic_strain: float = 0.0) -> str:
+    """``"yielded"`` once a collar's stress reached f_y (utilisation >= 1) or it strained
+    plastically, else ``"elastic"``."""
+    return "yielded" if max_utilisation >= 1.0 or max_plastic_strain > 0.0 else "elastic"
+
+
+def verdict(summary: dict) -> str:
+    """The motion and, with collars, their state, from a rigid summary: e.g. ``"rocking;
+    collars yielded (max utilisation 26.7)"``, ``"overturned (after-impact)"``."""
+    words = summary["motion"]
+    if summary["overturned"]:
+        words += f" ({summary['mode']})"
+    if "collar_state" in summary:
+        words += (f"; collars {summary['collar_state']} "
+                  f"(max utilisation {summary['collar_max_utilisation']:.3g})")
+    return words
 
 
 @dataclass
@@ -83,6 +113,7 @@ class RockingResult:
         out = {
             "overturned": bool(self.overturned),
             "mode": self.mode,
+            "motion": motion_word(self.overturned, self.max_abs_theta, self.block.alpha),
             "impacts": int(self.impacts),
             "max_abs_theta": float(self.max_abs_theta),
             "max_abs_theta_over_alpha": float(self.max_abs_theta_over_alpha),
@@ -106,10 +137,11 @@ class RockingResult:
                 "lateral_stiffness": h.collar.lateral_stiffness(self.block.b),
             } for h in self.collar_histories]
             out["collar_max_utilisation"] = max(h.max_utilisation for h in self.collar_histories)
+            out["collar_state"] = collar_state(out["collar_max_utilisation"])
             yields = [h.first_yield_time for h in self.collar_histories
                       if h.first_yield_time is not None]
             out["collar_first_yield_time"] = min(yields) if yields else None
-        return out
+        return {"verdict": verdict(out), **out}     # first: what a person reads first
 
 
 def kernel_block_constants(block: Block, model: str, vertical: bool = False):

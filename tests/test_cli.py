@@ -159,3 +159,157 @@ def test_multibody_options_errors_are_one_line(capsys, argv, word):
                        "--amplitude-ratio", "2", *argv)
     assert code == 2
     assert err.count("\n") == 1 and err.startswith("colonna: error:") and word in err
+
+
+# --- what a person reads: the verdict words, units and digits ------------------------------------
+
+COLLARS = "[[collar]]\ny = 1.0\nt = 0.01\nh = 0.04\n\n[[collar]]\ny = 3.0\nt = 0.01\nh = 0.04\n"
+HALF = ("--b", "0.2", "--h", "2.0", "--density", "2700")
+
+
+def test_rigid_collar_state_is_apart_from_the_rocking_mode(capsys, tmp_path, monkeypatch):
+    """A block that stays up while its collars pass f_y keeps mode "safe" (no overturning) but
+    says "yielded" beside it, in the summary, the printed lines and the figure's title."""
+    import colonna.rigid.plotting as plotting
+
+    collars = tmp_path / "collars.toml"
+    collars.write_text(COLLARS)
+    argv = ("rigid", *HALF, "--omega-ratio", "2", "--amplitude-ratio", "3", "--collars",
+            str(collars))
+    titles = []
+    close = plotting.plt.close
+    monkeypatch.setattr(plotting.plt, "close",
+                        lambda fig: (titles.append(fig.axes[0].get_title()), close(fig)))
+    code, out, _ = run(capsys, *argv, "--json", "--out", str(tmp_path / "o"))
+    assert code == 0
+    data = json.loads(out)
+    assert not data["overturned"] and data["collar_max_utilisation"] >= 1.0   # the case
+    assert data["mode"] == "safe" and data["motion"] == "rocking"
+    assert data["collar_state"] == "yielded"
+    for text in (data["verdict"], titles[0]):
+        assert "collars yielded" in text and "safe" not in text, text
+    code, out, _ = run(capsys, *argv)
+    lines = dict(line.split(None, 1) for line in out.splitlines())
+    assert lines["collar_state"] == "yielded" and "yielded" in lines["verdict"]
+
+
+def test_spectrum_counts_safe_pulses_whose_collars_yield(capsys, tmp_path):
+    """The printed spectrum counts beside "safe" the pulses in which a collar yields."""
+    collars = tmp_path / "collars.toml"
+    collars.write_text(COLLARS)
+    argv = ("spectrum", *HALF, "--collars", str(collars), "--omega-ratios", "1:9:3",
+            "--amplitude-ratios", "1.5:10:3")
+    code, out, _ = run(capsys, *argv, "--json")
+    data = json.loads(out)
+    modes = sum(data["mode"], [])
+    yields = sum(data["collar_yields"], [])
+    code, out, _ = run(capsys, *argv)
+    assert code == 0
+    lines = dict(line.split(None, 1) for line in out.splitlines())
+    assert int(lines["collars_yielded"]) == sum(yields)
+    assert int(lines["safe_with_collars_yielded"]) == sum(
+        y and m == "safe" for y, m in zip(yields, modes))
+
+
+def test_motion_and_collar_words():
+    from colonna.rigid.solve import UPLIFT_THRESHOLD, collar_state, motion_word, verdict
+
+    alpha = 0.2
+    assert motion_word(False, 0.0, alpha) == "no uplift"
+    assert motion_word(False, 0.5 * UPLIFT_THRESHOLD * alpha, alpha) == "no uplift"
+    assert motion_word(False, 0.1, alpha) == "rocking"
+    assert motion_word(True, 0.5 * alpha, alpha) == "overturned"
+    assert collar_state(0.99) == "elastic" and collar_state(1.0) == "yielded"
+    assert collar_state(0.99, max_plastic_strain=1e-4) == "yielded"
+    words = verdict({"motion": "no uplift", "overturned": False, "mode": "safe",
+                     "collar_state": "elastic", "collar_max_utilisation": 0.25})
+    assert words == "no uplift; collars elastic (max utilisation 0.25)"
+    assert verdict({"motion": "overturned", "overturned": True, "mode": "after-impact"}) \
+        == "overturned (after-impact)"
+
+
+@pytest.mark.parametrize("key, unit", [
+    ("edge_stress_max", "MPa"), ("collar_yield_stress", "MPa"), ("edge_stress_ratio", ""),
+    ("base_reaction_static", "kN"), ("top_load", "kN"), ("yield_moment", "kN m"),
+    ("required_stiffness", "kN/m"), ("energy_dissipated", "J"), ("energy_error_max", ""),
+    ("collar_first_yield_time", "s"), ("dt", "s"), ("t_end", "s"), ("wall_seconds", "s"),
+    ("max_abs_theta", "rad"), ("max_abs_theta_over_alpha", ""), ("alpha", "rad"),
+    ("p", "rad/s"), ("b", "m"), ("max_uplift", "m"), ("uplift_acceleration", "m/s^2"),
+    ("column_mass", "kg"), ("collar_max_utilisation", ""), ("restitution_housner", ""),
+    ("steps", ""), ("dofs", ""),
+])
+def test_printed_units_follow_the_key(key, unit):
+    from colonna.studies.cli import unit_of
+
+    assert unit_of(key)[0] == unit
+
+
+def _significant_digits(number: str) -> int:
+    mantissa = number.lstrip("-").split("e")[0]
+    digits = mantissa.replace(".", "").lstrip("0")
+    return len(digits if "." in mantissa else digits.rstrip("0"))
+
+
+@pytest.mark.parametrize("argv", [
+    ("design", *HALF, "--collar-t", "0.01", "--collar-h", "0.05", "--ag-ratio", "0.3"),
+    ("rigid", *HALF, "--top-load", "5000", "--omega-ratio", "2", "--amplitude-ratio", "3",
+     "--collars", "COLLARS"),
+])
+def test_printed_numbers_have_four_digits_and_a_unit_json_keeps_all(capsys, tmp_path, argv):
+    """Lines are ``key  value unit``: 4 significant digits in MPa, kN, ...; --json gives the
+    same numbers in SI units at full precision."""
+    from colonna.studies.cli import unit_of
+
+    collars = tmp_path / "collars.toml"
+    collars.write_text(COLLARS)
+    argv = [str(collars) if a == "COLLARS" else a for a in argv]
+    code, out, _ = run(capsys, *argv, "--json")
+    assert code == 0
+    data = json.loads(out)
+    code, out, _ = run(capsys, *argv)
+    assert code == 0
+    lines = dict(line.split(None, 1) for line in out.splitlines())
+    floats = [k for k, v in data.items() if isinstance(v, float)]
+    assert floats and set(floats) <= set(lines)
+    assert any(len(repr(data[k])) > 8 for k in floats)        # full precision in the JSON
+    for key in floats:
+        unit, factor = unit_of(key)
+        number, *shown = lines[key].split(" ", 1)
+        assert shown == ([unit] if unit else []), (key, lines[key])
+        assert _significant_digits(number) <= 4, (key, lines[key])
+        assert float(number) == pytest.approx(data[key] * factor, rel=5e-4, abs=1e-300), key
+
+
+# --- the first multibody run announces numba's compilation ---------------------------------------
+
+@pytest.mark.parametrize("cached", [False, True])
+def test_multibody_run_announces_compilation_only_when_it_compiles(capsys, monkeypatch, cached):
+    import colonna.studies.cli as cli
+
+    monkeypatch.setattr(cli, "kernels_cached", lambda kernels: cached)
+    code, out, err = run(capsys, "rigid", *ZM, "--model", "multibody", "--friction", "2",
+                         "--omega-ratio", "5", "--amplitude-ratio", "3", "--duration", "1",
+                         "--json")
+    assert code == 0 and json.loads(out)["model"] == "multibody"
+    assert ("compiling the multibody kernels" in err) is not cached
+    assert err.count("\n") == (0 if cached else 1)
+
+
+def test_kernels_cached_reads_numba_cache(tmp_path):
+    """A kernel is cached once a process compiled it into numba's cache (here an empty cache
+    folder of its own), not before; and for a process that compiled it already."""
+    import os
+    import subprocess
+    import sys
+
+    code = ("import sys, numpy as np; from colonna.rigid import _multibody as K; "
+            "from colonna.studies.cli import kernels_cached; "
+            "print(kernels_cached([K._table])); "
+            "K._table(0.5, np.array([0.0, 1.0]), np.array([0.0, 2.0])); "
+            "print(kernels_cached([K._table]))")
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    first = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                           text=True, check=True).stdout.split()
+    second = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                            text=True, check=True).stdout.split()
+    assert first == ["False", "True"] and second == ["True", "True"]

@@ -12,13 +12,26 @@ ROOT = Path(__file__).parents[1]
 
 
 @pytest.fixture(scope="module")
-def wheel(tmp_path_factory):
+def wheel_build(tmp_path_factory):
+    """The wheel built from the source tree, and what the build printed."""
     out = tmp_path_factory.mktemp("wheel")
     proc = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet",
                            "--wheel-dir", str(out), str(ROOT)], capture_output=True, text=True)
     if proc.returncode != 0:
         pytest.skip(f"cannot build a wheel here (no package index?): {proc.stderr[-300:]}")
-    return next(out.glob("colonna-*.whl"))
+    return next(out.glob("colonna-*.whl")), proc.stdout + proc.stderr
+
+
+@pytest.fixture(scope="module")
+def wheel(wheel_build):
+    return wheel_build[0]
+
+
+def test_wheel_builds_without_setuptools_warnings(wheel_build):
+    """No deprecated metadata (a license table) and no package-data folder left out of
+    ``packages``: setuptools builds the wheel without a warning."""
+    printed = wheel_build[1]
+    assert "warning" not in printed.lower(), printed[-2000:]
 
 
 def test_wheel_holds_only_the_colonna_package(wheel):
