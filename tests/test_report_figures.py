@@ -6,8 +6,11 @@ The reports themselves are checked with it in test_study, test_spectrum_crossche
 test_free_rocking."""
 
 import base64
+import re
 
 import matplotlib
+import numpy as np
+import pytest
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -63,3 +66,384 @@ def test_the_browser_check_finds_what_is_wrong(tmp_path):
     assert found["outside"] == ['legend entry "off the page" outside the figure']
     assert found["broken"] == ["image not drawn"]
     assert base64.b64decode(figs[-1]["data"]) == b"not a png"
+
+
+def _fem_output(out, thetas):
+    """A FEM run's files as the renders read them (fields_*.vtu, fields.xdmf): a cracked column
+    0.45 x 4 m turned as one rigid body about its right toe by the angles thetas (rad), the last
+    three being the initial, peak and final snapshots; the stress field grows with height."""
+    import numpy as np
+
+    from colonna.meshes.column import column_mesh
+    from colonna.meshes.io import write, write_time_series
+
+    mesh = column_mesh(0.45, 4.0, 0.1125, grading=0.0)
+    X = mesh.points.T
+    toe = np.array([0.225, 0.0])
+
+    def displacement(theta):
+        c, s = np.cos(theta), np.sin(theta)
+        d = X - toe
+        return toe + d @ np.array([[c, -s], [s, c]]) - X     # clockwise: towards the right
+
+    fem = out / "cases" / "fem"
+    centres = X[mesh.cells].mean(axis=0)
+    for name, theta in zip(("initial", "peak_rotation", "final"), thetas[-3:]):
+        write(fem / f"fields_{name}.vtu", mesh, point_data={"displacement": displacement(theta)},
+              cell_data={"sigma_min_principal": -1e5 * centres[:, 1]})
+    write_time_series(fem / "fields.xdmf", mesh, np.arange(len(thetas)) * 0.1,
+                      lambda k: {"displacement": displacement(thetas[k])})
+    (out / "figures").mkdir()
+
+
+def _border(png):
+    """Background rows/columns (px) on each side of an image: top, bottom, left, right."""
+    import numpy as np
+    from PIL import Image
+
+    img = np.asarray(Image.open(png).convert("RGB")).astype(int)
+    drawn = np.any(np.abs(img - 255) > 6, axis=2)
+    rows, cols = np.nonzero(drawn.any(axis=1))[0], np.nonzero(drawn.any(axis=0))[0]
+    return (rows[0], img.shape[0] - 1 - rows[-1], cols[0], img.shape[1] - 1 - cols[-1]), img
+
+
+def test_renders_are_cropped_to_the_column_and_show_peak_and_end(tmp_path, capfd, monkeypatch):
+    """Each render is trimmed to what is drawn (a few px of border), the peak-rotation and end
+    frames are drawn from their own data, and no display leaves no VTK warning on stderr."""
+    import numpy as np
+    from PIL import Image
+
+    from colonna.studies.render import MARGIN, render_snapshots
+
+    monkeypatch.delenv("DISPLAY", raising=False)
+    _fem_output(tmp_path, [0.0, 0.05, 0.12, 0.04, 0.0, 0.12, 0.04])
+    images = render_snapshots(tmp_path, n_frames=4)
+    assert [name for name, _ in images] == ["render_initial.png", "render_peak_rotation.png",
+                                            "render_final.png", "rocking.gif"]
+    pictures = {}
+    for name, _ in images[:3]:
+        border, pictures[name] = _border(tmp_path / "figures" / name)
+        assert max(border) <= MARGIN + 1, (name, border)
+        assert pictures[name].shape[0] > 2 * pictures[name].shape[1]    # a tall column
+    assert pictures["render_peak_rotation.png"].shape != pictures["render_final.png"].shape \
+        or np.any(pictures["render_peak_rotation.png"] != pictures["render_final.png"])
+    gif = Image.open(tmp_path / "figures" / "rocking.gif")
+    assert gif.n_frames == 4
+    drawn = 0
+    for k in range(gif.n_frames):        # one box for all frames, trimmed as a whole
+        gif.seek(k)
+        drawn = drawn + 255 - np.asarray(gif.convert("L"), dtype=int)
+    rows, cols = np.nonzero((drawn > 6).any(axis=1))[0], np.nonzero((drawn > 6).any(axis=0))[0]
+    assert max(rows[0], drawn.shape[0] - 1 - rows[-1], cols[0],
+               drawn.shape[1] - 1 - cols[-1]) <= MARGIN + 1
+    assert "bad X server" not in capfd.readouterr().err
+
+
+def test_a_run_that_ends_at_its_peak_rotation_is_drawn_once(tmp_path):
+    """An overturned run stops at its largest rotation: the peak and end snapshots are the same
+    frame, drawn once with a caption that says so."""
+    from colonna.studies.render import render_snapshots
+
+    _fem_output(tmp_path, [0.0, 0.05, 0.1, 0.0, 0.1, 0.1])
+    images = render_snapshots(tmp_path, n_frames=3)
+    names = [name for name, _ in images]
+    assert names == ["render_initial.png", "render_peak_rotation.png", "rocking.gif"]
+    assert "end of the run" in images[1][1]
+
+
+# --- the figures of the reports: the design point, a marker per computed pulse, curves that
+# coincide, legends beside the data. Each report is written from made-up run files, its
+# figures kept as _figure receives them; the pages themselves (templates) are not drawn.
+
+def _history(t, **columns):
+    return {"t": t, **columns}
+
+
+def _made_up_runs(out):
+    """The files the report writers read, for a cracked column whose three collars (and the
+    variants "cracked" and "cracked-collars", and the two models released at one tilt) have
+    the same histories: curves that lie on top of each other. The design summary is that of a
+    0.225 x 4 m half column with 8 x 60 mm collars at a_g = 0.3 g."""
+    from colonna.rigid.block import Block
+    from colonna.rigid.collars import Collar
+    from colonna.rigid.design import design_chart, design_collars
+    from colonna.studies.output import write_csv, write_json
+
+    t = np.linspace(0.0, 2.0, 401)
+    theta = 0.02 * np.sin(2 * np.pi * t) * np.exp(-t)
+    stress = 150e6 * np.abs(np.sin(3 * t))
+    runs = {}
+    crosscheck = out / "crosscheck"
+    write_csv(crosscheck / "cases" / "fem" / "history.csv", _history(
+        t, theta_left=theta, theta_right=theta, collar_1_stress=stress, collar_2_stress=stress,
+        collar_3_stress=stress, edge_stress_left=5e6 + 0 * t, edge_stress_right=5e6 + 0 * t))
+    write_csv(crosscheck / "cases" / "multibody" / "history.csv",
+              _history(t, theta_left=theta, theta_right=theta))
+    for key in ("rigid", "monolith"):
+        write_csv(crosscheck / "cases" / key / "history.csv", _history(t, theta=theta))
+    write_csv(crosscheck / "cases" / "fem" / "base_pressure.csv",
+              {"t": t, **{f"p_x={x:g}": 1e6 * (1 + x) + 0 * t for x in (-0.2, 0.0, 0.2)}})
+    write_json(crosscheck / "summary.json", {
+        "study": "made up", "fem": {"replicas": 1, "edge_length": 0.01},
+        "collar_fy": [235e6] * 3, "stone_fc": 110e6})
+    runs["crosscheck"] = crosscheck
+
+    design = out / "design"
+    block = Block.from_density(0.1125, 2.0, 2700.0, 0.45)
+    collar = Collar(y=2.0, t=0.008, h=0.06)
+    alphas, ratios = np.linspace(0.03, 0.4, 12), np.linspace(0.05, 1.0, 13)
+    chart = design_chart(block.b, 2700.0, 0.45, collar, alphas, ratios, block.g)
+    write_csv(design / "figures" / "design_chart.csv",
+              {"alpha": np.repeat(alphas, ratios.size), "ag_over_g": np.tile(ratios, alphas.size),
+               "required_stiffness": chart.ravel()})
+    write_csv(design / "cases" / "fem" / "history.csv", _history(
+        t, **{f"collar_{k}_utilisation": stress / 235e6 for k in (1, 2, 3)}))
+    write_json(design / "summary.json", {
+        "study": "made up", "design": design_collars(block, collar, 0.3 * block.g).to_dict(),
+        "design_alpha": block.alpha, "design_ag_over_g": 0.3, "collars_provided": 3,
+        "lateral_stiffness_provided": 3 * collar.lateral_stiffness(block.b)})
+    runs["design"] = design
+
+    grid = out / "grid"            # a 3 x 3 spectrum cross-check
+    modes = [["after-impact", "safe", "safe"], ["without-impact", "after-impact", "safe"],
+             ["without-impact", "without-impact", "after-impact"]]
+    write_json(grid / "summary.json", {
+        "study": "made up", "omega_ratios": [1.0, 3.0, 5.0], "amplitude_ratios": [2.0, 3.0, 4.0],
+        "mode_fem": modes, "mode_multibody": modes,
+        "mode_sdof": [["safe"] * 3, ["safe"] * 3, modes[2]],
+        "collar_utilisation_fem": [[0.5] * 3] * 3, "toe_ratio_fem": [[0.05] * 3] * 3,
+        "collar_yield_fem": [[False] * 3] * 3})
+    runs["grid"] = grid
+
+    rocking = out / "free-rocking"
+    tilts = []
+    for k, fraction in enumerate((0.5, 0.8), start=1):
+        for kind in ("fem", "multibody"):
+            write_csv(rocking / "cases" / f"{kind}-tilt{k}" / "history.csv",
+                      _history(t, theta_left=fraction * 0.05 * np.cos(4 * t)))
+        ratios_k = [0.9, 0.88, 0.87]
+        tilts.append({"tilt_fraction": fraction, "fem": {"ratios": ratios_k},
+                      "multibody": {"ratios": ratios_k if k == 1 else [0.8, 0.8]}})
+    write_json(rocking / "summary.json", {"study": "made up", "alpha": 0.05, "tilts": tilts,
+                                          "restitution_housner": 0.85})
+    runs["free-rocking"] = rocking
+
+    sweep = out / "sweep"
+    for n in ("solid", "cracked", "cracked-collars"):
+        scale = 0.5 if n == "solid" else 1.0
+        write_csv(sweep / "cases" / f"{n}-fem" / "history.csv",
+                  _history(t, theta_left=scale * theta, theta_right=scale * theta))
+        write_csv(sweep / "cases" / f"{n}-rigid" / "history.csv", _history(t, theta=theta))
+    runs["sweep"] = sweep
+    return runs
+
+
+@pytest.fixture(scope="module")
+def drawn(tmp_path_factory):
+    """Every figure the report writers make from _made_up_runs: name -> (figure, what _figure
+    gave the template)."""
+    from colonna.studies import report
+    from colonna.studies.output import read_csv
+
+    out = tmp_path_factory.mktemp("reports")
+    runs = _made_up_runs(out)
+    figures = {}
+    keep = report._figure
+
+    def figure(where, name, fig, caption, data_file=""):
+        figures[name] = (fig, keep(where, name, fig, caption, data_file))
+        return figures[name][1]
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(report, "_figure", figure)
+        mp.setattr(report, "_render", lambda out, *a, **k: out / "index.html")
+        mp.setattr(report, "_renders", lambda out: ([], ""))
+        mp.setattr(report, "_deformed_figure", lambda *a: None)
+        report.write_crosscheck_report(runs["crosscheck"])
+        report.write_design_report(runs["design"])
+        report.write_spectrum_crosscheck_report(runs["grid"])
+        report.write_free_rocking_report(runs["free-rocking"])
+        summary = {"sizes": [0.1, 0.05, 0.025], "convergence": {
+            "peak_rotation": {"values": [0.02, 0.021, 0.0212], "richardson": 0.0213},
+            "collar_max_utilisation": {"values": [0.7, 0.72, 0.73], "richardson": None},
+            "edge_stress_max": {"values": [4e6, 5e6, 5.5e6], "richardson": 6e6}}}
+        report._convergence_figure(runs["sweep"], summary)
+        report._variants_figure(runs["sweep"],
+                                {"variants": ["solid", "cracked", "cracked-collars"]})
+    assert read_csv(runs["design"] / "figures" / "design_chart.csv")["alpha"].size == 12 * 13
+    return figures
+
+
+# the figures whose curves and legends are checked: of the cross-check only the collar and toe
+# stress figures (its others are drawn elsewhere in write_crosscheck_report)
+CHECKED = ("collars", "toe_stress", "design_chart", "collar_utilisation", "maps", "disagreement",
+           "boundaries", "rotations", "ratios", "convergence", "theta_variants")
+
+
+def _texts(fig) -> list[str]:
+    from matplotlib.text import Text
+    return [t.get_text() for t in fig.findobj(Text) if t.get_text()]
+
+
+def test_the_design_chart_marks_the_design_point_in_kN_per_m(drawn):
+    """The design chart is an inline figure with the study's own column and pulse marked at
+    (a_g/g, alpha), its required stiffness and the provided one in the legend, and every
+    stiffness on it in kN/m (none in N/m)."""
+    fig, entry = drawn["design_chart"]
+    assert "<svg" in entry["svg"] and entry["data_file"] == "figures/design_chart.csv"
+    ax = fig.axes[0]
+    stars = [line for line in ax.get_lines() if line.get_marker() == "*"]
+    assert len(stars) == 1
+    x, y = stars[0].get_xydata()[0]
+    assert x == pytest.approx(0.3) and 0.03 < y < 0.4
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any(t.startswith("design point") and "kN/m" in t for t in legend), legend
+    assert any(t.startswith("k provided by the 3 collar(s)") for t in legend), legend
+    text = " ".join(_texts(fig))
+    assert "kN/m" in text and not re.search(r"(?<![kM])N/m", text), text
+    assert "design point" in " ".join(entry["legend"])
+
+
+def _scatter_points(ax) -> dict:
+    """(x, y) -> face colour (hex) of every scatter marker of the axes."""
+    from matplotlib.collections import PathCollection
+    from matplotlib.colors import to_hex
+
+    points = {}
+    for c in ax.collections:
+        if type(c) is PathCollection:
+            colours = c.get_facecolors()
+            for k, (x, y) in enumerate(c.get_offsets()):
+                points[(round(float(x), 9), round(float(y), 9))] = to_hex(
+                    colours[k % len(colours)])
+    return points
+
+
+def test_coarse_maps_mark_every_computed_pulse(drawn):
+    """On a 3 x 3 grid each computed pulse is a marker coloured by its outcome, on every map of
+    the spectrum cross-check and on the rigid spectrum map (rigid/plotting.plot_spectrum)."""
+    import matplotlib.pyplot as plt
+
+    from colonna.rigid.plotting import MODE_COLOURS, plot_spectrum
+    from colonna.rigid.spectrum import Spectrum
+
+    code = {"safe": 0, "after-impact": 1, "without-impact": 2}
+    w, a = [1.0, 3.0, 5.0], [2.0, 3.0, 4.0]
+    fig, _ = drawn["maps"]
+    sdof = [["safe"] * 3, ["safe"] * 3, ["without-impact", "without-impact", "after-impact"]]
+    modes = {0: [["after-impact", "safe", "safe"], ["without-impact", "after-impact", "safe"],
+                 sdof[2]]}
+    modes[1], modes[2] = modes[0], sdof
+    for k, ax in enumerate(fig.axes):
+        points = _scatter_points(ax)
+        for i, y in enumerate(a):
+            for j, x in enumerate(w):
+                assert points.get((x, y)) == MODE_COLOURS[code[modes[k][i][j]]], (k, x, y)
+    fig, _ = drawn["disagreement"]
+    assert all(len(_scatter_points(ax)) == 9 for ax in fig.axes)
+    codes = np.array([[code[m] for m in row] for row in modes[0]], dtype=np.int8)
+    spectrum = Spectrum(np.array(w), np.array(a), codes, np.zeros((3, 3)), None, "nonlinear",
+                        "sine", 0.0, False)
+    fig, ax = plt.subplots()
+    plot_spectrum(spectrum, None, ax=ax)
+    assert len(_scatter_points(ax)) == 9
+    plt.close(fig)
+
+
+def _identical_lines(fig):
+    """Groups (two or more) of the figure's data lines that lie on top of each other."""
+    groups = []
+    for ax in fig.axes:
+        lines = [line for line in ax.get_lines() if len(line.get_xdata()) > 2]
+        for k, line in enumerate(lines):
+            same = [other for other in lines[k:]
+                    if np.array_equal(other.get_xydata(), line.get_xydata(), equal_nan=True)]
+            if len(same) > 1 and not any(line in g for g in groups):
+                groups.append(same)
+    return groups
+
+
+def test_curves_that_coincide_stay_visible(drawn):
+    """Three collars with one history, two variants with one rotation, FEM and multibody with one
+    rotation: each curve of a group that lies on top of another has its own markers, and those
+    drawn first are wider (an outline round the later ones), so none hides another."""
+    checked = set()
+    for name in CHECKED:
+        for group in _identical_lines(drawn[name][0]):
+            markers = [line.get_marker() for line in group]
+            widths = [line.get_linewidth() for line in group]
+            assert "None" not in markers and len(set(markers)) == len(group), (name, markers)
+            assert all(w1 > w2 for w1, w2 in zip(widths, widths[1:])), (name, widths)
+            checked.add(name)
+    assert {"collars", "toe_stress", "collar_utilisation", "theta_variants", "rotations",
+            "ratios", "boundaries"} <= checked
+
+
+def test_legends_cover_no_data(drawn):
+    """Every legend of every figure lies inside the figure and outside every axes (the curves,
+    the f_y and f_c lines and the maps stay in view)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    for name in CHECKED:
+        fig = drawn[name][0]
+        canvas = FigureCanvasAgg(fig)           # the figure was closed after saving
+        canvas.draw()
+        renderer = canvas.get_renderer()
+        legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend()]
+        assert legends, name
+        page = fig.bbox.padded(1.0)
+        for legend in legends:
+            box = legend.get_window_extent(renderer)
+            assert page.containsx(box.x0) and page.containsx(box.x1) \
+                and page.containsy(box.y0) and page.containsy(box.y1), name
+            for ax in fig.axes:
+                inner = ax.get_window_extent(renderer).padded(-1.0)
+                assert not box.overlaps(inner), (name, ax.get_title())
+
+
+def test_the_crosscheck_spectrum_holds_the_multibody_model_through_the_study_pulse(tmp_path):
+    """spectrum.json of the cross-check keeps the SDOF keys and adds the rigid multibody
+    spectrum on a coarse grid with the study's pulse on it; the figure marks each of its pulses
+    and says the verdict relies on the multibody model."""
+    import json
+    import tomllib
+
+    from colonna.studies.crosscheck import spectrum_case
+    from colonna.studies.report import _spectrum_figure
+    from tiny_study import TINY_STUDY
+
+    study = tomllib.loads(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6))
+    case = {"study": study, "source": str(tmp_path / "tiny.toml"), "base": str(tmp_path),
+            "key": "spectrum", "kind": "spectrum", "multibody_grid": (3, 2)}
+    result = spectrum_case(case, str(tmp_path))
+    data = json.loads((tmp_path / "spectrum.json").read_text())
+    assert {"omega_ratios", "amplitude_ratios", "mode", "layout", "collar_yields",
+            "study_omega_ratio", "study_amplitude_ratio"} <= set(data)
+    mb = data["multibody"]
+    assert mb["model"] == "multibody" and mb["cracked"] and mb["friction"] == 0.7
+    assert len(mb["omega_ratios"]) == 3 and len(mb["amplitude_ratios"]) == 2
+    assert result["omega_ratio"] in mb["omega_ratios"]
+    assert result["amplitude_ratio"] in mb["amplitude_ratios"]
+    assert np.array(mb["mode"]).shape == (2, 3) and result["multibody_seconds"] > 0
+    (tmp_path / "figures").mkdir()
+    figs = []
+    _spectrum_figure(tmp_path, data, figs)
+    assert "verdict relies on the rigid multibody model" in figs[0]["caption"]
+    assert any(e.startswith("rigid multibody: ") for e in figs[0]["legend"])
+    assert "this study's pulse" in figs[0]["legend"]
+    marked = np.loadtxt(tmp_path / "figures" / "spectrum_multibody.csv", delimiter=",",
+                        skiprows=1, ndmin=2)
+    assert marked.shape[0] == 6
+
+
+def test_the_reports_figures_pass_the_browser_check(drawn, tmp_path):
+    """In headless Chromium every figure of the made-up reports is drawn, its legend entries
+    inside the figure and of colours drawn (tests/data/report_check.js)."""
+    browser()
+    figs = [entry for _, entry in drawn.values()]
+    page = TEMPLATES.from_string(
+        '{% from "macros.html.j2" import figures with context %}'
+        "<!DOCTYPE html><html><body>{{ figures(figs) }}</body></html>").render(figs=figs)
+    (tmp_path / "index.html").write_text(page)
+    found = {r["name"]: r["problems"] for r in check_report(tmp_path / "index.html", tmp_path)}
+    assert set(found) == set(drawn) and not any(found.values()), found
