@@ -124,7 +124,88 @@ def _multibody_options(args) -> dict:
             "crack_friction": args.crack_friction}
 
 
+# The unit a summary value is printed in (its key in SI units: Pa, N, m, s, ...), found from the
+# words of its key (split at "_"): the first row with a word in the key wins. Ratios come first,
+# so that edge_stress_ratio or yield_rotation_over_alpha are plain numbers.
+UNITS = (
+    ({"over", "ratio", "ratios", "utilisation", "error", "restitution", "friction", "strain",
+      "reduction", "agreement"}, "", 1.0),
+    ({"stress"}, "MPa", 1e-6),
+    ({"moment"}, "kN m", 1e-3),
+    ({"force", "load", "reaction"}, "kN", 1e-3),
+    ({"stiffness", "penalty"}, "kN/m", 1e-3),
+    ({"energy", "work"}, "J", 1.0),
+    ({"acceleration"}, "m/s^2", 1.0),
+    ({"mass"}, "kg", 1.0),
+    ({"time", "seconds", "dt", "t"}, "s", 1.0),
+    ({"theta", "rotation", "angle", "alpha"}, "rad", 1.0),
+    ({"p"}, "rad/s", 1.0),
+    ({"b", "h", "uplift", "opening", "slip", "length", "displacement"}, "m", 1.0),
+)
+SIGNIFICANT_DIGITS = 4
+
+
+def unit_of(key: str) -> tuple[str, float]:
+    """(unit, factor from SI) a summary value is printed in; ("", 1) for a plain number."""
+    words = set(key.split("_"))
+    for names, unit, factor in UNITS:
+        if words & names:
+            return unit, factor
+    return "", 1.0
+
+
+def format_value(key: str, value) -> str:
+    """A summary value for people: numbers to SIGNIFICANT_DIGITS with their unit (stresses in
+    MPa, forces in kN), counts as integers, words as they are."""
+    if value is None:
+        return "none"
+    if isinstance(value, (bool, np.bool_, str)):
+        return str(value)
+    if isinstance(value, (int, np.integer)) and not unit_of(key)[0]:
+        return str(int(value))
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        unit, factor = unit_of(key)
+        text = f"{float(value) * factor:.{SIGNIFICANT_DIGITS}g}"
+        if "e+" in text and abs(float(text)) < 1e6:     # 11630, not 1.163e+04
+            text = f"{float(text):.0f}"
+        return f"{text} {unit}" if unit else text
+    return str(value)
+
+
+def kernels_cached(kernels) -> bool:
+    """Whether every numba kernel given (``cache=True`` dispatchers) is compiled in this process
+    or in numba's on-disk cache for this source, numba version and processor, so that calling
+    it compiles nothing. Where numba's cache cannot be read, True: nothing to announce."""
+    for kernel in kernels:
+        if kernel.overloads:
+            continue
+        try:
+            cache = kernel._cache
+            codegen = kernel.targetctx.codegen()
+            overloads = cache._cache_file._load_index()    # {} when missing or stale
+            wanted = cache._index_key(None, codegen)[1:]   # processor, bytecode hashes
+        except Exception:        # numba's cache internals moved: say nothing rather than guess
+            continue
+        if not any(key[1:] == wanted for key in overloads):
+            return False
+    return True
+
+
+def _announce_compilation(kernels, what: str, seconds: int) -> None:
+    """One line on stderr before a run that will first compile its numba kernels."""
+    if not kernels_cached(kernels):
+        print(f"colonna: compiling the {what} (first run on this machine, about {seconds} s; "
+              "cached afterwards)", file=sys.stderr, flush=True)
+
+
+def _multibody_kernels(spectrum: bool = False) -> list:
+    from ..rigid import _multibody as K
+    return [K.spectrum_modes if spectrum else K.simulate]
+
+
 def _emit(args, summary: dict | None) -> None:
+    """Print a command's summary: one JSON object at full precision with --json, else one
+    ``key  value unit`` line per scalar (lists and tables are left to --json and --out)."""
     if summary is None:          # the command printed its own output
         return
     if args.json:
@@ -132,7 +213,7 @@ def _emit(args, summary: dict | None) -> None:
     else:
         for key, value in summary.items():
             if not isinstance(value, (list, dict)):
-                print(f"{key:28s} {value}")
+                print(f"{key:28s} {format_value(key, value)}")
 
 
 # --- colonna rigid ------------------------------------------------------------------------------
@@ -159,6 +240,7 @@ def _cmd_rigid(args) -> dict:
     multibody = _multibody_options(args)
     if multibody:
         from ..rigid.multibody import history_columns, rock_multibody
+        _announce_compilation(_multibody_kernels(), "multibody kernels", 30)
         result = rock_multibody(block, ground, collars, duration=args.duration,
                                 vertical=vertical, **multibody)
         columns = history_columns(result)
@@ -200,6 +282,7 @@ def _cmd_spectrum(args) -> dict:
     multibody = _multibody_options(args)
     if multibody:
         from ..rigid.multibody import multibody_spectrum
+        _announce_compilation(_multibody_kernels(spectrum=True), "multibody kernels", 30)
         spectrum = multibody_spectrum(block, omegas, amplitudes, collars, pulse=args.pulse,
                                       **multibody)
     else:
@@ -216,9 +299,13 @@ def _cmd_spectrum(args) -> dict:
         plot_spectrum(spectrum, out / "spectrum.png")
     if not args.json:
         counts = np.bincount(spectrum.codes.ravel(), minlength=3)
-        return {"points": int(spectrum.codes.size), "safe": int(counts[0]),
-                "after-impact": int(counts[1]), "without-impact": int(counts[2]),
-                "seconds": spectrum.seconds}
+        short = {"points": int(spectrum.codes.size), "safe": int(counts[0]),
+                 "after-impact": int(counts[1]), "without-impact": int(counts[2])}
+        if spectrum.collar_yields is not None:     # "safe" is the overturning, not the collars
+            yields = np.asarray(spectrum.collar_yields, dtype=bool)
+            short["collars_yielded"] = int(yields.sum())
+            short["safe_with_collars_yielded"] = int((yields & (spectrum.codes == 0)).sum())
+        return {**short, "seconds": spectrum.seconds}
     return summary
 
 
@@ -281,60 +368,39 @@ def _cmd_fem(args) -> dict:
 # --- colonna study ------------------------------------------------------------------------------
 
 def _cmd_study(args) -> dict:
-    from .crosscheck import run_crosscheck
+    from .driver import KINDS, run_study_file, study_kind
+    from .spectrum_crosscheck import parse_grid_size
     from .sweep import default_workers
-
-    from ..rigid.validation import read_toml
-
-    from .output import record_inputs
-    from .schema import parse_table
-    from .sweeps import run_sweep_study
 
     path = resolve_study(args.study)
     workers = args.workers if args.workers is not None else default_workers()
     if workers < 1:
         raise InputError(f"--workers = {workers} must be >= 1")
-    kind = parse_table("study", read_toml(path, "study file").get("study", {}), str(path)).kind
-    if args.grid is not None and kind != "spectrum-crosscheck":
-        raise InputError(f"--grid applies to studies of kind spectrum-crosscheck, not {kind!r}")
-    out = Path(args.out)
-    force = args.force
-    if kind == "cross-check":
-        summary = run_crosscheck(path, out, workers=workers, scheduler=args.scheduler,
-                                 force=force)
-        short = summary["verdict"]
-    elif kind == "collar-design":
-        from .design_study import run_design_study
-        summary = run_design_study(path, out, workers=workers, scheduler=args.scheduler,
-                                   force=force)
-        short = {"design_adequate": summary["design_adequate"],
-                 "fem_collar_max_utilisation": summary["fem_collar_max_utilisation"]}
-    elif kind == "spectrum-crosscheck":
-        from .spectrum_crosscheck import parse_grid_size, run_spectrum_crosscheck
-        grid = parse_grid_size(args.grid) if args.grid is not None else None
-        summary = run_spectrum_crosscheck(path, out, workers=workers, scheduler=args.scheduler,
-                                          grid=grid, force=force)
-        short = {"agreement_fem_multibody": summary["agreement_fem_multibody"],
-                 "agreement_fem_sdof": summary["agreement_fem_sdof"]}
-    elif kind == "free-rocking":
-        from .free_rocking import run_free_rocking
-        summary = run_free_rocking(path, out, workers=workers, scheduler=args.scheduler,
-                                   force=force)
-        short = {"fem_ratio_study_stone": summary["fem_ratio_study_stone"],
-                 "multibody_ratio": summary["multibody_ratio"],
-                 "restitution_housner": summary["restitution_housner"]}
-    elif kind == "zhang-makris":
-        from .validation import zhang_makris_study
-        summary = zhang_makris_study(out)
-        short = {"boundaries_linear": summary["boundaries"]["linear"]}
-    else:
-        summary = run_sweep_study(kind, path, out, workers=workers, scheduler=args.scheduler,
-                                  force=force)
-        short = {}
-    # the inputs on record beside the results they gave (every kind; written once it is done,
-    # so that a refused or interrupted run leaves the record of the results in out as it was)
-    record_inputs(out, path, {"grid": args.grid})
-    return summary if args.json else {"report": str(out / "index.html"), **short}
+    grid = parse_grid_size(args.grid) if args.grid is not None else None
+    if args.pdf:
+        from .pdf import require_browser
+        require_browser()
+    summary = run_study_file(path, Path(args.out), workers=workers, scheduler=args.scheduler,
+                             force=args.force, grid=grid)
+    if args.pdf:
+        from .pdf import write_pdf
+        pdf = write_pdf(Path(args.out) / "index.html", Path(args.out) / "report.pdf")
+        print(f"[study] PDF: {pdf}", file=sys.stderr, flush=True)
+    if args.json:
+        return summary
+    short = {"report": str(Path(args.out) / "index.html")}
+    for key in KINDS[study_kind(path)].short:
+        value = summary.get(key)
+        if key == "outcome" and value:         # the report's opening, in words
+            for m in value["models"]:
+                time = m.get("overturn_time")
+                short[m["model"]] = m["motion"] + (f" (run stops at t = {time:.3f} s)"
+                                                   if time is not None else "")
+        elif isinstance(value, dict):
+            short.update(value)
+        elif value is not None:
+            short[key] = value
+    return short
 
 
 # --- colonna schema ------------------------------------------------------------------------------
@@ -422,6 +488,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=int, help="local worker processes (default: the cores)")
     p.add_argument("--grid", help="NxM: the spectrum cross-check's grid, N omega ratios by M "
                                   "amplitude ratios (overrides [grid] points)")
+    p.add_argument("--pdf", action="store_true",
+                   help="also print the report to OUT/report.pdf (headless Chromium)")
     p.add_argument("--force", action="store_true",
                    help="recompute the cases in --out saved from other inputs (another study "
                         "file, record or colonna version) instead of refusing to run")

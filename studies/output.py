@@ -7,7 +7,6 @@ import io
 import json
 import math
 import os
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -47,15 +46,6 @@ def write_csv(path, columns: dict) -> None:
     _atomic_write_text(Path(path), buffer.getvalue())
 
 
-def finish_study(out: Path, summary: dict, write_report, progress: bool) -> dict:
-    """Write summary.json, then the report from it (``write_report(out)``), and say where."""
-    write_json(Path(out) / "summary.json", summary)
-    write_report(out)
-    if progress:
-        print(f"[study] report: {Path(out) / 'index.html'}", file=sys.stderr, flush=True)
-    return summary
-
-
 def record_inputs(out: Path, study_path: Path, options: dict | None = None) -> dict:
     """The inputs of a study on record beside its results: ``out/study.toml``, the study file
     byte for byte, and ``out/inputs.json``, the validated study with every default filled in
@@ -73,6 +63,21 @@ def record_inputs(out: Path, study_path: Path, options: dict | None = None) -> d
     if data.get("study", {}).get("kind") == "free-rocking":   # its own defaults, as it runs
         data = with_defaults(data)
     inputs = schema.parse(data, str(study_path)).model_dump(mode="json")
+    if inputs.get("column") is not None:     # the defaults that depend on the column
+        from .fem_study import from_dict
+        # (only the column's defaults are read: where the study sets the motion per case, a
+        # stand-in motion lets the study resolve)
+        resolvable = data
+        if inputs["study"]["kind"] == "spectrum-crosscheck":     # its grid sets the pulse
+            resolvable = {**data, "ground": {"pulse": "sine", "amplitude_ratio": 1.0,
+                                             "omega_ratio": 1.0}}
+        elif inputs["study"]["kind"] == "free-rocking":          # its cases set the tilt
+            resolvable = {**data, "run": {**data.get("run", {}), "initial_tilt": 0.01}}
+        study = from_dict(resolvable, source=str(study_path), base=Path(study_path).parent)
+        inputs["column"]["thickness"] = study.thickness
+        for entry, collar in zip(inputs["collar"], study.collars):
+            entry["length"] = study.width if collar.length is None else collar.length
+            entry["Eh"] = collar.hardening_modulus
     inputs.update(study_file=Path(study_path).name,
                   study_sha256=hashlib.sha256(raw).hexdigest(),
                   colonna_version=importlib.import_module("colonna").__version__,

@@ -32,7 +32,9 @@ from ..rigid.impacts import half_cycles
 from ..rigid.validation import InputError, read_toml
 from . import schema
 from .fem_study import from_dict
-from .output import finish_study
+from ..fem.ensemble import NO, YES
+from .outcome import QUESTIONS, count_answer, grid_outcome, not_assessed, outcome
+from .output import write_json
 from .sweep import run_cases
 
 DEFAULT_X_RANGE = {"omega_ratios": [1.0, 8.0], "time_scales": [0.5, 2.0]}
@@ -176,8 +178,8 @@ def run_spectrum_crosscheck(study_path: Path, out: Path, *, workers=None, schedu
         summary["record"] = original.name
         summary["time_scales"] = summary["omega_ratios"]
     summary["wall_seconds"] = time.perf_counter() - start
-    from .report import write_spectrum_crosscheck_report
-    return finish_study(out, summary, write_spectrum_crosscheck_report, progress)
+    write_json(out / "summary.json", summary)
+    return summary
 
 
 def assemble_summary(study, omegas, amplitudes, cases, results) -> dict:
@@ -191,8 +193,34 @@ def assemble_summary(study, omegas, amplitudes, cases, results) -> dict:
 
     mode_fem, mode_mb, mode_sdof = grid("mode_fem"), grid("mode_multibody"), grid("mode_sdof")
     seconds = [results[c["key"]]["fem_seconds"] for c in cases]
+
+    def overturned(modes):
+        return [[m != "safe" for m in row] for row in modes]
+    same = [[f == m for f, m in zip(rf, rm)]
+            for rf, rm in zip(overturned(mode_fem), overturned(mode_mb))]
+    flat = [v for row in same for v in row]
+    rigid = {"question": QUESTIONS["rigid_assumption_ok"],
+             "answer": YES if all(flat) else NO, "measure":
+             "pulses where the FEM and the rigid multibody model give the same outcome "
+             "(overturns or not; one FEM run per pulse)",
+             "count": sum(flat), "points": len(flat), "figure": "maps"}
+    answers = {"rigid_assumption_ok": rigid,
+               "collars_yield": count_answer(QUESTIONS["collars_yield"],
+                                             "pulses where the FEM's collars yield",
+                                             [[u >= 1.0 for u in row] for row in
+                                              grid("collar_utilisation_fem")], "maps")
+               if study.collars else not_assessed(QUESTIONS["collars_yield"],
+                                                  "the column has no collars"),
+               "toe_crushes": count_answer(QUESTIONS["toe_crushes"],
+                                           "pulses where the FEM's toe stress reaches f_c",
+                                           [[r is not None and r >= 1.0 for r in row]
+                                            for row in grid("toe_ratio_fem")], "maps")}
+    models = [grid_outcome("FEM, deformable halves", overturned(mode_fem)),
+              grid_outcome("rigid multibody", overturned(mode_mb)),
+              grid_outcome("SDOF half block with collars (the paper's)", overturned(mode_sdof))]
     return {
         "study": study.name, "kind": "spectrum-crosscheck",
+        "outcome": outcome(models, answers),
         "layout": "maps[i][j]: i indexes amplitude_ratios (rows), j indexes omega_ratios",
         "omega_ratios": [float(w) for w in omegas],
         "amplitude_ratios": [float(a) for a in amplitudes],

@@ -14,7 +14,7 @@ Dask). ``[study] kind`` in the study file picks the study:
 from __future__ import annotations
 
 import copy
-import sys
+import math
 import time
 from pathlib import Path
 
@@ -25,6 +25,7 @@ from ..rigid.validation import read_toml
 
 from . import schema
 from .fem_study import from_dict
+from .outcome import fem_answers, fem_model, model_outcome, outcome
 from .output import write_json
 from .sweep import run_cases
 
@@ -86,10 +87,6 @@ def run_sweep_study(kind: str, study_path: Path, out: Path, *, workers=None, sch
     summary["wall_seconds"] = time.perf_counter() - start
     summary["kind"] = kind
     write_json(out / "summary.json", summary)
-    from .report import write_sweep_report
-    write_sweep_report(out, kind)
-    if progress:
-        print(f"[study] report: {out / 'index.html'}", file=sys.stderr, flush=True)
     return summary
 
 
@@ -105,7 +102,14 @@ def _convergence_summary(study, cases, results) -> dict:
     for name, get in quantities.items():
         values = [get(results[c["key"]]["summary"]) for c in cases]
         table[name] = convergence_table(values, ratio)
-    return {"study": study.name, "sizes": sizes, "ratio": ratio, "convergence": table,
+    finest = results[cases[-1]["key"]]["summary"]
+    models = [fem_model(f"FEM, mesh size {c['size'] * 1e3:.4g} mm", results[c["key"]]["summary"],
+                        study.rocking_alpha) for c in cases]
+    answers = fem_answers(finest, "the mesh-convergence study runs the FEM alone; the "
+                          "cross-check study compares it with the rigid models",
+                          collars=bool(study.collars))
+    return {"study": study.name, "outcome": outcome(models, answers),
+            "sizes": sizes, "ratio": ratio, "convergence": table,
             "dofs": [results[c["key"]]["summary"]["dofs"] for c in cases],
             "fem": {c["key"]: results[c["key"]]["summary"] for c in cases}}
 
@@ -125,4 +129,31 @@ def _variants_summary(study, variants, results) -> dict:
             "edge_stress_ratio": fem["edge_stress_ratio"],
             "status": fem["status"],
         }
-    return {"study": study.name, "variants": rows}
+    models = []
+    for name in variants:
+        fem = results[f"{name}-fem"]["summary"]
+        rigid = results[f"{name}-rigid"]
+        label = name.replace("-", " with ").replace("cracked with collars", "cracked, with collars")
+        # the body whose rotation shows: a half of a cracked column without collars, else the
+        # whole column (FemStudy.rocking_alpha)
+        halves = variants[name] == (True, False) or not study.collars and variants[name][0]
+        alpha = math.atan2(study.width / (4.0 if halves else 2.0), study.height / 2.0)
+        models.append(fem_model(f"FEM, {label}", fem, alpha))
+        models.append(model_outcome(f"SDOF, {label}", rigid["overturned"],
+                                    rigid["max_abs_theta"], rigid["alpha"],
+                                    rigid.get("overturn_time")))
+    as_built = results[f"{list(variants)[-1]}-fem"]["summary"]     # cracked, with collars
+    answers = fem_answers(as_built, "this study compares the solid and cracked columns; the "
+                          "cross-check study compares the FEM with the rigid models",
+                          collars=bool(study.collars))
+    return {"study": study.name, "outcome": outcome(models, answers), "variants": rows}
+
+
+def run_mesh_convergence(study_path: Path, out: Path, **options) -> dict:
+    """The mesh-convergence study: the FEM on a sequence of meshes."""
+    return run_sweep_study("mesh-convergence", study_path, out, **options)
+
+
+def run_solid_vs_cracked(study_path: Path, out: Path, **options) -> dict:
+    """The solid / cracked / cracked-with-collars variants of one column."""
+    return run_sweep_study("solid-vs-cracked", study_path, out, **options)

@@ -150,17 +150,13 @@ Mode boundaries at Omega/p = 5 (a_p / a_uplift, bisection to 1e-6):
     (out / "report.md").write_text(text)
 
 
-def zhang_makris_study(out: Path) -> dict:
-    """The validation as a study: figures, boundaries and spectra in an HTML report."""
-    from .report import _image, _render
-
-    summary = zhang_makris_validation(Path(out))
-    out = Path(out)
-    histories = [_image(out / f"history_{x.replace('.', '_')}.png",
-                        f"a_p = {x} g alpha, Omega/p = 5") for x in ("3.00", "3.01", "6.32", "6.33")]
-    spectra = [_image(out / f"spectrum_{m}_{c}.png",
-                      f"{m} model, {c.replace('free', 'free block')}")
-               for m in ("linear", "nonlinear") for c in ("free", "collars")]
-    _render(out, "zhang_makris.html.j2", summary, "colonna validation: Zhang & Makris block",
-            histories=histories, spectra=spectra)
+def run_zhang_makris(study_path: Path, out: Path, *, progress: bool = True, **_) -> dict:
+    """The validation as a study (its study file has nothing to vary): summary.json, figures."""
+    from .outcome import QUESTIONS, not_assessed, outcome
+    summary = zhang_makris_validation(Path(out), progress=progress)
+    summary["outcome"] = outcome([], {
+        key: not_assessed(question, "this study validates the rigid solver against Zhang & "
+                          "Makris (2001); it assesses no column")
+        for key, question in QUESTIONS.items()})
+    write_json(Path(out) / "summary.json", summary)
     return summary
