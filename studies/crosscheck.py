@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..rigid.ground import HarmonicPulse, NoMotion
-from ..fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide, decide_count
+from ..fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide_count
 from ..rigid.impacts import half_cycles, impact_ratios_from_peaks
 from ..rigid.solve import rock
 from ..rigid.spectrum import overturning_spectrum
@@ -32,8 +32,12 @@ from ..rigid.spectrum import overturning_spectrum
 from ..rigid.validation import InputError, read_toml
 
 from .fem_study import from_dict
-from .output import finish_study, read_csv, write_csv, write_json
+from .output import read_csv, write_csv, write_json
+from .outcome import (QUESTIONS, criteria_answer, fem_model, limit_answer, model_outcome,
+                      not_assessed, outcome)
 from .sweep import run_cases
+
+NOT_APPLICABLE = "not applicable"
 
 # tolerances of the verdict "rigid assumption good enough?" (FEM against the multibody model)
 PEAK_TOLERANCE = 0.20       # |theta / theta_reference - 1| for two models to give one answer
@@ -162,18 +166,41 @@ def multibody_case(case: dict, directory: str) -> dict:
 
 
 def spectrum_case(case: dict, directory: str) -> dict:
+    """The overturning spectra around the study's pulse: the SDOF half block with collars on a
+    fine grid, and under ``multibody`` the rigid multibody model (the verdict's rigid
+    reference) on a coarse grid over the same range (``case["multibody_grid"]``: omega ratios
+    x amplitude ratios, default 7 x 6; its nodes nearest the study's pulse moved onto it)."""
+    from ..rigid.multibody import multibody_spectrum
     study = _study_from_case(case)
     block = study.rocking_block
     omega_ratio = study.ground.omega / block.p
     amplitude_ratio = abs(study.ground.amplitude) / block.uplift_acceleration("nonlinear")
-    omegas = np.linspace(max(0.2, 0.25 * omega_ratio), 2.0 * omega_ratio + 1.0, 60)
-    amplitudes = np.linspace(1.0, max(2.0 * amplitude_ratio, 4.0), 50)
-    spec = overturning_spectrum(block, omegas, amplitudes, study.collars, model="nonlinear")
+    omega_range = (max(0.2, 0.25 * omega_ratio), 2.0 * omega_ratio + 1.0)
+    amplitude_range = (1.0, max(2.0 * amplitude_ratio, 4.0))
+    omegas = np.linspace(*omega_range, 60)
+    amplitudes = np.linspace(*amplitude_range, 50)
+    spec = overturning_spectrum(block, omegas, amplitudes, study.collars, model="nonlinear",
+                                pulse=study.ground.kind)
     data = spec.to_dict()
     data.update(study_omega_ratio=omega_ratio, study_amplitude_ratio=amplitude_ratio)
+
+    def through_study(bounds, n, value, lowest=0.0):    # n nodes, the nearest one on value
+        nodes = np.linspace(*bounds, n)
+        if value >= lowest:
+            nodes[np.argmin(np.abs(nodes - value))] = value
+        return np.unique(nodes)
+
+    n_omega, n_amplitude = case.get("multibody_grid", (7, 6))
+    mb = multibody_spectrum(block, through_study(omega_range, n_omega, omega_ratio),
+                            through_study(amplitude_range, n_amplitude, amplitude_ratio,
+                                          lowest=1.0),       # below 1 the column does not rock
+                            study.collars, cracked=study.cracked,
+                            friction=study.contact.friction, pulse=study.ground.kind)
+    data["multibody"] = dict(mb.to_dict(), cracked=study.cracked,
+                             friction=study.contact.friction)
     write_json(Path(directory) / "spectrum.json", data)
     return {"omega_ratio": omega_ratio, "amplitude_ratio": amplitude_ratio,
-            "seconds": spec.seconds}
+            "seconds": spec.seconds, "multibody_seconds": mb.seconds}
 
 
 def _case_runner(case: dict, directory: str) -> dict:
@@ -229,8 +256,8 @@ def run_crosscheck(study_path: Path, out: Path, *, workers: int | None = None,
         read_csv(out / "cases" / "multibody-fine" / "history.csv"))))
     summary = assemble_summary(study, results, criteria=criteria)
     summary["wall_seconds"] = time.perf_counter() - start
-    from .report import write_crosscheck_report
-    return finish_study(out, summary, write_crosscheck_report, progress)
+    write_json(out / "summary.json", summary)
+    return summary
 
 
 def replica_histories(directory: Path, replicas: int) -> list[dict]:
@@ -302,15 +329,26 @@ def _criteria_one(study, fem: dict, fem_history: dict, mb: dict, mb_t, theta_mb:
     fem_peak = max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
     peak_ratio = _peak_ratio(fem_peak, max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]))
     either_over = bool(fem["overturned"]) or bool(mb["overturned"])
+    # the peak count compares rotations of columns that stay up: where one model overturns,
+    # its peak is where it stopped, so the count does not apply (None), and neither does the
+    # ratio
     out = {"same_outcome": bool(fem["overturned"]) == bool(mb["overturned"]),
-           "peak_ratio": peak_ratio,
-           "peak_ok": either_over or abs(peak_ratio - 1.0) <= PEAK_TOLERANCE,
+           "peak_ratio": None if either_over else peak_ratio,
+           "peak_ok": None if either_over else bool(abs(peak_ratio - 1.0) <= PEAK_TOLERANCE),
            "impacts_fem": impacts_fem, "impacts_multibody": impacts_mb,
            "impacts_ok": abs(impacts_fem - impacts_mb) <= IMPACT_TOLERANCE,
            "history_error": history_error,
            "history_ok": bool(history_error <= HISTORY_TOLERANCE)}
-    out["all_ok"] = all(out[k] for k in ("same_outcome", "peak_ok", "impacts_ok", "history_ok"))
+    out["all_ok"] = all(out[k] for k in ("same_outcome", "peak_ok", "impacts_ok", "history_ok")
+                        if out[k] is not None)
     return out
+
+
+def count_word(flags) -> str:
+    """yes / no / undecided over the replicas where a count applies
+    (:func:`colonna.fem.ensemble.decide_count`); ``not applicable`` where it applies to none."""
+    flags = [f for f in flags if f is not None]
+    return decide_count(flags) if flags else NOT_APPLICABLE
 
 
 def verdict_criteria(study, results: dict, fem_histories: list[dict],
@@ -349,7 +387,7 @@ def verdict_criteria(study, results: dict, fem_histories: list[dict],
     out = {
         "same_outcome": decide_count(c["same_outcome"] for c in per),
         "peak_ratio": bands["peak_ratio"]["median"],
-        "peak_ok": decide_count(c["peak_ok"] for c in per),
+        "peak_ok": count_word(c["peak_ok"] for c in per),
         "impacts_before_pulse_end_fem": bands["impacts_fem"]["median"],
         "impacts_before_pulse_end_multibody": impacts_mb,
         "impacts_ok": decide_count(c["impacts_ok"] for c in per),
@@ -369,6 +407,13 @@ def _word(flag: bool) -> str:
     return YES if flag else NO
 
 
+def _standing_ratio(fem: dict, fem_peak: float, other: dict, other_peak: float) -> float | None:
+    """FEM peak / another model's peak where neither overturns, else None."""
+    if fem["overturned"] or other["overturned"]:
+        return None
+    return _peak_ratio(fem_peak, other_peak)
+
+
 def assemble_summary(study, results: dict, criteria: dict) -> dict:
     """summary.json of the cross-check; ``criteria`` from :func:`verdict_criteria`."""
     fem = results["fem"]["summary"]
@@ -377,21 +422,27 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
     # the multibody and FEM runs stop at the same overturning rule: compare the rotations
     # they reached, not the pi/2 of a block lying down
     mb_peak = max(multibody["max_abs_theta_left"], multibody["max_abs_theta_right"])
-    ratio = _peak_ratio(fem_peak, rigid["max_abs_theta"])
-    ratio_monolith = _peak_ratio(fem_peak, monolith["max_abs_theta"])
+    # a ratio of peak rotations compares columns that stay up: an overturned block's peak is
+    # where its run stopped (pi/2 for the SDOF model, by convention), not a rotation it reached
+    ratio = _standing_ratio(fem, fem_peak, rigid, rigid["max_abs_theta"])
+    ratio_monolith = _standing_ratio(fem, fem_peak, monolith, monolith["max_abs_theta"])
     ratio_multibody = _peak_ratio(fem_peak, mb_peak)
     block = study.rocking_block
+    answers = crosscheck_outcome(study, results, criteria)
+    words = {a["key"]: a["answer"] for a in answers["answers"]}
     return {
         "study": study.name,
+        "outcome": answers,
         "verdict": {
-            "rigid_assumption_ok": criteria["all_ok"],
+            "rigid_assumption_ok": words["rigid_assumption_ok"],
             "sdof_half_model_ok": _word(_same_answer(rigid["overturned"],
                                                      _peak_ratio(rigid["max_abs_theta"],
                                                                  mb_peak),
                                                      multibody["overturned"])),
-            "collars_yield": collars_yield(fem, results),
-            "toe_crushes": toe_crushes(study, results),
-            "rocks_as_one_block": _word(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
+            "collars_yield": words["collars_yield"],
+            "toe_crushes": words["toe_crushes"],
+            "rocks_as_one_block": NOT_APPLICABLE if None in (ratio, ratio_monolith) else
+            _word(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
             "overturns_fem": fem["overturned_answer"],
         },
         "fem": fem,
@@ -405,12 +456,17 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
             "max_uplift", "collar_max_utilisation", "collar_first_yield_time",
             "impact_velocity_ratio_mean", "energy_error_max", "friction", "dt", "steps",
             "wall_seconds")},
+        # an overturned block's max_abs_theta is the pi/2 of its stopping rule: not shown
         "rigid": {"overturned": rigid["overturned"], "mode": rigid["mode"],
-                  "max_abs_theta": rigid["max_abs_theta"],
+                  "max_abs_theta": None if rigid["overturned"] else rigid["max_abs_theta"],
+                  "overturn_time": rigid.get("overturn_time"),
                   "collar_max_utilisation": rigid.get("collar_max_utilisation"),
+                  "collar_state": rigid.get("collar_state"),
                   "impacts": rigid["impacts"]},
         "rigid_monolith": {"overturned": monolith["overturned"], "mode": monolith["mode"],
-                           "max_abs_theta": monolith["max_abs_theta"],
+                           "max_abs_theta": None if monolith["overturned"]
+                           else monolith["max_abs_theta"],
+                           "overturn_time": monolith.get("overturn_time"),
                            "impacts": monolith["impacts"]},
         "theta_peak_ratio_fem_over_multibody": ratio_multibody,
         "fem_vs_multibody": _fem_vs_multibody(results["fem"], multibody),
@@ -528,25 +584,58 @@ def _mesh_uncertainty(results: dict, quantity: str) -> float:
     return error if error is not None and math.isfinite(error) else 0.0
 
 
-def collars_yield(fem: dict, results: dict) -> str:
-    """yes / no / undecided (:func:`colonna.fem.ensemble.decide`): the replicas' largest
-    utilisation against 1, with the mesh uncertainty; no without collars."""
-    b = fem["bands"].get("collar_max_utilisation")
-    if b is None or b["median"] is None or b["max"] == 0.0:
-        return NO
-    return decide(b, 1.0, _mesh_uncertainty(results, "collar_max_utilisation"))
+def collars_yield(study, fem: dict, results: dict) -> dict:
+    """Do the collars yield? The replicas' largest utilisation sigma / f_y against 1, widened
+    by the mesh uncertainty (:func:`colonna.studies.outcome.limit_answer`)."""
+    question = QUESTIONS["collars_yield"]
+    if not study.collars:
+        return not_assessed(question, "the column has no collars")
+    return limit_answer(question, "largest collar stress / f_y",
+                        fem["bands"].get("collar_max_utilisation"), 1.0, "-",
+                        _mesh_uncertainty(results, "collar_max_utilisation"), figure="collars")
 
 
-def toe_crushes(study, results: dict) -> str:
-    """yes / no / undecided: the toe stress band (refined where it was) against f_c."""
+def toe_crushes(study, results: dict) -> dict:
+    """Does the toe crush? The toe stress / f_c band (refined where it was, its band widened by
+    the replicas' spread and the mesh refinement's uncertainty) against 1."""
+    question = QUESTIONS["toe_crushes"]
+    measure = "largest toe stress / f_c"
     toe = _toe_stress(study, results)
     if toe is None:
         fem = results["fem"]["summary"]
-        return decide(fem["bands"]["edge_stress_ratio"], 1.0,
-                      _mesh_uncertainty(results, "edge_stress_ratio"))
+        return limit_answer(question, measure, fem["bands"]["edge_stress_ratio"], 1.0, "-",
+                            _mesh_uncertainty(results, "edge_stress_ratio"),
+                            figure="toe_stress")
     b = toe["band_ratio"]
-    return decide({"median": toe["ratio"], "min": b["min"], "max": b["max"], "missing": 0},
-                  1.0)
+    return limit_answer(question, measure + " (refined at the toe)",
+                        {"median": toe["ratio"], "min": b["min"], "max": b["max"],
+                         "missing": 0}, 1.0, "-", figure="toe_stress")
+
+
+def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
+    """summary["outcome"] of the cross-check: each model's outcome and the three answers."""
+    fem = results["fem"]["summary"]
+    rigid, monolith, mb = results["rigid"], results["monolith"], results["multibody"]
+    alpha = study.rocking_alpha
+    models = [
+        fem_model("FEM, deformable halves", fem, alpha),
+        model_outcome("rigid multibody (the rigid reference)", mb["overturned"],
+                      max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]), alpha,
+                      mb.get("overturn_time")),
+        model_outcome("SDOF half block with collars (the paper's)", rigid["overturned"],
+                      rigid["max_abs_theta"], rigid["alpha"], rigid.get("overturn_time")),
+        model_outcome("SDOF whole column, no crack", monolith["overturned"],
+                      monolith["max_abs_theta"], monolith["alpha"],
+                      monolith.get("overturn_time")),
+    ]
+    rigid_answer = criteria_answer(QUESTIONS["rigid_assumption_ok"], criteria["all_ok"], {
+        "same outcome": criteria["same_outcome"],
+        "peak rotation": criteria["peak_ok"],
+        "impacts before the pulse ends": criteria["impacts_ok"],
+        "rotation history to the first impact": criteria["history_ok"]}, figure="theta")
+    return outcome(models, {"rigid_assumption_ok": rigid_answer,
+                            "collars_yield": collars_yield(study, fem, results),
+                            "toe_crushes": toe_crushes(study, results)})
 
 
 def _static_mean_pressure(study, results: dict) -> float:

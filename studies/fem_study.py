@@ -172,8 +172,8 @@ def _ground(ground: schema.Ground, block: Block, base: Path, source: str = "stud
              else ground.omega_ratio * block.p)
     if abs(amplitude) < uplift:
         raise InputError(f"{source}: ground.amplitude = {amplitude:g} m/s^2 is below the "
-                         f"uplift acceleration g tan(alpha) = {uplift:g} m/s^2 of the rocking "
-                         "half")
+                         f"uplift acceleration g tan(alpha) (1 + lambda) = {uplift:g} m/s^2 "
+                         "of the rocking half")
     make = sine_pulse if ground.pulse == "sine" else cosine_pulse
     return make(amplitude, omega, uplift)
 

@@ -12,6 +12,7 @@ every entry is drawn; a PNG copy of each goes to ``figures/``.
 from __future__ import annotations
 
 import base64
+import functools
 import io
 import json
 import math
@@ -58,20 +59,109 @@ def _get(summary: dict, dotted: str):
     return node
 
 
-def _num(summary: dict, dotted: str, digits: int = 4, unit: str = "") -> Markup:
-    """summary.json's value at a dotted key, in a span naming the key, then its unit."""
+# units an engineer reads, from the SI of summary.json: shown value = SI value * factor
+DISPLAY_UNITS = {"MPa": 1e-6, "GPa": 1e-9, "kN": 1e-3, "kN m": 1e-3, "kN/m": 1e-3,
+                 "MN/m": 1e-6, "mm": 1e3, "kJ": 1e-3, "per mille": 1e3}
+
+
+def _num(summary: dict, dotted: str, digits: int = 4, unit: str = "",
+         show_unit: bool = True) -> Markup:
+    """summary.json's value at a dotted key, in a span naming the key, then its unit. A unit of
+    DISPLAY_UNITS shows the SI value scaled (MPa from Pa, kN from N, mm from m), the span
+    carrying the factor in ``data-scale``."""
     value = _get(summary, dotted)
-    shown = Markup('<span data-key="{}">{}</span>').format(dotted, fmt(value, digits))
-    if unit and value is not None and not isinstance(value, (bool, str)):
+    number = not isinstance(value, (bool, str)) and value is not None
+    scale = DISPLAY_UNITS.get(unit) if number else None
+    if scale is not None:
+        shown = Markup('<span data-key="{}" data-scale="{}">{}</span>').format(
+            dotted, f"{scale:g}", fmt(float(value) * scale, digits))
+    else:
+        shown = Markup('<span data-key="{}">{}</span>').format(dotted, fmt(value, digits))
+    if unit and number and show_unit:
         shown += Markup("&nbsp;") + escape(unit)
     return shown
+
+
+# the tables of a study file shown in the inputs section, in the file's order; the rest only
+# where the study's kind reads them
+INPUT_TABLES = ("study", "column", "stone", "collar", "ground", "contact", "mesh", "run", "rigid")
+KIND_TABLES = {"spectrum-crosscheck": ("grid",), "mesh-convergence": ("convergence",),
+               "free-rocking": ("free_rocking",)}
+# the unit an engineer reads for a schema unit (value * factor), per key where it differs
+INPUT_UNITS = {"Pa": ("MPa", 1e-6), "N": ("kN", 1e-3)}
+INPUT_UNITS_BY_KEY = {("collar", "t"): ("mm", 1e3), ("collar", "h"): ("mm", 1e3),
+                      ("stone", "E"): ("GPa", 1e-9), ("collar", "E"): ("GPa", 1e-9),
+                      ("collar", "Eh"): ("GPa", 1e-9), ("contact", "penalty"): ("GPa/m", 1e-9)}
+
+
+def _input_value(value, factor: float) -> str:
+    if isinstance(value, list):
+        return ", ".join(_input_value(v, factor) for v in value)
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return fmt(value * factor, 4)
+    return fmt(value)
+
+
+def input_tables(inputs: dict) -> list[dict]:
+    """The study's inputs (inputs.json: the validated file, every default filled in) as tables:
+    one per [table], its keys with their values in the units an engineer reads (from the
+    schema's SI units), a column per collar. Keys without a value (not given, no default) are
+    left out."""
+    from . import schema
+    kind = inputs["study"]["kind"]
+    tables = []
+    for name in INPUT_TABLES + KIND_TABLES.get(kind, ()):
+        if inputs.get(name) in (None, [], {}):
+            continue
+        model = schema.table_model(name)
+        entries = inputs[name] if isinstance(inputs[name], list) else [inputs[name]]
+        rows = []
+        for key, field in model.model_fields.items():
+            values = [entry.get(key) for entry in entries]
+            if all(v is None for v in values):
+                continue
+            unit = (field.json_schema_extra or {}).get("unit", "") if isinstance(
+                field.json_schema_extra, dict) else ""
+            unit, factor = INPUT_UNITS_BY_KEY.get((name, key), INPUT_UNITS.get(unit, (unit, 1.0)))
+            rows.append({"key": key, "path": f"{name}.{key}", "unit": unit,
+                         "values": [_input_value(v, factor) for v in values]})
+        tables.append({"name": name, "rows": rows, "columns": len(entries)})
+    return tables
+
+
+def _inputs(out: Path) -> dict | None:
+    """inputs.json with its tables, or None where the study's inputs are not on record."""
+    path = Path(out) / "inputs.json"
+    if not path.is_file():
+        return None
+    inputs = json.loads(path.read_text())
+    return dict(inputs, tables=input_tables(inputs))
+
+
+def _ground_figure(out: Path) -> dict | None:
+    """The ground motion the study applied (ground_motion.csv), horizontal and vertical."""
+    path = Path(out) / "ground_motion.csv"
+    if not path.is_file():
+        return None
+    g = read_csv(path)
+    fig, ax = plt.subplots(figsize=(8, 2.6))
+    ax.plot(g["t"], g["horizontal_acceleration"], color="C0", label="horizontal")
+    if np.any(g["vertical_acceleration"] != 0.0):
+        ax.plot(g["t"], g["vertical_acceleration"], "--", color="C3", label="vertical (up +)")
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("ground acceleration (m/s$^2$)")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
+    fig.tight_layout()
+    return _figure(out, "ground_motion", fig, "The ground motion applied: horizontal and "
+                   "vertical accelerations", data_file="ground_motion.csv")
 
 
 def _render(out: Path, template: str, summary: dict, title: str, **context) -> Path:
     """Fill a template with the summary (``s``), ``num`` and the figures; write index.html."""
     text = TEMPLATES.get_template(template).render(
-        s=summary, title=title, num=lambda key, digits=4, unit="": _num(summary, key, digits,
-                                                                        unit), **context)
+        s=summary, title=title, num=functools.partial(_num, summary), inputs=_inputs(out),
+        ground=_ground_figure(out), **context)
     return _write_page(out, text)
 
 
@@ -104,6 +194,28 @@ def _image(path: Path, caption: str, name: str | None = None) -> dict:
     return {"name": name or path.stem, "caption": caption, "svg": None, "legend": [],
             "mime": mime, "data": base64.b64encode(path.read_bytes()).decode(),
             "data_file": None}
+
+
+# curves that may lie on top of each other (collars with one history, ...): each its own
+# dashes, width and markers, so that none hides another
+LINE_STYLES = ("-", "--", "-.", ":")
+MARKERS = ("o", "s", "^", "v", "D", "P", "X")
+MARK_EVERY = 0.12           # markers apart, as a fraction of the axes diagonal
+
+
+def _distinct(k: int, n: int) -> dict:
+    """Plot keywords of curve k of n that may coincide: dashes cycling, the width narrowing
+    from the first drawn (underneath) to the last, markers at staggered places."""
+    return {"ls": LINE_STYLES[k % len(LINE_STYLES)],
+            "lw": 2.6 - 1.6 * k / max(n - 1, 1), "marker": MARKERS[k % len(MARKERS)],
+            "markersize": 4.5, "markevery": (MARK_EVERY * k / max(n, 1), MARK_EVERY)}
+
+
+def _legend_beside(ax, **kw):
+    """The axes' legend to its right, never over a curve or a limit line (tight_layout makes
+    room for it)."""
+    return ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                     borderaxespad=0.0, **kw)
 
 
 def write_crosscheck_report(out: Path) -> Path:
@@ -172,16 +284,19 @@ def write_crosscheck_report(out: Path) -> Path:
     if collar_cols:
         write_csv(out / "figures" / "collars.csv",
                   {"t": t, **{k: fem_h[k] for k in collar_cols}})
-        fig, ax = plt.subplots(figsize=(8, 3.4))
-        for k in collar_cols:
-            ax.plot(t, fem_h[k] / 1e6, label=f"FEM {k.replace('_stress', '')}")
+        fig, ax = plt.subplots(figsize=(9.5, 3.4))
+        for j, k in enumerate(collar_cols):      # collars of one history stay apart
+            ax.plot(t, fem_h[k] / 1e6, color=f"C{j}", **_distinct(j, len(collar_cols)),
+                    label=f"FEM {k.replace('_stress', '')}")
         fy = summary["collar_fy"][0]
         ax.axhline(fy / 1e6, color="k", ls="--", lw=1, label="f_y (yield stress)")
         ax.set_xlabel("t (s)")
         ax.set_ylabel("extreme-fibre stress (MPa)")
-        ax.legend(fontsize=8)
+        _legend_beside(ax)
         fig.tight_layout()
-        figs.append(_figure(out, "collars", fig, "Collar stress against the yield stress"))
+        figs.append(_figure(out, "collars", fig, "Collar stress against the yield stress "
+                            "(collars with the same history drawn on top of each other, each "
+                            "with its own dashes and markers)"))
 
     # 3b. plastic strain of plastic collars
     plastic_cols = sorted(k for k in fem_h if k.endswith("_plastic_strain"))
@@ -201,15 +316,16 @@ def write_crosscheck_report(out: Path) -> Path:
     # 4. toe stress against f_c
     edge_cols = [k for k in fem_h if k.startswith("edge_stress_")]
     write_csv(out / "figures" / "toe_stress.csv", {"t": t, **{k: fem_h[k] for k in edge_cols}})
-    fig, ax = plt.subplots(figsize=(8, 3.4))
-    for k in edge_cols:
-        ax.plot(t, fem_h[k] / 1e6, label=k.replace("edge_stress_", "toe "))
+    fig, ax = plt.subplots(figsize=(9.5, 3.4))
+    for j, k in enumerate(edge_cols):
+        ax.plot(t, fem_h[k] / 1e6, color=f"C{j}", **_distinct(j, len(edge_cols)),
+                label=k.replace("edge_stress_", "toe "))
     fc = summary["stone_fc"]
     ax.axhline(fc / 1e6, color="k", ls="--", lw=1, label="f_c (stone strength)")
     ax.set_yscale("symlog", linthresh=1.0)
     ax.set_xlabel("t (s)")
     ax.set_ylabel(f"toe stress over {1e3 * summary['fem']['edge_length']:.0f} mm (MPa)")
-    ax.legend(fontsize=8)
+    _legend_beside(ax)      # the f_c line stays in view
     fig.tight_layout()
     figs.append(_figure(out, "toe_stress", fig, "Base-edge compressive stress at the toes "
                         "against the stone strength"))
@@ -241,23 +357,31 @@ def write_crosscheck_report(out: Path) -> Path:
 
 # the Numbers table of the cross-check: (label, summary key, unit; "-" a ratio, "" words)
 CROSSCHECK_NUMBERS = [
-    ("FEM peak rotation, left half", "fem.max_abs_theta_left", "rad"),
-    ("FEM peak rotation, right half", "fem.max_abs_theta_right", "rad"),
-    ("multibody peak rotation, left half", "rigid_multibody.max_abs_theta_left", "rad"),
-    ("multibody peak rotation, right half", "rigid_multibody.max_abs_theta_right", "rad"),
+    ("FEM largest rotation, left half (where the run stopped if it overturns)",
+     "fem.max_abs_theta_left", "rad"),
+    ("FEM largest rotation, right half (where the run stopped if it overturns)",
+     "fem.max_abs_theta_right", "rad"),
+    ("multibody largest rotation, left half (where the run stopped if it overturns)",
+     "rigid_multibody.max_abs_theta_left", "rad"),
+    ("multibody largest rotation, right half (where the run stopped if it overturns)",
+     "rigid_multibody.max_abs_theta_right", "rad"),
     ("multibody mode", "rigid_multibody.mode", ""),
     ("multibody status", "rigid_multibody.status", ""),
-    ("multibody crack slip max", "rigid_multibody.max_abs_crack_slip", "m"),
+    ("multibody crack slip max", "rigid_multibody.max_abs_crack_slip", "mm"),
     ("multibody collar utilisation max, sigma / f_y", "rigid_multibody.collar_max_utilisation",
      "-"),
     ("multibody energy balance error (max, relative)", "rigid_multibody.energy_error_max", "-"),
     ("multibody wall time", "rigid_multibody.wall_seconds", "s"),
-    ("SDOF peak rotation, half + collars", "rigid.max_abs_theta", "rad"),
-    ("SDOF mode, half + collars", "rigid.mode", ""),
-    ("SDOF peak rotation, whole column", "rigid_monolith.max_abs_theta", "rad"),
+    ("SDOF peak rotation, half + collars (n/a where it overturns)", "rigid.max_abs_theta",
+     "rad"),
+    ("SDOF overturning mode, half + collars (safe: it does not overturn)", "rigid.mode", ""),
+    ("SDOF collar state, half + collars (elastic collars: yielded means sigma reached f_y)",
+     "rigid.collar_state", ""),
+    ("SDOF peak rotation, whole column (n/a where it overturns)", "rigid_monolith.max_abs_theta",
+     "rad"),
     ("halves rock as one block", "verdict.rocks_as_one_block", ""),
     ("FEM status", "fem.status", ""),
-    ("toe stress max (study mesh)", "fem.edge_stress_max", "Pa"),
+    ("toe stress max (study mesh, median of the replicas)", "fem.edge_stress_max", "MPa"),
     ("energy balance error (max, relative)", "fem.energy_error_max", "-"),
     ("time step", "fem.dt", "s"),
     ("stable-step reduction by contact", "fem.stable_step_reduction_by_contact", "-"),
@@ -266,12 +390,13 @@ CROSSCHECK_NUMBERS = [
     ("FEM wall time", "fem.wall_seconds", "s"),
     ("pulse Omega/p (n/a for a record)", "pulse.omega_ratio", "-"),
     ("peak ground acceleration", "pulse.amplitude", "m/s^2"),
-    ("pulse a_p / a_uplift (a_uplift = g tan alpha (1 + lambda))", "pulse.amplitude_ratio", "-"),
-    ("top load on the capital", "fem.top_load", "N"),
+    ("pulse a_p / a_uplift (a_uplift = g tan alpha (1 + lambda), lambda = top load / weight "
+     "of the rocking half)", "pulse.amplitude_ratio", "-"),
+    ("top load on the capital", "fem.top_load", "kN"),
     ("collar plastic strain max, FEM", "fem.collar_max_plastic_strain", "-"),
     ("collar plastic work, FEM", "fem.collar_plastic_work", "J"),
-    ("crack slip left at the end of the run, FEM", "fem.crack_slip_residual", "m"),
-    ("static base reaction, FEM: weight + top load", "fem.base_reaction_static", "N"),
+    ("crack slip left at the end of the run, FEM", "fem.crack_slip_residual", "mm"),
+    ("static base reaction, FEM: weight + top load", "fem.base_reaction_static", "kN"),
 ]
 
 
@@ -390,36 +515,67 @@ def _deformed_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> None:
 
 
 def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
-    """The study's pulse on the rigid overturning spectrum."""
-    codes = np.array([[{"safe": 0, "after-impact": 1, "without-impact": 2}[c] for c in row]
-                      for row in spectrum["mode"]])
+    """The study's pulse on the rigid overturning spectra: the SDOF half block with collars as a
+    map and, where spectrum.json holds it (key ``multibody``), the rigid multibody model, the
+    verdict's rigid reference, as a marker at each pulse of its coarser grid."""
+    from ..rigid.plotting import MODE_COLOURS, MODE_LABELS, grid_markers
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    code = {"safe": 0, "after-impact": 1, "without-impact": 2}
+    codes = np.array([[code[c] for c in row] for row in spectrum["mode"]])
     w = np.array(spectrum["omega_ratios"])
     a = np.array(spectrum["amplitude_ratios"])
     write_csv(out / "figures" / "spectrum.csv", {
         "omega_ratio": np.tile(w, a.size), "amplitude_ratio": np.repeat(a, w.size),
         "mode_code": codes.ravel()})
-    from ..rigid.plotting import MODE_COLOURS, MODE_LABELS
-    from matplotlib.colors import BoundaryNorm, ListedColormap
-    fig, ax = plt.subplots(figsize=(7, 4))
+    mb = spectrum.get("multibody")      # none in a spectrum saved before it was computed
+    fig, ax = plt.subplots(figsize=(9.5, 4.4))
     ax.pcolormesh(w, a, codes, cmap=ListedColormap(MODE_COLOURS),
                   norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3), shading="nearest")
-    # the legend lists what is drawn: the modes present, the yield line if any, the pulse
-    handles = [Patch(facecolor=MODE_COLOURS[k], edgecolor="0.5", label=MODE_LABELS[k])
-               for k in range(3) if np.any(codes == k)]
+    # the legend lists what is drawn: the modes present (a marker per pulse of a coarse grid),
+    # the yield line if any, the multibody outcomes, the pulse
+    handles = grid_markers(ax, w, a, codes, labels=[f"SDOF: {m}" for m in MODE_LABELS], size=12)
+    handles = handles or [Patch(facecolor=MODE_COLOURS[k], edgecolor="0.5",
+                                label=f"SDOF: {MODE_LABELS[k]}")
+                          for k in range(3) if np.any(codes == k)]
     yields = np.array(spectrum.get("collar_yields", [[0]]), dtype=float)
     if yields.min() < 0.5 < yields.max():
         ax.contour(w, a, yields, levels=[0.5], colors="k", linewidths=0.8)
-        handles.append(Line2D([], [], color="k", lw=0.8, label="a collar reaches f_y above"))
-    handles += ax.plot(spectrum["study_omega_ratio"], spectrum["study_amplitude_ratio"], "r*",
-                       markersize=14, label="this study's pulse")
+        handles.append(Line2D([], [], color="k", lw=0.8,
+                              label="SDOF: a collar reaches f_y above"))
+    if mb is not None:
+        mb_codes = np.array([[code[c] for c in row] for row in mb["mode"]])
+        mb_w, mb_a = np.array(mb["omega_ratios"]), np.array(mb["amplitude_ratios"])
+        columns = {"omega_ratio": np.tile(mb_w, mb_a.size),
+                   "amplitude_ratio": np.repeat(mb_a, mb_w.size), "mode_code": mb_codes.ravel()}
+        if "collar_yields" in mb:
+            columns["collar_yield"] = np.array(mb["collar_yields"], dtype=int).ravel()
+        write_csv(out / "figures" / "spectrum_multibody.csv", columns)
+        handles += grid_markers(ax, mb_w, mb_a, mb_codes, always=True, size=60,
+                                labels=[f"rigid multibody: {m}" for m in MODE_LABELS])
+    handles += ax.plot(spectrum["study_omega_ratio"], spectrum["study_amplitude_ratio"], ls="",
+                       marker="*", markersize=22, markerfacecolor="none", markeredgecolor="r",
+                       markeredgewidth=1.6, zorder=4, label="this study's pulse")
     ax.set_xlabel(r"$\Omega/p$")
     ax.set_ylabel(r"$a_p/(g\tan\alpha)$")
-    ax.legend(handles=handles, fontsize=8, loc="upper left")
-    ax.set_title("Rigid overturning spectrum (half block with collars)")
+    _legend_beside(ax, handles=handles)
+    ax.set_title("Rigid overturning spectra: SDOF half block with collars (map)"
+                 + (", rigid multibody (markers)" if mb is not None else ""), fontsize=10)
     fig.tight_layout()
-    figs.append(_figure(out, "spectrum", fig, "The study's pulse on the rigid overturning "
-                        "spectrum of the SDOF half block with collars: outcome of each pulse "
-                        "(legend), and where a collar reaches its yield stress"))
+    if mb is not None:
+        caption = ("The study's pulse (red star) on the rigid overturning spectra. The verdict "
+                   "relies on the rigid multibody model (two rigid halves, ground and crack "
+                   "contact with friction, collars as frames): its outcome at each pulse of a "
+                   "coarser grid through the study's pulse is a marker. The map beneath is the "
+                   "paper's SDOF half block with collars, a simplification of it, with the line "
+                   "above which a collar reaches its yield stress; where the two differ, the "
+                   "markers are the rigid reference")
+    else:
+        caption = ("The study's pulse on the rigid overturning spectrum of the SDOF half block "
+                   "with collars: outcome of each pulse (legend), and where a collar reaches its "
+                   "yield stress. The verdict relies on the rigid multibody model, whose "
+                   "spectrum this run does not hold; the SDOF map is a simplification of it")
+    figs.append(_figure(out, "spectrum", fig, caption,
+                        data_file="figures/spectrum*.csv" if mb is not None else ""))
 
 
 def _write_page(out: Path, text: str) -> Path:
@@ -430,13 +586,20 @@ def _write_page(out: Path, text: str) -> Path:
     return path
 
 
-def write_sweep_report(out: Path, kind: str) -> Path:
+def write_convergence_report(out: Path) -> Path:
+    """The mesh-convergence study: the table of each quantity over the meshes, its figure."""
     out = Path(out)
     s = json.loads((out / "summary.json").read_text())
     (out / "figures").mkdir(exist_ok=True)
-    if kind == "mesh-convergence":
-        return _render(out, "convergence.html.j2", s, f"colonna mesh convergence: {s['study']}",
-                       quantities=CONVERGENCE_QUANTITIES, figs=[_convergence_figure(out, s)])
+    return _render(out, "convergence.html.j2", s, f"colonna mesh convergence: {s['study']}",
+                   quantities=CONVERGENCE_QUANTITIES, figs=[_convergence_figure(out, s)])
+
+
+def write_variants_report(out: Path) -> Path:
+    """The solid / cracked / cracked-with-collars study."""
+    out = Path(out)
+    s = json.loads((out / "summary.json").read_text())
+    (out / "figures").mkdir(exist_ok=True)
     return _render(out, "variants.html.j2", s, f"colonna solid vs cracked: {s['study']}",
                    fields=VARIANT_FIELDS, figs=[_variants_figure(out, s)])
 
@@ -450,18 +613,26 @@ CONVERGENCE_QUANTITIES = [("peak_rotation", "peak rotation", "rad"),
 def _convergence_figure(out: Path, s: dict) -> dict:
     sizes = s["sizes"]
     columns = {"h": np.array(sizes)}
-    fig, axes = plt.subplots(1, 3, figsize=(10, 3.2))
+    fig, axes = plt.subplots(1, 3, figsize=(10, 3.6))
+    handles = {}                # one legend for the three panels, below them: what is drawn
     for ax, (name, label, unit) in zip(axes, CONVERGENCE_QUANTITIES):
         c = s["convergence"][name]
         columns[name] = np.array(c["values"], dtype=float)
-        ax.plot(sizes, c["values"], "o-", label="FEM")
+        scale, unit = (1e-6, "MPa") if unit == "Pa" else (1.0, unit)     # stresses in MPa
+        values = scale * np.array(c["values"], dtype=float)
+        handles.setdefault("FEM", ax.plot(sizes, values, "o-", color="C0", label="FEM")[0])
         if c["richardson"] is not None:
-            ax.axhline(c["richardson"], color="k", ls="--", lw=0.8, label="Richardson")
+            handles.setdefault("Richardson", ax.axhline(
+                scale * c["richardson"], color="k", ls="--", lw=0.8,
+                label="Richardson extrapolation"))
         ax.set_xscale("log")
-        ax.set_xlabel("mesh size h (m)")
+        ax.set_xticks(sizes, [f"{1e3 * h:g}" for h in sizes])
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.set_xlabel("mesh size h (mm)")
         ax.set_title(f"{label} ({unit})", fontsize=9)
-    axes[0].legend(fontsize=8)
-    fig.tight_layout()
+    fig.legend(handles=list(handles.values()), loc="lower center", ncol=len(handles),
+               fontsize=8)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
     write_csv(out / "figures" / "convergence.csv", columns)
     return _figure(out, "convergence", fig, "FEM numbers against the mesh size")
 
@@ -477,7 +648,8 @@ VARIANT_FIELDS = [("fem_peak_rotation", "FEM peak rotation", "rad"),
 
 
 def _variants_figure(out: Path, s: dict) -> dict:
-    fig, ax = plt.subplots(figsize=(8, 3.6))
+    fig, ax = plt.subplots(figsize=(9.5, 3.6))
+    n_curves = 2 * len(s["variants"])
     for k, n in enumerate(s["variants"]):
         fem = read_csv(out / "cases" / f"{n}-fem" / "history.csv")
         rig = read_csv(out / "cases" / f"{n}-rigid" / "history.csv")
@@ -485,15 +657,19 @@ def _variants_figure(out: Path, s: dict) -> dict:
                   {"t": fem["t"], "theta_fem_left": fem["theta_left"],
                    "theta_fem_right": fem["theta_right"],
                    "theta_rigid": np.interp(fem["t"], rig["t"], rig["theta"])})
-        ax.plot(fem["t"], fem["theta_left"], color=f"C{k}", label=f"{n}: FEM")
+        # variants that rotate alike stay apart: each curve its width and markers
+        fem_style = dict(_distinct(2 * k, n_curves), ls="-")
+        ax.plot(fem["t"], fem["theta_left"], color=f"C{k}", **fem_style, label=f"{n}: FEM")
         m = rig["t"] <= fem["t"][-1]
-        ax.plot(rig["t"][m], rig["theta"][m], "--", color=f"C{k}", label=f"{n}: rigid")
+        rigid_style = dict(_distinct(2 * k + 1, n_curves), ls="--")
+        ax.plot(rig["t"][m], rig["theta"][m], color=f"C{k}", **rigid_style, label=f"{n}: rigid")
     ax.set_xlabel("t (s)")
     ax.set_ylabel(r"$\theta$ (rad)")
-    ax.legend(fontsize=8)
+    _legend_beside(ax)
     fig.tight_layout()
     return _figure(out, "theta_variants", fig, "Rotation (left half): what the crack and the "
-                   "collars change; FEM solid, rigid dashed", data_file="figures/theta_*.csv")
+                   "collars change; FEM solid, rigid dashed, each curve with its own markers",
+                   data_file="figures/theta_*.csv")
 
 
 def write_design_report(out: Path) -> Path:
@@ -504,37 +680,50 @@ def write_design_report(out: Path) -> Path:
     ratios = np.unique(chart["ag_over_g"])
     k = chart["required_stiffness"].reshape(alphas.size, ratios.size)
     from ..rigid.plotting import plot_design_chart
-    plot_design_chart(alphas, ratios, k, out / "figures" / "design_chart.png")
-    chart_fig = _image(out / "figures" / "design_chart.png", "Minimum total lateral collar "
-                       "stiffness over alpha and a_g/g (corrected Eq. 22-24)")
-    chart_fig["data_file"] = "figures/design_chart.csv"
+    # the chart in kN/m throughout, the study's column and pulse marked with its required
+    # stiffness, and the iso-line of the stiffness its collars provide
+    fig, ax = plt.subplots(figsize=(7.5, 5.6))
+    plot_design_chart(alphas, ratios, k, ax=ax,
+                      design=(s["design_ag_over_g"], s["design_alpha"],
+                              s["design"]["required_stiffness"]),
+                      provided=(s["collars_provided"], s["lateral_stiffness_provided"]))
+    fig.tight_layout()
+    chart_fig = _figure(out, "design_chart", fig, "Minimum total lateral collar stiffness "
+                        "(kN/m) over alpha and a_g/g (corrected Eq. 22-24); the star: this "
+                        "study's column and design pulse with the stiffness it requires; the "
+                        "dashed line, where inside the chart: the stiffness its collars provide "
+                        "(enough on its side of larger alpha and smaller a_g/g)",
+                        data_file="figures/design_chart.csv")
     history = read_csv(out / "cases" / "fem" / "history.csv")
     cols = sorted(c for c in history if c.startswith("collar_") and c.endswith("_utilisation"))
     write_csv(out / "figures" / "collar_utilisation.csv",
               {"t": history["t"], **{c: history[c] for c in cols}})
-    fig, ax = plt.subplots(figsize=(8, 3.2))
-    for c in cols:
-        ax.plot(history["t"], history[c], label=c.replace("_utilisation", ""))
+    fig, ax = plt.subplots(figsize=(9.5, 3.2))
+    for j, c in enumerate(cols):        # collars of one history stay apart
+        ax.plot(history["t"], history[c], color=f"C{j}", **_distinct(j, len(cols)),
+                label=c.replace("_utilisation", ""))
     ax.axhline(1.0, color="k", ls="--", lw=1, label="f_y")
     ax.set_xlabel("t (s)")
     ax.set_ylabel("sigma / f_y (-)")
-    ax.legend(fontsize=8)
+    _legend_beside(ax)
     fig.tight_layout()
-    util_fig = _figure(out, "collar_utilisation", fig, "FEM collar utilisation over time")
+    util_fig = _figure(out, "collar_utilisation", fig, "FEM collar utilisation over time "
+                       "(collars with the same history on top of each other, each with its own "
+                       "dashes and markers)")
     return _render(out, "design.html.j2", s, f"colonna collar design: {s['study']}",
                    rows=DESIGN_NUMBERS, figs=[chart_fig, util_fig])
 
 
 # the collar-design table: (label, summary key, unit)
 DESIGN_NUMBERS = [
-    ("yield moment M_y", "design.yield_moment", "N m"),
-    ("yield offset d_y, corrected Eq. 22", "design.yield_displacement", "m"),
+    ("yield moment M_y", "design.yield_moment", "kN m"),
+    ("yield offset d_y, corrected Eq. 22", "design.yield_displacement", "mm"),
     ("yield rotation theta_y, Eq. 23", "design.yield_rotation", "rad"),
-    ("required lateral stiffness k, corrected Eq. 24", "design.required_stiffness", "N/m"),
-    ("one collar's lateral stiffness K_l", "design.collar_lateral_stiffness", "N/m"),
+    ("required lateral stiffness k, corrected Eq. 24", "design.required_stiffness", "kN/m"),
+    ("one collar's lateral stiffness K_l", "design.collar_lateral_stiffness", "kN/m"),
     ("collars needed", "design.collars_needed", "-"),
     ("collars provided", "collars_provided", "-"),
-    ("lateral stiffness provided", "lateral_stiffness_provided", "N/m"),
+    ("lateral stiffness provided", "lateral_stiffness_provided", "kN/m"),
     ("design adequate", "design_adequate", ""),
     ("FEM collar utilisation (max), sigma / f_y", "fem_collar_max_utilisation", "-"),
     ("FEM first yield", "fem_collar_first_yield_time", "s"),
@@ -546,7 +735,7 @@ DESIGN_NUMBERS = [
 def write_spectrum_crosscheck_report(out: Path) -> Path:
     """Mode maps of the FEM, multibody and SDOF models side by side, where they disagree, and
     their overturning boundaries overlaid; every map also as CSV."""
-    from ..rigid.plotting import MODE_COLOURS, MODE_LABELS
+    from ..rigid.plotting import MODE_COLOURS, MODE_LABELS, grid_markers
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
@@ -572,55 +761,63 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
     norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5], cmap.N)
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.8), sharey=True)
     yields = np.array(s["collar_yield_fem"], dtype=bool)
+    marked = {}                 # a marker at each computed pulse of a coarse grid
     for ax, (m, label) in zip(axes, models):
         ax.pcolormesh(w, a, maps[m], cmap=cmap, norm=norm, shading="nearest")
+        marked.update((h.get_label(), h) for h in grid_markers(ax, w, a, maps[m]))
         ax.set_title(label)
         ax.set_xlabel(x_label)
     if yields.any():
-        axes[0].scatter(ww[yields], aa[yields], marker="x", color="k", s=25)
+        axes[0].scatter(ww[yields], aa[yields], marker="x", color="k", s=25, zorder=4)
     axes[0].set_ylabel(r"$a_p / (g\,\tan\alpha)$")
     present = {int(k) for m, _ in models for k in np.unique(maps[m])}   # the legend: what is drawn
-    handles = [Patch(color=MODE_COLOURS[k], label=MODE_LABELS[k]) for k in sorted(present)]
+    handles = [marked.get(MODE_LABELS[k]) or Patch(color=MODE_COLOURS[k], label=MODE_LABELS[k])
+               for k in sorted(present)]
     if yields.any():
         handles.append(plt.Line2D([], [], marker="x", color="k", ls="", label="FEM: a collar "
                                   "reaches f_y"))
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     figs.append(_figure(out, "maps", fig, "Outcome of every pulse of the grid: FEM, rigid "
-                        "multibody and SDOF (the paper's half block with collars)"))
+                        "multibody and SDOF (the paper's half block with collars)" + (
+                            "; a marker at each computed pulse" if marked else "")))
 
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), sharey=True)
     shades = ("#f2f2f2", "#7570b3")
-    drawn = set()
+    drawn, marked = set(), {}
+    words = ("same outcome", "different outcome")
     for ax, m, label in ((axes[0], "multibody", "FEM vs rigid multibody"),
                          (axes[1], "sdof", "FEM vs SDOF half block")):
         differ = (maps["fem"] != maps[m]).astype(float)
         drawn |= {int(v) for v in np.unique(differ)}
         ax.pcolormesh(w, a, differ, cmap=ListedColormap(shades), vmin=0, vmax=1,
                       shading="nearest")
+        marked.update((h.get_label(), h) for h in grid_markers(
+            ax, w, a, differ.astype(int), colours=shades, markers=("o", "X"), labels=words))
         ax.set_title(label)
         ax.set_xlabel(x_label)
     axes[0].set_ylabel(r"$a_p / (g\,\tan\alpha)$")
-    fig.legend(handles=[Patch(color=shades[k], label=("same outcome", "different outcome")[k])
+    fig.legend(handles=[marked.get(words[k]) or Patch(color=shades[k], label=words[k])
                         for k in sorted(drawn)], loc="lower center", ncol=2, fontsize=8)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     figs.append(_figure(out, "disagreement", fig, "Where the FEM and each rigid model disagree"))
 
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = plt.subplots(figsize=(8.5, 4))
     boundary, never = {}, []
-    for (m, label), style in zip(models, ("-o", "--s", ":^")):
+    for j, (m, label) in enumerate(models):
         over = maps[m] != 0
         lowest = np.where(over.any(axis=0), a[np.argmax(over, axis=0)], np.nan)
         boundary[f"lowest_overturning_amplitude_{m}"] = lowest
         if np.isfinite(lowest).any():        # the legend lists only what is drawn
-            ax.plot(w, lowest, style, label=label)
+            style = dict(_distinct(j, len(models)), markevery=None, markersize=10 - 3 * j)
+            ax.plot(w, lowest, color=f"C{j}", **style, label=label)   # equal ones stay apart
         else:
             never.append(label)
     write_csv(out / "figures" / "boundaries.csv", {"omega_ratio": w, **boundary})
     ax.set_xlabel(x_label)
     ax.set_ylabel(r"lowest overturning $a_p / (g\,\tan\alpha)$")
     if len(never) < len(models):
-        ax.legend(fontsize=8)
+        _legend_beside(ax)
         fig.tight_layout()
         figs.append(_figure(out, "boundaries", fig, "Overturning boundary of each model: the "
                             "lowest amplitude of the grid that overturns, per frequency (none "
@@ -655,13 +852,16 @@ def write_free_rocking_report(out: Path) -> Path:
     (out / "figures").mkdir(exist_ok=True)
     alpha = s["alpha"]
     figs = []
-    fig, ax = plt.subplots(figsize=(8, 3.6))
+    fig, ax = plt.subplots(figsize=(9.5, 3.6))
     columns = {}
+    n_curves = 2 * len(s["tilts"])
     for k, tilt in enumerate(s["tilts"], start=1):
-        for kind, style in (("fem", "-"), ("multibody", "--")):
+        for j, (kind, style) in enumerate((("fem", "-"), ("multibody", "--"))):
             h = read_csv(out / "cases" / f"{kind}-tilt{k}" / "history.csv")
             label = "FEM" if kind == "fem" else "rigid multibody"
-            ax.plot(h["t"], h["theta_left"] / alpha, style, color=f"C{k - 1}",
+            # the two models coincide up to the first impact: each its width and markers
+            ax.plot(h["t"], h["theta_left"] / alpha, color=f"C{k - 1}",
+                    **dict(_distinct(2 * (k - 1) + j, n_curves), ls=style),
                     label=f"{label}, released at {tilt['tilt_fraction']:g} alpha")
             columns[f"t_{kind}_tilt{k}"] = h["t"]
             columns[f"theta_over_alpha_{kind}_tilt{k}"] = h["theta_left"] / alpha
@@ -670,26 +870,28 @@ def write_free_rocking_report(out: Path) -> Path:
               {k: np.pad(v, (0, n - len(v)), constant_values=np.nan) for k, v in columns.items()})
     ax.set_xlabel("t (s)")
     ax.set_ylabel(r"$\theta / \alpha$")
-    ax.legend(fontsize=8)
+    _legend_beside(ax)
     fig.tight_layout()
     figs.append(_figure(out, "rotations", fig, "Free rocking from each release tilt: FEM (solid) "
-                        "and rigid multibody (dashed)"))
+                        "and rigid multibody (dashed), each curve with its own markers"))
 
-    fig, ax = plt.subplots(figsize=(7, 3.6))
+    fig, ax = plt.subplots(figsize=(9, 3.6))
     ratio_columns = {}
     for k, tilt in enumerate(s["tilts"], start=1):
-        for kind, marker in (("fem", "o"), ("multibody", "s")):
+        for j, kind in enumerate(("fem", "multibody")):
             ratios = np.array(tilt[kind]["ratios"], dtype=float)
             label = "FEM" if kind == "fem" else "rigid multibody"
-            ax.plot(np.arange(1, ratios.size + 1), ratios, marker=marker, ls="-" if kind ==
-                    "fem" else "--", color=f"C{k - 1}",
+            i = 2 * (k - 1) + j          # equal ratios stay apart: each its marker and size
+            ax.plot(np.arange(1, ratios.size + 1), ratios, color=f"C{k - 1}",
+                    **dict(_distinct(i, n_curves), ls="-" if kind == "fem" else "--",
+                           markevery=None, markersize=8.0 - 4.0 * i / max(n_curves - 1, 1)),
                     label=f"{label}, released at {tilt['tilt_fraction']:g} alpha")
             ratio_columns[f"ratio_{kind}_tilt{k}"] = ratios
     ax.axhline(s["restitution_housner"], color="k", lw=0.8, ls=":",
                label="Housner 1 - 1.5 sin²α")
     ax.set_xlabel("impact")
     ax.set_ylabel(r"$\dot\theta_{after} / \dot\theta_{before}$")
-    ax.legend(fontsize=8)
+    _legend_beside(ax)
     fig.tight_layout()
     n = max((len(v) for v in ratio_columns.values()), default=0)
     write_csv(out / "figures" / "ratios.csv",
@@ -701,3 +903,18 @@ def write_free_rocking_report(out: Path) -> Path:
 
     return _render(out, "free_rocking.html.j2", s, f"colonna free rocking: {s['study']}",
                    figs=figs)
+
+
+def write_zhang_makris_report(out: Path) -> Path:
+    """The Zhang & Makris validation: figures, boundaries and spectra."""
+    out = Path(out)
+    summary = json.loads((out / "summary.json").read_text())
+    histories = [_image(out / f"history_{x.replace('.', '_')}.png",
+                        f"a_p = {x} g alpha, Omega/p = 5")
+                 for x in ("3.00", "3.01", "6.32", "6.33")]
+    spectra = [_image(out / f"spectrum_{m}_{c}.png",
+                      f"{m} model, {c.replace('free', 'free block')}")
+               for m in ("linear", "nonlinear") for c in ("free", "collars")]
+    return _render(out, "zhang_makris.html.j2", summary,
+                   "colonna validation: Zhang & Makris block", histories=histories,
+                   spectra=spectra)

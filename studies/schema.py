@@ -377,6 +377,11 @@ def read_collars(path) -> tuple[rigid_collars.Collar, ...]:
     return tuple(rigid_collars.Collar(**c.model_dump()) for c in spec.collar)
 
 
+def table_model(name: str) -> type[BaseModel]:
+    """The model of a study file's table (``column``, ``collar``: one [[collar]], ...)."""
+    return _model_of(StudyFile.model_fields[name].annotation)
+
+
 def parse_table(name: str, table, source: str = "study"):
     """One table of a study file (``grid``, ``convergence``, ...) checked on its own."""
     return _validate(_model_of(StudyFile.model_fields[name].annotation), table, source,

@@ -10,6 +10,8 @@ from pathlib import Path
 import pytest
 
 CHECK = Path(__file__).with_name("data") / "report_check.js"
+# a number of summary.json in a report: its dotted key, its display scale, what is shown
+SPAN = re.compile(r'<span data-key="([^"]+)"(?: data-scale="([^"]+)")?>([^<]*)</span>')
 
 
 def browser() -> str:
@@ -57,7 +59,7 @@ def assert_table_numbers_have_units(page_text: str) -> int:
             cells = re.findall(r"<t[hd]([^>]*)>(.*?)</t[hd]>", row, re.S)
             unit_cell = [c for attrs, c in cells if 'class="unit"' in attrs]
             for j, (attrs, cell) in enumerate(cells):
-                spans = re.findall(r'<span data-key="[^"]+">([^<]*)</span>', cell)
+                spans = [shown for _, _, shown in SPAN.findall(cell)]
                 bare = re.sub(r"<[^>]+>", "", cell).replace("&times;", "").strip()
                 if len(spans) != 1 or not NUMBER.match(spans[0]) or bare != spans[0] and \
                         "&nbsp;" not in cell:
@@ -68,3 +70,35 @@ def assert_table_numbers_have_units(page_text: str) -> int:
                             or (j < len(header) and re.search(r"\([^)]+\)", header[j])))
                 assert has_unit, (row, header)
     return checked
+
+
+def assert_report_says_what_summary_says(page_text: str, summary: dict) -> int:
+    """Every number of the page in a data-key span is summary.json's value at that key
+    (times its data-scale where the report shows another unit: MPa from Pa, ...), as the
+    report formats it; words are the summary's words. Returns how many were checked."""
+    from colonna.studies.report import fmt
+    spans = SPAN.findall(page_text)
+    for key, scale, shown in spans:
+        node = summary
+        for part in key.split("."):
+            node = node[int(part)] if isinstance(node, list) else node[part]
+        if isinstance(node, str):
+            assert html.unescape(shown) == node, key
+            continue
+        if scale and node is not None:
+            node = node * float(scale)
+        assert shown in {fmt(node, d) for d in (2, 3, 4, 5)}, (key, shown, node)
+    return len(spans)
+
+
+def assert_opens_with_the_outcome(page_text: str, summary: dict) -> None:
+    """The report's first section is the outcome, with the three answers, each the word of
+    summary.json's outcome (the data-key of the word names it)."""
+    assert re.findall(r"<h2>([^<]+)</h2>", page_text)[0] == "Outcome"
+    answers = summary["outcome"]["answers"]
+    assert [a["key"] for a in answers] == ["rigid_assumption_ok", "collars_yield",
+                                           "toe_crushes"]
+    for i, a in enumerate(answers):
+        cell = re.search(rf'data-answer="{a["key"]}"[^>]*><span data-key="outcome\.answers\.'
+                         rf'{i}\.answer">([^<]+)</span>', page_text)
+        assert cell and cell.group(1) == a["answer"], a["key"]

@@ -3,7 +3,8 @@
 import json
 
 import pytest
-from browser import assert_every_figure_drawn, assert_table_numbers_have_units
+from browser import (assert_every_figure_drawn, assert_opens_with_the_outcome,
+                     assert_table_numbers_have_units)
 
 from colonna.studies.cli import main
 
@@ -52,6 +53,8 @@ def test_multibody_gives_housner_and_the_fem_keeps_more_energy(free_run):
 def test_report_states_the_fem_value_for_the_studys_stone(free_run):
     out, s = free_run
     page = (out / "index.html").read_text()
+    assert_opens_with_the_outcome(page, s)
+    assert all(a["answer"] == "not assessed" for a in s["outcome"]["answers"])
     from colonna.studies.report import fmt
     assert (f'<span data-key="fem_ratio_study_stone">{fmt(s["fem_ratio_study_stone"], 4)}'
             '</span>') in page

@@ -282,3 +282,65 @@ def test_a_pulse_below_uplift_names_its_file():
     with pytest.raises(InputError, match=r"^s\.toml: ground\.amplitude = 0\.1 m/s\^2 is below "
                                          r"the uplift acceleration"):
         from_dict(data, "s.toml")
+
+
+def test_report_opens_with_the_outcome_then_lists_the_inputs_of_the_study_file(design_run):
+    """The report's first section is the outcome and the three answers; the next lists the
+    study file's values (in the units it shows them in: MPa from Pa, mm for a collar section)
+    and plots the ground motion that was applied."""
+    import re
+
+    from colonna.studies.report import INPUT_UNITS, INPUT_UNITS_BY_KEY, fmt
+    from colonna.studies.schema import table_model
+    page = (design_run / "index.html").read_text()
+    sections = re.findall(r"<h2>([^<]+)</h2>", page)
+    assert sections[:2] == ["Outcome", "Inputs"], sections
+    assert all(f'data-answer="{key}"' in page
+               for key in ("rigid_assumption_ok", "collars_yield", "toe_crushes"))
+    given = tomllib.loads(DESIGN)
+    cells = re.findall(r'<td data-input="([^"]+)" data-index="(\d+)">([^<]*)</td>', page)
+    shown = {(path, int(i)): value for path, i, value in cells}
+    checked = 0
+    for table, entries in given.items():
+        for i, entry in enumerate(entries if isinstance(entries, list) else [entries]):
+            for key, value in entry.items():
+                field = table_model(table).model_fields[key]
+                unit = (field.json_schema_extra or {}).get("unit", "")
+                _, factor = INPUT_UNITS_BY_KEY.get((table, key),
+                                                   INPUT_UNITS.get(unit, (unit, 1.0)))
+                expected = fmt(value * factor if isinstance(value, float) else value)
+                assert shown[(f"{table}.{key}", i)] == expected, (table, key)
+                checked += 1
+    assert checked >= 12
+    # the defaults filled in are shown too, and the ground motion is drawn from its CSV
+    assert ("column.thickness", 0) in shown and ("collar.fy", 0) in shown
+    assert 'data-figure="ground_motion"' in page
+    assert (design_run / "ground_motion.csv").read_text().startswith(
+        "t,horizontal_acceleration,vertical_acceleration")
+
+
+def test_pdf_report_starts_with_the_outcome(tmp_path):
+    """``--pdf`` prints the report; its first page (as pdftotext reads it) has the outcome
+    and the three questions, and the renders are not printed."""
+    import shutil
+    import subprocess
+
+    from colonna.studies.pdf import find_browser
+    if find_browser() is None or shutil.which("pdftotext") is None:
+        pytest.skip("needs a Chromium browser and poppler's pdftotext (make test installs them "
+                    "where apt is available)")
+    study = tmp_path / "design.toml"
+    study.write_text(DESIGN)
+    out = tmp_path / "out"
+    assert main(["study", str(study), "--out", str(out), "--workers", "1", "--pdf"]) == 0
+    first = subprocess.run(["pdftotext", "-f", "1", "-l", "1", str(out / "report.pdf"), "-"],
+                           capture_output=True, text=True, check=True).stdout
+    flat = " ".join(first.split())
+    assert "Outcome" in flat
+    for question in ("rigid-body assumption good enough?", "Do the collars yield?",
+                     "Does the toe crush?"):
+        assert question in flat, question
+    if shutil.which("pdftoppm"):        # the first page renders to an image
+        subprocess.run(["pdftoppm", "-f", "1", "-l", "1", "-png", "-r", "40",
+                        str(out / "report.pdf"), str(tmp_path / "page")], check=True)
+        assert list(tmp_path.glob("page*.png"))

@@ -8,7 +8,8 @@ import time
 from pathlib import Path
 
 import pytest
-from browser import assert_every_figure_drawn, assert_table_numbers_have_units
+from browser import (assert_every_figure_drawn, assert_opens_with_the_outcome,
+                     assert_table_numbers_have_units)
 
 from colonna.studies.cli import main
 from colonna.studies.spectrum_crosscheck import agreement
@@ -60,6 +61,9 @@ def test_grid_option_sets_the_grid_and_the_summary_has_its_maps(grid_run):
     assert words <= {"safe", "after-impact", "without-impact"} and len(words) >= 2
     assert len(list((out / "cases").glob("*/result.json"))) == 9
     page = (out / "index.html").read_text()
+    assert_opens_with_the_outcome(page, s)
+    fem = s["outcome"]["models"][0]
+    assert fem["overturned_points"] == sum(m != "safe" for row in s["mode_fem"] for m in row)
     assert page.count("<svg") == 3
     assert assert_table_numbers_have_units(page) >= 4
 

@@ -1,0 +1,140 @@
+"""The report's opening: each answer's word follows its number.
+
+Values on both sides of every limit and tolerance (f_y and f_c against the band widened by the
+mesh uncertainty; the rigid-body counts' peak, history and impact tolerances) go through the
+functions that make the answers, and through the template that prints them: the word and the
+sentence are generated from the one comparison, so they cannot disagree.
+"""
+
+import re
+
+import numpy as np
+import pytest
+
+from colonna.fem.ensemble import band
+from colonna.studies import crosscheck
+from colonna.studies.outcome import (QUESTIONS, criteria_answer, limit_answer, model_outcome,
+                                     not_assessed, outcome)
+from colonna.studies.report import TEMPLATES, _num
+
+PAGE = TEMPLATES.from_string(
+    '{% from "macros.html.j2" import outcome_section with context %}{{ outcome_section() }}')
+
+
+def _render(summary: dict) -> str:
+    return PAGE.render(s=summary, num=lambda *a, **k: _num(summary, *a, **k))
+
+
+def _cell(page: str, key: str, attribute: str) -> str:
+    found = re.search(rf'<[^>]*{attribute}="{key}"[^>]*>(.*?)</(td|span)>', page, re.S)
+    return re.sub(r"<[^>]+>", "", found.group(1)).strip()
+
+
+def _summary(answers: dict) -> dict:
+    model = model_outcome("FEM", False, 0.01, 0.1, None, 8, 0)
+    return {"outcome": outcome([model], answers)}
+
+
+@pytest.mark.parametrize("limit", [1.0])
+@pytest.mark.parametrize("uncertainty", [0.0, 0.05])
+@pytest.mark.parametrize("low, high", [(0.80, 0.90), (0.90, 0.999), (0.98, 1.02),
+                                       (1.0, 1.1), (1.2, 1.3), (0.96, 0.99), (1.01, 1.04)])
+def test_the_word_follows_the_band_against_the_limit(low, high, uncertainty, limit):
+    b = band([low, 0.5 * (low + high), high])
+    answers = {key: limit_answer(QUESTIONS[key], "stress / strength", b, limit, "-",
+                                 uncertainty, figure="x")
+               for key in ("collars_yield", "toe_crushes")}
+    answers["rigid_assumption_ok"] = not_assessed(QUESTIONS["rigid_assumption_ok"], "elsewhere")
+    bottom, top = low * (1.0 - uncertainty), high * (1.0 + uncertainty)
+    expected = "yes" if bottom >= limit else "no" if top < limit else "undecided"
+    relation = {"yes": "reaches", "no": "stays below", "undecided": "straddles"}[expected]
+    page = _render(_summary(answers))
+    for key in ("collars_yield", "toe_crushes"):
+        assert answers[key]["answer"] == expected
+        assert _cell(page, key, "data-answer") == expected
+        assert _cell(page, key, "data-relation") == relation
+    # the numbers beside the word are the band's
+    assert f">{high:.3g}<" in page and f">{low:.3g}<" in page
+
+
+@pytest.mark.parametrize("ratio, ok", [(1.19, True), (1.21, False), (0.81, True), (0.79, False)])
+def test_peak_count_on_both_sides_of_its_tolerance(ratio, ok):
+    c = _criteria(fem_peak=ratio * 0.02, mb_peak=0.02)
+    assert crosscheck.PEAK_TOLERANCE == pytest.approx(0.2)
+    assert c["peak_ok"] is ok and c["peak_ratio"] == pytest.approx(ratio)
+
+
+def test_peak_count_does_not_apply_where_a_model_overturns():
+    c = _criteria(fem_peak=0.05, mb_peak=0.02, fem_overturned=True)
+    assert c["peak_ok"] is None and c["peak_ratio"] is None and not c["same_outcome"]
+    assert crosscheck.count_word([None, None]) == "not applicable"
+    assert crosscheck.count_word([None, True]) == "yes"
+
+
+@pytest.mark.parametrize("error, ok", [(0.09, True), (0.11, False)])
+def test_history_count_on_both_sides_of_its_tolerance(error, ok):
+    assert crosscheck.HISTORY_TOLERANCE == pytest.approx(0.10)
+    c = _criteria(fem_peak=0.02, mb_peak=0.02, history_error=error)
+    assert c["history_error"] == pytest.approx(error, rel=1e-6) and c["history_ok"] is ok
+
+
+@pytest.mark.parametrize("impacts_mb, ok", [(1, True), (2, False), (0, False)])
+def test_impact_count_on_both_sides_of_its_tolerance(impacts_mb, ok):
+    assert crosscheck.IMPACT_TOLERANCE == 0
+    c = _criteria(fem_peak=0.02, mb_peak=0.02, impacts_mb=impacts_mb)
+    assert c["impacts_fem"] == 1 and c["impacts_ok"] is ok
+
+
+@pytest.mark.parametrize("words, answer", [
+    (("yes", "yes", "yes", "not applicable"), "yes"),
+    (("yes", "no", "yes", "yes"), "no"),
+    (("yes", "undecided", "yes", "yes"), "undecided")])
+def test_the_rigid_answer_lists_its_counts_by_their_word(words, answer):
+    names = ("same outcome", "peak rotation", "impacts", "history")
+    a = criteria_answer(QUESTIONS["rigid_assumption_ok"], answer, dict(zip(names, words)),
+                        figure="theta")
+    answers = {"rigid_assumption_ok": a,
+               "collars_yield": not_assessed(QUESTIONS["collars_yield"], "no collars"),
+               "toe_crushes": not_assessed(QUESTIONS["toe_crushes"], "no FEM")}
+    page = _render(_summary(answers))
+    text = _cell(page, "rigid_assumption_ok", "data-answer")
+    assert text == answer
+    for name, word in zip(names, words):
+        listed = {"no": a["failed"], "undecided": a["undecided"], "yes": a["passed"],
+                  "not applicable": a["not_applicable"]}[word]
+        assert name in listed
+    if answer == "no":
+        assert "failed in every replica: peak rotation" in re.sub(r"\s+", " ", page)
+    assert "no collars" in page and "not assessed" in page
+
+
+def test_an_overturned_model_shows_no_rotation_and_names_the_stopping_rule():
+    m = model_outcome("SDOF", True, np.pi / 2, 0.1, 1.4)
+    assert m["motion"] == "overturned" and m["peak_rotation"] is None
+    page = _render({"outcome": outcome([m], {k: not_assessed(q, "-")
+                                              for k, q in QUESTIONS.items()})})
+    assert "1.57" not in page and "overturns" in page and "overturning rule" in page
+    assert model_outcome("x", False, 1e-9, 0.1)["motion"] == "no uplift"
+
+
+def _criteria(fem_peak, mb_peak, fem_overturned=False, history_error=0.0, impacts_mb=1):
+    """crosscheck._criteria_one on synthetic histories: the multibody rotation one sine lobe
+    of amplitude mb_peak then a smaller one (an impact at t = 0.5), the FEM's the same scaled
+    to fem_peak plus a bump of history_error * mb_peak before the first impact."""
+    t = np.linspace(0.0, 1.0, 2001)
+    shape = np.where(t < 0.5, np.sin(2 * np.pi * t), 0.5 * np.sin(2 * np.pi * t))
+    theta_mb = mb_peak * shape
+    theta_fem = theta_mb + history_error * mb_peak * np.exp(-((t - 0.25) / 0.02) ** 2)
+    theta_fem = theta_fem * (fem_peak / np.max(np.abs(theta_fem)))
+    if fem_peak == mb_peak:
+        theta_fem = theta_mb + history_error * mb_peak * np.exp(-((t - 0.25) / 0.02) ** 2)
+
+    class Study:
+        class ground:
+            end_time = 0.75
+    fem = {"overturned": fem_overturned, "max_abs_theta_left": fem_peak,
+           "max_abs_theta_right": fem_peak}
+    mb = {"overturned": False, "max_abs_theta_left": mb_peak, "max_abs_theta_right": mb_peak}
+    history = {"t": t, "theta_left": theta_fem, "theta_right": theta_fem}
+    return crosscheck._criteria_one(Study, fem, history, mb, t, [theta_mb, theta_mb],
+                                    impacts_mb, 0.5)
