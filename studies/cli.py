@@ -380,6 +380,9 @@ def _cmd_study(args) -> dict:
     if args.pdf:
         from .pdf import require_browser
         require_browser()
+    from ..fem import _kernels as fem_kernels
+    _announce_compilation([fem_kernels.advance] + _multibody_kernels(), "FEM and multibody "
+                          "kernels", 60)
     summary = run_study_file(path, Path(args.out), workers=workers, scheduler=args.scheduler,
                              force=args.force, grid=grid)
     if args.pdf:

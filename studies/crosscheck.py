@@ -8,7 +8,8 @@ Cases (run through :mod:`studies.sweep`, each saved as it completes):
              reference: "FEM minus multibody" is the effect of deformability alone
   rigid      the paper's SDOF model: one half block with the collars, both halves rotating equally
   monolith   the whole column as one rigid SDOF block (the limit of a crack held shut)
-  spectrum   the rigid overturning spectrum around the study's pulse (half block, collars)
+  spectrum   the rigid overturning spectra around the study's pulse: the SDOF half block's with
+             collars, and the rigid multibody model's on a coarser grid
 
 The SDOF models are simplifications of the multibody one; "SDOF minus multibody" is the error of
 their kinematic assumption, reported beside the verdict.
@@ -621,9 +622,12 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
         fem_model("FEM, deformable halves", fem, alpha),
         model_outcome("rigid multibody (the rigid reference)", mb["overturned"],
                       max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]), alpha,
-                      mb.get("overturn_time")),
+                      mb.get("overturn_time"),
+                      collar_utilisation=mb.get("collar_max_utilisation") if study.collars
+                      else None),
         model_outcome("SDOF half block with collars (the paper's)", rigid["overturned"],
-                      rigid["max_abs_theta"], rigid["alpha"], rigid.get("overturn_time")),
+                      rigid["max_abs_theta"], rigid["alpha"], rigid.get("overturn_time"),
+                      collar_utilisation=rigid.get("collar_max_utilisation")),
         model_outcome("SDOF whole column, no crack", monolith["overturned"],
                       monolith["max_abs_theta"], monolith["alpha"],
                       monolith.get("overturn_time")),

@@ -17,7 +17,7 @@ band over the replicas), its limit, the relation between them (``below``, ``reac
 from __future__ import annotations
 
 from ..fem.ensemble import NO, UNDECIDED, YES, decide
-from ..rigid.solve import motion_word
+from ..rigid.solve import collar_state, motion_word
 
 NOT_ASSESSED = "not assessed"
 
@@ -34,10 +34,12 @@ RELATIONS = {YES: "reaches", NO: "stays below", UNDECIDED: "straddles"}
 
 def model_outcome(model: str, overturned: bool, peak_rotation: float | None, alpha: float,
                   overturn_time: float | None = None, replicas: int | None = None,
-                  overturned_replicas: int | None = None) -> dict:
+                  overturned_replicas: int | None = None,
+                  collar_utilisation: float | None = None) -> dict:
     """One model's outcome. ``peak_rotation`` (rad) is the largest |theta| of a rocking half
     (None or the pi/2 convention of an overturned block are not reported as a rotation);
-    ``alpha`` its slenderness (rad)."""
+    ``alpha`` its slenderness (rad); ``collar_utilisation`` the largest sigma / f_y of its
+    collars, whose state (elastic / yielded) is then said beside the motion."""
     motion = motion_word(bool(overturned), 0.0 if peak_rotation is None else peak_rotation,
                          alpha)
     out = {"model": model, "motion": motion,
@@ -48,6 +50,9 @@ def model_outcome(model: str, overturned: bool, peak_rotation: float | None, alp
            else float(peak_rotation) / alpha}
     if replicas is not None:
         out.update(replicas=int(replicas), overturned_replicas=int(overturned_replicas or 0))
+    if collar_utilisation is not None:
+        out.update(collar_state=collar_state(collar_utilisation),
+                   collar_utilisation=float(collar_utilisation))
     return out
 
 

@@ -239,7 +239,9 @@ def test_zhang_makris_study(tmp_path, capsys):
     assert main(["study", "zhang-makris", "--out", str(tmp_path), "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert 3.00 * 0.997 < summary["boundaries"]["linear"][0] < 3.01 * 1.003
-    assert (tmp_path / "index.html").read_text().count("data:image/png") == 8
+    page = (tmp_path / "index.html").read_text()
+    assert page.count("data:image/png") == 8
+    assert_opens_with_the_outcome(page, summary)
 
 
 def test_collar_design_study(tmp_path, capsys):
