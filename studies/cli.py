@@ -339,7 +339,8 @@ def _cmd_design(args) -> dict:
                        "ag_over_g": np.tile(ratios, alphas.size),
                        "required_stiffness": k.ravel()})
             from ..rigid.plotting import plot_design_chart
-            plot_design_chart(alphas, ratios, k, out / "design_chart.png")
+            plot_design_chart(alphas, ratios, k, out / "design_chart.png",
+                              design=(a_g / block.g, block.alpha, design.required_stiffness))
     return summary
 
 
