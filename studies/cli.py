@@ -374,6 +374,7 @@ def _cmd_study(args) -> dict:
     from .sweep import default_workers
 
     path = resolve_study(args.study)
+    kind = KINDS[study_kind(path)]
     workers = args.workers if args.workers is not None else default_workers()
     if workers < 1:
         raise InputError(f"--workers = {workers} must be >= 1")
@@ -393,7 +394,7 @@ def _cmd_study(args) -> dict:
     if args.json:
         return summary
     short = {"report": str(Path(args.out) / "index.html")}
-    for key in KINDS[study_kind(path)].short:
+    for key in kind.short:
         value = summary.get(key)
         if key == "outcome" and value:         # the report's opening, in words
             for m in value["models"]:

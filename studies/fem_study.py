@@ -63,12 +63,8 @@ class FemStudy:
 
     @property
     def rocking_alpha(self) -> float:
-        """Slenderness (rad) of the body whose impacts a rotation history shows: one half of a
-        cracked column without collars, else the whole column (collars and crack friction make
-        the halves rock together)."""
-        if self.cracked and not self.collars:
-            return math.atan2(self.width / 4.0, self.height / 2.0)
-        return math.atan2(self.width / 2.0, self.height / 2.0)
+        """:func:`rocking_alpha` of this column."""
+        return rocking_alpha(self.width, self.height, self.cracked, bool(self.collars))
 
     @property
     def column_block(self) -> Block:
@@ -92,6 +88,21 @@ def load(path) -> FemStudy:
     return from_dict(read_toml(path, "study file"), source=str(path), base=path.parent)
 
 
+def rocking_alpha(width: float, height: float, cracked: bool, collared: bool) -> float:
+    """Slenderness (rad) of the body whose impacts a rotation history shows: one half of a
+    cracked column without collars, else the whole column (collars and crack friction make
+    the halves rock together)."""
+    if cracked and not collared:
+        return math.atan2(width / 4.0, height / 2.0)
+    return math.atan2(width / 2.0, height / 2.0)
+
+
+def default_thickness(width: float) -> float:
+    """The 2D model's out-of-plane thickness (m) when column.thickness is not given, pi w / 4:
+    a half column then has the mass of a half circular column of diameter w."""
+    return math.pi * width / 4.0
+
+
 def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemStudy:
     """The study of a parsed TOML file: checked against :mod:`studies.schema`, then built."""
     spec = schema.parse(data, source)
@@ -108,7 +119,7 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
     study = FemStudy(
         name=spec.study.name or Path(source).stem,
         height=column.height, width=column.width,
-        thickness=column.thickness or math.pi * column.width / 4.0, cracked=column.cracked,
+        thickness=column.thickness or default_thickness(column.width), cracked=column.cracked,
         stone=Stone(**spec.stone.model_dump()),
         collars=tuple(Collar(**c.model_dump()) for c in spec.collar), ground=None,
         contact=ContactSettings(**spec.contact.model_dump()),

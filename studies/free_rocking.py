@@ -28,7 +28,7 @@ from ..rigid.impacts import impact_ratios_from_peaks
 from ..rigid.validation import InputError, read_toml
 from . import schema
 from .fem_study import from_dict
-from .outcome import QUESTIONS, not_assessed, outcome
+from .outcome import none_assessed
 from .output import write_csv, write_json
 from .sweep import run_cases
 
@@ -148,11 +148,9 @@ def run_free_rocking(study_path: Path, out: Path, *, workers=None, scheduler=Non
         "damping_variants": [results[f"fem-damping{k + 1}"] for k in range(len(dampings))],
         "mesh_variants": [results[f"fem-mesh{k + 1}"] for k in range(len(sizes))],
         "damping": study.contact.damping, "mesh_size": study.mesh_size,
-        "outcome": outcome([], {
-            key: not_assessed(question, "a free-rocking study measures the velocity ratio at "
-                              "the impacts of a column released from a tilt (below); the "
-                              "cross-check study answers this for a ground motion")
-            for key, question in QUESTIONS.items()}),
+        "outcome": none_assessed("a free-rocking study measures the velocity ratio at the "
+                                 "impacts of a column released from a tilt (below); the "
+                                 "cross-check study answers this for a ground motion"),
     }
     summary["wall_seconds"] = time.perf_counter() - start
     write_json(out / "summary.json", summary)

@@ -9,7 +9,7 @@ many replicas overturned.
 
 ``answers``: "Is the rigid-body assumption good enough?", "Do the collars yield?", "Does the
 toe crush?", each yes / no / undecided / not assessed, with the number behind it (median and
-band over the replicas), its limit, the relation between them (``below``, ``reaches``,
+band over the replicas), its limit, the relation between them (``stays below``, ``reaches``,
 ``straddles``) and the figure that shows it. The word and the relation come from one comparison
 (:func:`limit_answer`), so the sentence can never contradict its number.
 """
@@ -96,12 +96,18 @@ def criteria_answer(question: str, answer: str, criteria: dict[str, str],
             "figure": figure}
 
 
+def none_assessed(why: str) -> dict:
+    """summary["outcome"] of a study that assesses no column against a ground motion (no
+    models to tell, each answer not assessed, for the reason ``why``)."""
+    return outcome([], {key: not_assessed(question, why) for key, question in QUESTIONS.items()})
+
+
 def outcome(models: list[dict], answers: dict[str, dict]) -> dict:
     """summary["outcome"]: the models' outcomes and the three answers, in QUESTIONS' order."""
     return {"models": models, "answers": [dict(answers[key], key=key) for key in QUESTIONS]}
 
 
-def grid_outcome(model: str, overturned: list[list], extra: str = "") -> dict:
+def grid_outcome(model: str, overturned: list[list]) -> dict:
     """A model's outcome over a grid of pulses: at how many it overturns."""
     flags = [bool(v) for row in overturned for v in row if v is not None]
     return {"model": model, "motion": "overturned at some pulses" if any(flags) else
@@ -118,8 +124,7 @@ def count_answer(question: str, measure: str, flags: list[list], figure: str | N
             "count": sum(flat), "points": len(flat), "figure": figure}
 
 
-def fem_answers(fem: dict, why_not_rigid: str, refined: bool = False,
-                collars: bool = True) -> dict[str, dict]:
+def fem_answers(fem: dict, why_not_rigid: str, collars: bool = True) -> dict[str, dict]:
     """The three answers of a study whose FEM runs alone (an ensemble summary ``fem``): the
     collars and the toe on the study mesh; the rigid-body question left to the cross-check."""
     return {"rigid_assumption_ok": not_assessed(QUESTIONS["rigid_assumption_ok"], why_not_rigid),

@@ -63,21 +63,16 @@ def record_inputs(out: Path, study_path: Path, options: dict | None = None) -> d
     if data.get("study", {}).get("kind") == "free-rocking":   # its own defaults, as it runs
         data = with_defaults(data)
     inputs = schema.parse(data, str(study_path)).model_dump(mode="json")
-    if inputs.get("column") is not None:     # the defaults that depend on the column
-        from .fem_study import from_dict
-        # (only the column's defaults are read: where the study sets the motion per case, a
-        # stand-in motion lets the study resolve)
-        resolvable = data
-        if inputs["study"]["kind"] == "spectrum-crosscheck":     # its grid sets the pulse
-            resolvable = {**data, "ground": {"pulse": "sine", "amplitude_ratio": 1.0,
-                                             "omega_ratio": 1.0}}
-        elif inputs["study"]["kind"] == "free-rocking":          # its cases set the tilt
-            resolvable = {**data, "run": {**data.get("run", {}), "initial_tilt": 0.01}}
-        study = from_dict(resolvable, source=str(study_path), base=Path(study_path).parent)
-        inputs["column"]["thickness"] = study.thickness
-        for entry, collar in zip(inputs["collar"], study.collars):
-            entry["length"] = study.width if collar.length is None else collar.length
-            entry["Eh"] = collar.hardening_modulus
+    column = inputs.get("column")
+    if column is not None:                   # the defaults that depend on the column
+        from ..rigid.collars import Collar
+        from .fem_study import default_thickness
+        if column["thickness"] is None:
+            column["thickness"] = default_thickness(column["width"])
+        for entry in inputs["collar"]:
+            if entry["length"] is None:      # between the attachment points: the width
+                entry["length"] = column["width"]
+            entry["Eh"] = Collar(**entry).hardening_modulus
     inputs.update(study_file=Path(study_path).name,
                   study_sha256=hashlib.sha256(raw).hexdigest(),
                   colonna_version=importlib.import_module("colonna").__version__,

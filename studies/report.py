@@ -60,8 +60,8 @@ def _get(summary: dict, dotted: str):
 
 
 # units an engineer reads, from the SI of summary.json: shown value = SI value * factor
-DISPLAY_UNITS = {"MPa": 1e-6, "GPa": 1e-9, "kN": 1e-3, "kN m": 1e-3, "kN/m": 1e-3,
-                 "MN/m": 1e-6, "mm": 1e3, "kJ": 1e-3, "per mille": 1e3}
+DISPLAY_UNITS = {"MPa": 1e-6, "GPa": 1e-9, "GPa/m": 1e-9, "kN": 1e-3, "kN m": 1e-3,
+                 "kN/m": 1e-3, "MN/m": 1e-6, "mm": 1e3, "kJ": 1e-3, "per mille": 1e3}
 
 
 def _num(summary: dict, dotted: str, digits: int = 4, unit: str = "",
@@ -87,11 +87,22 @@ def _num(summary: dict, dotted: str, digits: int = 4, unit: str = "",
 INPUT_TABLES = ("study", "column", "stone", "collar", "ground", "contact", "mesh", "run", "rigid")
 KIND_TABLES = {"spectrum-crosscheck": ("grid",), "mesh-convergence": ("convergence",),
                "free-rocking": ("free_rocking",)}
-# the unit an engineer reads for a schema unit (value * factor), per key where it differs
-INPUT_UNITS = {"Pa": ("MPa", 1e-6), "N": ("kN", 1e-3)}
-INPUT_UNITS_BY_KEY = {("collar", "t"): ("mm", 1e3), ("collar", "h"): ("mm", 1e3),
-                      ("stone", "E"): ("GPa", 1e-9), ("collar", "E"): ("GPa", 1e-9),
-                      ("collar", "Eh"): ("GPa", 1e-9), ("contact", "penalty"): ("GPa/m", 1e-9)}
+# the unit an engineer reads (one of DISPLAY_UNITS) for a schema unit, and per key where it
+# differs
+INPUT_UNITS = {"Pa": "MPa", "N": "kN"}
+INPUT_UNITS_BY_KEY = {("collar", "t"): "mm", ("collar", "h"): "mm", ("stone", "E"): "GPa",
+                      ("collar", "E"): "GPa", ("collar", "Eh"): "GPa",
+                      ("contact", "penalty"): "GPa/m"}
+
+
+def input_unit(table: str, key: str) -> tuple[str, float]:
+    """(unit shown, factor from the schema's SI unit) of a study-file key in the inputs
+    section: the schema's own unit where no other reads better."""
+    from . import schema
+    extra = schema.table_model(table).model_fields[key].json_schema_extra
+    si = extra.get("unit", "") if isinstance(extra, dict) else ""
+    shown = INPUT_UNITS_BY_KEY.get((table, key), INPUT_UNITS.get(si, si))
+    return shown, DISPLAY_UNITS.get(shown, 1.0)
 
 
 def _input_value(value, factor: float) -> str:
@@ -116,13 +127,11 @@ def input_tables(inputs: dict) -> list[dict]:
         model = schema.table_model(name)
         entries = inputs[name] if isinstance(inputs[name], list) else [inputs[name]]
         rows = []
-        for key, field in model.model_fields.items():
+        for key in model.model_fields:
             values = [entry.get(key) for entry in entries]
             if all(v is None for v in values):
                 continue
-            unit = (field.json_schema_extra or {}).get("unit", "") if isinstance(
-                field.json_schema_extra, dict) else ""
-            unit, factor = INPUT_UNITS_BY_KEY.get((name, key), INPUT_UNITS.get(unit, (unit, 1.0)))
+            unit, factor = input_unit(name, key)
             rows.append({"key": key, "path": f"{name}.{key}", "unit": unit,
                          "values": [_input_value(v, factor) for v in values]})
         tables.append({"name": name, "rows": rows, "columns": len(entries)})
@@ -151,7 +160,7 @@ def _ground_figure(out: Path) -> dict | None:
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set_xlabel("t (s)")
     ax.set_ylabel("ground acceleration (m/s$^2$)")
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
+    _legend_beside(ax)
     fig.tight_layout()
     return _figure(out, "ground_motion", fig, "The ground motion applied: horizontal and "
                    "vertical accelerations", data_file="ground_motion.csv")

@@ -14,7 +14,6 @@ Dask). ``[study] kind`` in the study file picks the study:
 from __future__ import annotations
 
 import copy
-import math
 import time
 from pathlib import Path
 
@@ -24,7 +23,7 @@ from .crosscheck import fem_case, rigid_case
 from ..rigid.validation import read_toml
 
 from . import schema
-from .fem_study import from_dict
+from .fem_study import from_dict, rocking_alpha
 from .outcome import fem_answers, fem_model, model_outcome, outcome
 from .output import write_json
 from .sweep import run_cases
@@ -134,10 +133,9 @@ def _variants_summary(study, variants, results) -> dict:
         fem = results[f"{name}-fem"]["summary"]
         rigid = results[f"{name}-rigid"]
         label = name.replace("-", " with ").replace("cracked with collars", "cracked, with collars")
-        # the body whose rotation shows: a half of a cracked column without collars, else the
-        # whole column (FemStudy.rocking_alpha)
-        halves = variants[name] == (True, False) or not study.collars and variants[name][0]
-        alpha = math.atan2(study.width / (4.0 if halves else 2.0), study.height / 2.0)
+        cracked, collared = variants[name]
+        alpha = rocking_alpha(study.width, study.height, cracked,
+                              collared and bool(study.collars))
         models.append(fem_model(f"FEM, {label}", fem, alpha))
         models.append(model_outcome(f"SDOF, {label}", rigid["overturned"],
                                     rigid["max_abs_theta"], rigid["alpha"],

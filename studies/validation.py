@@ -152,11 +152,9 @@ Mode boundaries at Omega/p = 5 (a_p / a_uplift, bisection to 1e-6):
 
 def run_zhang_makris(study_path: Path, out: Path, *, progress: bool = True, **_) -> dict:
     """The validation as a study (its study file has nothing to vary): summary.json, figures."""
-    from .outcome import QUESTIONS, not_assessed, outcome
+    from .outcome import none_assessed
     summary = zhang_makris_validation(Path(out), progress=progress)
-    summary["outcome"] = outcome([], {
-        key: not_assessed(question, "this study validates the rigid solver against Zhang & "
-                          "Makris (2001); it assesses no column")
-        for key, question in QUESTIONS.items()})
+    summary["outcome"] = none_assessed("this study validates the rigid solver against Zhang & "
+                                       "Makris (2001); it assesses no column")
     write_json(Path(out) / "summary.json", summary)
     return summary

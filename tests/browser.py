@@ -3,7 +3,6 @@
 import html
 import json
 import re
-import shutil
 import subprocess
 from pathlib import Path
 
@@ -15,8 +14,8 @@ SPAN = re.compile(r'<span data-key="([^"]+)"(?: data-scale="([^"]+)")?>([^<]*)</
 
 
 def browser() -> str:
-    found = (shutil.which("chromium") or shutil.which("chromium-browser")
-             or shutil.which("google-chrome"))
+    from colonna.studies.pdf import find_browser
+    found = find_browser()
     if found is None:
         pytest.skip("no headless browser (make test installs chromium where apt is available)")
     return found

@@ -290,8 +290,7 @@ def test_report_opens_with_the_outcome_then_lists_the_inputs_of_the_study_file(d
     and plots the ground motion that was applied."""
     import re
 
-    from colonna.studies.report import INPUT_UNITS, INPUT_UNITS_BY_KEY, fmt
-    from colonna.studies.schema import table_model
+    from colonna.studies.report import fmt, input_unit
     page = (design_run / "index.html").read_text()
     sections = re.findall(r"<h2>([^<]+)</h2>", page)
     assert sections[:2] == ["Outcome", "Inputs"], sections
@@ -304,10 +303,7 @@ def test_report_opens_with_the_outcome_then_lists_the_inputs_of_the_study_file(d
     for table, entries in given.items():
         for i, entry in enumerate(entries if isinstance(entries, list) else [entries]):
             for key, value in entry.items():
-                field = table_model(table).model_fields[key]
-                unit = (field.json_schema_extra or {}).get("unit", "")
-                _, factor = INPUT_UNITS_BY_KEY.get((table, key),
-                                                   INPUT_UNITS.get(unit, (unit, 1.0)))
+                _, factor = input_unit(table, key)
                 expected = fmt(value * factor if isinstance(value, float) else value)
                 assert shown[(f"{table}.{key}", i)] == expected, (table, key)
                 checked += 1

@@ -260,6 +260,7 @@ def test_collar_design_study(tmp_path, capsys):
         assert re.search(f'data-figure="{name}"[^>]*>\\s*<svg', page), name
     assert assert_table_numbers_have_units(page) >= 10
     assert assert_report_says_what_summary_says(page, s) >= 10
+    assert_opens_with_the_outcome(page, s)
 
 
 def test_cross_check_of_a_recorded_motion(tmp_path):
