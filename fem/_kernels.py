@@ -23,7 +23,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..rigid._collar_law import axial_return_mapping
+from ..core.collar_law import axial_return_mapping
 
 # fast-math without the no-NaN / no-Inf assumptions: the blow-up check must keep its meaning
 SAFE_FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}

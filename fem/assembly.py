@@ -16,7 +16,7 @@ from skfem.helpers import dot
 from skfem.models.elasticity import linear_elasticity, plane_stress
 
 from ..meshes.column import ColumnMesh
-from ..rigid.validation import require_positive, require_range
+from ..core.errors import require_positive, require_range
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ from scipy import sparse
 from scipy.sparse.linalg import eigsh
 
 from ..meshes.column import ColumnMesh
-from ..rigid.validation import InputError, require_non_negative, require_positive, require_range
+from ..core.errors import InputError, require_non_negative, require_positive, require_range
 
 from . import _kernels as K
 from .assembly import Stone, assemble

@@ -32,7 +32,7 @@ import numpy as np
 from scipy.sparse.linalg import spsolve
 from tqdm import tqdm
 
-from ..rigid.validation import InputError, require_positive, require_range
+from ..core.errors import InputError, require_positive, require_range
 
 from . import _kernels as K
 from .model import (Model, coincident_nodes, collar_stiffness, contact_stiffness,
@@ -89,7 +89,7 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
         initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
         start_time: float = 0.0, initial_state: tuple | None = None,
         initial_contact: dict | None = None, vertical=None) -> FemResult:
-    """Run the model under ``ground`` (a HarmonicPulse, Record or NoMotion of rigid.ground) for
+    """Run the model under ``ground`` (a HarmonicPulse, Record or NoMotion of colonna.core.ground) for
     ``duration`` seconds from gravity equilibrium. ``dt`` (s) may be set by hand but not above
     the stable step (``check_dt=False`` lifts that guard, for tests of the estimate).
     ``initial_velocity``: nodal velocities (n_nodes, 2) added at t = 0. ``initial_tilt`` (rad,
@@ -105,7 +105,7 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
     :func:`colonna.fem.transfer.transfer_contact`: base_ft, base_fc (tangential and filtered
     normal force per base node, N), crack_ft, crack_fc (lists, one array per crack pass).
     ``vertical``: the vertical ground acceleration (upward positive; a pulse or a record of
-    rigid.ground), applied as the body force -rho vg'' in y.
+    colonna.core.ground), applied as the body force -rho vg'' in y.
 
     One run is a batch of one: :func:`run_ensemble` runs replicas of it, :func:`run_batch`
     other ground motions on the same model, each through the same compiled step."""

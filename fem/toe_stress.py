@@ -27,7 +27,7 @@ from typing import Callable
 import numpy as np
 
 from ..meshes.column import ColumnMesh
-from ..rigid.validation import InputError
+from ..core.errors import InputError
 from .convergence import convergence_table
 from .model import build_model
 from .solver import FemResult, run

@@ -15,7 +15,7 @@ import numpy as np
 from skfem import Basis, ElementQuad1, MeshQuad
 
 from ..meshes.column import ColumnMesh
-from ..rigid.validation import InputError
+from ..core.errors import InputError
 
 
 def interpolation_matrices(source: ColumnMesh, target: ColumnMesh) -> list:

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..rigid.validation import InputError, require_positive, require_range
+from ..core.errors import InputError, require_positive, require_range
 
 
 @dataclass

@@ -11,7 +11,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-from ..rigid.validation import InputError
+from ..core.errors import InputError
 
 from .column import ColumnMesh, from_arrays
 

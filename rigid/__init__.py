@@ -1,16 +1,17 @@
 """colonna.rigid: Housner rocking of a solid or cracked stone column held by steel collars.
 
-The block, ground motion and collar descriptions are plain frozen dataclasses shared with the
-finite-element model (``fem``). Solvers: :func:`rock` (time history) and
-:func:`overturning_spectrum`; collar design: :mod:`rigid.design`.
+Solvers: :func:`rock` (time history), :func:`overturning_spectrum` (:mod:`rigid.spectrum`), the
+multibody contact model (:mod:`rigid.multibody`); collar design: :mod:`rigid.design`. The ground
+motions, the collar description and the input errors are the shared core's (:mod:`colonna.core`),
+re-exported here so that a rigid analysis needs one import.
 """
 
-from .block import Block, housner_restitution
-from .collars import Collar
-from .ground import (HarmonicPulse, NoMotion, Record, cosine_pulse, pulse_from_ratios, read_peer_at2,
-                     read_record, read_two_column, sine_pulse)
+from ..core.collar import Collar
+from ..core.errors import InputError
+from ..core.ground import (HarmonicPulse, NoMotion, Record, cosine_pulse, read_peer_at2,
+                           read_record, read_two_column, sine_pulse)
+from .block import Block, housner_restitution, pulse_from_ratios
 from .solve import RockingResult, rock
-from .validation import InputError
 
 __all__ = ["Block", "Collar", "HarmonicPulse", "InputError", "NoMotion", "Record",
            "RockingResult",

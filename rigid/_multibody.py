@@ -30,7 +30,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ._collar_law import axial_return_mapping
+from ..core.collar_law import axial_return_mapping
 
 GROUND_NONE = 0
 GROUND_HARMONIC = 1

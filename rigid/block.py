@@ -30,9 +30,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .validation import InputError, require_positive, require_range
-
-STANDARD_GRAVITY = 9.81  # m/s^2, the project's convention (DESIGN.md)
+from ..core.constants import STANDARD_GRAVITY
+from ..core.errors import InputError, require_positive, require_range
+from ..core.ground import PULSE_KINDS, HarmonicPulse, cosine_pulse, sine_pulse
 
 MODELS = ("linear", "nonlinear")
 
@@ -181,3 +181,21 @@ def check_model(model: str) -> str:
     if model not in MODELS:
         raise InputError(f"model = {model!r} is not one of {', '.join(MODELS)}")
     return model
+
+
+def pulse_from_ratios(block: Block, kind: str, omega_ratio: float, amplitude_ratio: float,
+                      model: str = "linear") -> HarmonicPulse:
+    """Pulse with Omega = omega_ratio * p and a_p = amplitude_ratio * a_uplift(model).
+
+    The amplitude ratio is normalised by g alpha (linear model) or g tan(alpha) (nonlinear).
+    """
+    check_model(model)
+    require_positive("omega ratio (Omega / p)", omega_ratio)
+    if kind not in PULSE_KINDS:
+        raise InputError(f"pulse = {kind!r} is not one of {', '.join(PULSE_KINDS)}")
+    uplift = block.uplift_acceleration(model)
+    if not abs(amplitude_ratio) >= 1.0:
+        raise InputError(f"amplitude ratio = {amplitude_ratio:g} is below uplift: it must be "
+                         ">= 1 (a_p / a_uplift)")
+    make = sine_pulse if kind == "sine" else cosine_pulse
+    return make(amplitude_ratio * uplift, omega_ratio * block.p, uplift)

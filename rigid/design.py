@@ -26,7 +26,7 @@ import numpy as np
 
 from .block import Block
 from .collars import Collar
-from .validation import require_non_negative
+from ..core.errors import require_non_negative
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .validation import InputError
+from ..core.errors import InputError
 
 
 @dataclass(frozen=True)

@@ -30,9 +30,9 @@ import numpy as np
 from . import _multibody as K
 from .block import Block
 from .collars import validate_collars
-from .ground import HarmonicPulse, NoMotion, Record, kernel_tables
+from ..core.ground import HarmonicPulse, NoMotion, Record, kernel_tables
 from .solve import CollarHistory, collar_state, motion_word, verdict
-from .validation import InputError, require_non_negative, require_positive, require_range
+from ..core.errors import InputError, require_non_negative, require_positive, require_range
 
 DEFAULT_FRICTION = 0.7          # as the FEM's ContactSettings
 STEPS_PER_ROCKING_TIME = 1000   # default step: (1/p) / 1000

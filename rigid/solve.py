@@ -25,8 +25,8 @@ import numpy as np
 from . import _kernels as K
 from .block import Block, check_model
 from .collars import (Collar, collar_kernel_constants, collar_response, validate_collars)
-from .ground import HarmonicPulse, NoMotion, Record, kernel_tables
-from .validation import InputError, require_positive, require_range
+from ..core.ground import HarmonicPulse, NoMotion, Record, kernel_tables
+from ..core.errors import InputError, require_positive, require_range
 
 MODE_NAMES = {K.SAFE: "safe", K.AFTER_IMPACT: "after-impact", K.WITHOUT_IMPACT: "without-impact"}
 

@@ -18,9 +18,9 @@ import numpy as np
 from . import _kernels as K
 from .block import Block, check_model
 from .collars import collar_kernel_constants, collar_yield_rotation, validate_collars
-from .ground import PULSE_KINDS
+from ..core.ground import PULSE_KINDS
 from .solve import DEFAULT_ATOL, MODE_NAMES, kernel_block_constants
-from .validation import InputError
+from ..core.errors import InputError
 
 LAYOUT = "mode[i][j]: i indexes amplitude_ratios (rows), j indexes omega_ratios (columns)"
 

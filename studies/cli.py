@@ -22,10 +22,11 @@ from pathlib import Path
 import numpy as np
 
 from ..rigid.block import MODELS, Block
-from ..rigid.collars import Collar
+from ..core.collar import Collar
 from .schema import read_collars
-from ..rigid.ground import PULSE_KINDS, pulse_from_ratios, read_record
-from ..rigid.validation import InputError
+from ..core.ground import PULSE_KINDS, read_record
+from ..rigid.block import pulse_from_ratios
+from ..core.errors import InputError
 
 from .output import write_csv, write_json
 

@@ -24,13 +24,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..rigid.ground import HarmonicPulse, NoMotion
+from ..core.ground import HarmonicPulse, NoMotion
 from ..fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide_count
 from ..rigid.impacts import half_cycles, impact_ratios_from_peaks
 from ..rigid.solve import rock
 from ..rigid.spectrum import overturning_spectrum
 
-from ..rigid.validation import InputError, read_toml
+from ..core.errors import InputError, read_toml
 
 from .fem_study import from_dict
 from .output import read_csv, write_csv, write_json

@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 
 from ..rigid.design import design_chart, design_collars
-from ..rigid.ground import peak_acceleration
-from ..rigid.validation import read_toml
+from ..core.ground import peak_acceleration
+from ..core.errors import read_toml
 from .crosscheck import fem_case
 from .fem_study import from_dict
 from .outcome import fem_answers, fem_model, outcome
@@ -28,7 +28,7 @@ def run_design_study(study_path: Path, out: Path, *, workers=None, scheduler=Non
     data = read_toml(study_path, "study file")
     study = from_dict(data, source=str(study_path), base=study_path.parent)   # fails early
     if not study.collars:
-        from ..rigid.validation import InputError
+        from ..core.errors import InputError
         raise InputError(f"{study_path}: a collar-design study needs at least one [[collar]]")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..rigid.validation import InputError, read_toml
+from ..core.errors import InputError, read_toml
 from .output import record_inputs, write_csv
 
 

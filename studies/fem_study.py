@@ -17,10 +17,10 @@ from ..fem.model import ContactSettings
 from ..fem.solver import EDGE_TIME
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid.block import Block
-from ..rigid.collars import Collar
-from ..rigid.ground import (HarmonicPulse, NoMotion, Record, cosine_pulse, read_record,
+from ..core.collar import Collar
+from ..core.ground import (HarmonicPulse, NoMotion, Record, cosine_pulse, read_record,
                             sine_pulse)
-from ..rigid.validation import InputError, read_toml
+from ..core.errors import InputError, read_toml
 from . import schema
 
 @dataclass

@@ -25,7 +25,7 @@ from pathlib import Path
 
 from ..rigid.block import Block
 from ..rigid.impacts import impact_ratios_from_peaks
-from ..rigid.validation import InputError, read_toml
+from ..core.errors import InputError, read_toml
 from . import schema
 from .fem_study import from_dict
 from .outcome import none_assessed

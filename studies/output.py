@@ -65,7 +65,7 @@ def record_inputs(out: Path, study_path: Path, options: dict | None = None) -> d
     inputs = schema.parse(data, str(study_path)).model_dump(mode="json")
     column = inputs.get("column")
     if column is not None:                   # the defaults that depend on the column
-        from ..rigid.collars import Collar
+        from ..core.collar import Collar
         from .fem_study import default_thickness
         if column["thickness"] is None:
             column["thickness"] = default_thickness(column["width"])

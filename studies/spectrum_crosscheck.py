@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from ..rigid.impacts import half_cycles
-from ..rigid.validation import InputError, read_toml
+from ..core.errors import InputError, read_toml
 from . import schema
 from .fem_study import from_dict
 from ..fem.ensemble import NO, YES

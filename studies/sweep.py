@@ -25,7 +25,7 @@ from typing import Callable
 
 from tqdm import tqdm
 
-from ..rigid.validation import InputError
+from ..core.errors import InputError
 from .output import _plain, write_json
 
 # case keys that do not change what a case computes (left out of its inputs): how it reports

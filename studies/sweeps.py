@@ -20,7 +20,7 @@ from pathlib import Path
 from ..fem.convergence import convergence_table
 
 from .crosscheck import fem_case, rigid_case
-from ..rigid.validation import read_toml
+from ..core.errors import read_toml
 
 from . import schema
 from .fem_study import from_dict, rocking_alpha

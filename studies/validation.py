@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from ..rigid.block import Block
-from ..rigid.collars import Collar
-from ..rigid.ground import pulse_from_ratios
+from ..core.collar import Collar
+from ..rigid.block import pulse_from_ratios
 from ..rigid.solve import rock
 from ..rigid.spectrum import overturning_spectrum
 

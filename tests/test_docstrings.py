@@ -8,7 +8,7 @@ import pytest
 
 import colonna
 
-SUBPACKAGES = ("rigid", "fem", "meshes", "studies")
+SUBPACKAGES = ("core", "rigid", "fem", "meshes", "studies")
 
 
 def _modules():
@@ -30,5 +30,5 @@ def test_docstring_examples(name):
 def test_docstring_examples_exist():
     """The suite above would pass vacuously if no module had an example."""
     attempted = sum(doctest.testmod(importlib.import_module(n)).attempted for n in
-                    ("colonna", "colonna.rigid.block", "colonna.rigid.collars"))
+                    ("colonna", "colonna.rigid.block", "colonna.core.collar"))
     assert attempted >= 5 and colonna.__version__

@@ -5,7 +5,7 @@ import pytest
 
 from colonna.fem.ensemble import (LANDING_DEPENDENT, band, decide, decide_count,
                                   ensemble_summary, median_replica)
-from colonna.rigid.validation import InputError
+from colonna.core.errors import InputError
 
 
 def test_band_counts_missing_values_and_keeps_every_value():

@@ -246,7 +246,7 @@ def _first_impact_ratios(model, blk, tilt, replicas=8):
     is a band (:func:`colonna.fem.ensemble.band`), not one number."""
     from colonna.fem.ensemble import band
     from colonna.fem.solver import run_ensemble
-    from colonna.rigid.ground import NoMotion
+    from colonna.core.ground import NoMotion
     from colonna.rigid.impacts import impact_ratios_from_peaks
     runs = run_ensemble(model, NoMotion(), 1.2, replicas, progress=False, output_interval=1e-3,
                         initial_tilt=tilt)

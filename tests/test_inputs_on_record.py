@@ -18,7 +18,7 @@ import tomllib
 
 import colonna
 from colonna.fem.toe_stress import REFINEMENTS
-from colonna.rigid.validation import InputError
+from colonna.core.errors import InputError
 from colonna.studies import sweep
 from colonna.studies.cli import main, resolve_study
 from colonna.studies.fem_study import from_dict

@@ -9,8 +9,8 @@ from colonna.fem.model import ContactSettings, build_model
 from colonna.fem.solver import run
 from colonna.meshes import column_mesh
 from colonna.rigid.collars import Collar
-from colonna.rigid.ground import NoMotion
-from colonna.rigid.validation import InputError
+from colonna.core.ground import NoMotion
+from colonna.core.errors import InputError
 
 
 def _pulled_apart(collar, duration=0.006, speed=0.4):
@@ -104,7 +104,7 @@ def test_multibody_rocking_with_plastic_collars_keeps_its_energy_balance():
     elastic run's collar would be past f_y, and the energy balance (plastic work counted as
     dissipated) closes to 1 %."""
     from colonna.rigid.block import Block
-    from colonna.rigid.ground import sine_pulse
+    from colonna.core.ground import sine_pulse
     from colonna.rigid.multibody import rock_multibody
     half = Block(b=0.1125, h=2.0, mass=858.0)
     a_up = half.uplift_acceleration()

@@ -28,7 +28,7 @@ CASE = textwrap.dedent("""
     from colonna.meshes import column_mesh
     from colonna.rigid.block import Block
     from colonna.rigid.collars import Collar
-    from colonna.rigid.ground import sine_pulse
+    from colonna.core.ground import sine_pulse
 
     width, height = 0.2, 1.0
     mesh = column_mesh(width, height, 0.05, grading=0.0, pinned_heights=[0.5])

@@ -14,7 +14,7 @@ import pytest
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings
 from colonna.rigid.collars import Collar
-from colonna.rigid.validation import InputError
+from colonna.core.errors import InputError
 from colonna.studies import schema
 from colonna.studies.cli import main
 

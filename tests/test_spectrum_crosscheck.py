@@ -155,7 +155,7 @@ def test_grid_over_a_recorded_motion(tmp_path):
     """pulse = "record": the grid scales the shipped synthetic record to a peak of
     amplitude_ratio x a_uplift and plays it time_scale times as fast; each point's ground
     motion is that, and the report labels the axis."""
-    from colonna.rigid.ground import read_record
+    from colonna.core.ground import read_record
     record = Path(__file__).parent / "data" / "synthetic.AT2"
     text = (GRID_STUDY.replace('pulse = "sine"', f'pulse = "record"\nrecord = "{record}"')
             .replace("omega_ratios", "time_scales"))

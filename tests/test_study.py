@@ -275,7 +275,7 @@ def test_cross_check_of_a_recorded_motion(tmp_path):
     text = text.replace("duration = 0.6", "duration = 2.5")      # the record peaks at 1.5 s
     study.write_text(text)
     summary = run_study_file(study, tmp_path / "out", workers=1, progress=False)
-    from colonna.rigid.ground import read_record
+    from colonna.core.ground import read_record
     peak = 1.5 * read_record(record).peak_acceleration
     pulse = summary["pulse"]
     assert pulse["record"] == "synthetic" and pulse["omega_ratio"] is None
@@ -293,7 +293,7 @@ def test_cross_check_of_a_recorded_motion(tmp_path):
 
 def test_collar_design_from_a_recorded_motion(tmp_path, capsys):
     """A record designs the collars by its (scaled) peak acceleration."""
-    from colonna.rigid.ground import read_record
+    from colonna.core.ground import read_record
     record = Path(__file__).parent / "data" / "synthetic.AT2"
     study = tmp_path / "design-record.toml"
     study.write_text(TINY.replace('name = "tiny"', 'name = "tiny"\nkind = "collar-design"')

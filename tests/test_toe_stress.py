@@ -15,8 +15,8 @@ from colonna.fem.transfer import transfer_contact, transfer_state
 from colonna.meshes import column_mesh
 from colonna.rigid.block import Block
 from colonna.rigid.collars import Collar
-from colonna.rigid.ground import NoMotion, sine_pulse
-from colonna.rigid.validation import InputError
+from colonna.core.ground import NoMotion, sine_pulse
+from colonna.core.errors import InputError
 
 WIDTH, HEIGHT = 0.2, 1.0
 STONE = Stone(E=30e9, nu=0.2, density=2700.0, fc=100e6)
@@ -251,7 +251,7 @@ def test_refinement_restarts_under_the_vertical_motion_too():
     reaches 0.14, as the landings' own scatter, 0.19, allows), and 0.07 if the windows are not
     shaken vertically."""
     from colonna.fem.solver import run_ensemble
-    from colonna.rigid.ground import HarmonicPulse
+    from colonna.core.ground import HarmonicPulse
     pulse = _pulse()
     vertical = HarmonicPulse("sine", 0.5 * 9.81, 2.0 * pulse.omega, 0.0, pulse.duration)
     runs = run_ensemble(_model(_mesh()), pulse, 0.6, 8, output_interval=0.005,

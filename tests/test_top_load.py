@@ -8,10 +8,10 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from colonna.rigid.block import Block
-from colonna.rigid.ground import sine_pulse
+from colonna.core.ground import sine_pulse
 from colonna.rigid.multibody import rock_multibody
 from colonna.rigid.solve import rock
-from colonna.rigid.validation import InputError
+from colonna.core.errors import InputError
 
 MASS = 500.0
 LOAD_RATIO = 1.5
@@ -149,7 +149,7 @@ def test_fem_static_state_carries_weight_and_top_load():
     from colonna.fem.model import ContactSettings, build_model
     from colonna.fem.solver import run, static_state
     from colonna.meshes import column_mesh
-    from colonna.rigid.ground import NoMotion
+    from colonna.core.ground import NoMotion
     width, height, thickness = 0.4, 2.0, 0.3
     stone = Stone()
     weight = stone.density * width * height * thickness * 9.81
@@ -176,7 +176,7 @@ def test_fem_column_with_a_top_load_rocks_like_the_rigid_block():
     from colonna.fem.model import ContactSettings, build_model
     from colonna.fem.solver import run
     from colonna.meshes import column_mesh
-    from colonna.rigid.ground import NoMotion
+    from colonna.core.ground import NoMotion
     width, height, thickness = 0.4, 2.0, 0.3
     stone = Stone()
     weight = stone.density * width * height * thickness * 9.81

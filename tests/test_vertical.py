@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from colonna.rigid.block import Block
-from colonna.rigid.ground import Record, cosine_pulse
+from colonna.core.ground import Record, cosine_pulse
 from colonna.rigid.multibody import rock_multibody
 from colonna.rigid.solve import rock
 
@@ -61,7 +61,7 @@ def test_multibody_with_vertical_shaking_follows_the_nonlinear_sdof():
     """A horizontal sine pulse with a vertical harmonic of 0.4 g at twice its frequency: the
     rigid multibody block follows the SDOF equation with the weight m (g + vg'') to the second
     impact, and its energy balance (with the vertical work) closes."""
-    from colonna.rigid.ground import HarmonicPulse, sine_pulse
+    from colonna.core.ground import HarmonicPulse, sine_pulse
     blk = Block(b=0.2, h=1.5, mass=500.0)
     a_up = blk.uplift_acceleration("nonlinear")
     omega = 6.0 * blk.p
@@ -88,7 +88,7 @@ def test_fem_vertical_acceleration_loads_the_base_as_extra_weight():
     from colonna.fem.model import ContactSettings, build_model
     from colonna.fem.solver import run
     from colonna.meshes import column_mesh
-    from colonna.rigid.ground import NoMotion
+    from colonna.core.ground import NoMotion
     width, height, thickness = 0.4, 2.0, 0.3
     stone = Stone()
     weight = stone.density * width * height * thickness * G

@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .block import Block, check_model
-from .validation import InputError, require_positive
+from .constants import STANDARD_GRAVITY
+from .errors import InputError, require_positive
 
 PULSE_KINDS = ("sine", "cosine")
 
@@ -115,24 +115,6 @@ def cosine_pulse(amplitude: float, omega: float, uplift_acceleration: float) -> 
                          2.0 * math.pi / omega)
 
 
-def pulse_from_ratios(block: Block, kind: str, omega_ratio: float, amplitude_ratio: float,
-                      model: str = "linear") -> HarmonicPulse:
-    """Pulse with Omega = omega_ratio * p and a_p = amplitude_ratio * a_uplift(model).
-
-    The amplitude ratio is normalised by g alpha (linear model) or g tan(alpha) (nonlinear).
-    """
-    check_model(model)
-    require_positive("omega ratio (Omega / p)", omega_ratio)
-    if kind not in PULSE_KINDS:
-        raise InputError(f"pulse = {kind!r} is not one of {', '.join(PULSE_KINDS)}")
-    uplift = block.uplift_acceleration(model)
-    if not abs(amplitude_ratio) >= 1.0:
-        raise InputError(f"amplitude ratio = {amplitude_ratio:g} is below uplift: it must be "
-                         ">= 1 (a_p / a_uplift)")
-    make = sine_pulse if kind == "sine" else cosine_pulse
-    return make(amplitude_ratio * uplift, omega_ratio * block.p, uplift)
-
-
 def _check_amplitude(amplitude: float, uplift: float) -> None:
     require_positive("uplift acceleration (m/s^2)", uplift)
     if not abs(amplitude) >= uplift * (1.0 - 1e-12):
@@ -147,7 +129,7 @@ _AT2_HEADER = re.compile(
     r"|^\s*(?P<npts2>\d+)\s+(?P<dt2>[0-9.Ee+-]+)\s+NPTS", re.IGNORECASE | re.MULTILINE)
 
 
-def read_peer_at2(path, *, g: float = 9.81) -> Record:
+def read_peer_at2(path, *, g: float = STANDARD_GRAVITY) -> Record:
     """Read a PEER NGA ``.AT2`` accelerogram (acceleration in g) into m/s^2."""
     path = Path(path)
     text = _read_text(path)
@@ -173,7 +155,7 @@ def read_peer_at2(path, *, g: float = 9.81) -> Record:
     return Record(np.arange(npts) * dt, values[:npts] * g, name=path.stem)
 
 
-def read_two_column(path, *, units: str = "m/s2", g: float = 9.81) -> Record:
+def read_two_column(path, *, units: str = "m/s2", g: float = STANDARD_GRAVITY) -> Record:
     """Read ``time, acceleration`` rows (comma, semicolon or whitespace separated; '#' comments
     and a non-numeric header line are skipped). ``units`` is 'm/s2' or 'g'."""
     path = Path(path)
@@ -202,7 +184,7 @@ def read_two_column(path, *, units: str = "m/s2", g: float = 9.81) -> Record:
     return Record(data[:, 0], data[:, 1] * scale, name=path.stem)
 
 
-def read_record(path, *, g: float = 9.81) -> Record:
+def read_record(path, *, g: float = STANDARD_GRAVITY) -> Record:
     """Read a record by extension: ``.at2`` as PEER NGA, anything else as two columns."""
     path = Path(path)
     if path.suffix.lower() == ".at2":

@@ -1,0 +1,58 @@
+"""The packages' dependencies point one way (README, Layout): read from the source's imports.
+
+core <- meshes <- fem;  core <- rigid;  studies -> fem, rigid, meshes, core. The shared core
+(colonna/core) imports none of the physics packages; fem/ and meshes/ import nothing from rigid/
+or studies/; rigid/ nothing from fem/, meshes/ or studies/.
+"""
+
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+FOLDERS = {"core": ROOT / "colonna" / "core", "rigid": ROOT / "rigid", "fem": ROOT / "fem",
+           "meshes": ROOT / "meshes", "studies": ROOT / "studies"}
+ALLOWED = {"core": set(), "meshes": {"core"}, "rigid": {"core"}, "fem": {"core", "meshes"},
+           "studies": {"core", "rigid", "fem", "meshes"}}
+
+
+def imported_packages(path: Path, package: str) -> set[str]:
+    """The colonna subpackages that one module imports (relative or absolute, at any depth)."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.ImportFrom):
+            if node.level == 0:
+                parts = (node.module or "").split(".")
+                if parts[0] == "colonna" and len(parts) > 1:
+                    found.add(parts[1])
+                elif parts[0] == "colonna":
+                    found.update(alias.name for alias in node.names)
+            elif node.level >= 2:            # from ..rigid import x / from .. import rigid
+                target = (node.module or "").split(".")[0]
+                found.update([target] if target else [alias.name for alias in node.names])
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                parts = alias.name.split(".")
+                if parts[0] == "colonna" and len(parts) > 1:
+                    found.add(parts[1])
+    return (found & set(FOLDERS)) - {package}
+
+
+@pytest.mark.parametrize("package", sorted(FOLDERS))
+def test_a_package_imports_only_what_the_layout_allows(package):
+    offending = {}
+    for path in sorted(FOLDERS[package].rglob("*.py")):
+        extra = imported_packages(path, package) - ALLOWED[package]
+        if extra:
+            offending[str(path.relative_to(ROOT))] = sorted(extra)
+    assert not offending, f"{package} imports outside its layer: {offending}"
+
+
+def test_the_import_reader_sees_every_form(tmp_path):
+    """The reader above would pass vacuously if it missed an import form."""
+    module = tmp_path / "m.py"
+    module.write_text("from ..rigid.block import Block\nfrom .. import studies\n"
+                      "import colonna.fem.model\nfrom colonna.meshes import column\n"
+                      "def f():\n    from ..core.errors import InputError\n")
+    assert imported_packages(module, "x") == {"rigid", "studies", "fem", "meshes", "core"}
