@@ -15,6 +15,7 @@ from skfem import Basis, BilinearForm, ElementQuad1, ElementVector, LinearForm, 
 from skfem.helpers import dot
 from skfem.models.elasticity import linear_elasticity, plane_stress
 
+from ..core.constants import STANDARD_GRAVITY
 from ..meshes.column import ColumnMesh
 from ..core.errors import require_positive, require_range
 
@@ -66,7 +67,7 @@ def _unit_downward(v, w):
     return -v[1]
 
 
-def assemble(mesh: ColumnMesh, stone: Stone, thickness: float, g: float = 9.81) -> Assembly:
+def assemble(mesh: ColumnMesh, stone: Stone, thickness: float, g: float = STANDARD_GRAVITY) -> Assembly:
     """Plane-stress stiffness, row-sum lumped mass and gravity load for out-of-plane thickness t."""
     require_positive("column thickness (m)", thickness)
     basis = basis_of(mesh)

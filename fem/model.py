@@ -17,6 +17,7 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse.linalg import eigsh
 
+from ..core.constants import STANDARD_GRAVITY
 from ..meshes.column import ColumnMesh
 from ..core.errors import InputError, require_non_negative, require_positive, require_range
 
@@ -94,7 +95,7 @@ def _penalty(stone, thickness, contact, tributary, h):
 
 
 def build_model(mesh: ColumnMesh, stone: Stone, thickness: float, collars=(),
-                contact: ContactSettings = ContactSettings(), g: float = 9.81,
+                contact: ContactSettings = ContactSettings(), g: float = STANDARD_GRAVITY,
                 top_load: float = 0.0) -> Model:
     """Assemble bodies, contact pairs and collar elements.
 

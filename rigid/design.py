@@ -24,6 +24,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from ..core.constants import STANDARD_GRAVITY
 from .block import Block
 from .collars import Collar
 from ..core.errors import require_non_negative
@@ -81,7 +82,7 @@ def design_collars(block: Block, collar: Collar, design_acceleration: float) -> 
 
 
 def design_chart(b: float, density: float, thickness: float, collar: Collar, alphas,
-                 acceleration_ratios, g: float = 9.81) -> np.ndarray:
+                 acceleration_ratios, g: float = STANDARD_GRAVITY) -> np.ndarray:
     """Minimum stiffness k (N/m) over slenderness alpha (rows) and a_g / g (columns): the
     paper's Fig. 8 with the corrected equations. Half width b is fixed; h = b / tan(alpha).
     Non-positive values mean no collar is needed."""

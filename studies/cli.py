@@ -24,6 +24,7 @@ import numpy as np
 from ..rigid.block import MODELS, Block
 from ..core.collar import Collar
 from .schema import read_collars
+from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_FY
 from ..core.ground import PULSE_KINDS, read_record
 from ..rigid.block import pulse_from_ratios
 from ..core.errors import InputError
@@ -56,7 +57,8 @@ def _add_block_options(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--model", choices=MODELS + ("multibody",), default="nonlinear",
                    help="linear or nonlinear: the SDOF rocking equation; multibody: rigid "
                         "bodies with contact and friction (default nonlinear)")
-    g.add_argument("--g", type=float, default=9.81, help="gravity (m/s^2), default 9.81")
+    g.add_argument("--g", type=float, default=STANDARD_GRAVITY,
+                   help=f"gravity (m/s^2), default {STANDARD_GRAVITY:g}")
     g.add_argument("--top-load", type=float, default=0.0,
                    help="dead load on the top of the block (N, default 0; needs --mass or "
                         "--density): an architrave or arch springing, without mass")
@@ -470,8 +472,9 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--collar-t", type=float, required=True, help="section thickness t_c (m)")
     g.add_argument("--collar-h", type=float, required=True, help="section height h_c (m)")
     g.add_argument("--collar-length", type=float, help="collar length L (m), default 4b")
-    g.add_argument("--collar-E", type=float, default=206e9, help="steel E (Pa)")
-    g.add_argument("--collar-fy", type=float, default=235e6, help="steel f_y (Pa)")
+    g.add_argument("--collar-E", type=float, default=STEEL_E, help=f"steel E (Pa), default {STEEL_E:g}")
+    g.add_argument("--collar-fy", type=float, default=STEEL_FY,
+                   help=f"steel f_y (Pa), default {STEEL_FY:g} (S235)")
     g.add_argument("--ag", type=float, help="design peak ground acceleration (m/s^2)")
     g.add_argument("--ag-ratio", type=float, help="design peak ground acceleration / g")
     p.add_argument("--out", type=Path, help="write design.json and (with --density) the chart")

@@ -20,10 +20,10 @@ from pydantic import (BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
-from ..core.constants import STEEL_E, STEEL_FY
+from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_FY
 from ..core.errors import InputError, read_toml
 
-G = 9.81                    # m/s^2, the gravity of every study
+G = STANDARD_GRAVITY        # m/s^2, the gravity of every study
 STUDY_KINDS = ("cross-check", "collar-design", "spectrum-crosscheck", "free-rocking",
                "mesh-convergence", "solid-vs-cracked", "zhang-makris")
 
