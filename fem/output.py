@@ -18,10 +18,26 @@ from .assembly import element_stress
 def local_displacement(model, u: np.ndarray) -> np.ndarray:
     """Displacement of each body in its own best-fit rotated frame (interleaved), from the
     global nodal displacement u (n_nodes, 2): the strain-producing part of the motion."""
+    return _split_rigid_motion(model, u)[0].ravel()
+
+
+def elastic_displacement(model, u: np.ndarray) -> np.ndarray:
+    """The part of the nodal displacement u (n_nodes, 2) that each body's best-fit rigid motion
+    (mass-weighted centroid and rotation) leaves: the elastic deformation, in the ground frame
+    (n_nodes, 2), m. u minus it is the bodies' rigid motion."""
+    local, angle = _split_rigid_motion(model, u)
+    cs, sn = np.cos(angle)[:, None], np.sin(angle)[:, None]
+    return np.column_stack((cs[:, 0] * local[:, 0] - sn[:, 0] * local[:, 1],
+                            sn[:, 0] * local[:, 0] + cs[:, 0] * local[:, 1]))
+
+
+def _split_rigid_motion(model, u):
+    """(displacement in each body's rotated frame (n_nodes, 2), each node's body rotation)."""
     X = model.X.reshape(-1, 2)
     x = X + u
     m = model.node_mass
     out = np.zeros_like(x)
+    angle = np.zeros(x.shape[0])
     for b in range(model.mesh.n_bodies):
         on = model.mesh.node_body == b
         P = X[on] - model.centroid_ref[b]
@@ -32,7 +48,17 @@ def local_displacement(model, u: np.ndarray) -> np.ndarray:
         cs, sn = np.cos(phi), np.sin(phi)
         out[on, 0] = cs * Q[:, 0] + sn * Q[:, 1] - P[:, 0]
         out[on, 1] = -sn * Q[:, 0] + cs * Q[:, 1] - P[:, 1]
-    return out.ravel()
+        angle[on] = phi
+    return out, angle
+
+
+def collar_end_marks(model) -> np.ndarray:
+    """Per node: the number (from 1) of the collar attached there, 0 elsewhere (the two end
+    nodes of each collar element)."""
+    marks = np.zeros(model.X.size // 2, dtype=np.int64)
+    for c, row in enumerate(model.collar_nodes):
+        marks[[row[0], row[3]]] = c + 1
+    return marks
 
 
 def stress_fields(model, u: np.ndarray) -> dict:
@@ -69,7 +95,9 @@ def write_outputs(result, out: Path) -> None:
     model = result.model
     for name, k in (("initial", 0), ("peak_rotation", peak), ("final", len(frames) - 1)):
         t, u = frames[k]
-        write(out / f"fields_{name}.vtu", mesh, point_data={"displacement": u},
+        write(out / f"fields_{name}.vtu", mesh,
+              point_data={"displacement": u, "elastic_displacement": elastic_displacement(model, u),
+                          "collar_end": collar_end_marks(model)},
               cell_data=stress_fields(model, u))
     step = max(1, len(frames) // 60)      # inline XML: keep the series a few MB
     chosen = frames[::step]

@@ -362,10 +362,13 @@ def resolve_study(name_or_path: str) -> Path:
 
 
 def _cmd_fem(args) -> dict:
-    from .fem_study import load, run_study
+    from .fem_study import load, run_fem
+
+    from ..fem import _kernels as fem_kernels
 
     study = load(resolve_study(args.study))
-    result = run_study(study, out_dir=args.out, progress=True)
+    _announce_compilation([fem_kernels.advance], "FEM kernels", 40)
+    result = run_fem(study, replicas=1, out_dir=args.out, progress=True)[0]
     return result.summary
 
 
@@ -386,10 +389,14 @@ def _cmd_study(args) -> dict:
         from .pdf import require_browser
         require_browser()
     from ..fem import _kernels as fem_kernels
-    _announce_compilation([fem_kernels.advance] + _multibody_kernels(), "FEM and multibody "
-                          "kernels", 60)
-    summary = run_study_file(path, Path(args.out), workers=workers, scheduler=args.scheduler,
-                             force=args.force, grid=grid)
+    from .sweep import before_computing
+
+    def announce():
+        _announce_compilation([fem_kernels.advance] + _multibody_kernels(), "FEM and multibody "
+                              "kernels", 60)
+    with before_computing(announce):
+        summary = run_study_file(path, Path(args.out), workers=workers,
+                                 scheduler=args.scheduler, force=args.force, grid=grid)
     if args.pdf:
         from .pdf import write_pdf
         pdf = write_pdf(Path(args.out) / "index.html", Path(args.out) / "report.pdf")

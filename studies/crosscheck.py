@@ -20,6 +20,7 @@ from __future__ import annotations
 import json
 import math
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -53,7 +54,7 @@ def _study_from_case(case):
     if "ground_study" in case:     # a variant shaken by the original study's ground motion
         shaking = from_dict(case["ground_study"], source=case["source"],
                             base=Path(case["base"]))
-        study.ground, study.vertical = shaking.ground, shaking.vertical
+        study = replace(study, ground=shaking.ground, vertical=shaking.vertical)
     return study
 
 
@@ -64,10 +65,10 @@ def fem_case(case: dict, directory: str) -> dict:
     replica's own; with ``toe_refinement`` the toe stress is refined over the landing of the
     replica whose toe stress is the median."""
     from ..fem.ensemble import ensemble_summary, median_replica
-    from .fem_study import run_study_ensemble
+    from .fem_study import run_fem
     study = _study_from_case(case)
-    replicas = run_study_ensemble(study, out_dir=directory, progress=case.get("progress", False),
-                                  replicas=case.get("replicas"))
+    replicas = run_fem(study, out_dir=directory, progress=case.get("progress", False),
+                       replicas=case.get("replicas"))
     summaries = [fem_run_summary(study, r) for r in replicas]
     summary = ensemble_summary(summaries, FEM_BANDED)
     out = {"summary": summary, "replica_summaries": summaries,

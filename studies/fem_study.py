@@ -9,7 +9,7 @@ must reach the rocking half's uplift acceleration), files found relative to the 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from ..fem.assembly import Stone
@@ -23,8 +23,11 @@ from ..core.ground import (HarmonicPulse, NoMotion, Record, cosine_pulse, read_r
 from ..core.errors import InputError, read_toml
 from . import schema
 
-@dataclass
+@dataclass(frozen=True)
 class FemStudy:
+    """A checked FEM study: the column, its collars, the ground motion and the run's settings, SI
+    units. Immutable: a variant is ``dataclasses.replace(study, initial_tilt=...)``."""
+
     name: str
     height: float
     width: float
@@ -116,12 +119,12 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
         mesh_file = (base / mesh.file).resolve()
         if not mesh_file.is_file():
             raise InputError(f"{source}: mesh.file = {mesh.file!r}: no such file")
-    study = FemStudy(
+    settings = dict(
         name=spec.study.name or Path(source).stem,
         height=column.height, width=column.width,
         thickness=column.thickness or default_thickness(column.width), cracked=column.cracked,
         stone=Stone(**spec.stone.model_dump()),
-        collars=tuple(Collar(**c.model_dump()) for c in spec.collar), ground=None,
+        collars=tuple(Collar(**c.model_dump()) for c in spec.collar), ground=NoMotion(),
         contact=ContactSettings(**spec.contact.model_dump()),
         mesh_size=mesh.size or column.width / 16.0, grading=mesh.grading, mesh_file=mesh_file,
         edge_length=mesh.edge_length or 0.1 * body_width, duration=0.0,
@@ -131,10 +134,11 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
         top_load=column.top_load, initial_tilt=spec.run.initial_tilt,
         initial_angular_velocity=spec.run.initial_angular_velocity,
         replicas=spec.run.replicas)
-    study.ground = _ground(spec.ground, study.rocking_block, base, source)
-    study.vertical = _vertical(spec.ground, study.ground, base, source)
-    end = max(study.ground.end_time, 0.0 if study.vertical is None else study.vertical.end_time)
-    study.duration = spec.run.duration or end + 1.5
+    ground = _ground(spec.ground, FemStudy(**settings).rocking_block, base, source)
+    vertical = _vertical(spec.ground, ground, base, source)
+    end = max(ground.end_time, 0.0 if vertical is None else vertical.end_time)
+    study = FemStudy(**{**settings, "ground": ground, "vertical": vertical,
+                        "duration": spec.run.duration or end + 1.5})
     if (isinstance(study.ground, NoMotion) and study.initial_tilt == 0.0
             and study.initial_angular_velocity == 0.0):
         raise InputError(f"{source}: ground.pulse = 'none' needs run.initial_tilt or "
@@ -210,16 +214,16 @@ def build(study: FemStudy):
                        top_load=study.top_load)
 
 
-def run_study(study: FemStudy, out_dir=None, progress: bool = True):
-    """The FEM run of the study (replica 0 of its ensemble alone)."""
-    return run_study_ensemble(study, out_dir, progress, replicas=1)[0]
-
-
-def run_study_ensemble(study: FemStudy, out_dir=None, progress: bool = True,
-                       replicas: int | None = None):
-    """The study's FEM run as an ensemble of ``replicas`` (default ``study.replicas``) runs
+def run_fem(study: FemStudy, *, replicas: int | None = None, out_dir=None,
+            progress: bool = False):
+    """The FEM run of a study as an ensemble of ``replicas`` (default ``study.replicas``) runs
     perturbed at round-off level (:func:`colonna.fem.solver.run_ensemble`); replica 0 is the
-    unperturbed run and writes the files of a run into ``out_dir``."""
+    unperturbed run and writes the files of a run into ``out_dir``.
+
+    Every FEM run of every study kind goes through here (the single study, the cross-check,
+    the spectrum's grid points, free rocking, the sweeps): a variant is a changed study
+    (``dataclasses.replace``), never another argument set. The refinement of the toe stress
+    restarts these runs on finer meshes (:func:`colonna.fem.toe_stress.toe_stress_refinement`)."""
     from ..fem.solver import run_ensemble
 
     model = build(study)

@@ -21,6 +21,7 @@ from __future__ import annotations
 import copy
 import math
 import time
+from dataclasses import replace
 from pathlib import Path
 
 from ..rigid.block import Block
@@ -49,9 +50,8 @@ def free_rocking_case(case: dict, directory: str) -> dict:
     tilt = case["tilt_fraction"] * alpha
     if case["kind"] == "fem":
         from ..fem.ensemble import band
-        from .fem_study import run_study_ensemble
-        study.initial_tilt = tilt
-        replicas = run_study_ensemble(study, progress=False)
+        from .fem_study import run_fem
+        replicas = run_fem(replace(study, initial_tilt=tilt))
         result = replicas[0]
         t, theta = result.history["t"], result.history["theta_left"]
         write_csv(Path(directory) / "history.csv", {"t": t, "theta_left": theta,

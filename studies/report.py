@@ -282,7 +282,7 @@ def write_crosscheck_report(out: Path) -> Path:
                         "multibody model (the rigid reference) and the two SDOF models"))
 
     # 1b. the deformed column at peak rotation: crack, collars, toe pressure
-    _deformed_figure(out, summary, fem_h, figs)
+    _deformed_figure(out, fem_h, figs)
 
     # 2. where the pulse sits on the rigid spectrum (a record has no place on it)
     if spectrum is not None:
@@ -427,14 +427,6 @@ def _renders(out: Path) -> tuple[list, str]:
     return [_image(out / "figures" / name, caption) for name, caption in images], ""
 
 
-def _rigid_fit(X, x):
-    """Rotation R and translations of the best rigid motion taking points X to x (Kabsch)."""
-    cX, cx = X.mean(axis=0), x.mean(axis=0)
-    U, _, Vt = np.linalg.svd((x - cx).T @ (X - cX))
-    R = U @ np.diag([1.0, np.sign(np.linalg.det(U @ Vt))]) @ Vt
-    return R, cX, cx
-
-
 def _magnification(largest: float, height: float) -> float:
     """A round factor (1, 2 or 5 x 10^k) that draws the largest elastic displacement at about
     2 % of the column height."""
@@ -445,10 +437,11 @@ def _magnification(largest: float, height: float) -> float:
     return max(1.0, max(f * 10.0 ** k for f in (1.0, 2.0, 5.0) if f * 10.0 ** k <= raw))
 
 
-def _deformed_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> None:
+def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
     """The FEM column at its peak rotation, drawn in the ground frame: each half's rigid motion
-    true to scale, its elastic deformation magnified by a stated factor; the collars between
-    their attachment points; the base contact pressure under the toes at that instant."""
+    true to scale, its elastic deformation (the field file's ``elastic_displacement``, split off
+    by the solver) magnified by a stated factor; the collars between their attachment nodes
+    (``collar_end``); the base contact pressure under the toes at that instant."""
     import meshio
     fem = out / "cases" / "fem"
     vtu = fem / "fields_peak_rotation.vtu"
@@ -457,19 +450,13 @@ def _deformed_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> None:
     m = meshio.read(vtu)
     X = m.points[:, :2]
     u = m.point_data["displacement"][:, :2]
+    elastic = m.point_data["elastic_displacement"][:, :2]
+    collar_end = m.point_data["collar_end"].astype(int)
     quads = np.vstack([c.data for c in m.cells if c.type == "quad"])
     cell_body = np.concatenate(m.cell_data["body"]).astype(int)
-    node_body = np.full(X.shape[0], -1)
-    node_body[quads.ravel()] = np.repeat(cell_body, 4)
     height = float(np.ptp(X[:, 1]))
-    rigid, elastic = np.empty_like(X), np.empty_like(X)
-    for b in np.unique(cell_body):
-        on = node_body == b
-        R, cX, cx = _rigid_fit(X[on], X[on] + u[on])
-        rigid[on] = (X[on] - cX) @ R.T + cx
-        elastic[on] = X[on] + u[on] - rigid[on]
     factor = _magnification(float(np.abs(elastic).max()), height)
-    drawn = rigid + factor * elastic
+    drawn = X + u + (factor - 1.0) * elastic
     k = int(np.argmax(np.maximum(np.abs(fem_h["theta_left"]), np.abs(fem_h["theta_right"]))))
     t_peak = float(fem_h["t"][k])
     fig, ax = plt.subplots(figsize=(7.0, 6.4))
@@ -485,15 +472,10 @@ def _deformed_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> None:
                         [X[:, 0].max(), height], [X[:, 0].min(), height], [X[:, 0].min(), 0.0]])
     handles += ax.plot(outline[:, 0], outline[:, 1], color="0.6", ls=":", lw=1.0,
                        label="at rest")
-    heights = summary.get("collar_heights") or []
-    left, right = node_body == 0, node_body == node_body.max()
-    for y in heights:
-        a = np.flatnonzero(left)[np.argmin(np.abs(X[left, 0] - X[:, 0].min())
-                                           + np.abs(X[left, 1] - y))]
-        c = np.flatnonzero(right)[np.argmin(np.abs(X[right, 0] - X[:, 0].max())
-                                            + np.abs(X[right, 1] - y))]
-        ax.plot(drawn[[a, c], 0], drawn[[a, c], 1], color="C3", lw=2.0)
-    if heights:
+    for number in range(1, collar_end.max() + 1):
+        ends = np.flatnonzero(collar_end == number)
+        ax.plot(drawn[ends, 0], drawn[ends, 1], color="C3", lw=2.0)
+    if collar_end.max() > 0:
         handles.append(Line2D([], [], color="C3", lw=2.0, label="collars"))
     pressure_file = fem / "base_pressure.csv"
     if pressure_file.exists():

@@ -72,16 +72,12 @@ def grid_of(data: dict, size: tuple[int, int] | None = None, record: bool = Fals
 def grid_point_case(case: dict, directory: str) -> dict:
     """One pulse through the FEM, multibody and SDOF models: modes and the FEM's safety
     numbers."""
-    from ..fem.solver import run
     from ..rigid.multibody import rock_multibody
     from ..rigid.solve import rock
-    from .fem_study import build
+    from .fem_study import run_fem
 
     study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
-    model = build(study)
-    fem = run(model, study.ground, study.duration, dt=study.dt, safety=study.safety,
-              output_interval=study.output_interval, edge_length=study.edge_length,
-              progress=False)
+    fem = run_fem(study, replicas=1)[0]
     s = fem.summary
     fem_impacts = max(_impacts_before(fem.history, key, s["t_end"])
                       for key in ("theta_left", "theta_right"))

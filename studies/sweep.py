@@ -13,6 +13,7 @@ difference, unless ``force`` deletes such cases and computes them again.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib
 import json
@@ -37,6 +38,22 @@ NOT_STUDY_INPUTS = ("name", "description")
 INPUT_FILES = {("ground", "record"): "record file",
                ("ground", "vertical_record"): "vertical record file",
                ("mesh", "file"): "mesh file"}
+
+
+# called once before a run computes any case, after its inputs are checked (the command line
+# says here that a first run compiles the kernels); see :func:`before_computing`
+BEFORE_COMPUTING: list[Callable[[], None]] = []
+
+
+@contextlib.contextmanager
+def before_computing(callback: Callable[[], None]):
+    """Within the block, ``callback()`` runs once before :func:`run_cases` computes any case
+    (not when every case is already done, nor when the study is refused)."""
+    BEFORE_COMPUTING.append(callback)
+    try:
+        yield
+    finally:
+        BEFORE_COMPUTING.remove(callback)
 
 
 def case_dir(out: Path, key: str) -> Path:
@@ -206,6 +223,8 @@ def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Pat
             todo.append(case)
     if not todo:
         return results
+    for announce in BEFORE_COMPUTING:
+        announce()
     for case in todo:
         case_dir(out, case["key"]).mkdir(parents=True, exist_ok=True)
     # a progress bar on a terminal, nothing in a log (cases already done count as done)

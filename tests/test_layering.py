@@ -56,3 +56,25 @@ def test_the_import_reader_sees_every_form(tmp_path):
                       "import colonna.fem.model\nfrom colonna.meshes import column\n"
                       "def f():\n    from ..core.errors import InputError\n")
     assert imported_packages(module, "x") == {"rigid", "studies", "fem", "meshes", "core"}
+
+
+FEM_RUNS = {"run", "run_ensemble", "run_batch"}
+
+
+def test_every_fem_run_of_a_study_goes_through_one_function():
+    """studies/ reaches the FEM solver's run functions in one place, fem_study.run_fem, so the
+    kinds cannot drift apart on the arguments of one computation (issue 17)."""
+    callers = {}
+    for path in sorted(FOLDERS["studies"].rglob("*.py")):
+        tree = ast.parse(path.read_text(), str(path))
+        scopes = [(node.name, node) for node in ast.walk(tree)
+                  if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))]
+        for node in ast.walk(tree):
+            if not (isinstance(node, ast.ImportFrom) and (node.module or "").endswith("solver")):
+                continue
+            names = FEM_RUNS & {alias.name for alias in node.names}
+            if names:      # the innermost function around the import, or the module
+                inner = [name for name, f in scopes if f.lineno <= node.lineno <= f.end_lineno]
+                where = f"{path.name}:{inner[-1] if inner else '<module>'}"
+                callers.setdefault(where, set()).update(names)
+    assert set(callers) == {"fem_study.py:run_fem"}, callers
