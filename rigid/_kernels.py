@@ -559,7 +559,8 @@ def _fill_rest(out, n_out, t_from, t_to, dt_out):
 # Linear model, free block (no collars), harmonic pulse: exact closed form between events
 # ------------------------------------------------------------------------------------------
 #
-# On side s, with tau = t - t0 and C = (a_p/g) / (1 + Omega^2/p^2) (corrected Eq. 8-9):
+# On side s, with tau = t - t0 and C = (a_p/g) / (1 + Omega^2/p^2) (Eq. 8-9, for a piece that
+# starts at t0 instead of 0):
 #   pulse: theta = s alpha + C sin(Omega t + phi) + A cosh(p tau) + (B/p) sinh(p tau)
 #   free:  theta = s alpha + A cosh(p tau) + (B/p) sinh(p tau)            (corrected Eq. 11)
 # with A = theta0 - s alpha - C sin(Omega t0 + phi), B = theta0' - C Omega cos(Omega t0 + phi).

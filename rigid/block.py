@@ -1,9 +1,11 @@
 """The rocking block: a rigid rectangle 2b wide and 2h tall on a rigid base.
 
-Notation follows the source paper and ``DESIGN.md``: ``b`` and ``h`` are the half width and half
+Notation follows the source paper and ``docs/theory.md`` (section 2, Conventions; the
+derivations of this module are in its sections 3-5): ``b`` and ``h`` are the half width and half
 height of the rocking block (for a cracked column, of one half column: the full column is 4b wide).
 
-    R = sqrt(b^2 + h^2),  alpha = atan(b / h),  J0 = 4/3 m R^2,  p = sqrt(m g R / J0) = sqrt(3 g / (4 R))
+    R = sqrt(b^2 + h^2),  alpha = atan(b / h),  J0 = 4/3 m R^2,
+    p = sqrt(m g R / J0) = sqrt(3 g / (4 R))
 
 Housner's coefficient of restitution for a rectangular block (the paper's Eq. 12 with the sin^2
 restored) is ``nu = 1 - (2 m R^2 / J0) sin^2(alpha) = 1 - 1.5 sin^2(alpha)``.

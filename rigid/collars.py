@@ -6,7 +6,8 @@ axial spring and a lateral (shear) spring (paper Eq. 14-15)::
 
     K_a = E A / L,  A = t h          K_l = 12 E I / L^3,  I = t h^3 / 12
 
-Kinematics. Both halves rotate by the same theta, each about its own active toe (DESIGN.md). Taken
+Kinematics. Both halves rotate by the same theta, each about its own active toe (derived in
+``docs/theory.md``, section 6, Cracked column with collars; errata in its section 10). Taken
 literally this makes the two crack faces interpenetrate by 2b (1 - cos theta), and that overlap is
 exactly what would shorten the collar (the paper's Eq. 16-17): a kinematic artefact that steel's
 large E A / L would turn into a large spurious force. Crack contact forbids the overlap, so the

@@ -1,7 +1,8 @@
 """Independent reference: scipy solve_ivp (DOP853, tight tolerances) with terminal events.
 
-Deliberately written from the equations in DESIGN.md without using the package's kernels, so
-that the tests compare two implementations.
+Deliberately written from the equations of docs/theory.md (sections 3-6: equation of motion,
+impact rule, collar moment) without using the package's kernels, so that the tests compare two
+implementations.
 """
 
 from __future__ import annotations
