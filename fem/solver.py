@@ -33,6 +33,7 @@ from scipy.sparse.linalg import spsolve
 from tqdm import tqdm
 
 from ..core.errors import InputError, require_positive, require_range
+from ..core.ground import NO_MOTION, GroundMotion, require_motion
 
 from . import _kernels as K
 from .model import (Model, coincident_nodes, collar_stiffness, contact_stiffness,
@@ -88,7 +89,7 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
         initial_velocity: np.ndarray | None = None, check_dt: bool = True,
         initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
         start_time: float = 0.0, initial_state: tuple | None = None,
-        initial_contact: dict | None = None, vertical=None) -> FemResult:
+        initial_contact: dict | None = None, vertical: GroundMotion = NO_MOTION) -> FemResult:
     """Run the model under ``ground`` (a HarmonicPulse, Record or NoMotion of colonna.core.ground) for
     ``duration`` seconds from gravity equilibrium. ``dt`` (s) may be set by hand but not above
     the stable step (``check_dt=False`` lifts that guard, for tests of the estimate).
@@ -132,7 +133,7 @@ def replica_perturbation(model: Model, replica: int,
 
 def run_ensemble(model: Model, ground, duration: float, replicas: int = REPLICAS, *,
                  perturbation: float = REPLICA_PERTURBATION, out_dir=None,
-                 vertical=None, **options) -> list[FemResult]:
+                 vertical: GroundMotion = NO_MOTION, **options) -> list[FemResult]:
     """``replicas`` runs of the model that differ only at round-off level: replica r starts
     from the initial state of :func:`run` moved by :func:`replica_perturbation` (1e-12 of the
     column height by default; replica 0 is unperturbed). Penalty contact with friction is
@@ -175,7 +176,10 @@ def run_batch(model: Model, grounds: list, duration: float, *, verticals: list |
     batch = len(grounds)
     if batch < 1:
         raise InputError("run_batch: no ground motion given")
-    verticals = [None] * batch if verticals is None else list(verticals)
+    verticals = [NO_MOTION] * batch if verticals is None else list(verticals)
+    for k, (g, vg) in enumerate(zip(grounds, verticals)):
+        require_motion(f"ground motion {k + 1}", g)
+        require_motion(f"vertical ground motion {k + 1}", vg)
     out_dirs = [None] * batch if out_dirs is None else list(out_dirs)
     if len(verticals) != batch or len(out_dirs) != batch or (
             offsets is not None and len(offsets) != batch):
@@ -225,7 +229,7 @@ def run_batch(model: Model, grounds: list, duration: float, *, verticals: list |
     tau = model.contact.friction_filter
     blend = 1.0 if tau == 0.0 else min(1.0, dt / tau)
     stiffness = _stiffness(model)
-    ground_end = [max(g.end_time, 0.0 if vg is None else vg.end_time)
+    ground_end = [max(g.end_time, vg.end_time)
                   for g, vg in zip(grounds, verticals)]
     t = float(start_time)
     steps_done = 0
@@ -262,8 +266,7 @@ def run_batch(model: Model, grounds: list, duration: float, *, verticals: list |
         # round-off differences)
         times = start_time + dt * (steps_done + np.arange(steps_per_output))
         acc = np.array([g.acceleration(times) for g in grounds], dtype=float)
-        vacc = np.array([np.zeros_like(times) if vg is None else vg.acceleration(times)
-                         for vg in verticals], dtype=float)
+        vacc = np.array([vg.acceleration(times) for vg in verticals], dtype=float)
         live = motion.alive.copy()
         state.advance(steps_per_output, dt, blend, stiffness, acc, vacc)
         steps_done += steps_per_output

@@ -28,6 +28,7 @@ import numpy as np
 
 from ..meshes.column import ColumnMesh
 from ..core.errors import InputError
+from ..core.ground import NO_MOTION, GroundMotion
 from .convergence import convergence_table
 from .model import build_model
 from .solver import FemResult, run
@@ -61,7 +62,7 @@ def impact_window(history: dict, lead: float = LEAD_TIME, tail: float = TAIL_TIM
 def toe_stress_refinement(result: FemResult, ground, mesh_for: Callable[[int], ColumnMesh],
                           refinements=REFINEMENTS, *, lead: float = LEAD_TIME,
                           tail: float = TAIL_TIME, progress: bool = False,
-                          vertical=None) -> dict:
+                          vertical: GroundMotion = NO_MOTION) -> dict:
     """Peak toe stress over the impact window on meshes ``mesh_for(r)`` for r in
     ``refinements`` (1, then doubling), each restarted from ``result``'s state, under the
     same ``ground`` and ``vertical`` motions as the run that gave ``result``.

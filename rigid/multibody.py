@@ -30,7 +30,8 @@ import numpy as np
 from . import _multibody as K
 from .block import Block
 from .collars import validate_collars
-from ..core.ground import HarmonicPulse, NoMotion, Record, kernel_tables
+from ..core.ground import (NO_MOTION, GroundMotion, HarmonicPulse, NoMotion, Record,
+                           kernel_tables, require_motion)
 from .solve import CollarHistory, collar_state, motion_word, verdict
 from ..core.errors import InputError, require_non_negative, require_positive, require_range
 
@@ -392,11 +393,12 @@ def _mean_or_none(values) -> float | None:
     return float(np.mean(values)) if len(values) else None
 
 
-def _ground_arrays(ground, g: float, vertical=None):
+def _ground_arrays(ground: GroundMotion, g: float, vertical: GroundMotion = NO_MOTION):
     """(kind, gpar, rec_t, rec_a, end of the ground motion) for the kernel: gpar = (amplitude,
     omega, phase, duration, rows of the horizontal record, 1 if vertical motion follows)."""
     gpar = np.zeros(6)
-    if ground is None or isinstance(ground, NoMotion):
+    require_motion("vertical", vertical)
+    if isinstance(require_motion("ground", ground), NoMotion):
         kind, end = K.GROUND_NONE, 0.0
     elif isinstance(ground, HarmonicPulse):
         gpar[:4] = (ground.amplitude, ground.omega, ground.phase, ground.duration)
@@ -412,7 +414,7 @@ def _ground_arrays(ground, g: float, vertical=None):
     return kind, gpar, rec_t, rec_a, end
 
 
-def default_step(column: MultibodyColumn, ground=None) -> float:
+def default_step(column: MultibodyColumn, ground: GroundMotion = NO_MOTION) -> float:
     """(1/p)/1000, at most 1/400 of the pulse period, and a quarter of the collars' stable
     step (their forces are explicit) (s)."""
     h = 1.0 / (column.block.p * STEPS_PER_ROCKING_TIME)
@@ -421,13 +423,14 @@ def default_step(column: MultibodyColumn, ground=None) -> float:
     return min(h, 0.5 * COLLAR_STEP_SAFETY * column.collar_stable_step())
 
 
-def rock_multibody(block: Block, ground=None, collars=(), *, cracked: bool = False,
+def rock_multibody(block: Block, ground: GroundMotion = NO_MOTION, collars=(), *, cracked: bool = False,
                    friction: float = DEFAULT_FRICTION, crack_friction: float | None = None,
                    restitution_normal: float = 0.0, duration: float | None = None,
                    dt: float | None = None, dt_out: float | None = None,
                    initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
                    refine: int = IMPACT_REFINEMENT,
-                   max_impacts_stored: int = 10_000, vertical=None) -> MultibodyResult:
+                   max_impacts_stored: int = 10_000,
+                   vertical: GroundMotion = NO_MOTION) -> MultibodyResult:
     """Time history of the rigid multibody column under ``ground`` (a pulse, a record, or
     None for free rocking from ``initial_tilt``).
 

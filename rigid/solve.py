@@ -25,7 +25,8 @@ import numpy as np
 from . import _kernels as K
 from .block import Block, check_model
 from .collars import (Collar, collar_kernel_constants, collar_response, validate_collars)
-from ..core.ground import HarmonicPulse, NoMotion, Record, kernel_tables
+from ..core.ground import (NO_MOTION, GroundMotion, HarmonicPulse, NoMotion, Record,
+                           kernel_tables, require_motion)
 from ..core.errors import InputError, require_positive, require_range
 
 MODE_NAMES = {K.SAFE: "safe", K.AFTER_IMPACT: "after-impact", K.WITHOUT_IMPACT: "without-impact"}
@@ -160,17 +161,18 @@ def kernel_block_constants(block: Block, model: str, vertical: bool = False):
     return block.p * math.sqrt(stiffening), alpha, alpha, 1.0 / stiffening, 0.0
 
 
-def kernel_params(block: Block, ground, collars=(), model: str = "linear",
+def kernel_params(block: Block, ground: GroundMotion, collars=(), model: str = "linear",
                   initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
-                  vertical=None):
-    """Parameter vector and record arrays for the kernels (ground None: free rocking).
+                  vertical: GroundMotion = NO_MOTION):
+    """Parameter vector and record arrays for the kernels (ground NoMotion: free rocking).
 
-    ``vertical``: the vertical ground acceleration (upward positive), a pulse or a record, or
-    None; it is appended to the record arrays as a table (see rigid._kernels)."""
+    ``vertical``: the vertical ground acceleration (upward positive), a pulse, a record or
+    NoMotion; it is appended to the record arrays as a table (see rigid._kernels)."""
     check_model(model)
+    require_motion("ground", ground)
     g = block.g
     nonlinear = model == "nonlinear"
-    has_vertical = vertical is not None and not isinstance(vertical, NoMotion)
+    has_vertical = not isinstance(require_motion("vertical", vertical), NoMotion)
     p, alpha, uplift, scale, load = kernel_block_constants(block, model, has_vertical)
     ka, kl = collar_kernel_constants(block, collars)
     rec_t, rec_a, n_horizontal, has_vertical = kernel_tables(ground, vertical, scale)
@@ -182,7 +184,7 @@ def kernel_params(block: Block, ground, collars=(), model: str = "linear",
     elif isinstance(ground, Record):
         P = K.make_params(p, alpha, nonlinear, K.GROUND_RECORD, 0.0, 0.0, 0.0,
                           ground.end_time, ka, kl, block.nu, uplift, load)
-    elif ground is None or isinstance(ground, NoMotion):
+    elif isinstance(ground, NoMotion):
         P = K.make_params(p, alpha, nonlinear, K.GROUND_NONE, 0.0, 0.0, 0.0, 0.0,
                           ka, kl, block.nu, uplift, load)
     else:
@@ -207,7 +209,8 @@ def rock(block: Block, ground, collars=(), *, model: str = "linear",
          duration: float | None = None, dt_out: float | None = None,
          rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
          initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
-         max_impacts_stored: int = 20_000, vertical=None) -> RockingResult:
+         max_impacts_stored: int = 20_000,
+         vertical: GroundMotion = NO_MOTION) -> RockingResult:
     """Rocking response of ``block`` to ``ground`` (a pulse, a record, or None: free rocking),
     starting at rest upright, or released at t = 0 from ``initial_tilt`` (rad) with
     ``initial_angular_velocity`` (rad/s). ``vertical``: the vertical ground acceleration
@@ -222,9 +225,9 @@ def rock(block: Block, ground, collars=(), *, model: str = "linear",
     P, rec_t, rec_a = kernel_params(block, ground, collars, model, initial_tilt,
                                     initial_angular_velocity, vertical)
     p = block.p
-    t_ground = max(0.0 if ground is None else ground.end_time,
-                   0.0 if vertical is None else vertical.end_time)
-    if ((ground is None or isinstance(ground, NoMotion)) and initial_tilt == 0.0
+    t_ground = max(require_motion("ground", ground).end_time,
+                   require_motion("vertical", vertical).end_time)
+    if (isinstance(ground, NoMotion) and initial_tilt == 0.0
             and initial_angular_velocity == 0.0):
         raise InputError("no ground motion and no initial tilt or angular velocity: the block "
                          "stays at rest")

@@ -102,7 +102,7 @@ def restitution_after_motion(study, t, theta) -> float | None:
     column overturned, or came to rest, first). Under the ground motion the ground works
     through every impact, and a ratio measured there (it can exceed 1) means nothing."""
     end = max(study.ground.end_time,
-              0.0 if study.vertical is None else study.vertical.end_time)
+              study.vertical.end_time)
     free = np.asarray(t) >= end
     if np.count_nonzero(free) < 3:
         return None

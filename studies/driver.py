@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.ground import HarmonicPulse, Record
 from ..core.errors import InputError, read_toml
 from .output import record_inputs, write_csv
 
@@ -60,10 +61,21 @@ def _function(spec: str):
 
 
 def study_kind(study_path: Path) -> str:
-    """The ``[study] kind`` of a study file (validated: an unknown kind names the allowed ones)."""
-    from .schema import parse_table
+    """The ``[study] kind`` of a study file, checked whole first (:func:`check_study_file`)."""
+    return check_study_file(study_path).study.kind
+
+
+def check_study_file(study_path: Path):
+    """The study file validated against :mod:`studies.schema` as its kind runs it (a
+    free-rocking study with its own defaults), before anything is run or written: every error
+    of the file at once, one line each, in one :class:`InputError`."""
+    from .free_rocking import with_defaults
+    from .schema import parse
     data = read_toml(study_path, "study file")
-    return parse_table("study", data.get("study", {}), str(study_path)).kind
+    study = data.get("study")
+    if isinstance(study, dict) and study.get("kind") == "free-rocking":
+        data = with_defaults(data)
+    return parse(data, str(study_path))
 
 
 def run_study_file(study_path: Path, out: Path, *, workers: int | None = None,
@@ -100,19 +112,17 @@ def write_ground_motion(out: Path, study_path: Path, samples_per_period: int = 2
     pulse ``samples_per_period`` times per period), for the report's plot of the input."""
     from .fem_study import load
     study = load(study_path)
-    motions = [m for m in (study.ground, study.vertical) if m is not None]
+    motions = [study.ground, study.vertical]
     end = max([study.duration] + [m.end_time for m in motions])
     times = [np.linspace(0.0, end, 2001)]
     for motion in motions:
-        if hasattr(motion, "time"):                       # a record: its samples
+        if isinstance(motion, Record):                    # a record: its samples
             times.append(np.asarray(motion.time, dtype=float))
-        elif getattr(motion, "omega", 0.0) > 0.0:         # a pulse: fine enough for its shape
+        elif isinstance(motion, HarmonicPulse):           # a pulse: fine enough for its shape
             n = math.ceil(samples_per_period * motion.end_time * motion.omega / (2 * math.pi))
             times.append(np.linspace(0.0, motion.end_time, max(n, 2) + 1))
     t = np.unique(np.concatenate(times))
     t = t[(t >= 0.0) & (t <= end)]
-    vertical = (study.vertical.acceleration(t) if study.vertical is not None
-                else np.zeros_like(t))
     write_csv(Path(out) / "ground_motion.csv",
               {"t": t, "horizontal_acceleration": study.ground.acceleration(t),
-               "vertical_acceleration": vertical})
+               "vertical_acceleration": study.vertical.acceleration(t)})

@@ -18,7 +18,7 @@ from ..fem.solver import EDGE_TIME
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid.block import Block
 from ..core.collar import Collar
-from ..core.ground import (HarmonicPulse, NoMotion, Record, cosine_pulse, read_record,
+from ..core.ground import (NO_MOTION, GroundMotion, HarmonicPulse, NoMotion, Record, cosine_pulse, read_record,
                             sine_pulse)
 from ..core.errors import InputError, read_toml
 from . import schema
@@ -35,7 +35,7 @@ class FemStudy:
     cracked: bool
     stone: Stone
     collars: tuple
-    ground: object
+    ground: GroundMotion
     contact: ContactSettings
     mesh_size: float
     grading: float
@@ -52,7 +52,7 @@ class FemStudy:
     edge_time: float = EDGE_TIME              # s
     toe_refinements: tuple = REFINEMENTS
     top_load: float = 0.0                     # N, on the capital
-    vertical: object = None                   # vertical ground motion (rigid.ground), or None
+    vertical: GroundMotion = NO_MOTION        # vertical ground motion
     replicas: int = 1                         # FEM runs as an ensemble of this many replicas
 
     @property
@@ -136,7 +136,7 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
         replicas=spec.run.replicas)
     ground = _ground(spec.ground, FemStudy(**settings).rocking_block, base, source)
     vertical = _vertical(spec.ground, ground, base, source)
-    end = max(ground.end_time, 0.0 if vertical is None else vertical.end_time)
+    end = max(ground.end_time, vertical.end_time)
     study = FemStudy(**{**settings, "ground": ground, "vertical": vertical,
                         "duration": spec.run.duration or end + 1.5})
     if (isinstance(study.ground, NoMotion) and study.initial_tilt == 0.0
@@ -147,7 +147,7 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
 
 
 def _vertical(ground: schema.Ground, horizontal, base: Path, source: str = "study"):
-    """The vertical ground motion of [ground] vertical_* (None without one). Its peak must be
+    """The vertical ground motion of [ground] vertical_* (NO_MOTION without one). Its peak must be
     below g: at g the ground falls away from the column (the harmonic's amplitude is checked by
     the schema)."""
     if ground.vertical_record is not None:
@@ -162,7 +162,7 @@ def _vertical(ground: schema.Ground, horizontal, base: Path, source: str = "stud
                 f"below g = {schema.G:g} m/s^2")
         return record.scaled(scale)
     if ground.vertical_amplitude is None:
-        return None
+        return NO_MOTION
     period = ground.vertical_period
     duration = ground.vertical_duration or (horizontal.end_time if horizontal.end_time > 0.0
                                             else period)

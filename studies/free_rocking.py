@@ -73,7 +73,7 @@ def free_rocking_case(case: dict, directory: str) -> dict:
                 "status": result.summary["status"],
                 "energy_error_max": max(r.summary["energy_error_max"] for r in replicas),
                 "wall_seconds": result.summary["wall_seconds"]}
-    result = rock_multibody(study.rocking_block, None, study.collars, cracked=study.cracked,
+    result = rock_multibody(study.rocking_block, study.ground, study.collars, cracked=study.cracked,
                             friction=study.contact.friction, duration=study.duration,
                             initial_tilt=tilt)
     t, theta = result.time, result.theta[:, 0]

@@ -10,7 +10,7 @@ from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model, stable_time_step
 from colonna.fem.solver import run
 from colonna.meshes.column import column_mesh
-from colonna.rigid import Block, Collar, InputError, Record, pulse_from_ratios, rock
+from colonna.rigid import Block, Collar, InputError, NoMotion, Record, pulse_from_ratios, rock
 
 STILL = Record(np.array([0.0, 100.0]), np.zeros(2))
 
@@ -307,7 +307,7 @@ def test_free_rocking_impact_loss_of_the_fem_approaches_housner_as_the_stone_sti
     assert stiff["median"] < soft["min"] and stiffer["median"] < soft["min"]
     # the spread contact keeps more energy than the corner contact at the same stone
     assert stiff["median"] > bands["corners"][1]["max"]
-    rigid = rock_multibody(blk, None, friction=1.0, initial_tilt=0.5 * blk.alpha, duration=0.8)
+    rigid = rock_multibody(blk, NoMotion(), friction=1.0, initial_tilt=0.5 * blk.alpha, duration=0.8)
     assert rigid.impact_velocity_ratios()[0] == pytest.approx(housner, rel=1e-3)
 
 

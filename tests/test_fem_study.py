@@ -7,7 +7,7 @@ import re
 
 import pytest
 
-from colonna.rigid import InputError
+from colonna.rigid import InputError, NoMotion
 from colonna.studies.cli import main
 from colonna.studies.fem_study import from_dict, load
 from tiny_study import TINY_STUDY
@@ -62,7 +62,7 @@ def test_vertical_ground_motion_of_a_study():
     v = study.vertical
     assert (v.amplitude, v.omega, v.phase) == (-3.0, pytest.approx(2 * math.pi / 0.25), 0.5)
     assert v.duration == pytest.approx(study.ground.end_time)   # the horizontal pulse's
-    assert from_dict(_study()).vertical is None
+    assert from_dict(_study()).vertical == NoMotion()
 
 
 def _study(**changes):

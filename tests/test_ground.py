@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from colonna.rigid import (InputError, Record, pulse_from_ratios, read_peer_at2, read_record,
+from colonna.rigid import (InputError, NoMotion, Record, pulse_from_ratios, read_peer_at2, read_record,
                    read_two_column, sine_pulse)
 
 
@@ -73,3 +73,20 @@ def test_unreadable_record_names_the_file(tmp_path):
         read_record(bad)
     with pytest.raises(InputError, match="increase"):
         Record(np.array([0.0, 1.0, 0.5]), np.zeros(3))
+
+
+def test_none_is_not_a_ground_motion():
+    """No motion is NoMotion(), with a zero acceleration, end time and peak; None is refused
+    with the field named (issue 17: None never means no motion)."""
+    from colonna.core.ground import NO_MOTION, GroundMotion
+    from colonna.rigid import Block, rock
+    from colonna.rigid.multibody import rock_multibody
+
+    assert isinstance(NO_MOTION, GroundMotion)
+    assert (NO_MOTION.end_time, NO_MOTION.peak_acceleration) == (0.0, 0.0)
+    assert not NO_MOTION.acceleration([0.0, 1.0]).any()
+    block = Block.from_dimensionless(p=2.0, alpha=0.2)
+    with pytest.raises(InputError, match="ground = None is not a ground motion"):
+        rock(block, None, initial_tilt=0.1)
+    with pytest.raises(InputError, match="vertical = None is not a ground motion"):
+        rock_multibody(block, NoMotion(), initial_tilt=0.1, vertical=None)

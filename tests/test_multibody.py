@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from colonna.rigid import (Block, Collar, HarmonicPulse, InputError, Record,
+from colonna.rigid import (Block, Collar, HarmonicPulse, InputError, NoMotion, Record,
                            housner_restitution, pulse_from_ratios, rock)
 from colonna.rigid import _multibody as K
 from colonna.rigid.multibody import (build_column, default_step, multibody_spectrum,
@@ -86,7 +86,7 @@ def test_plastic_impact_gives_housners_ratio(alpha):
     """e_n = 0 and no slip: angular momentum about the new pivot is conserved, which is
     Housner's 1 - 1.5 sin^2(alpha); nothing in the model imposes it."""
     blk = Block.from_dimensionless(p=2.0, alpha=alpha)
-    mb = rock_multibody(blk, None, friction=STICK, duration=4.0, initial_tilt=0.5 * alpha)
+    mb = rock_multibody(blk, NoMotion(), friction=STICK, duration=4.0, initial_tilt=0.5 * alpha)
     ratios = mb.impact_velocity_ratios(0)
     assert ratios.size >= 2
     np.testing.assert_allclose(ratios[:3], housner_restitution(alpha), rtol=5e-3)
@@ -97,7 +97,7 @@ def test_free_rocking_from_rest_reaches_the_vertical_at_the_closed_form_time():
     """Corrected Eq. 13 (linearised): t = arccosh(1 / (1 - theta0/alpha)) / p; the nonlinear
     block of small alpha is within alpha^2 of it."""
     blk = Block.from_dimensionless(p=2.0, alpha=0.05)
-    mb = rock_multibody(blk, None, friction=STICK, duration=2.0, initial_tilt=0.5 * 0.05)
+    mb = rock_multibody(blk, NoMotion(), friction=STICK, duration=2.0, initial_tilt=0.5 * 0.05)
     assert mb.impacts_table[0, 0] == pytest.approx(blk.time_to_vertical(0.025), rel=5e-3)
 
 
@@ -418,11 +418,11 @@ def test_collar_yield_map_of_the_spectrum_is_that_of_the_histories():
 def test_bad_input_is_named(kwargs, word):
     blk = Block(b=0.2, h=2.0, mass=800.0)
     with pytest.raises(InputError, match=word):
-        rock_multibody(blk, None, duration=0.1, **kwargs)
+        rock_multibody(blk, NoMotion(), duration=0.1, **kwargs)
 
 
 def test_a_step_above_the_collars_stable_step_is_refused():
     half = marble_half()
     collars = (Collar(y=2.0, t=0.008, h=0.06),)
     with pytest.raises(InputError, match="stable step"):
-        rock_multibody(half, None, collars, cracked=True, dt=1e-2, duration=0.1)
+        rock_multibody(half, NoMotion(), collars, cracked=True, dt=1e-2, duration=0.1)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from reference import reference_rocking, sine_pulse_over_g
-from colonna.rigid import Block, Collar, InputError, Record, pulse_from_ratios, rock
+from colonna.rigid import Block, Collar, InputError, NoMotion, Record, pulse_from_ratios, rock
 from colonna.rigid import _kernels as K
 from colonna.rigid.solve import kernel_params
 
@@ -192,7 +192,7 @@ def test_release_from_a_tilt_reaches_the_vertical_at_the_corrected_eq13_time(mod
     at arccosh(1 / (1 - theta0/alpha)) / p exactly (corrected Eq. 13); the nonlinear one within
     alpha^2; each impact then keeps Housner's ratio."""
     blk = Block.from_dimensionless(p=2.0, alpha=0.2)
-    result = rock(blk, None, model=model, initial_tilt=-0.1, duration=3.0)
+    result = rock(blk, NoMotion(), model=model, initial_tilt=-0.1, duration=3.0)
     expected = blk.time_to_vertical(0.1)
     rel = 1e-9 if model == "linear" else 0.2 ** 2
     assert result.impact_times[0] == pytest.approx(expected, rel=rel)
@@ -205,9 +205,9 @@ def test_release_with_an_outward_spin_above_the_barrier_overturns_without_impact
     """From upright, theta' > p sqrt(2 (1 - cos alpha)) carries the free block past alpha."""
     blk = Block.from_dimensionless(p=2.0, alpha=0.2)
     barrier = blk.p * math.sqrt(2.0 * (1.0 - math.cos(blk.alpha)))
-    over = rock(blk, None, model="nonlinear", initial_angular_velocity=1.01 * barrier,
+    over = rock(blk, NoMotion(), model="nonlinear", initial_angular_velocity=1.01 * barrier,
                 duration=10.0)
-    back = rock(blk, None, model="nonlinear", initial_angular_velocity=0.99 * barrier,
+    back = rock(blk, NoMotion(), model="nonlinear", initial_angular_velocity=0.99 * barrier,
                 duration=10.0)
     assert over.mode == "without-impact" and back.mode == "safe" and back.impacts >= 1
 
@@ -215,4 +215,4 @@ def test_release_with_an_outward_spin_above_the_barrier_overturns_without_impact
 def test_no_ground_motion_and_no_initial_state_is_an_error():
     blk = Block.from_dimensionless(p=2.0, alpha=0.2)
     with pytest.raises(InputError, match="stays at rest"):
-        rock(blk, None, model="nonlinear")
+        rock(blk, NoMotion(), model="nonlinear")

@@ -8,7 +8,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from colonna.rigid.block import Block
-from colonna.core.ground import sine_pulse
+from colonna.core.ground import NoMotion, sine_pulse
 from colonna.rigid.multibody import rock_multibody
 from colonna.rigid.solve import rock
 from colonna.core.errors import InputError
@@ -72,7 +72,7 @@ def test_free_rocking_with_a_top_load_follows_an_independent_integration():
     tilt = 0.5 * blk.critical_angle()
     reference = _independent_free_rocking(blk, tilt, 5.0)
     t_vertical = reference.t_events[0][0]
-    result = rock(blk, None, model="nonlinear", initial_tilt=tilt, duration=1.2 * t_vertical,
+    result = rock(blk, NoMotion(), model="nonlinear", initial_tilt=tilt, duration=1.2 * t_vertical,
                   dt_out=t_vertical / 200)
     inside = result.time < t_vertical
     expected = reference.sol(result.time[inside])[0]
@@ -89,7 +89,7 @@ def test_linear_model_with_a_top_load_is_the_equivalent_free_block():
     alpha_eq = blk.alpha * (1.0 + LOAD_RATIO) / (1.0 + 2.0 * LOAD_RATIO)
     assert blk.critical_angle("linear") == pytest.approx(alpha_eq, rel=1e-14)
     tilt = 0.4 * alpha_eq
-    result = rock(blk, None, model="linear", initial_tilt=tilt, duration=2.0)
+    result = rock(blk, NoMotion(), model="linear", initial_tilt=tilt, duration=2.0)
     expected = math.acosh(1.0 / (1.0 - tilt / alpha_eq)) / p_eq
     assert result.impact_times[0] == pytest.approx(expected, rel=1e-9)
 
@@ -103,9 +103,9 @@ def test_the_load_lowers_the_unstable_equilibrium(model):
     assert tc < 0.8 * blk.alpha
     for factor, falls in ((0.99, False), (1.01, True)):
         if model == "nonlinear":
-            r = rock(blk, None, model="nonlinear", initial_tilt=factor * tc, duration=6.0)
+            r = rock(blk, NoMotion(), model="nonlinear", initial_tilt=factor * tc, duration=6.0)
         else:
-            r = rock_multibody(blk, None, friction=1.0, initial_tilt=factor * tc,
+            r = rock_multibody(blk, NoMotion(), friction=1.0, initial_tilt=factor * tc,
                                duration=6.0)
         assert r.overturned == falls
 
@@ -115,7 +115,7 @@ def test_a_massless_load_keeps_housners_restitution():
     impact comes from its contact impulses, gives Housner's ratio with the load too."""
     for load_ratio in (0.0, LOAD_RATIO):
         blk = _block(load_ratio)
-        r = rock_multibody(blk, None, friction=1.0, initial_tilt=0.5 * blk.critical_angle(),
+        r = rock_multibody(blk, NoMotion(), friction=1.0, initial_tilt=0.5 * blk.critical_angle(),
                            duration=1.5)
         assert r.impact_velocity_ratios()[0] == pytest.approx(blk.restitution_housner,
                                                               rel=1e-3)
@@ -182,7 +182,7 @@ def test_fem_column_with_a_top_load_rocks_like_the_rigid_block():
     weight = stone.density * width * height * thickness * 9.81
     blk = Block(b=width / 2, h=height / 2, mass=weight / 9.81, top_load=2.0 * weight)
     tilt = 0.5 * blk.critical_angle()
-    rigid = rock(blk, None, model="nonlinear", initial_tilt=tilt, duration=1.0)
+    rigid = rock(blk, NoMotion(), model="nonlinear", initial_tilt=tilt, duration=1.0)
     model = build_model(column_mesh(width, height, 0.1, cracked=False, grading=0.3), stone,
                         thickness, contact=ContactSettings(friction=1.0),
                         top_load=2.0 * weight)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from colonna.rigid.block import Block
-from colonna.core.ground import Record, cosine_pulse
+from colonna.core.ground import NoMotion, Record, cosine_pulse
 from colonna.rigid.multibody import rock_multibody
 from colonna.rigid.solve import rock
 
@@ -25,13 +25,13 @@ def test_free_fall_of_the_support_leaves_no_restoring_moment(model):
     is; with the support still it falls back to the vertical within its quarter period."""
     blk = Block(b=0.2, h=1.0, mass=100.0)
     tilt = 0.3 * blk.alpha
-    for vertical, moves in ((_constant(-G, 2.0), False), (None, True)):
+    for vertical, moves in ((_constant(-G, 2.0), False), (NoMotion(), True)):
         if model == "multibody":
-            r = rock_multibody(blk, None, friction=1.0, initial_tilt=tilt, duration=1.0,
+            r = rock_multibody(blk, NoMotion(), friction=1.0, initial_tilt=tilt, duration=1.0,
                                vertical=vertical)
             theta = r.theta[:, 0]
         else:
-            r = rock(blk, None, model=model, initial_tilt=tilt, duration=1.0,
+            r = rock(blk, NoMotion(), model=model, initial_tilt=tilt, duration=1.0,
                      vertical=vertical)
             theta = r.theta
         if moves:

@@ -16,6 +16,7 @@ import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 
@@ -23,6 +24,20 @@ from .constants import STANDARD_GRAVITY
 from .errors import InputError, require_positive
 
 PULSE_KINDS = ("sine", "cosine")
+
+
+@runtime_checkable
+class GroundMotion(Protocol):
+    """What every ground motion gives (a pulse, a record, or :class:`NoMotion`: ``None`` never
+    stands for "no motion")."""
+
+    def acceleration(self, t): ...        # m/s^2 at times t (s), zero outside the motion
+
+    @property
+    def end_time(self) -> float: ...      # s, when the motion ends
+
+    @property
+    def peak_acceleration(self) -> float: ...   # m/s^2, largest |acceleration|
 
 
 @dataclass(frozen=True)
@@ -47,6 +62,10 @@ class HarmonicPulse:
     @property
     def end_time(self) -> float:
         return self.duration
+
+    @property
+    def peak_acceleration(self) -> float:
+        return abs(self.amplitude)
 
 
 @dataclass(frozen=True)
@@ -96,6 +115,22 @@ class NoMotion:
     @property
     def end_time(self) -> float:
         return 0.0
+
+    @property
+    def peak_acceleration(self) -> float:
+        return 0.0
+
+
+NO_MOTION = NoMotion()      # the default of every optional motion (the vertical one)
+
+
+def require_motion(name: str, motion) -> GroundMotion:
+    """``motion`` if it is a ground motion; an InputError naming ``name`` otherwise (None
+    included: no motion is :data:`NO_MOTION`)."""
+    if not isinstance(motion, GroundMotion):
+        raise InputError(f"{name} = {motion!r} is not a ground motion (a pulse, a record, or "
+                         "NoMotion() for none)")
+    return motion
 
 
 def sine_pulse(amplitude: float, omega: float, uplift_acceleration: float) -> HarmonicPulse:
@@ -203,8 +238,9 @@ def acceleration_table(motion, samples_per_period: int = 400):
     """(time (s), acceleration (m/s^2)) of a ground motion as a piecewise-linear table, zero
     outside it: a record as it is, a harmonic pulse sampled ``samples_per_period`` times per
     period over its duration (linear interpolation of the sine is then exact to 3e-5 of its
-    amplitude). None or NoMotion: None."""
-    if motion is None or isinstance(motion, NoMotion):
+    amplitude). NoMotion: None."""
+    require_motion("ground motion", motion)
+    if isinstance(motion, NoMotion):
         return None
     if isinstance(motion, Record):
         return motion.time.copy(), motion.acceleration_values.copy()
@@ -216,7 +252,8 @@ def acceleration_table(motion, samples_per_period: int = 400):
     raise InputError(f"ground motion of type {type(motion).__name__} is not supported")
 
 
-def kernel_tables(ground, vertical=None, horizontal_scale: float = 1.0):
+def kernel_tables(ground: GroundMotion, vertical: GroundMotion = NO_MOTION,
+                  horizontal_scale: float = 1.0):
     """The tables the compiled solvers read the ground from, one pair of arrays: the
     horizontal record's rows (times ``horizontal_scale``; none for a pulse, which the kernels
     compute) followed by the vertical motion's table (:func:`acceleration_table`), m/s^2.
@@ -238,8 +275,6 @@ def kernel_tables(ground, vertical=None, horizontal_scale: float = 1.0):
 def peak_acceleration(motion) -> float:
     """Peak |acceleration| (m/s^2) of a pulse (its amplitude) or a record (its largest
     sample); an InputError for no motion."""
-    if isinstance(motion, HarmonicPulse):
-        return abs(motion.amplitude)
-    if isinstance(motion, Record):
+    if isinstance(motion, (HarmonicPulse, Record)):
         return motion.peak_acceleration
     raise InputError("the study needs a ground motion (a pulse or a record) here, not 'none'")
