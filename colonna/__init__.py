@@ -29,9 +29,18 @@ if (not _os.path.isdir(_os.path.join(_here, "rigid"))
         and _os.path.isfile(_os.path.join(_root, "rigid", "__init__.py"))):
     __path__.append(_root)  # noqa: F821 (the package's own search path)
 
-from .rigid import (Block, Collar, HarmonicPulse, InputError, Record,  # noqa: E402
-                    RockingResult, housner_restitution, pulse_from_ratios, read_record,
-                    rock)
+from .rigid import (  # noqa: E402
+    Block,
+    Collar,
+    HarmonicPulse,
+    InputError,
+    Record,
+    RockingResult,
+    housner_restitution,
+    pulse_from_ratios,
+    read_record,
+    rock,
+)
 from .rigid.multibody import MultibodyResult, multibody_spectrum, rock_multibody  # noqa: E402
 from .rigid.spectrum import Spectrum, overturning_spectrum  # noqa: E402
 from .studies.schema import read_collars  # noqa: E402

@@ -23,7 +23,7 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from ..core.collar_law import axial_return_mapping
+from ..core.collar_law import frame_local_law
 
 # fast-math without the no-NaN / no-Inf assumptions: the blow-up check must keep its meaning
 SAFE_FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
@@ -203,24 +203,15 @@ def collar_forces(x, collars, props, out, f, state, commit):
         phi2 = _face_angle(x, collars[c, 4], collars[c, 5]) - props[c, 6]
         th1 = phi1 - beta
         th2 = phi2 - beta
-        ea_l = props[c, 0]
-        ei_l = props[c, 1]
-        stretch = length - props[c, 3]
         work_before = state[c, 2]
-        N, plastic_strain = axial_return_mapping(
-            props[c, 2] + ea_l * (stretch - state[c, 0]), ea_l, props[c, 7], props[c, 8],
-            props[c, 9], state, c, commit)
+        N, M1, M2, e, plastic_strain = frame_local_law(
+            length - props[c, 3], th1, th2, props[c, 0], props[c, 1], props[c, 2], props[c, 7],
+            props[c, 8], props[c, 9], state, c, commit)
         work += state[c, 2] - work_before
-        s_p = plastic_strain * props[c, 8] / ea_l
         out[c, 4] = plastic_strain
-        M1 = ei_l * (4.0 * th1 + 2.0 * th2)
-        M2 = ei_l * (2.0 * th1 + 4.0 * th2)
         out[c, 0] = N
         out[c, 1] = M1
         out[c, 2] = M2
-        elastic = stretch - s_p
-        e = (props[c, 2] * elastic + 0.5 * ea_l * elastic * elastic
-             + ei_l * (2.0 * th1 * th1 + 2.0 * th1 * th2 + 2.0 * th2 * th2))
         out[c, 3] = e
         energy += e
         ex = dx / length

@@ -16,8 +16,8 @@ from skfem.helpers import dot
 from skfem.models.elasticity import linear_elasticity, plane_stress
 
 from ..core.constants import STANDARD_GRAVITY
-from ..meshes.column import ColumnMesh
 from ..core.errors import require_positive, require_range
+from ..meshes.column import ColumnMesh
 
 
 @dataclass(frozen=True)

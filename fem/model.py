@@ -2,9 +2,9 @@
 
 Penalty stiffness (per contact node, N/m) is ``penalty_factor * E * t * l_trib / h``: the stiffness
 of the adjacent element over the node's tributary length l_trib, h being that element's size normal
-to the surface. With the default factor 1 the contact springs are as stiff as the stone next to them,
-so they neither dominate the stable step nor let the faces sink visibly (penetration ~ strain x h).
-The tangential penalty equals the normal one. Contact damping is a fraction ``damping`` of the
+to the surface. With the default factor 1 the contact springs are as stiff as the stone next to
+them, so they neither dominate the stable step nor let the faces sink visibly (penetration ~ strain
+x h). The tangential penalty equals the normal one. Contact damping is a fraction ``damping`` of the
 critical damping of each contact spring with its node's mass.
 """
 
@@ -18,9 +18,8 @@ from scipy import sparse
 from scipy.sparse.linalg import eigsh
 
 from ..core.constants import STANDARD_GRAVITY
-from ..meshes.column import ColumnMesh
 from ..core.errors import InputError, require_non_negative, require_positive, require_range
-
+from ..meshes.column import ColumnMesh
 from . import _kernels as K
 from .assembly import Stone, assemble
 
@@ -122,16 +121,16 @@ def build_model(mesh: ColumnMesh, stone: Stone, thickness: float, collars=(),
         centroid_ref[b] = (p[:, on] * node_mass[on]).sum(axis=1) / node_mass[on].sum()
 
     # base: every body's base against the ground
-    base_nodes, kn, trib_all = [], [], []
+    base_lists, kn, trib_all = [], [], []
     for nodes in mesh.base_nodes:
         xs = p[0, nodes]
         trib = _tributary(xs)
         above = _node_above(mesh, nodes)
         h = p[1, above] - p[1, nodes]
-        base_nodes.append(nodes)
+        base_lists.append(nodes)
         kn.append(_penalty(stone, thickness, contact, trib, h))
         trib_all.append(trib)
-    base_nodes = np.concatenate(base_nodes)
+    base_nodes = np.concatenate(base_lists)
     base_kn = np.concatenate(kn)
     base_cn = 2.0 * contact.damping * np.sqrt(base_kn * node_mass[base_nodes])
 
@@ -231,7 +230,7 @@ def contact_stiffness(model: Model, tangential_scale: float = 1.0) -> sparse.csr
     for node, knn, ktt in zip(model.base_nodes, model.base_kn, model.base_kt):
         spring(2 * node + 1, -1, knn)
         spring(2 * node, -1, tangential_scale * ktt)
-    for slaves, masters, sign, knn, ktt, _ in model.crack_passes:
+    for slaves, masters, _sign, knn, ktt, _ in model.crack_passes:
         partners = coincident_nodes(model.mesh, slaves, masters)
         for s, m_, k1, k2 in zip(slaves, partners, knn, ktt):   # faces coincide at rest
             spring(2 * s, 2 * m_, k1)

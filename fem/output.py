@@ -11,7 +11,6 @@ from pathlib import Path
 import numpy as np
 
 from ..meshes.io import write, write_time_series
-
 from .assembly import element_stress
 
 

@@ -34,11 +34,8 @@ from tqdm import tqdm
 
 from ..core.errors import InputError, require_positive, require_range
 from ..core.ground import NO_MOTION, GroundMotion, require_motion
-
 from . import _kernels as K
-from .model import (Model, coincident_nodes, collar_stiffness, contact_stiffness,
-                    stable_time_step)
-
+from .model import Model, coincident_nodes, collar_stiffness, contact_stiffness, stable_time_step
 
 EDGE_TIME = 2.5e-4   # s: default averaging time of the toe stress (see run)
 # energy balance error (relative to the energy scale, see the module) past which a run is
@@ -148,10 +145,10 @@ def run_ensemble(model: Model, ground, duration: float, replicas: int = REPLICAS
         raise InputError(f"run replicas = {replicas} must be at least 1")
     require_range("replica perturbation (relative)", perturbation, 0.0, 1e-6,
                   closed_low=True, closed_high=True, range_text="[0, 1e-6]")
-    out_dirs = [None] * replicas
+    out_dirs: list[Path | None] = [None] * replicas
     if out_dir is not None:
-        out_dirs = [Path(out_dir)] + [Path(out_dir) / "replicas" / str(r)
-                                      for r in range(1, replicas)]
+        out_dirs = [Path(out_dir)]
+        out_dirs += [Path(out_dir) / "replicas" / str(r) for r in range(1, replicas)]
     offsets = [replica_perturbation(model, r, perturbation) for r in range(replicas)]
     return run_batch(model, [ground] * replicas, duration, verticals=[vertical] * replicas,
                      out_dirs=out_dirs, offsets=offsets, **options)
@@ -249,7 +246,7 @@ def run_batch(model: Model, grounds: list, duration: float, *, verticals: list |
         recorders[r].start_edge_average(state, r)
     motion = state.motion
     for k in range(n_outputs + 1):
-        for r in np.nonzero(motion.alive)[0]:
+        for r in np.flatnonzero(motion.alive).tolist():
             row = recorders[r].record(t, state, r)
             if energy0[r] is None:
                 energy0[r] = row["energy_total"]
@@ -271,7 +268,7 @@ def run_batch(model: Model, grounds: list, duration: float, *, verticals: list |
         state.advance(steps_per_output, dt, blend, stiffness, acc, vacc)
         steps_done += steps_per_output
         t = start_time + steps_done * dt
-        for r in np.nonzero(live & (motion.done < steps_per_output))[0]:
+        for r in np.flatnonzero(live & (motion.done < steps_per_output)).tolist():
             t_r = start_time + (steps_done - steps_per_output + motion.done[r]) * dt
             reasons[r] = (f"numerical blow-up at t = {t_r:.4g} s: the state stopped being "
                           f"finite (dt = {dt:.3g} s too large for the contact or collar "
@@ -493,10 +490,10 @@ class _Recorder:
     def __init__(self, model: Model, edge_length: float, edge_names: list, out_dir):
         self.model = model
         mesh = model.mesh
-        self.rows = []
-        self.frames = []
-        self.velocity_frames = []
-        self.contact_frames = []
+        self.rows: list = []
+        self.frames: list = []
+        self.velocity_frames: list = []
+        self.contact_frames: list = []
         # energy scale floor: the gravity work that tips the halves onto a toe,
         # m g R (1 - cos alpha) summed over the bodies
         w_b = mesh.width / mesh.n_bodies
@@ -512,7 +509,7 @@ class _Recorder:
         self.edge_names = edge_names        # the toes, in the order of the edge weights
         self.edge_area = edge_length * model.thickness
 
-        self.crack_pairs = None
+        self.crack_pairs: tuple | None = None
         if mesh.cracked:
             left, right = mesh.crack_nodes
             self.crack_pairs = (left, coincident_nodes(mesh, left, right))
@@ -592,6 +589,7 @@ class _Recorder:
             row[f"base_normal_force_{b + 1}"] = float(base_fn[body_of_base == b].sum())
         if mesh.cracked:
             row["crack_normal_force"] = float(sum(fn.sum() for _, fn, _ in passes))
+            assert self.crack_pairs is not None
             left, right = self.crack_pairs
             c, s = math.cos(frames[0, 2]), math.sin(frames[0, 2])
             d = x.reshape(-1, 2)[right] - x.reshape(-1, 2)[left]
@@ -683,7 +681,7 @@ def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, 
     collars = model.collars
     util = [h[f"collar_{i}_utilisation"] for i in range(1, len(collars) + 1)]
     first_yield = None
-    for i, u in enumerate(util, start=1):
+    for u in util:
         hit = np.nonzero(u >= 1.0)[0]
         if hit.size:
             ty = float(h["t"][hit[0]])

@@ -22,13 +22,13 @@ load), with the band's width or the estimated error as the mesh uncertainty.
 from __future__ import annotations
 
 import math
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
-from ..meshes.column import ColumnMesh
 from ..core.errors import InputError
 from ..core.ground import NO_MOTION, GroundMotion
+from ..meshes.column import ColumnMesh
 from .convergence import convergence_table
 from .model import build_model
 from .solver import FemResult, run

@@ -11,11 +11,13 @@ of its elastic strains.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from skfem import Basis, ElementQuad1, MeshQuad
 
-from ..meshes.column import ColumnMesh
 from ..core.errors import InputError
+from ..meshes.column import ColumnMesh
 
 
 def interpolation_matrices(source: ColumnMesh, target: ColumnMesh) -> list:
@@ -79,7 +81,7 @@ def transfer_contact(source, target, state: dict) -> dict:
     body_s = source.mesh.node_body[source.base_nodes]
     body_t = target.mesh.node_body[target.base_nodes]
     xs, xt = source.mesh.points[0, source.base_nodes], target.mesh.points[0, target.base_nodes]
-    out = {}
+    out: dict[str, Any] = {}
     for key in ("base_ft", "base_fc"):
         force = np.asarray(state[key], dtype=float)
         carried = np.zeros(target.base_nodes.size)

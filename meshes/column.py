@@ -122,7 +122,9 @@ def column_mesh(width: float, height: float, size: float, *, cracked: bool = Tru
     offsets = [-0.5 * width, 0.0] if cracked else [-0.5 * width]
 
     points, cells, cell_body, node_body = [], [], [], []
-    base_nodes, outer_nodes, crack_nodes = [], [], []
+    base_nodes: list = []
+    outer_nodes: list = []
+    crack_nodes: list = []
     start = 0
     for body, x0 in enumerate(offsets):
         X, Y = np.meshgrid(x0 + xs, ys)                   # (n_y+1, n_x+1), row-major in y
@@ -188,7 +190,9 @@ def from_arrays(points: np.ndarray, cells: np.ndarray, *, tol: float = 1e-9) -> 
     if abs(points[1, used].min()) > tol * max(1.0, height):
         raise InputError("the column base must lie on y = 0")
     scale = tol * max(width, height)
-    base, outer, crack = [], [], []
+    base: list = []
+    outer: list = []
+    crack: list = []
     for b in range(comps.size):
         nodes = np.nonzero(node_body == b)[0]
         on_base = nodes[np.abs(points[1, nodes]) <= scale]

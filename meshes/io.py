@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import contextlib
 import io
-
 import os
 from pathlib import Path
 
@@ -12,7 +11,6 @@ import meshio
 import numpy as np
 
 from ..core.errors import InputError
-
 from .column import ColumnMesh, from_arrays
 
 

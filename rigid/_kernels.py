@@ -25,6 +25,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ..core.tables import table_value
+
 P_P2, P_ALPHA, P_NONLINEAR, P_GROUND, P_AG, P_OMEGA, P_PHASE, P_TEND, P_KA, P_KL, P_NU, \
     P_UPLIFT, P_TH0, P_OM0, P_LOAD, P_NHREC, P_VERT = range(17)
 N_PARAMS = 17      # P_TH0, P_OM0: initial rotation (rad) and angular velocity (rad/s), 0: at rest
@@ -78,21 +80,8 @@ def ground_over_g(t, P, rec_t, rec_a):
         return P[P_AG] * math.sin(P[P_OMEGA] * t + P[P_PHASE])
     if kind == GROUND_RECORD:
         n = int(P[P_NHREC])
-        return _table(t, rec_t[:n], rec_a[:n])
+        return table_value(t, rec_t[:n], rec_a[:n])
     return 0.0
-
-
-@njit(cache=True)
-def _table(t, times, values):
-    """Piecewise-linear value of a table at t, zero outside it."""
-    n = times.size
-    if n == 0 or t < times[0] or t > times[n - 1]:
-        return 0.0
-    i = np.searchsorted(times, t)
-    if i == 0:
-        return values[0]
-    w = (t - times[i - 1]) / (times[i] - times[i - 1])
-    return values[i - 1] + w * (values[i] - values[i - 1])
 
 
 @njit(cache=True)
@@ -101,7 +90,7 @@ def vertical_over_g(t, P, rec_t, rec_a):
     if P[P_VERT] == 0.0:
         return 0.0
     n = int(P[P_NHREC])
-    return _table(t, rec_t[n:], rec_a[n:])
+    return table_value(t, rec_t[n:], rec_a[n:])
 
 
 @njit(cache=True)

@@ -30,7 +30,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..core.collar_law import axial_return_mapping
+from ..core.collar_law import frame_local_law
+from ..core.tables import table_value
 
 GROUND_NONE = 0
 GROUND_HARMONIC = 1
@@ -71,7 +72,7 @@ def ground_acceleration(t, kind, gpar, rec_t, rec_a):
         return 0.0
     if kind == GROUND_RECORD:
         n = int(gpar[4])
-        return _table(t, rec_t[:n], rec_a[:n])
+        return table_value(t, rec_t[:n], rec_a[:n])
     return 0.0
 
 
@@ -82,24 +83,7 @@ def vertical_acceleration(t, gpar, rec_t, rec_a):
     if gpar[5] == 0.0:
         return 0.0
     n = int(gpar[4])
-    return _table(t, rec_t[n:], rec_a[n:])
-
-
-@njit(cache=True)
-def _table(t, times, values):
-    n = times.size
-    if n == 0 or t < times[0] or t > times[n - 1]:
-        return 0.0
-    lo = 0
-    hi = n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if times[mid] <= t:
-            lo = mid
-        else:
-            hi = mid
-    w = (t - times[lo]) / (times[hi] - times[lo])
-    return (1.0 - w) * values[lo] + w * values[hi]
+    return table_value(t, rec_t[n:], rec_a[n:])
 
 
 @njit(cache=True)
@@ -134,19 +118,10 @@ def collar_forces(q, col_a, col_b, col_r, props, f, out, state, commit):
         beta = math.atan2(dy, dx) - props[c, 4]
         th1 = q[3 * a + 2] - beta
         th2 = q[3 * b + 2] - beta
-        ea_l = props[c, 0]
-        ei_l = props[c, 1]
-        stretch = length - props[c, 3]
-        N, plastic_strain = axial_return_mapping(
-            props[c, 2] + ea_l * (stretch - state[c, 0]), ea_l, props[c, 5], props[c, 6],
-            props[c, 7], state, c, commit)
-        s_p = plastic_strain * props[c, 6] / ea_l
+        N, M1, M2, e, plastic_strain = frame_local_law(
+            length - props[c, 3], th1, th2, props[c, 0], props[c, 1], props[c, 2], props[c, 5],
+            props[c, 6], props[c, 7], state, c, commit)
         out[c, 4] = plastic_strain
-        elastic = stretch - s_p
-        M1 = ei_l * (4.0 * th1 + 2.0 * th2)
-        M2 = ei_l * (2.0 * th1 + 4.0 * th2)
-        e = (props[c, 2] * elastic + 0.5 * ea_l * elastic * elastic
-             + ei_l * (2.0 * th1 * th1 + 2.0 * th1 * th2 + 2.0 * th2 * th2))
         out[c, 0] = N
         out[c, 1] = M1
         out[c, 2] = M2
@@ -264,7 +239,7 @@ def local_coulomb(wnn, wnt, wtn, wtt, rn, rt, mu):
 def _solve_contacts(W, bvec, P, mu, n_act, tol, max_iter):
     """Non-smooth Gauss-Seidel over the active contacts. Returns the iterations used."""
     it = 0
-    for it in range(1, max_iter + 1):
+    for it in range(1, max_iter + 1):  # noqa: B007 (it: the count returned)
         change = 0.0
         size = 0.0
         for j in range(n_act):

@@ -83,7 +83,7 @@ class Block:
     # --- constructors -------------------------------------------------------------------
     @classmethod
     def from_dimensionless(cls, p: float, alpha: float, *, restitution: float | None = None,
-                           mass: float | None = None, g: float = STANDARD_GRAVITY) -> "Block":
+                           mass: float | None = None, g: float = STANDARD_GRAVITY) -> Block:
         """Block with frequency parameter ``p`` (rad/s) and slenderness ``alpha`` (rad).
 
         Inverts p^2 = 3 g / (4 R): R = 3 g / (4 p^2), b = R sin(alpha), h = R cos(alpha).
@@ -97,7 +97,7 @@ class Block:
 
     @classmethod
     def from_density(cls, b: float, h: float, density: float, thickness: float, *,
-                     restitution: float | None = None, g: float = STANDARD_GRAVITY) -> "Block":
+                     restitution: float | None = None, g: float = STANDARD_GRAVITY) -> Block:
         """Block of density (kg/m^3) and out-of-plane thickness (m): m = density * 2b * 2h * t."""
         require_positive("density (kg/m^3)", density)
         require_positive("thickness (m)", thickness)

@@ -30,14 +30,14 @@ halves is -dU/dtheta, U = sum(K_a delta_a^2 + K_l delta_l^2) / 2, shared by the 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq
 
-from .block import Block
 from ..core.collar import Collar
 from ..core.errors import require_range
+from .block import Block
+
 
 def validate_collars(collars, block: Block) -> tuple[Collar, ...]:
     """Check the collars against the column: each within its height, mass known."""

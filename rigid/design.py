@@ -25,9 +25,9 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from ..core.constants import STANDARD_GRAVITY
+from ..core.errors import require_non_negative
 from .block import Block
 from .collars import Collar
-from ..core.errors import require_non_negative
 
 
 @dataclass(frozen=True)
@@ -77,7 +77,7 @@ def design_collars(block: Block, collar: Collar, design_acceleration: float) -> 
     k_one = collar.lateral_stiffness(block.b)
     needed = 0 if k <= 0.0 else math.ceil(k / k_one)
     return CollarDesign(collar.yield_moment, d_y, th_y, k, k_one, needed,
-                        float(design_acceleration), 2.0 * block.mass,
+                        float(design_acceleration), 2.0 * block.require_mass("the collar design"),
                         th_y / block.alpha)
 
 

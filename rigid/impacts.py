@@ -94,10 +94,11 @@ def impact_ratios_from_peaks(t, theta, alpha: float, *, threshold_fraction: floa
             times.append(t[index])
             before.append(peaks[k])
             after.append(peaks[k + 1])
-    before, after = np.array(before), np.array(after)
+    peak_before, peak_after = np.array(before), np.array(after)
     energy = lambda peak: np.cos(alpha - np.minimum(peak, alpha)) - np.cos(alpha)  # noqa: E731
-    ratios = np.sqrt(energy(after) / energy(before)) if before.size else np.zeros(0)
-    return ImpactMeasure(np.array(times), before, after, ratios)
+    ratios = (np.sqrt(energy(peak_after) / energy(peak_before)) if peak_before.size
+              else np.zeros(0))
+    return ImpactMeasure(np.array(times), peak_before, peak_after, ratios)
 
 
 def impact_ratios_from_fit(t, theta, *, window: int = 4, threshold_fraction: float = 0.02):

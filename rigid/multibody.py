@@ -24,16 +24,24 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
+from ..core.errors import InputError, require_non_negative, require_positive, require_range
+from ..core.ground import (
+    NO_MOTION,
+    GroundMotion,
+    HarmonicPulse,
+    NoMotion,
+    Record,
+    kernel_tables,
+    require_motion,
+)
 from . import _multibody as K
 from .block import Block
 from .collars import validate_collars
-from ..core.ground import (NO_MOTION, GroundMotion, HarmonicPulse, NoMotion, Record,
-                           kernel_tables, require_motion)
 from .solve import CollarHistory, collar_state, motion_word, verdict
-from ..core.errors import InputError, require_non_negative, require_positive, require_range
 
 DEFAULT_FRICTION = 0.7          # as the FEM's ContactSettings
 STEPS_PER_ROCKING_TIME = 1000   # default step: (1/p) / 1000
@@ -315,7 +323,7 @@ class MultibodyResult:
         left = np.max(np.abs(self.theta[:, 0])) if self.theta.size else 0.0
         right = np.max(np.abs(self.theta[:, -1])) if self.theta.size else 0.0
         e = self.energies
-        out = {
+        out: dict[str, Any] = {
             "model": "multibody",
             "overturned": bool(self.overturned),
             "mode": self.mode,

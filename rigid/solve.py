@@ -19,15 +19,23 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
+from ..core.errors import InputError, require_positive, require_range
+from ..core.ground import (
+    NO_MOTION,
+    GroundMotion,
+    HarmonicPulse,
+    NoMotion,
+    Record,
+    kernel_tables,
+    require_motion,
+)
 from . import _kernels as K
 from .block import Block, check_model
-from .collars import (Collar, collar_kernel_constants, collar_response, validate_collars)
-from ..core.ground import (NO_MOTION, GroundMotion, HarmonicPulse, NoMotion, Record,
-                           kernel_tables, require_motion)
-from ..core.errors import InputError, require_positive, require_range
+from .collars import Collar, collar_kernel_constants, collar_response, validate_collars
 
 MODE_NAMES = {K.SAFE: "safe", K.AFTER_IMPACT: "after-impact", K.WITHOUT_IMPACT: "without-impact"}
 
@@ -111,7 +119,7 @@ class RockingResult:
 
     def summary(self) -> dict:
         """Plain-data summary (the CLI's ``--json`` object)."""
-        out = {
+        out: dict[str, Any] = {
             "overturned": bool(self.overturned),
             "mode": self.mode,
             "motion": motion_word(self.overturned, self.max_abs_theta, self.block.alpha),

@@ -1,10 +1,10 @@
-"""Overturning spectra (Zhang & Makris 2001 form): the response mode over a grid of pulse
-frequency ratios Omega/p and amplitude ratios a_p / a_uplift, with or without collars.
+"""Overturning spectra (Zhang & Makris 2001 form): the response mode over a grid of pulse frequency
+ratios Omega/p and amplitude ratios a_p / a_uplift, with or without collars.
 
-Each grid point is an independent pulse run from rest; the grid runs in parallel over the CPU
-cores (numba ``prange``). With collars, a second map tells where a collar reaches f_y (the
-elastic collar model holds only up to there). The linear model without collars uses the exact closed form, all other
-cases the DOPRI5 integrator with event location. A run stops as soon as its fate is certain:
+Each grid point is an independent pulse run from rest; the grid runs in parallel over the CPU cores
+(numba ``prange``). With collars, a second map tells where a collar reaches f_y (the elastic collar
+model holds only up to there). The linear model without collars uses the exact closed form, all
+other cases the DOPRI5 integrator with event location. A run stops as soon as its fate is certain:
 overturned, or (after the pulse) mechanical energy below the gravity barrier at |theta| = alpha.
 """
 
@@ -15,12 +15,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core.errors import InputError
+from ..core.ground import PULSE_KINDS
 from . import _kernels as K
 from .block import Block, check_model
 from .collars import collar_kernel_constants, collar_yield_rotation, validate_collars
-from ..core.ground import PULSE_KINDS
 from .solve import DEFAULT_ATOL, MODE_NAMES, kernel_block_constants
-from ..core.errors import InputError
 
 LAYOUT = "mode[i][j]: i indexes amplitude_ratios (rows), j indexes omega_ratios (columns)"
 

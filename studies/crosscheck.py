@@ -25,18 +25,23 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.errors import InputError, read_toml
 from ..core.ground import HarmonicPulse, NoMotion
 from ..fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide_count
 from ..rigid.impacts import half_cycles, impact_ratios_from_peaks
 from ..rigid.solve import rock
 from ..rigid.spectrum import overturning_spectrum
-
-from ..core.errors import InputError, read_toml
-
 from .fem_study import from_dict
+from .outcome import (
+    QUESTIONS,
+    criteria_answer,
+    fem_model,
+    limit_answer,
+    model_outcome,
+    not_assessed,
+    outcome,
+)
 from .output import read_csv, write_csv, write_json
-from .outcome import (QUESTIONS, criteria_answer, fem_model, limit_answer, model_outcome,
-                      not_assessed, outcome)
 from .sweep import run_cases
 
 NOT_APPLICABLE = "not applicable"
@@ -443,8 +448,8 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
                                                      multibody["overturned"])),
             "collars_yield": words["collars_yield"],
             "toe_crushes": words["toe_crushes"],
-            "rocks_as_one_block": NOT_APPLICABLE if None in (ratio, ratio_monolith) else
-            _word(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
+            "rocks_as_one_block": NOT_APPLICABLE if ratio is None or ratio_monolith is None
+            else _word(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
             "overturns_fem": fem["overturned_answer"],
         },
         "fem": fem,

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..rigid.design import design_chart, design_collars
-from ..core.ground import peak_acceleration
 from ..core.errors import read_toml
+from ..core.ground import peak_acceleration
+from ..rigid.design import design_chart, design_collars
 from .crosscheck import fem_case
 from .fem_study import from_dict
 from .outcome import fem_answers, fem_model, outcome

@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.ground import HarmonicPulse, Record
 from ..core.errors import InputError, read_toml
+from ..core.ground import HarmonicPulse, Record
 from .output import record_inputs, write_csv
 
 

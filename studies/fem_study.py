@@ -9,19 +9,28 @@ must reach the rocking half's uplift acceleration), files found relative to the 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..core.collar import Collar
+from ..core.errors import InputError, read_toml
+from ..core.ground import (
+    NO_MOTION,
+    GroundMotion,
+    HarmonicPulse,
+    NoMotion,
+    Record,
+    cosine_pulse,
+    read_record,
+    sine_pulse,
+)
 from ..fem.assembly import Stone
 from ..fem.model import ContactSettings
 from ..fem.solver import EDGE_TIME
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid.block import Block
-from ..core.collar import Collar
-from ..core.ground import (NO_MOTION, GroundMotion, HarmonicPulse, NoMotion, Record, cosine_pulse, read_record,
-                            sine_pulse)
-from ..core.errors import InputError, read_toml
 from . import schema
+
 
 @dataclass(frozen=True)
 class FemStudy:
@@ -164,6 +173,7 @@ def _vertical(ground: schema.Ground, horizontal, base: Path, source: str = "stud
     if ground.vertical_amplitude is None:
         return NO_MOTION
     period = ground.vertical_period
+    assert period is not None              # the schema asks for it with vertical_amplitude
     duration = ground.vertical_duration or (horizontal.end_time if horizontal.end_time > 0.0
                                             else period)
     return HarmonicPulse("sine", ground.vertical_amplitude, 2.0 * math.pi / period,
@@ -175,6 +185,7 @@ def _ground(ground: schema.Ground, block: Block, base: Path, source: str = "stud
     if ground.pulse == "none":
         return NoMotion()
     if ground.pulse == "record":
+        assert ground.record is not None       # the schema asks for it with pulse = "record"
         record = read_record(base / ground.record, g=block.g)
         speed = ground.time_scale or 1.0
         if speed != 1.0:                 # t -> t / time_scale: the record played faster

@@ -24,14 +24,15 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+from ..core.errors import InputError, read_toml
 from ..rigid.block import Block
 from ..rigid.impacts import impact_ratios_from_peaks
-from ..core.errors import InputError, read_toml
 from . import schema
 from .fem_study import from_dict
 from .outcome import none_assessed
 from .output import write_csv, write_json
 from .sweep import run_cases
+
 
 def with_defaults(data: dict) -> dict:
     """The study file's tables with this study's own defaults: [ground] pulse = "none" and

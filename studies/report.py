@@ -25,6 +25,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from markupsafe import Markup, escape  # noqa: E402
+from matplotlib.artist import Artist  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
@@ -100,7 +101,7 @@ def input_unit(table: str, key: str) -> tuple[str, float]:
     section: the schema's own unit where no other reads better."""
     from . import schema
     extra = schema.table_model(table).model_fields[key].json_schema_extra
-    si = extra.get("unit", "") if isinstance(extra, dict) else ""
+    si = str(extra.get("unit", "")) if isinstance(extra, dict) else ""
     shown = INPUT_UNITS_BY_KEY.get((table, key), INPUT_UNITS.get(si, si))
     return shown, DISPLAY_UNITS.get(shown, 1.0)
 
@@ -460,7 +461,7 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
     k = int(np.argmax(np.maximum(np.abs(fem_h["theta_left"]), np.abs(fem_h["theta_right"]))))
     t_peak = float(fem_h["t"][k])
     fig, ax = plt.subplots(figsize=(7.0, 6.4))
-    handles = []
+    handles: list[Artist] = []
     for b in np.unique(cell_body):
         polys = drawn[quads[cell_body == b]]
         colour = ("C0", "C1")[min(int(b), 1)]
@@ -509,8 +510,9 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
     """The study's pulse on the rigid overturning spectra: the SDOF half block with collars as a
     map and, where spectrum.json holds it (key ``multibody``), the rigid multibody model, the
     verdict's rigid reference, as a marker at each pulse of its coarser grid."""
-    from ..rigid.plotting import MODE_COLOURS, MODE_LABELS, grid_markers
     from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    from ..rigid.plotting import MODE_COLOURS, MODE_LABELS, grid_markers
     code = {"safe": 0, "after-impact": 1, "without-impact": 2}
     codes = np.array([[code[c] for c in row] for row in spectrum["mode"]])
     w = np.array(spectrum["omega_ratios"])
@@ -605,7 +607,7 @@ def _convergence_figure(out: Path, s: dict) -> dict:
     sizes = s["sizes"]
     columns = {"h": np.array(sizes)}
     fig, axes = plt.subplots(1, 3, figsize=(10, 3.6))
-    handles = {}                # one legend for the three panels, below them: what is drawn
+    handles: dict[str, Artist] = {}   # one legend for the three panels, below them: what is drawn
     for ax, (name, label, unit) in zip(axes, CONVERGENCE_QUANTITIES):
         c = s["convergence"][name]
         columns[name] = np.array(c["values"], dtype=float)
@@ -726,9 +728,10 @@ DESIGN_NUMBERS = [
 def write_spectrum_crosscheck_report(out: Path) -> Path:
     """Mode maps of the FEM, multibody and SDOF models side by side, where they disagree, and
     their overturning boundaries overlaid; every map also as CSV."""
-    from ..rigid.plotting import MODE_COLOURS, MODE_LABELS, grid_markers
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
+
+    from ..rigid.plotting import MODE_COLOURS, MODE_LABELS, grid_markers
 
     out = Path(out)
     s = json.loads((out / "summary.json").read_text())
@@ -752,7 +755,7 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
     norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5], cmap.N)
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.8), sharey=True)
     yields = np.array(s["collar_yield_fem"], dtype=bool)
-    marked = {}                 # a marker at each computed pulse of a coarse grid
+    marked: dict[str, Artist] = {}    # a marker at each computed pulse of a coarse grid
     for ax, (m, label) in zip(axes, models):
         ax.pcolormesh(w, a, maps[m], cmap=cmap, norm=norm, shading="nearest")
         marked.update((h.get_label(), h) for h in grid_markers(ax, w, a, maps[m]))

@@ -28,11 +28,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..rigid.impacts import half_cycles
 from ..core.errors import InputError, read_toml
+from ..fem.ensemble import NO, YES
+from ..rigid.impacts import half_cycles
 from . import schema
 from .fem_study import from_dict
-from ..fem.ensemble import NO, YES
 from .outcome import QUESTIONS, count_answer, grid_outcome, not_assessed, outcome
 from .output import write_json
 from .sweep import run_cases
@@ -66,7 +66,8 @@ def grid_of(data: dict, size: tuple[int, int] | None = None, record: bool = Fals
                          + f": use grid.{x_key}")
     x_range = getattr(grid, x_key) or DEFAULT_X_RANGE[x_key]
     points = grid.points if size is None else list(size)
-    return np.linspace(*x_range, points[0]), np.linspace(*grid.amplitude_ratios, points[1])
+    (x_low, x_high), (a_low, a_high) = x_range, grid.amplitude_ratios
+    return np.linspace(x_low, x_high, points[0]), np.linspace(a_low, a_high, points[1])
 
 
 def grid_point_case(case: dict, directory: str) -> dict:

@@ -20,9 +20,9 @@ import json
 import os
 import shutil
 import sys
+from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
-from typing import Callable
 
 from tqdm import tqdm
 
@@ -202,7 +202,7 @@ def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Pat
     keys = [c["key"] for c in cases]
     if len(set(keys)) != len(keys):
         raise ValueError("case keys must be unique")
-    file_hashes = {}
+    file_hashes: dict = {}
     inputs = {c["key"]: case_inputs(c, file_hashes) for c in cases}
     stale = stale_cases(cases, out, inputs)
     if stale and not force:
@@ -241,7 +241,8 @@ def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Pat
         bar.update(1)
 
     if scheduler:
-        from distributed import Client, as_completed as dask_completed
+        from distributed import Client
+        from distributed import as_completed as dask_completed
         with Client(scheduler) as client:
             futures = {client.submit(function, case, str(case_dir(out, case["key"])),
                                      pure=False): case for case in todo}

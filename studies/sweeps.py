@@ -17,12 +17,10 @@ import copy
 import time
 from pathlib import Path
 
-from ..fem.convergence import convergence_table
-
-from .crosscheck import fem_case, rigid_case
 from ..core.errors import read_toml
-
+from ..fem.convergence import convergence_table
 from . import schema
+from .crosscheck import fem_case, rigid_case
 from .fem_study import from_dict, rocking_alpha
 from .outcome import fem_answers, fem_model, model_outcome, outcome
 from .output import write_json

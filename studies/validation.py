@@ -11,15 +11,14 @@ from __future__ import annotations
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from ..rigid.block import Block
 from ..core.collar import Collar
-from ..rigid.block import pulse_from_ratios
+from ..rigid.block import Block, pulse_from_ratios
 from ..rigid.solve import rock
 from ..rigid.spectrum import overturning_spectrum
-
 from .output import write_csv, write_json
 
 ZHANG_MAKRIS = dict(p=2.14, alpha=0.25, restitution=0.9)
@@ -64,7 +63,7 @@ def zhang_makris_validation(out: Path, progress: bool = True) -> dict:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     block = zhang_makris_block()
-    summary = {"block": {"p": block.p, "alpha": block.alpha, "restitution": block.nu,
+    summary: dict[str, Any] = {"block": {"p": block.p, "alpha": block.alpha, "restitution": block.nu,
                          "b": block.b, "h": block.h},
                "omega_ratio": OMEGA_RATIO, "histories": {}}
     start = time.perf_counter()

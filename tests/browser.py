@@ -57,7 +57,7 @@ def assert_table_numbers_have_units(page_text: str) -> int:
         for row in rows[1:]:
             cells = re.findall(r"<t[hd]([^>]*)>(.*?)</t[hd]>", row, re.S)
             unit_cell = [c for attrs, c in cells if 'class="unit"' in attrs]
-            for j, (attrs, cell) in enumerate(cells):
+            for j, (_attrs, cell) in enumerate(cells):
                 spans = [shown for _, _, shown in SPAN.findall(cell)]
                 bare = re.sub(r"<[^>]+>", "", cell).replace("&times;", "").strip()
                 if len(spans) != 1 or not NUMBER.match(spans[0]) or bare != spans[0] and \

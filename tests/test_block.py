@@ -32,7 +32,8 @@ def test_uplift_acceleration_eq2_3():
 
 @pytest.mark.parametrize("ratio", [0.2, 0.5, 0.9])
 def test_time_to_vertical_is_corrected_eq13(ratio):
-    """Free linear rocking from rest at theta0 reaches theta = 0 after arccosh(1/(1-theta0/alpha))/p."""
+    """Free linear rocking from rest at theta0 reaches theta = 0 after
+    arccosh(1 / (1 - theta0 / alpha)) / p."""
     blk = Block.from_dimensionless(p=2.0, alpha=0.2)
     theta0 = ratio * blk.alpha
     p2, a = blk.p ** 2, blk.alpha

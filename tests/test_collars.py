@@ -5,14 +5,19 @@ import math
 import numpy as np
 import pytest
 
-from colonna.rigid import Block, Collar, InputError, rock, pulse_from_ratios
+from colonna.rigid import Block, Collar, InputError, pulse_from_ratios, rock
 from colonna.rigid import _kernels as K
-from colonna.rigid.collars import (collar_deformation, collar_deformation_from_positions,
-                           collar_response, collar_restoring_moment, collar_strain_energy,
-                           crack_face_overlap)
-from colonna.studies.schema import read_collars
-from colonna.rigid.design import design_collars, design_chart
+from colonna.rigid.collars import (
+    collar_deformation,
+    collar_deformation_from_positions,
+    collar_response,
+    collar_restoring_moment,
+    collar_strain_energy,
+    crack_face_overlap,
+)
+from colonna.rigid.design import design_chart, design_collars
 from colonna.rigid.solve import kernel_params
+from colonna.studies.schema import read_collars
 
 E, FY = 206e9, 235e6
 
@@ -68,7 +73,7 @@ def test_stress_hand_calculation():
     b, theta = 0.2, 0.01
     c = Collar(y=1.0, t=0.01, h=0.05, pretension=2e3)
     L = 4 * b
-    I, A, W = 0.01 * 0.05 ** 3 / 12, 0.01 * 0.05, 0.01 * 0.05 ** 2 / 6
+    I, A, W = 0.01 * 0.05 ** 3 / 12, 0.01 * 0.05, 0.01 * 0.05 ** 2 / 6  # noqa: E741 (the paper's I)
     d_l = 2 * b * math.sin(theta)
     d_a = 4 * b * (math.sqrt(1 + 0.25 * math.sin(theta) ** 2) - 1)
     N = 2e3 + E * A / L * d_a

@@ -3,9 +3,15 @@ stop on a run whose energy balance failed."""
 
 import pytest
 
-from colonna.fem.ensemble import (LANDING_DEPENDENT, band, decide, decide_count,
-                                  ensemble_summary, median_replica)
 from colonna.core.errors import InputError
+from colonna.fem.ensemble import (
+    LANDING_DEPENDENT,
+    band,
+    decide,
+    decide_count,
+    ensemble_summary,
+    median_replica,
+)
 
 
 def test_band_counts_missing_values_and_keeps_every_value():

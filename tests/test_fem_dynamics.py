@@ -244,9 +244,9 @@ def _first_impact_ratios(model, blk, tilt, replicas=8):
     """The velocity ratio at the first impact of a free release from ``tilt``, measured from
     the rotation peaks, for each replica of an ensemble: the landing is chaotic, so the ratio
     is a band (:func:`colonna.fem.ensemble.band`), not one number."""
+    from colonna.core.ground import NoMotion
     from colonna.fem.ensemble import band
     from colonna.fem.solver import run_ensemble
-    from colonna.core.ground import NoMotion
     from colonna.rigid.impacts import impact_ratios_from_peaks
     runs = run_ensemble(model, NoMotion(), 1.2, replicas, progress=False, output_interval=1e-3,
                         initial_tilt=tilt)

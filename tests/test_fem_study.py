@@ -2,15 +2,14 @@
 
 import json
 import math
-
 import re
 
 import pytest
+from tiny_study import TINY_STUDY
 
 from colonna.rigid import InputError, NoMotion
 from colonna.studies.cli import main
 from colonna.studies.fem_study import from_dict, load
-from tiny_study import TINY_STUDY
 
 TINY = TINY_STUDY.format(amplitude_ratio=2.0, duration=0.05)
 

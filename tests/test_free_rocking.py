@@ -3,8 +3,11 @@
 import json
 
 import pytest
-from browser import (assert_every_figure_drawn, assert_opens_with_the_outcome,
-                     assert_table_numbers_have_units)
+from browser import (
+    assert_every_figure_drawn,
+    assert_opens_with_the_outcome,
+    assert_table_numbers_have_units,
+)
 
 from colonna.studies.cli import main
 

@@ -5,8 +5,16 @@ import math
 import numpy as np
 import pytest
 
-from colonna.rigid import (InputError, NoMotion, Record, pulse_from_ratios, read_peer_at2, read_record,
-                   read_two_column, sine_pulse)
+from colonna.rigid import (
+    InputError,
+    NoMotion,
+    Record,
+    pulse_from_ratios,
+    read_peer_at2,
+    read_record,
+    read_two_column,
+    sine_pulse,
+)
 
 
 def test_sine_pulse_phase_makes_rocking_start_at_zero(zm_block):

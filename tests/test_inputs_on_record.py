@@ -11,19 +11,19 @@ SHA-256). And a vertical ground acceleration that lifts the column off the groun
 import hashlib
 import json
 import shutil
+import tomllib
 from pathlib import Path
 
 import pytest
-import tomllib
+from tiny_study import TINY_STUDY
 
 import colonna
-from colonna.fem.toe_stress import REFINEMENTS
 from colonna.core.errors import InputError
+from colonna.fem.toe_stress import REFINEMENTS
 from colonna.studies import sweep
 from colonna.studies.cli import main, resolve_study
 from colonna.studies.fem_study import from_dict
 from colonna.studies.output import record_inputs
-from tiny_study import TINY_STUDY
 
 # the smallest study there is: one short FEM run of the tiny column (a collar-design study)
 DESIGN = TINY_STUDY.format(amplitude_ratio=2.5, duration=0.1).replace(

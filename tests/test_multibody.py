@@ -5,11 +5,19 @@ import math
 import numpy as np
 import pytest
 
-from colonna.rigid import (Block, Collar, HarmonicPulse, InputError, NoMotion, Record,
-                           housner_restitution, pulse_from_ratios, rock)
+from colonna.rigid import (
+    Block,
+    Collar,
+    HarmonicPulse,
+    InputError,
+    NoMotion,
+    Record,
+    housner_restitution,
+    pulse_from_ratios,
+    rock,
+)
 from colonna.rigid import _multibody as K
-from colonna.rigid.multibody import (build_column, default_step, multibody_spectrum,
-                                     rock_multibody)
+from colonna.rigid.multibody import build_column, default_step, multibody_spectrum, rock_multibody
 
 STICK = 2.0          # a friction coefficient that forbids sliding of these blocks
 

@@ -13,8 +13,14 @@ import pytest
 
 from colonna.fem.ensemble import band
 from colonna.studies import crosscheck
-from colonna.studies.outcome import (QUESTIONS, criteria_answer, limit_answer, model_outcome,
-                                     not_assessed, outcome)
+from colonna.studies.outcome import (
+    QUESTIONS,
+    criteria_answer,
+    limit_answer,
+    model_outcome,
+    not_assessed,
+    outcome,
+)
 from colonna.studies.report import TEMPLATES, _num
 
 PAGE = TEMPLATES.from_string(

@@ -4,13 +4,13 @@ element, the energy balance with the plastic work, and the study keys."""
 import numpy as np
 import pytest
 
+from colonna.core.errors import InputError
+from colonna.core.ground import NoMotion
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model
 from colonna.fem.solver import run
 from colonna.meshes import column_mesh
 from colonna.rigid.collars import Collar
-from colonna.core.ground import NoMotion
-from colonna.core.errors import InputError
 
 
 def _pulled_apart(collar, duration=0.006, speed=0.4):
@@ -103,8 +103,8 @@ def test_multibody_rocking_with_plastic_collars_keeps_its_energy_balance():
     """A cracked column rocked hard enough to yield thin collars: plastic strain appears, the
     elastic run's collar would be past f_y, and the energy balance (plastic work counted as
     dissipated) closes to 1 %."""
-    from colonna.rigid.block import Block
     from colonna.core.ground import sine_pulse
+    from colonna.rigid.block import Block
     from colonna.rigid.multibody import rock_multibody
     half = Block(b=0.1125, h=2.0, mass=858.0)
     a_up = half.uplift_acceleration()

@@ -14,9 +14,9 @@ import pytest
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from browser import browser, check_report  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
-from browser import browser, check_report  # noqa: E402
 from colonna.studies.report import TEMPLATES, _figure, _image  # noqa: E402
 
 
@@ -408,9 +408,10 @@ def test_the_crosscheck_spectrum_holds_the_multibody_model_through_the_study_pul
     import json
     import tomllib
 
+    from tiny_study import TINY_STUDY
+
     from colonna.studies.crosscheck import spectrum_case
     from colonna.studies.report import _spectrum_figure
-    from tiny_study import TINY_STUDY
 
     study = tomllib.loads(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6))
     case = {"study": study, "source": str(tmp_path / "tiny.toml"), "base": str(tmp_path),

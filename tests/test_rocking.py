@@ -5,8 +5,8 @@ import math
 
 import numpy as np
 import pytest
-
 from reference import reference_rocking, sine_pulse_over_g
+
 from colonna.rigid import Block, Collar, InputError, NoMotion, Record, pulse_from_ratios, rock
 from colonna.rigid import _kernels as K
 from colonna.rigid.solve import kernel_params

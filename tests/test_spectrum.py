@@ -3,8 +3,8 @@ published Zhang & Makris / source-paper boundaries."""
 
 import numpy as np
 import pytest
-
 from reference import reference_rocking, sine_pulse_over_g
+
 from colonna.rigid import Collar, InputError, pulse_from_ratios
 from colonna.rigid.collars import collar_yield_rotation
 from colonna.rigid.spectrum import overturning_spectrum

@@ -8,8 +8,11 @@ import time
 from pathlib import Path
 
 import pytest
-from browser import (assert_every_figure_drawn, assert_opens_with_the_outcome,
-                     assert_table_numbers_have_units)
+from browser import (
+    assert_every_figure_drawn,
+    assert_opens_with_the_outcome,
+    assert_table_numbers_have_units,
+)
 
 from colonna.studies.cli import main
 from colonna.studies.spectrum_crosscheck import agreement

@@ -3,7 +3,6 @@ sweeps resume after an interruption, and the Dask path equals the local one."""
 
 import json
 import re
-import shutil
 import signal
 import subprocess
 import sys
@@ -13,16 +12,18 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from browser import (assert_every_figure_drawn, assert_opens_with_the_outcome,
-                     assert_report_says_what_summary_says,
-                     assert_table_numbers_have_units)
+from browser import (
+    assert_every_figure_drawn,
+    assert_opens_with_the_outcome,
+    assert_report_says_what_summary_says,
+    assert_table_numbers_have_units,
+)
+from tiny_study import TINY_STUDY
 
 from colonna.studies.cli import main
 from colonna.studies.driver import run_study_file
 from colonna.studies.fem_study import from_dict
 from colonna.studies.output import read_csv
-from colonna.studies.report import fmt
-from tiny_study import TINY_STUDY
 
 TINY = TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6)
 

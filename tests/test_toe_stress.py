@@ -7,6 +7,8 @@ import math
 import numpy as np
 import pytest
 
+from colonna.core.errors import InputError
+from colonna.core.ground import NoMotion, sine_pulse
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model, stable_time_step
 from colonna.fem.solver import run
@@ -15,8 +17,6 @@ from colonna.fem.transfer import transfer_contact, transfer_state
 from colonna.meshes import column_mesh
 from colonna.rigid.block import Block
 from colonna.rigid.collars import Collar
-from colonna.core.ground import NoMotion, sine_pulse
-from colonna.core.errors import InputError
 
 WIDTH, HEIGHT = 0.2, 1.0
 STONE = Stone(E=30e9, nu=0.2, density=2700.0, fc=100e6)
@@ -250,8 +250,8 @@ def test_refinement_restarts_under_the_vertical_motion_too():
     at a landing, so it is judged over 8 replicas: its median is 0.014 (one replica in eight
     reaches 0.14, as the landings' own scatter, 0.19, allows), and 0.07 if the windows are not
     shaken vertically."""
-    from colonna.fem.solver import run_ensemble
     from colonna.core.ground import HarmonicPulse
+    from colonna.fem.solver import run_ensemble
     pulse = _pulse()
     vertical = HarmonicPulse("sine", 0.5 * 9.81, 2.0 * pulse.omega, 0.0, pulse.duration)
     runs = run_ensemble(_model(_mesh()), pulse, 0.6, 8, output_interval=0.005,

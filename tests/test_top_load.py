@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from colonna.rigid.block import Block
+from colonna.core.errors import InputError
 from colonna.core.ground import NoMotion, sine_pulse
+from colonna.rigid.block import Block
 from colonna.rigid.multibody import rock_multibody
 from colonna.rigid.solve import rock
-from colonna.core.errors import InputError
 
 MASS = 500.0
 LOAD_RATIO = 1.5
@@ -145,11 +145,11 @@ def test_fem_static_state_carries_weight_and_top_load():
     solid column is in uniaxial stress, so the base pressure is (W + P) / A across the base
     (with friction the base holds the Poisson spread back and the pressure rises toward the
     edges)."""
+    from colonna.core.ground import NoMotion
     from colonna.fem.assembly import Stone
     from colonna.fem.model import ContactSettings, build_model
     from colonna.fem.solver import run, static_state
     from colonna.meshes import column_mesh
-    from colonna.core.ground import NoMotion
     width, height, thickness = 0.4, 2.0, 0.3
     stone = Stone()
     weight = stone.density * width * height * thickness * 9.81
@@ -172,11 +172,11 @@ def test_fem_static_state_carries_weight_and_top_load():
 def test_fem_column_with_a_top_load_rocks_like_the_rigid_block():
     """Released from half its theta_c, a stiff FEM column with a top load of twice its weight
     reaches the vertical when the rigid block with the same load does (1 %)."""
+    from colonna.core.ground import NoMotion
     from colonna.fem.assembly import Stone
     from colonna.fem.model import ContactSettings, build_model
     from colonna.fem.solver import run
     from colonna.meshes import column_mesh
-    from colonna.core.ground import NoMotion
     width, height, thickness = 0.4, 2.0, 0.3
     stone = Stone()
     weight = stone.density * width * height * thickness * 9.81

@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from colonna.rigid.block import Block
 from colonna.core.ground import NoMotion, Record, cosine_pulse
+from colonna.rigid.block import Block
 from colonna.rigid.multibody import rock_multibody
 from colonna.rigid.solve import rock
 
@@ -84,11 +84,11 @@ def test_fem_vertical_acceleration_loads_the_base_as_extra_weight():
     """The support accelerating upward at 0.5 g (reached over 50 ms, slow against the column's
     millisecond axial period) makes the base carry 1.5 W; the energy balance, with the work
     of the vertical ground motion, closes."""
+    from colonna.core.ground import NoMotion
     from colonna.fem.assembly import Stone
     from colonna.fem.model import ContactSettings, build_model
     from colonna.fem.solver import run
     from colonna.meshes import column_mesh
-    from colonna.core.ground import NoMotion
     width, height, thickness = 0.4, 2.0, 0.3
     stone = Stone()
     weight = stone.density * width * height * thickness * G

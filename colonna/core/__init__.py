@@ -1,6 +1,6 @@
 """The shared core: what the physics packages share and nothing that depends on them.
 
-* :mod:`colonna.core.errors`      input errors and range checks (one line naming the field and range);
+* :mod:`colonna.core.errors`      input errors and range checks (one line: field and range);
 * :mod:`colonna.core.constants`   g and the steel defaults;
 * :mod:`colonna.core.ground`      ground motions (pulses, records, no motion): one protocol,
   ``acceleration(t)``, ``end_time``, ``peak_acceleration``;

@@ -91,7 +91,7 @@ class Record:
     def acceleration(self, t):
         return np.interp(t, self.time, self.acceleration_values, left=0.0, right=0.0)
 
-    def scaled(self, factor: float) -> "Record":
+    def scaled(self, factor: float) -> Record:
         return Record(self.time, self.acceleration_values * float(factor), self.name)
 
     @property
@@ -169,7 +169,7 @@ def read_peer_at2(path, *, g: float = STANDARD_GRAVITY) -> Record:
     path = Path(path)
     text = _read_text(path)
     lines = text.splitlines()
-    for i, line in enumerate(lines[:10]):
+    for i, line in enumerate(lines[:10]):  # noqa: B007 (i: the header's line, after the loop)
         match = _AT2_HEADER.search(line)
         if match:
             npts = int(match.group("npts") or match.group("npts2"))
@@ -196,7 +196,7 @@ def read_two_column(path, *, units: str = "m/s2", g: float = STANDARD_GRAVITY) -
     path = Path(path)
     if units not in ("m/s2", "g"):
         raise InputError(f"units = {units!r} is not one of m/s2, g")
-    rows = []
+    rows: list[list[float]] = []
     for lineno, line in enumerate(_read_text(path).splitlines(), start=1):
         line = line.split("#", 1)[0].strip()
         if not line:
