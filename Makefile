@@ -1,20 +1,21 @@
 # colonna: two commands do all the set-up on a fresh machine.
 #   make demo   creates .venv, installs colonna, runs the default study, writes a report
 #   make test   creates .venv, installs colonna with test extras, runs the fast test suite
+#   make lint   ruff and mypy over the code (the same .venv)
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 OUT    ?= out
 
-.PHONY: demo validate test test-all bench clean browser
+.PHONY: demo validate test test-all lint bench clean browser
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	@# setuptools warns on every editable install of folders mapped to other package names
 	@# (rigid/ -> colonna.rigid), which this layout does on purpose: that one notice is hidden
-	PYTHONWARNINGS="ignore::UserWarning" $(BIN)/python -m pip install --quiet -e '.[test]'
+	PYTHONWARNINGS="ignore::UserWarning" $(BIN)/python -m pip install --quiet -e '.[test,lint]'
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -44,6 +45,12 @@ test: $(STAMP) browser
 
 test-all: $(STAMP) browser
 	$(BIN)/python -m pytest -q -m ""
+
+# ruff (lint + format check) and mypy, as configured in pyproject.toml; .ci/run runs it
+lint: $(STAMP)
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
+	$(BIN)/mypy
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_spectrum.py

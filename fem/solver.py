@@ -87,8 +87,8 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
         initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
         start_time: float = 0.0, initial_state: tuple | None = None,
         initial_contact: dict | None = None, vertical: GroundMotion = NO_MOTION) -> FemResult:
-    """Run the model under ``ground`` (a HarmonicPulse, Record or NoMotion of colonna.core.ground) for
-    ``duration`` seconds from gravity equilibrium. ``dt`` (s) may be set by hand but not above
+    """Run the model under ``ground`` (a HarmonicPulse, Record or NoMotion: colonna.core.ground)
+    for ``duration`` seconds from gravity equilibrium. ``dt`` (s) may be set by hand but not above
     the stable step (``check_dt=False`` lifts that guard, for tests of the estimate).
     ``initial_velocity``: nodal velocities (n_nodes, 2) added at t = 0. ``initial_tilt`` (rad,
     > 0 toward +x) and ``initial_angular_velocity`` (rad/s): the column released at t = 0 turned

@@ -7,7 +7,8 @@
     colonna study     cross-check study (FEM and rigid side by side) with an HTML report
     colonna validate  the Zhang & Makris validation block (make demo)
 
-Bad input ends with one line ``colonna: error: ...`` naming the parameter, exit status 2.
+Bad input ends with one line ``colonna: error: ...`` naming the parameter (a study file: one
+line for each of its errors, all at once), exit status 2.
 """
 
 from __future__ import annotations
@@ -21,15 +22,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..rigid.block import MODELS, Block
 from ..core.collar import Collar
-from .schema import read_collars
 from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_FY
-from ..core.ground import PULSE_KINDS, read_record
-from ..rigid.block import pulse_from_ratios
 from ..core.errors import InputError
-
+from ..core.ground import NO_MOTION, PULSE_KINDS, GroundMotion, read_record
+from ..rigid.block import MODELS, Block, pulse_from_ratios
 from .output import write_csv, write_json
+from .schema import read_collars
 
 
 class _Parser(argparse.ArgumentParser):
@@ -237,7 +236,7 @@ def _cmd_rigid(args) -> dict:
                              "(or give --record FILE)")
         ground = pulse_from_ratios(block, args.pulse, args.omega_ratio, args.amplitude_ratio,
                                    sdof_model)
-    vertical = None
+    vertical: GroundMotion = NO_MOTION
     if args.vertical_record is not None:
         vertical = read_record(args.vertical_record, g=block.g).scaled(args.vertical_scale)
     multibody = _multibody_options(args)
@@ -362,9 +361,8 @@ def resolve_study(name_or_path: str) -> Path:
 
 
 def _cmd_fem(args) -> dict:
-    from .fem_study import load, run_fem
-
     from ..fem import _kernels as fem_kernels
+    from .fem_study import load, run_fem
 
     study = load(resolve_study(args.study))
     _announce_compilation([fem_kernels.advance], "FEM kernels", 40)
@@ -531,7 +529,8 @@ def main(argv=None) -> int:
     try:
         summary = args.func(args)
     except InputError as exc:
-        print(f"colonna: error: {exc}", file=sys.stderr)
+        for line in str(exc).splitlines():        # a study file's errors: one line each
+            print(f"colonna: error: {line}", file=sys.stderr)
         return 2
     except OSError as exc:          # an output path that cannot be made or written
         where = exc.filename if exc.filename is not None else ""

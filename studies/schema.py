@@ -2,30 +2,42 @@
 place (pydantic v2). ``colonna schema`` prints it as JSON Schema for editors (e.g. Taplo /
 Even Better TOML) and ``colonna schema --markdown`` as the key list of docs/study-file.md.
 
-A study file is parsed by :func:`parse`; any error becomes one :class:`InputError` line naming
-the key path (``column.height``, ``collar[2].y``: collars counted from 1) and what is allowed.
-Ranges that depend on other keys (a collar within the column height, the mesh size within the
-width of a half) are checked here too; the ones that need the column's physics (a pulse above the
-uplift acceleration) are checked where the ground motion is built (:mod:`studies.fem_study`).
+A study file is parsed by :func:`parse`; its errors all come at once, as one :class:`InputError`
+of one line per error naming the key path (``column.height``, ``collar[2].y``: collars counted
+from 1) and what is allowed. Ranges that depend on other keys (a collar within the column height,
+the mesh size within the width of a half) are checked here too (each table's :meth:`Table.across`),
+also where another key failed; the ones that need the column's physics (a pulse above the uplift
+acceleration) are checked where the ground motion is built (:mod:`studies.fem_study`).
 """
 
 from __future__ import annotations
 
+import difflib
 import math
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, get_origin
 
-from pydantic import (BaseModel, ConfigDict, Field, TypeAdapter, ValidationError,
-                      field_validator, model_validator)
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    TypeAdapter,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
+from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_FY
+from ..core.errors import InputError, read_toml
 from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
-from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_FY
-from ..core.errors import InputError, read_toml
 
 G = STANDARD_GRAVITY        # m/s^2, the gravity of every study
 STUDY_KINDS = ("cross-check", "collar-design", "spectrum-crosscheck", "free-rocking",
                "mesh-convergence", "solid-vs-cracked", "zhang-makris")
+
+
+FAILED = object()   # in a table's view (Table.across): a key whose value failed its own check
 
 
 def quantity(unit: str, description: str, default: Any = None, **limits) -> Any:
@@ -38,6 +50,21 @@ class Table(BaseModel):
     a boolean is never a number)."""
 
     model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, frozen=True)
+
+    @staticmethod
+    def across(view: dict, given: set) -> list[tuple[str, tuple]]:
+        """The errors across keys of the table: (message, the key paths a "required" message
+        asks for), from its ``view`` (key -> value: its default where not given, FAILED where
+        it failed its own check; a check that reads a FAILED key is skipped) and the keys
+        ``given``."""
+        return []
+
+    @model_validator(mode="after")
+    def _across_keys(self):
+        found = self.across(self.model_dump(), self.model_fields_set)
+        if found:
+            raise ValueError("\n".join(message for message, _ in found))
+        return self
 
 
 class Column(Table):
@@ -81,11 +108,12 @@ class Collar(Table):
     Eh: float | None = quantity("Pa", "Hardening (tangent) modulus past f_y, below E; default "
                                 "0.01 E.", ge=0)
 
-    @model_validator(mode="after")
-    def _hardening_below_E(self):
-        if self.Eh is not None and not self.Eh < self.E:
-            raise ValueError(f"Eh = {self.Eh:g} Pa must be below E = {self.E:g} Pa")
-        return self
+    @staticmethod
+    def across(c: dict, given: set) -> list[tuple[str, tuple]]:
+        """The hardening modulus below E."""
+        if c["Eh"] is None or not _known(c["Eh"], c["E"]) or c["Eh"] < c["E"]:
+            return []
+        return [(f"Eh = {c['Eh']:g} Pa must be below E = {c['E']:g} Pa", ())]
 
 
 PULSE_PAIRS = (("amplitude", "amplitude_ratio"), ("period", "omega_ratio"))
@@ -138,38 +166,46 @@ class Ground(Table):
                              f"the ground: {size} must be below g = {G:g} m/s^2")
         return value
 
-    @model_validator(mode="after")
-    def _consistent(self):
-        given = {k for k in self.model_fields_set if getattr(self, k) is not None}
-        if self.pulse == "none":
-            _none_of(given, HORIZONTAL, "with pulse = 'none'")
-        elif self.pulse == "record":
+    @staticmethod
+    def across(g: dict, given: set) -> list[tuple[str, tuple]]:
+        """The keys that go with the pulse kind, and with a vertical harmonic or record."""
+        given = {k for k in given if g[k] is not None}       # a FAILED key is given
+        pulse, found = g["pulse"], []
+        if pulse == "none":
+            found += _none_of(given, HORIZONTAL, "with pulse = 'none'")
+        elif pulse == "record":
             if "record" not in given:
-                raise ValueError("ground.record (a file) is required with pulse = 'record'")
-            _none_of(given, ("amplitude", "amplitude_ratio", "period", "omega_ratio"),
-                     "with pulse = 'record' (use scale and time_scale)")
-        else:
-            _none_of(given, ("record", "scale", "time_scale"), f"with pulse = '{self.pulse}'")
+                found.append(("ground.record (a file) is required with pulse = 'record'",
+                              ("ground.record",)))
+            found += _none_of(given, ("amplitude", "amplitude_ratio", "period", "omega_ratio"),
+                              "with pulse = 'record' (use scale and time_scale)")
+        elif pulse is not FAILED:
+            found += _none_of(given, ("record", "scale", "time_scale"), f"with pulse = '{pulse}'")
             for pair in PULSE_PAIRS:
                 if len(given & set(pair)) > 1:
-                    raise ValueError(f"give only one of ground.{pair[0]} and ground.{pair[1]}")
+                    found.append((f"give only one of ground.{pair[0]} and ground.{pair[1]}", ()))
         vertical = {k for k in given if k.startswith("vertical_")}
         if "vertical_record" in vertical:
-            _none_of(vertical, ("vertical_amplitude", "vertical_period", "vertical_phase",
-                                "vertical_duration"), "with ground.vertical_record")
+            found += _none_of(vertical, ("vertical_amplitude", "vertical_period",
+                                         "vertical_phase", "vertical_duration"),
+                              "with ground.vertical_record")
         elif vertical:
             for key in ("vertical_amplitude", "vertical_period"):
                 if key not in vertical:
-                    raise ValueError(f"ground.{key} is required for a vertical harmonic (or "
-                                     "give ground.vertical_record)")
-            _none_of(vertical, ("vertical_scale",), "without ground.vertical_record")
-        return self
+                    found.append((f"ground.{key} is required for a vertical harmonic (or give "
+                                  "ground.vertical_record)", (f"ground.{key}",)))
+            found += _none_of(vertical, ("vertical_scale",), "without ground.vertical_record")
+        return found
 
 
-def _none_of(given: set, keys, why: str) -> None:
-    extra = sorted(given & set(keys))
-    if extra:
-        raise ValueError(f"ground.{extra[0]} has no meaning {why}")
+def _none_of(given: set, keys, why: str) -> list[tuple[str, tuple]]:
+    """One error for each key of ``keys`` given."""
+    return [(f"ground.{key} has no meaning {why}", ()) for key in sorted(given & set(keys))]
+
+
+def _known(*values) -> bool:
+    """Whether none of the values failed its own check (a check across keys may read them)."""
+    return all(value is not FAILED for value in values)
 
 
 class Contact(Table):
@@ -203,14 +239,15 @@ class Mesh(Table):
     file: str | None = Field(None, description="A quadrilateral mesh made elsewhere (e.g. "
                              "gmsh .msh), relative to the study file, instead of size/grading.")
 
-    @model_validator(mode="after")
-    def _powers_of_two(self):
-        value = self.toe_refinements
-        if value and (len(value) < 3 or value != [2 ** k for k in range(len(value))]
-                      or value[-1] > 16):
-            raise ValueError(f"mesh.toe_refinements = {value!r} must be [] or [1, 2, 4] or "
-                             "[1, 2, 4, 8] or [1, 2, 4, 8, 16]")
-        return self
+    @staticmethod
+    def across(m: dict, given: set) -> list[tuple[str, tuple]]:
+        """The toe refinements: powers of two from 1."""
+        value = m["toe_refinements"]
+        if _known(value) and value and (len(value) < 3 or value[-1] > 16
+                                        or value != [2 ** k for k in range(len(value))]):
+            return [(f"mesh.toe_refinements = {value!r} must be [] or [1, 2, 4] or "
+                     "[1, 2, 4, 8] or [1, 2, 4, 8, 16]", ())]
+        return []
 
 
 class Run(Table):
@@ -248,7 +285,8 @@ class StudyInfo(Table):
 
     name: str | None = Field(None, description="Name in reports; default the file name.")
     description: str | None = Field(None, description="Free text.")
-    kind: Literal[STUDY_KINDS] = Field("cross-check", description="Which study to run.")
+    kind: Literal[STUDY_KINDS] = Field(  # type: ignore[valid-type]
+        "cross-check", description="Which study to run.")
 
 
 def pair(default, description: str, unit: str = "-") -> Any:
@@ -269,14 +307,12 @@ class Grid(Table):
     points: list[Annotated[int, Field(ge=1)]] = pair(
         [6, 5], "Number of points along the first axis x number of amplitude ratios.")
 
-    @model_validator(mode="after")
-    def _ordered(self):
-        for key in ("omega_ratios", "amplitude_ratios", "time_scales"):
-            value = getattr(self, key)
-            if value is not None and not value[0] <= value[1]:
-                raise ValueError(f"grid.{key} = {value!r} must be [start, stop] with start <= "
-                                 "stop")
-        return self
+    @staticmethod
+    def across(g: dict, given: set) -> list[tuple[str, tuple]]:
+        """Each range [start, stop] with start <= stop."""
+        return [(f"grid.{key} = {g[key]!r} must be [start, stop] with start <= stop", ())
+                for key in ("omega_ratios", "amplitude_ratios", "time_scales")
+                if g[key] is not None and _known(g[key]) and not g[key][0] <= g[key][1]]
 
 
 class Convergence(Table):
@@ -288,11 +324,13 @@ class Convergence(Table):
     levels: int = quantity("-", "Number of meshes h, h/r, h/r^2, ... from mesh.size.", 3, ge=3)
     ratio: float = quantity("-", "Refinement ratio r between meshes.", 2.0, gt=1)
 
-    @model_validator(mode="after")
-    def _decreasing(self):
-        if self.sizes is not None and any(b >= a for a, b in zip(self.sizes, self.sizes[1:])):
-            raise ValueError(f"convergence.sizes = {self.sizes!r} must decrease")
-        return self
+    @staticmethod
+    def across(c: dict, given: set) -> list[tuple[str, tuple]]:
+        """The mesh sizes decreasing."""
+        sizes = c["sizes"]
+        if sizes is None or not _known(sizes) or all(b < a for a, b in zip(sizes, sizes[1:])):
+            return []
+        return [(f"convergence.sizes = {sizes!r} must decrease", ())]
 
 
 class FreeRocking(Table):
@@ -329,39 +367,53 @@ class StudyFile(Table):
     convergence: Convergence = Convergence()
     free_rocking: FreeRocking = FreeRocking()
 
-    @model_validator(mode="after")
-    def _fits_the_column(self):
-        c = self.column
+    @staticmethod
+    def across(s: dict, given: set) -> list[tuple[str, tuple]]:
+        """The tables against each other: a column and a ground motion given, the collars
+        within the column height, the mesh within the width of a half."""
+        kind = s["study"]["kind"] if isinstance(s["study"], dict) else FAILED
+        c, ground = s["column"], s["ground"]
+        found: list[tuple[str, tuple]] = []
         if c is None:
-            if self.study.kind != "zhang-makris":
-                raise ValueError("column.height is required: the study has no [column] table")
-            return self
-        if "ground" not in self.model_fields_set:
-            raise ValueError("the study has no [ground] table: give ground.pulse and, for a "
-                             "pulse, exactly one of ground.amplitude and "
-                             "ground.amplitude_ratio and one of ground.period and "
-                             "ground.omega_ratio")
-        ground = self.ground
-        if ground.pulse in ("sine", "cosine") and self.study.kind != "spectrum-crosscheck":
-            for pair in PULSE_PAIRS:        # (the spectrum cross-check's grid sets them)
-                if getattr(ground, pair[0]) is None and getattr(ground, pair[1]) is None:
-                    raise ValueError(f"give exactly one of ground.{pair[0]} and "
-                                     f"ground.{pair[1]} for a {ground.pulse} pulse")
-        for i, collar in enumerate(self.collar, start=1):
-            if collar.y > c.height:
-                raise ValueError(f"collar[{i}].y = {collar.y:g} m is outside the allowed range "
-                                 f"(0, {c.height:g}] m (the column height)")
-        half = c.width / (2.0 if c.cracked else 1.0)
+            if kind in (FAILED, "zhang-makris"):     # (a failed kind may need no column)
+                return []
+            found.append(("column.height is required: the study has no [column] table",
+                          ("column",)))
+        if "ground" not in given:
+            if kind is not FAILED:               # (a failed kind may be free-rocking: none)
+                found.append(("the study has no [ground] table: give ground.pulse and, for a "
+                              "pulse, exactly one of ground.amplitude and "
+                              "ground.amplitude_ratio and one of ground.period and "
+                              "ground.omega_ratio", ("ground",)))
+        elif (isinstance(ground, dict) and ground["pulse"] in ("sine", "cosine")
+              and kind not in (FAILED, "spectrum-crosscheck")):   # (its grid sets them)
+            for pair in PULSE_PAIRS:
+                if ground[pair[0]] is None and ground[pair[1]] is None:
+                    found.append((f"give exactly one of ground.{pair[0]} and ground.{pair[1]} "
+                                  f"for a {ground['pulse']} pulse",
+                                  tuple(f"ground.{key}" for key in pair)))
+        if not isinstance(c, dict):
+            return found
+        collars = s["collar"] if _known(s["collar"]) else []
+        for i, collar in enumerate(collars, start=1):
+            if _known(collar, c["height"]) and _known(collar["y"]) and collar["y"] > c["height"]:
+                found.append((f"collar[{i}].y = {collar['y']:g} m is outside the allowed range "
+                              f"(0, {c['height']:g}] m (the column height)", ()))
+        mesh = s["mesh"]
+        if not _known(c["width"], c["cracked"], mesh):
+            return found
+        half = c["width"] / (2.0 if c["cracked"] else 1.0)
         for key in ("size", "edge_length"):
-            value = getattr(self.mesh, key)
-            if value is not None and value > half:
-                raise ValueError(f"mesh.{key} = {value:g} m is outside the allowed range "
-                                 f"(0, {half:g}] m (the width of one half)")
-        return self
+            value = mesh[key]
+            if value is not None and _known(value) and value > half:
+                found.append((f"mesh.{key} = {value:g} m is outside the allowed range "
+                              f"(0, {half:g}] m (the width of one half)", ()))
+        return found
 
 
 def parse(data: dict, source: str = "study") -> StudyFile:
-    """The validated study, or an :class:`InputError` of one line naming the key."""
+    """The validated study, or an :class:`InputError` of one line per error, each naming its
+    key."""
     return _validate(StudyFile, data, source)
 
 
@@ -388,16 +440,86 @@ def parse_table(name: str, table, source: str = "study"):
                      within=(name,))
 
 
-def _validate(model: type[BaseModel], data, source: str, within: tuple = ()):
-    """``model`` validated from ``data``, or one :class:`InputError` line for the error to
-    report: an unknown key first (a misspelt key also leaves one missing). ``within``: the
-    key path of ``data`` in the study file."""
+def _validate(model: type[Table], data, source: str, within: tuple = ()):
+    """``model`` validated from ``data``, or an :class:`InputError` of one line per error
+    (:func:`_error_lines`). ``within``: the key path of ``data`` in the study file."""
     try:
         return model.model_validate(data)
     except ValidationError as exc:
-        error = min(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
-        raise InputError(f"{source}: {_one_line({**error, 'loc': (*within, *error['loc'])})}") \
-            from None
+        errors = exc.errors()
+    raise InputError("\n".join(f"{source}: {line}"
+                               for line in _error_lines(model, data, errors, within)))
+
+
+def _error_lines(model: type[Table], data, errors: list, within: tuple = ()) -> list[str]:
+    """Every error of ``data``, one line each: pydantic's (the first bad item of a list of
+    numbers only), then the checks across keys that it skipped because a key of their table
+    failed (:func:`_view`). A key reported missing where an unknown key of its table looks like
+    it is left out: the unknown key is its misspelling, one mistake."""
+    found, lists = [], set()           # (line, unknown key path, key paths it asks for)
+    for error in errors:
+        loc = tuple(p for p in (*within, *error["loc"]) if not str(p).startswith("function"))
+        if loc and isinstance(loc[-1], int) and _model_at(loc[:-1]) is None:
+            if loc[:-1] in lists:
+                continue
+            lists.add(loc[:-1])
+        line = _one_line({**error, "loc": loc})
+        unknown = _path(loc) if error["type"] == "extra_forbidden" else None
+        wanted = (_path(loc),) if error["type"] == "missing" else ()
+        where = error["type"] == "value_error" and loc and isinstance(loc[-1], int)
+        found += [(_in_table(loc, text) if where else text, unknown, wanted)
+                  for text in line.splitlines()]
+    if isinstance(data, dict):
+        skipped: list[tuple[tuple, str, tuple]] = []
+        _view(model, data, errors, (), skipped)
+        found += [(_in_table((*within, *loc), text), None, wanted)
+                  for loc, text, wanted in skipped]
+    unknown_keys = [key for _, key, _ in found if key]
+    return [text for text, _, wanted in found
+            if not any(_misspelt(key, unknown_keys) for key in wanted)]
+
+
+def _in_table(loc: tuple, text: str) -> str:
+    """A check's message, prefixed with its table where that is one of a list (``collar[2]``:
+    its message does not know which)."""
+    return f"{_path(loc)}: {text}" if loc and isinstance(loc[-1], int) else text
+
+
+def _misspelt(key: str, unknown: list[str]) -> bool:
+    """Whether an unknown key of the table of ``key`` looks like it (``heigth``, ``grund``)."""
+    table, _, name = key.rpartition(".")
+    return any(u.rpartition(".")[0] == table
+               and difflib.SequenceMatcher(None, u.rpartition(".")[2], name).ratio() >= 0.6
+               for u in unknown)
+
+
+def _view(model: type[Table], data: dict, errors: list, loc: tuple, skipped: list) -> dict:
+    """The table ``data`` at ``loc`` as far as it passed (:meth:`Table.across`): each key's
+    value, its default where not given, FAILED where it failed; a table within as its own
+    view. Pydantic checks a table across its keys only when each of them passed: for a table
+    where one failed, those checks run here, on the rest, into ``skipped``."""
+    view = {}
+    for name, field in model.model_fields.items():
+        here, inner = (*loc, name), _model_of(field.annotation)
+        many = get_origin(field.annotation) is list                   # [[collar]]
+        if name not in data:
+            value = FAILED if field.is_required() else field.get_default(
+                call_default_factory=True)
+            view[name] = value.model_dump() if isinstance(value, BaseModel) else value
+            continue
+        value = data[name]
+        if inner is not None and many and isinstance(value, list):
+            view[name] = [_view(inner, item, errors, (*here, i), skipped)
+                          if isinstance(item, dict) else FAILED for i, item in enumerate(value)]
+        elif inner is not None and not many and isinstance(value, dict):
+            view[name] = _view(inner, value, errors, here, skipped)
+        else:
+            failed = any(e["loc"][:len(here)] == here for e in errors)
+            view[name] = FAILED if failed else value
+    if any(len(e["loc"]) > len(loc) and e["loc"][:len(loc)] == loc for e in errors):
+        given = set(data) & set(model.model_fields)
+        skipped += [(loc, text, wanted) for text, wanted in model.across(view, given)]
+    return view
 
 
 def _path(loc) -> str:
@@ -438,11 +560,20 @@ def _model_at(loc) -> type[BaseModel] | None:
     return model
 
 
-def _model_of(annotation) -> type[BaseModel] | None:
-    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+def _model_of(annotation) -> type[Table]:
+    """The table model of a StudyFile field's annotation (a table, a list of them, or one or
+    None)."""
+    found = _find_model(annotation)
+    if found is None:
+        raise TypeError(f"{annotation!r} holds no table model")
+    return found
+
+
+def _find_model(annotation) -> type[Table] | None:
+    if isinstance(annotation, type) and issubclass(annotation, Table):
         return annotation
     for arg in getattr(annotation, "__args__", ()):
-        found = _model_of(arg)
+        found = _find_model(arg)
         if found is not None:
             return found
     return None
@@ -507,7 +638,7 @@ def _type_words(schema: dict) -> str:
     if kind in ("number", "integer") and not range_text(schema):
         return "any finite number" if kind == "number" else "any integer"
     return {"number": "a number", "integer": "an integer", "boolean": "true or false",
-            "string": "a text"}.get(kind, "a value")
+            "string": "a text"}.get(str(kind), "a value")
 
 
 def range_text(schema: dict) -> str:
@@ -540,7 +671,7 @@ def markdown() -> str:
     for name, field in StudyFile.model_fields.items():
         model = _model_of(field.annotation)
         header = f"[[{name}]]" if name == "collar" else f"[{name}]"
-        about = " ".join(model.__doc__.split()).split(": ", 1)[-1]
+        about = " ".join((model.__doc__ or "").split()).split(": ", 1)[-1]
         lines += [f"## {header}", "", about[0].upper() + about[1:], "",
                   "| key | allowed | unit | default | meaning |", "|---|---|---|---|---|"]
         for key, sub in model.model_fields.items():

@@ -302,14 +302,73 @@ def test_kernels_cached_reads_numba_cache(tmp_path):
     import subprocess
     import sys
 
-    code = ("import sys, numpy as np; from colonna.rigid import _multibody as K; "
+    code = ("import sys, numpy as np; from colonna.core import tables as K; "
             "from colonna.studies.cli import kernels_cached; "
-            "print(kernels_cached([K._table])); "
-            "K._table(0.5, np.array([0.0, 1.0]), np.array([0.0, 2.0])); "
-            "print(kernels_cached([K._table]))")
+            "print(kernels_cached([K.table_value])); "
+            "K.table_value(0.5, np.array([0.0, 1.0]), np.array([0.0, 2.0])); "
+            "print(kernels_cached([K.table_value]))")
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
     first = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                            text=True, check=True).stdout.split()
     second = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                             text=True, check=True).stdout.split()
     assert first == ["False", "True"] and second == ["True", "True"]
+
+
+# --- a study file's errors all at once ---------------------------------------------------------
+
+STUDY = """
+[study]
+name = "errors"
+{study}
+[column]
+height = 1.0
+width = {width}
+[[collar]]
+y = {y}
+t = 0.004
+h = 0.02
+{ground}
+[contact]
+{contact}
+[mesh]
+size = 0.05
+"""
+GROUND = "[ground]\namplitude_ratio = 2.0\nomega_ratio = 3.0"
+
+
+@pytest.mark.parametrize("command", ["study", "fem"])
+@pytest.mark.parametrize("keys, lines", [
+    # a column key out of range, an unknown key in [contact], a collar above the column
+    ({"width": -0.2, "y": 1.5, "contact": "frikshun = 0.5"},
+     ["column.width = -0.2 is not allowed: a number in (0, inf), m",
+      "unknown key contact.frikshun (allowed in [contact]: friction, penalty_factor, penalty, "
+      "damping, friction_filter)",
+      "collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)"]),
+    # no [ground] hides neither a collar above the column nor a key out of range
+    ({"y": 1.5, "ground": "", "contact": "friction = -1.0"},
+     ["contact.friction = -1.0 is not allowed: a number in [0, inf)",
+      "the study has no [ground] table: give ground.pulse and, for a pulse, exactly one of "
+      "ground.amplitude and ground.amplitude_ratio and one of ground.period and "
+      "ground.omega_ratio",
+      "collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)"]),
+    # an error in [study] (which says what to run) hides none in the other tables
+    ({"study": "kynd = 'cross-check'", "y": 1.5},
+     ["unknown key study.kynd (allowed in [study]: name, description, kind)",
+      "collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)"]),
+    # a single error: its one line, as ever
+    ({"y": 1.5}, ["collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column "
+                  "height)"]),
+])
+def test_every_error_of_a_study_file_one_line_each_nothing_written(capsys, tmp_path, command,
+                                                                   keys, lines):
+    """``colonna study`` and ``colonna fem``: all the study file's errors at once, one
+    ``colonna: error:`` line each naming its key, exit status 2, and no output folder."""
+    study = tmp_path / "errors.toml"
+    given = {"study": "", "width": 0.2, "ground": GROUND, "contact": "", **keys}
+    study.write_text(STUDY.format(**given))
+    out = tmp_path / "out"
+    code, printed, err = run(capsys, command, str(study), "--out", str(out))
+    assert code == 2 and printed == ""
+    assert err.splitlines() == [f"colonna: error: {study}: {line}" for line in lines]
+    assert not out.exists()

@@ -10,11 +10,12 @@ import tomllib
 from pathlib import Path
 
 import pytest
+from pydantic import ValidationError
 
+from colonna.core.errors import InputError
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings
 from colonna.rigid.collars import Collar
-from colonna.core.errors import InputError
 from colonna.studies import schema
 from colonna.studies.cli import main
 
@@ -103,7 +104,8 @@ def _with(table, **keys):
      ["exactly one of ground.amplitude and ground.amplitude_ratio for a cosine pulse"]),
     (_with("ground", record="a.AT2"), ["ground.record has no meaning with pulse = 'sine'"]),
     (_with("ground", vertical_amplitude=2.0), ["ground.vertical_period is required"]),
-    (_with("ground", vertical_amplitude=200.0), ["ground.vertical_amplitude = 200 m/s^2",
+    (_with("ground", vertical_amplitude=200.0, vertical_period=0.5),
+     ["ground.vertical_amplitude = 200 m/s^2",
                                                  "lifts the column off the ground",
                                                  "below g = 9.81 m/s^2"]),
     (_with("ground", pulse="square"), ["ground.pulse = 'square'", "'sine', 'cosine'"]),
@@ -159,9 +161,69 @@ def test_the_solvers_own_checks_have_the_schemas_ranges(model, table, required):
             given = {**required, key: inside}
             table(**given)
             model(**given)
-            with pytest.raises(Exception):
+            with pytest.raises(ValidationError):
                 table(**{**required, key: outside})
             with pytest.raises(InputError):
                 model(**{**required, key: outside})
             checked += 1
     assert checked >= 4
+
+
+# --- a study file's errors all at once, one line each ---------------------------------------------
+
+COLLAR = {"y": 1.0, "t": 0.01, "h": 0.05}
+
+
+@pytest.mark.parametrize("data, lines", [
+    # a key out of range, an unknown key and a collar above the column: three tables
+    ({**_with("column", width=-0.4), "stone": {"colour": 1}, "collar": [{**COLLAR, "y": 3.0}]},
+     ["column.width = -0.4", "unknown key stone.colour", "collar[1].y = 3 m"]),
+    # no [ground] no longer hides a collar above the column, nor a key out of range
+    ({"column": {"height": 2.0, "width": -0.4}, "collar": [{**COLLAR, "y": 3.0}]},
+     ["column.width = -0.4", "no [ground] table", "collar[1].y = 3 m"]),
+    # every key passes, three checks across tables fail
+    ({"column": BASE["column"], "collar": [{**COLLAR, "y": 3.0}], "mesh": {"size": 0.5}},
+     ["no [ground] table", "collar[1].y = 3 m", "mesh.size = 0.5 m"]),
+    # checks across the keys of a table where another key failed
+    (_with("ground", vertical_amplitude=200.0),
+     ["ground.vertical_amplitude = 200 m/s^2", "ground.vertical_period is required"]),
+    ({**BASE, "collar": [{**COLLAR, "t": -0.01, "Eh": 300e9}, {**COLLAR, "Eh": 300e9}]},
+     ["collar[1].t = -0.01", "collar[2]: Eh = 3e+11 Pa must be below E",
+      "collar[1]: Eh = 3e+11 Pa must be below E"]),
+    ({**_with("grid", omega_ratios=[8.0, 1.0], points=[0, 3]),
+      "convergence": {"sizes": [0.1, 0.2, 0.3], "levels": 2}},
+     ["grid.points[1] = 0", "convergence.levels = 2", "grid.omega_ratios = [8.0, 1.0]",
+      "convergence.sizes = [0.1, 0.2, 0.3] must decrease"]),
+    # a misspelt key is one mistake: the key it leaves missing is not reported again
+    ({**_with("stone", nu=0.6), "column": {"heigth": 2.0, "width": 0.4}},
+     ["unknown key column.heigth", "stone.nu = 0.6"]),
+    ({**_with("run", safety=2.0), "ground": {"amplitud": 2.0, "omega_ratio": 3.0}},
+     ["unknown key ground.amplitud", "run.safety = 2.0"]),
+    ({"grund": BASE["ground"], "column": {"height": 2.0, "width": 0.4},
+      "collar": [{**COLLAR, "y": 3.0}]}, ["unknown table grund", "collar[1].y = 3 m"]),
+    # ... but an unknown key unlike the missing one is another mistake
+    ({"column": {"height": 2.0, "colour": "red"}, "ground": BASE["ground"]},
+     ["column.width is required", "unknown key column.colour"]),
+    # one line for a list of numbers, at its first bad item
+    (_with("mesh", toe_refinements=[1.0, 2.0, 4.0]), ["mesh.toe_refinements[1] = 1.0"]),
+    # a kind that failed does not say what else is required
+    ({"study": {"kind": "wobble"}, "column": {"height": -2.0, "width": 0.4}},
+     ["study.kind = 'wobble'", "column.height = -2.0"]),
+])
+def test_every_error_of_a_study_file_comes_at_once_one_line_each(data, lines):
+    """Pydantic's errors first, in the order of the schema's tables, then the checks across keys
+    (also those of a table where a key failed, which pydantic skips)."""
+    with pytest.raises(InputError) as raised:
+        schema.parse(data, "s.toml")
+    printed = str(raised.value).split("\n")
+    assert len(printed) == len(lines), printed
+    for line, words in zip(printed, lines):
+        assert line.startswith("s.toml: ") and words in line, (words, printed)
+
+
+def test_a_table_checked_on_its_own_lists_its_errors_too():
+    with pytest.raises(InputError) as raised:
+        schema.parse_table("grid", {"omega_ratios": [8.0, 1.0], "points": [0, 3]}, "s.toml")
+    assert str(raised.value).split("\n") == [
+        "s.toml: grid.points[1] = 0 is not allowed: a list of 2 integers in [1, inf)",
+        "s.toml: grid.omega_ratios = [8.0, 1.0] must be [start, stop] with start <= stop"]
