@@ -500,7 +500,7 @@ def _view(model: type[Table], data: dict, errors: list, loc: tuple, skipped: lis
     where one failed, those checks run here, on the rest, into ``skipped``."""
     view = {}
     for name, field in model.model_fields.items():
-        here, inner = (*loc, name), _model_of(field.annotation)
+        here, inner = (*loc, name), _find_model(field.annotation)
         many = get_origin(field.annotation) is list                   # [[collar]]
         if name not in data:
             value = FAILED if field.is_required() else field.get_default(
@@ -553,7 +553,7 @@ def _model_at(loc) -> type[BaseModel] | None:
         if isinstance(part, int):
             continue
         field = model.model_fields.get(part)
-        inner = _model_of(field.annotation) if field else None
+        inner = _find_model(field.annotation) if field else None
         if inner is None:
             return None
         model = inner
@@ -589,7 +589,7 @@ def _field_at(loc):
 
 def describe(field) -> str:
     """What a key allows, in words: type, range and unit ('a number in (0, inf), m')."""
-    model = _model_of(field.annotation)
+    model = _find_model(field.annotation)
     if model is not None:
         return f"a table of the keys {', '.join(model.model_fields)}"
     text = _allowed(_field_schema(field))
