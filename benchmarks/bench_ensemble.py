@@ -26,8 +26,9 @@ STEPS = 4000
 
 def _seconds(model, study, replicas: int, duration: float) -> float:
     start = time.perf_counter()
-    run_ensemble(model, study.ground, duration, replicas, progress=False,
-                 output_interval=duration / 20)
+    run_ensemble(
+        model, study.ground, duration, replicas, progress=False, output_interval=duration / 20
+    )
     return time.perf_counter() - start
 
 
@@ -36,7 +37,7 @@ def main() -> None:
     model = build(study)
     dt = stable_time_step(model, study.safety).dt
     duration = STEPS * dt
-    for batch in (1, 4, 8, 16):                     # compilation, and a warm cache
+    for batch in (1, 4, 8, 16):  # compilation, and a warm cache
         _seconds(model, study, batch, 10 * dt)
     sizes = (1, 4, 8, 16)
     samples = {b: [] for b in sizes}
@@ -44,12 +45,16 @@ def main() -> None:
         for b in sizes:
             samples[b].append(_seconds(model, study, b, duration))
     wall = {b: float(np.median(v)) for b, v in samples.items()}
-    print(f"default column: {model.n_dofs} dofs, {STEPS} steps of {dt:.3g} s "
-          f"(the first {duration:.3f} s of the pulse)")
+    print(
+        f"default column: {model.n_dofs} dofs, {STEPS} steps of {dt:.3g} s "
+        f"(the first {duration:.3f} s of the pulse)"
+    )
     ratio = wall[8] / wall[1]
     print(f"one run               {wall[1]:7.2f} s")
-    print(f"ensemble of 8         {wall[8]:7.2f} s  = {ratio:.2f} x one run "
-          f"(target <= 3) {'ok' if ratio <= 3.0 else 'SLOWER THAN TARGET'}")
+    print(
+        f"ensemble of 8         {wall[8]:7.2f} s  = {ratio:.2f} x one run "
+        f"(target <= 3) {'ok' if ratio <= 3.0 else 'SLOWER THAN TARGET'}"
+    )
     print("states B   us per step and state   relative to B = 1")
     for b in sizes:
         per_state = wall[b] / (b * STEPS)

@@ -24,8 +24,9 @@ def main() -> None:
     A = model.stiffness.tocsr()
     x = np.random.default_rng(0).standard_normal(A.shape[0])
     from colonna.fem.model import stable_time_step
+
     dt = stable_time_step(model, study.safety).dt
-    run(model, study.ground, 1e-3, progress=False)          # compilation
+    run(model, study.ground, 1e-3, progress=False)  # compilation
     # interleave the two measurements and take medians: this machine's timings are noisy
     matvecs, per_steps = [], []
     steps = 5000
@@ -34,16 +35,19 @@ def main() -> None:
         for _ in range(2000):
             A @ x
         matvecs.append((time.perf_counter() - start) / 2000)
-        result = run(model, study.ground, steps * dt, progress=False,
-                     output_interval=steps * dt)
+        result = run(model, study.ground, steps * dt, progress=False, output_interval=steps * dt)
         per_steps.append(result.summary["wall_seconds"] / result.summary["steps"])
     matvec, per_step = float(np.median(matvecs)), float(np.median(per_steps))
     ratio = per_step / matvec
-    print(f"default column: {model.n_dofs} dofs, {A.nnz} stiffness non-zeros, "
-          f"{len(study.collars)} collars")
+    print(
+        f"default column: {model.n_dofs} dofs, {A.nnz} stiffness non-zeros, "
+        f"{len(study.collars)} collars"
+    )
     print(f"bare scipy mat-vec   {matvec * 1e6:8.1f} us")
-    print(f"one explicit step    {per_step * 1e6:8.1f} us  = {ratio:.2f} x mat-vec "
-          f"(target <= 2) {'ok' if ratio <= 2.0 else 'SLOWER THAN TARGET'}")
+    print(
+        f"one explicit step    {per_step * 1e6:8.1f} us  = {ratio:.2f} x mat-vec "
+        f"(target <= 2) {'ok' if ratio <= 2.0 else 'SLOWER THAN TARGET'}"
+    )
 
 
 if __name__ == "__main__":

@@ -30,10 +30,13 @@ def main() -> None:
         spec = overturning_spectrum(block, omegas, amplitudes, model=model)
         per = spec.seconds / spec.codes.size * 1e6
         verdict = "ok" if spec.seconds <= target else "SLOWER THAN TARGET"
-        print(f"{model:9s} free block: {spec.codes.size} pulses in {spec.seconds:6.2f} s "
-              f"({per:6.1f} us/pulse; target {target:g} s) {verdict}")
-    cracked = Block(b=block.b, h=block.h, mass=2700.0 * 4 * block.b * block.h * np.pi * block.b,
-                    restitution=0.9)
+        print(
+            f"{model:9s} free block: {spec.codes.size} pulses in {spec.seconds:6.2f} s "
+            f"({per:6.1f} us/pulse; target {target:g} s) {verdict}"
+        )
+    cracked = Block(
+        b=block.b, h=block.h, mass=2700.0 * 4 * block.b * block.h * np.pi * block.b, restitution=0.9
+    )
     collars = (Collar(y=0.5 * block.h, t=0.01, h=0.04), Collar(y=1.5 * block.h, t=0.01, h=0.04))
     for model in TARGETS:
         spec = overturning_spectrum(cracked, omegas, amplitudes, collars, model=model)

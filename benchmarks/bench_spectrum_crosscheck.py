@@ -32,34 +32,50 @@ def main() -> None:
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        timed(study, tmp / "warm", grid=(1, 1), workers=1)            # numba caches
+        timed(study, tmp / "warm", grid=(1, 1), workers=1)  # numba caches
         wall, full = timed(study, tmp / "full", workers=cores)
         per_point = full["fem_seconds_per_point"]
         points = full["points"]
         print(f"cores: {cores}")
-        print(f"FEM cost per grid point: {per_point:.1f} s (mean of {points}; the rigid models "
-              "add a few ms)")
+        print(
+            f"FEM cost per grid point: {per_point:.1f} s (mean of {points}; the rigid models "
+            "add a few ms)"
+        )
         print(f"shipped grid ({points} points) on {cores} local processes: {wall:.0f} s")
         from distributed import Client, LocalCluster
+
         times = {}
         for n in (1, 2):
-            with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                              dashboard_address=None) as cluster, Client(cluster):
-                times[n], _ = timed(study, tmp / f"dask{n}", grid=(2, 2),
-                                    scheduler=cluster.scheduler_address)
+            with (
+                LocalCluster(
+                    n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None
+                ) as cluster,
+                Client(cluster),
+            ):
+                times[n], _ = timed(
+                    study, tmp / f"dask{n}", grid=(2, 2), scheduler=cluster.scheduler_address
+                )
         speedup = times[1] / times[2]
         efficiency = speedup / 2.0
-        print(f"Dask, 4 points: 1 worker {times[1]:.1f} s, 2 workers {times[2]:.1f} s: speed-up "
-              f"{speedup:.2f}, efficiency {efficiency:.2f}")
+        print(
+            f"Dask, 4 points: 1 worker {times[1]:.1f} s, 2 workers {times[2]:.1f} s: speed-up "
+            f"{speedup:.2f}, efficiency {efficiency:.2f}"
+        )
         serial = per_point * points
-        longest = max(json.loads(p.read_text())["fem_seconds"]
-                      for p in (tmp / "full" / "cases").glob("*/result.json"))
+        longest = max(
+            json.loads(p.read_text())["fem_seconds"]
+            for p in (tmp / "full" / "cases").glob("*/result.json")
+        )
         t64 = max(longest, serial / (64 * efficiency))
-        print(f"64 cores, shipped grid: about {t64:.0f} s (its {points} points are fewer than "
-              f"the cores: the longest point, {longest:.0f} s, bounds it)")
+        print(
+            f"64 cores, shipped grid: about {t64:.0f} s (its {points} points are fewer than "
+            f"the cores: the longest point, {longest:.0f} s, bounds it)"
+        )
         n16 = 256
-        print(f"64 cores, a 16 x 16 grid: about {n16 * per_point / (64 * efficiency):.0f} s "
-              f"({n16} points x {per_point:.1f} s / (64 x {efficiency:.2f}))")
+        print(
+            f"64 cores, a 16 x 16 grid: about {n16 * per_point / (64 * efficiency):.0f} s "
+            f"({n16} points x {per_point:.1f} s / (64 x {efficiency:.2f}))"
+        )
 
 
 if __name__ == "__main__":

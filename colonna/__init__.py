@@ -25,8 +25,9 @@ import os as _os
 # sit inside it. Let ``colonna.rigid`` resolve in both.
 _here = _os.path.dirname(_os.path.abspath(__file__))
 _root = _os.path.dirname(_here)
-if (not _os.path.isdir(_os.path.join(_here, "rigid"))
-        and _os.path.isfile(_os.path.join(_root, "rigid", "__init__.py"))):
+if not _os.path.isdir(_os.path.join(_here, "rigid")) and _os.path.isfile(
+    _os.path.join(_root, "rigid", "__init__.py")
+):
     __path__.append(_root)  # noqa: F821 (the package's own search path)
 
 from .rigid import (  # noqa: E402
@@ -47,11 +48,27 @@ from .studies.schema import read_collars  # noqa: E402
 
 try:
     from importlib.metadata import PackageNotFoundError, version
+
     __version__ = version("colonna")
-except PackageNotFoundError:          # running from a source tree that is not installed
+except PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0+unknown"
 
-__all__ = ["Block", "Collar", "HarmonicPulse", "InputError", "MultibodyResult", "Record",
-           "RockingResult", "Spectrum", "__version__", "housner_restitution",
-           "multibody_spectrum", "overturning_spectrum", "pulse_from_ratios", "read_collars",
-           "read_record", "rock", "rock_multibody"]
+__all__ = [
+    "Block",
+    "Collar",
+    "HarmonicPulse",
+    "InputError",
+    "MultibodyResult",
+    "Record",
+    "RockingResult",
+    "Spectrum",
+    "__version__",
+    "housner_restitution",
+    "multibody_spectrum",
+    "overturning_spectrum",
+    "pulse_from_ratios",
+    "read_collars",
+    "read_record",
+    "rock",
+    "rock_multibody",
+]

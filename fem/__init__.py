@@ -10,5 +10,14 @@ from .assembly import Stone, assemble
 from .model import ContactSettings, Model, build_model, stable_time_step
 from .solver import FemResult, run, static_state
 
-__all__ = ["ContactSettings", "FemResult", "Model", "Stone", "assemble", "build_model", "run",
-           "stable_time_step", "static_state"]
+__all__ = [
+    "ContactSettings",
+    "FemResult",
+    "Model",
+    "Stone",
+    "assemble",
+    "build_model",
+    "run",
+    "stable_time_step",
+    "static_state",
+]

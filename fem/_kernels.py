@@ -64,7 +64,7 @@ def _penalty_contact(k, gap, vn, vt, kn, kt, cn, mu, dt, ft, normal_force, fn_fi
     cone = _filter(fn_filtered, k, fn, blend)
     trial, power = _coulomb(ft[k], kt[k], vt, dt, mu * cone)
     ft[k] = trial
-    power += (fn - fn_el) * (-vn)      # damping, or the clipped tensile part
+    power += (fn - fn_el) * (-vn)  # damping, or the clipped tensile part
     energy = 0.5 * kn[k] * gap * gap + 0.5 * trial * trial / kt[k]
     return fn, trial, energy, power
 
@@ -84,8 +84,9 @@ def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force, fn_filter
             normal_force[k] = 0.0
             fn_filtered[k] = 0.0
             continue
-        fn, trial, e, p = _penalty_contact(k, gap, v[2 * i + 1], v[2 * i], kn, kt, cn, mu, dt,
-                                           ft, normal_force, fn_filtered, blend)
+        fn, trial, e, p = _penalty_contact(
+            k, gap, v[2 * i + 1], v[2 * i], kn, kt, cn, mu, dt, ft, normal_force, fn_filtered, blend
+        )
         f[2 * i] += trial
         f[2 * i + 1] += fn
         energy += e
@@ -94,8 +95,24 @@ def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force, fn_filter
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
-def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, ft, f, normal_force,
-                  fn_filtered, blend):
+def crack_contact(
+    x,
+    v,
+    slaves,
+    masters,
+    outward_sign,
+    kn,
+    kt,
+    cn,
+    mu,
+    dt,
+    seg,
+    ft,
+    f,
+    normal_force,
+    fn_filtered,
+    blend,
+):
     """Node-to-segment contact of the slave face's nodes on the master face (ordered by height).
 
     outward_sign: +1 if the master face's outward normal is the segment direction turned
@@ -154,9 +171,21 @@ def crack_contact(x, v, slaves, masters, outward_sign, kn, kt, cn, mu, dt, seg, 
             continue
         rvx = v[2 * s] - ((1.0 - xi) * v[2 * a] + xi * v[2 * b])
         rvy = v[2 * s + 1] - ((1.0 - xi) * v[2 * a + 1] + xi * v[2 * b + 1])
-        fn, trial, e, p = _penalty_contact(k, gap, rvx * nx + rvy * ny, rvx * tx + rvy * ty,
-                                           kn, kt, cn, mu, dt, ft, normal_force, fn_filtered,
-                                           blend)
+        fn, trial, e, p = _penalty_contact(
+            k,
+            gap,
+            rvx * nx + rvy * ny,
+            rvx * tx + rvy * ty,
+            kn,
+            kt,
+            cn,
+            mu,
+            dt,
+            ft,
+            normal_force,
+            fn_filtered,
+            blend,
+        )
         energy += e
         power += p
         fx = fn * nx + trial * tx
@@ -205,8 +234,19 @@ def collar_forces(x, collars, props, out, f, state, commit):
         th2 = phi2 - beta
         work_before = state[c, 2]
         N, M1, M2, e, plastic_strain = frame_local_law(
-            length - props[c, 3], th1, th2, props[c, 0], props[c, 1], props[c, 2], props[c, 7],
-            props[c, 8], props[c, 9], state, c, commit)
+            length - props[c, 3],
+            th1,
+            th2,
+            props[c, 0],
+            props[c, 1],
+            props[c, 2],
+            props[c, 7],
+            props[c, 8],
+            props[c, 9],
+            state,
+            c,
+            commit,
+        )
         work += state[c, 2] - work_before
         out[c, 4] = plastic_strain
         out[c, 0] = N
@@ -250,8 +290,9 @@ def collar_forces(x, collars, props, out, f, state, commit):
 Stiffness = namedtuple("Stiffness", ["indptr", "indices", "blocks"])
 """The stone's stiffness in block-sparse-row form, 2 x 2 blocks (one block per node pair)."""
 
-Bodies = namedtuple("Bodies", ["X", "mass", "node_body", "centroid_ref", "gravity", "order",
-                               "offsets"])
+Bodies = namedtuple(
+    "Bodies", ["X", "mass", "node_body", "centroid_ref", "gravity", "order", "offsets"]
+)
 """Reference positions, lumped mass per dof, body of each node, body centroids (n_bodies, 2),
 gravity load per dof, and the nodes grouped by body: body b's nodes are
 order[offsets[b]:offsets[b + 1]]."""
@@ -334,7 +375,7 @@ def _edge_average(edge, r, base_fn):
             resultant += edge.weights[e, k] * base_fn[k]
         edge.sums[r, e] += resultant - edge.buffer[r, e, slot]
         edge.buffer[r, e, slot] = resultant
-        if slot == n_avg - 1:          # resum once per lap: no drift of the running sum
+        if slot == n_avg - 1:  # resum once per lap: no drift of the running sum
             edge.sums[r, e] = 0.0
             for j in range(n_avg):
                 edge.sums[r, e] += edge.buffer[r, e, j]
@@ -345,8 +386,25 @@ def _edge_average(edge, r, base_fn):
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
-def advance(n_steps, dt, mu, blend, stiffness, bodies, base, cracks, collars, ground_acc,
-            ground_vacc, motion, base_state, crack_states, collar_state, edge, scratch):
+def advance(
+    n_steps,
+    dt,
+    mu,
+    blend,
+    stiffness,
+    bodies,
+    base,
+    cracks,
+    collars,
+    ground_acc,
+    ground_vacc,
+    motion,
+    base_state,
+    crack_states,
+    collar_state,
+    edge,
+    scratch,
+):
     """n_steps of central differences (velocities at half steps, lumped mass) for every live
     state of a batch (motion.alive); a state whose motion stops being finite is stopped there.
 
@@ -365,8 +423,13 @@ def advance(n_steps, dt, mu, blend, stiffness, bodies, base, cracks, collars, gr
     fused pass that rotates the elastic forces back, updates velocity and position and loads
     gravity and ground force for the next step."""
     x, v, frames = motion.x, motion.v, motion.frames
-    X, mass, node_body, centroid_ref, gravity = (bodies.X, bodies.mass, bodies.node_body,
-                                                 bodies.centroid_ref, bodies.gravity)
+    X, mass, node_body, centroid_ref, gravity = (
+        bodies.X,
+        bodies.mass,
+        bodies.node_body,
+        bodies.centroid_ref,
+        bodies.gravity,
+    )
     u_loc, f_loc, f = scratch.u_loc, scratch.f_loc, scratch.f
     batch = x.shape[0]
     n_nodes = node_body.size
@@ -437,9 +500,21 @@ def advance(n_steps, dt, mu, blend, stiffness, bodies, base, cracks, collars, gr
             av = ground_vacc[r, step]
             xr, vr, fr = x[r], v[r], f[r]
             # contact and collars
-            e_base, p_base = base_contact(xr, vr, base.nodes, base.kn, base.kt, base.cn, mu, dt,
-                                          base_state.ft[r], fr, base_state.fn[r],
-                                          base_state.fc[r], blend)
+            e_base, p_base = base_contact(
+                xr,
+                vr,
+                base.nodes,
+                base.kn,
+                base.kt,
+                base.cn,
+                mu,
+                dt,
+                base_state.ft[r],
+                fr,
+                base_state.fn[r],
+                base_state.fc[r],
+                blend,
+            )
             _edge_average(edge, r, base_state.fn[r])
             e_crack = 0.0
             p_crack = 0.0
@@ -448,14 +523,35 @@ def advance(n_steps, dt, mu, blend, stiffness, bodies, base, cracks, collars, gr
                 if crack.nodes.size == 0:
                     continue
                 state = crack_states[p]
-                e1, p1 = crack_contact(xr, vr, crack.nodes, crack.masters, crack.sign,
-                                       crack.kn, crack.kt, crack.cn, mu, dt, state.seg[r],
-                                       state.ft[r], fr, state.fn[r], state.fc[r], blend)
+                e1, p1 = crack_contact(
+                    xr,
+                    vr,
+                    crack.nodes,
+                    crack.masters,
+                    crack.sign,
+                    crack.kn,
+                    crack.kt,
+                    crack.cn,
+                    mu,
+                    dt,
+                    state.seg[r],
+                    state.ft[r],
+                    fr,
+                    state.fn[r],
+                    state.fc[r],
+                    blend,
+                )
                 e_crack += e1
                 p_crack += p1
-            e_collar, w_plastic = collar_forces(xr, collars.nodes, collars.props,
-                                                collar_state.out[r], fr,
-                                                collar_state.plastic[r], True)
+            e_collar, w_plastic = collar_forces(
+                xr,
+                collars.nodes,
+                collars.props,
+                collar_state.out[r],
+                fr,
+                collar_state.plastic[r],
+                True,
+            )
             # fused: elastic forces back to the ground frame, update, next step's loads
             ag_next = ground_acc[r, step + 1] if step + 1 < n_steps else ag
             av_next = ground_vacc[r, step + 1] if step + 1 < n_steps else av

@@ -40,16 +40,16 @@ class Stone:
     @property
     def wave_speed(self) -> float:
         """Plane-stress dilatational wave speed sqrt(E / (rho (1 - nu^2))), m/s."""
-        return float(np.sqrt(self.E / (self.density * (1.0 - self.nu ** 2))))
+        return float(np.sqrt(self.E / (self.density * (1.0 - self.nu**2))))
 
 
 @dataclass
 class Assembly:
     """Matrices of the stone bodies (per unit of nothing: thickness included)."""
 
-    stiffness: sparse.csr_matrix      # N/m, (2n, 2n)
-    lumped_mass: np.ndarray           # kg, (2n,) row sums of the consistent mass
-    gravity: np.ndarray               # N, (2n,)
+    stiffness: sparse.csr_matrix  # N/m, (2n, 2n)
+    lumped_mass: np.ndarray  # kg, (2n,) row sums of the consistent mass
+    gravity: np.ndarray  # N, (2n,)
     basis: Basis
 
 
@@ -67,7 +67,9 @@ def _unit_downward(v, w):
     return -v[1]
 
 
-def assemble(mesh: ColumnMesh, stone: Stone, thickness: float, g: float = STANDARD_GRAVITY) -> Assembly:
+def assemble(
+    mesh: ColumnMesh, stone: Stone, thickness: float, g: float = STANDARD_GRAVITY
+) -> Assembly:
     """Plane-stress stiffness, row-sum lumped mass and gravity load for out-of-plane thickness t."""
     require_positive("column thickness (m)", thickness)
     basis = basis_of(mesh)
@@ -83,8 +85,8 @@ def element_stress(mesh: ColumnMesh, stone: Stone, displacement: np.ndarray) -> 
     """Plane-stress (sigma_xx, sigma_yy, sigma_xy) at each element centre (Pa), shape (3, n_cells).
 
     ``displacement`` is the interleaved dof vector (small strain, in the body's own frame)."""
-    p = mesh.points[:, mesh.cells]                       # (2, 4, n_cells)
-    u = displacement.reshape(-1, 2).T[:, mesh.cells]     # (2, 4, n_cells)
+    p = mesh.points[:, mesh.cells]  # (2, 4, n_cells)
+    u = displacement.reshape(-1, 2).T[:, mesh.cells]  # (2, 4, n_cells)
     # bilinear shape-function derivatives at the centre (xi = eta = 0)
     dN_dxi = np.array([-0.25, 0.25, 0.25, -0.25])
     dN_deta = np.array([-0.25, -0.25, 0.25, 0.25])
@@ -96,6 +98,11 @@ def element_stress(mesh: ColumnMesh, stone: Stone, displacement: np.ndarray) -> 
     exx = np.einsum("ke,ke->e", dN_dx, u[0])
     eyy = np.einsum("ke,ke->e", dN_dy, u[1])
     gxy = np.einsum("ke,ke->e", dN_dy, u[0]) + np.einsum("ke,ke->e", dN_dx, u[1])
-    factor = stone.E / (1.0 - stone.nu ** 2)
-    return np.vstack((factor * (exx + stone.nu * eyy), factor * (eyy + stone.nu * exx),
-                      stone.E / (2.0 * (1.0 + stone.nu)) * gxy))
+    factor = stone.E / (1.0 - stone.nu**2)
+    return np.vstack(
+        (
+            factor * (exx + stone.nu * eyy),
+            factor * (eyy + stone.nu * exx),
+            stone.E / (2.0 * (1.0 + stone.nu)) * gxy,
+        )
+    )

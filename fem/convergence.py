@@ -16,7 +16,7 @@ def observed_order(coarse: float, medium: float, fine: float, ratio: float = 2.0
 
 def richardson(medium: float, fine: float, order: float, ratio: float = 2.0) -> float:
     """Extrapolated value f3 + (f3 - f2) / (r^p - 1)."""
-    return fine + (fine - medium) / (ratio ** order - 1.0)
+    return fine + (fine - medium) / (ratio**order - 1.0)
 
 
 def convergence_table(values, ratio: float = 2.0) -> dict:
@@ -26,5 +26,9 @@ def convergence_table(values, ratio: float = 2.0) -> dict:
     p = observed_order(f1, f2, f3, ratio)
     estimate = richardson(f2, f3, p, ratio) if math.isfinite(p) else math.nan
     error = abs(f3 - estimate) / abs(estimate) if math.isfinite(estimate) and estimate else math.nan
-    return {"values": list(values), "observed_order": p, "richardson": estimate,
-            "fine_relative_error": error}
+    return {
+        "values": list(values),
+        "observed_order": p,
+        "richardson": estimate,
+        "fine_relative_error": error,
+    }

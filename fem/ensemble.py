@@ -22,9 +22,16 @@ import numpy as np
 
 # summary keys of a FEM run that depend on landings, reported as bands over the replicas
 LANDING_DEPENDENT = (
-    "max_abs_theta_left", "max_abs_theta_right", "collar_max_utilisation",
-    "collar_first_yield_time", "edge_stress_max", "edge_stress_ratio",
-    "collar_max_plastic_strain", "collar_plastic_work", "crack_slip_residual", "t_end",
+    "max_abs_theta_left",
+    "max_abs_theta_right",
+    "collar_max_utilisation",
+    "collar_first_yield_time",
+    "edge_stress_max",
+    "edge_stress_ratio",
+    "collar_max_plastic_strain",
+    "collar_plastic_work",
+    "crack_slip_residual",
+    "t_end",
     "energy_error_max",
 )
 
@@ -35,13 +42,22 @@ def band(values) -> dict:
     """Median, min and max of the finite numbers among ``values`` (None and NaN are counted as
     ``missing``: a collar that never yields has no first-yield time), and the values."""
     values = list(values)
-    finite = np.array([float(v) for v in values
-                       if v is not None and not isinstance(v, bool) and math.isfinite(float(v))])
-    out = {"n": len(values), "missing": len(values) - finite.size,
-           "values": [None if v is None else float(v) for v in values]}
+    finite = np.array(
+        [
+            float(v)
+            for v in values
+            if v is not None and not isinstance(v, bool) and math.isfinite(float(v))
+        ]
+    )
+    out = {
+        "n": len(values),
+        "missing": len(values) - finite.size,
+        "values": [None if v is None else float(v) for v in values],
+    }
     if finite.size:
-        out.update(median=float(np.median(finite)), min=float(finite.min()),
-                   max=float(finite.max()))
+        out.update(
+            median=float(np.median(finite)), min=float(finite.min()), max=float(finite.max())
+        )
     else:
         out.update(median=None, min=None, max=None)
     return out

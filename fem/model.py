@@ -58,19 +58,19 @@ class Model:
     contact: ContactSettings
     g: float
     stiffness: sparse.csr_matrix = field(repr=False)
-    mass: np.ndarray = field(repr=False)            # per dof
+    mass: np.ndarray = field(repr=False)  # per dof
     gravity: np.ndarray = field(repr=False)
-    X: np.ndarray = field(repr=False)               # reference positions, interleaved
-    centroid_ref: np.ndarray = field(repr=False)    # (n_bodies, 2)
+    X: np.ndarray = field(repr=False)  # reference positions, interleaved
+    centroid_ref: np.ndarray = field(repr=False)  # (n_bodies, 2)
     base_nodes: np.ndarray = field(repr=False)
     base_kn: np.ndarray = field(repr=False)
     base_kt: np.ndarray = field(repr=False)
     base_cn: np.ndarray = field(repr=False)
     base_tributary: np.ndarray = field(repr=False)
-    crack_passes: list = field(repr=False)          # [(slaves, masters, sign, kn, kt, cn)]
-    collar_nodes: np.ndarray = field(repr=False)    # (n_collars, 6) int
-    collar_props: np.ndarray = field(repr=False)    # (n_collars, 10), see _kernels
-    top_load: float = 0.0                           # N, on the capital (see build_model)
+    crack_passes: list = field(repr=False)  # [(slaves, masters, sign, kn, kt, cn)]
+    collar_nodes: np.ndarray = field(repr=False)  # (n_collars, 6) int
+    collar_props: np.ndarray = field(repr=False)  # (n_collars, 10), see _kernels
+    top_load: float = 0.0  # N, on the capital (see build_model)
 
     @property
     def n_dofs(self) -> int:
@@ -93,17 +93,24 @@ def _penalty(stone, thickness, contact, tributary, h):
     return contact.penalty_factor * stone.E * thickness * tributary / h
 
 
-def build_model(mesh: ColumnMesh, stone: Stone, thickness: float, collars=(),
-                contact: ContactSettings = ContactSettings(), g: float = STANDARD_GRAVITY,
-                top_load: float = 0.0) -> Model:
+def build_model(
+    mesh: ColumnMesh,
+    stone: Stone,
+    thickness: float,
+    collars=(),
+    contact: ContactSettings = ContactSettings(),
+    g: float = STANDARD_GRAVITY,
+    top_load: float = 0.0,
+) -> Model:
     """Assemble bodies, contact pairs and collar elements.
 
     ``top_load`` (N): a vertical dead load on the capital, spread as a uniform pressure
     top_load / (width x thickness) over the top faces and lumped to the top nodes by their
     tributary lengths. It joins gravity in the constant load vector ``gravity``, so the
     energy balance counts its work as potential energy."""
-    require_range("column top_load (N)", top_load, 0.0, math.inf, closed_low=True,
-                  range_text="[0, inf)")
+    require_range(
+        "column top_load (N)", top_load, 0.0, math.inf, closed_low=True, range_text="[0, inf)"
+    )
     a = assemble(mesh, stone, thickness, g)
     if top_load > 0.0:
         p = mesh.points
@@ -143,14 +150,31 @@ def build_model(mesh: ColumnMesh, stone: Stone, thickness: float, collars=(),
             h = np.abs(p[0, _node_beside(mesh, slaves)] - p[0, slaves])
             k = 0.5 * _penalty(stone, thickness, contact, trib, h)
             c = 2.0 * contact.damping * np.sqrt(k * node_mass[slaves])
-            passes.append((slaves.astype(np.int64), masters.astype(np.int64), sign, k, k.copy(),
-                           c))
+            passes.append((slaves.astype(np.int64), masters.astype(np.int64), sign, k, k.copy(), c))
 
     collar_nodes, collar_props = _collar_elements(mesh, collars)
-    return Model(mesh, stone, float(thickness), tuple(collars), contact, g, a.stiffness,
-                 a.lumped_mass, a.gravity, X, centroid_ref, base_nodes.astype(np.int64), base_kn,
-                 base_kn.copy(), base_cn, np.concatenate(trib_all), passes, collar_nodes,
-                 collar_props, float(top_load))
+    return Model(
+        mesh,
+        stone,
+        float(thickness),
+        tuple(collars),
+        contact,
+        g,
+        a.stiffness,
+        a.lumped_mass,
+        a.gravity,
+        X,
+        centroid_ref,
+        base_nodes.astype(np.int64),
+        base_kn,
+        base_kn.copy(),
+        base_cn,
+        np.concatenate(trib_all),
+        passes,
+        collar_nodes,
+        collar_props,
+        float(top_load),
+    )
 
 
 def _node_above(mesh: ColumnMesh, nodes: np.ndarray) -> np.ndarray:
@@ -183,12 +207,14 @@ def _collar_elements(mesh: ColumnMesh, collars):
     props = np.zeros((len(collars), 10))
     if not collars:
         return nodes, props
-    faces = mesh.outer_nodes        # left and right outer faces (of one body if solid)
+    faces = mesh.outer_nodes  # left and right outer faces (of one body if solid)
     p = mesh.points
     for c, collar in enumerate(collars):
         if not 0.0 < collar.y <= mesh.height:
-            raise InputError(f"collar {c + 1} y = {collar.y:g} m is outside the column height "
-                             f"(0, {mesh.height:g}]")
+            raise InputError(
+                f"collar {c + 1} y = {collar.y:g} m is outside the column height "
+                f"(0, {mesh.height:g}]"
+            )
         row = []
         for face in faces:
             k = int(np.argmin(np.abs(p[1, face] - collar.y)))
@@ -206,9 +232,18 @@ def _collar_elements(mesh: ColumnMesh, collars):
         for side in range(2):
             below, above = row[1 + 3 * side], row[2 + 3 * side]
             angles.append(math.atan2(p[1, above] - p[1, below], p[0, above] - p[0, below]))
-        props[c] = (ea_l, ei_l, collar.pretension, L0, math.atan2(chord[1], chord[0]),
-                    angles[0], angles[1], collar.fy * collar.area if collar.plastic else 0.0,
-                    collar.E * collar.area, collar.plastic_modulus * collar.area)
+        props[c] = (
+            ea_l,
+            ei_l,
+            collar.pretension,
+            L0,
+            math.atan2(chord[1], chord[0]),
+            angles[0],
+            angles[1],
+            collar.fy * collar.area if collar.plastic else 0.0,
+            collar.E * collar.area,
+            collar.plastic_modulus * collar.area,
+        )
     return nodes, props
 
 
@@ -216,13 +251,14 @@ def _collar_elements(mesh: ColumnMesh, collars):
 # linearised stiffness and the stable time step
 # ------------------------------------------------------------------------------------------
 
+
 def contact_stiffness(model: Model, tangential_scale: float = 1.0) -> sparse.csr_matrix:
     """Linearised stiffness of the contact springs in the reference configuration (all closed);
     the tangential springs scaled by ``tangential_scale``."""
     n = model.n_dofs
     rows, cols, vals = [], [], []
 
-    def spring(i, j, k):      # dof i to dof j (j < 0: to the ground)
+    def spring(i, j, k):  # dof i to dof j (j < 0: to the ground)
         rows.append(i), cols.append(i), vals.append(k)
         if j >= 0:
             rows.extend([j, i, j]), cols.extend([j, j, i]), vals.extend([k, -k, -k])
@@ -232,7 +268,7 @@ def contact_stiffness(model: Model, tangential_scale: float = 1.0) -> sparse.csr
         spring(2 * node, -1, tangential_scale * ktt)
     for slaves, masters, _sign, knn, ktt, _ in model.crack_passes:
         partners = coincident_nodes(model.mesh, slaves, masters)
-        for s, m_, k1, k2 in zip(slaves, partners, knn, ktt):   # faces coincide at rest
+        for s, m_, k1, k2 in zip(slaves, partners, knn, ktt):  # faces coincide at rest
             spring(2 * s, 2 * m_, k1)
             spring(2 * s + 1, 2 * m_ + 1, tangential_scale * k2)
     return sparse.csr_matrix((vals, (rows, cols)), shape=(n, n))
@@ -249,8 +285,9 @@ def collar_stiffness(model: Model, h: float = 1e-7) -> sparse.csr_matrix:
     n = model.n_dofs
     if model.collar_nodes.shape[0] == 0:
         return sparse.csr_matrix((n, n))
-    dofs = np.unique(np.concatenate([2 * model.collar_nodes.ravel(),
-                                     2 * model.collar_nodes.ravel() + 1]))
+    dofs = np.unique(
+        np.concatenate([2 * model.collar_nodes.ravel(), 2 * model.collar_nodes.ravel() + 1])
+    )
     x = model.X.copy()
     out = np.zeros((model.collar_nodes.shape[0], 5))
     state = np.zeros((model.collar_nodes.shape[0], 3))
@@ -275,8 +312,7 @@ def max_frequency(stiffness: sparse.spmatrix, mass: np.ndarray) -> float:
     scale = sparse.diags(1.0 / np.sqrt(mass))
     A = (scale @ stiffness @ scale).tocsr()
     # a fixed start vector keeps dt reproducible to the last digit (rocking is chaotic)
-    lam = eigsh(A, k=1, which="LA", return_eigenvectors=False, tol=1e-8,
-                v0=np.ones(A.shape[0]))[0]
+    lam = eigsh(A, k=1, which="LA", return_eigenvectors=False, tol=1e-8, v0=np.ones(A.shape[0]))[0]
     return float(math.sqrt(max(lam, 0.0)))
 
 
@@ -311,5 +347,5 @@ def stable_time_step(model: Model, safety: float = 0.9) -> StableStep:
     require_range("run safety (time-step safety factor)", safety, 0.0, 1.0, closed_high=True)
     w_el = max_frequency(model.stiffness, model.mass)
     w_springs = max_frequency(contact_stiffness(model) + collar_stiffness(model), model.mass)
-    w_bound = math.sqrt(w_el ** 2 + w_springs ** 2)
+    w_bound = math.sqrt(w_el**2 + w_springs**2)
     return StableStep(2.0 / w_el, 2.0 / w_bound, safety, model.contact.damping)

@@ -26,8 +26,12 @@ def elastic_displacement(model, u: np.ndarray) -> np.ndarray:
     (n_nodes, 2), m. u minus it is the bodies' rigid motion."""
     local, angle = _split_rigid_motion(model, u)
     cs, sn = np.cos(angle)[:, None], np.sin(angle)[:, None]
-    return np.column_stack((cs[:, 0] * local[:, 0] - sn[:, 0] * local[:, 1],
-                            sn[:, 0] * local[:, 0] + cs[:, 0] * local[:, 1]))
+    return np.column_stack(
+        (
+            cs[:, 0] * local[:, 0] - sn[:, 0] * local[:, 1],
+            sn[:, 0] * local[:, 0] + cs[:, 0] * local[:, 1],
+        )
+    )
 
 
 def _split_rigid_motion(model, u):
@@ -42,8 +46,10 @@ def _split_rigid_motion(model, u):
         P = X[on] - model.centroid_ref[b]
         c = (x[on] * m[on, None]).sum(axis=0) / m[on].sum()
         Q = x[on] - c
-        phi = np.arctan2((m[on] * (P[:, 0] * Q[:, 1] - P[:, 1] * Q[:, 0])).sum(),
-                         (m[on] * (P * Q).sum(axis=1)).sum())
+        phi = np.arctan2(
+            (m[on] * (P[:, 0] * Q[:, 1] - P[:, 1] * Q[:, 0])).sum(),
+            (m[on] * (P * Q).sum(axis=1)).sum(),
+        )
         cs, sn = np.cos(phi), np.sin(phi)
         out[on, 0] = cs * Q[:, 0] + sn * Q[:, 1] - P[:, 0]
         out[on, 1] = -sn * Q[:, 0] + cs * Q[:, 1] - P[:, 1]
@@ -67,8 +73,13 @@ def stress_fields(model, u: np.ndarray) -> dict:
     centre = 0.5 * (s[0] + s[1])
     radius = np.hypot(0.5 * (s[0] - s[1]), s[2])
     minimum = centre - radius
-    return {"sigma_xx": s[0], "sigma_yy": s[1], "sigma_xy": s[2],
-            "sigma_min_principal": minimum, "compression_over_fc": -minimum / model.stone.fc}
+    return {
+        "sigma_xx": s[0],
+        "sigma_yy": s[1],
+        "sigma_xy": s[2],
+        "sigma_min_principal": minimum,
+        "compression_over_fc": -minimum / model.stone.fc,
+    }
 
 
 def _json_safe(value):
@@ -94,12 +105,19 @@ def write_outputs(result, out: Path) -> None:
     model = result.model
     for name, k in (("initial", 0), ("peak_rotation", peak), ("final", len(frames) - 1)):
         t, u = frames[k]
-        write(out / f"fields_{name}.vtu", mesh,
-              point_data={"displacement": u, "elastic_displacement": elastic_displacement(model, u),
-                          "collar_end": collar_end_marks(model)},
-              cell_data=stress_fields(model, u))
-    step = max(1, len(frames) // 60)      # inline XML: keep the series a few MB
+        write(
+            out / f"fields_{name}.vtu",
+            mesh,
+            point_data={
+                "displacement": u,
+                "elastic_displacement": elastic_displacement(model, u),
+                "collar_end": collar_end_marks(model),
+            },
+            cell_data=stress_fields(model, u),
+        )
+    step = max(1, len(frames) // 60)  # inline XML: keep the series a few MB
     chosen = frames[::step]
-    write_time_series(out / "fields.xdmf", mesh, [t for t, _ in chosen],
-                      lambda k: {"displacement": chosen[k][1]})
+    write_time_series(
+        out / "fields.xdmf", mesh, [t for t, _ in chosen], lambda k: {"displacement": chosen[k][1]}
+    )
     write_summary(out / "summary.json", result.summary)

@@ -37,12 +37,12 @@ from ..core.ground import NO_MOTION, GroundMotion, require_motion
 from . import _kernels as K
 from .model import Model, coincident_nodes, collar_stiffness, contact_stiffness, stable_time_step
 
-EDGE_TIME = 2.5e-4   # s: default averaging time of the toe stress (see run)
+EDGE_TIME = 2.5e-4  # s: default averaging time of the toe stress (see run)
 # energy balance error (relative to the energy scale, see the module) past which a run is
 # unreliable; a correct run closes to about 1e-2 (tests), undamped frictionless penalty
 # contact gains tens of per cent
 ENERGY_ERROR_LIMIT = 0.05
-REPLICAS = 8         # default size of an ensemble (run_ensemble; [run] replicas)
+REPLICAS = 8  # default size of an ensemble (run_ensemble; [run] replicas)
 # replicas start from positions moved by this fraction of the column height (standard normal
 # offsets): far below anything physical, far above the last bit of a position
 REPLICA_PERTURBATION = 1e-12
@@ -52,9 +52,9 @@ REPLICA_PERTURBATION = 1e-12
 class FemResult:
     history: dict = field(repr=False)
     summary: dict
-    displacement_frames: list = field(repr=False)     # (t, u (n_nodes, 2)) at output times
+    displacement_frames: list = field(repr=False)  # (t, u (n_nodes, 2)) at output times
     model: Model = field(repr=False)
-    velocity_frames: list = field(default_factory=list, repr=False)   # (t, v (n_nodes, 2))
+    velocity_frames: list = field(default_factory=list, repr=False)  # (t, v (n_nodes, 2))
     # (t, contact state: dict of base_ft, base_fc, crack_ft, crack_fc; see run's initial_contact)
     contact_frames: list = field(default_factory=list, repr=False)
 
@@ -68,8 +68,15 @@ def static_state(model: Model):
     total = (model.stiffness + springs + collar_stiffness(model)).tocsc()
     f = model.gravity.copy()
     out = np.zeros((model.collar_nodes.shape[0], 5))
-    K.collar_forces(model.X.copy(), model.collar_nodes, model.collar_props, out, f,   # pretension
-                    np.zeros((model.collar_nodes.shape[0], 3)), False)
+    K.collar_forces(
+        model.X.copy(),
+        model.collar_nodes,
+        model.collar_props,
+        out,
+        f,  # pretension
+        np.zeros((model.collar_nodes.shape[0], 3)),
+        False,
+    )
     u = spsolve(total, f)
     base_ft = -tangential * model.base_kt * u[2 * model.base_nodes]
     crack_ft = []
@@ -79,14 +86,28 @@ def static_state(model: Model):
     return u, base_ft, crack_ft
 
 
-def run(model: Model, ground, duration: float, *, dt: float | None = None, safety: float = 0.9,
-        output_interval: float | None = None, edge_length: float | None = None,
-        edge_time: float | None = None,
-        out_dir=None, progress: bool = True, stop_on_overturn: bool = True,
-        initial_velocity: np.ndarray | None = None, check_dt: bool = True,
-        initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
-        start_time: float = 0.0, initial_state: tuple | None = None,
-        initial_contact: dict | None = None, vertical: GroundMotion = NO_MOTION) -> FemResult:
+def run(
+    model: Model,
+    ground,
+    duration: float,
+    *,
+    dt: float | None = None,
+    safety: float = 0.9,
+    output_interval: float | None = None,
+    edge_length: float | None = None,
+    edge_time: float | None = None,
+    out_dir=None,
+    progress: bool = True,
+    stop_on_overturn: bool = True,
+    initial_velocity: np.ndarray | None = None,
+    check_dt: bool = True,
+    initial_tilt: float = 0.0,
+    initial_angular_velocity: float = 0.0,
+    start_time: float = 0.0,
+    initial_state: tuple | None = None,
+    initial_contact: dict | None = None,
+    vertical: GroundMotion = NO_MOTION,
+) -> FemResult:
     """Run the model under ``ground`` (a HarmonicPulse, Record or NoMotion: colonna.core.ground)
     for ``duration`` seconds from gravity equilibrium. ``dt`` (s) may be set by hand but not above
     the stable step (``check_dt=False`` lifts that guard, for tests of the estimate).
@@ -107,18 +128,32 @@ def run(model: Model, ground, duration: float, *, dt: float | None = None, safet
 
     One run is a batch of one: :func:`run_ensemble` runs replicas of it, :func:`run_batch`
     other ground motions on the same model, each through the same compiled step."""
-    return run_batch(model, [ground], duration, verticals=[vertical], dt=dt, safety=safety,
-                     output_interval=output_interval, edge_length=edge_length,
-                     edge_time=edge_time, out_dirs=[out_dir], progress=progress,
-                     stop_on_overturn=stop_on_overturn, initial_velocity=initial_velocity,
-                     check_dt=check_dt, initial_tilt=initial_tilt,
-                     initial_angular_velocity=initial_angular_velocity,
-                     start_time=start_time, initial_state=initial_state,
-                     initial_contact=initial_contact)[0]
+    return run_batch(
+        model,
+        [ground],
+        duration,
+        verticals=[vertical],
+        dt=dt,
+        safety=safety,
+        output_interval=output_interval,
+        edge_length=edge_length,
+        edge_time=edge_time,
+        out_dirs=[out_dir],
+        progress=progress,
+        stop_on_overturn=stop_on_overturn,
+        initial_velocity=initial_velocity,
+        check_dt=check_dt,
+        initial_tilt=initial_tilt,
+        initial_angular_velocity=initial_angular_velocity,
+        start_time=start_time,
+        initial_state=initial_state,
+        initial_contact=initial_contact,
+    )[0]
 
 
-def replica_perturbation(model: Model, replica: int,
-                         size: float = REPLICA_PERTURBATION) -> np.ndarray:
+def replica_perturbation(
+    model: Model, replica: int, size: float = REPLICA_PERTURBATION
+) -> np.ndarray:
     """The initial position offsets (m, flat, 2 per node) of ensemble replica ``replica``:
     ``size`` x the column height x standard normal numbers seeded by the replica's number (so
     the ensemble is reproducible); zero for replica 0, which is the unperturbed run."""
@@ -128,9 +163,17 @@ def replica_perturbation(model: Model, replica: int,
     return size * model.mesh.height * rng.standard_normal(model.n_dofs)
 
 
-def run_ensemble(model: Model, ground, duration: float, replicas: int = REPLICAS, *,
-                 perturbation: float = REPLICA_PERTURBATION, out_dir=None,
-                 vertical: GroundMotion = NO_MOTION, **options) -> list[FemResult]:
+def run_ensemble(
+    model: Model,
+    ground,
+    duration: float,
+    replicas: int = REPLICAS,
+    *,
+    perturbation: float = REPLICA_PERTURBATION,
+    out_dir=None,
+    vertical: GroundMotion = NO_MOTION,
+    **options,
+) -> list[FemResult]:
     """``replicas`` runs of the model that differ only at round-off level: replica r starts
     from the initial state of :func:`run` moved by :func:`replica_perturbation` (1e-12 of the
     column height by default; replica 0 is unperturbed). Penalty contact with friction is
@@ -143,27 +186,54 @@ def run_ensemble(model: Model, ground, duration: float, replicas: int = REPLICAS
     replicas = int(replicas)
     if replicas < 1:
         raise InputError(f"run replicas = {replicas} must be at least 1")
-    require_range("replica perturbation (relative)", perturbation, 0.0, 1e-6,
-                  closed_low=True, closed_high=True, range_text="[0, 1e-6]")
+    require_range(
+        "replica perturbation (relative)",
+        perturbation,
+        0.0,
+        1e-6,
+        closed_low=True,
+        closed_high=True,
+        range_text="[0, 1e-6]",
+    )
     out_dirs: list[Path | None] = [None] * replicas
     if out_dir is not None:
         out_dirs = [Path(out_dir)]
         out_dirs += [Path(out_dir) / "replicas" / str(r) for r in range(1, replicas)]
     offsets = [replica_perturbation(model, r, perturbation) for r in range(replicas)]
-    return run_batch(model, [ground] * replicas, duration, verticals=[vertical] * replicas,
-                     out_dirs=out_dirs, offsets=offsets, **options)
+    return run_batch(
+        model,
+        [ground] * replicas,
+        duration,
+        verticals=[vertical] * replicas,
+        out_dirs=out_dirs,
+        offsets=offsets,
+        **options,
+    )
 
 
-def run_batch(model: Model, grounds: list, duration: float, *, verticals: list | None = None,
-              out_dirs: list | None = None, offsets: list | None = None,
-              dt: float | None = None, safety: float = 0.9,
-              output_interval: float | None = None, edge_length: float | None = None,
-              edge_time: float | None = None, progress: bool = True,
-              stop_on_overturn: bool = True, initial_velocity: np.ndarray | None = None,
-              check_dt: bool = True, initial_tilt: float = 0.0,
-              initial_angular_velocity: float = 0.0, start_time: float = 0.0,
-              initial_state: tuple | None = None,
-              initial_contact: dict | None = None) -> list[FemResult]:
+def run_batch(
+    model: Model,
+    grounds: list,
+    duration: float,
+    *,
+    verticals: list | None = None,
+    out_dirs: list | None = None,
+    offsets: list | None = None,
+    dt: float | None = None,
+    safety: float = 0.9,
+    output_interval: float | None = None,
+    edge_length: float | None = None,
+    edge_time: float | None = None,
+    progress: bool = True,
+    stop_on_overturn: bool = True,
+    initial_velocity: np.ndarray | None = None,
+    check_dt: bool = True,
+    initial_tilt: float = 0.0,
+    initial_angular_velocity: float = 0.0,
+    start_time: float = 0.0,
+    initial_state: tuple | None = None,
+    initial_contact: dict | None = None,
+) -> list[FemResult]:
     """One run of the model per ground motion in ``grounds`` (with ``verticals[k]``, None for
     none), advanced together: the states share the model and its stable step, and each step
     reads the stiffness once for all of them. ``offsets[k]``: initial position offsets (m,
@@ -178,23 +248,35 @@ def run_batch(model: Model, grounds: list, duration: float, *, verticals: list |
         require_motion(f"ground motion {k + 1}", g)
         require_motion(f"vertical ground motion {k + 1}", vg)
     out_dirs = [None] * batch if out_dirs is None else list(out_dirs)
-    if len(verticals) != batch or len(out_dirs) != batch or (
-            offsets is not None and len(offsets) != batch):
-        raise InputError(f"run_batch: {batch} ground motions but {len(verticals)} vertical "
-                         f"motions, {len(out_dirs)} output folders"
-                         + ("" if offsets is None else f", {len(offsets)} offsets"))
+    if (
+        len(verticals) != batch
+        or len(out_dirs) != batch
+        or (offsets is not None and len(offsets) != batch)
+    ):
+        raise InputError(
+            f"run_batch: {batch} ground motions but {len(verticals)} vertical "
+            f"motions, {len(out_dirs)} output folders"
+            + ("" if offsets is None else f", {len(offsets)} offsets")
+        )
     require_positive("run duration (s)", duration)
-    require_range("run initial_tilt (rad)", initial_tilt, -0.25 * math.pi, 0.25 * math.pi,
-                  range_text="(-pi/4, pi/4)")
+    require_range(
+        "run initial_tilt (rad)",
+        initial_tilt,
+        -0.25 * math.pi,
+        0.25 * math.pi,
+        range_text="(-pi/4, pi/4)",
+    )
     step = stable_time_step(model, safety)
     if dt is None:
         dt = step.dt
     else:
         require_positive("run dt (s)", dt)
         if check_dt and dt > step.dt * (1.0 + 1e-9):
-            raise InputError(f"run dt = {dt:.4g} s is above the stable time step {step.dt:.4g} s "
-                             f"(critical {step.critical:.4g} s x safety {safety:g} x damping "
-                             "reduction): lower it or leave it out")
+            raise InputError(
+                f"run dt = {dt:.4g} s is above the stable time step {step.dt:.4g} s "
+                f"(critical {step.critical:.4g} s x safety {safety:g} x damping "
+                "reduction): lower it or leave it out"
+            )
     if output_interval is None:
         output_interval = duration / 400.0
     require_positive("run output_interval (s)", output_interval)
@@ -207,18 +289,37 @@ def run_batch(model: Model, grounds: list, duration: float, *, verticals: list |
     require_positive("edge_length (m)", edge_length)
     if edge_time is None:
         edge_time = EDGE_TIME
-    require_range("edge_time (s)", edge_time, 0.0, 0.01, closed_low=True, closed_high=True,
-                  range_text="[0, 0.01] s")
+    require_range(
+        "edge_time (s)",
+        edge_time,
+        0.0,
+        0.01,
+        closed_low=True,
+        closed_high=True,
+        range_text="[0, 0.01] s",
+    )
     if edge_length > body_width:
-        raise InputError(f"edge_length = {edge_length:g} m is larger than the width of a body "
-                         f"({body_width:g} m)")
+        raise InputError(
+            f"edge_length = {edge_length:g} m is larger than the width of a body ({body_width:g} m)"
+        )
     if not math.isfinite(start_time):
         raise InputError(f"run start_time = {start_time!r} s must be finite")
-    start = _initial_state(model, initial_state, initial_contact, initial_tilt,
-                           initial_angular_velocity, initial_velocity)
+    start = _initial_state(
+        model,
+        initial_state,
+        initial_contact,
+        initial_tilt,
+        initial_angular_velocity,
+        initial_velocity,
+    )
     toes = edge_weights(model, edge_length)
-    state = _BatchState(model, start, batch, max(1, int(round(edge_time / dt))),
-                        np.ascontiguousarray(np.array(list(toes.values()))))
+    state = _BatchState(
+        model,
+        start,
+        batch,
+        max(1, int(round(edge_time / dt))),
+        np.ascontiguousarray(np.array(list(toes.values()))),
+    )
     if offsets is not None:
         for r, offset in enumerate(offsets):
             state.motion.x[r] += np.asarray(offset, dtype=float).reshape(-1)
@@ -226,8 +327,7 @@ def run_batch(model: Model, grounds: list, duration: float, *, verticals: list |
     tau = model.contact.friction_filter
     blend = 1.0 if tau == 0.0 else min(1.0, dt / tau)
     stiffness = _stiffness(model)
-    ground_end = [max(g.end_time, vg.end_time)
-                  for g, vg in zip(grounds, verticals)]
+    ground_end = [max(g.end_time, vg.end_time) for g, vg in zip(grounds, verticals)]
     t = float(start_time)
     steps_done = 0
     reasons = ["completed"] * batch
@@ -236,10 +336,15 @@ def run_batch(model: Model, grounds: list, duration: float, *, verticals: list |
     outputs = [0] * batch
     start_clock = time.perf_counter()
     # a progress bar on a terminal only (quiet in logs and under a sweep's workers)
-    bar = tqdm(total=round(duration, 6), desc="[fem]" if batch == 1 else f"[fem x{batch}]",
-               unit="s", dynamic_ncols=True, disable=not (progress and sys.stderr.isatty()),
-               bar_format="{desc} {percentage:5.1f}%|{bar}| t = {n:.3f}/{total:.3f} s "
-                          "[{elapsed}<{remaining}]")
+    bar = tqdm(
+        total=round(duration, 6),
+        desc="[fem]" if batch == 1 else f"[fem x{batch}]",
+        unit="s",
+        dynamic_ncols=True,
+        disable=not (progress and sys.stderr.isatty()),
+        bar_format="{desc} {percentage:5.1f}%|{bar}| t = {n:.3f}/{total:.3f} s "
+        "[{elapsed}<{remaining}]",
+    )
     # the forces of the initial state (contact normal forces at rest) for the first record
     state.evaluate(dt, blend, stiffness)
     for r in range(batch):
@@ -270,26 +375,51 @@ def run_batch(model: Model, grounds: list, duration: float, *, verticals: list |
         t = start_time + steps_done * dt
         for r in np.flatnonzero(live & (motion.done < steps_per_output)).tolist():
             t_r = start_time + (steps_done - steps_per_output + motion.done[r]) * dt
-            reasons[r] = (f"numerical blow-up at t = {t_r:.4g} s: the state stopped being "
-                          f"finite (dt = {dt:.3g} s too large for the contact or collar "
-                          "stiffness?)")
+            reasons[r] = (
+                f"numerical blow-up at t = {t_r:.4g} s: the state stopped being "
+                f"finite (dt = {dt:.3g} s too large for the contact or collar "
+                "stiffness?)"
+            )
         bar.update(min(steps_per_output * dt, bar.total - bar.n))
     wall = time.perf_counter() - start_clock
     bar.close()
-    static_start = (initial_state is None and initial_tilt == 0.0
-                    and initial_angular_velocity == 0.0 and initial_velocity is None)
+    static_start = (
+        initial_state is None
+        and initial_tilt == 0.0
+        and initial_angular_velocity == 0.0
+        and initial_velocity is None
+    )
     results = []
     for r, recorder in enumerate(recorders):
         history = recorder.close()
-        summary = _summary(model, history, reasons[r], overturned[r], dt, step, outputs[r],
-                           steps_per_output, wall / batch, edge_length, edge_time, static_start,
-                           state.collars.plastic[r])
+        summary = _summary(
+            model,
+            history,
+            reasons[r],
+            overturned[r],
+            dt,
+            step,
+            outputs[r],
+            steps_per_output,
+            wall / batch,
+            edge_length,
+            edge_time,
+            static_start,
+            state.collars.plastic[r],
+        )
         summary["batch_size"] = batch
-        result = FemResult(history, summary, recorder.frames, model, recorder.velocity_frames,
-                           recorder.contact_frames)
+        result = FemResult(
+            history,
+            summary,
+            recorder.frames,
+            model,
+            recorder.velocity_frames,
+            recorder.contact_frames,
+        )
         results.append(result)
         if out_dirs[r] is not None:
             from .output import write_outputs, write_summary
+
             if r == 0:
                 write_outputs(result, Path(out_dirs[r]))
             else:
@@ -304,7 +434,7 @@ def turned_about_toe(model: Model, x: np.ndarray, tilt: float, angular_velocity:
     p = model.mesh.points
     side = 1.0 if (tilt > 0.0 or (tilt == 0.0 and angular_velocity > 0.0)) else -1.0
     pivot = np.array([p[0].max() if side > 0 else p[0].min(), p[1].min()])
-    phi, omega = -tilt, -angular_velocity          # counter-clockwise
+    phi, omega = -tilt, -angular_velocity  # counter-clockwise
     c, s = math.cos(phi), math.sin(phi)
     r = x.reshape(-1, 2) - pivot
     turned = np.stack((c * r[:, 0] - s * r[:, 1], s * r[:, 0] + c * r[:, 1]), axis=1)
@@ -312,23 +442,35 @@ def turned_about_toe(model: Model, x: np.ndarray, tilt: float, angular_velocity:
     return (pivot + turned).ravel(), v.ravel()
 
 
-def _initial_state(model: Model, initial_state, initial_contact, initial_tilt,
-                   initial_angular_velocity, initial_velocity) -> dict:
+def _initial_state(
+    model: Model,
+    initial_state,
+    initial_contact,
+    initial_tilt,
+    initial_angular_velocity,
+    initial_velocity,
+) -> dict:
     """The state a run starts from: x, v (flat) and the contact state (base_ft, base_fc,
     crack_ft, crack_fc lists, collar_state), checked."""
     if initial_contact is not None and initial_state is None:
         raise InputError("run initial_contact needs initial_state (a restart)")
-    contact = {"base_fc": np.zeros(model.base_nodes.size),
-               "crack_fc": [np.zeros(p[0].size) for p in model.crack_passes],
-               "collar_state": np.zeros((model.collar_nodes.shape[0], 3))}
+    contact = {
+        "base_fc": np.zeros(model.base_nodes.size),
+        "crack_fc": [np.zeros(p[0].size) for p in model.crack_passes],
+        "collar_state": np.zeros((model.collar_nodes.shape[0], 3)),
+    }
     if initial_state is not None:
         if initial_tilt != 0.0 or initial_angular_velocity != 0.0:
-            raise InputError("run: give either initial_state or initial_tilt / "
-                             "initial_angular_velocity, not both")
+            raise InputError(
+                "run: give either initial_state or initial_tilt / "
+                "initial_angular_velocity, not both"
+            )
         x, v = (np.array(a, dtype=float).reshape(-1) for a in initial_state)
         if x.size != model.n_dofs or v.size != model.n_dofs:
-            raise InputError(f"run initial_state: x and v need {model.n_dofs} values each "
-                             f"(2 per node), got {x.size} and {v.size}")
+            raise InputError(
+                f"run initial_state: x and v need {model.n_dofs} values each "
+                f"(2 per node), got {x.size} and {v.size}"
+            )
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
             raise InputError("run initial_state: x and v must be finite")
         contact["base_ft"] = np.zeros(model.base_nodes.size)
@@ -353,94 +495,178 @@ def _restore_contact(model, state: dict) -> dict:
     collars' plastic state), shapes checked."""
     try:
         base = [np.array(state[key], dtype=float) for key in ("base_ft", "base_fc")]
-        passes = [[np.array(a, dtype=float) for a in state[key]] for key in ("crack_ft",
-                                                                            "crack_fc")]
+        passes = [
+            [np.array(a, dtype=float) for a in state[key]] for key in ("crack_ft", "crack_fc")
+        ]
     except (KeyError, TypeError, ValueError) as err:
-        raise InputError(f"run initial_contact: needs base_ft, base_fc, crack_ft, crack_fc "
-                         f"({err})") from None
+        raise InputError(
+            f"run initial_contact: needs base_ft, base_fc, crack_ft, crack_fc ({err})"
+        ) from None
     expected = [(model.base_nodes.size,)] * 2 + [(p[0].size,) for p in model.crack_passes] * 2
     given = [a.shape for a in base] + [a.shape for a in passes[0] + passes[1]]
     if given != expected:
-        raise InputError(f"run initial_contact: expected arrays of shapes {expected}, got "
-                         f"{given}")
+        raise InputError(f"run initial_contact: expected arrays of shapes {expected}, got {given}")
     out = {"base_ft": base[0], "base_fc": base[1], "crack_ft": passes[0], "crack_fc": passes[1]}
-    if "collar_state" in state:      # the plastic state of the collars
+    if "collar_state" in state:  # the plastic state of the collars
         out["collar_state"] = np.asarray(state["collar_state"], dtype=float)
     return out
 
 
 def _stiffness(model: Model) -> K.Stiffness:
     A = model.stiffness.tobsr(blocksize=(2, 2))
-    return K.Stiffness(A.indptr.astype(np.int64), A.indices.astype(np.int64),
-                       np.ascontiguousarray(A.data, dtype=float))
+    return K.Stiffness(
+        A.indptr.astype(np.int64),
+        A.indices.astype(np.int64),
+        np.ascontiguousarray(A.data, dtype=float),
+    )
 
 
 class _BatchState:
     """The kernel's bundles (fem._kernels) for B states of one model, all from ``start``."""
 
-    def __init__(self, model: Model, start: dict, batch: int, edge_steps: int,
-                 weights: np.ndarray):
+    def __init__(self, model: Model, start: dict, batch: int, edge_steps: int, weights: np.ndarray):
         self.model = model
         n, n_base = model.n_dofs, model.base_nodes.size
-        rows = lambda a: np.ascontiguousarray(np.repeat(np.asarray(a, dtype=float)[None],  # noqa: E731
-                                                        batch, axis=0))
+        rows = lambda a: np.ascontiguousarray(
+            np.repeat(
+                np.asarray(a, dtype=float)[None],  # noqa: E731
+                batch,
+                axis=0,
+            )
+        )
         node_body = model.mesh.node_body
         order = np.argsort(node_body, kind="stable").astype(np.int64)
         offsets = np.searchsorted(node_body[order], np.arange(model.mesh.n_bodies + 1))
-        self.bodies = K.Bodies(model.X, model.mass, node_body, model.centroid_ref,
-                               model.gravity, order, offsets.astype(np.int64))
+        self.bodies = K.Bodies(
+            model.X,
+            model.mass,
+            node_body,
+            model.centroid_ref,
+            model.gravity,
+            order,
+            offsets.astype(np.int64),
+        )
         empty_i = np.zeros(0, dtype=np.int64)
-        self.base = K.ContactPass(model.base_nodes, np.zeros(1, dtype=np.int64), 1.0,
-                                  model.base_kn, model.base_kt, model.base_cn)
-        passes = [K.ContactPass(sl, ma, float(sign), kn, kt, cn)
-                  for sl, ma, sign, kn, kt, cn in model.crack_passes]
+        self.base = K.ContactPass(
+            model.base_nodes,
+            np.zeros(1, dtype=np.int64),
+            1.0,
+            model.base_kn,
+            model.base_kt,
+            model.base_cn,
+        )
+        passes = [
+            K.ContactPass(sl, ma, float(sign), kn, kt, cn)
+            for sl, ma, sign, kn, kt, cn in model.crack_passes
+        ]
         while len(passes) < 2:
-            passes.append(K.ContactPass(empty_i, np.zeros(1, dtype=np.int64), 1.0,
-                                        np.zeros(0), np.zeros(0), np.zeros(0)))
+            passes.append(
+                K.ContactPass(
+                    empty_i, np.zeros(1, dtype=np.int64), 1.0, np.zeros(0), np.zeros(0), np.zeros(0)
+                )
+            )
         self.cracks = tuple(passes)
-        self.motion = K.Motion(rows(start["x"]), rows(start["v"]),
-                               np.zeros((batch, model.mesh.n_bodies, 3)), np.zeros((batch, 2)),
-                               np.zeros((batch, 6)), np.ones(batch, dtype=np.bool_),
-                               np.zeros(batch, dtype=np.int64))
-        self.base_state = K.ContactState(np.zeros((batch, n_base), dtype=np.int64),
-                                         rows(start["base_ft"]), np.zeros((batch, n_base)),
-                                         rows(start["base_fc"]))
+        self.motion = K.Motion(
+            rows(start["x"]),
+            rows(start["v"]),
+            np.zeros((batch, model.mesh.n_bodies, 3)),
+            np.zeros((batch, 2)),
+            np.zeros((batch, 6)),
+            np.ones(batch, dtype=np.bool_),
+            np.zeros(batch, dtype=np.int64),
+        )
+        self.base_state = K.ContactState(
+            np.zeros((batch, n_base), dtype=np.int64),
+            rows(start["base_ft"]),
+            np.zeros((batch, n_base)),
+            rows(start["base_fc"]),
+        )
         states = []
         for p, crack in enumerate(self.cracks):
             m = crack.nodes.size
             ft = start["crack_ft"][p] if p < len(start["crack_ft"]) else np.zeros(0)
             fc = start["crack_fc"][p] if p < len(start["crack_fc"]) else np.zeros(0)
-            states.append(K.ContactState(np.full((batch, m), -1, dtype=np.int64), rows(ft),
-                                         np.zeros((batch, m)), rows(fc)))
+            states.append(
+                K.ContactState(
+                    np.full((batch, m), -1, dtype=np.int64),
+                    rows(ft),
+                    np.zeros((batch, m)),
+                    rows(fc),
+                )
+            )
         self.crack_states = tuple(states)
         n_collars = model.collar_nodes.shape[0]
-        self.collars = K.CollarState(np.zeros((batch, n_collars, 5)),
-                                     rows(start["collar_state"]).reshape(batch, n_collars, 3))
+        self.collars = K.CollarState(
+            np.zeros((batch, n_collars, 5)),
+            rows(start["collar_state"]).reshape(batch, n_collars, 3),
+        )
         self.collar_model = K.Collars(model.collar_nodes, model.collar_props)
-        self.edge = K.EdgeAverage(weights, np.zeros((batch, weights.shape[0], edge_steps)),
-                                  np.zeros(batch, dtype=np.int64),
-                                  np.zeros((batch, weights.shape[0])),
-                                  np.zeros((batch, weights.shape[0])))
+        self.edge = K.EdgeAverage(
+            weights,
+            np.zeros((batch, weights.shape[0], edge_steps)),
+            np.zeros(batch, dtype=np.int64),
+            np.zeros((batch, weights.shape[0])),
+            np.zeros((batch, weights.shape[0])),
+        )
         self.scratch = K.Scratch(np.zeros((n, batch)), np.zeros((n, batch)), np.zeros((batch, n)))
 
     def advance(self, n_steps, dt, blend, stiffness, acc, vacc):
-        K.advance(n_steps, dt, self.model.contact.friction, blend, stiffness, self.bodies,
-                  self.base, self.cracks, self.collar_model, acc, vacc, self.motion,
-                  self.base_state, self.crack_states, self.collars, self.edge, self.scratch)
+        K.advance(
+            n_steps,
+            dt,
+            self.model.contact.friction,
+            blend,
+            stiffness,
+            self.bodies,
+            self.base,
+            self.cracks,
+            self.collar_model,
+            acc,
+            vacc,
+            self.motion,
+            self.base_state,
+            self.crack_states,
+            self.collars,
+            self.edge,
+            self.scratch,
+        )
 
     def evaluate(self, dt, blend, stiffness):
         """The forces at the present state without moving it: one step of size 0 on copies of
         the state, whose outputs (contact normal forces, collar forces, frames, energies) are
         kept."""
-        copy = lambda bundle: type(bundle)(*(a.copy() if isinstance(a, np.ndarray) else a  # noqa: E731
-                                             for a in bundle))
-        motion, base, cracks = copy(self.motion), copy(self.base_state), \
-            tuple(copy(c) for c in self.crack_states)
+        copy = lambda bundle: type(bundle)(
+            *(
+                a.copy() if isinstance(a, np.ndarray) else a  # noqa: E731
+                for a in bundle
+            )
+        )
+        motion, base, cracks = (
+            copy(self.motion),
+            copy(self.base_state),
+            tuple(copy(c) for c in self.crack_states),
+        )
         collars, edge = copy(self.collars), copy(self.edge)
         zeros = np.zeros((self.motion.x.shape[0], 1))
-        K.advance(1, 0.0, self.model.contact.friction, blend, stiffness, self.bodies,
-                  self.base, self.cracks, self.collar_model, zeros, zeros, motion, base,
-                  cracks, collars, edge, self.scratch)
+        K.advance(
+            1,
+            0.0,
+            self.model.contact.friction,
+            blend,
+            stiffness,
+            self.bodies,
+            self.base,
+            self.cracks,
+            self.collar_model,
+            zeros,
+            zeros,
+            motion,
+            base,
+            cracks,
+            collars,
+            edge,
+            self.scratch,
+        )
         self.motion.frames[:] = motion.frames
         self.motion.energies[:] = motion.energies
         self.base_state.fn[:] = base.fn
@@ -499,14 +725,15 @@ class _Recorder:
         w_b = mesh.width / mesh.n_bodies
         r_b = 0.5 * math.hypot(w_b, mesh.height)
         alpha_b = math.atan2(w_b, mesh.height)
-        self.scale = (float(model.mass[0::2].sum()) * model.g * r_b * (1.0 - math.cos(alpha_b)))
+        self.scale = float(model.mass[0::2].sum()) * model.g * r_b * (1.0 - math.cos(alpha_b))
         self.potential_scale = float(model.mass[0::2].sum()) * model.g * mesh.height
-        self.body_mass = np.array([model.node_mass[mesh.node_body == b].sum()
-                                   for b in range(mesh.n_bodies)])
+        self.body_mass = np.array(
+            [model.node_mass[mesh.node_body == b].sum() for b in range(mesh.n_bodies)]
+        )
         # toes: outer corners of the column, and the crack corners of each half
         self.toe_left = mesh.base_nodes[0][0]
         self.toe_right = mesh.base_nodes[-1][-1]
-        self.edge_names = edge_names        # the toes, in the order of the edge weights
+        self.edge_names = edge_names  # the toes, in the order of the edge weights
         self.edge_area = edge_length * model.thickness
 
         self.crack_pairs: tuple | None = None
@@ -523,8 +750,9 @@ class _Recorder:
             self.pressure_csv = open(out / "base_pressure.csv.part", "w")
             xb = mesh.points[0, model.base_nodes]
             bodies = mesh.node_body[model.base_nodes] + 1
-            self.pressure_csv.write("t," + ",".join(f"p_body{b}_x={v:.6f}"
-                                                    for b, v in zip(bodies, xb)) + "\n")
+            self.pressure_csv.write(
+                "t," + ",".join(f"p_body{b}_x={v:.6f}" for b, v in zip(bodies, xb)) + "\n"
+            )
         self.header = None
         self.base_area = model.base_tributary * model.thickness
 
@@ -547,7 +775,7 @@ class _Recorder:
         xc, xc_prev = row["_com_x"], previous["_com_x"]
         if (xc > x_toe_right and xc > xc_prev) or (xc < x_toe_left and xc < xc_prev):
             return "the column's centre of mass"
-        if self.model.mesh.cracked and not self.model.collars:   # a free half, on its own
+        if self.model.mesh.cracked and not self.model.collars:  # a free half, on its own
             if row["_com_x_1"] < x_toe_left and row["_com_x_1"] < previous["_com_x_1"]:
                 return "the left half's centre of mass"
             if row["_com_x_2"] > x_toe_right and row["_com_x_2"] > previous["_com_x_2"]:
@@ -559,12 +787,18 @@ class _Recorder:
         model, mesh = self.model, self.model.mesh
         motion = state.motion
         x, v, frames = motion.x[r], motion.v[r], motion.frames[r]
-        base_fn, base_ft, base_fc = (state.base_state.fn[r], state.base_state.ft[r],
-                                     state.base_state.fc[r])
+        base_fn, base_ft, base_fc = (
+            state.base_state.fn[r],
+            state.base_state.ft[r],
+            state.base_state.fc[r],
+        )
         collar_out, collar_state = state.collars.out[r], state.collars.plastic[r]
         energies, tallies, X = motion.energies[r], motion.tallies[r], model.X
-        passes = [(c.ft[r], c.fn[r], c.fc[r]) for c, p in zip(state.crack_states, state.cracks)
-                  if p.nodes.size]
+        passes = [
+            (c.ft[r], c.fn[r], c.fc[r])
+            for c, p in zip(state.crack_states, state.cracks)
+            if p.nodes.size
+        ]
         theta = -frames[:, 2]
         row = {"t": t, "theta_left": theta[0], "theta_right": theta[-1]}
         for b in range(mesh.n_bodies):
@@ -593,7 +827,7 @@ class _Recorder:
             left, right = self.crack_pairs
             c, s = math.cos(frames[0, 2]), math.sin(frames[0, 2])
             d = x.reshape(-1, 2)[right] - x.reshape(-1, 2)[left]
-            opening = c * d[:, 0] + s * d[:, 1]            # along the left half's x axis
+            opening = c * d[:, 0] + s * d[:, 1]  # along the left half's x axis
             slip = -s * d[:, 0] + c * d[:, 1]
             row["crack_opening_max"] = float(opening.max())
             row["crack_slip_max"] = float(np.abs(slip).max())
@@ -608,37 +842,60 @@ class _Recorder:
             if collar.plastic:
                 row[f"collar_{k}_plastic_strain"] = collar_out[k - 1, 4]
         kinetic, gravity = energies[5], energies[4]
-        row.update(energy_kinetic=kinetic, energy_strain=energies[0],
-                   energy_gravity=gravity, energy_contact=energies[1] + energies[2],
-                   energy_collar=energies[3], energy_dissipated=tallies[0],
-                   energy_external_work=tallies[1])
-        row["energy_total"] = kinetic + energies[0] + gravity + energies[1] + energies[2] \
-            + energies[3]
+        row.update(
+            energy_kinetic=kinetic,
+            energy_strain=energies[0],
+            energy_gravity=gravity,
+            energy_contact=energies[1] + energies[2],
+            energy_collar=energies[3],
+            energy_dissipated=tallies[0],
+            energy_external_work=tallies[1],
+        )
+        row["energy_total"] = (
+            kinetic + energies[0] + gravity + energies[1] + energies[2] + energies[3]
+        )
         self.frames.append((t, (x - X).reshape(-1, 2).copy()))
         self.velocity_frames.append((t, v.reshape(-1, 2).copy()))
-        self.contact_frames.append((t, {"base_ft": base_ft.copy(), "base_fc": base_fc.copy(),
-                                        "crack_ft": [ft.copy() for ft, _, _ in passes],
-                                        "crack_fc": [fc.copy() for _, _, fc in passes],
-                                        "collar_state": collar_state.copy()}))
-        if self.csv is not None:   # contact pressure along the base (Pa), one row per output
+        self.contact_frames.append(
+            (
+                t,
+                {
+                    "base_ft": base_ft.copy(),
+                    "base_fc": base_fc.copy(),
+                    "crack_ft": [ft.copy() for ft, _, _ in passes],
+                    "crack_fc": [fc.copy() for _, _, fc in passes],
+                    "collar_state": collar_state.copy(),
+                },
+            )
+        )
+        if self.csv is not None:  # contact pressure along the base (Pa), one row per output
             pressure = base_fn / self.base_area
-            np.savetxt(self.pressure_csv, np.concatenate(([t], pressure))[None, :],
-                       fmt="%.17g", delimiter=",")
+            np.savetxt(
+                self.pressure_csv,
+                np.concatenate(([t], pressure))[None, :],
+                fmt="%.17g",
+                delimiter=",",
+            )
             self.pressure_csv.flush()
         return row
 
     def finish_row(self, row, energy0):
         self.scale = max(self.scale, row["energy_kinetic"], abs(row["energy_external_work"]))
-        imbalance = (row["energy_total"] + row["energy_dissipated"]
-                     - row["energy_external_work"] - energy0)
+        imbalance = (
+            row["energy_total"] + row["energy_dissipated"] - row["energy_external_work"] - energy0
+        )
         row["energy_error"] = imbalance / self.scale
         self.rows.append(row)
         if self.csv is not None:
             if self.header is None:
                 self.header = [key for key in row if not key.startswith("_")]
                 self.csv.write(",".join(self.header) + "\n")
-            np.savetxt(self.csv, np.array([[float(row[h]) for h in self.header]]),
-                       fmt="%.17g", delimiter=",")
+            np.savetxt(
+                self.csv,
+                np.array([[float(row[h]) for h in self.header]]),
+                fmt="%.17g",
+                delimiter=",",
+            )
             self.csv.flush()
 
     def close(self) -> dict:
@@ -659,24 +916,47 @@ def _check(row, recorder, ground_end, t, stop_on_overturn):
     # and a stone column stores only a sliver of that as elastic (or contact) energy
     budget = recorder.potential_scale + abs(row["energy_external_work"])
     stored = row["energy_strain"] + row["energy_contact"] + row["energy_collar"]
-    if (not all(math.isfinite(v) for v in thetas) or not math.isfinite(row["energy_total"])
-            or abs(row["energy_kinetic"]) > 10.0 * budget or stored > budget):
-        return (f"numerical blow-up at t = {t:.4g} s: the energy grew without bound "
-                "(time step too large for the contact or collar stiffness?)", False)
+    if (
+        not all(math.isfinite(v) for v in thetas)
+        or not math.isfinite(row["energy_total"])
+        or abs(row["energy_kinetic"]) > 10.0 * budget
+        or stored > budget
+    ):
+        return (
+            f"numerical blow-up at t = {t:.4g} s: the energy grew without bound "
+            "(time step too large for the contact or collar stiffness?)",
+            False,
+        )
     if not stop_on_overturn:
         return None
     if max(abs(th) for th in thetas) >= math.pi / 4:
         return (f"overturned: a half rotated past 45 degrees at t = {t:.4g} s", True)
-    if t > ground_end and len(recorder.rows) >= 2:     # rows[-1] is this row
+    if t > ground_end and len(recorder.rows) >= 2:  # rows[-1] is this row
         falling = recorder.falling(row, recorder.rows[-2])
         if falling:
-            return (f"overturned: {falling} is past its toe moving outward after the ground "
-                    f"motion (t = {t:.4g} s): gravity has no restoring moment left", True)
+            return (
+                f"overturned: {falling} is past its toe moving outward after the ground "
+                f"motion (t = {t:.4g} s): gravity has no restoring moment left",
+                True,
+            )
     return None
 
 
-def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, wall,
-             edge_length, edge_time, static_start, collar_state):
+def _summary(
+    model,
+    history,
+    reason,
+    overturned,
+    dt,
+    step,
+    k,
+    steps_per_output,
+    wall,
+    edge_length,
+    edge_time,
+    static_start,
+    collar_state,
+):
     h = history
     collars = model.collars
     util = [h[f"collar_{i}_utilisation"] for i in range(1, len(collars) + 1)]
@@ -705,8 +985,10 @@ def _summary(model, history, reason, overturned, dt, step, k, steps_per_output, 
         # when the run starts from the static state (None for a release or a restart)
         "base_reaction_static": reaction0 if static_start else None,
         # plastic collars: the largest |plastic strain| reached, and the work done yielding
-        "collar_max_plastic_strain": max((float(np.max(np.abs(h[key]))) for key in h
-                                          if key.endswith("_plastic_strain")), default=0.0),
+        "collar_max_plastic_strain": max(
+            (float(np.max(np.abs(h[key]))) for key in h if key.endswith("_plastic_strain")),
+            default=0.0,
+        ),
         "collar_plastic_work": float(collar_state[:, 2].sum()),
         # what the run leaves behind: the crack slip at its end (m)
         "crack_slip_residual": float(h["crack_slip_max"][-1]) if "crack_slip_max" in h else 0.0,

@@ -33,8 +33,8 @@ from .convergence import convergence_table
 from .model import build_model
 from .solver import FemResult, run
 
-LEAD_TIME = 0.01     # s before the toe's last airborne output time at which the window opens
-TAIL_TIME = 0.01     # s after the peak at which it closes
+LEAD_TIME = 0.01  # s before the toe's last airborne output time at which the window opens
+TAIL_TIME = 0.01  # s after the peak at which it closes
 REFINEMENTS = (1, 2, 4, 8)
 
 
@@ -59,10 +59,17 @@ def impact_window(history: dict, lead: float = LEAD_TIME, tail: float = TAIL_TIM
     return toe, start, float(t[i]) + tail, float(t[i])
 
 
-def toe_stress_refinement(result: FemResult, ground, mesh_for: Callable[[int], ColumnMesh],
-                          refinements=REFINEMENTS, *, lead: float = LEAD_TIME,
-                          tail: float = TAIL_TIME, progress: bool = False,
-                          vertical: GroundMotion = NO_MOTION) -> dict:
+def toe_stress_refinement(
+    result: FemResult,
+    ground,
+    mesh_for: Callable[[int], ColumnMesh],
+    refinements=REFINEMENTS,
+    *,
+    lead: float = LEAD_TIME,
+    tail: float = TAIL_TIME,
+    progress: bool = False,
+    vertical: GroundMotion = NO_MOTION,
+) -> dict:
     """Peak toe stress over the impact window on meshes ``mesh_for(r)`` for r in
     ``refinements`` (1, then doubling), each restarted from ``result``'s state, under the
     same ``ground`` and ``vertical`` motions as the run that gave ``result``.
@@ -76,11 +83,17 @@ def toe_stress_refinement(result: FemResult, ground, mesh_for: Callable[[int], C
     converge monotonically), uncertainty: the larger of the spread and the finest mesh's
     estimated relative error."""
     refinements = [int(r) for r in refinements]
-    if (len(refinements) < 3 or refinements[0] != 1
-            or any(b != 2 * a for a, b in zip(refinements, refinements[1:]))):
-        raise InputError(f"toe refinements = {refinements}: need 1 and then at least two "
-                         "doublings (1, 2, 4, ...)")
+    if (
+        len(refinements) < 3
+        or refinements[0] != 1
+        or any(b != 2 * a for a, b in zip(refinements, refinements[1:]))
+    ):
+        raise InputError(
+            f"toe refinements = {refinements}: need 1 and then at least two "
+            "doublings (1, 2, 4, ...)"
+        )
     from .transfer import transfer_contact, transfer_state
+
     model, history = result.model, result.history
     toe, t_start, t_end, t_peak = impact_window(history, lead, tail)
     times = np.array([t for t, _ in result.displacement_frames])
@@ -91,24 +104,46 @@ def toe_stress_refinement(result: FemResult, ground, mesh_for: Callable[[int], C
     summary = result.summary
     interval = float(np.median(np.diff(history["t"])))
     inside = (history["t"] > t_start) & (history["t"] <= t_end + 0.5 * interval)
-    original = max(float(np.max(history[key][inside])) for key in history
-                   if key.startswith("edge_stress_"))
+    original = max(
+        float(np.max(history[key][inside])) for key in history if key.startswith("edge_stress_")
+    )
     by_toe, dofs, steps, dts = [], [], [], []
     for r in refinements:
         mesh = mesh_for(r)
-        fine = build_model(mesh, model.stone, model.thickness, model.collars, model.contact,
-                           model.g, model.top_load)
-        window = run(fine, ground, t_end - t_start, start_time=t_start,
-                     initial_state=transfer_state(model.mesh, mesh, u, v),
-                     initial_contact=transfer_contact(model, fine, contact),
-                     output_interval=interval, edge_length=summary["edge_length"],
-                     edge_time=summary["edge_time"], progress=progress, stop_on_overturn=False,
-                     vertical=vertical)
+        fine = build_model(
+            mesh,
+            model.stone,
+            model.thickness,
+            model.collars,
+            model.contact,
+            model.g,
+            model.top_load,
+        )
+        window = run(
+            fine,
+            ground,
+            t_end - t_start,
+            start_time=t_start,
+            initial_state=transfer_state(model.mesh, mesh, u, v),
+            initial_contact=transfer_contact(model, fine, contact),
+            output_interval=interval,
+            edge_length=summary["edge_length"],
+            edge_time=summary["edge_time"],
+            progress=progress,
+            stop_on_overturn=False,
+            vertical=vertical,
+        )
         if window.summary["status"] != "completed":
-            raise InputError(f"toe refinement {r}: the restarted run stopped: "
-                             f"{window.summary['status']}")
-        by_toe.append({key.removeprefix("edge_stress_"): float(np.max(window.history[key]))
-                       for key in window.history if key.startswith("edge_stress_")})
+            raise InputError(
+                f"toe refinement {r}: the restarted run stopped: {window.summary['status']}"
+            )
+        by_toe.append(
+            {
+                key.removeprefix("edge_stress_"): float(np.max(window.history[key]))
+                for key in window.history
+                if key.startswith("edge_stress_")
+            }
+        )
         dofs.append(int(fine.n_dofs))
         steps.append(int(window.summary["steps"]))
         dts.append(float(window.summary["dt"]))
@@ -123,10 +158,24 @@ def toe_stress_refinement(result: FemResult, ground, mesh_for: Callable[[int], C
     if math.isfinite(table["richardson"]) and table["richardson"] > 0.0:
         estimate = max(estimate, table["richardson"])
         uncertainty = max(uncertainty, table["fine_relative_error"])
-    return {"toe": toe, "t_start": t_start, "t_end": t_end, "t_peak": t_peak,
-            "edge_length": summary["edge_length"], "edge_time": summary["edge_time"],
-            "refinements": refinements, "dofs": dofs, "steps": steps, "dt": dts,
-            "peaks_by_toe": by_toe, "peaks": peaks, "original_peak": original,
-            "handover_error": abs(peaks[0] - original) / original if original > 0 else 0.0,
-            "stress_bound": max(refined), "spread": spread, "stress_estimate": estimate,
-            "uncertainty": uncertainty, **table}
+    return {
+        "toe": toe,
+        "t_start": t_start,
+        "t_end": t_end,
+        "t_peak": t_peak,
+        "edge_length": summary["edge_length"],
+        "edge_time": summary["edge_time"],
+        "refinements": refinements,
+        "dofs": dofs,
+        "steps": steps,
+        "dt": dts,
+        "peaks_by_toe": by_toe,
+        "peaks": peaks,
+        "original_peak": original,
+        "handover_error": abs(peaks[0] - original) / original if original > 0 else 0.0,
+        "stress_bound": max(refined),
+        "spread": spread,
+        "stress_estimate": estimate,
+        "uncertainty": uncertainty,
+        **table,
+    }

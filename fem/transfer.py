@@ -24,8 +24,10 @@ def interpolation_matrices(source: ColumnMesh, target: ColumnMesh) -> list:
     """Per body b: (target node indices, sparse P, source node indices) with
     field_target[targets] = P @ field_source[sources] for a nodal scalar field."""
     if source.n_bodies != target.n_bodies:
-        raise InputError(f"transfer: the source mesh has {source.n_bodies} bodies and the "
-                         f"target {target.n_bodies}")
+        raise InputError(
+            f"transfer: the source mesh has {source.n_bodies} bodies and the "
+            f"target {target.n_bodies}"
+        )
     for name in ("width", "height"):
         a, b = getattr(source, name), getattr(target, name)
         if abs(a - b) > 1e-9 * max(a, b):
@@ -47,15 +49,17 @@ def interpolation_matrices(source: ColumnMesh, target: ColumnMesh) -> list:
     return out
 
 
-def transfer_state(source: ColumnMesh, target: ColumnMesh, displacement: np.ndarray,
-                   velocity: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def transfer_state(
+    source: ColumnMesh, target: ColumnMesh, displacement: np.ndarray, velocity: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Positions x and velocities v (flat, 2 per node) of the ``target`` mesh's nodes from the
     nodal ``displacement`` and ``velocity`` (n_nodes, 2) of the ``source`` mesh."""
     u = np.asarray(displacement, dtype=float).reshape(-1, 2)
     vel = np.asarray(velocity, dtype=float).reshape(-1, 2)
     if u.shape[0] != source.n_nodes or vel.shape[0] != source.n_nodes:
-        raise InputError(f"transfer: displacement and velocity need {source.n_nodes} rows "
-                         "(one per source node)")
+        raise InputError(
+            f"transfer: displacement and velocity need {source.n_nodes} rows (one per source node)"
+        )
     u_t = np.zeros((target.n_nodes, 2))
     v_t = np.zeros((target.n_nodes, 2))
     for targets, P, sources in interpolation_matrices(source, target):
@@ -87,16 +91,20 @@ def transfer_contact(source, target, state: dict) -> dict:
         carried = np.zeros(target.base_nodes.size)
         for body in range(target.mesh.n_bodies):
             s, t = body_s == body, body_t == body
-            carried[t] = _traction_transfer(xs[s], force[s], xt[t], source.base_tributary[s],
-                                            target.base_tributary[t])
+            carried[t] = _traction_transfer(
+                xs[s], force[s], xt[t], source.base_tributary[s], target.base_tributary[t]
+            )
         out[key] = carried
     for key in ("crack_ft", "crack_fc"):
         out[key] = []
         for pass_s, pass_t, force in zip(source.crack_passes, target.crack_passes, state[key]):
             ys = source.mesh.points[1, pass_s[0]]
             yt = target.mesh.points[1, pass_t[0]]
-            out[key].append(_traction_transfer(ys, np.asarray(force, dtype=float), yt,
-                                               _tributary(ys), _tributary(yt)))
-    if "collar_state" in state:          # the same collars on both meshes
+            out[key].append(
+                _traction_transfer(
+                    ys, np.asarray(force, dtype=float), yt, _tributary(ys), _tributary(yt)
+                )
+            )
+    if "collar_state" in state:  # the same collars on both meshes
         out["collar_state"] = np.array(state["collar_state"], dtype=float)
     return out

@@ -29,16 +29,16 @@ from ..core.errors import InputError, require_positive, require_range
 class ColumnMesh:
     """Nodes, quadrilaterals (counter-clockwise) and the node sets the model needs."""
 
-    points: np.ndarray = field(repr=False)        # (2, n_nodes), m
-    cells: np.ndarray = field(repr=False)         # (4, n_cells)
-    cell_body: np.ndarray = field(repr=False)     # (n_cells,) 0: left (or solid), 1: right
-    node_body: np.ndarray = field(repr=False)     # (n_nodes,)
+    points: np.ndarray = field(repr=False)  # (2, n_nodes), m
+    cells: np.ndarray = field(repr=False)  # (4, n_cells)
+    cell_body: np.ndarray = field(repr=False)  # (n_cells,) 0: left (or solid), 1: right
+    node_body: np.ndarray = field(repr=False)  # (n_nodes,)
     width: float
     height: float
     cracked: bool
-    base_nodes: list = field(repr=False)          # per body, sorted by x
-    outer_nodes: list = field(repr=False)         # per body: its outer face, sorted by y
-    crack_nodes: list = field(repr=False)         # per body: its crack face, sorted by y ([] solid)
+    base_nodes: list = field(repr=False)  # per body, sorted by x
+    outer_nodes: list = field(repr=False)  # per body: its outer face, sorted by y
+    crack_nodes: list = field(repr=False)  # per body: its crack face, sorted by y ([] solid)
 
     @property
     def n_bodies(self) -> int:
@@ -63,13 +63,14 @@ class ColumnMesh:
 
     def to_skfem(self):
         from skfem import MeshQuad
+
         return MeshQuad(self.points, self.cells)
 
 
 def _graded(n: int, grading: float, both_ends: bool) -> np.ndarray:
     """n + 1 values in [0, 1], clustered toward 0 (and 1 if both_ends)."""
     s = np.linspace(0.0, 1.0, n + 1)
-    clustered = 0.5 * (1.0 - np.cos(math.pi * s)) if both_ends else s ** 2
+    clustered = 0.5 * (1.0 - np.cos(math.pi * s)) if both_ends else s**2
     return (1.0 - grading) * s + grading * clustered
 
 
@@ -83,9 +84,17 @@ def _split(coords: np.ndarray, near, parts: int) -> np.ndarray:
     return np.concatenate(out)
 
 
-def column_mesh(width: float, height: float, size: float, *, cracked: bool = True,
-                grading: float = 0.5, pinned_heights=(), toe_refinement: int = 1,
-                toe_zone: float = 0.0) -> ColumnMesh:
+def column_mesh(
+    width: float,
+    height: float,
+    size: float,
+    *,
+    cracked: bool = True,
+    grading: float = 0.5,
+    pinned_heights=(),
+    toe_refinement: int = 1,
+    toe_zone: float = 0.0,
+) -> ColumnMesh:
     """Structured, graded quadrilateral mesh of the column.
 
     size: target element size (m), at most the width of one body; grading in [0, 1);
@@ -96,29 +105,38 @@ def column_mesh(width: float, height: float, size: float, *, cracked: bool = Tru
     require_positive("column width (m)", width)
     require_positive("column height (m)", height)
     body_width = 0.5 * width if cracked else width
-    require_range("mesh size (m)", size, 0.0, body_width, closed_high=True,
-                  range_text=f"(0, {body_width:g}] (the width of one body)")
+    require_range(
+        "mesh size (m)",
+        size,
+        0.0,
+        body_width,
+        closed_high=True,
+        range_text=f"(0, {body_width:g}] (the width of one body)",
+    )
     require_range("mesh grading", grading, 0.0, 1.0, closed_low=True)
     n_x = max(2, math.ceil(body_width / size))
     n_y = max(2, math.ceil(height / size))
     ys = height * _graded(n_y, grading, both_ends=False)
     for y_pin in pinned_heights:
         require_range("pinned height (m)", y_pin, 0.0, height, closed_high=True)
-        k = int(np.argmin(np.abs(ys[1:] - y_pin))) + 1     # never move the base row
+        k = int(np.argmin(np.abs(ys[1:] - y_pin))) + 1  # never move the base row
         ys[k] = y_pin
     if np.any(np.diff(ys) <= 0.0):
-        raise InputError("mesh size is too coarse for the pinned (collar) heights: two collars "
-                         "fall on the same row of nodes; use a smaller [mesh] size")
+        raise InputError(
+            "mesh size is too coarse for the pinned (collar) heights: two collars "
+            "fall on the same row of nodes; use a smaller [mesh] size"
+        )
     xs = body_width * _graded(n_x, grading, both_ends=True)
-    if isinstance(toe_refinement, bool) or not isinstance(toe_refinement, (int, np.integer)) \
-            or not 1 <= toe_refinement <= 64:
-        raise InputError(f"mesh toe_refinement = {toe_refinement!r} must be an integer in "
-                         "[1, 64]")
+    if (
+        isinstance(toe_refinement, bool)
+        or not isinstance(toe_refinement, (int, np.integer))
+        or not 1 <= toe_refinement <= 64
+    ):
+        raise InputError(f"mesh toe_refinement = {toe_refinement!r} must be an integer in [1, 64]")
     if toe_refinement > 1:
         require_positive("mesh toe_zone (m)", toe_zone)
         ys = _split(ys, lambda lo, hi: lo < toe_zone, toe_refinement)
-        xs = _split(xs, lambda lo, hi: lo < toe_zone or hi > body_width - toe_zone,
-                    toe_refinement)
+        xs = _split(xs, lambda lo, hi: lo < toe_zone or hi > body_width - toe_zone, toe_refinement)
     offsets = [-0.5 * width, 0.0] if cracked else [-0.5 * width]
 
     points, cells, cell_body, node_body = [], [], [], []
@@ -127,21 +145,30 @@ def column_mesh(width: float, height: float, size: float, *, cracked: bool = Tru
     crack_nodes: list = []
     start = 0
     for body, x0 in enumerate(offsets):
-        X, Y = np.meshgrid(x0 + xs, ys)                   # (n_y+1, n_x+1), row-major in y
+        X, Y = np.meshgrid(x0 + xs, ys)  # (n_y+1, n_x+1), row-major in y
         idx = start + np.arange(X.size).reshape(X.shape)
         points.append(np.vstack((X.ravel(), Y.ravel())))
-        quads = np.vstack((idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(),
-                           idx[1:, 1:].ravel(), idx[1:, :-1].ravel()))
+        quads = np.vstack(
+            (idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel(), idx[1:, :-1].ravel())
+        )
         cells.append(quads)
         cell_body.append(np.full(quads.shape[1], body))
         node_body.append(np.full(X.size, body))
         base_nodes.append(idx[0, :].copy())
-        _sort_faces(body, cracked, idx[:, 0].copy(), idx[:, -1].copy(), outer_nodes,
-                    crack_nodes)
+        _sort_faces(body, cracked, idx[:, 0].copy(), idx[:, -1].copy(), outer_nodes, crack_nodes)
         start += X.size
-    return ColumnMesh(np.hstack(points), np.hstack(cells), np.concatenate(cell_body),
-                      np.concatenate(node_body), float(width), float(height), bool(cracked),
-                      base_nodes, outer_nodes, crack_nodes)
+    return ColumnMesh(
+        np.hstack(points),
+        np.hstack(cells),
+        np.concatenate(cell_body),
+        np.concatenate(node_body),
+        float(width),
+        float(height),
+        bool(cracked),
+        base_nodes,
+        outer_nodes,
+        crack_nodes,
+    )
 
 
 def _sort_faces(body, cracked, left_edge, right_edge, outer, crack) -> None:
@@ -172,13 +199,15 @@ def from_arrays(points: np.ndarray, cells: np.ndarray, *, tol: float = 1e-9) -> 
     n = points.shape[1]
     i = np.repeat(cells, 4, axis=0).ravel()
     j = np.tile(cells, (4, 1)).ravel()
-    n_comp, label = connected_components(coo_matrix((np.ones(i.size), (i, j)), shape=(n, n)),
-                                         directed=False)
+    n_comp, label = connected_components(
+        coo_matrix((np.ones(i.size), (i, j)), shape=(n, n)), directed=False
+    )
     used = np.unique(cells)
     comps = np.unique(label[used])
     if comps.size not in (1, 2):
-        raise InputError(f"the mesh has {comps.size} separate bodies: a column has 1 (solid) "
-                         "or 2 (cracked)")
+        raise InputError(
+            f"the mesh has {comps.size} separate bodies: a column has 1 (solid) or 2 (cracked)"
+        )
     # order bodies left to right
     centres = [points[0, label == c].mean() for c in comps]
     order = comps[np.argsort(centres)]
@@ -204,7 +233,17 @@ def from_arrays(points: np.ndarray, cells: np.ndarray, *, tol: float = 1e-9) -> 
         _sort_faces(b, comps.size == 2, left, right, outer, crack)
     # counter-clockwise orientation
     p = points[:, cells]
-    area2 = ((p[0, 1] - p[0, 0]) * (p[1, 2] - p[1, 0]) - (p[0, 2] - p[0, 0]) * (p[1, 1] - p[1, 0]))
+    area2 = (p[0, 1] - p[0, 0]) * (p[1, 2] - p[1, 0]) - (p[0, 2] - p[0, 0]) * (p[1, 1] - p[1, 0])
     cells = np.where(area2 < 0.0, cells[::-1], cells)
-    return ColumnMesh(points, cells, node_body[cells[0]], node_body, float(width), float(height),
-                      comps.size == 2, base, outer, crack)
+    return ColumnMesh(
+        points,
+        cells,
+        node_body[cells[0]],
+        node_body,
+        float(width),
+        float(height),
+        comps.size == 2,
+        base,
+        outer,
+        crack,
+    )

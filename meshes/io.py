@@ -14,8 +14,9 @@ from ..core.errors import InputError
 from .column import ColumnMesh, from_arrays
 
 
-def to_meshio(mesh: ColumnMesh, point_data: dict | None = None,
-              cell_data: dict | None = None) -> meshio.Mesh:
+def to_meshio(
+    mesh: ColumnMesh, point_data: dict | None = None, cell_data: dict | None = None
+) -> meshio.Mesh:
     """meshio mesh with 3D points (z = 0), the body id as cell data, and any fields given
     (point arrays of shape (n_nodes,) or (n_nodes, k), cell arrays of shape (n_cells, ...))."""
     points = np.vstack((mesh.points, np.zeros(mesh.n_nodes))).T
@@ -25,15 +26,17 @@ def to_meshio(mesh: ColumnMesh, point_data: dict | None = None,
     pdata = {}
     for name, values in (point_data or {}).items():
         values = np.asarray(values)
-        if values.ndim == 2 and values.shape[1] == 2:      # vectors: pad to 3D for ParaView
+        if values.ndim == 2 and values.shape[1] == 2:  # vectors: pad to 3D for ParaView
             values = np.hstack((values, np.zeros((values.shape[0], 1))))
         pdata[name] = values
-    return meshio.Mesh(points, [("quad", mesh.cells.T.astype(np.int64))], point_data=pdata,
-                       cell_data=cdata)
+    return meshio.Mesh(
+        points, [("quad", mesh.cells.T.astype(np.int64))], point_data=pdata, cell_data=cdata
+    )
 
 
-def write(path, mesh: ColumnMesh, point_data: dict | None = None,
-          cell_data: dict | None = None) -> None:
+def write(
+    path, mesh: ColumnMesh, point_data: dict | None = None, cell_data: dict | None = None
+) -> None:
     """Write a mesh and fields; the format follows the extension (.vtu, .xdmf, .msh, ...)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -47,13 +50,15 @@ def read(path) -> ColumnMesh:
     """Read a quadrilateral column mesh (gmsh .msh 2.2/4.x, VTU, ...) and classify it."""
     path = Path(path)
     try:
-        with contextlib.redirect_stderr(io.StringIO()):    # meshio prints before it exits
+        with contextlib.redirect_stderr(io.StringIO()):  # meshio prints before it exits
             m = meshio.read(path)
     except (OSError, meshio.ReadError) as exc:
         raise InputError(f"mesh file {path} cannot be read: {exc}") from None
-    except SystemExit:       # meshio exits instead of raising when no reader fits the file
-        raise InputError(f"mesh file {path} cannot be read: not a mesh meshio knows "
-                         "(gmsh .msh 2.2/4.x, VTU, ...)") from None
+    except SystemExit:  # meshio exits instead of raising when no reader fits the file
+        raise InputError(
+            f"mesh file {path} cannot be read: not a mesh meshio knows "
+            "(gmsh .msh 2.2/4.x, VTU, ...)"
+        ) from None
     except (ValueError, KeyError, IndexError, UnicodeDecodeError) as exc:
         raise InputError(f"mesh file {path} cannot be read: malformed ({exc})") from None
     quads = [block.data for block in m.cells if block.type == "quad"]

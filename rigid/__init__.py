@@ -9,19 +9,32 @@ re-exported here so that a rigid analysis needs one import.
 from ..core.collar import Collar
 from ..core.errors import InputError
 from ..core.ground import (
-                           HarmonicPulse,
-                           NoMotion,
-                           Record,
-                           cosine_pulse,
-                           read_peer_at2,
-                           read_record,
-                           read_two_column,
-                           sine_pulse,
+    HarmonicPulse,
+    NoMotion,
+    Record,
+    cosine_pulse,
+    read_peer_at2,
+    read_record,
+    read_two_column,
+    sine_pulse,
 )
 from .block import Block, housner_restitution, pulse_from_ratios
 from .solve import RockingResult, rock
 
-__all__ = ["Block", "Collar", "HarmonicPulse", "InputError", "NoMotion", "Record",
-           "RockingResult",
-           "cosine_pulse", "housner_restitution", "pulse_from_ratios",
-           "read_peer_at2", "read_record", "read_two_column", "rock", "sine_pulse"]
+__all__ = [
+    "Block",
+    "Collar",
+    "HarmonicPulse",
+    "InputError",
+    "NoMotion",
+    "Record",
+    "RockingResult",
+    "cosine_pulse",
+    "housner_restitution",
+    "pulse_from_ratios",
+    "read_peer_at2",
+    "read_record",
+    "read_two_column",
+    "rock",
+    "sine_pulse",
+]

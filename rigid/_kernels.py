@@ -27,9 +27,26 @@ from numba import njit, prange
 
 from ..core.tables import table_value
 
-P_P2, P_ALPHA, P_NONLINEAR, P_GROUND, P_AG, P_OMEGA, P_PHASE, P_TEND, P_KA, P_KL, P_NU, \
-    P_UPLIFT, P_TH0, P_OM0, P_LOAD, P_NHREC, P_VERT = range(17)
-N_PARAMS = 17      # P_TH0, P_OM0: initial rotation (rad) and angular velocity (rad/s), 0: at rest
+(
+    P_P2,
+    P_ALPHA,
+    P_NONLINEAR,
+    P_GROUND,
+    P_AG,
+    P_OMEGA,
+    P_PHASE,
+    P_TEND,
+    P_KA,
+    P_KL,
+    P_NU,
+    P_UPLIFT,
+    P_TH0,
+    P_OM0,
+    P_LOAD,
+    P_NHREC,
+    P_VERT,
+) = range(17)
+N_PARAMS = 17  # P_TH0, P_OM0: initial rotation (rad) and angular velocity (rad/s), 0: at rest
 # P_LOAD: lambda = top load / (m g). P_NHREC: how many of the rows of (rec_t, rec_a) are the
 # horizontal record; P_VERT = 1: the rows after them are the vertical ground acceleration / g
 # (piecewise linear, zero outside), 0: no vertical motion
@@ -48,8 +65,9 @@ REST_HOP = 1e-9
 
 
 @njit(cache=True)
-def make_params(p, alpha, nonlinear, ground_kind, ag, omega, phase, t_end, ka, kl, nu, uplift,
-                load):
+def make_params(
+    p, alpha, nonlinear, ground_kind, ag, omega, phase, t_end, ka, kl, nu, uplift, load
+):
     P = np.zeros(N_PARAMS)
     P[P_LOAD] = load
     P[P_P2] = p * p
@@ -70,6 +88,7 @@ def make_params(p, alpha, nonlinear, ground_kind, ag, omega, phase, t_end, ka, k
 # ------------------------------------------------------------------------------------------
 # ground motion and equation of motion
 # ------------------------------------------------------------------------------------------
+
 
 @njit(cache=True)
 def ground_over_g(t, P, rec_t, rec_a):
@@ -96,7 +115,7 @@ def vertical_over_g(t, P, rec_t, rec_a):
 @njit(cache=True)
 def angular_acceleration(t, theta, s, P, rec_t, rec_a):
     ug = ground_over_g(t, P, rec_t, rec_a)
-    weight = 1.0 + vertical_over_g(t, P, rec_t, rec_a)      # (g + vg'') / g
+    weight = 1.0 + vertical_over_g(t, P, rec_t, rec_a)  # (g + vg'') / g
     p2 = P[P_P2]
     lam = P[P_LOAD]
     if P[P_NONLINEAR] > 0.5:
@@ -110,8 +129,11 @@ def angular_acceleration(t, theta, s, P, rec_t, rec_a):
             root = math.sqrt(1.0 + 0.25 * sn * sn)
             acc -= P[P_KA] * (root - 1.0) * sc / (2.0 * root) + 0.5 * P[P_KL] * sc
     else:
-        acc = (p2 * (weight + 2.0 * lam) * theta - p2 * ((weight + lam) * s * P[P_ALPHA] + ug)
-               - 0.5 * P[P_KL] * theta)
+        acc = (
+            p2 * (weight + 2.0 * lam) * theta
+            - p2 * ((weight + lam) * s * P[P_ALPHA] + ug)
+            - 0.5 * P[P_KL] * theta
+        )
     return acc
 
 
@@ -140,8 +162,11 @@ def energy_barrier(P):
     if P[P_NONLINEAR] > 0.5:
         lam = P[P_LOAD]
         tc = critical_angle(P)
-        return P[P_P2] * (math.cos(a - tc) - math.cos(a) + lam * (
-            2.0 * math.cos(a) * (math.cos(tc) - 1.0) + math.sin(a) * math.sin(tc)))
+        return P[P_P2] * (
+            math.cos(a - tc)
+            - math.cos(a)
+            + lam * (2.0 * math.cos(a) * (math.cos(tc) - 1.0) + math.sin(a) * math.sin(tc))
+        )
     return 0.5 * P[P_P2] * a * a
 
 
@@ -289,26 +314,29 @@ def _next_uplift_scan(t, P, rec_t, rec_a):
 # ------------------------------------------------------------------------------------------
 
 _C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0])
-_A = np.array([
-    [0.0, 0.0, 0.0, 0.0, 0.0],
-    [1 / 5, 0.0, 0.0, 0.0, 0.0],
-    [3 / 40, 9 / 40, 0.0, 0.0, 0.0],
-    [44 / 45, -56 / 15, 32 / 9, 0.0, 0.0],
-    [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0.0],
-    [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656],
-])
+_A = np.array(
+    [
+        [0.0, 0.0, 0.0, 0.0, 0.0],
+        [1 / 5, 0.0, 0.0, 0.0, 0.0],
+        [3 / 40, 9 / 40, 0.0, 0.0, 0.0],
+        [44 / 45, -56 / 15, 32 / 9, 0.0, 0.0],
+        [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0.0],
+        [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656],
+    ]
+)
 _B = np.array([35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0.0])
 _E = np.array([-71 / 57600, 0.0, 71 / 16695, -71 / 1920, 17253 / 339200, -22 / 525, 1 / 40])
-_PD = np.array([
-    [1.0, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432],
-    [0.0, 0.0, 0.0, 0.0],
-    [0.0, 131558114200 / 32700410799, -68118460800 / 10900136933, 87487479700 / 32700410799],
-    [0.0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072],
-    [0.0, 127303824393 / 49829197408, -318862633887 / 49829197408,
-     701980252875 / 199316789632],
-    [0.0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
-    [0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423],
-])
+_PD = np.array(
+    [
+        [1.0, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432],
+        [0.0, 0.0, 0.0, 0.0],
+        [0.0, 131558114200 / 32700410799, -68118460800 / 10900136933, 87487479700 / 32700410799],
+        [0.0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072],
+        [0.0, 127303824393 / 49829197408, -318862633887 / 49829197408, 701980252875 / 199316789632],
+        [0.0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
+        [0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423],
+    ]
+)
 
 
 @njit(cache=True)
@@ -391,7 +419,7 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
     max_theta = 0.0
     t_over = -1.0
 
-    if _released(P):            # released at t = 0, tilted or spinning
+    if _released(P):  # released at t = 0, tilted or spinning
         t, th, om, s = _release_state(P)
     else:
         t, s_up = next_uplift(0.0, P, rec_t, rec_a)
@@ -418,7 +446,7 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
             break
         h = min(h, h_max, t_stop - t)
         if t < t_free < t + h:
-            h = t_free - t      # land on the end of the ground motion (a kink in the forcing)
+            h = t_free - t  # land on the end of the ground motion (a kink in the forcing)
         # --- one DOPRI5 step ---------------------------------------------------------------
         K0[0] = om
         K1[0] = angular_acceleration(t, th, s, P, rec_t, rec_a)
@@ -446,7 +474,7 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
         sc1 = atol * p + rtol * max(abs(om), abs(n1))
         err = math.sqrt(0.5 * ((e0 / sc0) ** 2 + (e1 / sc1) ** 2))
         if err > 1.0:
-            h *= max(0.2, 0.9 * err ** -0.2)
+            h *= max(0.2, 0.9 * err**-0.2)
             continue
         # --- accepted: events inside [t, t + h] ----------------------------------------------
         sigma_end = 1.0
@@ -455,8 +483,9 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
             sigma_end = _dense_root(0, 0.0, h, th, om, K0, K1, 0.0, 1.0)
         over = abs(n0) >= HALF_PI and not impact
         if over:
-            sigma_end = _dense_root(0, HALF_PI * (1.0 if n0 > 0.0 else -1.0), h, th, om, K0, K1,
-                                    0.0, 1.0)
+            sigma_end = _dense_root(
+                0, HALF_PI * (1.0 if n0 > 0.0 else -1.0), h, th, om, K0, K1, 0.0, 1.0
+            )
         # extreme rotation where omega changes sign
         om_end = _dense(sigma_end, h, th, om, K0, K1)[1]
         if om * om_end < 0.0:
@@ -517,9 +546,12 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
         om = n1
         max_theta = max(max_theta, abs(th))
         if t >= t_free:
-            if s * th > theta_unstable and th * om > 0.0 and (
-                    not has_collars or P[P_NONLINEAR] < 0.5):
-                status = OVERTURNED       # beyond the unstable equilibrium, moving outward
+            if (
+                s * th > theta_unstable
+                and th * om > 0.0
+                and (not has_collars or P[P_NONLINEAR] < 0.5)
+            ):
+                status = OVERTURNED  # beyond the unstable equilibrium, moving outward
                 t_over = t
                 max_theta = HALF_PI
                 break
@@ -553,6 +585,7 @@ def _fill_rest(out, n_out, t_from, t_to, dt_out):
 #   pulse: theta = s alpha + C sin(Omega t + phi) + A cosh(p tau) + (B/p) sinh(p tau)
 #   free:  theta = s alpha + A cosh(p tau) + (B/p) sinh(p tau)            (corrected Eq. 11)
 # with A = theta0 - s alpha - C sin(Omega t0 + phi), B = theta0' - C Omega cos(Omega t0 + phi).
+
 
 @njit(cache=True)
 def _lin_state(t, seg, P):
@@ -635,7 +668,7 @@ def linear_run(P, t_stop, early_exit, segs, impacts):
     max_theta = 0.0
     empty = np.zeros(1)
 
-    if _released(P):            # released at t = 0, tilted or spinning
+    if _released(P):  # released at t = 0, tilted or spinning
         t, th, om, s = _release_state(P)
     else:
         t, s_up = next_uplift(0.0, P, empty, empty)
@@ -653,12 +686,13 @@ def linear_run(P, t_stop, early_exit, segs, impacts):
         pulse_on = t < t_pulse
         _lin_segment(t, th, om, s, pulse_on, P, seg)
         t_seg_end = t_stop
-        event = 0          # 0: segment end reached, 1: impact, 2: overturn
+        event = 0  # 0: segment end reached, 1: impact, 2: overturn
         if pulse_on:
             # --- sample the closed form for the first event before the pulse ends ---------
             t_lim = min(t_pulse, t_stop)
-            acc0 = P[P_P2] * th - P[P_P2] * (s * alpha + P[P_AG] * math.sin(
-                P[P_OMEGA] * t + P[P_PHASE]))
+            acc0 = P[P_P2] * th - P[P_P2] * (
+                s * alpha + P[P_AG] * math.sin(P[P_OMEGA] * t + P[P_PHASE])
+            )
             h = h_max
             if om * acc0 < 0.0:
                 h = min(h_max, 0.125 * abs(2.0 * om / acc0))
@@ -696,7 +730,7 @@ def linear_run(P, t_stop, early_exit, segs, impacts):
             x = -1.0
             if th == 0.0:
                 if a2 != 0.0:
-                    x = a0 / a2          # the other root of the quadratic (x = 1 is the start)
+                    x = a0 / a2  # the other root of the quadratic (x = 1 is the start)
             else:
                 disc = a1 * a1 - 4.0 * a2 * a0
                 if disc >= 0.0 and a2 != 0.0:
@@ -776,6 +810,7 @@ def linear_run(P, t_stop, early_exit, segs, impacts):
 # Overturning spectra
 # ------------------------------------------------------------------------------------------
 
+
 @njit(cache=True)
 def _mode(status, n_imp):
     if status == OVERTURNED:
@@ -784,8 +819,22 @@ def _mode(status, n_imp):
 
 
 @njit(parallel=True, cache=True)
-def spectrum_modes(p, alpha, nu, nonlinear, cosine, ka, kl, uplift, load, omega_ratios,
-                   amplitude_ratios, t_after, rtol, atol):
+def spectrum_modes(
+    p,
+    alpha,
+    nu,
+    nonlinear,
+    cosine,
+    ka,
+    kl,
+    uplift,
+    load,
+    omega_ratios,
+    amplitude_ratios,
+    t_after,
+    rtol,
+    atol,
+):
     """Mode map and peak |theta| (up to the moment the fate is settled): rows follow
     amplitude_ratios, columns omega_ratios (codes SAFE, AFTER_IMPACT, WITHOUT_IMPACT). The linear
     free block uses the closed form, all else DOPRI5."""
@@ -807,8 +856,9 @@ def spectrum_modes(p, alpha, nu, nonlinear, cosine, ka, kl, uplift, load, omega_
         else:
             phase = math.asin(min(1.0, 1.0 / abs(ratio)))
             t_end = (2.0 * math.pi - phase) / omega
-        P = make_params(p, alpha, nonlinear, GROUND_HARMONIC, ag, omega, phase, t_end, ka,
-                        kl, nu, uplift, load)
+        P = make_params(
+            p, alpha, nonlinear, GROUND_HARMONIC, ag, omega, phase, t_end, ka, kl, nu, uplift, load
+        )
         t_stop = t_end + t_after
         segs = np.zeros((1, 6))
         imps = np.zeros((1, 3))

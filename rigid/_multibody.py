@@ -38,16 +38,16 @@ GROUND_HARMONIC = 1
 GROUND_RECORD = 2
 
 # statuses
-FINISHED = 0        # ran to the requested duration
+FINISHED = 0  # ran to the requested duration
 OVERTURNED = 1
-SETTLED = 2         # early exit: after the ground motion the energy is below every barrier
-UNSTABLE = 3        # non-finite state or energy out of bounds
+SETTLED = 2  # early exit: after the ground motion the energy is below every barrier
+UNSTABLE = 3  # non-finite state or energy out of bounds
 
 # why it overturned
 OVER_NONE = 0
-OVER_HALF_PI = 1    # a body rotated past pi/2
-OVER_COLUMN = 2     # the column's centre of mass past an outer toe, moving outward
-OVER_HALF = 3       # a free half's centre of mass past its outer toe, moving outward
+OVER_HALF_PI = 1  # a body rotated past pi/2
+OVER_COLUMN = 2  # the column's centre of mass past an outer toe, moving outward
+OVER_HALF = 3  # a free half's centre of mass past its outer toe, moving outward
 
 CONTACT_BASE = 0
 CONTACT_CRACK = 1
@@ -119,8 +119,19 @@ def collar_forces(q, col_a, col_b, col_r, props, f, out, state, commit):
         th1 = q[3 * a + 2] - beta
         th2 = q[3 * b + 2] - beta
         N, M1, M2, e, plastic_strain = frame_local_law(
-            length - props[c, 3], th1, th2, props[c, 0], props[c, 1], props[c, 2], props[c, 5],
-            props[c, 6], props[c, 7], state, c, commit)
+            length - props[c, 3],
+            th1,
+            th2,
+            props[c, 0],
+            props[c, 1],
+            props[c, 2],
+            props[c, 5],
+            props[c, 6],
+            props[c, 7],
+            state,
+            c,
+            commit,
+        )
         out[c, 4] = plastic_strain
         out[c, 0] = N
         out[c, 1] = M1
@@ -155,12 +166,12 @@ def _contact_row(q, c, cand_a, cand_b, cand_pt, cand_face, G, j, n_dof):
     a = cand_a[c]
     b = cand_b[c]
     px, py = _world(q, a, cand_pt[c, 0], cand_pt[c, 1])
-    if b < 0:                       # the ground y = 0
+    if b < 0:  # the ground y = 0
         nx = 0.0
         ny = 1.0
         gap = py
         on_face = True
-    else:                           # a face of body b: local x = face_x, outward sign
+    else:  # a face of body b: local x = face_x, outward sign
         cb = math.cos(q[3 * b + 2])
         sb = math.sin(q[3 * b + 2])
         rx = px - q[3 * b]
@@ -252,8 +263,15 @@ def _solve_contacts(W, bvec, P, mu, n_act, tol, max_iter):
             pt0 = P[2 * j + 1]
             rn -= W[2 * j, 2 * j] * pn0 + W[2 * j, 2 * j + 1] * pt0
             rt -= W[2 * j + 1, 2 * j] * pn0 + W[2 * j + 1, 2 * j + 1] * pt0
-            pn, pt = local_coulomb(W[2 * j, 2 * j], W[2 * j, 2 * j + 1], W[2 * j + 1, 2 * j],
-                                   W[2 * j + 1, 2 * j + 1], rn, rt, mu[j])
+            pn, pt = local_coulomb(
+                W[2 * j, 2 * j],
+                W[2 * j, 2 * j + 1],
+                W[2 * j + 1, 2 * j],
+                W[2 * j + 1, 2 * j + 1],
+                rn,
+                rt,
+                mu[j],
+            )
             change = max(change, abs(pn - pn0), abs(pt - pt0))
             size = max(size, abs(pn))
             P[2 * j] = pn
@@ -263,7 +281,7 @@ def _solve_contacts(W, bvec, P, mu, n_act, tol, max_iter):
     return it
 
 
-GS_ITERATIONS = 100          # Gauss-Seidel sweeps before the exact active-set solve
+GS_ITERATIONS = 100  # Gauss-Seidel sweeps before the exact active-set solve
 
 
 @njit(cache=True)
@@ -290,7 +308,7 @@ def _active_set(W, bvec, P, mu, n_act):
     eps *= 1e-9
     if scale_u == 0.0:
         scale_u = 1e-300
-    status = np.zeros(n_act, dtype=np.int64)     # 0 open, 1 sticking, 2 sliding
+    status = np.zeros(n_act, dtype=np.int64)  # 0 open, 1 sticking, 2 sliding
     sign = np.ones(n_act)
     for j in range(n_act):
         pn = P[2 * j]
@@ -370,9 +388,42 @@ def _active_set(W, bvec, P, mu, n_act):
 
 
 @njit(cache=True)
-def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, cand_mu, cand_kind,
-          col_a, col_b, col_r, col_props, ground_kind, gpar, rec_t, rec_a, e_n, tol, max_iter,
-          ws, P_prev, was_active, pivot_side, armed, impact_tol, impacts, tallies, forces):
+def _step(
+    t,
+    h,
+    q,
+    v,
+    mass,
+    minv,
+    g,
+    half,
+    cand_a,
+    cand_b,
+    cand_pt,
+    cand_face,
+    cand_mu,
+    cand_kind,
+    col_a,
+    col_b,
+    col_r,
+    col_props,
+    ground_kind,
+    gpar,
+    rec_t,
+    rec_a,
+    e_n,
+    tol,
+    max_iter,
+    ws,
+    P_prev,
+    was_active,
+    pivot_side,
+    armed,
+    impact_tol,
+    impacts,
+    tallies,
+    forces,
+):
     """One Moreau-Jean step of size h from time t; q, v and the contact state updated in place.
 
     tallies = (dissipated energy, external work, impacts, max solver iterations); forces =
@@ -395,7 +446,7 @@ def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, c
         f[3 * i] = -mass[i] * ag
         f[3 * i + 1] = -mass[i] * (g + av)
         load = half[i, 2]
-        if load != 0.0:       # dead top load at the top's centre, (0, hh) in the body frame
+        if load != 0.0:  # dead top load at the top's centre, (0, hh) in the body frame
             f[3 * i + 1] -= load
             f[3 * i + 2] += load * half[i, 1] * math.sin(qm[3 * i + 2])
     if col_a.size:
@@ -412,15 +463,17 @@ def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, c
     # active contacts at the midpoint
     n_act = 0
     closed = False
-    v_impact = 4.0 * g * h      # slower closures are resting contacts settling back
+    v_impact = 4.0 * g * h  # slower closures are resting contacts settling back
     # a crack contact within the midpoint scheme's drift of a closed contact (g h^2) whose
     # free motion closes it is active too: the crack starts closed with no force across it,
     # and the drift's sign must not decide whether the halves press
     touching = g * h * h
     for c in range(nc):
         gap, on_face = _contact_row(qm, c, cand_a, cand_b, cand_pt, cand_face, G, n_act, n_dof)
-        if on_face and (gap <= 0.0 or (cand_b[c] >= 0 and gap <= touching
-                                       and _normal_velocity(G, n_act, vfree) < 0.0)):
+        if on_face and (
+            gap <= 0.0
+            or (cand_b[c] >= 0 and gap <= touching and _normal_velocity(G, n_act, vfree) < 0.0)
+        ):
             act[n_act] = c
             mu_act[n_act] = cand_mu[c]
             if not was_active[c] and _normal_velocity(G, n_act, v) < -v_impact:
@@ -465,8 +518,9 @@ def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, c
             for k in range(n_dof):
                 un += G[2 * j, k] * vnew[k]
                 ut += G[2 * j + 1, k] * vnew[k]
-            tallies[0] -= 0.5 * (P[2 * j] * (un + umin[2 * j])
-                                 + P[2 * j + 1] * (ut + umin[2 * j + 1]))
+            tallies[0] -= 0.5 * (
+                P[2 * j] * (un + umin[2 * j]) + P[2 * j + 1] * (ut + umin[2 * j + 1])
+            )
             c = act[j]
             if cand_kind[c] == CONTACT_BASE:
                 forces[2 + 2 * cand_a[c]] += P[2 * j] / h
@@ -491,8 +545,13 @@ def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, c
             continue
         i = cand_a[c]
         side = 1 if cand_pt[c, 0] > 0.0 else -1
-        if (not was_active[c] and umin[2 * j] < 0.0 and armed[i]
-                and pivot_side[i] != 0 and side != pivot_side[i]):
+        if (
+            not was_active[c]
+            and umin[2 * j] < 0.0
+            and armed[i]
+            and pivot_side[i] != 0
+            and side != pivot_side[i]
+        ):
             n_imp = int(tallies[2])
             if n_imp < impacts.shape[0]:
                 impacts[n_imp, 0] = tm
@@ -516,12 +575,11 @@ def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, c
     for k in range(n_dof):
         q[k] = qm[k] + 0.5 * h * vnew[k]
         v[k] = vnew[k]
-    if not closed:      # a contact that will be closed at the end of the step closes in it
+    if not closed:  # a contact that will be closed at the end of the step closes in it
         for c in range(nc):
             if was_active[c]:
                 continue
-            gap, on_face = _contact_row(q, c, cand_a, cand_b, cand_pt, cand_face, G, nc - 1,
-                                        n_dof)
+            gap, on_face = _contact_row(q, c, cand_a, cand_b, cand_pt, cand_face, G, nc - 1, n_dof)
             if on_face and gap <= 0.0 and _normal_velocity(G, nc - 1, v) < -v_impact:
                 closed = True
                 break
@@ -529,13 +587,44 @@ def _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, c
 
 
 @njit(cache=True)
-def simulate(q, v, mass, inertia, half, g,
-             cand_a, cand_b, cand_pt, cand_face, cand_mu, cand_kind,
-             col_a, col_b, col_r, col_props, col_limits,
-             ground_kind, gpar, rec_t, rec_a, t_ground_end,
-             h, n_steps, refine, e_n, out_every, out, impacts,
-             free_halves, barrier, early_exit, impact_tol, energy_scale,
-             tol, max_iter):
+def simulate(
+    q,
+    v,
+    mass,
+    inertia,
+    half,
+    g,
+    cand_a,
+    cand_b,
+    cand_pt,
+    cand_face,
+    cand_mu,
+    cand_kind,
+    col_a,
+    col_b,
+    col_r,
+    col_props,
+    col_limits,
+    ground_kind,
+    gpar,
+    rec_t,
+    rec_a,
+    t_ground_end,
+    h,
+    n_steps,
+    refine,
+    e_n,
+    out_every,
+    out,
+    impacts,
+    free_halves,
+    barrier,
+    early_exit,
+    impact_tol,
+    energy_scale,
+    tol,
+    max_iter,
+):
     """Advance the bodies n_steps of size h from t = 0 (q, v updated in place).
 
     A step in which a contact closes is done again as ``refine`` steps of h / refine: the
@@ -564,10 +653,22 @@ def simulate(q, v, mass, inertia, half, g,
         minv[3 * i] = 1.0 / mass[i]
         minv[3 * i + 1] = 1.0 / mass[i]
         minv[3 * i + 2] = 1.0 / inertia[i]
-    ws = (np.empty(n_dof), np.empty(n_dof), np.empty(n_dof), np.empty(n_dof),
-          np.zeros(2 * nc), np.zeros(2 * nc), np.zeros(2 * nc), np.zeros(nc),
-          np.zeros((2 * nc, n_dof)), np.zeros((2 * nc, 2 * nc)), np.zeros(nc, dtype=np.int64),
-          np.zeros(nb, dtype=np.int64), np.zeros((col_a.size, 5)), np.zeros((col_a.size, 3)))
+    ws = (
+        np.empty(n_dof),
+        np.empty(n_dof),
+        np.empty(n_dof),
+        np.empty(n_dof),
+        np.zeros(2 * nc),
+        np.zeros(2 * nc),
+        np.zeros(2 * nc),
+        np.zeros(nc),
+        np.zeros((2 * nc, n_dof)),
+        np.zeros((2 * nc, 2 * nc)),
+        np.zeros(nc, dtype=np.int64),
+        np.zeros(nb, dtype=np.int64),
+        np.zeros((col_a.size, 5)),
+        np.zeros((col_a.size, 3)),
+    )
     col_out = ws[12]
     col_state = ws[13]
     saved_col = col_state.copy()
@@ -575,24 +676,49 @@ def simulate(q, v, mass, inertia, half, g,
     no_force = np.zeros(0)
     P_prev = np.zeros((nc, 2))
     was_active = np.zeros(nc, dtype=np.bool_)
-    pivot_side = np.zeros(nb, dtype=np.int64)    # side of the base corner last pivoted on
+    pivot_side = np.zeros(nb, dtype=np.int64)  # side of the base corner last pivoted on
     armed = np.zeros(nb, dtype=np.bool_)
     for i in range(nb):
-        if abs(q[3 * i + 2]) > impact_tol:     # released tilted: pivoting on the low side
+        if abs(q[3 * i + 2]) > impact_tol:  # released tilted: pivoting on the low side
             pivot_side[i] = 1 if q[3 * i + 2] < 0.0 else -1
             armed[i] = True
     tallies = np.zeros(4)
     forces = np.zeros(2 + 2 * nb)
-    saved = (q.copy(), v.copy(), P_prev.copy(), was_active.copy(), pivot_side.copy(),
-             armed.copy(), tallies.copy())
+    saved = (
+        q.copy(),
+        v.copy(),
+        P_prev.copy(),
+        was_active.copy(),
+        pivot_side.copy(),
+        armed.copy(),
+        tallies.copy(),
+    )
     peak = np.zeros(2)
     max_util = 0.0
     n_rows = 0
     status = FINISHED
     reason = OVER_NONE
     t_over = -1.0
-    _write_row(out, n_rows, 0.0, q, v, mass, inertia, half, g, col_a, col_b, col_r,
-               col_props, col_out, no_force, tallies, forces, col_state)
+    _write_row(
+        out,
+        n_rows,
+        0.0,
+        q,
+        v,
+        mass,
+        inertia,
+        half,
+        g,
+        col_a,
+        col_b,
+        col_r,
+        col_props,
+        col_out,
+        no_force,
+        tallies,
+        forces,
+        col_state,
+    )
     n_rows += 1
     step = 0
     for step in range(1, n_steps + 1):
@@ -606,10 +732,42 @@ def simulate(q, v, mass, inertia, half, g,
             saved[5][:] = armed
             saved[6][:] = tallies
             saved_col[:] = col_state
-        closed = _step(t, h, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt, cand_face, cand_mu,
-                       cand_kind, col_a, col_b, col_r, col_props, ground_kind, gpar, rec_t,
-                       rec_a, e_n, tol, max_iter, ws, P_prev, was_active, pivot_side, armed,
-                       impact_tol, impacts, tallies, forces)
+        closed = _step(
+            t,
+            h,
+            q,
+            v,
+            mass,
+            minv,
+            g,
+            half,
+            cand_a,
+            cand_b,
+            cand_pt,
+            cand_face,
+            cand_mu,
+            cand_kind,
+            col_a,
+            col_b,
+            col_r,
+            col_props,
+            ground_kind,
+            gpar,
+            rec_t,
+            rec_a,
+            e_n,
+            tol,
+            max_iter,
+            ws,
+            P_prev,
+            was_active,
+            pivot_side,
+            armed,
+            impact_tol,
+            impacts,
+            tallies,
+            forces,
+        )
         if closed and refine > 1:
             q[:] = saved[0]
             v[:] = saved[1]
@@ -621,14 +779,48 @@ def simulate(q, v, mass, inertia, half, g,
             col_state[:] = saved_col
             hs = h / refine
             for sub in range(refine):
-                _step(t + sub * hs, hs, q, v, mass, minv, g, half, cand_a, cand_b, cand_pt,
-                      cand_face, cand_mu, cand_kind, col_a, col_b, col_r, col_props,
-                      ground_kind, gpar, rec_t, rec_a, e_n, tol, max_iter, ws, P_prev,
-                      was_active, pivot_side, armed, impact_tol, impacts, tallies, forces)
+                _step(
+                    t + sub * hs,
+                    hs,
+                    q,
+                    v,
+                    mass,
+                    minv,
+                    g,
+                    half,
+                    cand_a,
+                    cand_b,
+                    cand_pt,
+                    cand_face,
+                    cand_mu,
+                    cand_kind,
+                    col_a,
+                    col_b,
+                    col_r,
+                    col_props,
+                    ground_kind,
+                    gpar,
+                    rec_t,
+                    rec_a,
+                    e_n,
+                    tol,
+                    max_iter,
+                    ws,
+                    P_prev,
+                    was_active,
+                    pivot_side,
+                    armed,
+                    impact_tol,
+                    impacts,
+                    tallies,
+                    forces,
+                )
         t_new = step * h
         for c in range(col_limits.shape[0]):
-            stress = (abs(col_out[c, 0]) / col_limits[c, 0]
-                      + max(abs(col_out[c, 1]), abs(col_out[c, 2])) / col_limits[c, 1])
+            stress = (
+                abs(col_out[c, 0]) / col_limits[c, 0]
+                + max(abs(col_out[c, 1]), abs(col_out[c, 2])) / col_limits[c, 1]
+            )
             max_util = max(max_util, stress / col_limits[c, 2])
             max_plastic = max(max_plastic, abs(col_out[c, 4]))
         finite = True
@@ -654,13 +846,44 @@ def simulate(q, v, mass, inertia, half, g,
         write = status != FINISHED or step % out_every == 0 or step == n_steps
         mech = 0.0
         if write or early_exit or step % 64 == 0:
-            mech = _mechanical(q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props,
-                               col_out, no_force, col_state)
+            mech = _mechanical(
+                q,
+                v,
+                mass,
+                inertia,
+                half,
+                g,
+                col_a,
+                col_b,
+                col_r,
+                col_props,
+                col_out,
+                no_force,
+                col_state,
+            )
             if not (abs(mech) <= 1e3 * energy_scale + 1e3 * abs(tallies[1])):
                 status = UNSTABLE
         if write and n_rows < out.shape[0]:
-            _write_row(out, n_rows, t_new, q, v, mass, inertia, half, g, col_a, col_b, col_r,
-                       col_props, col_out, no_force, tallies, forces, col_state)
+            _write_row(
+                out,
+                n_rows,
+                t_new,
+                q,
+                v,
+                mass,
+                inertia,
+                half,
+                g,
+                col_a,
+                col_b,
+                col_r,
+                col_props,
+                col_out,
+                no_force,
+                tallies,
+                forces,
+                col_state,
+            )
             n_rows += 1
         if status != FINISHED:
             break
@@ -670,8 +893,19 @@ def simulate(q, v, mass, inertia, half, g,
     plastic_work = 0.0
     for c in range(col_a.size):
         plastic_work += col_state[c, 2]
-    return (status, step, n_rows, int(tallies[2]), reason, t_over, peak, int(tallies[3]),
-            max_util, max_plastic, plastic_work)
+    return (
+        status,
+        step,
+        n_rows,
+        int(tallies[2]),
+        reason,
+        t_over,
+        peak,
+        int(tallies[3]),
+        max_util,
+        max_plastic,
+        plastic_work,
+    )
 
 
 @njit(cache=True)
@@ -687,8 +921,9 @@ def _potential(q, mass, half, g, i):
 
 
 @njit(cache=True)
-def _mechanical(q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props, col_out,
-                no_force, col_state):
+def _mechanical(
+    q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props, col_out, no_force, col_state
+):
     """Kinetic + gravity and top load (above rest) + collar energy (J)."""
     e = 0.0
     for i in range(mass.size):
@@ -696,14 +931,31 @@ def _mechanical(q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props, co
         e += 0.5 * inertia[i] * v[3 * i + 2] ** 2
         e += _potential(q, mass, half, g, i)
     if col_a.size:
-        e += collar_forces(q, col_a, col_b, col_r, col_props, no_force, col_out, col_state,
-                           False)
+        e += collar_forces(q, col_a, col_b, col_r, col_props, no_force, col_out, col_state, False)
     return e
 
 
 @njit(cache=True)
-def _write_row(out, row, t, q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props,
-               col_out, no_force, tallies, forces, col_state):
+def _write_row(
+    out,
+    row,
+    t,
+    q,
+    v,
+    mass,
+    inertia,
+    half,
+    g,
+    col_a,
+    col_b,
+    col_r,
+    col_props,
+    col_out,
+    no_force,
+    tallies,
+    forces,
+    col_state,
+):
     nb = mass.size
     out[row, OUT_T] = t
     kinetic = 0.0
@@ -717,8 +969,9 @@ def _write_row(out, row, t, q, v, mass, inertia, half, g, col_a, col_b, col_r, c
         gravity += _potential(q, mass, half, g, i)
     collar = 0.0
     if col_a.size:
-        collar = collar_forces(q, col_a, col_b, col_r, col_props, no_force, col_out,
-                               col_state, False)
+        collar = collar_forces(
+            q, col_a, col_b, col_r, col_props, no_force, col_out, col_state, False
+        )
     k0 = 1 + N_BODY_COLS * nb
     out[row, k0] = kinetic
     out[row, k0 + 1] = gravity
@@ -727,7 +980,7 @@ def _write_row(out, row, t, q, v, mass, inertia, half, g, col_a, col_b, col_r, c
     out[row, k0 + 4] = tallies[1]
     for k in range(forces.size):
         out[row, k0 + 5 + k] = forces[k]
-    k1 = k0 + 5 + forces.size        # then per collar: plastic elongation (m), its accumulation
+    k1 = k0 + 5 + forces.size  # then per collar: plastic elongation (m), its accumulation
     for c in range(col_state.shape[0]):
         out[row, k1 + 2 * c] = col_state[c, 0]
         out[row, k1 + 2 * c + 1] = col_state[c, 1]
@@ -785,11 +1038,38 @@ def _falling(q, v, mass, half, free_halves):
 
 
 @njit(cache=True, parallel=True)
-def spectrum_modes(q0, mass, inertia, half, g,
-                   cand_a, cand_b, cand_pt, cand_face, cand_mu, cand_kind,
-                   col_a, col_b, col_r, col_props, col_limits,
-                   omegas, amplitudes, uplift, cosine, h_max, refine, free_time, e_n,
-                   free_halves, barrier, impact_tol, energy_scale, tol, max_iter):
+def spectrum_modes(
+    q0,
+    mass,
+    inertia,
+    half,
+    g,
+    cand_a,
+    cand_b,
+    cand_pt,
+    cand_face,
+    cand_mu,
+    cand_kind,
+    col_a,
+    col_b,
+    col_r,
+    col_props,
+    col_limits,
+    omegas,
+    amplitudes,
+    uplift,
+    cosine,
+    h_max,
+    refine,
+    free_time,
+    e_n,
+    free_halves,
+    barrier,
+    impact_tol,
+    energy_scale,
+    tol,
+    max_iter,
+):
     """Mode code (0 safe, 1 after impact, 2 without impact), the peak |theta| (rad) and the
     largest collar utilisation of every (amplitude, omega) pair: sine pulses phased to start
     rocking at t = 0 (or cosine pulses), amplitude a_p = amplitudes[i] * uplift (m/s^2),
@@ -820,15 +1100,46 @@ def spectrum_modes(q0, mass, inertia, half, g,
         n_steps = int(math.ceil((t_end + free_time) / h))
         q = q0.copy()
         v = np.zeros_like(q0)
-        out = np.zeros((1, 1 + N_BODY_COLS * mass.size + N_TAIL + 2 * mass.size
-                        + 2 * col_a.size))
+        out = np.zeros((1, 1 + N_BODY_COLS * mass.size + N_TAIL + 2 * mass.size + 2 * col_a.size))
         impacts = np.zeros((1, 4))
         status, steps, rows, n_imp, reason, t_over, peak, it, util, _pl, _pw = simulate(
-            q, v, mass, inertia, half, g, cand_a, cand_b, cand_pt, cand_face, cand_mu,
-            cand_kind, col_a, col_b, col_r, col_props, col_limits, GROUND_HARMONIC, gpar,
+            q,
+            v,
+            mass,
+            inertia,
+            half,
+            g,
+            cand_a,
+            cand_b,
+            cand_pt,
+            cand_face,
+            cand_mu,
+            cand_kind,
+            col_a,
+            col_b,
+            col_r,
+            col_props,
+            col_limits,
+            GROUND_HARMONIC,
+            gpar,
             np.zeros(1),
-            np.zeros(1), t_end, h, n_steps, refine, e_n, n_steps + 1, out, impacts, free_halves,
-            barrier, True, impact_tol, energy_scale, tol, max_iter)
+            np.zeros(1),
+            t_end,
+            h,
+            n_steps,
+            refine,
+            e_n,
+            n_steps + 1,
+            out,
+            impacts,
+            free_halves,
+            barrier,
+            True,
+            impact_tol,
+            energy_scale,
+            tol,
+            max_iter,
+        )
         status_out[i, j] = status
         utilisation[i, j] = util
         if status == OVERTURNED:

@@ -64,7 +64,7 @@ class Block:
     mass: float | None = None
     restitution: float | None = None
     g: float = STANDARD_GRAVITY
-    top_load: float = 0.0        # N, dead load at the centre of the top (see the module notes)
+    top_load: float = 0.0  # N, dead load at the centre of the top (see the module notes)
 
     def __post_init__(self):
         require_positive("b (block half width, m)", self.b)
@@ -73,31 +73,54 @@ class Block:
         if self.mass is not None:
             require_positive("mass (kg)", self.mass)
         if self.restitution is not None:
-            require_range("restitution", self.restitution, 0.0, 1.0, closed_low=True,
-                          closed_high=True)
-        require_range("top_load (N)", self.top_load, 0.0, math.inf, closed_low=True,
-                      range_text="[0, inf)")
+            require_range(
+                "restitution", self.restitution, 0.0, 1.0, closed_low=True, closed_high=True
+            )
+        require_range(
+            "top_load (N)", self.top_load, 0.0, math.inf, closed_low=True, range_text="[0, inf)"
+        )
         if self.top_load > 0.0:
             self.require_mass("a top load (it is measured against the block's weight)")
 
     # --- constructors -------------------------------------------------------------------
     @classmethod
-    def from_dimensionless(cls, p: float, alpha: float, *, restitution: float | None = None,
-                           mass: float | None = None, g: float = STANDARD_GRAVITY) -> Block:
+    def from_dimensionless(
+        cls,
+        p: float,
+        alpha: float,
+        *,
+        restitution: float | None = None,
+        mass: float | None = None,
+        g: float = STANDARD_GRAVITY,
+    ) -> Block:
         """Block with frequency parameter ``p`` (rad/s) and slenderness ``alpha`` (rad).
 
         Inverts p^2 = 3 g / (4 R): R = 3 g / (4 p^2), b = R sin(alpha), h = R cos(alpha).
         """
         require_positive("p (frequency parameter, rad/s)", p)
-        require_range("alpha (slenderness angle, rad)", alpha, 0.0, math.pi / 2,
-                      range_text="(0, pi/2)")
+        require_range(
+            "alpha (slenderness angle, rad)", alpha, 0.0, math.pi / 2, range_text="(0, pi/2)"
+        )
         radius = 3.0 * g / (4.0 * p * p)
-        return cls(b=radius * math.sin(alpha), h=radius * math.cos(alpha), mass=mass,
-                   restitution=restitution, g=g)
+        return cls(
+            b=radius * math.sin(alpha),
+            h=radius * math.cos(alpha),
+            mass=mass,
+            restitution=restitution,
+            g=g,
+        )
 
     @classmethod
-    def from_density(cls, b: float, h: float, density: float, thickness: float, *,
-                     restitution: float | None = None, g: float = STANDARD_GRAVITY) -> Block:
+    def from_density(
+        cls,
+        b: float,
+        h: float,
+        density: float,
+        thickness: float,
+        *,
+        restitution: float | None = None,
+        g: float = STANDARD_GRAVITY,
+    ) -> Block:
         """Block of density (kg/m^3) and out-of-plane thickness (m): m = density * 2b * 2h * t."""
         require_positive("density (kg/m^3)", density)
         require_positive("thickness (m)", thickness)
@@ -124,7 +147,7 @@ class Block:
     @property
     def J0(self) -> float:
         """Moment of inertia about a base corner, 4/3 m R^2 (kg m^2)."""
-        return 4.0 / 3.0 * self.require_mass("the moment of inertia") * self.R ** 2
+        return 4.0 / 3.0 * self.require_mass("the moment of inertia") * self.R**2
 
     @property
     def nu(self) -> float:
@@ -174,8 +197,9 @@ class Block:
 
     def require_mass(self, what: str) -> float:
         if self.mass is None:
-            raise InputError(f"mass is needed for {what}: give the block mass (or density and "
-                             "thickness)")
+            raise InputError(
+                f"mass is needed for {what}: give the block mass (or density and thickness)"
+            )
         return self.mass
 
 
@@ -185,8 +209,9 @@ def check_model(model: str) -> str:
     return model
 
 
-def pulse_from_ratios(block: Block, kind: str, omega_ratio: float, amplitude_ratio: float,
-                      model: str = "linear") -> HarmonicPulse:
+def pulse_from_ratios(
+    block: Block, kind: str, omega_ratio: float, amplitude_ratio: float, model: str = "linear"
+) -> HarmonicPulse:
     """Pulse with Omega = omega_ratio * p and a_p = amplitude_ratio * a_uplift(model).
 
     The amplitude ratio is normalised by g alpha (linear model) or g tan(alpha) (nonlinear).
@@ -197,7 +222,9 @@ def pulse_from_ratios(block: Block, kind: str, omega_ratio: float, amplitude_rat
         raise InputError(f"pulse = {kind!r} is not one of {', '.join(PULSE_KINDS)}")
     uplift = block.uplift_acceleration(model)
     if not abs(amplitude_ratio) >= 1.0:
-        raise InputError(f"amplitude ratio = {amplitude_ratio:g} is below uplift: it must be "
-                         ">= 1 (a_p / a_uplift)")
+        raise InputError(
+            f"amplitude ratio = {amplitude_ratio:g} is below uplift: it must be "
+            ">= 1 (a_p / a_uplift)"
+        )
     make = sine_pulse if kind == "sine" else cosine_pulse
     return make(amplitude_ratio * uplift, omega_ratio * block.p, uplift)

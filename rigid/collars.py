@@ -45,8 +45,14 @@ def validate_collars(collars, block: Block) -> tuple[Collar, ...]:
     if collars:
         block.require_mass("collar springs")
     for i, collar in enumerate(collars, start=1):
-        require_range(f"collar {i} y (height, m)", collar.y, 0.0, 2.0 * block.h, closed_high=True,
-                      range_text=f"(0, {2.0 * block.h:g}] (the column height 2h)")
+        require_range(
+            f"collar {i} y (height, m)",
+            collar.y,
+            0.0,
+            2.0 * block.h,
+            closed_high=True,
+            range_text=f"(0, {2.0 * block.h:g}] (the column height 2h)",
+        )
     return collars
 
 
@@ -115,8 +121,10 @@ def collar_deformation(theta, b: float):
 
 def total_stiffness(collars, b: float) -> tuple[float, float]:
     """Summed axial and lateral spring stiffness of the collars (N/m)."""
-    return (sum(c.axial_stiffness(b) for c in collars),
-            sum(c.lateral_stiffness(b) for c in collars))
+    return (
+        sum(c.axial_stiffness(b) for c in collars),
+        sum(c.lateral_stiffness(b) for c in collars),
+    )
 
 
 def collar_strain_energy(theta, b: float, collars) -> np.ndarray:
@@ -124,7 +132,7 @@ def collar_strain_energy(theta, b: float, collars) -> np.ndarray:
     by crack-face contact and does no work under equal rotations)."""
     delta_a, delta_l = collar_deformation(theta, b)
     ka, kl = total_stiffness(collars, b)
-    return 0.5 * (ka * delta_a ** 2 + kl * delta_l ** 2)
+    return 0.5 * (ka * delta_a**2 + kl * delta_l**2)
 
 
 def collar_restoring_moment(theta, b: float, collars) -> np.ndarray:
@@ -145,13 +153,19 @@ def collar_response(theta, b: float, collar: Collar) -> dict:
     lateral = collar.lateral_stiffness(b) * delta_l
     moment = 6.0 * collar.E * collar.second_moment * delta_l / collar.span(b) ** 2
     stress = np.abs(axial) / collar.area + np.abs(moment) / collar.section_modulus
-    return {"axial_force": axial, "lateral_force": lateral, "end_moment": moment,
-            "stress": stress, "utilisation": stress / collar.fy}
+    return {
+        "axial_force": axial,
+        "lateral_force": lateral,
+        "end_moment": moment,
+        "stress": stress,
+        "utilisation": stress / collar.fy,
+    }
 
 
 def collar_yield_rotation(collar: Collar, b: float) -> float:
     """Smallest |theta| (rad) at which the collar's extreme-fibre stress reaches f_y; inf if it
     does not before pi/2. The stress grows monotonically with |theta| on [0, pi/2]."""
+
     def excess(theta):
         return float(collar_response(theta, b, collar)["utilisation"]) - 1.0
 
@@ -170,5 +184,3 @@ def collar_kernel_constants(block: Block, collars) -> tuple[float, float]:
     b, j0 = block.b, block.J0
     ka, kl = total_stiffness(collars, b)
     return 4.0 * b * b * ka / j0, 4.0 * b * b * kl / j0
-
-

@@ -32,14 +32,14 @@ from .collars import Collar
 
 @dataclass(frozen=True)
 class CollarDesign:
-    yield_moment: float              # N m
-    yield_displacement: float        # m, d_y
-    yield_rotation: float            # rad, theta_y
-    required_stiffness: float        # N/m, total lateral stiffness k (<= 0: no collar needed)
+    yield_moment: float  # N m
+    yield_displacement: float  # m, d_y
+    yield_rotation: float  # rad, theta_y
+    required_stiffness: float  # N/m, total lateral stiffness k (<= 0: no collar needed)
     collar_lateral_stiffness: float  # N/m, K_l of one collar
     collars_needed: int
-    design_acceleration: float       # m/s^2
-    column_mass: float               # kg, both halves
+    design_acceleration: float  # m/s^2
+    column_mass: float  # kg, both halves
     yield_rotation_over_alpha: float
 
     def to_dict(self) -> dict:
@@ -63,8 +63,12 @@ def required_stiffness(block: Block, design_acceleration, d_y, theta_y):
     """
     m = 2.0 * block.require_mass("the collar design")
     a = block.alpha
-    return (m * block.R * (np.asarray(design_acceleration) * np.cos(a - theta_y)
-                           - block.g * np.sin(a - theta_y)) / (2.0 * block.b * d_y))
+    return (
+        m
+        * block.R
+        * (np.asarray(design_acceleration) * np.cos(a - theta_y) - block.g * np.sin(a - theta_y))
+        / (2.0 * block.b * d_y)
+    )
 
 
 def design_collars(block: Block, collar: Collar, design_acceleration: float) -> CollarDesign:
@@ -76,13 +80,28 @@ def design_collars(block: Block, collar: Collar, design_acceleration: float) -> 
     k = float(required_stiffness(block, design_acceleration, d_y, th_y))
     k_one = collar.lateral_stiffness(block.b)
     needed = 0 if k <= 0.0 else math.ceil(k / k_one)
-    return CollarDesign(collar.yield_moment, d_y, th_y, k, k_one, needed,
-                        float(design_acceleration), 2.0 * block.require_mass("the collar design"),
-                        th_y / block.alpha)
+    return CollarDesign(
+        collar.yield_moment,
+        d_y,
+        th_y,
+        k,
+        k_one,
+        needed,
+        float(design_acceleration),
+        2.0 * block.require_mass("the collar design"),
+        th_y / block.alpha,
+    )
 
 
-def design_chart(b: float, density: float, thickness: float, collar: Collar, alphas,
-                 acceleration_ratios, g: float = STANDARD_GRAVITY) -> np.ndarray:
+def design_chart(
+    b: float,
+    density: float,
+    thickness: float,
+    collar: Collar,
+    alphas,
+    acceleration_ratios,
+    g: float = STANDARD_GRAVITY,
+) -> np.ndarray:
     """Minimum stiffness k (N/m) over slenderness alpha (rows) and a_g / g (columns): the
     paper's Fig. 8 with the corrected equations. Half width b is fixed; h = b / tan(alpha).
     Non-positive values mean no collar is needed."""

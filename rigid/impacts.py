@@ -69,8 +69,9 @@ def half_cycles(theta, threshold_fraction: float = 0.02):
     return np.array(crossings, dtype=int)
 
 
-def impact_ratios_from_peaks(t, theta, alpha: float, *, threshold_fraction: float = 0.02,
-                             min_peak_fraction: float = 0.05) -> ImpactMeasure:
+def impact_ratios_from_peaks(
+    t, theta, alpha: float, *, threshold_fraction: float = 0.02, min_peak_fraction: float = 0.05
+) -> ImpactMeasure:
     """Velocity ratio at every impact from the peaks either side (free rocking; see module).
 
     alpha: slenderness of the rocking body (rad). Impacts whose peak before is below
@@ -96,8 +97,7 @@ def impact_ratios_from_peaks(t, theta, alpha: float, *, threshold_fraction: floa
             after.append(peaks[k + 1])
     peak_before, peak_after = np.array(before), np.array(after)
     energy = lambda peak: np.cos(alpha - np.minimum(peak, alpha)) - np.cos(alpha)  # noqa: E731
-    ratios = (np.sqrt(energy(peak_after) / energy(peak_before)) if peak_before.size
-              else np.zeros(0))
+    ratios = np.sqrt(energy(peak_after) / energy(peak_before)) if peak_before.size else np.zeros(0)
     return ImpactMeasure(np.array(times), peak_before, peak_after, ratios)
 
 
@@ -112,8 +112,8 @@ def impact_ratios_from_fit(t, theta, *, window: int = 4, threshold_fraction: flo
         lo, hi = k - window + 1, k + 1 + window
         if lo < 0 or hi > t.size:
             continue
-        before = np.polyfit(t[lo:k + 1], theta[lo:k + 1], 1)[0]
-        after = np.polyfit(t[k + 1:hi], theta[k + 1:hi], 1)[0]
+        before = np.polyfit(t[lo : k + 1], theta[lo : k + 1], 1)[0]
+        after = np.polyfit(t[k + 1 : hi], theta[k + 1 : hi], 1)[0]
         if abs(before) * (t[1] - t[0]) * window < 1e-3 * scale:
             continue
         times.append(t[k + 1])

@@ -43,20 +43,20 @@ from .block import Block
 from .collars import validate_collars
 from .solve import CollarHistory, collar_state, motion_word, verdict
 
-DEFAULT_FRICTION = 0.7          # as the FEM's ContactSettings
-STEPS_PER_ROCKING_TIME = 1000   # default step: (1/p) / 1000
-COLLAR_STEP_SAFETY = 0.25       # h <= 0.25 * 2 / omega_collars (explicit collar forces)
-SOLVER_TOLERANCE = 1e-10        # relative change of the impulses that ends the Gauss-Seidel
+DEFAULT_FRICTION = 0.7  # as the FEM's ContactSettings
+STEPS_PER_ROCKING_TIME = 1000  # default step: (1/p) / 1000
+COLLAR_STEP_SAFETY = 0.25  # h <= 0.25 * 2 / omega_collars (explicit collar forces)
+SOLVER_TOLERANCE = 1e-10  # relative change of the impulses that ends the Gauss-Seidel
 SOLVER_MAX_ITERATIONS = 500
-IMPACT_REFINEMENT = 32          # a step in which a contact closes is redone as 32 substeps
-IMPACT_THRESHOLD = 1e-4         # an impact counts once |theta| > 1e-4 alpha since the last one
+IMPACT_REFINEMENT = 32  # a step in which a contact closes is redone as 32 substeps
+IMPACT_THRESHOLD = 1e-4  # an impact counts once |theta| > 1e-4 alpha since the last one
 
 OVERTURN_REASONS = {
     K.OVER_HALF_PI: "a body rotated past pi/2",
     K.OVER_COLUMN: "the column's centre of mass passed its outer toe moving outward after the "
-                   "ground motion",
+    "ground motion",
     K.OVER_HALF: "a free half's centre of mass passed its outer toe moving outward after the "
-                 "ground motion",
+    "ground motion",
 }
 
 
@@ -69,11 +69,11 @@ class MultibodyColumn:
     collars: tuple
     friction: float
     crack_friction: float
-    mass: np.ndarray = field(repr=False)            # (n_bodies,) kg
-    inertia: np.ndarray = field(repr=False)         # (n_bodies,) kg m^2, centroidal
+    mass: np.ndarray = field(repr=False)  # (n_bodies,) kg
+    inertia: np.ndarray = field(repr=False)  # (n_bodies,) kg m^2, centroidal
     # (n_bodies, 3): half width, half height (m), dead load at the top's centre (N)
     half: np.ndarray = field(repr=False)
-    q_rest: np.ndarray = field(repr=False)          # (3 n_bodies,)
+    q_rest: np.ndarray = field(repr=False)  # (3 n_bodies,)
     cand_a: np.ndarray = field(repr=False)
     cand_b: np.ndarray = field(repr=False)
     cand_pt: np.ndarray = field(repr=False)
@@ -88,8 +88,9 @@ class MultibodyColumn:
     @property
     def col_limits(self) -> np.ndarray:
         """(A, W, f_y) of each collar: area (m^2), section modulus (m^3), yield stress (Pa)."""
-        return np.array([(c.area, c.section_modulus, c.fy) for c in self.collars],
-                        dtype=float).reshape(-1, 3)
+        return np.array(
+            [(c.area, c.section_modulus, c.fy) for c in self.collars], dtype=float
+        ).reshape(-1, 3)
 
     @property
     def n_bodies(self) -> int:
@@ -107,12 +108,18 @@ class MultibodyColumn:
         """The least energy above rest (J) with which any part can pass its toe: the whole
         column tipping as one block, or (cracked) one half alone."""
         g = self.block.g
-        whole = Block(b=0.5 * self.column_width, h=self.block.h, mass=self.total_mass, g=g,
-                      top_load=float(self.half[:, 2].sum()))
+        whole = Block(
+            b=0.5 * self.column_width,
+            h=self.block.h,
+            mass=self.total_mass,
+            g=g,
+            top_load=float(self.half[:, 2].sum()),
+        )
         barrier = overturning_energy(whole)
         for m, (bw, hh, load) in zip(self.mass, self.half):
-            barrier = min(barrier, overturning_energy(Block(b=bw, h=hh, mass=m, g=g,
-                                                            top_load=load)))
+            barrier = min(
+                barrier, overturning_energy(Block(b=bw, h=hh, mass=m, g=g, top_load=load))
+            )
         return float(barrier)
 
     def rocking_energy(self) -> float:
@@ -133,11 +140,13 @@ class MultibodyColumn:
             q = self.q_rest.copy()
             fp, fm = np.zeros(n), np.zeros(n)
             q[k] += step
-            K.collar_forces(q, self.col_a, self.col_b, self.col_r, self.col_props, fp, out,
-                            state, False)
+            K.collar_forces(
+                q, self.col_a, self.col_b, self.col_r, self.col_props, fp, out, state, False
+            )
             q[k] -= 2.0 * step
-            K.collar_forces(q, self.col_a, self.col_b, self.col_r, self.col_props, fm, out,
-                            state, False)
+            K.collar_forces(
+                q, self.col_a, self.col_b, self.col_r, self.col_props, fm, out, state, False
+            )
             stiffness[:, k] = -(fp - fm) / (2.0 * step)
         stiffness = 0.5 * (stiffness + stiffness.T)
         m = np.stack((self.mass, self.mass, self.inertia), axis=1).ravel()
@@ -152,13 +161,19 @@ def overturning_energy(block: Block) -> float:
     theta_c - 1) + sin alpha sin theta_c); m g (R - h) without a load."""
     m = block.require_mass("the overturning energy")
     a, tc, R = block.alpha, block.critical_angle("nonlinear"), block.R
-    return (m * block.g * R * (math.cos(a - tc) - math.cos(a)) + block.top_load * R * (
-        2.0 * math.cos(a) * (math.cos(tc) - 1.0) + math.sin(a) * math.sin(tc)))
+    return m * block.g * R * (math.cos(a - tc) - math.cos(a)) + block.top_load * R * (
+        2.0 * math.cos(a) * (math.cos(tc) - 1.0) + math.sin(a) * math.sin(tc)
+    )
 
 
-def build_column(block: Block, *, cracked: bool = False, collars=(),
-                 friction: float = DEFAULT_FRICTION,
-                 crack_friction: float | None = None) -> MultibodyColumn:
+def build_column(
+    block: Block,
+    *,
+    cracked: bool = False,
+    collars=(),
+    friction: float = DEFAULT_FRICTION,
+    crack_friction: float | None = None,
+) -> MultibodyColumn:
     """Bodies, contact candidates and collar elements of a solid or cracked column.
 
     ``block`` is the rocking block (one half of a cracked column), with its top load (each
@@ -170,11 +185,13 @@ def build_column(block: Block, *, cracked: bool = False, collars=(),
     require_non_negative("crack friction (Coulomb coefficient)", crack_friction)
     collars = validate_collars(collars, block)
     if collars and not cracked:
-        raise InputError("collars need a cracked column (--cracked): on a solid rigid column "
-                         "both collar ends sit on the same body")
+        raise InputError(
+            "collars need a cracked column (--cracked): on a solid rigid column "
+            "both collar ends sit on the same body"
+        )
     b, h = block.b, block.h
     m = block.mass if block.mass is not None else 1.0
-    inertia = m * (b * b + h * h) / 3.0          # (2b)^2 + (2h)^2 over 12
+    inertia = m * (b * b + h * h) / 3.0  # (2b)^2 + (2h)^2 over 12
     n = 2 if cracked else 1
     centres = [(-b, h), (b, h)] if cracked else [(0.0, h)]
     q_rest = np.array([c for xy in centres for c in (*xy, 0.0)], dtype=float)
@@ -199,31 +216,52 @@ def build_column(block: Block, *, cracked: bool = False, collars=(),
     col_r = np.zeros((len(collars), 4))
     col_props = np.zeros((len(collars), 8))
     for c, collar in enumerate(collars):
-        y = collar.y - h                         # height relative to the centroids
-        col_r[c] = (-b, y, b, y)                 # outer faces: left half x = -2b, right x = 2b
+        y = collar.y - h  # height relative to the centroids
+        col_r[c] = (-b, y, b, y)  # outer faces: left half x = -2b, right x = 2b
         chord = 4.0 * b
         span = collar.span(b)
         ea_l = collar.E * collar.area / span
         # as the FEM: bending stiffness scaled so that the lateral one is 12 E I / L^3
         ei_l = collar.E * collar.second_moment * (chord / span) ** 3 / chord
-        col_props[c] = (ea_l, ei_l, collar.pretension, chord, 0.0,
-                        collar.fy * collar.area if collar.plastic else 0.0,
-                        collar.E * collar.area, collar.plastic_modulus * collar.area)
+        col_props[c] = (
+            ea_l,
+            ei_l,
+            collar.pretension,
+            chord,
+            0.0,
+            collar.fy * collar.area if collar.plastic else 0.0,
+            collar.E * collar.area,
+            collar.plastic_modulus * collar.area,
+        )
     return MultibodyColumn(
-        block, bool(cracked), collars, float(friction), float(crack_friction),
-        np.full(n, float(m)), np.full(n, inertia),
+        block,
+        bool(cracked),
+        collars,
+        float(friction),
+        float(crack_friction),
+        np.full(n, float(m)),
+        np.full(n, inertia),
         np.tile([b, h, block.top_load], (n, 1)).astype(float),
-        q_rest, np.array(cand_a, dtype=np.int64), np.array(cand_b, dtype=np.int64),
-        np.array(cand_pt, dtype=float), np.array(cand_face, dtype=float),
-        np.array(cand_mu, dtype=float), np.array(cand_kind, dtype=np.int64), col_a, col_b,
-        col_r, col_props)
+        q_rest,
+        np.array(cand_a, dtype=np.int64),
+        np.array(cand_b, dtype=np.int64),
+        np.array(cand_pt, dtype=float),
+        np.array(cand_face, dtype=float),
+        np.array(cand_mu, dtype=float),
+        np.array(cand_kind, dtype=np.int64),
+        col_a,
+        col_b,
+        col_r,
+        col_props,
+    )
 
 
 def tilted_state(column: MultibodyColumn, tilt: float, angular_velocity: float = 0.0):
     """Positions and velocities of the column turned rigidly by ``tilt`` (rad, theta sign:
     > 0 toward +x) about the outer toe it tips on, spinning at ``angular_velocity`` (rad/s)."""
-    require_range("initial tilt (rad)", tilt, -0.5 * math.pi, 0.5 * math.pi,
-                  range_text="(-pi/2, pi/2)")
+    require_range(
+        "initial tilt (rad)", tilt, -0.5 * math.pi, 0.5 * math.pi, range_text="(-pi/2, pi/2)"
+    )
     q = column.q_rest.copy()
     v = np.zeros_like(q)
     if tilt == 0.0 and angular_velocity == 0.0:
@@ -234,11 +272,11 @@ def tilted_state(column: MultibodyColumn, tilt: float, angular_velocity: float =
     c, s = math.cos(phi), math.sin(phi)
     omega = -angular_velocity
     for i in range(column.n_bodies):
-        r = q[3 * i:3 * i + 2] - pivot
+        r = q[3 * i : 3 * i + 2] - pivot
         r_new = np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
-        q[3 * i:3 * i + 2] = pivot + r_new
+        q[3 * i : 3 * i + 2] = pivot + r_new
         q[3 * i + 2] = phi
-        v[3 * i:3 * i + 3] = (-omega * r_new[1], omega * r_new[0], omega)
+        v[3 * i : 3 * i + 3] = (-omega * r_new[1], omega * r_new[0], omega)
     return q, v
 
 
@@ -252,13 +290,13 @@ class MultibodyResult:
     time: np.ndarray = field(repr=False)
     theta: np.ndarray = field(repr=False)
     theta_dot: np.ndarray = field(repr=False)
-    centroid: np.ndarray = field(repr=False)        # (n_times, n_bodies, 2) m
-    uplift: np.ndarray = field(repr=False)          # (n_times, 2) outer toes' height, m
-    crack_opening: np.ndarray = field(repr=False)   # (n_times,) m, max over the face
-    crack_slip: np.ndarray = field(repr=False)      # (n_times,) m, right relative to left
-    base_normal_force: np.ndarray = field(repr=False)       # (n_times, n_bodies) N
-    base_tangential_force: np.ndarray = field(repr=False)   # (n_times, n_bodies) N
-    crack_normal_force: np.ndarray = field(repr=False)      # (n_times,) N
+    centroid: np.ndarray = field(repr=False)  # (n_times, n_bodies, 2) m
+    uplift: np.ndarray = field(repr=False)  # (n_times, 2) outer toes' height, m
+    crack_opening: np.ndarray = field(repr=False)  # (n_times,) m, max over the face
+    crack_slip: np.ndarray = field(repr=False)  # (n_times,) m, right relative to left
+    base_normal_force: np.ndarray = field(repr=False)  # (n_times, n_bodies) N
+    base_tangential_force: np.ndarray = field(repr=False)  # (n_times, n_bodies) N
+    crack_normal_force: np.ndarray = field(repr=False)  # (n_times,) N
     energies: dict = field(repr=False)
     impacts_table: np.ndarray = field(repr=False)
     column: MultibodyColumn = field(repr=False)
@@ -272,8 +310,8 @@ class MultibodyResult:
     wall_seconds: float
     solver_iterations_max: int
     collar_histories: list = field(default_factory=list, repr=False)
-    collar_max_plastic_strain: float = 0.0       # largest |plastic strain| of a plastic collar
-    collar_plastic_work: float = 0.0             # J, work done yielding the collars
+    collar_max_plastic_strain: float = 0.0  # largest |plastic strain| of a plastic collar
+    collar_plastic_work: float = 0.0  # J, work done yielding the collars
 
     model = "multibody"
 
@@ -353,21 +391,26 @@ class MultibodyResult:
             "wall_seconds": self.wall_seconds,
         }
         if self.collar_histories:
-            out["collars"] = [{
-                "y": hist.collar.y,
-                "max_stress": float(np.max(hist.stress)),
-                "max_utilisation": hist.max_utilisation,
-                "first_yield_time": hist.first_yield_time,
-            } for hist in self.collar_histories]
+            out["collars"] = [
+                {
+                    "y": hist.collar.y,
+                    "max_stress": float(np.max(hist.stress)),
+                    "max_utilisation": hist.max_utilisation,
+                    "first_yield_time": hist.first_yield_time,
+                }
+                for hist in self.collar_histories
+            ]
             out["collar_max_utilisation"] = max(h.max_utilisation for h in self.collar_histories)
-            yields = [h.first_yield_time for h in self.collar_histories
-                      if h.first_yield_time is not None]
+            yields = [
+                h.first_yield_time for h in self.collar_histories if h.first_yield_time is not None
+            ]
             out["collar_first_yield_time"] = min(yields) if yields else None
             out["collar_max_plastic_strain"] = self.collar_max_plastic_strain
             out["collar_plastic_work"] = self.collar_plastic_work
-            out["collar_state"] = collar_state(out["collar_max_utilisation"],
-                                               self.collar_max_plastic_strain)
-        return {"verdict": verdict(out), **out}     # first: what a person reads first
+            out["collar_state"] = collar_state(
+                out["collar_max_utilisation"], self.collar_max_plastic_strain
+            )
+        return {"verdict": verdict(out), **out}  # first: what a person reads first
 
 
 def history_columns(result: MultibodyResult) -> dict:
@@ -431,14 +474,24 @@ def default_step(column: MultibodyColumn, ground: GroundMotion = NO_MOTION) -> f
     return min(h, 0.5 * COLLAR_STEP_SAFETY * column.collar_stable_step())
 
 
-def rock_multibody(block: Block, ground: GroundMotion = NO_MOTION, collars=(), *, cracked: bool = False,
-                   friction: float = DEFAULT_FRICTION, crack_friction: float | None = None,
-                   restitution_normal: float = 0.0, duration: float | None = None,
-                   dt: float | None = None, dt_out: float | None = None,
-                   initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
-                   refine: int = IMPACT_REFINEMENT,
-                   max_impacts_stored: int = 10_000,
-                   vertical: GroundMotion = NO_MOTION) -> MultibodyResult:
+def rock_multibody(
+    block: Block,
+    ground: GroundMotion = NO_MOTION,
+    collars=(),
+    *,
+    cracked: bool = False,
+    friction: float = DEFAULT_FRICTION,
+    crack_friction: float | None = None,
+    restitution_normal: float = 0.0,
+    duration: float | None = None,
+    dt: float | None = None,
+    dt_out: float | None = None,
+    initial_tilt: float = 0.0,
+    initial_angular_velocity: float = 0.0,
+    refine: int = IMPACT_REFINEMENT,
+    max_impacts_stored: int = 10_000,
+    vertical: GroundMotion = NO_MOTION,
+) -> MultibodyResult:
     """Time history of the rigid multibody column under ``ground`` (a pulse, a record, or
     None for free rocking from ``initial_tilt``).
 
@@ -448,60 +501,113 @@ def rock_multibody(block: Block, ground: GroundMotion = NO_MOTION, collars=(), *
     ``refine``: a step in which a contact closes is redone as that many substeps (1: plain
     Moreau-Jean, first order at impacts). ``vertical``: the vertical ground acceleration
     (upward positive; a pulse or a record), applied to every body as -m vg''."""
-    column = build_column(block, cracked=cracked, collars=collars, friction=friction,
-                          crack_friction=crack_friction)
-    require_range("restitution_normal (Newton's e_n)", restitution_normal, 0.0, 1.0,
-                  closed_low=True, closed_high=True)
+    column = build_column(
+        block, cracked=cracked, collars=collars, friction=friction, crack_friction=crack_friction
+    )
+    require_range(
+        "restitution_normal (Newton's e_n)",
+        restitution_normal,
+        0.0,
+        1.0,
+        closed_low=True,
+        closed_high=True,
+    )
     kind, gpar, rec_t, rec_a, t_ground = _ground_arrays(ground, block.g, vertical)
     if duration is None:
         duration = t_ground + 20.0 / block.p
     require_positive("duration (s)", duration)
-    h_stable = 0.5 * column.collar_stable_step()     # a quarter of 2/omega is the default
+    h_stable = 0.5 * column.collar_stable_step()  # a quarter of 2/omega is the default
     if dt is None:
         dt = default_step(column, ground)
     require_positive("dt (s)", dt)
     if dt > h_stable:
-        raise InputError(f"dt = {dt:g} s is above the collars' stable step {h_stable:g} s "
-                         "(half of 2/omega_max of the collar springs)")
+        raise InputError(
+            f"dt = {dt:g} s is above the collars' stable step {h_stable:g} s "
+            "(half of 2/omega_max of the collar springs)"
+        )
     if dt_out is None:
         dt_out = 1.0 / (200.0 * block.p)
     require_positive("dt_out (s)", dt_out)
     out_every = max(1, int(round(dt_out / dt)))
     n_steps = int(math.ceil(duration / dt))
     q, v = tilted_state(column, initial_tilt, initial_angular_velocity)
-    n_cols = (1 + K.N_BODY_COLS * column.n_bodies + K.N_TAIL + 2 * column.n_bodies
-              + 2 * column.col_a.size)
+    n_cols = (
+        1 + K.N_BODY_COLS * column.n_bodies + K.N_TAIL + 2 * column.n_bodies + 2 * column.col_a.size
+    )
     out = np.zeros((n_steps // out_every + 3, n_cols))
     impacts = np.zeros((max_impacts_stored, 4))
     energy_scale = max(column.rocking_energy(), 1e-300)
     start = time.perf_counter()
     status, steps, rows, n_imp, reason, t_over, _peak, iters, _util, plastic, work = K.simulate(
-        q, v, column.mass, column.inertia, column.half, block.g,
-        column.cand_a, column.cand_b, column.cand_pt, column.cand_face, column.cand_mu,
-        column.cand_kind, column.col_a, column.col_b, column.col_r, column.col_props,
+        q,
+        v,
+        column.mass,
+        column.inertia,
+        column.half,
+        block.g,
+        column.cand_a,
+        column.cand_b,
+        column.cand_pt,
+        column.cand_face,
+        column.cand_mu,
+        column.cand_kind,
+        column.col_a,
+        column.col_b,
+        column.col_r,
+        column.col_props,
         column.col_limits,
-        kind, gpar, rec_t, rec_a, t_ground, dt, n_steps, _check_refine(refine),
-        restitution_normal, out_every, out, impacts, column.cracked and not column.collars,
-        column.overturning_barrier(), False,
-        IMPACT_THRESHOLD * block.alpha, energy_scale, SOLVER_TOLERANCE, SOLVER_MAX_ITERATIONS)
+        kind,
+        gpar,
+        rec_t,
+        rec_a,
+        t_ground,
+        dt,
+        n_steps,
+        _check_refine(refine),
+        restitution_normal,
+        out_every,
+        out,
+        impacts,
+        column.cracked and not column.collars,
+        column.overturning_barrier(),
+        False,
+        IMPACT_THRESHOLD * block.alpha,
+        energy_scale,
+        SOLVER_TOLERANCE,
+        SOLVER_MAX_ITERATIONS,
+    )
     wall = time.perf_counter() - start
     if status == K.UNSTABLE:
-        raise InputError(f"the multibody run went unstable at t = {steps * dt:.4g} s "
-                         f"(dt = {dt:g} s): lower dt")
+        raise InputError(
+            f"the multibody run went unstable at t = {steps * dt:.4g} s (dt = {dt:g} s): lower dt"
+        )
     overturned = status == K.OVERTURNED
-    table = impacts[:min(n_imp, max_impacts_stored)].copy()
+    table = impacts[: min(n_imp, max_impacts_stored)].copy()
     if n_imp <= max_impacts_stored:
         # the column's impacts: the halves of a cracked column often land together
-        n_imp = max((int(np.sum(table[:, 1] == body)) for body in range(column.n_bodies)),
-                    default=0)
+        n_imp = max(
+            (int(np.sum(table[:, 1] == body)) for body in range(column.n_bodies)), default=0
+        )
     if overturned:
         text = f"overturned: {OVERTURN_REASONS[reason]} (t = {t_over:.4g} s)"
         mode = "after-impact" if n_imp > 0 else "without-impact"
     else:
         text = f"finished at t = {steps * dt:.4g} s"
         mode = "safe"
-    result = _result(column, out[:rows], table, text, overturned, mode, int(n_imp),
-                     t_over if overturned else None, dt, steps, wall, iters)
+    result = _result(
+        column,
+        out[:rows],
+        table,
+        text,
+        overturned,
+        mode,
+        int(n_imp),
+        t_over if overturned else None,
+        dt,
+        steps,
+        wall,
+        iters,
+    )
     result.collar_max_plastic_strain = float(plastic)
     result.collar_plastic_work = float(work)
     return result
@@ -509,16 +615,19 @@ def rock_multibody(block: Block, ground: GroundMotion = NO_MOTION, collars=(), *
 
 def _check_refine(refine) -> int:
     if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or refine < 1:
-        raise InputError(f"refine = {refine!r} must be an integer >= 1 (substeps per step "
-                         "in which a contact closes)")
+        raise InputError(
+            f"refine = {refine!r} must be an integer >= 1 (substeps per step "
+            "in which a contact closes)"
+        )
     return int(refine)
 
 
-def _result(column, rows, table, status, overturned, mode, n_imp, t_over, dt, steps, wall,
-            iters) -> MultibodyResult:
+def _result(
+    column, rows, table, status, overturned, mode, n_imp, t_over, dt, steps, wall, iters
+) -> MultibodyResult:
     nb = column.n_bodies
     t = rows[:, 0]
-    body = rows[:, 1:1 + K.N_BODY_COLS * nb].reshape(-1, nb, K.N_BODY_COLS)
+    body = rows[:, 1 : 1 + K.N_BODY_COLS * nb].reshape(-1, nb, K.N_BODY_COLS)
     q = body[:, :, :3]
     k0 = 1 + K.N_BODY_COLS * nb
     tail = rows[:, k0:]
@@ -526,23 +635,44 @@ def _result(column, rows, table, status, overturned, mode, n_imp, t_over, dt, st
     theta_dot = -body[:, :, 5]
     toes = _outer_toe_heights(column, q)
     opening, slip = _crack_kinematics(column, q)
-    energies = {"kinetic": tail[:, 0], "gravity": tail[:, 1], "collar": tail[:, 2],
-                "dissipated": tail[:, 3], "external_work": tail[:, 4]}
+    energies = {
+        "kinetic": tail[:, 0],
+        "gravity": tail[:, 1],
+        "collar": tail[:, 2],
+        "dissipated": tail[:, 3],
+        "external_work": tail[:, 4],
+    }
     total = tail[:, 0] + tail[:, 1] + tail[:, 2]
     balance = total + tail[:, 3] - tail[:, 4] - total[0]
     scale = max(np.max(np.abs(tail[:, 4]), initial=0.0), total[0], column.rocking_energy())
     energies["total"] = total
     energies["error"] = balance / scale
     result = MultibodyResult(
-        time=t, theta=theta, theta_dot=theta_dot, centroid=q[:, :, :2].copy(), uplift=toes,
-        crack_opening=opening, crack_slip=slip,
-        base_normal_force=tail[:, K.N_TAIL::2][:, :nb],
-        base_tangential_force=tail[:, K.N_TAIL + 1::2][:, :nb],
-        crack_normal_force=tail[:, 5], energies=energies, impacts_table=table, column=column,
-        status=status, overturned=overturned, mode=mode, impacts=n_imp, overturn_time=t_over,
-        dt=dt, steps=int(steps), wall_seconds=wall, solver_iterations_max=int(iters))
+        time=t,
+        theta=theta,
+        theta_dot=theta_dot,
+        centroid=q[:, :, :2].copy(),
+        uplift=toes,
+        crack_opening=opening,
+        crack_slip=slip,
+        base_normal_force=tail[:, K.N_TAIL :: 2][:, :nb],
+        base_tangential_force=tail[:, K.N_TAIL + 1 :: 2][:, :nb],
+        crack_normal_force=tail[:, 5],
+        energies=energies,
+        impacts_table=table,
+        column=column,
+        status=status,
+        overturned=overturned,
+        mode=mode,
+        impacts=n_imp,
+        overturn_time=t_over,
+        dt=dt,
+        steps=int(steps),
+        wall_seconds=wall,
+        solver_iterations_max=int(iters),
+    )
     ncol = column.col_a.size
-    plastic = tail[:, K.N_TAIL + 2 * nb:K.N_TAIL + 2 * nb + 2 * ncol].reshape(t.size, ncol, 2)
+    plastic = tail[:, K.N_TAIL + 2 * nb : K.N_TAIL + 2 * nb + 2 * ncol].reshape(t.size, ncol, 2)
     result.collar_histories = collar_histories(column, t, q, plastic)
     return result
 
@@ -594,8 +724,17 @@ def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[Collar
     for k in range(n):
         if plastic is not None:
             state[:, :2] = plastic[k]
-        K.collar_forces(flat[k], column.col_a, column.col_b, column.col_r, column.col_props,
-                        np.zeros(0), out, state, False)
+        K.collar_forces(
+            flat[k],
+            column.col_a,
+            column.col_b,
+            column.col_r,
+            column.col_props,
+            np.zeros(0),
+            out,
+            state,
+            False,
+        )
         forces[k] = out
     histories = []
     for c, collar in enumerate(column.collars):
@@ -605,16 +744,29 @@ def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[Collar
         stress = np.abs(axial) / collar.area + moment / collar.section_modulus
         util = stress / collar.fy
         hit = np.nonzero(util >= 1.0)[0]
-        histories.append(CollarHistory(collar, axial, shear, moment, stress, util,
-                                       float(t[hit[0]]) if hit.size else None))
+        histories.append(
+            CollarHistory(
+                collar, axial, shear, moment, stress, util, float(t[hit[0]]) if hit.size else None
+            )
+        )
     return histories
 
 
-def multibody_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(), *,
-                       cracked: bool = False, friction: float = DEFAULT_FRICTION,
-                       crack_friction: float | None = None, pulse: str = "sine",
-                       restitution_normal: float = 0.0, dt: float | None = None,
-                       refine: int = IMPACT_REFINEMENT, free_time: float | None = None):
+def multibody_spectrum(
+    block: Block,
+    omega_ratios,
+    amplitude_ratios,
+    collars=(),
+    *,
+    cracked: bool = False,
+    friction: float = DEFAULT_FRICTION,
+    crack_friction: float | None = None,
+    pulse: str = "sine",
+    restitution_normal: float = 0.0,
+    dt: float | None = None,
+    refine: int = IMPACT_REFINEMENT,
+    free_time: float | None = None,
+):
     """Overturning spectrum of the multibody column: mode code per (amplitude ratio, omega
     ratio), amplitudes normalised by g tan(alpha) of ``block``, Omega by its p. Runs in
     parallel over the cores; each run stops once its fate is certain (overturned, or after the
@@ -624,10 +776,17 @@ def multibody_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(),
     from .spectrum import Spectrum, check_spectrum_grid
 
     omega_ratios, amplitude_ratios = check_spectrum_grid(omega_ratios, amplitude_ratios, pulse)
-    column = build_column(block, cracked=cracked, collars=collars, friction=friction,
-                          crack_friction=crack_friction)
-    require_range("restitution_normal (Newton's e_n)", restitution_normal, 0.0, 1.0,
-                  closed_low=True, closed_high=True)
+    column = build_column(
+        block, cracked=cracked, collars=collars, friction=friction, crack_friction=crack_friction
+    )
+    require_range(
+        "restitution_normal (Newton's e_n)",
+        restitution_normal,
+        0.0,
+        1.0,
+        closed_low=True,
+        closed_high=True,
+    )
     h_max = dt if dt is not None else default_step(column)
     require_positive("dt (s)", h_max)
     if free_time is None:
@@ -635,17 +794,47 @@ def multibody_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(),
     uplift = block.uplift_acceleration("nonlinear")
     start = time.perf_counter()
     codes, peaks, _status, utilisation = K.spectrum_modes(
-        column.q_rest, column.mass, column.inertia, column.half, block.g,
-        column.cand_a, column.cand_b, column.cand_pt, column.cand_face, column.cand_mu,
-        column.cand_kind, column.col_a, column.col_b, column.col_r, column.col_props,
+        column.q_rest,
+        column.mass,
+        column.inertia,
+        column.half,
+        block.g,
+        column.cand_a,
+        column.cand_b,
+        column.cand_pt,
+        column.cand_face,
+        column.cand_mu,
+        column.cand_kind,
+        column.col_a,
+        column.col_b,
+        column.col_r,
+        column.col_props,
         column.col_limits,
-        omega_ratios * block.p, amplitude_ratios, uplift, pulse == "cosine", h_max,
+        omega_ratios * block.p,
+        amplitude_ratios,
+        uplift,
+        pulse == "cosine",
+        h_max,
         _check_refine(refine),
         free_time,
-        restitution_normal, column.cracked and not column.collars,
-        column.overturning_barrier(), IMPACT_THRESHOLD * block.alpha,
-        max(column.rocking_energy(), 1e-300), SOLVER_TOLERANCE, SOLVER_MAX_ITERATIONS)
+        restitution_normal,
+        column.cracked and not column.collars,
+        column.overturning_barrier(),
+        IMPACT_THRESHOLD * block.alpha,
+        max(column.rocking_energy(), 1e-300),
+        SOLVER_TOLERANCE,
+        SOLVER_MAX_ITERATIONS,
+    )
     seconds = time.perf_counter() - start
     yields = utilisation >= 1.0 if column.collars else None
-    return Spectrum(omega_ratios, amplitude_ratios, codes, peaks, yields, "multibody", pulse,
-                    seconds, bool(column.collars))
+    return Spectrum(
+        omega_ratios,
+        amplitude_ratios,
+        codes,
+        peaks,
+        yields,
+        "multibody",
+        pulse,
+        seconds,
+        bool(column.collars),
+    )

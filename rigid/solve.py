@@ -39,7 +39,7 @@ from .collars import Collar, collar_kernel_constants, collar_response, validate_
 
 MODE_NAMES = {K.SAFE: "safe", K.AFTER_IMPACT: "after-impact", K.WITHOUT_IMPACT: "without-impact"}
 
-UPLIFT_THRESHOLD = 1e-4    # rotations up to 1e-4 alpha are no uplift (multibody contact compliance)
+UPLIFT_THRESHOLD = 1e-4  # rotations up to 1e-4 alpha are no uplift (multibody contact compliance)
 
 DEFAULT_RTOL = 1e-10
 DEFAULT_ATOL = 1e-12
@@ -66,8 +66,10 @@ def verdict(summary: dict) -> str:
     if summary["overturned"]:
         words += f" ({summary['mode']})"
     if "collar_state" in summary:
-        words += (f"; collars {summary['collar_state']} "
-                  f"(max utilisation {summary['collar_max_utilisation']:.3g})")
+        words += (
+            f"; collars {summary['collar_state']} "
+            f"(max utilisation {summary['collar_max_utilisation']:.3g})"
+        )
     return words
 
 
@@ -137,20 +139,24 @@ class RockingResult:
             "critical_angle": self.block.critical_angle(self.model),
         }
         if self.collar_histories:
-            out["collars"] = [{
-                "y": h.collar.y,
-                "max_stress": float(np.max(h.stress)),
-                "max_utilisation": h.max_utilisation,
-                "first_yield_time": h.first_yield_time,
-                "axial_stiffness": h.collar.axial_stiffness(self.block.b),
-                "lateral_stiffness": h.collar.lateral_stiffness(self.block.b),
-            } for h in self.collar_histories]
+            out["collars"] = [
+                {
+                    "y": h.collar.y,
+                    "max_stress": float(np.max(h.stress)),
+                    "max_utilisation": h.max_utilisation,
+                    "first_yield_time": h.first_yield_time,
+                    "axial_stiffness": h.collar.axial_stiffness(self.block.b),
+                    "lateral_stiffness": h.collar.lateral_stiffness(self.block.b),
+                }
+                for h in self.collar_histories
+            ]
             out["collar_max_utilisation"] = max(h.max_utilisation for h in self.collar_histories)
             out["collar_state"] = collar_state(out["collar_max_utilisation"])
-            yields = [h.first_yield_time for h in self.collar_histories
-                      if h.first_yield_time is not None]
+            yields = [
+                h.first_yield_time for h in self.collar_histories if h.first_yield_time is not None
+            ]
             out["collar_first_yield_time"] = min(yields) if yields else None
-        return {"verdict": verdict(out), **out}     # first: what a person reads first
+        return {"verdict": verdict(out), **out}  # first: what a person reads first
 
 
 def kernel_block_constants(block: Block, model: str, vertical: bool = False):
@@ -169,9 +175,15 @@ def kernel_block_constants(block: Block, model: str, vertical: bool = False):
     return block.p * math.sqrt(stiffening), alpha, alpha, 1.0 / stiffening, 0.0
 
 
-def kernel_params(block: Block, ground: GroundMotion, collars=(), model: str = "linear",
-                  initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
-                  vertical: GroundMotion = NO_MOTION):
+def kernel_params(
+    block: Block,
+    ground: GroundMotion,
+    collars=(),
+    model: str = "linear",
+    initial_tilt: float = 0.0,
+    initial_angular_velocity: float = 0.0,
+    vertical: GroundMotion = NO_MOTION,
+):
     """Parameter vector and record arrays for the kernels (ground NoMotion: free rocking).
 
     ``vertical``: the vertical ground acceleration (upward positive), a pulse, a record or
@@ -186,21 +198,52 @@ def kernel_params(block: Block, ground: GroundMotion, collars=(), model: str = "
     rec_t, rec_a, n_horizontal, has_vertical = kernel_tables(ground, vertical, scale)
     rec_a = rec_a / g
     if isinstance(ground, HarmonicPulse):
-        P = K.make_params(p, alpha, nonlinear, K.GROUND_HARMONIC,
-                          scale * ground.amplitude / g, ground.omega, ground.phase,
-                          ground.duration, ka, kl, block.nu, uplift, load)
+        P = K.make_params(
+            p,
+            alpha,
+            nonlinear,
+            K.GROUND_HARMONIC,
+            scale * ground.amplitude / g,
+            ground.omega,
+            ground.phase,
+            ground.duration,
+            ka,
+            kl,
+            block.nu,
+            uplift,
+            load,
+        )
     elif isinstance(ground, Record):
-        P = K.make_params(p, alpha, nonlinear, K.GROUND_RECORD, 0.0, 0.0, 0.0,
-                          ground.end_time, ka, kl, block.nu, uplift, load)
+        P = K.make_params(
+            p,
+            alpha,
+            nonlinear,
+            K.GROUND_RECORD,
+            0.0,
+            0.0,
+            0.0,
+            ground.end_time,
+            ka,
+            kl,
+            block.nu,
+            uplift,
+            load,
+        )
     elif isinstance(ground, NoMotion):
-        P = K.make_params(p, alpha, nonlinear, K.GROUND_NONE, 0.0, 0.0, 0.0, 0.0,
-                          ka, kl, block.nu, uplift, load)
+        P = K.make_params(
+            p, alpha, nonlinear, K.GROUND_NONE, 0.0, 0.0, 0.0, 0.0, ka, kl, block.nu, uplift, load
+        )
     else:
         raise InputError(f"ground motion of type {type(ground).__name__} is not supported")
     P[K.P_NHREC] = n_horizontal
     P[K.P_VERT] = 1.0 if has_vertical else 0.0
-    require_range("initial tilt (rad)", initial_tilt, -0.5 * math.pi, 0.5 * math.pi,
-                  range_text="(-pi/2, pi/2)")
+    require_range(
+        "initial tilt (rad)",
+        initial_tilt,
+        -0.5 * math.pi,
+        0.5 * math.pi,
+        range_text="(-pi/2, pi/2)",
+    )
     P[K.P_TH0] = initial_tilt
     P[K.P_OM0] = _as_finite("initial angular velocity (rad/s)", initial_angular_velocity)
     return P, rec_t, rec_a
@@ -213,12 +256,21 @@ def _as_finite(name: str, value) -> float:
     return value
 
 
-def rock(block: Block, ground, collars=(), *, model: str = "linear",
-         duration: float | None = None, dt_out: float | None = None,
-         rtol: float = DEFAULT_RTOL, atol: float = DEFAULT_ATOL,
-         initial_tilt: float = 0.0, initial_angular_velocity: float = 0.0,
-         max_impacts_stored: int = 20_000,
-         vertical: GroundMotion = NO_MOTION) -> RockingResult:
+def rock(
+    block: Block,
+    ground,
+    collars=(),
+    *,
+    model: str = "linear",
+    duration: float | None = None,
+    dt_out: float | None = None,
+    rtol: float = DEFAULT_RTOL,
+    atol: float = DEFAULT_ATOL,
+    initial_tilt: float = 0.0,
+    initial_angular_velocity: float = 0.0,
+    max_impacts_stored: int = 20_000,
+    vertical: GroundMotion = NO_MOTION,
+) -> RockingResult:
     """Rocking response of ``block`` to ``ground`` (a pulse, a record, or None: free rocking),
     starting at rest upright, or released at t = 0 from ``initial_tilt`` (rad) with
     ``initial_angular_velocity`` (rad/s). ``vertical``: the vertical ground acceleration
@@ -230,15 +282,17 @@ def rock(block: Block, ground, collars=(), *, model: str = "linear",
     """
     check_model(model)
     collars = validate_collars(collars, block)
-    P, rec_t, rec_a = kernel_params(block, ground, collars, model, initial_tilt,
-                                    initial_angular_velocity, vertical)
+    P, rec_t, rec_a = kernel_params(
+        block, ground, collars, model, initial_tilt, initial_angular_velocity, vertical
+    )
     p = block.p
-    t_ground = max(require_motion("ground", ground).end_time,
-                   require_motion("vertical", vertical).end_time)
-    if (isinstance(ground, NoMotion) and initial_tilt == 0.0
-            and initial_angular_velocity == 0.0):
-        raise InputError("no ground motion and no initial tilt or angular velocity: the block "
-                         "stays at rest")
+    t_ground = max(
+        require_motion("ground", ground).end_time, require_motion("vertical", vertical).end_time
+    )
+    if isinstance(ground, NoMotion) and initial_tilt == 0.0 and initial_angular_velocity == 0.0:
+        raise InputError(
+            "no ground motion and no initial tilt or angular velocity: the block stays at rest"
+        )
     if duration is None:
         duration = t_ground + 20.0 / p
     require_positive("duration (s)", duration)
@@ -251,22 +305,28 @@ def rock(block: Block, ground, collars=(), *, model: str = "linear",
     n_max = int(duration / dt_out) + 2
     impacts = np.zeros((max_impacts_stored, 3))
 
-    closed_form = (model == "linear" and not collars and isinstance(ground, HarmonicPulse)
-                   and P[K.P_VERT] == 0.0)
+    closed_form = (
+        model == "linear"
+        and not collars
+        and isinstance(ground, HarmonicPulse)
+        and P[K.P_VERT] == 0.0
+    )
     if closed_form:
         segs = np.zeros((max(4 * max_impacts_stored, 1000), 6))
-        status, n_imp, max_theta, t_end, n_seg, t_over = K.linear_run(P, duration, False, segs,
-                                                                        impacts)
+        status, n_imp, max_theta, t_end, n_seg, t_over = K.linear_run(
+            P, duration, False, segs, impacts
+        )
         time = np.arange(n_max) * dt_out
         time = time[time <= duration + 1e-12 * duration]
         if status == K.OVERTURNED:
             time = time[time <= t_over]
-        theta, theta_dot = _evaluate_segments(segs[:min(n_seg, segs.shape[0])], P, time)
+        theta, theta_dot = _evaluate_segments(segs[: min(n_seg, segs.shape[0])], P, time)
         solver = "closed-form"
     else:
         out = np.zeros((n_max, 3))
         status, n_imp, max_theta, t_end, n_out, t_over = K.rk_run(
-            P, rec_t, rec_a, duration, rtol, atol, False, dt_out, out, impacts)
+            P, rec_t, rec_a, duration, rtol, atol, False, dt_out, out, impacts
+        )
         time, theta, theta_dot = out[:n_out, 0].copy(), out[:n_out, 1].copy(), out[:n_out, 2].copy()
         solver = "dopri5"
     n_stored = min(n_imp, impacts.shape[0])
@@ -275,19 +335,28 @@ def rock(block: Block, ground, collars=(), *, model: str = "linear",
         # the history ends where the block lies down
         fallen = np.nonzero(np.abs(theta) >= 0.5 * math.pi)[0]
         if fallen.size:
-            time, theta, theta_dot = (a[:fallen[0] + 1] for a in (time, theta, theta_dot))
+            time, theta, theta_dot = (a[: fallen[0] + 1] for a in (time, theta, theta_dot))
         max_theta = 0.5 * math.pi
     mode = MODE_NAMES[K.AFTER_IMPACT if n_imp else K.WITHOUT_IMPACT] if overturned else "safe"
     result = RockingResult(
-        time=time, theta=theta, theta_dot=theta_dot,
+        time=time,
+        theta=theta,
+        theta_dot=theta_dot,
         impact_times=impacts[:n_stored, 0].copy(),
         impact_velocity_before=impacts[:n_stored, 1].copy(),
         impact_velocity_after=impacts[:n_stored, 2].copy(),
-        overturned=overturned, mode=mode, impacts=int(n_imp),
-        max_abs_theta=float(max_theta if overturned else
-                            max(max_theta, np.max(np.abs(theta), initial=0.0))),
+        overturned=overturned,
+        mode=mode,
+        impacts=int(n_imp),
+        max_abs_theta=float(
+            max_theta if overturned else max(max_theta, np.max(np.abs(theta), initial=0.0))
+        ),
         overturn_time=float(t_over) if overturned else None,
-        model=model, solver=solver, block=block, collars=collars)
+        model=model,
+        solver=solver,
+        block=block,
+        collars=collars,
+    )
     result.collar_histories = [_collar_history(time, theta, block.b, c) for c in collars]
     return result
 
@@ -317,5 +386,12 @@ def _collar_history(time, theta, b, collar) -> CollarHistory:
     r = collar_response(theta, b, collar)
     yielded = np.nonzero(r["utilisation"] >= 1.0)[0]
     first = float(time[yielded[0]]) if yielded.size else None
-    return CollarHistory(collar, r["axial_force"], r["lateral_force"], r["end_moment"],
-                         r["stress"], r["utilisation"], first)
+    return CollarHistory(
+        collar,
+        r["axial_force"],
+        r["lateral_force"],
+        r["end_moment"],
+        r["stress"],
+        r["utilisation"],
+        first,
+    )

@@ -29,9 +29,9 @@ LAYOUT = "mode[i][j]: i indexes amplitude_ratios (rows), j indexes omega_ratios 
 class Spectrum:
     omega_ratios: np.ndarray = field(repr=False)
     amplitude_ratios: np.ndarray = field(repr=False)
-    codes: np.ndarray = field(repr=False)       # int8, rows: amplitude, columns: omega
-    max_abs_theta: np.ndarray = field(repr=False)   # rad, pi/2 where overturned
-    collar_yields: np.ndarray | None = field(repr=False)   # bool, None without collars
+    codes: np.ndarray = field(repr=False)  # int8, rows: amplitude, columns: omega
+    max_abs_theta: np.ndarray = field(repr=False)  # rad, pi/2 where overturned
+    collar_yields: np.ndarray | None = field(repr=False)  # bool, None without collars
     model: str
     pulse: str
     seconds: float
@@ -48,20 +48,33 @@ class Spectrum:
         return np.where(over.any(axis=0), self.amplitude_ratios[first], np.nan)
 
     def to_dict(self) -> dict:
-        out = {"omega_ratios": self.omega_ratios.tolist(),
-               "amplitude_ratios": self.amplitude_ratios.tolist(),
-               "mode": self.modes, "layout": LAYOUT, "model": self.model,
-               "pulse": self.pulse, "with_collars": self.with_collars,
-               "seconds": self.seconds}
+        out = {
+            "omega_ratios": self.omega_ratios.tolist(),
+            "amplitude_ratios": self.amplitude_ratios.tolist(),
+            "mode": self.modes,
+            "layout": LAYOUT,
+            "model": self.model,
+            "pulse": self.pulse,
+            "with_collars": self.with_collars,
+            "seconds": self.seconds,
+        }
         if self.collar_yields is not None:
             out["collar_yields"] = self.collar_yields.tolist()
         return out
 
 
-def overturning_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(), *,
-                         model: str = "linear", pulse: str = "sine",
-                         free_time: float | None = None, rtol: float = 1e-9,
-                         atol: float = DEFAULT_ATOL) -> Spectrum:
+def overturning_spectrum(
+    block: Block,
+    omega_ratios,
+    amplitude_ratios,
+    collars=(),
+    *,
+    model: str = "linear",
+    pulse: str = "sine",
+    free_time: float | None = None,
+    rtol: float = 1e-9,
+    atol: float = DEFAULT_ATOL,
+) -> Spectrum:
     """Mode of every (amplitude ratio, omega ratio) pair.
 
     free_time: how long (s) free rocking is followed after the pulse when the block's fate is
@@ -78,16 +91,38 @@ def overturning_spectrum(block: Block, omega_ratios, amplitude_ratios, collars=(
     if free_time is None:
         free_time = 50.0 / block.p
     start = time.perf_counter()
-    codes, max_theta = K.spectrum_modes(p, alpha, block.nu, nonlinear, pulse == "cosine", ka,
-                                        kl, uplift, load, omega_ratios * (block.p / p),
-                                        amplitude_ratios, free_time, rtol, atol)
+    codes, max_theta = K.spectrum_modes(
+        p,
+        alpha,
+        block.nu,
+        nonlinear,
+        pulse == "cosine",
+        ka,
+        kl,
+        uplift,
+        load,
+        omega_ratios * (block.p / p),
+        amplitude_ratios,
+        free_time,
+        rtol,
+        atol,
+    )
     seconds = time.perf_counter() - start
     yields = None
     if collars:
         theta_yield = min(collar_yield_rotation(c, block.b) for c in collars)
         yields = max_theta >= theta_yield
-    return Spectrum(omega_ratios, amplitude_ratios, codes, max_theta, yields, model, pulse,
-                    seconds, bool(collars))
+    return Spectrum(
+        omega_ratios,
+        amplitude_ratios,
+        codes,
+        max_theta,
+        yields,
+        model,
+        pulse,
+        seconds,
+        bool(collars),
+    )
 
 
 def check_spectrum_grid(omega_ratios, amplitude_ratios, pulse: str):
@@ -96,13 +131,23 @@ def check_spectrum_grid(omega_ratios, amplitude_ratios, pulse: str):
         raise InputError(f"pulse = {pulse!r} is not one of {', '.join(PULSE_KINDS)}")
     omega_ratios = np.ascontiguousarray(omega_ratios, dtype=float)
     amplitude_ratios = np.ascontiguousarray(amplitude_ratios, dtype=float)
-    if (omega_ratios.ndim != 1 or omega_ratios.size == 0 or not np.all(omega_ratios > 0)
-            or not np.all(np.isfinite(omega_ratios))):
+    if (
+        omega_ratios.ndim != 1
+        or omega_ratios.size == 0
+        or not np.all(omega_ratios > 0)
+        or not np.all(np.isfinite(omega_ratios))
+    ):
         raise InputError("omega ratios must be a non-empty list of finite values > 0")
-    if (amplitude_ratios.ndim != 1 or amplitude_ratios.size == 0
-            or not np.all(amplitude_ratios >= 1) or not np.all(np.isfinite(amplitude_ratios))):
-        raise InputError("amplitude ratios must be a non-empty list of finite values >= 1 "
-                         "(a_p / a_uplift; below 1 the block does not rock)")
+    if (
+        amplitude_ratios.ndim != 1
+        or amplitude_ratios.size == 0
+        or not np.all(amplitude_ratios >= 1)
+        or not np.all(np.isfinite(amplitude_ratios))
+    ):
+        raise InputError(
+            "amplitude ratios must be a non-empty list of finite values >= 1 "
+            "(a_p / a_uplift; below 1 the block does not rock)"
+        )
     return omega_ratios, amplitude_ratios
 
 

@@ -40,6 +40,7 @@ class _Parser(argparse.ArgumentParser):
 
 # --- shared option groups ---------------------------------------------------------------------
 
+
 def _add_block_options(parser: argparse.ArgumentParser) -> None:
     g = parser.add_argument_group("block (give --p and --alpha, or --b and --h)")
     g.add_argument("--p", type=float, help="frequency parameter p (rad/s)")
@@ -48,19 +49,37 @@ def _add_block_options(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--h", type=float, help="half height h of the rocking block (m)")
     g.add_argument("--mass", type=float, help="block mass (kg); needed with collars")
     g.add_argument("--density", type=float, help="stone density (kg/m^3), instead of --mass")
-    g.add_argument("--thickness", type=float,
-                   help="out-of-plane thickness (m) with --density (default pi b: the mass of a "
-                        "half circular column)")
-    g.add_argument("--restitution", type=float,
-                   help="coefficient of restitution nu (default Housner's 1 - 1.5 sin^2 alpha)")
-    g.add_argument("--model", choices=MODELS + ("multibody",), default="nonlinear",
-                   help="linear or nonlinear: the SDOF rocking equation; multibody: rigid "
-                        "bodies with contact and friction (default nonlinear)")
-    g.add_argument("--g", type=float, default=STANDARD_GRAVITY,
-                   help=f"gravity (m/s^2), default {STANDARD_GRAVITY:g}")
-    g.add_argument("--top-load", type=float, default=0.0,
-                   help="dead load on the top of the block (N, default 0; needs --mass or "
-                        "--density): an architrave or arch springing, without mass")
+    g.add_argument(
+        "--thickness",
+        type=float,
+        help="out-of-plane thickness (m) with --density (default pi b: the mass of a "
+        "half circular column)",
+    )
+    g.add_argument(
+        "--restitution",
+        type=float,
+        help="coefficient of restitution nu (default Housner's 1 - 1.5 sin^2 alpha)",
+    )
+    g.add_argument(
+        "--model",
+        choices=MODELS + ("multibody",),
+        default="nonlinear",
+        help="linear or nonlinear: the SDOF rocking equation; multibody: rigid "
+        "bodies with contact and friction (default nonlinear)",
+    )
+    g.add_argument(
+        "--g",
+        type=float,
+        default=STANDARD_GRAVITY,
+        help=f"gravity (m/s^2), default {STANDARD_GRAVITY:g}",
+    )
+    g.add_argument(
+        "--top-load",
+        type=float,
+        default=0.0,
+        help="dead load on the top of the block (N, default 0; needs --mass or "
+        "--density): an architrave or arch springing, without mass",
+    )
 
 
 def _block_from_args(args) -> Block:
@@ -71,8 +90,7 @@ def _block_from_args(args) -> Block:
     if by_ratio:
         if args.p is None or args.alpha is None:
             raise InputError("--p and --alpha must be given together")
-        block = Block.from_dimensionless(args.p, args.alpha, restitution=args.restitution,
-                                         g=args.g)
+        block = Block.from_dimensionless(args.p, args.alpha, restitution=args.restitution, g=args.g)
         b, h = block.b, block.h
     elif by_size:
         if args.b is None or args.h is None:
@@ -84,17 +102,22 @@ def _block_from_args(args) -> Block:
         raise InputError("give either --mass or --density, not both")
     if args.density is not None:
         thickness = args.thickness if args.thickness is not None else math.pi * b
-        block = Block.from_density(b, h, args.density, thickness, restitution=args.restitution,
-                                   g=args.g)
+        block = Block.from_density(
+            b, h, args.density, thickness, restitution=args.restitution, g=args.g
+        )
         return dataclasses.replace(block, top_load=args.top_load)
-    return Block(b=b, h=h, mass=args.mass, restitution=args.restitution, g=args.g,
-                 top_load=args.top_load)
+    return Block(
+        b=b, h=h, mass=args.mass, restitution=args.restitution, g=args.g, top_load=args.top_load
+    )
 
 
 def _add_collar_option(parser) -> None:
-    parser.add_argument("--collars", type=Path,
-                        help="TOML file with [[collar]] tables (y, t, h, length, E, fy, "
-                             "pretension); the block is then one half of the cracked column")
+    parser.add_argument(
+        "--collars",
+        type=Path,
+        help="TOML file with [[collar]] tables (y, t, h, length, E, fy, "
+        "pretension); the block is then one half of the cracked column",
+    )
 
 
 def _collars_from_args(args):
@@ -103,35 +126,64 @@ def _collars_from_args(args):
 
 def _add_multibody_options(parser) -> None:
     g = parser.add_argument_group("multibody model (--model multibody)")
-    g.add_argument("--cracked", action="store_true",
-                   help="two half columns, each the block given (implied by --collars)")
-    g.add_argument("--friction", type=float,
-                   help="Coulomb coefficient at the base and the crack (default 0.7)")
-    g.add_argument("--crack-friction", type=float,
-                   help="Coulomb coefficient along the crack (default: --friction)")
+    g.add_argument(
+        "--cracked",
+        action="store_true",
+        help="two half columns, each the block given (implied by --collars)",
+    )
+    g.add_argument(
+        "--friction", type=float, help="Coulomb coefficient at the base and the crack (default 0.7)"
+    )
+    g.add_argument(
+        "--crack-friction",
+        type=float,
+        help="Coulomb coefficient along the crack (default: --friction)",
+    )
 
 
 def _multibody_options(args) -> dict:
     """Keyword arguments of the multibody solvers; an error if given for another model."""
-    given = [name for name in ("cracked", "friction", "crack_friction")
-             if getattr(args, name) not in (None, False)]
+    given = [
+        name
+        for name in ("cracked", "friction", "crack_friction")
+        if getattr(args, name) not in (None, False)
+    ]
     if args.model != "multibody":
         if given:
-            raise InputError(f"--{given[0].replace('_', '-')} applies to --model multibody "
-                             f"only (the {args.model} model has no contact)")
+            raise InputError(
+                f"--{given[0].replace('_', '-')} applies to --model multibody "
+                f"only (the {args.model} model has no contact)"
+            )
         return {}
     from ..rigid.multibody import DEFAULT_FRICTION
-    return {"cracked": bool(args.cracked or args.collars),
-            "friction": DEFAULT_FRICTION if args.friction is None else args.friction,
-            "crack_friction": args.crack_friction}
+
+    return {
+        "cracked": bool(args.cracked or args.collars),
+        "friction": DEFAULT_FRICTION if args.friction is None else args.friction,
+        "crack_friction": args.crack_friction,
+    }
 
 
 # The unit a summary value is printed in (its key in SI units: Pa, N, m, s, ...), found from the
 # words of its key (split at "_"): the first row with a word in the key wins. Ratios come first,
 # so that edge_stress_ratio or yield_rotation_over_alpha are plain numbers.
 UNITS = (
-    ({"over", "ratio", "ratios", "utilisation", "error", "restitution", "friction", "strain",
-      "reduction", "agreement"}, "", 1.0),
+    (
+        {
+            "over",
+            "ratio",
+            "ratios",
+            "utilisation",
+            "error",
+            "restitution",
+            "friction",
+            "strain",
+            "reduction",
+            "agreement",
+        },
+        "",
+        1.0,
+    ),
     ({"stress"}, "MPa", 1e-6),
     ({"moment"}, "kN m", 1e-3),
     ({"force", "load", "reaction"}, "kN", 1e-3),
@@ -168,7 +220,7 @@ def format_value(key: str, value) -> str:
     if isinstance(value, (int, float, np.integer, np.floating)):
         unit, factor = unit_of(key)
         text = f"{float(value) * factor:.{SIGNIFICANT_DIGITS}g}"
-        if "e+" in text and abs(float(text)) < 1e6:     # 11630, not 1.163e+04
+        if "e+" in text and abs(float(text)) < 1e6:  # 11630, not 1.163e+04
             text = f"{float(text):.0f}"
         return f"{text} {unit}" if unit else text
     return str(value)
@@ -184,9 +236,9 @@ def kernels_cached(kernels) -> bool:
         try:
             cache = kernel._cache
             codegen = kernel.targetctx.codegen()
-            overloads = cache._cache_file._load_index()    # {} when missing or stale
-            wanted = cache._index_key(None, codegen)[1:]   # processor, bytecode hashes
-        except Exception:        # numba's cache internals moved: say nothing rather than guess
+            overloads = cache._cache_file._load_index()  # {} when missing or stale
+            wanted = cache._index_key(None, codegen)[1:]  # processor, bytecode hashes
+        except Exception:  # numba's cache internals moved: say nothing rather than guess
             continue
         if not any(key[1:] == wanted for key in overloads):
             return False
@@ -196,19 +248,24 @@ def kernels_cached(kernels) -> bool:
 def _announce_compilation(kernels, what: str, seconds: int) -> None:
     """One line on stderr before a run that will first compile its numba kernels."""
     if not kernels_cached(kernels):
-        print(f"colonna: compiling the {what} (first run on this machine, about {seconds} s; "
-              "cached afterwards)", file=sys.stderr, flush=True)
+        print(
+            f"colonna: compiling the {what} (first run on this machine, about {seconds} s; "
+            "cached afterwards)",
+            file=sys.stderr,
+            flush=True,
+        )
 
 
 def _multibody_kernels(spectrum: bool = False) -> list:
     from ..rigid import _multibody as K
+
     return [K.spectrum_modes if spectrum else K.simulate]
 
 
 def _emit(args, summary: dict | None) -> None:
     """Print a command's summary: one JSON object at full precision with --json, else one
     ``key  value unit`` line per scalar (lists and tables are left to --json and --out)."""
-    if summary is None:          # the command printed its own output
+    if summary is None:  # the command printed its own output
         return
     if args.json:
         print(json.dumps(summary))
@@ -220,35 +277,41 @@ def _emit(args, summary: dict | None) -> None:
 
 # --- colonna rigid ------------------------------------------------------------------------------
 
+
 def _cmd_rigid(args) -> dict:
     from ..rigid.solve import rock
 
     block = _block_from_args(args)
     collars = _collars_from_args(args)
-    sdof_model = "linear" if args.model == "linear" else "nonlinear"   # a_uplift of the ratios
+    sdof_model = "linear" if args.model == "linear" else "nonlinear"  # a_uplift of the ratios
     if args.record is not None:
         if args.omega_ratio is not None or args.amplitude_ratio is not None:
             raise InputError("give either --record or --omega-ratio/--amplitude-ratio")
         ground = read_record(args.record, g=block.g).scaled(args.scale)
     else:
         if args.omega_ratio is None or args.amplitude_ratio is None:
-            raise InputError("a pulse needs --omega-ratio and --amplitude-ratio "
-                             "(or give --record FILE)")
-        ground = pulse_from_ratios(block, args.pulse, args.omega_ratio, args.amplitude_ratio,
-                                   sdof_model)
+            raise InputError(
+                "a pulse needs --omega-ratio and --amplitude-ratio (or give --record FILE)"
+            )
+        ground = pulse_from_ratios(
+            block, args.pulse, args.omega_ratio, args.amplitude_ratio, sdof_model
+        )
     vertical: GroundMotion = NO_MOTION
     if args.vertical_record is not None:
         vertical = read_record(args.vertical_record, g=block.g).scaled(args.vertical_scale)
     multibody = _multibody_options(args)
     if multibody:
         from ..rigid.multibody import history_columns, rock_multibody
+
         _announce_compilation(_multibody_kernels(), "multibody kernels", 30)
-        result = rock_multibody(block, ground, collars, duration=args.duration,
-                                vertical=vertical, **multibody)
+        result = rock_multibody(
+            block, ground, collars, duration=args.duration, vertical=vertical, **multibody
+        )
         columns = history_columns(result)
     else:
-        result = rock(block, ground, collars, model=args.model, duration=args.duration,
-                      vertical=vertical)
+        result = rock(
+            block, ground, collars, model=args.model, duration=args.duration, vertical=vertical
+        )
         columns = {"t": result.time, "theta": result.theta, "theta_dot": result.theta_dot}
         for k, hist in enumerate(result.collar_histories, start=1):
             columns[f"collar_{k}_axial_force"] = hist.axial_force
@@ -260,19 +323,23 @@ def _cmd_rigid(args) -> dict:
         out = Path(args.out)
         columns["ground_acceleration"] = ground.acceleration(result.time)
         write_csv(out / "history.csv", columns)
-        impacts = {"t": result.impact_times,
-                   "theta_dot_before": result.impact_velocity_before,
-                   "theta_dot_after": result.impact_velocity_after}
+        impacts = {
+            "t": result.impact_times,
+            "theta_dot_before": result.impact_velocity_before,
+            "theta_dot_after": result.impact_velocity_after,
+        }
         if multibody:
             impacts["body"] = result.impact_bodies
         write_csv(out / "impacts.csv", impacts)
         write_json(out / "summary.json", summary)
         from ..rigid.plotting import plot_history
+
         plot_history(result, out / "history.png")
     return summary
 
 
 # --- colonna spectrum ---------------------------------------------------------------------------
+
 
 def _cmd_spectrum(args) -> dict:
     from ..rigid.spectrum import overturning_spectrum, parse_range
@@ -284,26 +351,38 @@ def _cmd_spectrum(args) -> dict:
     multibody = _multibody_options(args)
     if multibody:
         from ..rigid.multibody import multibody_spectrum
+
         _announce_compilation(_multibody_kernels(spectrum=True), "multibody kernels", 30)
-        spectrum = multibody_spectrum(block, omegas, amplitudes, collars, pulse=args.pulse,
-                                      **multibody)
+        spectrum = multibody_spectrum(
+            block, omegas, amplitudes, collars, pulse=args.pulse, **multibody
+        )
     else:
-        spectrum = overturning_spectrum(block, omegas, amplitudes, collars, model=args.model,
-                                        pulse=args.pulse)
+        spectrum = overturning_spectrum(
+            block, omegas, amplitudes, collars, model=args.model, pulse=args.pulse
+        )
     summary = spectrum.to_dict()
     if args.out:
         out = Path(args.out)
         write_json(out / "spectrum.json", summary)
-        write_csv(out / "minimum_overturning_amplitude.csv",
-                  {"omega_ratio": spectrum.omega_ratios,
-                   "amplitude_ratio": spectrum.minimum_overturning_amplitude()})
+        write_csv(
+            out / "minimum_overturning_amplitude.csv",
+            {
+                "omega_ratio": spectrum.omega_ratios,
+                "amplitude_ratio": spectrum.minimum_overturning_amplitude(),
+            },
+        )
         from ..rigid.plotting import plot_spectrum
+
         plot_spectrum(spectrum, out / "spectrum.png")
     if not args.json:
         counts = np.bincount(spectrum.codes.ravel(), minlength=3)
-        short = {"points": int(spectrum.codes.size), "safe": int(counts[0]),
-                 "after-impact": int(counts[1]), "without-impact": int(counts[2])}
-        if spectrum.collar_yields is not None:     # "safe" is the overturning, not the collars
+        short = {
+            "points": int(spectrum.codes.size),
+            "safe": int(counts[0]),
+            "after-impact": int(counts[1]),
+            "without-impact": int(counts[2]),
+        }
+        if spectrum.collar_yields is not None:  # "safe" is the overturning, not the collars
             yields = np.asarray(spectrum.collar_yields, dtype=bool)
             short["collars_yielded"] = int(yields.sum())
             short["safe_with_collars_yielded"] = int((yields & (spectrum.codes == 0)).sum())
@@ -313,21 +392,30 @@ def _cmd_spectrum(args) -> dict:
 
 # --- colonna design -----------------------------------------------------------------------------
 
+
 def _cmd_design(args) -> dict:
     from ..rigid.design import design_chart, design_collars
 
     block = _block_from_args(args)
     block.require_mass("the collar design (give --mass or --density)")
-    collar = Collar(y=block.h, t=args.collar_t, h=args.collar_h, length=args.collar_length,
-                    E=args.collar_E, fy=args.collar_fy)
+    collar = Collar(
+        y=block.h,
+        t=args.collar_t,
+        h=args.collar_h,
+        length=args.collar_length,
+        E=args.collar_E,
+        fy=args.collar_fy,
+    )
     if (args.ag is None) == (args.ag_ratio is None):
-        raise InputError("give the design pulse peak with exactly one of --ag (m/s^2) or "
-                         "--ag-ratio (a_g / g)")
+        raise InputError(
+            "give the design pulse peak with exactly one of --ag (m/s^2) or --ag-ratio (a_g / g)"
+        )
     a_g = args.ag if args.ag is not None else args.ag_ratio * block.g
     design = design_collars(block, collar, a_g)
     summary = design.to_dict()
-    summary.update({"alpha": block.alpha, "b": block.b, "h": block.h,
-                    "collar_yield_stress": collar.fy})
+    summary.update(
+        {"alpha": block.alpha, "b": block.b, "h": block.h, "collar_yield_stress": collar.fy}
+    )
     if args.out:
         out = Path(args.out)
         write_json(out / "design.json", summary)
@@ -336,17 +424,28 @@ def _cmd_design(args) -> dict:
             alphas = np.linspace(0.05, 0.5, 46)
             ratios = np.linspace(0.05, 1.0, 39)
             k = design_chart(block.b, args.density, thickness, collar, alphas, ratios, block.g)
-            write_csv(out / "design_chart.csv",
-                      {"alpha": np.repeat(alphas, ratios.size),
-                       "ag_over_g": np.tile(ratios, alphas.size),
-                       "required_stiffness": k.ravel()})
+            write_csv(
+                out / "design_chart.csv",
+                {
+                    "alpha": np.repeat(alphas, ratios.size),
+                    "ag_over_g": np.tile(ratios, alphas.size),
+                    "required_stiffness": k.ravel(),
+                },
+            )
             from ..rigid.plotting import plot_design_chart
-            plot_design_chart(alphas, ratios, k, out / "design_chart.png",
-                              design=(a_g / block.g, block.alpha, design.required_stiffness))
+
+            plot_design_chart(
+                alphas,
+                ratios,
+                k,
+                out / "design_chart.png",
+                design=(a_g / block.g, block.alpha, design.required_stiffness),
+            )
     return summary
 
 
 # --- colonna fem --------------------------------------------------------------------------------
+
 
 def resolve_study(name_or_path: str) -> Path:
     """A study file path, or the name of a study shipped in studies/ (default, ...)."""
@@ -372,6 +471,7 @@ def _cmd_fem(args) -> dict:
 
 # --- colonna study ------------------------------------------------------------------------------
 
+
 def _cmd_study(args) -> dict:
     from .driver import KINDS, run_study_file, study_kind
     from .spectrum_crosscheck import parse_grid_size
@@ -385,18 +485,28 @@ def _cmd_study(args) -> dict:
     grid = parse_grid_size(args.grid) if args.grid is not None else None
     if args.pdf:
         from .pdf import require_browser
+
         require_browser()
     from ..fem import _kernels as fem_kernels
     from .sweep import before_computing
 
     def announce():
-        _announce_compilation([fem_kernels.advance] + _multibody_kernels(), "FEM and multibody "
-                              "kernels", 60)
+        _announce_compilation(
+            [fem_kernels.advance] + _multibody_kernels(), "FEM and multibody kernels", 60
+        )
+
     with before_computing(announce):
-        summary = run_study_file(path, Path(args.out), workers=workers,
-                                 scheduler=args.scheduler, force=args.force, grid=grid)
+        summary = run_study_file(
+            path,
+            Path(args.out),
+            workers=workers,
+            scheduler=args.scheduler,
+            force=args.force,
+            grid=grid,
+        )
     if args.pdf:
         from .pdf import write_pdf
+
         pdf = write_pdf(Path(args.out) / "index.html", Path(args.out) / "report.pdf")
         print(f"[study] PDF: {pdf}", file=sys.stderr, flush=True)
     if args.json:
@@ -404,11 +514,12 @@ def _cmd_study(args) -> dict:
     short = {"report": str(Path(args.out) / "index.html")}
     for key in kind.short:
         value = summary.get(key)
-        if key == "outcome" and value:         # the report's opening, in words
+        if key == "outcome" and value:  # the report's opening, in words
             for m in value["models"]:
                 time = m.get("overturn_time")
-                short[m["model"]] = m["motion"] + (f" (run stops at t = {time:.3f} s)"
-                                                   if time is not None else "")
+                short[m["model"]] = m["motion"] + (
+                    f" (run stops at t = {time:.3f} s)" if time is not None else ""
+                )
         elif isinstance(value, dict):
             short.update(value)
         elif value is not None:
@@ -417,6 +528,7 @@ def _cmd_study(args) -> dict:
 
 
 # --- colonna schema ------------------------------------------------------------------------------
+
 
 def _cmd_schema(args) -> None:
     """Prints the JSON Schema (indented, for editors) or its Markdown key list itself."""
@@ -427,6 +539,7 @@ def _cmd_schema(args) -> None:
 
 # --- colonna validate ---------------------------------------------------------------------------
 
+
 def _cmd_validate(args) -> dict:
     from .validation import zhang_makris_validation
 
@@ -434,6 +547,7 @@ def _cmd_validate(args) -> dict:
 
 
 # --- parser -------------------------------------------------------------------------------------
+
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="colonna", description=__doc__.split("\n\n")[0])
@@ -444,19 +558,25 @@ def build_parser() -> argparse.ArgumentParser:
     g = p.add_argument_group("ground motion")
     g.add_argument("--pulse", choices=PULSE_KINDS, default="sine")
     g.add_argument("--omega-ratio", type=float, help="Omega / p")
-    g.add_argument("--amplitude-ratio", type=float,
-                   help="a_p / a_uplift (uplift: g tan(alpha) nonlinear, g alpha linear), >= 1")
+    g.add_argument(
+        "--amplitude-ratio",
+        type=float,
+        help="a_p / a_uplift (uplift: g tan(alpha) nonlinear, g alpha linear), >= 1",
+    )
     g.add_argument("--record", type=Path, help="accelerogram: PEER .AT2, or two columns t, a")
     g.add_argument("--scale", type=float, default=1.0, help="scale factor on the record")
-    g.add_argument("--vertical-record", type=Path,
-                   help="vertical accelerogram (upward positive), as --record")
-    g.add_argument("--vertical-scale", type=float, default=1.0,
-                   help="scale factor on the vertical record")
+    g.add_argument(
+        "--vertical-record", type=Path, help="vertical accelerogram (upward positive), as --record"
+    )
+    g.add_argument(
+        "--vertical-scale", type=float, default=1.0, help="scale factor on the vertical record"
+    )
     p.add_argument("--duration", type=float, help="end time (s); default end of motion + 20/p")
     _add_collar_option(p)
     _add_multibody_options(p)
-    p.add_argument("--out", type=Path, help="write history.csv, impacts.csv, summary.json, "
-                                            "history.png here")
+    p.add_argument(
+        "--out", type=Path, help="write history.csv, impacts.csv, summary.json, history.png here"
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_cmd_rigid)
 
@@ -477,9 +597,15 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--collar-t", type=float, required=True, help="section thickness t_c (m)")
     g.add_argument("--collar-h", type=float, required=True, help="section height h_c (m)")
     g.add_argument("--collar-length", type=float, help="collar length L (m), default 4b")
-    g.add_argument("--collar-E", type=float, default=STEEL_E, help=f"steel E (Pa), default {STEEL_E:g}")
-    g.add_argument("--collar-fy", type=float, default=STEEL_FY,
-                   help=f"steel f_y (Pa), default {STEEL_FY:g} (S235)")
+    g.add_argument(
+        "--collar-E", type=float, default=STEEL_E, help=f"steel E (Pa), default {STEEL_E:g}"
+    )
+    g.add_argument(
+        "--collar-fy",
+        type=float,
+        default=STEEL_FY,
+        help=f"steel f_y (Pa), default {STEEL_FY:g} (S235)",
+    )
     g.add_argument("--ag", type=float, help="design peak ground acceleration (m/s^2)")
     g.add_argument("--ag-ratio", type=float, help="design peak ground acceleration / g")
     p.add_argument("--out", type=Path, help="write design.json and (with --density) the chart")
@@ -488,32 +614,55 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("fem", help="2D finite-element contact run of a study file")
     p.add_argument("study", help="study file (TOML) or the name of a shipped study")
-    p.add_argument("--out", type=Path, required=True,
-                   help="write summary.json, history.csv and VTU/XDMF fields here")
+    p.add_argument(
+        "--out",
+        type=Path,
+        required=True,
+        help="write summary.json, history.csv and VTU/XDMF fields here",
+    )
     p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
     p.set_defaults(func=_cmd_fem)
 
     p = sub.add_parser("study", help="cross-check study: FEM and rigid side by side, report")
     p.add_argument("study", help="study file (TOML) or the name of a shipped study")
-    p.add_argument("--out", type=Path, required=True,
-                   help="write index.html, summary.json, CSV data and fields here")
-    p.add_argument("--scheduler", help="address of a Dask distributed scheduler (default: "
-                                       "local processes)")
+    p.add_argument(
+        "--out",
+        type=Path,
+        required=True,
+        help="write index.html, summary.json, CSV data and fields here",
+    )
+    p.add_argument(
+        "--scheduler", help="address of a Dask distributed scheduler (default: local processes)"
+    )
     p.add_argument("--workers", type=int, help="local worker processes (default: the cores)")
-    p.add_argument("--grid", help="NxM: the spectrum cross-check's grid, N omega ratios by M "
-                                  "amplitude ratios (overrides [grid] points)")
-    p.add_argument("--pdf", action="store_true",
-                   help="also print the report to OUT/report.pdf (headless Chromium)")
-    p.add_argument("--force", action="store_true",
-                   help="recompute the cases in --out saved from other inputs (another study "
-                        "file, record or colonna version) instead of refusing to run")
+    p.add_argument(
+        "--grid",
+        help="NxM: the spectrum cross-check's grid, N omega ratios by M "
+        "amplitude ratios (overrides [grid] points)",
+    )
+    p.add_argument(
+        "--pdf",
+        action="store_true",
+        help="also print the report to OUT/report.pdf (headless Chromium)",
+    )
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="recompute the cases in --out saved from other inputs (another study "
+        "file, record or colonna version) instead of refusing to run",
+    )
     p.add_argument("--json", action="store_true", help="print summary.json")
     p.set_defaults(func=_cmd_study)
 
-    p = sub.add_parser("schema", help="the study file's JSON Schema (keys, types, ranges, "
-                                      "units, defaults), for editors")
-    p.add_argument("--markdown", action="store_true",
-                   help="print the key list as Markdown tables instead (docs/study-file.md)")
+    p = sub.add_parser(
+        "schema",
+        help="the study file's JSON Schema (keys, types, ranges, units, defaults), for editors",
+    )
+    p.add_argument(
+        "--markdown",
+        action="store_true",
+        help="print the key list as Markdown tables instead (docs/study-file.md)",
+    )
     p.set_defaults(func=_cmd_schema)
 
     p = sub.add_parser("validate", help="Zhang & Makris validation block (p = 2.14, alpha = 0.25)")
@@ -529,10 +678,10 @@ def main(argv=None) -> int:
     try:
         summary = args.func(args)
     except InputError as exc:
-        for line in str(exc).splitlines():        # a study file's errors: one line each
+        for line in str(exc).splitlines():  # a study file's errors: one line each
             print(f"colonna: error: {line}", file=sys.stderr)
         return 2
-    except OSError as exc:          # an output path that cannot be made or written
+    except OSError as exc:  # an output path that cannot be made or written
         where = exc.filename if exc.filename is not None else ""
         print(f"colonna: error: cannot write {where}: {exc.strerror or exc}", file=sys.stderr)
         return 2
@@ -540,5 +689,5 @@ def main(argv=None) -> int:
     return 0
 
 
-if __name__ == "__main__":   # pragma: no cover
+if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())

@@ -47,18 +47,17 @@ from .sweep import run_cases
 NOT_APPLICABLE = "not applicable"
 
 # tolerances of the verdict "rigid assumption good enough?" (FEM against the multibody model)
-PEAK_TOLERANCE = 0.20       # |theta / theta_reference - 1| for two models to give one answer
-HISTORY_TOLERANCE = 0.10    # max |theta_FEM - theta_rigid| / max |theta_rigid| to the first impact
-IMPACT_TOLERANCE = 0        # impacts before the end of the pulse may differ by this many
-REFERENCE_STEP = 0.25       # the multibody reference runs at this fraction of its default step
-FINE_STEP = 0.25            # and is rerun at this fraction of that
+PEAK_TOLERANCE = 0.20  # |theta / theta_reference - 1| for two models to give one answer
+HISTORY_TOLERANCE = 0.10  # max |theta_FEM - theta_rigid| / max |theta_rigid| to the first impact
+IMPACT_TOLERANCE = 0  # impacts before the end of the pulse may differ by this many
+REFERENCE_STEP = 0.25  # the multibody reference runs at this fraction of its default step
+FINE_STEP = 0.25  # and is rerun at this fraction of that
 
 
 def _study_from_case(case):
     study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
-    if "ground_study" in case:     # a variant shaken by the original study's ground motion
-        shaking = from_dict(case["ground_study"], source=case["source"],
-                            base=Path(case["base"]))
+    if "ground_study" in case:  # a variant shaken by the original study's ground motion
+        shaking = from_dict(case["ground_study"], source=case["source"], base=Path(case["base"]))
         study = replace(study, ground=shaking.ground, vertical=shaking.vertical)
     return study
 
@@ -71,28 +70,44 @@ def fem_case(case: dict, directory: str) -> dict:
     replica whose toe stress is the median."""
     from ..fem.ensemble import ensemble_summary, median_replica
     from .fem_study import run_fem
+
     study = _study_from_case(case)
-    replicas = run_fem(study, out_dir=directory, progress=case.get("progress", False),
-                       replicas=case.get("replicas"))
+    replicas = run_fem(
+        study,
+        out_dir=directory,
+        progress=case.get("progress", False),
+        replicas=case.get("replicas"),
+    )
     summaries = [fem_run_summary(study, r) for r in replicas]
     summary = ensemble_summary(summaries, FEM_BANDED)
-    out = {"summary": summary, "replica_summaries": summaries,
-           "crack_slip_max": summary["crack_slip_max"]}
+    out = {
+        "summary": summary,
+        "replica_summaries": summaries,
+        "crack_slip_max": summary["crack_slip_max"],
+    }
     if case.get("toe_refinement") and study.mesh_file is None and study.toe_refinements:
         from ..fem.toe_stress import toe_stress_refinement
         from .fem_study import toe_mesh
+
         m = median_replica([s["edge_stress_max"] for s in summaries])
         out["toe_refinement"] = toe_stress_refinement(
-            replicas[m], study.ground, lambda r: toe_mesh(study, r), study.toe_refinements,
-            vertical=study.vertical)
+            replicas[m],
+            study.ground,
+            lambda r: toe_mesh(study, r),
+            study.toe_refinements,
+            vertical=study.vertical,
+        )
         out["toe_refinement"]["replica"] = m
         write_json(Path(directory) / "toe_refinement.json", out["toe_refinement"])
     return out
 
 
 # landing-dependent numbers of a FEM run, reported as bands over the replicas
-FEM_BANDED = LANDING_DEPENDENT + ("crack_slip_max", "impacts_before_pulse_end",
-                                  "restitution_after_motion")
+FEM_BANDED = LANDING_DEPENDENT + (
+    "crack_slip_max",
+    "impacts_before_pulse_end",
+    "restitution_after_motion",
+)
 
 
 def impacts_before(t, thetas, t_end: float) -> int:
@@ -106,8 +121,7 @@ def restitution_after_motion(study, t, theta) -> float | None:
     :func:`colonna.rigid.impacts.impact_ratios_from_peaks`); None without such an impact (the
     column overturned, or came to rest, first). Under the ground motion the ground works
     through every impact, and a ratio measured there (it can exceed 1) means nothing."""
-    end = max(study.ground.end_time,
-              study.vertical.end_time)
+    end = max(study.ground.end_time, study.vertical.end_time)
     free = np.asarray(t) >= end
     if np.count_nonzero(free) < 3:
         return None
@@ -127,8 +141,9 @@ def fem_run_summary(study, result) -> dict:
     h = result.history
     out = dict(result.summary)
     out["crack_slip_max"] = float(np.max(h["crack_slip_max"])) if "crack_slip_max" in h else 0.0
-    out["impacts_before_pulse_end"] = impacts_before(h["t"], (h["theta_left"], h["theta_right"]),
-                                                     study.ground.end_time)
+    out["impacts_before_pulse_end"] = impacts_before(
+        h["t"], (h["theta_left"], h["theta_right"]), study.ground.end_time
+    )
     out["restitution_after_motion"] = restitution_after_motion(study, h["t"], h["theta_left"])
     return out
 
@@ -139,9 +154,16 @@ def rigid_case(case: dict, directory: str) -> dict:
         block, collars = study.column_block, ()
     else:
         block, collars = study.rocking_block, study.collars
-    result = rock(block, study.ground, collars, model="nonlinear", duration=study.duration,
-                  vertical=study.vertical, initial_tilt=study.initial_tilt,
-                  initial_angular_velocity=study.initial_angular_velocity)
+    result = rock(
+        block,
+        study.ground,
+        collars,
+        model="nonlinear",
+        duration=study.duration,
+        vertical=study.vertical,
+        initial_tilt=study.initial_tilt,
+        initial_angular_velocity=study.initial_angular_velocity,
+    )
     columns = {"t": result.time, "theta": result.theta, "theta_dot": result.theta_dot}
     for k, hist in enumerate(result.collar_histories, start=1):
         columns[f"collar_{k}_stress"] = hist.stress
@@ -154,21 +176,34 @@ def rigid_case(case: dict, directory: str) -> dict:
 def multibody_case(case: dict, directory: str) -> dict:
     """The rigid multibody model of the study, at its default step times ``step_factor``."""
     from ..rigid.multibody import build_column, default_step, history_columns, rock_multibody
+
     study = _study_from_case(case)
     dt = None
     if case.get("step_factor", 1.0) != 1.0:
-        column = build_column(study.rocking_block, cracked=study.cracked,
-                              collars=study.collars, friction=study.contact.friction)
+        column = build_column(
+            study.rocking_block,
+            cracked=study.cracked,
+            collars=study.collars,
+            friction=study.contact.friction,
+        )
         dt = case["step_factor"] * default_step(column, study.ground)
-    result = rock_multibody(study.rocking_block, study.ground, study.collars,
-                            cracked=study.cracked, friction=study.contact.friction,
-                            duration=study.duration, vertical=study.vertical,
-                            initial_tilt=study.initial_tilt,
-                            initial_angular_velocity=study.initial_angular_velocity, dt=dt)
+    result = rock_multibody(
+        study.rocking_block,
+        study.ground,
+        study.collars,
+        cracked=study.cracked,
+        friction=study.contact.friction,
+        duration=study.duration,
+        vertical=study.vertical,
+        initial_tilt=study.initial_tilt,
+        initial_angular_velocity=study.initial_angular_velocity,
+        dt=dt,
+    )
     write_csv(Path(directory) / "history.csv", history_columns(result))
     summary = result.summary()
-    summary["restitution_after_motion"] = restitution_after_motion(study, result.time,
-                                                                   result.theta[:, 0])
+    summary["restitution_after_motion"] = restitution_after_motion(
+        study, result.time, result.theta[:, 0]
+    )
     return summary
 
 
@@ -178,6 +213,7 @@ def spectrum_case(case: dict, directory: str) -> dict:
     reference) on a coarse grid over the same range (``case["multibody_grid"]``: omega ratios
     x amplitude ratios, default 7 x 6; its nodes nearest the study's pulse moved onto it)."""
     from ..rigid.multibody import multibody_spectrum
+
     study = _study_from_case(case)
     block = study.rocking_block
     omega_ratio = study.ground.omega / block.p
@@ -186,28 +222,38 @@ def spectrum_case(case: dict, directory: str) -> dict:
     amplitude_range = (1.0, max(2.0 * amplitude_ratio, 4.0))
     omegas = np.linspace(*omega_range, 60)
     amplitudes = np.linspace(*amplitude_range, 50)
-    spec = overturning_spectrum(block, omegas, amplitudes, study.collars, model="nonlinear",
-                                pulse=study.ground.kind)
+    spec = overturning_spectrum(
+        block, omegas, amplitudes, study.collars, model="nonlinear", pulse=study.ground.kind
+    )
     data = spec.to_dict()
     data.update(study_omega_ratio=omega_ratio, study_amplitude_ratio=amplitude_ratio)
 
-    def through_study(bounds, n, value, lowest=0.0):    # n nodes, the nearest one on value
+    def through_study(bounds, n, value, lowest=0.0):  # n nodes, the nearest one on value
         nodes = np.linspace(*bounds, n)
         if value >= lowest:
             nodes[np.argmin(np.abs(nodes - value))] = value
         return np.unique(nodes)
 
     n_omega, n_amplitude = case.get("multibody_grid", (7, 6))
-    mb = multibody_spectrum(block, through_study(omega_range, n_omega, omega_ratio),
-                            through_study(amplitude_range, n_amplitude, amplitude_ratio,
-                                          lowest=1.0),       # below 1 the column does not rock
-                            study.collars, cracked=study.cracked,
-                            friction=study.contact.friction, pulse=study.ground.kind)
-    data["multibody"] = dict(mb.to_dict(), cracked=study.cracked,
-                             friction=study.contact.friction)
+    mb = multibody_spectrum(
+        block,
+        through_study(omega_range, n_omega, omega_ratio),
+        through_study(
+            amplitude_range, n_amplitude, amplitude_ratio, lowest=1.0
+        ),  # below 1 the column does not rock
+        study.collars,
+        cracked=study.cracked,
+        friction=study.contact.friction,
+        pulse=study.ground.kind,
+    )
+    data["multibody"] = dict(mb.to_dict(), cracked=study.cracked, friction=study.contact.friction)
     write_json(Path(directory) / "spectrum.json", data)
-    return {"omega_ratio": omega_ratio, "amplitude_ratio": amplitude_ratio,
-            "seconds": spec.seconds, "multibody_seconds": mb.seconds}
+    return {
+        "omega_ratio": omega_ratio,
+        "amplitude_ratio": amplitude_ratio,
+        "seconds": spec.seconds,
+        "multibody_seconds": mb.seconds,
+    }
 
 
 def _case_runner(case: dict, directory: str) -> dict:
@@ -221,28 +267,36 @@ def _case_runner(case: dict, directory: str) -> dict:
     return spectrum_case(case, directory)
 
 
-def run_crosscheck(study_path: Path, out: Path, *, workers: int | None = None,
-                   scheduler: str | None = None, progress: bool = True,
-                   force: bool = False) -> dict:
+def run_crosscheck(
+    study_path: Path,
+    out: Path,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool = True,
+    force: bool = False,
+) -> dict:
     """Run (or resume) the cross-check of a study file and write its report."""
     study_path = Path(study_path)
     data = read_toml(study_path, "study file")
-    study = from_dict(data, source=str(study_path), base=study_path.parent)   # fails early
+    study = from_dict(data, source=str(study_path), base=study_path.parent)  # fails early
     if isinstance(study.ground, NoMotion):
-        raise InputError(f"{study_path}: the cross-check study needs a ground motion "
-                         "(ground.pulse = sine, cosine or record); for free rocking use "
-                         "[study] kind = \"free-rocking\"")
+        raise InputError(
+            f"{study_path}: the cross-check study needs a ground motion "
+            "(ground.pulse = sine, cosine or record); for free rocking use "
+            '[study] kind = "free-rocking"'
+        )
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     base = {"study": data, "source": str(study_path), "base": str(study_path.parent.resolve())}
-    cases = [dict(base, key="fem", kind="fem", progress=progress and not scheduler,
-                  toe_refinement=True),
-             dict(base, key="multibody", kind="multibody", step_factor=REFERENCE_STEP),
-             dict(base, key="multibody-fine", kind="multibody",
-                  step_factor=REFERENCE_STEP * FINE_STEP),
-             dict(base, key="rigid", kind="rigid"),
-             dict(base, key="monolith", kind="rigid")]
-    if isinstance(study.ground, HarmonicPulse):     # a pulse is placed on the rigid spectrum
+    cases = [
+        dict(base, key="fem", kind="fem", progress=progress and not scheduler, toe_refinement=True),
+        dict(base, key="multibody", kind="multibody", step_factor=REFERENCE_STEP),
+        dict(base, key="multibody-fine", kind="multibody", step_factor=REFERENCE_STEP * FINE_STEP),
+        dict(base, key="rigid", kind="rigid"),
+        dict(base, key="monolith", kind="rigid"),
+    ]
+    if isinstance(study.ground, HarmonicPulse):  # a pulse is placed on the rigid spectrum
         cases.append(dict(base, key="spectrum", kind="spectrum"))
     # mesh-convergence uncertainty of the FEM numbers: the same run on meshes 2h and 4h
     body_width = study.width / (2.0 if study.cracked else 1.0)
@@ -252,15 +306,31 @@ def run_crosscheck(study_path: Path, out: Path, *, workers: int | None = None,
             coarse.setdefault("mesh", {})["size"] = factor * study.mesh_size
             cases.append(dict(base, study=coarse, key=f"fem-mesh-{factor}h", kind="fem"))
     start = time.perf_counter()
-    results = run_cases(_case_runner, cases, out, workers=workers, scheduler=scheduler,
-                        progress=progress, force=force)
+    results = run_cases(
+        _case_runner,
+        cases,
+        out,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+        force=force,
+    )
     check_energy(results)
     fem_histories = replica_histories(out / "cases" / "fem", results["fem"]["summary"]["replicas"])
-    criteria = verdict_criteria(study, results, fem_histories,
-                                read_csv(out / "cases" / "multibody" / "history.csv"))
-    criteria.update(step_check(criteria, verdict_criteria(
-        study, {**results, "multibody": results["multibody-fine"]}, fem_histories,
-        read_csv(out / "cases" / "multibody-fine" / "history.csv"))))
+    criteria = verdict_criteria(
+        study, results, fem_histories, read_csv(out / "cases" / "multibody" / "history.csv")
+    )
+    criteria.update(
+        step_check(
+            criteria,
+            verdict_criteria(
+                study,
+                {**results, "multibody": results["multibody-fine"]},
+                fem_histories,
+                read_csv(out / "cases" / "multibody-fine" / "history.csv"),
+            ),
+        )
+    )
     summary = assemble_summary(study, results, criteria=criteria)
     summary["wall_seconds"] = time.perf_counter() - start
     write_json(out / "summary.json", summary)
@@ -271,7 +341,8 @@ def replica_histories(directory: Path, replicas: int) -> list[dict]:
     """The history.csv of each replica of a FEM ensemble written by :func:`fem_case`."""
     directory = Path(directory)
     return [read_csv(directory / "history.csv")] + [
-        read_csv(directory / "replicas" / str(r) / "history.csv") for r in range(1, replicas)]
+        read_csv(directory / "replicas" / str(r) / "history.csv") for r in range(1, replicas)
+    ]
 
 
 def check_energy(results: dict) -> None:
@@ -281,15 +352,19 @@ def check_energy(results: dict) -> None:
         summary = result.get("summary") if isinstance(result, dict) else None
         if not summary or "energy_error_limit" not in summary:
             continue
-        bad = [s["energy_error_max"] for s in result.get("replica_summaries", [summary])
-               if s["energy_error_max"] > s["energy_error_limit"]]
+        bad = [
+            s["energy_error_max"]
+            for s in result.get("replica_summaries", [summary])
+            if s["energy_error_max"] > s["energy_error_limit"]
+        ]
         if bad:
             raise InputError(
                 f"FEM case {key}: the energy balance is off by {max(bad):.3g} of the energy "
                 f"scale in {len(bad)} of {len(result.get('replica_summaries', [1]))} replicas "
                 f"(limit {summary['energy_error_limit']:g}): the run is unreliable, so no "
                 "report is written from it (a time step or contact penalty too large, or "
-                "undamped frictionless contact; see cases/" + key + "/history.csv)")
+                "undamped frictionless contact; see cases/" + key + "/history.csv)"
+            )
 
 
 def _peak_ratio(value: float, reference: float) -> float:
@@ -299,7 +374,8 @@ def _peak_ratio(value: float, reference: float) -> float:
 def _same_answer(fate, peak_ratio, reference_fate) -> bool:
     """Same outcome, and (when neither overturns) peaks within PEAK_TOLERANCE."""
     return bool(fate) == bool(reference_fate) and (
-        bool(fate) or abs(peak_ratio - 1.0) <= PEAK_TOLERANCE)
+        bool(fate) or abs(peak_ratio - 1.0) <= PEAK_TOLERANCE
+    )
 
 
 def step_check(criteria: dict, fine: dict) -> dict:
@@ -315,22 +391,34 @@ def step_check(criteria: dict, fine: dict) -> dict:
     1e-9 apart in step ended 17 % apart (README, multibody model). This reruns that count so
     that a step-dependent answer shows. ``history_step_sensitive``: the two steps answer the
     criterion differently."""
-    return {"history_error_fine_step": fine["history_error_to_first_impact"],
-            "history_window_end_fine_step": fine["history_window_end"],
-            "fine_step_factor": FINE_STEP,
-            "history_ok_fine_step": fine["history_ok"],
-            "history_step_sensitive": fine["history_ok"] != criteria["history_ok"]}
+    return {
+        "history_error_fine_step": fine["history_error_to_first_impact"],
+        "history_window_end_fine_step": fine["history_window_end"],
+        "fine_step_factor": FINE_STEP,
+        "history_ok_fine_step": fine["history_ok"],
+        "history_step_sensitive": fine["history_ok"] != criteria["history_ok"],
+    }
 
 
-def _criteria_one(study, fem: dict, fem_history: dict, mb: dict, mb_t, theta_mb: list,
-                  impacts_mb: int, t_first: float) -> dict:
+def _criteria_one(
+    study,
+    fem: dict,
+    fem_history: dict,
+    mb: dict,
+    mb_t,
+    theta_mb: list,
+    impacts_mb: int,
+    t_first: float,
+) -> dict:
     """The four counts for one FEM replica against the multibody model (booleans); mb_t,
     theta_mb: the multibody history's times and rotations of the two halves."""
     theta_fem = [fem_history["theta_left"], fem_history["theta_right"]]
     window = mb_t <= t_first
     scale = max(np.max(np.abs(th[window]), initial=0.0) for th in theta_mb)
-    errors = [np.max(np.abs(np.interp(mb_t[window], fem_history["t"], tf) - tm[window]),
-                     initial=0.0) for tf, tm in zip(theta_fem, theta_mb)]
+    errors = [
+        np.max(np.abs(np.interp(mb_t[window], fem_history["t"], tf) - tm[window]), initial=0.0)
+        for tf, tm in zip(theta_fem, theta_mb)
+    ]
     history_error = float(max(errors) / scale) if scale > 0 else math.nan
     impacts_fem = impacts_before(fem_history["t"], theta_fem, study.ground.end_time)
     fem_peak = max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
@@ -339,15 +427,21 @@ def _criteria_one(study, fem: dict, fem_history: dict, mb: dict, mb_t, theta_mb:
     # the peak count compares rotations of columns that stay up: where one model overturns,
     # its peak is where it stopped, so the count does not apply (None), and neither does the
     # ratio
-    out = {"same_outcome": bool(fem["overturned"]) == bool(mb["overturned"]),
-           "peak_ratio": None if either_over else peak_ratio,
-           "peak_ok": None if either_over else bool(abs(peak_ratio - 1.0) <= PEAK_TOLERANCE),
-           "impacts_fem": impacts_fem, "impacts_multibody": impacts_mb,
-           "impacts_ok": abs(impacts_fem - impacts_mb) <= IMPACT_TOLERANCE,
-           "history_error": history_error,
-           "history_ok": bool(history_error <= HISTORY_TOLERANCE)}
-    out["all_ok"] = all(out[k] for k in ("same_outcome", "peak_ok", "impacts_ok", "history_ok")
-                        if out[k] is not None)
+    out = {
+        "same_outcome": bool(fem["overturned"]) == bool(mb["overturned"]),
+        "peak_ratio": None if either_over else peak_ratio,
+        "peak_ok": None if either_over else bool(abs(peak_ratio - 1.0) <= PEAK_TOLERANCE),
+        "impacts_fem": impacts_fem,
+        "impacts_multibody": impacts_mb,
+        "impacts_ok": abs(impacts_fem - impacts_mb) <= IMPACT_TOLERANCE,
+        "history_error": history_error,
+        "history_ok": bool(history_error <= HISTORY_TOLERANCE),
+    }
+    out["all_ok"] = all(
+        out[k]
+        for k in ("same_outcome", "peak_ok", "impacts_ok", "history_ok")
+        if out[k] is not None
+    )
     return out
 
 
@@ -358,8 +452,9 @@ def count_word(flags) -> str:
     return decide_count(flags) if flags else NOT_APPLICABLE
 
 
-def verdict_criteria(study, results: dict, fem_histories: list[dict],
-                     multibody_history: dict) -> dict:
+def verdict_criteria(
+    study, results: dict, fem_histories: list[dict], multibody_history: dict
+) -> dict:
     """The FEM against the rigid multibody model on four counts, each with its tolerance:
     outcome; peak rotation (when neither overturns); impacts before the end of the pulse; and
     the history error max |theta_FEM - theta_mb| / max |theta_mb| up to the first impact (of
@@ -380,17 +475,21 @@ def verdict_criteria(study, results: dict, fem_histories: list[dict],
     t_first = min(firsts) if firsts else t_pulse
     # past the whole column's unstable equilibrium it is falling: beyond that the histories
     # differ by where each model stops, not by how it moved
-    falling = np.nonzero(np.max(np.abs(np.array(theta_mb)), axis=0)
-                         > study.column_block.critical_angle())[0]
+    falling = np.nonzero(
+        np.max(np.abs(np.array(theta_mb)), axis=0) > study.column_block.critical_angle()
+    )[0]
     if falling.size:
         t_first = min(t_first, float(mb_t[falling[0]]))
     fem = results["fem"]
     summaries = fem.get("replica_summaries", [fem["summary"]])
     impacts_mb = impacts_before(mb_t, theta_mb, t_pulse)
-    per = [_criteria_one(study, s, h, mb, mb_t, theta_mb, impacts_mb, t_first)
-           for s, h in zip(summaries, fem_histories)]
-    bands = {key: band(c[key] for c in per)
-             for key in ("peak_ratio", "impacts_fem", "history_error")}
+    per = [
+        _criteria_one(study, s, h, mb, mb_t, theta_mb, impacts_mb, t_first)
+        for s, h in zip(summaries, fem_histories)
+    ]
+    bands = {
+        key: band(c[key] for c in per) for key in ("peak_ratio", "impacts_fem", "history_error")
+    }
     out = {
         "same_outcome": decide_count(c["same_outcome"] for c in per),
         "peak_ratio": bands["peak_ratio"]["median"],
@@ -404,8 +503,11 @@ def verdict_criteria(study, results: dict, fem_histories: list[dict],
         "all_ok": decide_count(c["all_ok"] for c in per),
         "replicas": len(per),
         "bands": bands,
-        "tolerances": {"peak": PEAK_TOLERANCE, "history": HISTORY_TOLERANCE,
-                       "impacts": IMPACT_TOLERANCE},
+        "tolerances": {
+            "peak": PEAK_TOLERANCE,
+            "history": HISTORY_TOLERANCE,
+            "impacts": IMPACT_TOLERANCE,
+        },
     }
     return out
 
@@ -442,49 +544,77 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "outcome": answers,
         "verdict": {
             "rigid_assumption_ok": words["rigid_assumption_ok"],
-            "sdof_half_model_ok": _word(_same_answer(rigid["overturned"],
-                                                     _peak_ratio(rigid["max_abs_theta"],
-                                                                 mb_peak),
-                                                     multibody["overturned"])),
+            "sdof_half_model_ok": _word(
+                _same_answer(
+                    rigid["overturned"],
+                    _peak_ratio(rigid["max_abs_theta"], mb_peak),
+                    multibody["overturned"],
+                )
+            ),
             "collars_yield": words["collars_yield"],
             "toe_crushes": words["toe_crushes"],
-            "rocks_as_one_block": NOT_APPLICABLE if ratio is None or ratio_monolith is None
+            "rocks_as_one_block": NOT_APPLICABLE
+            if ratio is None or ratio_monolith is None
             else _word(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
             "overturns_fem": fem["overturned_answer"],
         },
         "fem": fem,
         "collar_heights": [c.y for c in study.collars],
-        "collar_fy": [c.fy for c in study.collars],       # Pa
-        "stone_fc": study.stone.fc,                       # Pa
+        "collar_fy": [c.fy for c in study.collars],  # Pa
+        "stone_fc": study.stone.fc,  # Pa
         "toe_stress": _toe_stress(study, results),
-        "rigid_multibody": {key: multibody.get(key) for key in (
-            "overturned", "mode", "status", "impacts", "max_abs_theta_left",
-            "max_abs_theta_right", "overturn_time", "max_abs_crack_slip", "max_crack_opening",
-            "max_uplift", "collar_max_utilisation", "collar_first_yield_time",
-            "impact_velocity_ratio_mean", "energy_error_max", "friction", "dt", "steps",
-            "wall_seconds")},
+        "rigid_multibody": {
+            key: multibody.get(key)
+            for key in (
+                "overturned",
+                "mode",
+                "status",
+                "impacts",
+                "max_abs_theta_left",
+                "max_abs_theta_right",
+                "overturn_time",
+                "max_abs_crack_slip",
+                "max_crack_opening",
+                "max_uplift",
+                "collar_max_utilisation",
+                "collar_first_yield_time",
+                "impact_velocity_ratio_mean",
+                "energy_error_max",
+                "friction",
+                "dt",
+                "steps",
+                "wall_seconds",
+            )
+        },
         # an overturned block's max_abs_theta is the pi/2 of its stopping rule: not shown
-        "rigid": {"overturned": rigid["overturned"], "mode": rigid["mode"],
-                  "max_abs_theta": None if rigid["overturned"] else rigid["max_abs_theta"],
-                  "overturn_time": rigid.get("overturn_time"),
-                  "collar_max_utilisation": rigid.get("collar_max_utilisation"),
-                  "collar_state": rigid.get("collar_state"),
-                  "impacts": rigid["impacts"]},
-        "rigid_monolith": {"overturned": monolith["overturned"], "mode": monolith["mode"],
-                           "max_abs_theta": None if monolith["overturned"]
-                           else monolith["max_abs_theta"],
-                           "overturn_time": monolith.get("overturn_time"),
-                           "impacts": monolith["impacts"]},
+        "rigid": {
+            "overturned": rigid["overturned"],
+            "mode": rigid["mode"],
+            "max_abs_theta": None if rigid["overturned"] else rigid["max_abs_theta"],
+            "overturn_time": rigid.get("overturn_time"),
+            "collar_max_utilisation": rigid.get("collar_max_utilisation"),
+            "collar_state": rigid.get("collar_state"),
+            "impacts": rigid["impacts"],
+        },
+        "rigid_monolith": {
+            "overturned": monolith["overturned"],
+            "mode": monolith["mode"],
+            "max_abs_theta": None if monolith["overturned"] else monolith["max_abs_theta"],
+            "overturn_time": monolith.get("overturn_time"),
+            "impacts": monolith["impacts"],
+        },
         "theta_peak_ratio_fem_over_multibody": ratio_multibody,
         "fem_vs_multibody": _fem_vs_multibody(results["fem"], multibody),
         "verdict_criteria": criteria,
         "theta_peak_ratio_fem_over_rigid": ratio,
         "theta_peak_ratio_fem_over_monolith": ratio_monolith,
         # an overturned SDOF block reports pi/2 by convention: no rotation to compare
-        "theta_peak_ratio_rigid_over_multibody": None if rigid["overturned"] else _peak_ratio(
-            rigid["max_abs_theta"], mb_peak),
-        "theta_peak_ratio_monolith_over_multibody": None if monolith["overturned"] else
-        _peak_ratio(monolith["max_abs_theta"], mb_peak),
+        "theta_peak_ratio_rigid_over_multibody": None
+        if rigid["overturned"]
+        else _peak_ratio(rigid["max_abs_theta"], mb_peak),
+        "theta_peak_ratio_monolith_over_multibody": None
+        if monolith["overturned"]
+        else _peak_ratio(monolith["max_abs_theta"], mb_peak),
         # the velocity ratio of the impacts after the ground motion (free rocking), where
         # there are any: FEM median and band, multibody
         "restitution_after_motion_fem": fem["restitution_after_motion"],
@@ -500,13 +630,20 @@ def _pulse_summary(study, results: dict) -> dict:
     """Where the ground motion sits: a pulse's Omega/p and a_p / a_uplift; a record's peak
     acceleration (m/s^2, after its scale factor) over a_uplift, and its name."""
     if "spectrum" in results:
-        return {"omega_ratio": results["spectrum"]["omega_ratio"],
-                "amplitude_ratio": results["spectrum"]["amplitude_ratio"],
-                "amplitude": study.ground.amplitude, "omega": study.ground.omega}
+        return {
+            "omega_ratio": results["spectrum"]["omega_ratio"],
+            "amplitude_ratio": results["spectrum"]["amplitude_ratio"],
+            "amplitude": study.ground.amplitude,
+            "omega": study.ground.omega,
+        }
     peak = float(study.ground.peak_acceleration)
-    return {"omega_ratio": None,
-            "amplitude_ratio": peak / study.rocking_block.uplift_acceleration("nonlinear"),
-            "amplitude": peak, "omega": None, "record": study.ground.name}
+    return {
+        "omega_ratio": None,
+        "amplitude_ratio": peak / study.rocking_block.uplift_acceleration("nonlinear"),
+        "amplitude": peak,
+        "omega": None,
+        "record": study.ground.name,
+    }
 
 
 def _fem_vs_multibody(fem_case_result: dict, multibody: dict) -> dict:
@@ -516,8 +653,9 @@ def _fem_vs_multibody(fem_case_result: dict, multibody: dict) -> dict:
     return {
         "t_end_fem": fem["t_end"],
         "t_end_multibody": multibody["overturn_time"] if multibody["overturned"] else None,
-        "collar_utilisation_ratio": _peak_ratio(fem["collar_max_utilisation"],
-                                                multibody.get("collar_max_utilisation") or 0.0),
+        "collar_utilisation_ratio": _peak_ratio(
+            fem["collar_max_utilisation"], multibody.get("collar_max_utilisation") or 0.0
+        ),
         "crack_slip_fem": fem_case_result.get("crack_slip_max"),
         "crack_slip_multibody": multibody["max_abs_crack_slip"],
     }
@@ -527,6 +665,7 @@ def _uncertainty(results: dict) -> dict | None:
     """Observed order, Richardson estimate and fine-mesh relative error of the FEM numbers from
     the runs on 4h, 2h and h (None when the coarse runs were not made)."""
     from ..fem.convergence import convergence_table
+
     keys = ["fem-mesh-4h", "fem-mesh-2h", "fem"]
     if not all(k in results for k in keys):
         return None
@@ -535,8 +674,10 @@ def _uncertainty(results: dict) -> dict | None:
         "collar_max_utilisation": lambda s: s["collar_max_utilisation"],
         "edge_stress_ratio": lambda s: s["edge_stress_ratio"],
     }
-    table = {name: convergence_table([get(results[k]["summary"]) for k in keys], 2.0)
-             for name, get in quantities.items()}
+    table = {
+        name: convergence_table([get(results[k]["summary"]) for k in keys], 2.0)
+        for name, get in quantities.items()
+    }
     table["edge_stress_ratio"]["method"] = "meshes 4h, 2h, h"
     return table
 
@@ -552,7 +693,7 @@ def _toe_stress(study, results: dict) -> dict | None:
         return None
     fc = study.stone.fc
 
-    def finite(value):       # NaN (no monotone convergence) is null, in memory as in JSON
+    def finite(value):  # NaN (no monotone convergence) is null, in memory as in JSON
         return None if value is None or not math.isfinite(value) else value
 
     richardson = finite(refined["richardson"])
@@ -565,23 +706,40 @@ def _toe_stress(study, results: dict) -> dict | None:
     mesh = refined["uncertainty"]
     low = min(unrefined) * factor * (1.0 - mesh)
     high = max(unrefined) * factor * (1.0 + mesh)
-    return {"ratio": ratio, "stress": refined["stress_estimate"],
-            "mesh_uncertainty": mesh,
-            "replica_spread": (max(unrefined) - min(unrefined)) / unrefined[replica]
-            if unrefined[replica] > 0 else 0.0,
-            "band_ratio": {"min": low, "max": high},
-            "uncertainty": max(high / ratio - 1.0, 1.0 - low / ratio) if ratio > 0 else 0.0,
-            "spread": refined["spread"],
-            "bound_ratio": refined["stress_bound"] / fc,
-            "ratios": [p / fc for p in refined["peaks"]],
-            "unrefined_ratio": unrefined[replica], "replica": replica,
-            **{key: refined[key] for key in (
-                "toe", "t_start", "t_end", "t_peak", "refinements", "dofs", "steps",
-                "handover_error", "edge_length", "edge_time")},
-            "observed_order": finite(refined["observed_order"]),
-            # the mean base pressure at rest, (W + P) / A, for scale
-            "static_mean_ratio": _static_mean_pressure(study, results) / fc,
-            "richardson_ratio": None if richardson is None else richardson / fc}
+    return {
+        "ratio": ratio,
+        "stress": refined["stress_estimate"],
+        "mesh_uncertainty": mesh,
+        "replica_spread": (max(unrefined) - min(unrefined)) / unrefined[replica]
+        if unrefined[replica] > 0
+        else 0.0,
+        "band_ratio": {"min": low, "max": high},
+        "uncertainty": max(high / ratio - 1.0, 1.0 - low / ratio) if ratio > 0 else 0.0,
+        "spread": refined["spread"],
+        "bound_ratio": refined["stress_bound"] / fc,
+        "ratios": [p / fc for p in refined["peaks"]],
+        "unrefined_ratio": unrefined[replica],
+        "replica": replica,
+        **{
+            key: refined[key]
+            for key in (
+                "toe",
+                "t_start",
+                "t_end",
+                "t_peak",
+                "refinements",
+                "dofs",
+                "steps",
+                "handover_error",
+                "edge_length",
+                "edge_time",
+            )
+        },
+        "observed_order": finite(refined["observed_order"]),
+        # the mean base pressure at rest, (W + P) / A, for scale
+        "static_mean_ratio": _static_mean_pressure(study, results) / fc,
+        "richardson_ratio": None if richardson is None else richardson / fc,
+    }
 
 
 def _mesh_uncertainty(results: dict, quantity: str) -> float:
@@ -597,9 +755,15 @@ def collars_yield(study, fem: dict, results: dict) -> dict:
     question = QUESTIONS["collars_yield"]
     if not study.collars:
         return not_assessed(question, "the column has no collars")
-    return limit_answer(question, "largest collar stress / f_y",
-                        fem["bands"].get("collar_max_utilisation"), 1.0, "-",
-                        _mesh_uncertainty(results, "collar_max_utilisation"), figure="collars")
+    return limit_answer(
+        question,
+        "largest collar stress / f_y",
+        fem["bands"].get("collar_max_utilisation"),
+        1.0,
+        "-",
+        _mesh_uncertainty(results, "collar_max_utilisation"),
+        figure="collars",
+    )
 
 
 def toe_crushes(study, results: dict) -> dict:
@@ -610,13 +774,24 @@ def toe_crushes(study, results: dict) -> dict:
     toe = _toe_stress(study, results)
     if toe is None:
         fem = results["fem"]["summary"]
-        return limit_answer(question, measure, fem["bands"]["edge_stress_ratio"], 1.0, "-",
-                            _mesh_uncertainty(results, "edge_stress_ratio"),
-                            figure="toe_stress")
+        return limit_answer(
+            question,
+            measure,
+            fem["bands"]["edge_stress_ratio"],
+            1.0,
+            "-",
+            _mesh_uncertainty(results, "edge_stress_ratio"),
+            figure="toe_stress",
+        )
     b = toe["band_ratio"]
-    return limit_answer(question, measure + " (refined at the toe)",
-                        {"median": toe["ratio"], "min": b["min"], "max": b["max"],
-                         "missing": 0}, 1.0, "-", figure="toe_stress")
+    return limit_answer(
+        question,
+        measure + " (refined at the toe)",
+        {"median": toe["ratio"], "min": b["min"], "max": b["max"], "missing": 0},
+        1.0,
+        "-",
+        figure="toe_stress",
+    )
 
 
 def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
@@ -626,26 +801,49 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
     alpha = study.rocking_alpha
     models = [
         fem_model("FEM, deformable halves", fem, alpha),
-        model_outcome("rigid multibody (the rigid reference)", mb["overturned"],
-                      max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]), alpha,
-                      mb.get("overturn_time"),
-                      collar_utilisation=mb.get("collar_max_utilisation") if study.collars
-                      else None),
-        model_outcome("SDOF half block with collars (the paper's)", rigid["overturned"],
-                      rigid["max_abs_theta"], rigid["alpha"], rigid.get("overturn_time"),
-                      collar_utilisation=rigid.get("collar_max_utilisation")),
-        model_outcome("SDOF whole column, no crack", monolith["overturned"],
-                      monolith["max_abs_theta"], monolith["alpha"],
-                      monolith.get("overturn_time")),
+        model_outcome(
+            "rigid multibody (the rigid reference)",
+            mb["overturned"],
+            max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]),
+            alpha,
+            mb.get("overturn_time"),
+            collar_utilisation=mb.get("collar_max_utilisation") if study.collars else None,
+        ),
+        model_outcome(
+            "SDOF half block with collars (the paper's)",
+            rigid["overturned"],
+            rigid["max_abs_theta"],
+            rigid["alpha"],
+            rigid.get("overturn_time"),
+            collar_utilisation=rigid.get("collar_max_utilisation"),
+        ),
+        model_outcome(
+            "SDOF whole column, no crack",
+            monolith["overturned"],
+            monolith["max_abs_theta"],
+            monolith["alpha"],
+            monolith.get("overturn_time"),
+        ),
     ]
-    rigid_answer = criteria_answer(QUESTIONS["rigid_assumption_ok"], criteria["all_ok"], {
-        "same outcome": criteria["same_outcome"],
-        "peak rotation": criteria["peak_ok"],
-        "impacts before the pulse ends": criteria["impacts_ok"],
-        "rotation history to the first impact": criteria["history_ok"]}, figure="theta")
-    return outcome(models, {"rigid_assumption_ok": rigid_answer,
-                            "collars_yield": collars_yield(study, fem, results),
-                            "toe_crushes": toe_crushes(study, results)})
+    rigid_answer = criteria_answer(
+        QUESTIONS["rigid_assumption_ok"],
+        criteria["all_ok"],
+        {
+            "same outcome": criteria["same_outcome"],
+            "peak rotation": criteria["peak_ok"],
+            "impacts before the pulse ends": criteria["impacts_ok"],
+            "rotation history to the first impact": criteria["history_ok"],
+        },
+        figure="theta",
+    )
+    return outcome(
+        models,
+        {
+            "rigid_assumption_ok": rigid_answer,
+            "collars_yield": collars_yield(study, fem, results),
+            "toe_crushes": toe_crushes(study, results),
+        },
+    )
 
 
 def _static_mean_pressure(study, results: dict) -> float:

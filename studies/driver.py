@@ -28,30 +28,45 @@ class StudyKind:
     """A study kind: where its runner and its report writer live, and which summary keys the
     command line prints (``short``)."""
 
-    run: str                    # "module:function" under colonna.studies
-    report: str                 # "module:function" under colonna.studies
+    run: str  # "module:function" under colonna.studies
+    report: str  # "module:function" under colonna.studies
     short: tuple[str, ...] = ()
     ground_motion: bool = True  # its [ground] is one motion (not a grid of them, nor none)
 
 
 KINDS = {
-    "cross-check": StudyKind("crosscheck:run_crosscheck", "report:write_crosscheck_report",
-                             ("outcome", "verdict")),
-    "collar-design": StudyKind("design_study:run_design_study", "report:write_design_report",
-                               ("outcome", "design_adequate", "fem_collar_max_utilisation")),
+    "cross-check": StudyKind(
+        "crosscheck:run_crosscheck", "report:write_crosscheck_report", ("outcome", "verdict")
+    ),
+    "collar-design": StudyKind(
+        "design_study:run_design_study",
+        "report:write_design_report",
+        ("outcome", "design_adequate", "fem_collar_max_utilisation"),
+    ),
     "spectrum-crosscheck": StudyKind(
         "spectrum_crosscheck:run_spectrum_crosscheck",
         "report:write_spectrum_crosscheck_report",
-        ("outcome", "agreement_fem_multibody", "agreement_fem_sdof"), ground_motion=False),
-    "free-rocking": StudyKind("free_rocking:run_free_rocking", "report:write_free_rocking_report",
-                              ("outcome", "fem_ratio_study_stone", "multibody_ratio",
-                               "restitution_housner"), ground_motion=False),
-    "mesh-convergence": StudyKind("sweeps:run_mesh_convergence",
-                                  "report:write_convergence_report", ("outcome",)),
-    "solid-vs-cracked": StudyKind("sweeps:run_solid_vs_cracked",
-                                  "report:write_variants_report", ("outcome",)),
-    "zhang-makris": StudyKind("validation:run_zhang_makris", "report:write_zhang_makris_report",
-                              ("outcome", "boundaries"), ground_motion=False),
+        ("outcome", "agreement_fem_multibody", "agreement_fem_sdof"),
+        ground_motion=False,
+    ),
+    "free-rocking": StudyKind(
+        "free_rocking:run_free_rocking",
+        "report:write_free_rocking_report",
+        ("outcome", "fem_ratio_study_stone", "multibody_ratio", "restitution_housner"),
+        ground_motion=False,
+    ),
+    "mesh-convergence": StudyKind(
+        "sweeps:run_mesh_convergence", "report:write_convergence_report", ("outcome",)
+    ),
+    "solid-vs-cracked": StudyKind(
+        "sweeps:run_solid_vs_cracked", "report:write_variants_report", ("outcome",)
+    ),
+    "zhang-makris": StudyKind(
+        "validation:run_zhang_makris",
+        "report:write_zhang_makris_report",
+        ("outcome", "boundaries"),
+        ground_motion=False,
+    ),
 }
 
 
@@ -71,6 +86,7 @@ def check_study_file(study_path: Path):
     of the file at once, one line each, in one :class:`InputError`."""
     from .free_rocking import with_defaults
     from .schema import parse
+
     data = read_toml(study_path, "study file")
     study = data.get("study")
     if isinstance(study, dict) and study.get("kind") == "free-rocking":
@@ -78,9 +94,16 @@ def check_study_file(study_path: Path):
     return parse(data, str(study_path))
 
 
-def run_study_file(study_path: Path, out: Path, *, workers: int | None = None,
-                   scheduler: str | None = None, progress: bool = True, force: bool = False,
-                   grid: tuple[int, int] | None = None) -> dict:
+def run_study_file(
+    study_path: Path,
+    out: Path,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool = True,
+    force: bool = False,
+    grid: tuple[int, int] | None = None,
+) -> dict:
     """Run (or resume) the study of a file into ``out`` and write its report; returns the
     summary. Options that only one kind takes (``grid``) are refused for the others."""
     study_path = Path(study_path)
@@ -89,12 +112,20 @@ def run_study_file(study_path: Path, out: Path, *, workers: int | None = None,
     options = {}
     if grid is not None:
         if kind_name != "spectrum-crosscheck":
-            raise InputError(f"--grid applies to studies of kind spectrum-crosscheck, "
-                             f"not {kind_name!r}")
+            raise InputError(
+                f"--grid applies to studies of kind spectrum-crosscheck, not {kind_name!r}"
+            )
         options["grid"] = grid
     out = Path(out)
-    summary = _function(kind.run)(study_path, out, workers=workers, scheduler=scheduler,
-                                  progress=progress, force=force, **options)
+    summary = _function(kind.run)(
+        study_path,
+        out,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+        force=force,
+        **options,
+    )
     # the inputs on record beside the results they gave, once they are all there (a refused
     # or interrupted run leaves the record of the results in out as it was)
     record_inputs(out, study_path, {"grid": "x".join(map(str, grid)) if grid else None})
@@ -111,18 +142,24 @@ def write_ground_motion(out: Path, study_path: Path, samples_per_period: int = 2
     study applied, on one time axis from 0 to the end of the run (a record's own samples, a
     pulse ``samples_per_period`` times per period), for the report's plot of the input."""
     from .fem_study import load
+
     study = load(study_path)
     motions = [study.ground, study.vertical]
     end = max([study.duration] + [m.end_time for m in motions])
     times = [np.linspace(0.0, end, 2001)]
     for motion in motions:
-        if isinstance(motion, Record):                    # a record: its samples
+        if isinstance(motion, Record):  # a record: its samples
             times.append(np.asarray(motion.time, dtype=float))
-        elif isinstance(motion, HarmonicPulse):           # a pulse: fine enough for its shape
+        elif isinstance(motion, HarmonicPulse):  # a pulse: fine enough for its shape
             n = math.ceil(samples_per_period * motion.end_time * motion.omega / (2 * math.pi))
             times.append(np.linspace(0.0, motion.end_time, max(n, 2) + 1))
     t = np.unique(np.concatenate(times))
     t = t[(t >= 0.0) & (t <= end)]
-    write_csv(Path(out) / "ground_motion.csv",
-              {"t": t, "horizontal_acceleration": study.ground.acceleration(t),
-               "vertical_acceleration": study.vertical.acceleration(t)})
+    write_csv(
+        Path(out) / "ground_motion.csv",
+        {
+            "t": t,
+            "horizontal_acceleration": study.ground.acceleration(t),
+            "vertical_acceleration": study.vertical.acceleration(t),
+        },
+    )

@@ -55,23 +55,27 @@ class FemStudy:
     dt: float | None
     safety: float
     rigid: dict = field(default_factory=dict)
-    initial_tilt: float = 0.0                 # rad, theta sign
-    initial_angular_velocity: float = 0.0     # rad/s
+    initial_tilt: float = 0.0  # rad, theta sign
+    initial_angular_velocity: float = 0.0  # rad/s
     source: str = ""
-    edge_time: float = EDGE_TIME              # s
+    edge_time: float = EDGE_TIME  # s
     toe_refinements: tuple = REFINEMENTS
-    top_load: float = 0.0                     # N, on the capital
-    vertical: GroundMotion = NO_MOTION        # vertical ground motion
-    replicas: int = 1                         # FEM runs as an ensemble of this many replicas
+    top_load: float = 0.0  # N, on the capital
+    vertical: GroundMotion = NO_MOTION  # vertical ground motion
+    replicas: int = 1  # FEM runs as an ensemble of this many replicas
 
     @property
     def rocking_block(self) -> Block:
         """The rigid block that rocks: one half of a cracked column, or the whole column."""
         b = self.width / (4.0 if self.cracked else 2.0)
         mass = self.stone.density * 2.0 * b * self.height * self.thickness
-        return Block(b=b, h=0.5 * self.height, mass=mass,
-                     restitution=self.rigid.get("restitution"),
-                     top_load=self.top_load / (2.0 if self.cracked else 1.0))
+        return Block(
+            b=b,
+            h=0.5 * self.height,
+            mass=mass,
+            restitution=self.rigid.get("restitution"),
+            top_load=self.top_load / (2.0 if self.cracked else 1.0),
+        )
 
     @property
     def rocking_alpha(self) -> float:
@@ -82,17 +86,30 @@ class FemStudy:
     def column_block(self) -> Block:
         """The whole column as one rigid block (4b wide), with the whole top load."""
         mass = self.stone.density * self.width * self.height * self.thickness
-        return Block(b=0.5 * self.width, h=0.5 * self.height, mass=mass,
-                     restitution=self.rigid.get("restitution"), top_load=self.top_load)
+        return Block(
+            b=0.5 * self.width,
+            h=0.5 * self.height,
+            mass=mass,
+            restitution=self.rigid.get("restitution"),
+            top_load=self.top_load,
+        )
 
 
 def toe_mesh(study: FemStudy, refinement: int):
     """The study's generated mesh with its toe zones (edge_length from each base corner)
     refined ``refinement`` times."""
     from ..meshes.column import column_mesh
-    return column_mesh(study.width, study.height, study.mesh_size, cracked=study.cracked,
-                       grading=study.grading, pinned_heights=[c.y for c in study.collars],
-                       toe_refinement=refinement, toe_zone=study.edge_length)
+
+    return column_mesh(
+        study.width,
+        study.height,
+        study.mesh_size,
+        cracked=study.cracked,
+        grading=study.grading,
+        pinned_heights=[c.y for c in study.collars],
+        toe_refinement=refinement,
+        toe_zone=study.edge_length,
+    )
 
 
 def load(path) -> FemStudy:
@@ -130,28 +147,51 @@ def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemS
             raise InputError(f"{source}: mesh.file = {mesh.file!r}: no such file")
     settings = dict(
         name=spec.study.name or Path(source).stem,
-        height=column.height, width=column.width,
-        thickness=column.thickness or default_thickness(column.width), cracked=column.cracked,
+        height=column.height,
+        width=column.width,
+        thickness=column.thickness or default_thickness(column.width),
+        cracked=column.cracked,
         stone=Stone(**spec.stone.model_dump()),
-        collars=tuple(Collar(**c.model_dump()) for c in spec.collar), ground=NoMotion(),
+        collars=tuple(Collar(**c.model_dump()) for c in spec.collar),
+        ground=NoMotion(),
         contact=ContactSettings(**spec.contact.model_dump()),
-        mesh_size=mesh.size or column.width / 16.0, grading=mesh.grading, mesh_file=mesh_file,
-        edge_length=mesh.edge_length or 0.1 * body_width, duration=0.0,
-        output_interval=spec.run.output_interval, dt=spec.run.dt, safety=spec.run.safety,
-        rigid=spec.rigid.model_dump(exclude_none=True), source=source,
-        edge_time=mesh.edge_time, toe_refinements=tuple(mesh.toe_refinements),
-        top_load=column.top_load, initial_tilt=spec.run.initial_tilt,
+        mesh_size=mesh.size or column.width / 16.0,
+        grading=mesh.grading,
+        mesh_file=mesh_file,
+        edge_length=mesh.edge_length or 0.1 * body_width,
+        duration=0.0,
+        output_interval=spec.run.output_interval,
+        dt=spec.run.dt,
+        safety=spec.run.safety,
+        rigid=spec.rigid.model_dump(exclude_none=True),
+        source=source,
+        edge_time=mesh.edge_time,
+        toe_refinements=tuple(mesh.toe_refinements),
+        top_load=column.top_load,
+        initial_tilt=spec.run.initial_tilt,
         initial_angular_velocity=spec.run.initial_angular_velocity,
-        replicas=spec.run.replicas)
+        replicas=spec.run.replicas,
+    )
     ground = _ground(spec.ground, FemStudy(**settings).rocking_block, base, source)
     vertical = _vertical(spec.ground, ground, base, source)
     end = max(ground.end_time, vertical.end_time)
-    study = FemStudy(**{**settings, "ground": ground, "vertical": vertical,
-                        "duration": spec.run.duration or end + 1.5})
-    if (isinstance(study.ground, NoMotion) and study.initial_tilt == 0.0
-            and study.initial_angular_velocity == 0.0):
-        raise InputError(f"{source}: ground.pulse = 'none' needs run.initial_tilt or "
-                         "run.initial_angular_velocity (else the column stays at rest)")
+    study = FemStudy(
+        **{
+            **settings,
+            "ground": ground,
+            "vertical": vertical,
+            "duration": spec.run.duration or end + 1.5,
+        }
+    )
+    if (
+        isinstance(study.ground, NoMotion)
+        and study.initial_tilt == 0.0
+        and study.initial_angular_velocity == 0.0
+    ):
+        raise InputError(
+            f"{source}: ground.pulse = 'none' needs run.initial_tilt or "
+            "run.initial_angular_velocity (else the column stays at rest)"
+        )
     return study
 
 
@@ -168,16 +208,23 @@ def _vertical(ground: schema.Ground, horizontal, base: Path, source: str = "stud
                 f"{source}: ground.vertical_record {ground.vertical_record!r} peaks at "
                 f"{record.peak_acceleration:g} m/s^2, times ground.vertical_scale = {scale:g} "
                 f"that is {peak:g} m/s^2, which lifts the column off the ground: it must be "
-                f"below g = {schema.G:g} m/s^2")
+                f"below g = {schema.G:g} m/s^2"
+            )
         return record.scaled(scale)
     if ground.vertical_amplitude is None:
         return NO_MOTION
     period = ground.vertical_period
-    assert period is not None              # the schema asks for it with vertical_amplitude
-    duration = ground.vertical_duration or (horizontal.end_time if horizontal.end_time > 0.0
-                                            else period)
-    return HarmonicPulse("sine", ground.vertical_amplitude, 2.0 * math.pi / period,
-                         ground.vertical_phase or 0.0, duration)
+    assert period is not None  # the schema asks for it with vertical_amplitude
+    duration = ground.vertical_duration or (
+        horizontal.end_time if horizontal.end_time > 0.0 else period
+    )
+    return HarmonicPulse(
+        "sine",
+        ground.vertical_amplitude,
+        2.0 * math.pi / period,
+        ground.vertical_phase or 0.0,
+        duration,
+    )
 
 
 def _ground(ground: schema.Ground, block: Block, base: Path, source: str = "study"):
@@ -185,21 +232,25 @@ def _ground(ground: schema.Ground, block: Block, base: Path, source: str = "stud
     if ground.pulse == "none":
         return NoMotion()
     if ground.pulse == "record":
-        assert ground.record is not None       # the schema asks for it with pulse = "record"
+        assert ground.record is not None  # the schema asks for it with pulse = "record"
         record = read_record(base / ground.record, g=block.g)
         speed = ground.time_scale or 1.0
-        if speed != 1.0:                 # t -> t / time_scale: the record played faster
+        if speed != 1.0:  # t -> t / time_scale: the record played faster
             record = Record(record.time / speed, record.acceleration_values, record.name)
         return record.scaled(1.0 if ground.scale is None else ground.scale)
     uplift = block.uplift_acceleration("nonlinear")
-    amplitude = (ground.amplitude if ground.amplitude is not None
-                 else ground.amplitude_ratio * uplift)
-    omega = (2.0 * math.pi / ground.period if ground.period is not None
-             else ground.omega_ratio * block.p)
+    amplitude = (
+        ground.amplitude if ground.amplitude is not None else ground.amplitude_ratio * uplift
+    )
+    omega = (
+        2.0 * math.pi / ground.period if ground.period is not None else ground.omega_ratio * block.p
+    )
     if abs(amplitude) < uplift:
-        raise InputError(f"{source}: ground.amplitude = {amplitude:g} m/s^2 is below the "
-                         f"uplift acceleration g tan(alpha) (1 + lambda) = {uplift:g} m/s^2 "
-                         "of the rocking half")
+        raise InputError(
+            f"{source}: ground.amplitude = {amplitude:g} m/s^2 is below the "
+            f"uplift acceleration g tan(alpha) (1 + lambda) = {uplift:g} m/s^2 "
+            "of the rocking half"
+        )
     make = sine_pulse if ground.pulse == "sine" else cosine_pulse
     return make(amplitude, omega, uplift)
 
@@ -210,23 +261,30 @@ def build(study: FemStudy):
 
     if study.mesh_file is not None:
         from ..meshes.io import read
+
         mesh = read(study.mesh_file)
-        for name, value, expected in (("width", mesh.width, study.width),
-                                      ("height", mesh.height, study.height)):
+        for name, value, expected in (
+            ("width", mesh.width, study.width),
+            ("height", mesh.height, study.height),
+        ):
             if abs(value - expected) > 1e-6 * expected:
-                raise InputError(f"mesh.file {study.mesh_file.name}: its {name} {value:g} m "
-                                 f"differs from column.{name} = {expected:g} m")
+                raise InputError(
+                    f"mesh.file {study.mesh_file.name}: its {name} {value:g} m "
+                    f"differs from column.{name} = {expected:g} m"
+                )
         if mesh.cracked != study.cracked:
-            raise InputError(f"mesh.file {study.mesh_file.name} has {mesh.n_bodies} bodies but "
-                             f"column.cracked = {str(study.cracked).lower()}")
+            raise InputError(
+                f"mesh.file {study.mesh_file.name} has {mesh.n_bodies} bodies but "
+                f"column.cracked = {str(study.cracked).lower()}"
+            )
     else:
         mesh = toe_mesh(study, 1)
-    return build_model(mesh, study.stone, study.thickness, study.collars, study.contact,
-                       top_load=study.top_load)
+    return build_model(
+        mesh, study.stone, study.thickness, study.collars, study.contact, top_load=study.top_load
+    )
 
 
-def run_fem(study: FemStudy, *, replicas: int | None = None, out_dir=None,
-            progress: bool = False):
+def run_fem(study: FemStudy, *, replicas: int | None = None, out_dir=None, progress: bool = False):
     """The FEM run of a study as an ensemble of ``replicas`` (default ``study.replicas``) runs
     perturbed at round-off level (:func:`colonna.fem.solver.run_ensemble`); replica 0 is the
     unperturbed run and writes the files of a run into ``out_dir``.
@@ -238,10 +296,19 @@ def run_fem(study: FemStudy, *, replicas: int | None = None, out_dir=None,
     from ..fem.solver import run_ensemble
 
     model = build(study)
-    return run_ensemble(model, study.ground, study.duration,
-                        study.replicas if replicas is None else replicas, dt=study.dt,
-                        safety=study.safety, output_interval=study.output_interval,
-                        edge_length=study.edge_length, edge_time=study.edge_time,
-                        out_dir=out_dir, vertical=study.vertical, progress=progress,
-                        initial_tilt=study.initial_tilt,
-                        initial_angular_velocity=study.initial_angular_velocity)
+    return run_ensemble(
+        model,
+        study.ground,
+        study.duration,
+        study.replicas if replicas is None else replicas,
+        dt=study.dt,
+        safety=study.safety,
+        output_interval=study.output_interval,
+        edge_length=study.edge_length,
+        edge_time=study.edge_time,
+        out_dir=out_dir,
+        vertical=study.vertical,
+        progress=progress,
+        initial_tilt=study.initial_tilt,
+        initial_angular_velocity=study.initial_angular_velocity,
+    )

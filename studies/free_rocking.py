@@ -52,11 +52,14 @@ def free_rocking_case(case: dict, directory: str) -> dict:
     if case["kind"] == "fem":
         from ..fem.ensemble import band
         from .fem_study import run_fem
+
         replicas = run_fem(replace(study, initial_tilt=tilt))
         result = replicas[0]
         t, theta = result.history["t"], result.history["theta_left"]
-        write_csv(Path(directory) / "history.csv", {"t": t, "theta_left": theta,
-                                                    "theta_right": result.history["theta_right"]})
+        write_csv(
+            Path(directory) / "history.csv",
+            {"t": t, "theta_left": theta, "theta_right": result.history["theta_right"]},
+        )
         # the first landing is chaotic: the ratio is a band over the replicas
         firsts, means = [], []
         for r in replicas:
@@ -64,77 +67,141 @@ def free_rocking_case(case: dict, directory: str) -> dict:
             firsts.append(float(measured.ratios[0]) if measured.ratios.size else None)
             means.append(measured.mean)
         first, mean = band(firsts), band(means)
-        plain = impact_ratios_from_peaks(t, theta, alpha)       # replica 0, for the figure
-        return {"tilt": tilt, "damping": case.get("damping"),
-                "mesh_size": case.get("mesh_size"),
-                "impact_times": plain.times.tolist(), "ratios": plain.ratios.tolist(),
-                "ratio_first": first["median"], "ratio_first_band": first,
-                "ratio_mean": mean["median"], "ratio_mean_band": mean,
-                "replicas": len(replicas),
-                "status": result.summary["status"],
-                "energy_error_max": max(r.summary["energy_error_max"] for r in replicas),
-                "wall_seconds": result.summary["wall_seconds"]}
-    result = rock_multibody(study.rocking_block, study.ground, study.collars, cracked=study.cracked,
-                            friction=study.contact.friction, duration=study.duration,
-                            initial_tilt=tilt)
+        plain = impact_ratios_from_peaks(t, theta, alpha)  # replica 0, for the figure
+        return {
+            "tilt": tilt,
+            "damping": case.get("damping"),
+            "mesh_size": case.get("mesh_size"),
+            "impact_times": plain.times.tolist(),
+            "ratios": plain.ratios.tolist(),
+            "ratio_first": first["median"],
+            "ratio_first_band": first,
+            "ratio_mean": mean["median"],
+            "ratio_mean_band": mean,
+            "replicas": len(replicas),
+            "status": result.summary["status"],
+            "energy_error_max": max(r.summary["energy_error_max"] for r in replicas),
+            "wall_seconds": result.summary["wall_seconds"],
+        }
+    result = rock_multibody(
+        study.rocking_block,
+        study.ground,
+        study.collars,
+        cracked=study.cracked,
+        friction=study.contact.friction,
+        duration=study.duration,
+        initial_tilt=tilt,
+    )
     t, theta = result.time, result.theta[:, 0]
-    write_csv(Path(directory) / "history.csv", {"t": t, "theta_left": theta,
-                                                "theta_right": result.theta[:, -1]})
+    write_csv(
+        Path(directory) / "history.csv",
+        {"t": t, "theta_left": theta, "theta_right": result.theta[:, -1]},
+    )
     measured = impact_ratios_from_peaks(t, theta, alpha)
-    return {"tilt": tilt, "damping": case.get("damping"), "mesh_size": case.get("mesh_size"),
-            "impact_times": measured.times.tolist(), "ratios": measured.ratios.tolist(),
-            "ratio_first": float(measured.ratios[0]) if measured.ratios.size else None,
-            "ratio_mean": measured.mean, "status": result.status,
-            "impulse_ratios": result.impact_velocity_ratios(0)[:10].tolist(),
-            "energy_error_max": result.summary()["energy_error_max"]}
+    return {
+        "tilt": tilt,
+        "damping": case.get("damping"),
+        "mesh_size": case.get("mesh_size"),
+        "impact_times": measured.times.tolist(),
+        "ratios": measured.ratios.tolist(),
+        "ratio_first": float(measured.ratios[0]) if measured.ratios.size else None,
+        "ratio_mean": measured.mean,
+        "status": result.status,
+        "impulse_ratios": result.impact_velocity_ratios(0)[:10].tolist(),
+        "energy_error_max": result.summary()["energy_error_max"],
+    }
 
 
-def run_free_rocking(study_path: Path, out: Path, *, workers=None, scheduler=None,
-                     progress: bool = True, force: bool = False) -> dict:
+def run_free_rocking(
+    study_path: Path,
+    out: Path,
+    *,
+    workers=None,
+    scheduler=None,
+    progress: bool = True,
+    force: bool = False,
+) -> dict:
     study_path = Path(study_path)
     data = read_toml(study_path, "study file")
     table = schema.parse_table("free_rocking", data.get("free_rocking", {}), str(study_path))
     base_data = with_defaults({k: v for k, v in data.items() if k != "free_rocking"})
     if base_data["ground"] != {"pulse": "none"}:
-        raise InputError(f"{study_path}: a free-rocking study has no ground motion: "
-                         "ground.pulse = 'none' (or leave [ground] out)")
-    base_data["run"].setdefault("initial_tilt", 0.01)        # replaced per case
+        raise InputError(
+            f"{study_path}: a free-rocking study has no ground motion: "
+            "ground.pulse = 'none' (or leave [ground] out)"
+        )
+    base_data["run"].setdefault("initial_tilt", 0.01)  # replaced per case
     study = from_dict(base_data, source=str(study_path), base=study_path.parent)  # fails early
     alpha = study.rocking_alpha
     tilts, dampings = table.tilt_fractions, table.damping
     body_width = study.width / (2.0 if study.cracked else 1.0)
     sizes = table.mesh_sizes or [min(2.0 * study.mesh_size, body_width)]
     if max(sizes) > body_width * (1.0 + 1e-9):
-        raise InputError(f"{study_path}: free_rocking.mesh_sizes = {sizes!r} m: each must be at "
-                         f"most {body_width:g} m (the width of one half)")
+        raise InputError(
+            f"{study_path}: free_rocking.mesh_sizes = {sizes!r} m: each must be at "
+            f"most {body_width:g} m (the width of one half)"
+        )
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    common = {"source": str(study_path), "base": str(study_path.parent.resolve()),
-              "alpha": alpha}
+    common = {"source": str(study_path), "base": str(study_path.parent.resolve()), "alpha": alpha}
     cases = []
     for k, fraction in enumerate(tilts):
         for kind in ("fem", "multibody"):
-            cases.append(dict(common, study=base_data, key=f"{kind}-tilt{k + 1}", kind=kind,
-                              tilt_fraction=fraction, damping=study.contact.damping,
-                              mesh_size=study.mesh_size))
+            cases.append(
+                dict(
+                    common,
+                    study=base_data,
+                    key=f"{kind}-tilt{k + 1}",
+                    kind=kind,
+                    tilt_fraction=fraction,
+                    damping=study.contact.damping,
+                    mesh_size=study.mesh_size,
+                )
+            )
     for k, damping in enumerate(dampings):
         variant = copy.deepcopy(base_data)
         variant.setdefault("contact", {})["damping"] = damping
-        cases.append(dict(common, study=variant, key=f"fem-damping{k + 1}", kind="fem",
-                          tilt_fraction=tilts[0], damping=damping, mesh_size=study.mesh_size))
+        cases.append(
+            dict(
+                common,
+                study=variant,
+                key=f"fem-damping{k + 1}",
+                kind="fem",
+                tilt_fraction=tilts[0],
+                damping=damping,
+                mesh_size=study.mesh_size,
+            )
+        )
     for k, size in enumerate(sizes):
         variant = copy.deepcopy(base_data)
         variant.setdefault("mesh", {})["size"] = size
-        cases.append(dict(common, study=variant, key=f"fem-mesh{k + 1}", kind="fem",
-                          tilt_fraction=tilts[0], damping=study.contact.damping,
-                          mesh_size=size))
+        cases.append(
+            dict(
+                common,
+                study=variant,
+                key=f"fem-mesh{k + 1}",
+                kind="fem",
+                tilt_fraction=tilts[0],
+                damping=study.contact.damping,
+                mesh_size=size,
+            )
+        )
     start = time.perf_counter()
-    results = run_cases(free_rocking_case, cases, out, workers=workers, scheduler=scheduler,
-                        progress=progress, force=force)
+    results = run_cases(
+        free_rocking_case,
+        cases,
+        out,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+        force=force,
+    )
     housner = Block(b=1.0, h=1.0 / math.tan(alpha)).restitution_housner
     base_fem = results["fem-tilt1"]
     summary = {
-        "study": study.name, "kind": "free-rocking", "alpha": alpha,
+        "study": study.name,
+        "kind": "free-rocking",
+        "alpha": alpha,
         "restitution_housner": housner,
         "E": study.stone.E,
         "fem_ratio_study_stone": base_fem["ratio_first"],
@@ -142,16 +209,24 @@ def run_free_rocking(study_path: Path, out: Path, *, workers=None, scheduler=Non
         "replicas": base_fem["replicas"],
         "fem_ratio_study_stone_mean": base_fem["ratio_mean"],
         "multibody_ratio": results["multibody-tilt1"]["ratio_first"],
-        "tilts": [{"tilt_fraction": f, "tilt": f * alpha,
-                   "fem": results[f"fem-tilt{k + 1}"],
-                   "multibody": results[f"multibody-tilt{k + 1}"]}
-                  for k, f in enumerate(tilts)],
+        "tilts": [
+            {
+                "tilt_fraction": f,
+                "tilt": f * alpha,
+                "fem": results[f"fem-tilt{k + 1}"],
+                "multibody": results[f"multibody-tilt{k + 1}"],
+            }
+            for k, f in enumerate(tilts)
+        ],
         "damping_variants": [results[f"fem-damping{k + 1}"] for k in range(len(dampings))],
         "mesh_variants": [results[f"fem-mesh{k + 1}"] for k in range(len(sizes))],
-        "damping": study.contact.damping, "mesh_size": study.mesh_size,
-        "outcome": none_assessed("a free-rocking study measures the velocity ratio at the "
-                                 "impacts of a column released from a tilt (below); the "
-                                 "cross-check study answers this for a ground motion"),
+        "damping": study.contact.damping,
+        "mesh_size": study.mesh_size,
+        "outcome": none_assessed(
+            "a free-rocking study measures the velocity ratio at the "
+            "impacts of a column released from a tilt (below); the "
+            "cross-check study answers this for a ground motion"
+        ),
     }
     summary["wall_seconds"] = time.perf_counter() - start
     write_json(out / "summary.json", summary)

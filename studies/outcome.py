@@ -32,42 +32,68 @@ QUESTIONS = {
 RELATIONS = {YES: "reaches", NO: "stays below", UNDECIDED: "straddles"}
 
 
-def model_outcome(model: str, overturned: bool, peak_rotation: float | None, alpha: float,
-                  overturn_time: float | None = None, replicas: int | None = None,
-                  overturned_replicas: int | None = None,
-                  collar_utilisation: float | None = None) -> dict:
+def model_outcome(
+    model: str,
+    overturned: bool,
+    peak_rotation: float | None,
+    alpha: float,
+    overturn_time: float | None = None,
+    replicas: int | None = None,
+    overturned_replicas: int | None = None,
+    collar_utilisation: float | None = None,
+) -> dict:
     """One model's outcome. ``peak_rotation`` (rad) is the largest |theta| of a rocking half
     (None or the pi/2 convention of an overturned block are not reported as a rotation);
     ``alpha`` its slenderness (rad); ``collar_utilisation`` the largest sigma / f_y of its
     collars, whose state (elastic / yielded) is then said beside the motion."""
-    motion = motion_word(bool(overturned), 0.0 if peak_rotation is None else peak_rotation,
-                         alpha)
-    out = {"model": model, "motion": motion,
-           "overturn_time": float(overturn_time) if overturned and overturn_time is not None
-           else None,
-           "peak_rotation": None if overturned or peak_rotation is None else float(peak_rotation),
-           "peak_rotation_over_alpha": None if overturned or peak_rotation is None
-           else float(peak_rotation) / alpha}
+    motion = motion_word(bool(overturned), 0.0 if peak_rotation is None else peak_rotation, alpha)
+    out = {
+        "model": model,
+        "motion": motion,
+        "overturn_time": float(overturn_time) if overturned and overturn_time is not None else None,
+        "peak_rotation": None if overturned or peak_rotation is None else float(peak_rotation),
+        "peak_rotation_over_alpha": None
+        if overturned or peak_rotation is None
+        else float(peak_rotation) / alpha,
+    }
     if replicas is not None:
         out.update(replicas=int(replicas), overturned_replicas=int(overturned_replicas or 0))
     if collar_utilisation is not None:
-        out.update(collar_state=collar_state(collar_utilisation),
-                   collar_utilisation=float(collar_utilisation))
+        out.update(
+            collar_state=collar_state(collar_utilisation),
+            collar_utilisation=float(collar_utilisation),
+        )
     return out
 
 
-def limit_answer(question: str, measure: str, band: dict | None, limit: float, unit: str,
-                 uncertainty: float = 0.0, figure: str | None = None) -> dict:
+def limit_answer(
+    question: str,
+    measure: str,
+    band: dict | None,
+    limit: float,
+    unit: str,
+    uncertainty: float = 0.0,
+    figure: str | None = None,
+) -> dict:
     """A yes / no / undecided answer to "does ``measure`` reach ``limit``?" from its band over
     the replicas (``median``, ``min``, ``max``, ``missing``: :func:`colonna.fem.ensemble.band`)
     widened by the relative ``uncertainty`` (the mesh's), and the relation that says why."""
     if band is None or band.get("median") is None:
         return not_assessed(question, f"no value of {measure}")
     answer = decide(band, limit, uncertainty)
-    return {"question": question, "answer": answer, "measure": measure,
-            "median": band["median"], "min": band["min"], "max": band["max"],
-            "uncertainty": float(uncertainty), "limit": float(limit), "unit": unit,
-            "relation": RELATIONS[answer], "figure": figure}
+    return {
+        "question": question,
+        "answer": answer,
+        "measure": measure,
+        "median": band["median"],
+        "min": band["min"],
+        "max": band["max"],
+        "uncertainty": float(uncertainty),
+        "limit": float(limit),
+        "unit": unit,
+        "relation": RELATIONS[answer],
+        "figure": figure,
+    }
 
 
 def not_assessed(question: str, why: str) -> dict:
@@ -75,8 +101,9 @@ def not_assessed(question: str, why: str) -> dict:
     return {"question": question, "answer": NOT_ASSESSED, "why": why}
 
 
-def criteria_answer(question: str, answer: str, criteria: dict[str, str],
-                    figure: str | None = None) -> dict:
+def criteria_answer(
+    question: str, answer: str, criteria: dict[str, str], figure: str | None = None
+) -> dict:
     """An answer made of several counts, each answered over the replicas (yes / no /
     undecided, or ``not applicable``): ``answer`` is yes where every replica passes every
     applicable count, no where none does, undecided otherwise (the caller decides it per
@@ -84,16 +111,24 @@ def criteria_answer(question: str, answer: str, criteria: dict[str, str],
     the word."""
     if answer not in (YES, NO, UNDECIDED):
         raise ValueError(f"answer {answer!r}: yes, no or undecided")
-    by_word = {word: [name for name, w in criteria.items() if w == word]
-               for word in (YES, NO, UNDECIDED)}
-    reason = {YES: "every replica passes every count that applies",
-              NO: "no replica passes every count that applies",
-              UNDECIDED: "some replicas pass every count that applies, others do not"}[answer]
-    return {"question": question, "answer": answer, "reason": reason,
-            "passed": by_word[YES], "failed": by_word[NO], "undecided": by_word[UNDECIDED],
-            "not_applicable": [name for name, w in criteria.items()
-                               if w not in (YES, NO, UNDECIDED)],
-            "figure": figure}
+    by_word = {
+        word: [name for name, w in criteria.items() if w == word] for word in (YES, NO, UNDECIDED)
+    }
+    reason = {
+        YES: "every replica passes every count that applies",
+        NO: "no replica passes every count that applies",
+        UNDECIDED: "some replicas pass every count that applies, others do not",
+    }[answer]
+    return {
+        "question": question,
+        "answer": answer,
+        "reason": reason,
+        "passed": by_word[YES],
+        "failed": by_word[NO],
+        "undecided": by_word[UNDECIDED],
+        "not_applicable": [name for name, w in criteria.items() if w not in (YES, NO, UNDECIDED)],
+        "figure": figure,
+    }
 
 
 def none_assessed(why: str) -> dict:
@@ -110,37 +145,61 @@ def outcome(models: list[dict], answers: dict[str, dict]) -> dict:
 def grid_outcome(model: str, overturned: list[list]) -> dict:
     """A model's outcome over a grid of pulses: at how many it overturns."""
     flags = [bool(v) for row in overturned for v in row if v is not None]
-    return {"model": model, "motion": "overturned at some pulses" if any(flags) else
-            "stays up at every pulse", "overturned_points": sum(flags), "points": len(flags)}
+    return {
+        "model": model,
+        "motion": "overturned at some pulses" if any(flags) else "stays up at every pulse",
+        "overturned_points": sum(flags),
+        "points": len(flags),
+    }
 
 
-def count_answer(question: str, measure: str, flags: list[list], figure: str | None = None
-                 ) -> dict:
+def count_answer(question: str, measure: str, flags: list[list], figure: str | None = None) -> dict:
     """yes where it happens at one pulse of the grid or more, no where at none; the count."""
     flat = [bool(v) for row in flags for v in row if v is not None]
     if not flat:
         return not_assessed(question, f"no value of {measure}")
-    return {"question": question, "answer": YES if any(flat) else NO, "measure": measure,
-            "count": sum(flat), "points": len(flat), "figure": figure}
+    return {
+        "question": question,
+        "answer": YES if any(flat) else NO,
+        "measure": measure,
+        "count": sum(flat),
+        "points": len(flat),
+        "figure": figure,
+    }
 
 
 def fem_answers(fem: dict, why_not_rigid: str, collars: bool = True) -> dict[str, dict]:
     """The three answers of a study whose FEM runs alone (an ensemble summary ``fem``): the
     collars and the toe on the study mesh; the rigid-body question left to the cross-check."""
-    return {"rigid_assumption_ok": not_assessed(QUESTIONS["rigid_assumption_ok"], why_not_rigid),
-            "collars_yield": limit_answer(QUESTIONS["collars_yield"],
-                                          "largest collar stress / f_y",
-                                          fem["bands"].get("collar_max_utilisation"), 1.0, "-")
-            if collars else not_assessed(QUESTIONS["collars_yield"],
-                                         "the column has no collars"),
-            "toe_crushes": limit_answer(QUESTIONS["toe_crushes"],
-                                        "largest toe stress / f_c (study mesh, not refined)",
-                                        fem["bands"].get("edge_stress_ratio"), 1.0, "-")}
+    return {
+        "rigid_assumption_ok": not_assessed(QUESTIONS["rigid_assumption_ok"], why_not_rigid),
+        "collars_yield": limit_answer(
+            QUESTIONS["collars_yield"],
+            "largest collar stress / f_y",
+            fem["bands"].get("collar_max_utilisation"),
+            1.0,
+            "-",
+        )
+        if collars
+        else not_assessed(QUESTIONS["collars_yield"], "the column has no collars"),
+        "toe_crushes": limit_answer(
+            QUESTIONS["toe_crushes"],
+            "largest toe stress / f_c (study mesh, not refined)",
+            fem["bands"].get("edge_stress_ratio"),
+            1.0,
+            "-",
+        ),
+    }
 
 
 def fem_model(model: str, fem: dict, alpha: float) -> dict:
     """:func:`model_outcome` of an FEM ensemble summary."""
-    return model_outcome(model, fem["overturned"],
-                         max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]), alpha,
-                         fem.get("t_end"), fem.get("replicas", 1),
-                         fem.get("overturned_replicas", int(bool(fem["overturned"]))))
+    return model_outcome(
+        model,
+        fem["overturned"],
+        max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]),
+        alpha,
+        fem.get("t_end"),
+        fem.get("replicas", 1),
+        fem.get("overturned_replicas", int(bool(fem["overturned"]))),
+    )

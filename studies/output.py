@@ -28,7 +28,7 @@ def write_json(path, data) -> None:
     _atomic_write_text(Path(path), json.dumps(_plain(data), indent=2) + "\n")
 
 
-CSV_FORMAT = "%.17g"      # round-trips every double
+CSV_FORMAT = "%.17g"  # round-trips every double
 
 
 def write_csv(path, columns: dict) -> None:
@@ -41,8 +41,7 @@ def write_csv(path, columns: dict) -> None:
         raise ValueError(f"columns of different lengths: {sorted(n)}")
     table = np.column_stack(arrays) if arrays else np.zeros((0, 0))
     buffer = io.StringIO()
-    np.savetxt(buffer, table, fmt=CSV_FORMAT, delimiter=",", header=",".join(names),
-               comments="")
+    np.savetxt(buffer, table, fmt=CSV_FORMAT, delimiter=",", header=",".join(names), comments="")
     _atomic_write_text(Path(path), buffer.getvalue())
 
 
@@ -60,23 +59,26 @@ def record_inputs(out: Path, study_path: Path, options: dict | None = None) -> d
 
     raw = Path(study_path).read_bytes()
     data = tomllib.loads(raw.decode())
-    if data.get("study", {}).get("kind") == "free-rocking":   # its own defaults, as it runs
+    if data.get("study", {}).get("kind") == "free-rocking":  # its own defaults, as it runs
         data = with_defaults(data)
     inputs = schema.parse(data, str(study_path)).model_dump(mode="json")
     column = inputs.get("column")
-    if column is not None:                   # the defaults that depend on the column
+    if column is not None:  # the defaults that depend on the column
         from ..core.collar import Collar
         from .fem_study import default_thickness
+
         if column["thickness"] is None:
             column["thickness"] = default_thickness(column["width"])
         for entry in inputs["collar"]:
-            if entry["length"] is None:      # between the attachment points: the width
+            if entry["length"] is None:  # between the attachment points: the width
                 entry["length"] = column["width"]
             entry["Eh"] = Collar(**entry).hardening_modulus
-    inputs.update(study_file=Path(study_path).name,
-                  study_sha256=hashlib.sha256(raw).hexdigest(),
-                  colonna_version=importlib.import_module("colonna").__version__,
-                  options={k: v for k, v in (options or {}).items() if v is not None})
+    inputs.update(
+        study_file=Path(study_path).name,
+        study_sha256=hashlib.sha256(raw).hexdigest(),
+        colonna_version=importlib.import_module("colonna").__version__,
+        options={k: v for k, v in (options or {}).items() if v is not None},
+    )
     _atomic_write_bytes(Path(out) / "study.toml", raw)
     write_json(Path(out) / "inputs.json", inputs)
     return inputs

@@ -27,9 +27,11 @@ def require_browser() -> str:
     study runs, so that ``--pdf`` fails before any work)."""
     browser = find_browser()
     if browser is None:
-        raise InputError("--pdf needs a Chromium browser (chromium, chromium-browser or "
-                         "google-chrome) on the PATH: install one (e.g. apt-get install "
-                         "chromium), or open index.html and print it")
+        raise InputError(
+            "--pdf needs a Chromium browser (chromium, chromium-browser or "
+            "google-chrome) on the PATH: install one (e.g. apt-get install "
+            "chromium), or open index.html and print it"
+        )
     return browser
 
 
@@ -38,11 +40,24 @@ def write_pdf(page: Path, pdf: Path, timeout: float = 180.0) -> Path:
     message where printing fails."""
     browser = require_browser()
     page, pdf = Path(page).resolve(), Path(pdf).resolve()
-    run = subprocess.run([browser, "--headless=new", "--no-sandbox", "--disable-gpu",
-                          "--no-pdf-header-footer", "--virtual-time-budget=20000",
-                          f"--print-to-pdf={pdf}", page.as_uri()],
-                         capture_output=True, text=True, timeout=timeout)
+    run = subprocess.run(
+        [
+            browser,
+            "--headless=new",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-pdf-header-footer",
+            "--virtual-time-budget=20000",
+            f"--print-to-pdf={pdf}",
+            page.as_uri(),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
     if run.returncode != 0 or not pdf.is_file() or pdf.stat().st_size == 0:
-        raise RuntimeError(f"printing {page} to PDF failed ({browser}, exit "
-                           f"{run.returncode}): {run.stderr.strip()[-500:]}")
+        raise RuntimeError(
+            f"printing {page} to PDF failed ({browser}, exit "
+            f"{run.returncode}): {run.stderr.strip()[-500:]}"
+        )
     return pdf

@@ -13,9 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-MAGNIFY = 1.0        # rocking displacements are large already: drawn true to scale
+MAGNIFY = 1.0  # rocking displacements are large already: drawn true to scale
 WINDOW = (360, 640)  # render window, px (width, height): a column is tall
-MARGIN = 8           # px of background kept around what is drawn
+MARGIN = 8  # px of background kept around what is drawn
 BACKGROUND = (255, 255, 255)
 
 
@@ -28,6 +28,7 @@ def _no_display_fallback_warning():
         yield
         return
     from vtkmodules.vtkCommonCore import vtkLogger
+
     before = vtkLogger.GetCurrentVerbosityCutoff()
     vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_ERROR)
     try:
@@ -38,6 +39,7 @@ def _no_display_fallback_warning():
 
 def _plotter():
     import pyvista as pv
+
     pv.OFF_SCREEN = True
     with _no_display_fallback_warning():
         p = pv.Plotter(off_screen=True, window_size=WINDOW)
@@ -60,7 +62,7 @@ def _fit(p, bounds, bottom: float = 0.0, top: float = 0.0, pad: float = 0.04) ->
     cam.focal_point = (cx, cy, 0.0)
     cam.position = (cx, cy, 10.0 * half)
     cam.up = (0.0, 1.0, 0.0)
-    cam.parallel_scale = half        # half the visible height (m)
+    cam.parallel_scale = half  # half the visible height (m)
     p.renderer.ResetCameraClippingRange()
 
 
@@ -70,13 +72,18 @@ def _drawn_box(img: np.ndarray) -> tuple[int, int, int, int]:
     rows, cols = np.nonzero(drawn.any(axis=1))[0], np.nonzero(drawn.any(axis=0))[0]
     if rows.size == 0:
         return 0, img.shape[0], 0, img.shape[1]
-    return (max(rows[0] - MARGIN, 0), min(rows[-1] + 1 + MARGIN, img.shape[0]),
-            max(cols[0] - MARGIN, 0), min(cols[-1] + 1 + MARGIN, img.shape[1]))
+    return (
+        max(rows[0] - MARGIN, 0),
+        min(rows[-1] + 1 + MARGIN, img.shape[0]),
+        max(cols[0] - MARGIN, 0),
+        min(cols[-1] + 1 + MARGIN, img.shape[1]),
+    )
 
 
 def _ground(x0: float, x1: float, reach: float):
     """The ground line under the column, ``reach`` (m) beyond its footprint on each side."""
     import pyvista as pv
+
     return pv.Line((x0 - reach, 0.0, 0.0), (x1 + reach, 0.0, 0.0))
 
 
@@ -88,10 +95,14 @@ def render_snapshots(out: Path, n_frames: int = 24) -> list[tuple[str, str]]:
 
     out = Path(out)
     fem = out / "cases" / "fem"
-    meshes = {name: meshio.read(fem / f"fields_{name}.vtu")
-              for name in ("initial", "peak_rotation", "final")}
-    same_end = np.array_equal(meshes["peak_rotation"].point_data["displacement"],
-                              meshes["final"].point_data["displacement"])
+    meshes = {
+        name: meshio.read(fem / f"fields_{name}.vtu")
+        for name in ("initial", "peak_rotation", "final")
+    }
+    same_end = np.array_equal(
+        meshes["peak_rotation"].point_data["displacement"],
+        meshes["final"].point_data["displacement"],
+    )
     snaps = [("initial", "at rest under gravity")]
     if same_end:
         snaps.append(("peak_rotation", "at peak rotation, which is also the end of the run"))
@@ -101,8 +112,13 @@ def render_snapshots(out: Path, n_frames: int = 24) -> list[tuple[str, str]]:
     for name, caption in snaps:
         png = f"render_{name}.png"
         _snapshot(meshes[name], out / "figures" / png)
-        images.append((png, f"Deformed halves {caption}, coloured by the minimum principal "
-                            "stress (compression negative)"))
+        images.append(
+            (
+                png,
+                f"Deformed halves {caption}, coloured by the minimum principal "
+                "stress (compression negative)",
+            )
+        )
     images.append(_gif(out, fem, n_frames))
     return images
 
@@ -117,10 +133,21 @@ def _snapshot(m, path: Path) -> None:
     x0, x1, y0, y1 = grid.bounds[:4]
     reach = 0.1 * (y1 - y0)
     p = _plotter()
-    p.add_mesh(grid, scalars="stress_MPa", cmap="viridis", show_edges=False,
-               scalar_bar_args={"title": "min principal stress (MPa)", "fmt": "%.2f",
-                                "n_labels": 3, "position_x": 0.2, "position_y": 0.02,
-                                "width": 0.6, "height": 0.06})
+    p.add_mesh(
+        grid,
+        scalars="stress_MPa",
+        cmap="viridis",
+        show_edges=False,
+        scalar_bar_args={
+            "title": "min principal stress (MPa)",
+            "fmt": "%.2f",
+            "n_labels": 3,
+            "position_x": 0.2,
+            "position_y": 0.02,
+            "width": 0.6,
+            "height": 0.06,
+        },
+    )
     p.add_mesh(_ground(x0, x1, reach), color="k", line_width=2)
     _fit(p, (x0 - reach, x1 + reach, min(y0, 0.0), y1), bottom=0.12)
     img = p.screenshot(return_img=True)
@@ -161,6 +188,7 @@ def _gif(out: Path, fem: Path, n_frames: int) -> tuple[str, str]:
     r1, c1 = boxes[:, [1, 3]].max(axis=0)
     frames = [Image.fromarray(img[r0:r1, c0:c1]) for img in shots]
     name = "rocking.gif"
-    frames[0].save(out / "figures" / name, save_all=True, append_images=frames[1:],
-                   duration=120, loop=0)
+    frames[0].save(
+        out / "figures" / name, save_all=True, append_images=frames[1:], duration=120, loop=0
+    )
     return name, "The rocking, frame by frame (true scale)"

@@ -34,7 +34,11 @@ from .output import read_csv, write_csv  # noqa: E402
 
 TEMPLATES = jinja2.Environment(
     loader=jinja2.FileSystemLoader(Path(__file__).with_name("templates")),
-    autoescape=True, undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True)
+    autoescape=True,
+    undefined=jinja2.StrictUndefined,
+    trim_blocks=True,
+    lstrip_blocks=True,
+)
 
 
 def fmt(value, digits: int = 4) -> str:
@@ -61,12 +65,23 @@ def _get(summary: dict, dotted: str):
 
 
 # units an engineer reads, from the SI of summary.json: shown value = SI value * factor
-DISPLAY_UNITS = {"MPa": 1e-6, "GPa": 1e-9, "GPa/m": 1e-9, "kN": 1e-3, "kN m": 1e-3,
-                 "kN/m": 1e-3, "MN/m": 1e-6, "mm": 1e3, "kJ": 1e-3, "per mille": 1e3}
+DISPLAY_UNITS = {
+    "MPa": 1e-6,
+    "GPa": 1e-9,
+    "GPa/m": 1e-9,
+    "kN": 1e-3,
+    "kN m": 1e-3,
+    "kN/m": 1e-3,
+    "MN/m": 1e-6,
+    "mm": 1e3,
+    "kJ": 1e-3,
+    "per mille": 1e3,
+}
 
 
-def _num(summary: dict, dotted: str, digits: int = 4, unit: str = "",
-         show_unit: bool = True) -> Markup:
+def _num(
+    summary: dict, dotted: str, digits: int = 4, unit: str = "", show_unit: bool = True
+) -> Markup:
     """summary.json's value at a dotted key, in a span naming the key, then its unit. A unit of
     DISPLAY_UNITS shows the SI value scaled (MPa from Pa, kN from N, mm from m), the span
     carrying the factor in ``data-scale``."""
@@ -75,7 +90,8 @@ def _num(summary: dict, dotted: str, digits: int = 4, unit: str = "",
     scale = DISPLAY_UNITS.get(unit) if number else None
     if scale is not None:
         shown = Markup('<span data-key="{}" data-scale="{}">{}</span>').format(
-            dotted, f"{scale:g}", fmt(float(value) * scale, digits))
+            dotted, f"{scale:g}", fmt(float(value) * scale, digits)
+        )
     else:
         shown = Markup('<span data-key="{}">{}</span>').format(dotted, fmt(value, digits))
     if unit and number and show_unit:
@@ -86,20 +102,29 @@ def _num(summary: dict, dotted: str, digits: int = 4, unit: str = "",
 # the tables of a study file shown in the inputs section, in the file's order; the rest only
 # where the study's kind reads them
 INPUT_TABLES = ("study", "column", "stone", "collar", "ground", "contact", "mesh", "run", "rigid")
-KIND_TABLES = {"spectrum-crosscheck": ("grid",), "mesh-convergence": ("convergence",),
-               "free-rocking": ("free_rocking",)}
+KIND_TABLES = {
+    "spectrum-crosscheck": ("grid",),
+    "mesh-convergence": ("convergence",),
+    "free-rocking": ("free_rocking",),
+}
 # the unit an engineer reads (one of DISPLAY_UNITS) for a schema unit, and per key where it
 # differs
 INPUT_UNITS = {"Pa": "MPa", "N": "kN"}
-INPUT_UNITS_BY_KEY = {("collar", "t"): "mm", ("collar", "h"): "mm", ("stone", "E"): "GPa",
-                      ("collar", "E"): "GPa", ("collar", "Eh"): "GPa",
-                      ("contact", "penalty"): "GPa/m"}
+INPUT_UNITS_BY_KEY = {
+    ("collar", "t"): "mm",
+    ("collar", "h"): "mm",
+    ("stone", "E"): "GPa",
+    ("collar", "E"): "GPa",
+    ("collar", "Eh"): "GPa",
+    ("contact", "penalty"): "GPa/m",
+}
 
 
 def input_unit(table: str, key: str) -> tuple[str, float]:
     """(unit shown, factor from the schema's SI unit) of a study-file key in the inputs
     section: the schema's own unit where no other reads better."""
     from . import schema
+
     extra = schema.table_model(table).model_fields[key].json_schema_extra
     si = str(extra.get("unit", "")) if isinstance(extra, dict) else ""
     shown = INPUT_UNITS_BY_KEY.get((table, key), INPUT_UNITS.get(si, si))
@@ -120,6 +145,7 @@ def input_tables(inputs: dict) -> list[dict]:
     schema's SI units), a column per collar. Keys without a value (not given, no default) are
     left out."""
     from . import schema
+
     kind = inputs["study"]["kind"]
     tables = []
     for name in INPUT_TABLES + KIND_TABLES.get(kind, ()):
@@ -133,8 +159,14 @@ def input_tables(inputs: dict) -> list[dict]:
             if all(v is None for v in values):
                 continue
             unit, factor = input_unit(name, key)
-            rows.append({"key": key, "path": f"{name}.{key}", "unit": unit,
-                         "values": [_input_value(v, factor) for v in values]})
+            rows.append(
+                {
+                    "key": key,
+                    "path": f"{name}.{key}",
+                    "unit": unit,
+                    "values": [_input_value(v, factor) for v in values],
+                }
+            )
         tables.append({"name": name, "rows": rows, "columns": len(entries)})
     return tables
 
@@ -163,15 +195,25 @@ def _ground_figure(out: Path) -> dict | None:
     ax.set_ylabel("ground acceleration (m/s$^2$)")
     _legend_beside(ax)
     fig.tight_layout()
-    return _figure(out, "ground_motion", fig, "The ground motion applied: horizontal and "
-                   "vertical accelerations", data_file="ground_motion.csv")
+    return _figure(
+        out,
+        "ground_motion",
+        fig,
+        "The ground motion applied: horizontal and vertical accelerations",
+        data_file="ground_motion.csv",
+    )
 
 
 def _render(out: Path, template: str, summary: dict, title: str, **context) -> Path:
     """Fill a template with the summary (``s``), ``num`` and the figures; write index.html."""
     text = TEMPLATES.get_template(template).render(
-        s=summary, title=title, num=functools.partial(_num, summary), inputs=_inputs(out),
-        ground=_ground_figure(out), **context)
+        s=summary,
+        title=title,
+        num=functools.partial(_num, summary),
+        inputs=_inputs(out),
+        ground=_ground_figure(out),
+        **context,
+    )
     return _write_page(out, text)
 
 
@@ -192,40 +234,56 @@ def _figure(out: Path, name: str, fig, caption: str, data_file: str | None = "")
     legend = _legend_entries(fig)
     plt.close(fig)
     svg = buf.getvalue()
-    svg = svg[svg.index("<svg"):]
-    return {"name": name, "caption": caption, "svg": Markup(svg), "legend": legend,
-            "data_file": f"figures/{name}.csv" if data_file == "" else data_file}
+    svg = svg[svg.index("<svg") :]
+    return {
+        "name": name,
+        "caption": caption,
+        "svg": Markup(svg),
+        "legend": legend,
+        "data_file": f"figures/{name}.csv" if data_file == "" else data_file,
+    }
 
 
 def _image(path: Path, caption: str, name: str | None = None) -> dict:
     """An image file (PNG or GIF) for a template, embedded as data."""
     path = Path(path)
     mime = "image/gif" if path.suffix == ".gif" else "image/png"
-    return {"name": name or path.stem, "caption": caption, "svg": None, "legend": [],
-            "mime": mime, "data": base64.b64encode(path.read_bytes()).decode(),
-            "data_file": None}
+    return {
+        "name": name or path.stem,
+        "caption": caption,
+        "svg": None,
+        "legend": [],
+        "mime": mime,
+        "data": base64.b64encode(path.read_bytes()).decode(),
+        "data_file": None,
+    }
 
 
 # curves that may lie on top of each other (collars with one history, ...): each its own
 # dashes, width and markers, so that none hides another
 LINE_STYLES = ("-", "--", "-.", ":")
 MARKERS = ("o", "s", "^", "v", "D", "P", "X")
-MARK_EVERY = 0.12           # markers apart, as a fraction of the axes diagonal
+MARK_EVERY = 0.12  # markers apart, as a fraction of the axes diagonal
 
 
 def _distinct(k: int, n: int) -> dict:
     """Plot keywords of curve k of n that may coincide: dashes cycling, the width narrowing
     from the first drawn (underneath) to the last, markers at staggered places."""
-    return {"ls": LINE_STYLES[k % len(LINE_STYLES)],
-            "lw": 2.6 - 1.6 * k / max(n - 1, 1), "marker": MARKERS[k % len(MARKERS)],
-            "markersize": 4.5, "markevery": (MARK_EVERY * k / max(n, 1), MARK_EVERY)}
+    return {
+        "ls": LINE_STYLES[k % len(LINE_STYLES)],
+        "lw": 2.6 - 1.6 * k / max(n - 1, 1),
+        "marker": MARKERS[k % len(MARKERS)],
+        "markersize": 4.5,
+        "markevery": (MARK_EVERY * k / max(n, 1), MARK_EVERY),
+    }
 
 
 def _legend_beside(ax, **kw):
     """The axes' legend to its right, never over a curve or a limit line (tight_layout makes
     room for it)."""
-    return ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0),
-                     borderaxespad=0.0, **kw)
+    return ax.legend(
+        fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, **kw
+    )
 
 
 def write_crosscheck_report(out: Path) -> Path:
@@ -236,7 +294,7 @@ def write_crosscheck_report(out: Path) -> Path:
     mono_h = read_csv(out / "cases" / "monolith" / "history.csv")
     mb_h = read_csv(out / "cases" / "multibody" / "history.csv")
     mb_names = ("left", "right") if "theta_left" in mb_h else ("column", "column")
-    spectrum_file = out / "cases" / "spectrum" / "spectrum.json"      # pulses only
+    spectrum_file = out / "cases" / "spectrum" / "spectrum.json"  # pulses only
     spectrum = json.loads(spectrum_file.read_text()) if spectrum_file.exists() else None
     (out / "figures").mkdir(exist_ok=True)
     figs = []
@@ -247,40 +305,84 @@ def write_crosscheck_report(out: Path) -> Path:
     def on_fem_times(h, key):
         return np.interp(t, h["t"], h[key], right=np.nan)
 
-    write_csv(out / "figures" / "theta.csv", {
-        "t": t, "theta_fem_left": fem_h["theta_left"], "theta_fem_right": fem_h["theta_right"],
-        "theta_multibody_left": on_fem_times(mb_h, f"theta_{mb_names[0]}"),
-        "theta_multibody_right": on_fem_times(mb_h, f"theta_{mb_names[1]}"),
-        "theta_rigid_half_with_collars": on_fem_times(rigid_h, "theta"),
-        "theta_rigid_monolith": on_fem_times(mono_h, "theta")})
+    write_csv(
+        out / "figures" / "theta.csv",
+        {
+            "t": t,
+            "theta_fem_left": fem_h["theta_left"],
+            "theta_fem_right": fem_h["theta_right"],
+            "theta_multibody_left": on_fem_times(mb_h, f"theta_{mb_names[0]}"),
+            "theta_multibody_right": on_fem_times(mb_h, f"theta_{mb_names[1]}"),
+            "theta_rigid_half_with_collars": on_fem_times(rigid_h, "theta"),
+            "theta_rigid_monolith": on_fem_times(mono_h, "theta"),
+        },
+    )
     fig, ax = plt.subplots(figsize=(8, 3.6))
     replicas = _replica_histories(out / "cases" / "fem", summary["fem"].get("replicas", 1))
-    if len(replicas) > 1:       # the band the replicas span (chaotic after the first landing)
-        envelope = [np.vstack([np.interp(t, h["t"], h[key], right=np.nan) for h in replicas])
-                    for key in ("theta_left", "theta_right")]
+    if len(replicas) > 1:  # the band the replicas span (chaotic after the first landing)
+        envelope = [
+            np.vstack([np.interp(t, h["t"], h[key], right=np.nan) for h in replicas])
+            for key in ("theta_left", "theta_right")
+        ]
         low = np.fmin(*(np.nanmin(e, axis=0) for e in envelope))
         high = np.fmax(*(np.nanmax(e, axis=0) for e in envelope))
-        ax.fill_between(t, low, high, color="C0", alpha=0.25, lw=0,
-                        label=f"FEM, range over {len(replicas)} replicas")
+        ax.fill_between(
+            t,
+            low,
+            high,
+            color="C0",
+            alpha=0.25,
+            lw=0,
+            label=f"FEM, range over {len(replicas)} replicas",
+        )
     ax.plot(t, fem_h["theta_left"], color="C0", lw=1.6, label="FEM, left half")
     ax.plot(t, fem_h["theta_right"], "--", color="C0", lw=1.6, label="FEM, right half")
     m = mb_h["t"] <= t[-1]
-    ax.plot(mb_h["t"][m], mb_h[f"theta_{mb_names[0]}"][m], color="C3", lw=1.0,
-            label="rigid multibody, left half")
-    ax.plot(mb_h["t"][m], mb_h[f"theta_{mb_names[1]}"][m], "--", color="C3", lw=1.0,
-            label="rigid multibody, right half")
+    ax.plot(
+        mb_h["t"][m],
+        mb_h[f"theta_{mb_names[0]}"][m],
+        color="C3",
+        lw=1.0,
+        label="rigid multibody, left half",
+    )
+    ax.plot(
+        mb_h["t"][m],
+        mb_h[f"theta_{mb_names[1]}"][m],
+        "--",
+        color="C3",
+        lw=1.0,
+        label="rigid multibody, right half",
+    )
     m = rigid_h["t"] <= t[-1]
-    ax.plot(rigid_h["t"][m], rigid_h["theta"][m], color="C1", lw=1.0,
-            label="SDOF, half block + collars (paper)")
+    ax.plot(
+        rigid_h["t"][m],
+        rigid_h["theta"][m],
+        color="C1",
+        lw=1.0,
+        label="SDOF, half block + collars (paper)",
+    )
     m = mono_h["t"] <= t[-1]
-    ax.plot(mono_h["t"][m], mono_h["theta"][m], ":", color="C2", lw=1.2,
-            label="SDOF, whole column (monolith)")
+    ax.plot(
+        mono_h["t"][m],
+        mono_h["theta"][m],
+        ":",
+        color="C2",
+        lw=1.2,
+        label="SDOF, whole column (monolith)",
+    )
     ax.set_xlabel("t (s)")
     ax.set_ylabel(r"$\theta$ (rad)")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    figs.append(_figure(out, "theta", fig, "Rotation of each half: FEM against the rigid "
-                        "multibody model (the rigid reference) and the two SDOF models"))
+    figs.append(
+        _figure(
+            out,
+            "theta",
+            fig,
+            "Rotation of each half: FEM against the rigid "
+            "multibody model (the rigid reference) and the two SDOF models",
+        )
+    )
 
     # 1b. the deformed column at peak rotation: crack, collars, toe pressure
     _deformed_figure(out, fem_h, figs)
@@ -292,27 +394,40 @@ def write_crosscheck_report(out: Path) -> Path:
     # 3. collar stress against f_y
     collar_cols = sorted(k for k in fem_h if k.startswith("collar_") and k.endswith("_stress"))
     if collar_cols:
-        write_csv(out / "figures" / "collars.csv",
-                  {"t": t, **{k: fem_h[k] for k in collar_cols}})
+        write_csv(out / "figures" / "collars.csv", {"t": t, **{k: fem_h[k] for k in collar_cols}})
         fig, ax = plt.subplots(figsize=(9.5, 3.4))
-        for j, k in enumerate(collar_cols):      # collars of one history stay apart
-            ax.plot(t, fem_h[k] / 1e6, color=f"C{j}", **_distinct(j, len(collar_cols)),
-                    label=f"FEM {k.replace('_stress', '')}")
+        for j, k in enumerate(collar_cols):  # collars of one history stay apart
+            ax.plot(
+                t,
+                fem_h[k] / 1e6,
+                color=f"C{j}",
+                **_distinct(j, len(collar_cols)),
+                label=f"FEM {k.replace('_stress', '')}",
+            )
         fy = summary["collar_fy"][0]
         ax.axhline(fy / 1e6, color="k", ls="--", lw=1, label="f_y (yield stress)")
         ax.set_xlabel("t (s)")
         ax.set_ylabel("extreme-fibre stress (MPa)")
         _legend_beside(ax)
         fig.tight_layout()
-        figs.append(_figure(out, "collars", fig, "Collar stress against the yield stress "
-                            "(collars with the same history drawn on top of each other, each "
-                            "with its own dashes and markers)"))
+        figs.append(
+            _figure(
+                out,
+                "collars",
+                fig,
+                "Collar stress against the yield stress "
+                "(collars with the same history drawn on top of each other, each "
+                "with its own dashes and markers)",
+            )
+        )
 
     # 3b. plastic strain of plastic collars
     plastic_cols = sorted(k for k in fem_h if k.endswith("_plastic_strain"))
     if plastic_cols:
-        write_csv(out / "figures" / "collar_plastic_strain.csv",
-                  {"t": t, **{k: fem_h[k] for k in plastic_cols}})
+        write_csv(
+            out / "figures" / "collar_plastic_strain.csv",
+            {"t": t, **{k: fem_h[k] for k in plastic_cols}},
+        )
         fig, ax = plt.subplots(figsize=(8, 3.0))
         for k in plastic_cols:
             ax.plot(t, 1e3 * fem_h[k], label=f"FEM {k.replace('_plastic_strain', '')}")
@@ -320,25 +435,42 @@ def write_crosscheck_report(out: Path) -> Path:
         ax.set_ylabel("plastic strain (per mille)")
         ax.legend(fontsize=8)
         fig.tight_layout()
-        figs.append(_figure(out, "collar_plastic_strain", fig, "Plastic strain of the plastic "
-                            "collars (bilinear law, hardening E_h)"))
+        figs.append(
+            _figure(
+                out,
+                "collar_plastic_strain",
+                fig,
+                "Plastic strain of the plastic collars (bilinear law, hardening E_h)",
+            )
+        )
 
     # 4. toe stress against f_c
     edge_cols = [k for k in fem_h if k.startswith("edge_stress_")]
     write_csv(out / "figures" / "toe_stress.csv", {"t": t, **{k: fem_h[k] for k in edge_cols}})
     fig, ax = plt.subplots(figsize=(9.5, 3.4))
     for j, k in enumerate(edge_cols):
-        ax.plot(t, fem_h[k] / 1e6, color=f"C{j}", **_distinct(j, len(edge_cols)),
-                label=k.replace("edge_stress_", "toe "))
+        ax.plot(
+            t,
+            fem_h[k] / 1e6,
+            color=f"C{j}",
+            **_distinct(j, len(edge_cols)),
+            label=k.replace("edge_stress_", "toe "),
+        )
     fc = summary["stone_fc"]
     ax.axhline(fc / 1e6, color="k", ls="--", lw=1, label="f_c (stone strength)")
     ax.set_yscale("symlog", linthresh=1.0)
     ax.set_xlabel("t (s)")
     ax.set_ylabel(f"toe stress over {1e3 * summary['fem']['edge_length']:.0f} mm (MPa)")
-    _legend_beside(ax)      # the f_c line stays in view
+    _legend_beside(ax)  # the f_c line stays in view
     fig.tight_layout()
-    figs.append(_figure(out, "toe_stress", fig, "Base-edge compressive stress at the toes "
-                        "against the stone strength"))
+    figs.append(
+        _figure(
+            out,
+            "toe_stress",
+            fig,
+            "Base-edge compressive stress at the toes against the stone strength",
+        )
+    )
 
     # 5. base contact pressure at peak rotation
     pressure = read_csv(out / "cases" / "fem" / "base_pressure.csv")
@@ -348,8 +480,10 @@ def write_crosscheck_report(out: Path) -> Path:
     row = min(peak, pressure["t"].size - 1)
     p_peak = np.array([pressure[n][row] for n in names])
     p_rest = np.array([pressure[n][0] for n in names])
-    write_csv(out / "figures" / "base_pressure.csv",
-              {"x": x, "pressure_at_rest": p_rest, "pressure_at_peak_rotation": p_peak})
+    write_csv(
+        out / "figures" / "base_pressure.csv",
+        {"x": x, "pressure_at_rest": p_rest, "pressure_at_peak_rotation": p_peak},
+    )
     fig, ax = plt.subplots(figsize=(8, 3.2))
     ax.plot(x, p_rest / 1e6, "o-", ms=3, label="at rest (gravity)")
     ax.plot(x, p_peak / 1e6, "s-", ms=3, label=f"at peak rotation, t = {pressure['t'][row]:.3f} s")
@@ -360,35 +494,62 @@ def write_crosscheck_report(out: Path) -> Path:
     figs.append(_figure(out, "base_pressure", fig, "Base contact pressure"))
 
     renders, renders_error = _renders(out)
-    return _render(out, "crosscheck.html.j2", summary, f"colonna cross-check: {summary['study']}",
-                   figs=figs, renders=renders, renders_error=renders_error,
-                   rows=CROSSCHECK_NUMBERS)
+    return _render(
+        out,
+        "crosscheck.html.j2",
+        summary,
+        f"colonna cross-check: {summary['study']}",
+        figs=figs,
+        renders=renders,
+        renders_error=renders_error,
+        rows=CROSSCHECK_NUMBERS,
+    )
 
 
 # the Numbers table of the cross-check: (label, summary key, unit; "-" a ratio, "" words)
 CROSSCHECK_NUMBERS = [
-    ("FEM largest rotation, left half (where the run stopped if it overturns)",
-     "fem.max_abs_theta_left", "rad"),
-    ("FEM largest rotation, right half (where the run stopped if it overturns)",
-     "fem.max_abs_theta_right", "rad"),
-    ("multibody largest rotation, left half (where the run stopped if it overturns)",
-     "rigid_multibody.max_abs_theta_left", "rad"),
-    ("multibody largest rotation, right half (where the run stopped if it overturns)",
-     "rigid_multibody.max_abs_theta_right", "rad"),
+    (
+        "FEM largest rotation, left half (where the run stopped if it overturns)",
+        "fem.max_abs_theta_left",
+        "rad",
+    ),
+    (
+        "FEM largest rotation, right half (where the run stopped if it overturns)",
+        "fem.max_abs_theta_right",
+        "rad",
+    ),
+    (
+        "multibody largest rotation, left half (where the run stopped if it overturns)",
+        "rigid_multibody.max_abs_theta_left",
+        "rad",
+    ),
+    (
+        "multibody largest rotation, right half (where the run stopped if it overturns)",
+        "rigid_multibody.max_abs_theta_right",
+        "rad",
+    ),
     ("multibody mode", "rigid_multibody.mode", ""),
     ("multibody status", "rigid_multibody.status", ""),
     ("multibody crack slip max", "rigid_multibody.max_abs_crack_slip", "mm"),
-    ("multibody collar utilisation max, sigma / f_y", "rigid_multibody.collar_max_utilisation",
-     "-"),
+    (
+        "multibody collar utilisation max, sigma / f_y",
+        "rigid_multibody.collar_max_utilisation",
+        "-",
+    ),
     ("multibody energy balance error (max, relative)", "rigid_multibody.energy_error_max", "-"),
     ("multibody wall time", "rigid_multibody.wall_seconds", "s"),
-    ("SDOF peak rotation, half + collars (n/a where it overturns)", "rigid.max_abs_theta",
-     "rad"),
+    ("SDOF peak rotation, half + collars (n/a where it overturns)", "rigid.max_abs_theta", "rad"),
     ("SDOF overturning mode, half + collars (safe: it does not overturn)", "rigid.mode", ""),
-    ("SDOF collar state, half + collars (elastic collars: yielded means sigma reached f_y)",
-     "rigid.collar_state", ""),
-    ("SDOF peak rotation, whole column (n/a where it overturns)", "rigid_monolith.max_abs_theta",
-     "rad"),
+    (
+        "SDOF collar state, half + collars (elastic collars: yielded means sigma reached f_y)",
+        "rigid.collar_state",
+        "",
+    ),
+    (
+        "SDOF peak rotation, whole column (n/a where it overturns)",
+        "rigid_monolith.max_abs_theta",
+        "rad",
+    ),
     ("halves rock as one block", "verdict.rocks_as_one_block", ""),
     ("FEM status", "fem.status", ""),
     ("toe stress max (study mesh, median of the replicas)", "fem.edge_stress_max", "MPa"),
@@ -400,8 +561,12 @@ CROSSCHECK_NUMBERS = [
     ("FEM wall time", "fem.wall_seconds", "s"),
     ("pulse Omega/p (n/a for a record)", "pulse.omega_ratio", "-"),
     ("peak ground acceleration", "pulse.amplitude", "m/s^2"),
-    ("pulse a_p / a_uplift (a_uplift = g tan alpha (1 + lambda), lambda = top load / weight "
-     "of the rocking half)", "pulse.amplitude_ratio", "-"),
+    (
+        "pulse a_p / a_uplift (a_uplift = g tan alpha (1 + lambda), lambda = top load / weight "
+        "of the rocking half)",
+        "pulse.amplitude_ratio",
+        "-",
+    ),
     ("top load on the capital", "fem.top_load", "kN"),
     ("collar plastic strain max, FEM", "fem.collar_max_plastic_strain", "-"),
     ("collar plastic work, FEM", "fem.collar_plastic_work", "J"),
@@ -412,8 +577,9 @@ CROSSCHECK_NUMBERS = [
 
 def _replica_histories(directory: Path, replicas: int) -> list[dict]:
     """The history.csv of each replica of the FEM ensemble (replica 0 is the run's own)."""
-    paths = [directory / "history.csv"] + [directory / "replicas" / str(r) / "history.csv"
-                                           for r in range(1, replicas)]
+    paths = [directory / "history.csv"] + [
+        directory / "replicas" / str(r) / "history.csv" for r in range(1, replicas)
+    ]
     return [read_csv(p) for p in paths if p.is_file()]
 
 
@@ -422,8 +588,9 @@ def _renders(out: Path) -> tuple[list, str]:
     why there are none, if rendering failed)."""
     try:
         from .render import render_snapshots
+
         images = render_snapshots(out)
-    except Exception as exc:     # rendering is a picture, never a reason to lose the report
+    except Exception as exc:  # rendering is a picture, never a reason to lose the report
         return [], str(exc)
     return [_image(out / "figures" / name, caption) for name, caption in images], ""
 
@@ -435,7 +602,7 @@ def _magnification(largest: float, height: float) -> float:
         return 1.0
     raw = 0.02 * height / largest
     k = math.floor(math.log10(raw))
-    return max(1.0, max(f * 10.0 ** k for f in (1.0, 2.0, 5.0) if f * 10.0 ** k <= raw))
+    return max(1.0, max(f * 10.0**k for f in (1.0, 2.0, 5.0) if f * 10.0**k <= raw))
 
 
 def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
@@ -444,6 +611,7 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
     by the solver) magnified by a stated factor; the collars between their attachment nodes
     (``collar_end``); the base contact pressure under the toes at that instant."""
     import meshio
+
     fem = out / "cases" / "fem"
     vtu = fem / "fields_peak_rotation.vtu"
     if not vtu.exists():
@@ -465,14 +633,28 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
     for b in np.unique(cell_body):
         polys = drawn[quads[cell_body == b]]
         colour = ("C0", "C1")[min(int(b), 1)]
-        ax.add_collection(PolyCollection(polys, facecolors=colour, edgecolors="w",
-                                         linewidths=0.2, alpha=0.6))
-        handles.append(Patch(facecolor=colour, alpha=0.6, label=("left half", "right half")[
-            min(int(b), 1)] if cell_body.max() > 0 else "column"))
-    outline = np.array([[X[:, 0].min(), 0.0], [X[:, 0].max(), 0.0],
-                        [X[:, 0].max(), height], [X[:, 0].min(), height], [X[:, 0].min(), 0.0]])
-    handles += ax.plot(outline[:, 0], outline[:, 1], color="0.6", ls=":", lw=1.0,
-                       label="at rest")
+        ax.add_collection(
+            PolyCollection(polys, facecolors=colour, edgecolors="w", linewidths=0.2, alpha=0.6)
+        )
+        handles.append(
+            Patch(
+                facecolor=colour,
+                alpha=0.6,
+                label=("left half", "right half")[min(int(b), 1)]
+                if cell_body.max() > 0
+                else "column",
+            )
+        )
+    outline = np.array(
+        [
+            [X[:, 0].min(), 0.0],
+            [X[:, 0].max(), 0.0],
+            [X[:, 0].max(), height],
+            [X[:, 0].min(), height],
+            [X[:, 0].min(), 0.0],
+        ]
+    )
+    handles += ax.plot(outline[:, 0], outline[:, 1], color="0.6", ls=":", lw=1.0, label="at rest")
     for number in range(1, collar_end.max() + 1):
         ends = np.flatnonzero(collar_end == number)
         ax.plot(drawn[ends, 0], drawn[ends, 1], color="C3", lw=2.0)
@@ -488,10 +670,14 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
         pressure = row[1:] / 1e6
         scale = 0.12 * height / max(pressure.max(), 1e-12)
         order = np.argsort(xs, kind="stable")
-        ax.fill_between(xs[order], 0.0, -scale * pressure[order], color="k", alpha=0.35,
-                        step=None)
-        handles.append(Patch(facecolor="k", alpha=0.35,
-                             label=f"base contact pressure (max {pressure.max():.2f} MPa)"))
+        ax.fill_between(xs[order], 0.0, -scale * pressure[order], color="k", alpha=0.35, step=None)
+        handles.append(
+            Patch(
+                facecolor="k",
+                alpha=0.35,
+                label=f"base contact pressure (max {pressure.max():.2f} MPa)",
+            )
+        )
     ax.axhline(0.0, color="k", lw=0.8)
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
@@ -499,11 +685,18 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
     ax.set_title(f"FEM at peak rotation, t = {t_peak:.3f} s")
     ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     fig.tight_layout()
-    figs.append(_figure(out, "deformed", fig, "The FEM column at its peak rotation: each "
-                        "half's rigid motion true to scale, its elastic deformation magnified "
-                        f"x{factor:g}; the crack is the gap between the halves; collars in red; "
-                        "under the base, the contact pressure at that instant (not to the "
-                        "length scale)"))
+    figs.append(
+        _figure(
+            out,
+            "deformed",
+            fig,
+            "The FEM column at its peak rotation: each "
+            "half's rigid motion true to scale, its elastic deformation magnified "
+            f"x{factor:g}; the crack is the gap between the halves; collars in red; "
+            "under the base, the contact pressure at that instant (not to the "
+            "length scale)",
+        )
+    )
 
 
 def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
@@ -513,62 +706,108 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
     from ..rigid.plotting import MODE_COLOURS, MODE_LABELS, grid_markers
+
     code = {"safe": 0, "after-impact": 1, "without-impact": 2}
     codes = np.array([[code[c] for c in row] for row in spectrum["mode"]])
     w = np.array(spectrum["omega_ratios"])
     a = np.array(spectrum["amplitude_ratios"])
-    write_csv(out / "figures" / "spectrum.csv", {
-        "omega_ratio": np.tile(w, a.size), "amplitude_ratio": np.repeat(a, w.size),
-        "mode_code": codes.ravel()})
-    mb = spectrum.get("multibody")      # none in a spectrum saved before it was computed
+    write_csv(
+        out / "figures" / "spectrum.csv",
+        {
+            "omega_ratio": np.tile(w, a.size),
+            "amplitude_ratio": np.repeat(a, w.size),
+            "mode_code": codes.ravel(),
+        },
+    )
+    mb = spectrum.get("multibody")  # none in a spectrum saved before it was computed
     fig, ax = plt.subplots(figsize=(9.5, 4.4))
-    ax.pcolormesh(w, a, codes, cmap=ListedColormap(MODE_COLOURS),
-                  norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3), shading="nearest")
+    ax.pcolormesh(
+        w,
+        a,
+        codes,
+        cmap=ListedColormap(MODE_COLOURS),
+        norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3),
+        shading="nearest",
+    )
     # the legend lists what is drawn: the modes present (a marker per pulse of a coarse grid),
     # the yield line if any, the multibody outcomes, the pulse
     handles = grid_markers(ax, w, a, codes, labels=[f"SDOF: {m}" for m in MODE_LABELS], size=12)
-    handles = handles or [Patch(facecolor=MODE_COLOURS[k], edgecolor="0.5",
-                                label=f"SDOF: {MODE_LABELS[k]}")
-                          for k in range(3) if np.any(codes == k)]
+    handles = handles or [
+        Patch(facecolor=MODE_COLOURS[k], edgecolor="0.5", label=f"SDOF: {MODE_LABELS[k]}")
+        for k in range(3)
+        if np.any(codes == k)
+    ]
     yields = np.array(spectrum.get("collar_yields", [[0]]), dtype=float)
     if yields.min() < 0.5 < yields.max():
         ax.contour(w, a, yields, levels=[0.5], colors="k", linewidths=0.8)
-        handles.append(Line2D([], [], color="k", lw=0.8,
-                              label="SDOF: a collar reaches f_y above"))
+        handles.append(Line2D([], [], color="k", lw=0.8, label="SDOF: a collar reaches f_y above"))
     if mb is not None:
         mb_codes = np.array([[code[c] for c in row] for row in mb["mode"]])
         mb_w, mb_a = np.array(mb["omega_ratios"]), np.array(mb["amplitude_ratios"])
-        columns = {"omega_ratio": np.tile(mb_w, mb_a.size),
-                   "amplitude_ratio": np.repeat(mb_a, mb_w.size), "mode_code": mb_codes.ravel()}
+        columns = {
+            "omega_ratio": np.tile(mb_w, mb_a.size),
+            "amplitude_ratio": np.repeat(mb_a, mb_w.size),
+            "mode_code": mb_codes.ravel(),
+        }
         if "collar_yields" in mb:
             columns["collar_yield"] = np.array(mb["collar_yields"], dtype=int).ravel()
         write_csv(out / "figures" / "spectrum_multibody.csv", columns)
-        handles += grid_markers(ax, mb_w, mb_a, mb_codes, always=True, size=60,
-                                labels=[f"rigid multibody: {m}" for m in MODE_LABELS])
-    handles += ax.plot(spectrum["study_omega_ratio"], spectrum["study_amplitude_ratio"], ls="",
-                       marker="*", markersize=22, markerfacecolor="none", markeredgecolor="r",
-                       markeredgewidth=1.6, zorder=4, label="this study's pulse")
+        handles += grid_markers(
+            ax,
+            mb_w,
+            mb_a,
+            mb_codes,
+            always=True,
+            size=60,
+            labels=[f"rigid multibody: {m}" for m in MODE_LABELS],
+        )
+    handles += ax.plot(
+        spectrum["study_omega_ratio"],
+        spectrum["study_amplitude_ratio"],
+        ls="",
+        marker="*",
+        markersize=22,
+        markerfacecolor="none",
+        markeredgecolor="r",
+        markeredgewidth=1.6,
+        zorder=4,
+        label="this study's pulse",
+    )
     ax.set_xlabel(r"$\Omega/p$")
     ax.set_ylabel(r"$a_p/(g\tan\alpha)$")
     _legend_beside(ax, handles=handles)
-    ax.set_title("Rigid overturning spectra: SDOF half block with collars (map)"
-                 + (", rigid multibody (markers)" if mb is not None else ""), fontsize=10)
+    ax.set_title(
+        "Rigid overturning spectra: SDOF half block with collars (map)"
+        + (", rigid multibody (markers)" if mb is not None else ""),
+        fontsize=10,
+    )
     fig.tight_layout()
     if mb is not None:
-        caption = ("The study's pulse (red star) on the rigid overturning spectra. The verdict "
-                   "relies on the rigid multibody model (two rigid halves, ground and crack "
-                   "contact with friction, collars as frames): its outcome at each pulse of a "
-                   "coarser grid through the study's pulse is a marker. The map beneath is the "
-                   "paper's SDOF half block with collars, a simplification of it, with the line "
-                   "above which a collar reaches its yield stress; where the two differ, the "
-                   "markers are the rigid reference")
+        caption = (
+            "The study's pulse (red star) on the rigid overturning spectra. The verdict "
+            "relies on the rigid multibody model (two rigid halves, ground and crack "
+            "contact with friction, collars as frames): its outcome at each pulse of a "
+            "coarser grid through the study's pulse is a marker. The map beneath is the "
+            "paper's SDOF half block with collars, a simplification of it, with the line "
+            "above which a collar reaches its yield stress; where the two differ, the "
+            "markers are the rigid reference"
+        )
     else:
-        caption = ("The study's pulse on the rigid overturning spectrum of the SDOF half block "
-                   "with collars: outcome of each pulse (legend), and where a collar reaches its "
-                   "yield stress. The verdict relies on the rigid multibody model, whose "
-                   "spectrum this run does not hold; the SDOF map is a simplification of it")
-    figs.append(_figure(out, "spectrum", fig, caption,
-                        data_file="figures/spectrum*.csv" if mb is not None else ""))
+        caption = (
+            "The study's pulse on the rigid overturning spectrum of the SDOF half block "
+            "with collars: outcome of each pulse (legend), and where a collar reaches its "
+            "yield stress. The verdict relies on the rigid multibody model, whose "
+            "spectrum this run does not hold; the SDOF map is a simplification of it"
+        )
+    figs.append(
+        _figure(
+            out,
+            "spectrum",
+            fig,
+            caption,
+            data_file="figures/spectrum*.csv" if mb is not None else "",
+        )
+    )
 
 
 def _write_page(out: Path, text: str) -> Path:
@@ -584,8 +823,14 @@ def write_convergence_report(out: Path) -> Path:
     out = Path(out)
     s = json.loads((out / "summary.json").read_text())
     (out / "figures").mkdir(exist_ok=True)
-    return _render(out, "convergence.html.j2", s, f"colonna mesh convergence: {s['study']}",
-                   quantities=CONVERGENCE_QUANTITIES, figs=[_convergence_figure(out, s)])
+    return _render(
+        out,
+        "convergence.html.j2",
+        s,
+        f"colonna mesh convergence: {s['study']}",
+        quantities=CONVERGENCE_QUANTITIES,
+        figs=[_convergence_figure(out, s)],
+    )
 
 
 def write_variants_report(out: Path) -> Path:
@@ -593,51 +838,67 @@ def write_variants_report(out: Path) -> Path:
     out = Path(out)
     s = json.loads((out / "summary.json").read_text())
     (out / "figures").mkdir(exist_ok=True)
-    return _render(out, "variants.html.j2", s, f"colonna solid vs cracked: {s['study']}",
-                   fields=VARIANT_FIELDS, figs=[_variants_figure(out, s)])
+    return _render(
+        out,
+        "variants.html.j2",
+        s,
+        f"colonna solid vs cracked: {s['study']}",
+        fields=VARIANT_FIELDS,
+        figs=[_variants_figure(out, s)],
+    )
 
 
 # (summary key, label, unit) of the mesh-convergence table
-CONVERGENCE_QUANTITIES = [("peak_rotation", "peak rotation", "rad"),
-                          ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
-                          ("edge_stress_max", "toe stress", "Pa")]
+CONVERGENCE_QUANTITIES = [
+    ("peak_rotation", "peak rotation", "rad"),
+    ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
+    ("edge_stress_max", "toe stress", "Pa"),
+]
 
 
 def _convergence_figure(out: Path, s: dict) -> dict:
     sizes = s["sizes"]
     columns = {"h": np.array(sizes)}
     fig, axes = plt.subplots(1, 3, figsize=(10, 3.6))
-    handles: dict[str, Artist] = {}   # one legend for the three panels, below them: what is drawn
+    handles: dict[str, Artist] = {}  # one legend for the three panels, below them: what is drawn
     for ax, (name, label, unit) in zip(axes, CONVERGENCE_QUANTITIES):
         c = s["convergence"][name]
         columns[name] = np.array(c["values"], dtype=float)
-        scale, unit = (1e-6, "MPa") if unit == "Pa" else (1.0, unit)     # stresses in MPa
+        scale, unit = (1e-6, "MPa") if unit == "Pa" else (1.0, unit)  # stresses in MPa
         values = scale * np.array(c["values"], dtype=float)
         handles.setdefault("FEM", ax.plot(sizes, values, "o-", color="C0", label="FEM")[0])
         if c["richardson"] is not None:
-            handles.setdefault("Richardson", ax.axhline(
-                scale * c["richardson"], color="k", ls="--", lw=0.8,
-                label="Richardson extrapolation"))
+            handles.setdefault(
+                "Richardson",
+                ax.axhline(
+                    scale * c["richardson"],
+                    color="k",
+                    ls="--",
+                    lw=0.8,
+                    label="Richardson extrapolation",
+                ),
+            )
         ax.set_xscale("log")
         ax.set_xticks(sizes, [f"{1e3 * h:g}" for h in sizes])
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_xlabel("mesh size h (mm)")
         ax.set_title(f"{label} ({unit})", fontsize=9)
-    fig.legend(handles=list(handles.values()), loc="lower center", ncol=len(handles),
-               fontsize=8)
+    fig.legend(handles=list(handles.values()), loc="lower center", ncol=len(handles), fontsize=8)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     write_csv(out / "figures" / "convergence.csv", columns)
     return _figure(out, "convergence", fig, "FEM numbers against the mesh size")
 
 
 # (summary key, label, unit) of the solid-vs-cracked table
-VARIANT_FIELDS = [("fem_peak_rotation", "FEM peak rotation", "rad"),
-                  ("fem_overturned", "FEM overturned", ""),
-                  ("rigid_peak_rotation", "rigid peak rotation", "rad"),
-                  ("rigid_mode", "rigid mode", ""),
-                  ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
-                  ("edge_stress_ratio", "toe stress / f_c", "-"),
-                  ("status", "FEM status", "")]
+VARIANT_FIELDS = [
+    ("fem_peak_rotation", "FEM peak rotation", "rad"),
+    ("fem_overturned", "FEM overturned", ""),
+    ("rigid_peak_rotation", "rigid peak rotation", "rad"),
+    ("rigid_mode", "rigid mode", ""),
+    ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
+    ("edge_stress_ratio", "toe stress / f_c", "-"),
+    ("status", "FEM status", ""),
+]
 
 
 def _variants_figure(out: Path, s: dict) -> dict:
@@ -646,10 +907,15 @@ def _variants_figure(out: Path, s: dict) -> dict:
     for k, n in enumerate(s["variants"]):
         fem = read_csv(out / "cases" / f"{n}-fem" / "history.csv")
         rig = read_csv(out / "cases" / f"{n}-rigid" / "history.csv")
-        write_csv(out / "figures" / f"theta_{n}.csv",
-                  {"t": fem["t"], "theta_fem_left": fem["theta_left"],
-                   "theta_fem_right": fem["theta_right"],
-                   "theta_rigid": np.interp(fem["t"], rig["t"], rig["theta"])})
+        write_csv(
+            out / "figures" / f"theta_{n}.csv",
+            {
+                "t": fem["t"],
+                "theta_fem_left": fem["theta_left"],
+                "theta_fem_right": fem["theta_right"],
+                "theta_rigid": np.interp(fem["t"], rig["t"], rig["theta"]),
+            },
+        )
         # variants that rotate alike stay apart: each curve its width and markers
         fem_style = dict(_distinct(2 * k, n_curves), ls="-")
         ax.plot(fem["t"], fem["theta_left"], color=f"C{k}", **fem_style, label=f"{n}: FEM")
@@ -660,9 +926,14 @@ def _variants_figure(out: Path, s: dict) -> dict:
     ax.set_ylabel(r"$\theta$ (rad)")
     _legend_beside(ax)
     fig.tight_layout()
-    return _figure(out, "theta_variants", fig, "Rotation (left half): what the crack and the "
-                   "collars change; FEM solid, rigid dashed, each curve with its own markers",
-                   data_file="figures/theta_*.csv")
+    return _figure(
+        out,
+        "theta_variants",
+        fig,
+        "Rotation (left half): what the crack and the "
+        "collars change; FEM solid, rigid dashed, each curve with its own markers",
+        data_file="figures/theta_*.csv",
+    )
 
 
 def write_design_report(out: Path) -> Path:
@@ -673,38 +944,66 @@ def write_design_report(out: Path) -> Path:
     ratios = np.unique(chart["ag_over_g"])
     k = chart["required_stiffness"].reshape(alphas.size, ratios.size)
     from ..rigid.plotting import plot_design_chart
+
     # the chart in kN/m throughout, the study's column and pulse marked with its required
     # stiffness, and the iso-line of the stiffness its collars provide
     fig, ax = plt.subplots(figsize=(7.5, 5.6))
-    plot_design_chart(alphas, ratios, k, ax=ax,
-                      design=(s["design_ag_over_g"], s["design_alpha"],
-                              s["design"]["required_stiffness"]),
-                      provided=(s["collars_provided"], s["lateral_stiffness_provided"]))
+    plot_design_chart(
+        alphas,
+        ratios,
+        k,
+        ax=ax,
+        design=(s["design_ag_over_g"], s["design_alpha"], s["design"]["required_stiffness"]),
+        provided=(s["collars_provided"], s["lateral_stiffness_provided"]),
+    )
     fig.tight_layout()
-    chart_fig = _figure(out, "design_chart", fig, "Minimum total lateral collar stiffness "
-                        "(kN/m) over alpha and a_g/g (corrected Eq. 22-24); the star: this "
-                        "study's column and design pulse with the stiffness it requires; the "
-                        "dashed line, where inside the chart: the stiffness its collars provide "
-                        "(enough on its side of larger alpha and smaller a_g/g)",
-                        data_file="figures/design_chart.csv")
+    chart_fig = _figure(
+        out,
+        "design_chart",
+        fig,
+        "Minimum total lateral collar stiffness "
+        "(kN/m) over alpha and a_g/g (corrected Eq. 22-24); the star: this "
+        "study's column and design pulse with the stiffness it requires; the "
+        "dashed line, where inside the chart: the stiffness its collars provide "
+        "(enough on its side of larger alpha and smaller a_g/g)",
+        data_file="figures/design_chart.csv",
+    )
     history = read_csv(out / "cases" / "fem" / "history.csv")
     cols = sorted(c for c in history if c.startswith("collar_") and c.endswith("_utilisation"))
-    write_csv(out / "figures" / "collar_utilisation.csv",
-              {"t": history["t"], **{c: history[c] for c in cols}})
+    write_csv(
+        out / "figures" / "collar_utilisation.csv",
+        {"t": history["t"], **{c: history[c] for c in cols}},
+    )
     fig, ax = plt.subplots(figsize=(9.5, 3.2))
-    for j, c in enumerate(cols):        # collars of one history stay apart
-        ax.plot(history["t"], history[c], color=f"C{j}", **_distinct(j, len(cols)),
-                label=c.replace("_utilisation", ""))
+    for j, c in enumerate(cols):  # collars of one history stay apart
+        ax.plot(
+            history["t"],
+            history[c],
+            color=f"C{j}",
+            **_distinct(j, len(cols)),
+            label=c.replace("_utilisation", ""),
+        )
     ax.axhline(1.0, color="k", ls="--", lw=1, label="f_y")
     ax.set_xlabel("t (s)")
     ax.set_ylabel("sigma / f_y (-)")
     _legend_beside(ax)
     fig.tight_layout()
-    util_fig = _figure(out, "collar_utilisation", fig, "FEM collar utilisation over time "
-                       "(collars with the same history on top of each other, each with its own "
-                       "dashes and markers)")
-    return _render(out, "design.html.j2", s, f"colonna collar design: {s['study']}",
-                   rows=DESIGN_NUMBERS, figs=[chart_fig, util_fig])
+    util_fig = _figure(
+        out,
+        "collar_utilisation",
+        fig,
+        "FEM collar utilisation over time "
+        "(collars with the same history on top of each other, each with its own "
+        "dashes and markers)",
+    )
+    return _render(
+        out,
+        "design.html.j2",
+        s,
+        f"colonna collar design: {s['study']}",
+        rows=DESIGN_NUMBERS,
+        figs=[chart_fig, util_fig],
+    )
 
 
 # the collar-design table: (label, summary key, unit)
@@ -738,8 +1037,11 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
     (out / "figures").mkdir(exist_ok=True)
     w, a = np.array(s["omega_ratios"]), np.array(s["amplitude_ratios"])
     # a record's grid moves its time scale where a pulse's moves Omega / p
-    x_label = (r"record time scale (2: twice as fast)" if s.get("x_axis") == "time_scale"
-               else r"$\Omega / p$")
+    x_label = (
+        r"record time scale (2: twice as fast)"
+        if s.get("x_axis") == "time_scale"
+        else r"$\Omega / p$"
+    )
     code = {"safe": 0, "after-impact": 1, "without-impact": 2}
     models = (("fem", "FEM"), ("multibody", "rigid multibody"), ("sdof", "SDOF half block"))
     maps = {m: np.array([[code[c] for c in row] for row in s[f"mode_{m}"]]) for m, _ in models}
@@ -755,7 +1057,7 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
     norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5], cmap.N)
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.8), sharey=True)
     yields = np.array(s["collar_yield_fem"], dtype=bool)
-    marked: dict[str, Artist] = {}    # a marker at each computed pulse of a coarse grid
+    marked: dict[str, Artist] = {}  # a marker at each computed pulse of a coarse grid
     for ax, (m, label) in zip(axes, models):
         ax.pcolormesh(w, a, maps[m], cmap=cmap, norm=norm, shading="nearest")
         marked.update((h.get_label(), h) for h in grid_markers(ax, w, a, maps[m]))
@@ -764,35 +1066,56 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
     if yields.any():
         axes[0].scatter(ww[yields], aa[yields], marker="x", color="k", s=25, zorder=4)
     axes[0].set_ylabel(r"$a_p / (g\,\tan\alpha)$")
-    present = {int(k) for m, _ in models for k in np.unique(maps[m])}   # the legend: what is drawn
-    handles = [marked.get(MODE_LABELS[k]) or Patch(color=MODE_COLOURS[k], label=MODE_LABELS[k])
-               for k in sorted(present)]
+    present = {int(k) for m, _ in models for k in np.unique(maps[m])}  # the legend: what is drawn
+    handles = [
+        marked.get(MODE_LABELS[k]) or Patch(color=MODE_COLOURS[k], label=MODE_LABELS[k])
+        for k in sorted(present)
+    ]
     if yields.any():
-        handles.append(plt.Line2D([], [], marker="x", color="k", ls="", label="FEM: a collar "
-                                  "reaches f_y"))
+        handles.append(
+            plt.Line2D([], [], marker="x", color="k", ls="", label="FEM: a collar reaches f_y")
+        )
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
-    figs.append(_figure(out, "maps", fig, "Outcome of every pulse of the grid: FEM, rigid "
-                        "multibody and SDOF (the paper's half block with collars)" + (
-                            "; a marker at each computed pulse" if marked else "")))
+    figs.append(
+        _figure(
+            out,
+            "maps",
+            fig,
+            "Outcome of every pulse of the grid: FEM, rigid "
+            "multibody and SDOF (the paper's half block with collars)"
+            + ("; a marker at each computed pulse" if marked else ""),
+        )
+    )
 
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), sharey=True)
     shades = ("#f2f2f2", "#7570b3")
     drawn, marked = set(), {}
     words = ("same outcome", "different outcome")
-    for ax, m, label in ((axes[0], "multibody", "FEM vs rigid multibody"),
-                         (axes[1], "sdof", "FEM vs SDOF half block")):
+    for ax, m, label in (
+        (axes[0], "multibody", "FEM vs rigid multibody"),
+        (axes[1], "sdof", "FEM vs SDOF half block"),
+    ):
         differ = (maps["fem"] != maps[m]).astype(float)
         drawn |= {int(v) for v in np.unique(differ)}
-        ax.pcolormesh(w, a, differ, cmap=ListedColormap(shades), vmin=0, vmax=1,
-                      shading="nearest")
-        marked.update((h.get_label(), h) for h in grid_markers(
-            ax, w, a, differ.astype(int), colours=shades, markers=("o", "X"), labels=words))
+        ax.pcolormesh(w, a, differ, cmap=ListedColormap(shades), vmin=0, vmax=1, shading="nearest")
+        marked.update(
+            (h.get_label(), h)
+            for h in grid_markers(
+                ax, w, a, differ.astype(int), colours=shades, markers=("o", "X"), labels=words
+            )
+        )
         ax.set_title(label)
         ax.set_xlabel(x_label)
     axes[0].set_ylabel(r"$a_p / (g\,\tan\alpha)$")
-    fig.legend(handles=[marked.get(words[k]) or Patch(color=shades[k], label=words[k])
-                        for k in sorted(drawn)], loc="lower center", ncol=2, fontsize=8)
+    fig.legend(
+        handles=[
+            marked.get(words[k]) or Patch(color=shades[k], label=words[k]) for k in sorted(drawn)
+        ],
+        loc="lower center",
+        ncol=2,
+        fontsize=8,
+    )
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     figs.append(_figure(out, "disagreement", fig, "Where the FEM and each rigid model disagree"))
 
@@ -802,9 +1125,9 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
         over = maps[m] != 0
         lowest = np.where(over.any(axis=0), a[np.argmax(over, axis=0)], np.nan)
         boundary[f"lowest_overturning_amplitude_{m}"] = lowest
-        if np.isfinite(lowest).any():        # the legend lists only what is drawn
+        if np.isfinite(lowest).any():  # the legend lists only what is drawn
             style = dict(_distinct(j, len(models)), markevery=None, markersize=10 - 3 * j)
-            ax.plot(w, lowest, color=f"C{j}", **style, label=label)   # equal ones stay apart
+            ax.plot(w, lowest, color=f"C{j}", **style, label=label)  # equal ones stay apart
         else:
             never.append(label)
     write_csv(out / "figures" / "boundaries.csv", {"omega_ratio": w, **boundary})
@@ -813,24 +1136,45 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
     if len(never) < len(models):
         _legend_beside(ax)
         fig.tight_layout()
-        figs.append(_figure(out, "boundaries", fig, "Overturning boundary of each model: the "
-                            "lowest amplitude of the grid that overturns, per frequency (none "
-                            "drawn where no amplitude of the grid does)" + (
-                                f"; no pulse of the grid overturns the {' or the '.join(never)}"
-                                " model" if never else "")))
+        figs.append(
+            _figure(
+                out,
+                "boundaries",
+                fig,
+                "Overturning boundary of each model: the "
+                "lowest amplitude of the grid that overturns, per frequency (none "
+                "drawn where no amplitude of the grid does)"
+                + (
+                    f"; no pulse of the grid overturns the {' or the '.join(never)} model"
+                    if never
+                    else ""
+                ),
+            )
+        )
     else:
         plt.close(fig)
 
-    return _render(out, "spectrum_crosscheck.html.j2", s,
-                   f"colonna spectrum cross-check: {s['study']}", figs=figs,
-                   rows=SPECTRUM_NUMBERS)
+    return _render(
+        out,
+        "spectrum_crosscheck.html.j2",
+        s,
+        f"colonna spectrum cross-check: {s['study']}",
+        figs=figs,
+        rows=SPECTRUM_NUMBERS,
+    )
 
 
 SPECTRUM_NUMBERS = [
-    ("FEM and rigid multibody: same outcome, fraction of the grid points",
-     "agreement_fem_multibody", "-"),
-    ("FEM and SDOF half block: same outcome, fraction of the grid points",
-     "agreement_fem_sdof", "-"),
+    (
+        "FEM and rigid multibody: same outcome, fraction of the grid points",
+        "agreement_fem_multibody",
+        "-",
+    ),
+    (
+        "FEM and SDOF half block: same outcome, fraction of the grid points",
+        "agreement_fem_sdof",
+        "-",
+    ),
     ("grid points", "points", "-"),
     ("FEM energy balance error (max over the grid, relative)", "energy_error_fem_max", "-"),
     ("FEM wall time per grid point", "fem_seconds_per_point", "s"),
@@ -854,20 +1198,33 @@ def write_free_rocking_report(out: Path) -> Path:
             h = read_csv(out / "cases" / f"{kind}-tilt{k}" / "history.csv")
             label = "FEM" if kind == "fem" else "rigid multibody"
             # the two models coincide up to the first impact: each its width and markers
-            ax.plot(h["t"], h["theta_left"] / alpha, color=f"C{k - 1}",
-                    **dict(_distinct(2 * (k - 1) + j, n_curves), ls=style),
-                    label=f"{label}, released at {tilt['tilt_fraction']:g} alpha")
+            ax.plot(
+                h["t"],
+                h["theta_left"] / alpha,
+                color=f"C{k - 1}",
+                **dict(_distinct(2 * (k - 1) + j, n_curves), ls=style),
+                label=f"{label}, released at {tilt['tilt_fraction']:g} alpha",
+            )
             columns[f"t_{kind}_tilt{k}"] = h["t"]
             columns[f"theta_over_alpha_{kind}_tilt{k}"] = h["theta_left"] / alpha
     n = max(len(v) for v in columns.values())
-    write_csv(out / "figures" / "rotations.csv",
-              {k: np.pad(v, (0, n - len(v)), constant_values=np.nan) for k, v in columns.items()})
+    write_csv(
+        out / "figures" / "rotations.csv",
+        {k: np.pad(v, (0, n - len(v)), constant_values=np.nan) for k, v in columns.items()},
+    )
     ax.set_xlabel("t (s)")
     ax.set_ylabel(r"$\theta / \alpha$")
     _legend_beside(ax)
     fig.tight_layout()
-    figs.append(_figure(out, "rotations", fig, "Free rocking from each release tilt: FEM (solid) "
-                        "and rigid multibody (dashed), each curve with its own markers"))
+    figs.append(
+        _figure(
+            out,
+            "rotations",
+            fig,
+            "Free rocking from each release tilt: FEM (solid) "
+            "and rigid multibody (dashed), each curve with its own markers",
+        )
+    )
 
     fig, ax = plt.subplots(figsize=(9, 3.6))
     ratio_columns = {}
@@ -875,40 +1232,67 @@ def write_free_rocking_report(out: Path) -> Path:
         for j, kind in enumerate(("fem", "multibody")):
             ratios = np.array(tilt[kind]["ratios"], dtype=float)
             label = "FEM" if kind == "fem" else "rigid multibody"
-            i = 2 * (k - 1) + j          # equal ratios stay apart: each its marker and size
-            ax.plot(np.arange(1, ratios.size + 1), ratios, color=f"C{k - 1}",
-                    **dict(_distinct(i, n_curves), ls="-" if kind == "fem" else "--",
-                           markevery=None, markersize=8.0 - 4.0 * i / max(n_curves - 1, 1)),
-                    label=f"{label}, released at {tilt['tilt_fraction']:g} alpha")
+            i = 2 * (k - 1) + j  # equal ratios stay apart: each its marker and size
+            ax.plot(
+                np.arange(1, ratios.size + 1),
+                ratios,
+                color=f"C{k - 1}",
+                **dict(
+                    _distinct(i, n_curves),
+                    ls="-" if kind == "fem" else "--",
+                    markevery=None,
+                    markersize=8.0 - 4.0 * i / max(n_curves - 1, 1),
+                ),
+                label=f"{label}, released at {tilt['tilt_fraction']:g} alpha",
+            )
             ratio_columns[f"ratio_{kind}_tilt{k}"] = ratios
-    ax.axhline(s["restitution_housner"], color="k", lw=0.8, ls=":",
-               label="Housner 1 - 1.5 sin²α")
+    ax.axhline(s["restitution_housner"], color="k", lw=0.8, ls=":", label="Housner 1 - 1.5 sin²α")
     ax.set_xlabel("impact")
     ax.set_ylabel(r"$\dot\theta_{after} / \dot\theta_{before}$")
     _legend_beside(ax)
     fig.tight_layout()
     n = max((len(v) for v in ratio_columns.values()), default=0)
-    write_csv(out / "figures" / "ratios.csv",
-              {"impact": np.arange(1, n + 1),
-               **{k: np.pad(v, (0, n - len(v)), constant_values=np.nan)
-                  for k, v in ratio_columns.items()}})
-    figs.append(_figure(out, "ratios", fig, "Velocity ratio at each impact, from the rotation "
-                        "peaks either side through the free-rocking energy"))
+    write_csv(
+        out / "figures" / "ratios.csv",
+        {
+            "impact": np.arange(1, n + 1),
+            **{
+                k: np.pad(v, (0, n - len(v)), constant_values=np.nan)
+                for k, v in ratio_columns.items()
+            },
+        },
+    )
+    figs.append(
+        _figure(
+            out,
+            "ratios",
+            fig,
+            "Velocity ratio at each impact, from the rotation "
+            "peaks either side through the free-rocking energy",
+        )
+    )
 
-    return _render(out, "free_rocking.html.j2", s, f"colonna free rocking: {s['study']}",
-                   figs=figs)
+    return _render(out, "free_rocking.html.j2", s, f"colonna free rocking: {s['study']}", figs=figs)
 
 
 def write_zhang_makris_report(out: Path) -> Path:
     """The Zhang & Makris validation: figures, boundaries and spectra."""
     out = Path(out)
     summary = json.loads((out / "summary.json").read_text())
-    histories = [_image(out / f"history_{x.replace('.', '_')}.png",
-                        f"a_p = {x} g alpha, Omega/p = 5")
-                 for x in ("3.00", "3.01", "6.32", "6.33")]
-    spectra = [_image(out / f"spectrum_{m}_{c}.png",
-                      f"{m} model, {c.replace('free', 'free block')}")
-               for m in ("linear", "nonlinear") for c in ("free", "collars")]
-    return _render(out, "zhang_makris.html.j2", summary,
-                   "colonna validation: Zhang & Makris block", histories=histories,
-                   spectra=spectra)
+    histories = [
+        _image(out / f"history_{x.replace('.', '_')}.png", f"a_p = {x} g alpha, Omega/p = 5")
+        for x in ("3.00", "3.01", "6.32", "6.33")
+    ]
+    spectra = [
+        _image(out / f"spectrum_{m}_{c}.png", f"{m} model, {c.replace('free', 'free block')}")
+        for m in ("linear", "nonlinear")
+        for c in ("free", "collars")
+    ]
+    return _render(
+        out,
+        "zhang_makris.html.j2",
+        summary,
+        "colonna validation: Zhang & Makris block",
+        histories=histories,
+        spectra=spectra,
+    )

@@ -32,12 +32,19 @@ from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
 
-G = STANDARD_GRAVITY        # m/s^2, the gravity of every study
-STUDY_KINDS = ("cross-check", "collar-design", "spectrum-crosscheck", "free-rocking",
-               "mesh-convergence", "solid-vs-cracked", "zhang-makris")
+G = STANDARD_GRAVITY  # m/s^2, the gravity of every study
+STUDY_KINDS = (
+    "cross-check",
+    "collar-design",
+    "spectrum-crosscheck",
+    "free-rocking",
+    "mesh-convergence",
+    "solid-vs-cracked",
+    "zhang-makris",
+)
 
 
-FAILED = object()   # in a table's view (Table.across): a key whose value failed its own check
+FAILED = object()  # in a table's view (Table.across): a key whose value failed its own check
 
 
 def quantity(unit: str, description: str, default: Any = None, **limits) -> Any:
@@ -73,13 +80,22 @@ class Column(Table):
     height: float = quantity("m", "Height of the column shaft.", ..., gt=0)
     width: float = quantity("m", "Width (diameter) of the column, 4b.", ..., gt=0)
     thickness: float | None = quantity(
-        "m", "Out-of-plane thickness of the 2D model; default pi * width / 4 (the half column "
-        "then has the mass of a half circular column).", gt=0)
-    cracked: bool = Field(True, description="A full-height vertical crack splits the column "
-                          "into two halves.")
-    top_load: float = quantity("N", "Dead load on the capital (architrave), without mass: a "
-                               "uniform pressure on the top in the FEM, half at the top of each "
-                               "rigid half.", 0.0, ge=0)
+        "m",
+        "Out-of-plane thickness of the 2D model; default pi * width / 4 (the half column "
+        "then has the mass of a half circular column).",
+        gt=0,
+    )
+    cracked: bool = Field(
+        True, description="A full-height vertical crack splits the column into two halves."
+    )
+    top_load: float = quantity(
+        "N",
+        "Dead load on the capital (architrave), without mass: a "
+        "uniform pressure on the top in the FEM, half at the top of each "
+        "rigid half.",
+        0.0,
+        ge=0,
+    )
 
 
 class Stone(Table):
@@ -94,19 +110,25 @@ class Stone(Table):
 class Collar(Table):
     """[[collar]]: one steel collar (flat bar around the column), counted from 1."""
 
-    y: float = quantity("m", "Height of the collar above the base (at most the column "
-                        "height).", ..., gt=0)
+    y: float = quantity(
+        "m", "Height of the collar above the base (at most the column height).", ..., gt=0
+    )
     t: float = quantity("m", "Section thickness (radial).", ..., gt=0)
     h: float = quantity("m", "Section height (vertical).", ..., gt=0)
-    length: float | None = quantity("m", "Span between the attachment points; default the "
-                                    "column width.", gt=0)
+    length: float | None = quantity(
+        "m", "Span between the attachment points; default the column width.", gt=0
+    )
     E: float = quantity("Pa", "Young's modulus of the steel.", STEEL_E, gt=0)
     fy: float = quantity("Pa", "Yield stress of the steel.", STEEL_FY, gt=0)
     pretension: float = quantity("N", "Axial pretension (tension positive).", 0.0, ge=0)
-    plastic: bool = Field(False, description="Bilinear elastic-plastic collars (FEM and "
-                          "multibody; the SDOF model stays elastic).")
-    Eh: float | None = quantity("Pa", "Hardening (tangent) modulus past f_y, below E; default "
-                                "0.01 E.", ge=0)
+    plastic: bool = Field(
+        False,
+        description="Bilinear elastic-plastic collars (FEM and "
+        "multibody; the SDOF model stays elastic).",
+    )
+    Eh: float | None = quantity(
+        "Pa", "Hardening (tangent) modulus past f_y, below E; default 0.01 E.", ge=0
+    )
 
     @staticmethod
     def across(c: dict, given: set) -> list[tuple[str, tuple]]:
@@ -117,8 +139,15 @@ class Collar(Table):
 
 
 PULSE_PAIRS = (("amplitude", "amplitude_ratio"), ("period", "omega_ratio"))
-HORIZONTAL = ("amplitude", "amplitude_ratio", "period", "omega_ratio", "record", "scale",
-              "time_scale")
+HORIZONTAL = (
+    "amplitude",
+    "amplitude_ratio",
+    "period",
+    "omega_ratio",
+    "record",
+    "scale",
+    "time_scale",
+)
 
 
 class Ground(Table):
@@ -126,59 +155,87 @@ class Ground(Table):
     vertical one (harmonic or a record). Ratios refer to the rocking half."""
 
     pulse: Literal["sine", "cosine", "record", "none"] = Field(
-        "sine", description="One-sine or one-cosine pulse, a record (file), or none (free "
-        "rocking from run.initial_tilt or run.initial_angular_velocity).")
-    amplitude: float | None = quantity("m/s^2", "Pulse amplitude a_p (sign: direction), "
-                                       "|a_p| at least the uplift acceleration; or give "
-                                       "amplitude_ratio.")
-    amplitude_ratio: float | None = quantity("-", "a_p / (g tan alpha (1 + lambda)) of the "
-                                             "rocking half; or give amplitude.", ge=1)
+        "sine",
+        description="One-sine or one-cosine pulse, a record (file), or none (free "
+        "rocking from run.initial_tilt or run.initial_angular_velocity).",
+    )
+    amplitude: float | None = quantity(
+        "m/s^2",
+        "Pulse amplitude a_p (sign: direction), "
+        "|a_p| at least the uplift acceleration; or give "
+        "amplitude_ratio.",
+    )
+    amplitude_ratio: float | None = quantity(
+        "-", "a_p / (g tan alpha (1 + lambda)) of the rocking half; or give amplitude.", ge=1
+    )
     period: float | None = quantity("s", "Pulse period T_p; or give omega_ratio.", gt=0)
-    omega_ratio: float | None = quantity("-", "Omega / p of the rocking half; or give period.",
-                                         gt=0)
-    record: str | None = Field(None, description="Record file (PEER .AT2 in g, or two columns "
-                               "t (s), a (m/s^2)), relative to the study file; pulse = record.")
+    omega_ratio: float | None = quantity(
+        "-", "Omega / p of the rocking half; or give period.", gt=0
+    )
+    record: str | None = Field(
+        None,
+        description="Record file (PEER .AT2 in g, or two columns "
+        "t (s), a (m/s^2)), relative to the study file; pulse = record.",
+    )
     scale: float | None = quantity("-", "Factor on the record's acceleration (default 1).")
-    time_scale: float | None = quantity("-", "Plays the record this many times as fast "
-                                        "(default 1).", gt=0)
+    time_scale: float | None = quantity(
+        "-", "Plays the record this many times as fast (default 1).", gt=0
+    )
     vertical_amplitude: float | None = quantity(
-        "m/s^2", "Vertical harmonic a_v sin(2 pi t / T + phase), upward positive; |a_v| below "
-        "g (at g the ground falls away from the column).", gt=-G, lt=G)
+        "m/s^2",
+        "Vertical harmonic a_v sin(2 pi t / T + phase), upward positive; |a_v| below "
+        "g (at g the ground falls away from the column).",
+        gt=-G,
+        lt=G,
+    )
     vertical_period: float | None = quantity("s", "Period T of the vertical harmonic.", gt=0)
-    vertical_phase: float | None = quantity("rad", "Phase of the vertical harmonic "
-                                            "(default 0).")
-    vertical_duration: float | None = quantity("s", "How long the vertical harmonic lasts "
-                                               "(default: as long as the horizontal motion).",
-                                               gt=0)
-    vertical_record: str | None = Field(None, description="Vertical record file (as record), "
-                                        "instead of the harmonic.")
-    vertical_scale: float | None = quantity("-", "Factor on the vertical record (default 1); "
-                                            "its peak times this factor below g.")
+    vertical_phase: float | None = quantity("rad", "Phase of the vertical harmonic (default 0).")
+    vertical_duration: float | None = quantity(
+        "s",
+        "How long the vertical harmonic lasts (default: as long as the horizontal motion).",
+        gt=0,
+    )
+    vertical_record: str | None = Field(
+        None, description="Vertical record file (as record), instead of the harmonic."
+    )
+    vertical_scale: float | None = quantity(
+        "-", "Factor on the vertical record (default 1); its peak times this factor below g."
+    )
 
     @field_validator("vertical_amplitude", mode="before")
     @classmethod
     def _on_the_ground(cls, value):
         """|a_v| >= g: the ground falls away from the column (said in words, not as a range)."""
-        if isinstance(value, (int, float)) and not isinstance(value, bool) \
-                and math.isfinite(value) and abs(value) >= G:
+        if (
+            isinstance(value, (int, float))
+            and not isinstance(value, bool)
+            and math.isfinite(value)
+            and abs(value) >= G
+        ):
             size = "it" if value > 0 else "its size"
-            raise ValueError(f"ground.vertical_amplitude = {value:g} m/s^2 lifts the column off "
-                             f"the ground: {size} must be below g = {G:g} m/s^2")
+            raise ValueError(
+                f"ground.vertical_amplitude = {value:g} m/s^2 lifts the column off "
+                f"the ground: {size} must be below g = {G:g} m/s^2"
+            )
         return value
 
     @staticmethod
     def across(g: dict, given: set) -> list[tuple[str, tuple]]:
         """The keys that go with the pulse kind, and with a vertical harmonic or record."""
-        given = {k for k in given if g[k] is not None}       # a FAILED key is given
+        given = {k for k in given if g[k] is not None}  # a FAILED key is given
         pulse, found = g["pulse"], []
         if pulse == "none":
             found += _none_of(given, HORIZONTAL, "with pulse = 'none'")
         elif pulse == "record":
             if "record" not in given:
-                found.append(("ground.record (a file) is required with pulse = 'record'",
-                              ("ground.record",)))
-            found += _none_of(given, ("amplitude", "amplitude_ratio", "period", "omega_ratio"),
-                              "with pulse = 'record' (use scale and time_scale)")
+                found.append(
+                    ("ground.record (a file) is required with pulse = 'record'", ("ground.record",))
+                )
+            found += _none_of(
+                given,
+                ("amplitude", "amplitude_ratio", "period", "omega_ratio"),
+                "with pulse = 'record' (use scale and time_scale)",
+            )
         elif pulse is not FAILED:
             found += _none_of(given, ("record", "scale", "time_scale"), f"with pulse = '{pulse}'")
             for pair in PULSE_PAIRS:
@@ -186,14 +243,21 @@ class Ground(Table):
                     found.append((f"give only one of ground.{pair[0]} and ground.{pair[1]}", ()))
         vertical = {k for k in given if k.startswith("vertical_")}
         if "vertical_record" in vertical:
-            found += _none_of(vertical, ("vertical_amplitude", "vertical_period",
-                                         "vertical_phase", "vertical_duration"),
-                              "with ground.vertical_record")
+            found += _none_of(
+                vertical,
+                ("vertical_amplitude", "vertical_period", "vertical_phase", "vertical_duration"),
+                "with ground.vertical_record",
+            )
         elif vertical:
             for key in ("vertical_amplitude", "vertical_period"):
                 if key not in vertical:
-                    found.append((f"ground.{key} is required for a vertical harmonic (or give "
-                                  "ground.vertical_record)", (f"ground.{key}",)))
+                    found.append(
+                        (
+                            f"ground.{key} is required for a vertical harmonic (or give "
+                            "ground.vertical_record)",
+                            (f"ground.{key}",),
+                        )
+                    )
             found += _none_of(vertical, ("vertical_scale",), "without ground.vertical_record")
         return found
 
@@ -214,70 +278,117 @@ class Contact(Table):
 
     friction: float = quantity("-", "Coulomb friction coefficient (base and crack).", 0.7, ge=0)
     penalty_factor: float = quantity("-", "Factor on the default penalty.", 1.0, gt=0)
-    penalty: float | None = quantity("N/m^3", "Penalty per unit contact area; overrides "
-                                      "penalty_factor.", gt=0)
-    damping: float = quantity("-", "Fraction of critical damping of each contact spring.", 0.05,
-                              ge=0, lt=1)
-    friction_filter: float = quantity("s", "Time constant of the low-pass filter on the normal "
-                                      "force that sets the friction cone (0: none).", 1e-3, ge=0)
+    penalty: float | None = quantity(
+        "N/m^3", "Penalty per unit contact area; overrides penalty_factor.", gt=0
+    )
+    damping: float = quantity(
+        "-", "Fraction of critical damping of each contact spring.", 0.05, ge=0, lt=1
+    )
+    friction_filter: float = quantity(
+        "s",
+        "Time constant of the low-pass filter on the normal "
+        "force that sets the friction cone (0: none).",
+        1e-3,
+        ge=0,
+    )
 
 
 class Mesh(Table):
     """[mesh]: the FEM mesh, generated (size, grading) or read from a file."""
 
-    size: float | None = quantity("m", "Element size; default width / 16; at most the width "
-                                  "of one half.", gt=0)
-    grading: float = quantity("-", "Grading toward the base and crack (0: uniform).", 0.5,
-                              ge=0, lt=1)
-    edge_length: float | None = quantity("m", "Toe length over which the edge stress is "
-                                         "averaged; default 0.1 x the width of a half.", gt=0)
-    edge_time: float = quantity("s", "Time over which the toe stress is averaged.", EDGE_TIME,
-                                ge=0, le=0.01)
-    toe_refinements: list[int] = Field(list(REFINEMENTS), description="The impact that gives "
-                                       "the peak toe stress is rerun with the toe zones refined "
-                                       "so many times: [] or [1, 2, 4] up to [1, 2, 4, 8, 16].")
-    file: str | None = Field(None, description="A quadrilateral mesh made elsewhere (e.g. "
-                             "gmsh .msh), relative to the study file, instead of size/grading.")
+    size: float | None = quantity(
+        "m", "Element size; default width / 16; at most the width of one half.", gt=0
+    )
+    grading: float = quantity(
+        "-", "Grading toward the base and crack (0: uniform).", 0.5, ge=0, lt=1
+    )
+    edge_length: float | None = quantity(
+        "m",
+        "Toe length over which the edge stress is averaged; default 0.1 x the width of a half.",
+        gt=0,
+    )
+    edge_time: float = quantity(
+        "s", "Time over which the toe stress is averaged.", EDGE_TIME, ge=0, le=0.01
+    )
+    toe_refinements: list[int] = Field(
+        list(REFINEMENTS),
+        description="The impact that gives "
+        "the peak toe stress is rerun with the toe zones refined "
+        "so many times: [] or [1, 2, 4] up to [1, 2, 4, 8, 16].",
+    )
+    file: str | None = Field(
+        None,
+        description="A quadrilateral mesh made elsewhere (e.g. "
+        "gmsh .msh), relative to the study file, instead of size/grading.",
+    )
 
     @staticmethod
     def across(m: dict, given: set) -> list[tuple[str, tuple]]:
         """The toe refinements: powers of two from 1."""
         value = m["toe_refinements"]
-        if _known(value) and value and (len(value) < 3 or value[-1] > 16
-                                        or value != [2 ** k for k in range(len(value))]):
-            return [(f"mesh.toe_refinements = {value!r} must be [] or [1, 2, 4] or "
-                     "[1, 2, 4, 8] or [1, 2, 4, 8, 16]", ())]
+        if (
+            _known(value)
+            and value
+            and (len(value) < 3 or value[-1] > 16 or value != [2**k for k in range(len(value))])
+        ):
+            return [
+                (
+                    f"mesh.toe_refinements = {value!r} must be [] or [1, 2, 4] or "
+                    "[1, 2, 4, 8] or [1, 2, 4, 8, 16]",
+                    (),
+                )
+            ]
         return []
 
 
 class Run(Table):
     """[run]: the explicit time integration."""
 
-    duration: float | None = quantity("s", "Simulated time; default the end of the ground "
-                                      "motion + 1.5 s.", gt=0)
-    output_interval: float | None = quantity("s", "Time between history rows; default "
-                                             "duration / 400.", gt=0)
-    dt: float | None = quantity("s", "Time step; default the stable step (a larger one is an "
-                                "error).", gt=0)
+    duration: float | None = quantity(
+        "s", "Simulated time; default the end of the ground motion + 1.5 s.", gt=0
+    )
+    output_interval: float | None = quantity(
+        "s", "Time between history rows; default duration / 400.", gt=0
+    )
+    dt: float | None = quantity(
+        "s", "Time step; default the stable step (a larger one is an error).", gt=0
+    )
     safety: float = quantity("-", "Fraction of the stable step used.", 0.9, gt=0, le=1)
-    initial_tilt: float = quantity("rad", "Release tilt about the outer toe (> 0 toward +x).",
-                                   0.0, gt=-math.pi / 4, lt=math.pi / 4)
-    initial_angular_velocity: float = quantity("rad/s", "Initial angular velocity about that "
-                                               "toe.", 0.0)
-    replicas: int = quantity("-", "Replicas of each FEM run whose initial positions differ by "
-                             "1e-12 of the column height: landing-dependent numbers are reported "
-                             "as median and range over them (the contact is chaotic at "
-                             "landings). The spectrum cross-check's grid points run one each "
-                             "unless set.", REPLICAS, ge=1, le=64)
+    initial_tilt: float = quantity(
+        "rad",
+        "Release tilt about the outer toe (> 0 toward +x).",
+        0.0,
+        gt=-math.pi / 4,
+        lt=math.pi / 4,
+    )
+    initial_angular_velocity: float = quantity(
+        "rad/s", "Initial angular velocity about that toe.", 0.0
+    )
+    replicas: int = quantity(
+        "-",
+        "Replicas of each FEM run whose initial positions differ by "
+        "1e-12 of the column height: landing-dependent numbers are reported "
+        "as median and range over them (the contact is chaotic at "
+        "landings). The spectrum cross-check's grid points run one each "
+        "unless set.",
+        REPLICAS,
+        ge=1,
+        le=64,
+    )
 
 
 class Rigid(Table):
     """[rigid]: options of the rigid models."""
 
-    restitution: float | None = quantity("-", "Coefficient of restitution of the SDOF model; "
-                                         "default Housner's 1 - 1.5 sin^2 alpha.", ge=0, le=1)
-    model: Literal["nonlinear", "linear"] = Field("nonlinear", description="Equation of motion "
-                                                  "of the SDOF model.")
+    restitution: float | None = quantity(
+        "-",
+        "Coefficient of restitution of the SDOF model; default Housner's 1 - 1.5 sin^2 alpha.",
+        ge=0,
+        le=1,
+    )
+    model: Literal["nonlinear", "linear"] = Field(
+        "nonlinear", description="Equation of motion of the SDOF model."
+    )
 
 
 class StudyInfo(Table):
@@ -286,41 +397,56 @@ class StudyInfo(Table):
     name: str | None = Field(None, description="Name in reports; default the file name.")
     description: str | None = Field(None, description="Free text.")
     kind: Literal[STUDY_KINDS] = Field(  # type: ignore[valid-type]
-        "cross-check", description="Which study to run.")
+        "cross-check", description="Which study to run."
+    )
 
 
 def pair(default, description: str, unit: str = "-") -> Any:
     """A two-element list field ([start, stop] or two counts)."""
-    return Field(default, min_length=2, max_length=2, description=description,
-                 json_schema_extra={"unit": unit})
+    return Field(
+        default,
+        min_length=2,
+        max_length=2,
+        description=description,
+        json_schema_extra={"unit": unit},
+    )
 
 
 class Grid(Table):
     """[grid] (spectrum-crosscheck): the pulses of the grid, each a [start, stop] range."""
 
     omega_ratios: list[Annotated[float, Field(gt=0)]] | None = pair(
-        None, "Omega / p range, inclusive (pulses; default [1, 8]).")
+        None, "Omega / p range, inclusive (pulses; default [1, 8])."
+    )
     amplitude_ratios: list[Annotated[float, Field(ge=1)]] = pair(
-        [1.2, 6.0], "a_p / (g tan alpha) range, inclusive.")
+        [1.2, 6.0], "a_p / (g tan alpha) range, inclusive."
+    )
     time_scales: list[Annotated[float, Field(gt=0)]] | None = pair(
-        None, "Record time-scale range (records, in place of omega_ratios; default [0.5, 2]).")
+        None, "Record time-scale range (records, in place of omega_ratios; default [0.5, 2])."
+    )
     points: list[Annotated[int, Field(ge=1)]] = pair(
-        [6, 5], "Number of points along the first axis x number of amplitude ratios.")
+        [6, 5], "Number of points along the first axis x number of amplitude ratios."
+    )
 
     @staticmethod
     def across(g: dict, given: set) -> list[tuple[str, tuple]]:
         """Each range [start, stop] with start <= stop."""
-        return [(f"grid.{key} = {g[key]!r} must be [start, stop] with start <= stop", ())
-                for key in ("omega_ratios", "amplitude_ratios", "time_scales")
-                if g[key] is not None and _known(g[key]) and not g[key][0] <= g[key][1]]
+        return [
+            (f"grid.{key} = {g[key]!r} must be [start, stop] with start <= stop", ())
+            for key in ("omega_ratios", "amplitude_ratios", "time_scales")
+            if g[key] is not None and _known(g[key]) and not g[key][0] <= g[key][1]
+        ]
 
 
 class Convergence(Table):
     """[convergence] (mesh-convergence): the mesh sizes, given or from levels and ratio."""
 
     sizes: list[Annotated[float, Field(gt=0)]] | None = Field(
-        None, min_length=3, description="Three or more decreasing mesh sizes.",
-        json_schema_extra={"unit": "m"})
+        None,
+        min_length=3,
+        description="Three or more decreasing mesh sizes.",
+        json_schema_extra={"unit": "m"},
+    )
     levels: int = quantity("-", "Number of meshes h, h/r, h/r^2, ... from mesh.size.", 3, ge=3)
     ratio: float = quantity("-", "Refinement ratio r between meshes.", 2.0, gt=1)
 
@@ -337,14 +463,24 @@ class FreeRocking(Table):
     """[free_rocking] (free-rocking): release tilts and the FEM variants to try."""
 
     tilt_fractions: list[Annotated[float, Field(gt=0, lt=1)]] = Field(
-        [0.5], min_length=1, description="Release tilts, fractions of alpha, in (0, 1).",
-        json_schema_extra={"unit": "-"})
+        [0.5],
+        min_length=1,
+        description="Release tilts, fractions of alpha, in (0, 1).",
+        json_schema_extra={"unit": "-"},
+    )
     damping: list[Annotated[float, Field(ge=0, lt=1)]] = Field(
-        [0.0, 0.2], min_length=1, description="Extra contact dampings to try, in [0, 1).",
-        json_schema_extra={"unit": "-"})
+        [0.0, 0.2],
+        min_length=1,
+        description="Extra contact dampings to try, in [0, 1).",
+        json_schema_extra={"unit": "-"},
+    )
     mesh_sizes: list[Annotated[float, Field(gt=0)]] | None = Field(
-        None, min_length=1, description="Extra mesh sizes to try, at most the width of a half "
-        "(default: twice the study's).", json_schema_extra={"unit": "m"})
+        None,
+        min_length=1,
+        description="Extra mesh sizes to try, at most the width of a half "
+        "(default: twice the study's).",
+        json_schema_extra={"unit": "m"},
+    )
 
 
 class StudyFile(Table):
@@ -353,11 +489,9 @@ class StudyFile(Table):
     model_config = ConfigDict(title="colonna study file")
 
     study: StudyInfo = StudyInfo()
-    column: Column | None = Field(None, description="Required, except for kind = "
-                                  "\"zhang-makris\".")
+    column: Column | None = Field(None, description='Required, except for kind = "zhang-makris".')
     stone: Stone = Stone()
-    collar: list[Collar] = Field([], description="Zero or more collars, each a [[collar]] "
-                                 "table.")
+    collar: list[Collar] = Field([], description="Zero or more collars, each a [[collar]] table.")
     ground: Ground = Ground.model_construct(pulse="sine")
     contact: Contact = Contact()
     mesh: Mesh = Mesh()
@@ -375,30 +509,48 @@ class StudyFile(Table):
         c, ground = s["column"], s["ground"]
         found: list[tuple[str, tuple]] = []
         if c is None:
-            if kind in (FAILED, "zhang-makris"):     # (a failed kind may need no column)
+            if kind in (FAILED, "zhang-makris"):  # (a failed kind may need no column)
                 return []
-            found.append(("column.height is required: the study has no [column] table",
-                          ("column",)))
+            found.append(
+                ("column.height is required: the study has no [column] table", ("column",))
+            )
         if "ground" not in given:
-            if kind is not FAILED:               # (a failed kind may be free-rocking: none)
-                found.append(("the study has no [ground] table: give ground.pulse and, for a "
-                              "pulse, exactly one of ground.amplitude and "
-                              "ground.amplitude_ratio and one of ground.period and "
-                              "ground.omega_ratio", ("ground",)))
-        elif (isinstance(ground, dict) and ground["pulse"] in ("sine", "cosine")
-              and kind not in (FAILED, "spectrum-crosscheck")):   # (its grid sets them)
+            if kind is not FAILED:  # (a failed kind may be free-rocking: none)
+                found.append(
+                    (
+                        "the study has no [ground] table: give ground.pulse and, for a "
+                        "pulse, exactly one of ground.amplitude and "
+                        "ground.amplitude_ratio and one of ground.period and "
+                        "ground.omega_ratio",
+                        ("ground",),
+                    )
+                )
+        elif (
+            isinstance(ground, dict)
+            and ground["pulse"] in ("sine", "cosine")
+            and kind not in (FAILED, "spectrum-crosscheck")
+        ):  # (its grid sets them)
             for pair in PULSE_PAIRS:
                 if ground[pair[0]] is None and ground[pair[1]] is None:
-                    found.append((f"give exactly one of ground.{pair[0]} and ground.{pair[1]} "
-                                  f"for a {ground['pulse']} pulse",
-                                  tuple(f"ground.{key}" for key in pair)))
+                    found.append(
+                        (
+                            f"give exactly one of ground.{pair[0]} and ground.{pair[1]} "
+                            f"for a {ground['pulse']} pulse",
+                            tuple(f"ground.{key}" for key in pair),
+                        )
+                    )
         if not isinstance(c, dict):
             return found
         collars = s["collar"] if _known(s["collar"]) else []
         for i, collar in enumerate(collars, start=1):
             if _known(collar, c["height"]) and _known(collar["y"]) and collar["y"] > c["height"]:
-                found.append((f"collar[{i}].y = {collar['y']:g} m is outside the allowed range "
-                              f"(0, {c['height']:g}] m (the column height)", ()))
+                found.append(
+                    (
+                        f"collar[{i}].y = {collar['y']:g} m is outside the allowed range "
+                        f"(0, {c['height']:g}] m (the column height)",
+                        (),
+                    )
+                )
         mesh = s["mesh"]
         if not _known(c["width"], c["cracked"], mesh):
             return found
@@ -406,8 +558,13 @@ class StudyFile(Table):
         for key in ("size", "edge_length"):
             value = mesh[key]
             if value is not None and _known(value) and value > half:
-                found.append((f"mesh.{key} = {value:g} m is outside the allowed range "
-                              f"(0, {half:g}] m (the width of one half)", ()))
+                found.append(
+                    (
+                        f"mesh.{key} = {value:g} m is outside the allowed range "
+                        f"(0, {half:g}] m (the width of one half)",
+                        (),
+                    )
+                )
         return found
 
 
@@ -436,8 +593,9 @@ def table_model(name: str) -> type[BaseModel]:
 
 def parse_table(name: str, table, source: str = "study"):
     """One table of a study file (``grid``, ``convergence``, ...) checked on its own."""
-    return _validate(_model_of(StudyFile.model_fields[name].annotation), table, source,
-                     within=(name,))
+    return _validate(
+        _model_of(StudyFile.model_fields[name].annotation), table, source, within=(name,)
+    )
 
 
 def _validate(model: type[Table], data, source: str, within: tuple = ()):
@@ -447,8 +605,9 @@ def _validate(model: type[Table], data, source: str, within: tuple = ()):
         return model.model_validate(data)
     except ValidationError as exc:
         errors = exc.errors()
-    raise InputError("\n".join(f"{source}: {line}"
-                               for line in _error_lines(model, data, errors, within)))
+    raise InputError(
+        "\n".join(f"{source}: {line}" for line in _error_lines(model, data, errors, within))
+    )
 
 
 def _error_lines(model: type[Table], data, errors: list, within: tuple = ()) -> list[str]:
@@ -456,7 +615,7 @@ def _error_lines(model: type[Table], data, errors: list, within: tuple = ()) -> 
     numbers only), then the checks across keys that it skipped because a key of their table
     failed (:func:`_view`). A key reported missing where an unknown key of its table looks like
     it is left out: the unknown key is its misspelling, one mistake."""
-    found, lists = [], set()           # (line, unknown key path, key paths it asks for)
+    found, lists = [], set()  # (line, unknown key path, key paths it asks for)
     for error in errors:
         loc = tuple(p for p in (*within, *error["loc"]) if not str(p).startswith("function"))
         if loc and isinstance(loc[-1], int) and _model_at(loc[:-1]) is None:
@@ -467,16 +626,17 @@ def _error_lines(model: type[Table], data, errors: list, within: tuple = ()) -> 
         unknown = _path(loc) if error["type"] == "extra_forbidden" else None
         wanted = (_path(loc),) if error["type"] == "missing" else ()
         where = error["type"] == "value_error" and loc and isinstance(loc[-1], int)
-        found += [(_in_table(loc, text) if where else text, unknown, wanted)
-                  for text in line.splitlines()]
+        found += [
+            (_in_table(loc, text) if where else text, unknown, wanted) for text in line.splitlines()
+        ]
     if isinstance(data, dict):
         skipped: list[tuple[tuple, str, tuple]] = []
         _view(model, data, errors, (), skipped)
-        found += [(_in_table((*within, *loc), text), None, wanted)
-                  for loc, text, wanted in skipped]
+        found += [(_in_table((*within, *loc), text), None, wanted) for loc, text, wanted in skipped]
     unknown_keys = [key for _, key, _ in found if key]
-    return [text for text, _, wanted in found
-            if not any(_misspelt(key, unknown_keys) for key in wanted)]
+    return [
+        text for text, _, wanted in found if not any(_misspelt(key, unknown_keys) for key in wanted)
+    ]
 
 
 def _in_table(loc: tuple, text: str) -> str:
@@ -488,9 +648,11 @@ def _in_table(loc: tuple, text: str) -> str:
 def _misspelt(key: str, unknown: list[str]) -> bool:
     """Whether an unknown key of the table of ``key`` looks like it (``heigth``, ``grund``)."""
     table, _, name = key.rpartition(".")
-    return any(u.rpartition(".")[0] == table
-               and difflib.SequenceMatcher(None, u.rpartition(".")[2], name).ratio() >= 0.6
-               for u in unknown)
+    return any(
+        u.rpartition(".")[0] == table
+        and difflib.SequenceMatcher(None, u.rpartition(".")[2], name).ratio() >= 0.6
+        for u in unknown
+    )
 
 
 def _view(model: type[Table], data: dict, errors: list, loc: tuple, skipped: list) -> dict:
@@ -501,22 +663,25 @@ def _view(model: type[Table], data: dict, errors: list, loc: tuple, skipped: lis
     view = {}
     for name, field in model.model_fields.items():
         here, inner = (*loc, name), _find_model(field.annotation)
-        many = get_origin(field.annotation) is list                   # [[collar]]
+        many = get_origin(field.annotation) is list  # [[collar]]
         if name not in data:
-            value = FAILED if field.is_required() else field.get_default(
-                call_default_factory=True)
+            value = FAILED if field.is_required() else field.get_default(call_default_factory=True)
             view[name] = value.model_dump() if isinstance(value, BaseModel) else value
             continue
         value = data[name]
         if inner is not None and many and isinstance(value, list):
-            view[name] = [_view(inner, item, errors, (*here, i), skipped)
-                          if isinstance(item, dict) else FAILED for i, item in enumerate(value)]
+            view[name] = [
+                _view(inner, item, errors, (*here, i), skipped)
+                if isinstance(item, dict)
+                else FAILED
+                for i, item in enumerate(value)
+            ]
         elif inner is not None and not many and isinstance(value, dict):
             view[name] = _view(inner, value, errors, here, skipped)
         else:
-            failed = any(e["loc"][:len(here)] == here for e in errors)
+            failed = any(e["loc"][: len(here)] == here for e in errors)
             view[name] = FAILED if failed else value
-    if any(len(e["loc"]) > len(loc) and e["loc"][:len(loc)] == loc for e in errors):
+    if any(len(e["loc"]) > len(loc) and e["loc"][: len(loc)] == loc for e in errors):
         given = set(data) & set(model.model_fields)
         skipped += [(loc, text, wanted) for text, wanted in model.across(view, given)]
     return view
@@ -532,7 +697,7 @@ def _path(loc) -> str:
 
 def _one_line(error: dict) -> str:
     kind, loc = error["type"], tuple(p for p in error["loc"] if not str(p).startswith("function"))
-    if kind == "value_error":                 # a model validator's own message names its keys
+    if kind == "value_error":  # a model validator's own message names its keys
         return str(error["ctx"]["error"])
     if kind == "extra_forbidden":
         model = _model_at(loc[:-1])
@@ -611,8 +776,7 @@ def _allowed(schema: dict) -> str:
 
 def _field_schema(field) -> dict:
     annotation = field.annotation
-    adapter = TypeAdapter(Annotated[annotation, *field.metadata] if field.metadata
-                          else annotation)
+    adapter = TypeAdapter(Annotated[annotation, *field.metadata] if field.metadata else annotation)
     return adapter.json_schema()
 
 
@@ -631,14 +795,17 @@ def _type_words(schema: dict) -> str:
     if kind == "array":
         items = schema.get("items", {})
         n = schema.get("minItems"), schema.get("maxItems")
-        count = (f"{n[0]} " if n[0] == n[1] and n[0] else
-                 f"{n[0]} or more " if n[0] else "")
+        count = f"{n[0]} " if n[0] == n[1] and n[0] else f"{n[0]} or more " if n[0] else ""
         inner = _allowed(items).replace("a number", "numbers").replace("an integer", "integers")
         return f"a list of {count}{inner}"
     if kind in ("number", "integer") and not range_text(schema):
         return "any finite number" if kind == "number" else "any integer"
-    return {"number": "a number", "integer": "an integer", "boolean": "true or false",
-            "string": "a text"}.get(str(kind), "a value")
+    return {
+        "number": "a number",
+        "integer": "an integer",
+        "boolean": "true or false",
+        "string": "a text",
+    }.get(str(kind), "a value")
 
 
 def range_text(schema: dict) -> str:
@@ -646,10 +813,20 @@ def range_text(schema: dict) -> str:
     schema = _strip_optional(schema)
     if schema.get("type") not in ("number", "integer"):
         return ""
-    low = ("(", schema["exclusiveMinimum"]) if "exclusiveMinimum" in schema else \
-        ("[", schema["minimum"]) if "minimum" in schema else ("(", -math.inf)
-    high = (")", schema["exclusiveMaximum"]) if "exclusiveMaximum" in schema else \
-        ("]", schema["maximum"]) if "maximum" in schema else (")", math.inf)
+    low = (
+        ("(", schema["exclusiveMinimum"])
+        if "exclusiveMinimum" in schema
+        else ("[", schema["minimum"])
+        if "minimum" in schema
+        else ("(", -math.inf)
+    )
+    high = (
+        (")", schema["exclusiveMaximum"])
+        if "exclusiveMaximum" in schema
+        else ("]", schema["maximum"])
+        if "maximum" in schema
+        else (")", math.inf)
+    )
     if low[1] == -math.inf and high[1] == math.inf:
         return ""
     return f"{low[0]}{low[1]:g}, {high[1]:g}{high[0]}"
@@ -658,27 +835,48 @@ def range_text(schema: dict) -> str:
 def json_schema() -> dict:
     """The JSON Schema of a study file (draft 2020-12), with a ``unit`` on every quantity."""
     schema = StudyFile.model_json_schema()
-    return {"$schema": "https://json-schema.org/draft/2020-12/schema",
-            "$id": "https://github.com/colonna/colonna/study-file.schema.json", **schema}
+    return {
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "$id": "https://github.com/colonna/colonna/study-file.schema.json",
+        **schema,
+    }
 
 
 def markdown() -> str:
     """The key list of docs/study-file.md: one table per TOML table, from the schema."""
-    lines = ["# Study file keys", "",
-             "Generated from the schema (`colonna schema --markdown`); "
-             "`tests/test_schema.py` checks that this file is current. SI units; ranges in "
-             "interval notation; `-` means dimensionless.", ""]
+    lines = [
+        "# Study file keys",
+        "",
+        "Generated from the schema (`colonna schema --markdown`); "
+        "`tests/test_schema.py` checks that this file is current. SI units; ranges in "
+        "interval notation; `-` means dimensionless.",
+        "",
+    ]
     for name, field in StudyFile.model_fields.items():
         model = _model_of(field.annotation)
         header = f"[[{name}]]" if name == "collar" else f"[{name}]"
         about = " ".join((model.__doc__ or "").split()).split(": ", 1)[-1]
-        lines += [f"## {header}", "", about[0].upper() + about[1:], "",
-                  "| key | allowed | unit | default | meaning |", "|---|---|---|---|---|"]
+        lines += [
+            f"## {header}",
+            "",
+            about[0].upper() + about[1:],
+            "",
+            "| key | allowed | unit | default | meaning |",
+            "|---|---|---|---|---|",
+        ]
         for key, sub in model.model_fields.items():
-            default = "required" if sub.is_required() else (
-                "see meaning" if sub.default is None else _toml(sub.default))
-            cells = [f"`{key}`", _allowed(_field_schema(sub)), _unit(sub), default,
-                     sub.description or ""]
+            default = (
+                "required"
+                if sub.is_required()
+                else ("see meaning" if sub.default is None else _toml(sub.default))
+            )
+            cells = [
+                f"`{key}`",
+                _allowed(_field_schema(sub)),
+                _unit(sub),
+                default,
+                sub.description or "",
+            ]
             lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
         lines.append("")
     return "\n".join(lines)

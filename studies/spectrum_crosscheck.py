@@ -46,24 +46,28 @@ def parse_grid_size(text: str) -> tuple[int, int]:
     try:
         n, m = (int(part) for part in text.lower().split("x"))
     except ValueError:
-        raise InputError(f"--grid = {text!r} is not of the form NxM (omega ratios x amplitude "
-                         "ratios, e.g. 3x3)") from None
+        raise InputError(
+            f"--grid = {text!r} is not of the form NxM (omega ratios x amplitude ratios, e.g. 3x3)"
+        ) from None
     if n < 1 or m < 1:
         raise InputError(f"--grid = {text!r}: both counts must be >= 1")
     return n, m
 
 
-def grid_of(data: dict, size: tuple[int, int] | None = None, record: bool = False,
-            source: str = "study"):
+def grid_of(
+    data: dict, size: tuple[int, int] | None = None, record: bool = False, source: str = "study"
+):
     """(omega ratios, or time scales for a record; amplitude ratios) of the study's [grid]
     (:class:`studies.schema.Grid`), ``size`` overriding the counts."""
     grid = schema.parse_table("grid", data.get("grid", {}), source)
     x_key = "time_scales" if record else "omega_ratios"
     other = "omega_ratios" if record else "time_scales"
     if getattr(grid, other) is not None:
-        raise InputError(f"{source}: grid.{other} goes with "
-                         + ("a pulse" if record else "ground.pulse = \"record\"")
-                         + f": use grid.{x_key}")
+        raise InputError(
+            f"{source}: grid.{other} goes with "
+            + ("a pulse" if record else 'ground.pulse = "record"')
+            + f": use grid.{x_key}"
+        )
     x_range = getattr(grid, x_key) or DEFAULT_X_RANGE[x_key]
     points = grid.points if size is None else list(size)
     (x_low, x_high), (a_low, a_high) = x_range, grid.amplitude_ratios
@@ -80,26 +84,41 @@ def grid_point_case(case: dict, directory: str) -> dict:
     study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
     fem = run_fem(study, replicas=1)[0]
     s = fem.summary
-    fem_impacts = max(_impacts_before(fem.history, key, s["t_end"])
-                      for key in ("theta_left", "theta_right"))
+    fem_impacts = max(
+        _impacts_before(fem.history, key, s["t_end"]) for key in ("theta_left", "theta_right")
+    )
     block = study.rocking_block
-    mb = rock_multibody(block, study.ground, study.collars, cracked=study.cracked,
-                        friction=study.contact.friction, duration=study.duration)
+    mb = rock_multibody(
+        block,
+        study.ground,
+        study.collars,
+        cracked=study.cracked,
+        friction=study.contact.friction,
+        duration=study.duration,
+    )
     sdof = rock(block, study.ground, study.collars, model="nonlinear", duration=study.duration)
     return {
-        "omega_ratio": case["omega_ratio"], "amplitude_ratio": case["amplitude_ratio"],
+        "omega_ratio": case["omega_ratio"],
+        "amplitude_ratio": case["amplitude_ratio"],
         "mode_fem": _mode(s["overturned"], fem_impacts),
-        "mode_multibody": mb.mode, "mode_sdof": sdof.mode,
+        "mode_multibody": mb.mode,
+        "mode_sdof": sdof.mode,
         "peak_fem": max(s["max_abs_theta_left"], s["max_abs_theta_right"]),
-        "peak_multibody": max(mb.summary()["max_abs_theta_left"],
-                              mb.summary()["max_abs_theta_right"]),
+        "peak_multibody": max(
+            mb.summary()["max_abs_theta_left"], mb.summary()["max_abs_theta_right"]
+        ),
         "collar_utilisation_fem": s["collar_max_utilisation"],
         "toe_ratio_fem": s["edge_stress_ratio"],
         "energy_error_fem": s["energy_error_max"],
-        "status_fem": s["status"], "fem_seconds": s["wall_seconds"], "fem_steps": s["steps"],
+        "status_fem": s["status"],
+        "fem_seconds": s["wall_seconds"],
+        "fem_steps": s["steps"],
         # the ground motion this point ran: its peak (m/s^2) and when it ends (s)
-        "ground_peak": float(np.max(np.abs(study.ground.acceleration(
-            np.linspace(0.0, study.ground.end_time, 20001))))),
+        "ground_peak": float(
+            np.max(
+                np.abs(study.ground.acceleration(np.linspace(0.0, study.ground.end_time, 20001)))
+            )
+        ),
         "ground_end_time": float(study.ground.end_time),
     }
 
@@ -116,9 +135,16 @@ def _mode(overturned: bool, impacts: int) -> str:
     return "after-impact" if impacts > 0 else "without-impact"
 
 
-def run_spectrum_crosscheck(study_path: Path, out: Path, *, workers=None, scheduler=None,
-                            grid: tuple[int, int] | None = None, progress: bool = True,
-                            force: bool = False) -> dict:
+def run_spectrum_crosscheck(
+    study_path: Path,
+    out: Path,
+    *,
+    workers=None,
+    scheduler=None,
+    grid: tuple[int, int] | None = None,
+    progress: bool = True,
+    force: bool = False,
+) -> dict:
     """Run (or resume) the grid of a spectrum cross-check study and write its report."""
     study_path = Path(study_path)
     data = read_toml(study_path, "study file")
@@ -126,49 +152,76 @@ def run_spectrum_crosscheck(study_path: Path, out: Path, *, workers=None, schedu
     ground = dict(base_data.get("ground", {}))
     kind = ground.pop("pulse", "sine")
     if kind not in ("sine", "cosine", "record"):
-        raise InputError(f"{study_path}: ground.pulse = {kind!r}: the spectrum cross-check needs "
-                         "'sine', 'cosine' or 'record' (the grid sets its amplitude and "
-                         "frequency or time scale)")
+        raise InputError(
+            f"{study_path}: ground.pulse = {kind!r}: the spectrum cross-check needs "
+            "'sine', 'cosine' or 'record' (the grid sets its amplitude and "
+            "frequency or time scale)"
+        )
     record_file = ground.pop("record", None) if kind == "record" else None
     if kind == "record" and record_file is None:
         raise InputError(f"{study_path}: ground.record (file) is required with pulse = 'record'")
     if ground:
-        raise InputError(f"{study_path}: ground.{sorted(ground)[0]} is set by the grid of a "
-                         "spectrum cross-check: leave it out")
-    omegas, amplitudes = grid_of(data, grid, record=kind == "record",
-                                 source=str(study_path))
-    if kind == "record":          # the study with the record as it is: its block and peak
-        as_given = from_dict({**base_data, "ground": {"pulse": "record", "record": record_file}},
-                             source=str(study_path), base=study_path.parent)
+        raise InputError(
+            f"{study_path}: ground.{sorted(ground)[0]} is set by the grid of a "
+            "spectrum cross-check: leave it out"
+        )
+    omegas, amplitudes = grid_of(data, grid, record=kind == "record", source=str(study_path))
+    if kind == "record":  # the study with the record as it is: its block and peak
+        as_given = from_dict(
+            {**base_data, "ground": {"pulse": "record", "record": record_file}},
+            source=str(study_path),
+            base=study_path.parent,
+        )
         original = as_given.ground
         uplift = as_given.rocking_block.uplift_acceleration("nonlinear")
 
     def with_pulse(omega_ratio, amplitude_ratio):
         variant = copy.deepcopy(base_data)
-        if kind == "record":          # omega_ratio is the time scale here
-            variant["ground"] = {"pulse": "record", "record": str(record_file),
-                                 "scale": float(amplitude_ratio * uplift
-                                                / original.peak_acceleration),
-                                 "time_scale": float(omega_ratio)}
+        if kind == "record":  # omega_ratio is the time scale here
+            variant["ground"] = {
+                "pulse": "record",
+                "record": str(record_file),
+                "scale": float(amplitude_ratio * uplift / original.peak_acceleration),
+                "time_scale": float(omega_ratio),
+            }
         else:
-            variant["ground"] = {"pulse": kind, "amplitude_ratio": float(amplitude_ratio),
-                                 "omega_ratio": float(omega_ratio)}
+            variant["ground"] = {
+                "pulse": kind,
+                "amplitude_ratio": float(amplitude_ratio),
+                "omega_ratio": float(omega_ratio),
+            }
         return variant
 
-    study = from_dict(with_pulse(omegas[0], amplitudes[0]), source=str(study_path),
-                      base=study_path.parent)                                     # fails early
+    study = from_dict(
+        with_pulse(omegas[0], amplitudes[0]), source=str(study_path), base=study_path.parent
+    )  # fails early
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     cases = []
     for i, a in enumerate(amplitudes):
         for j, w in enumerate(omegas):
-            cases.append({"study": with_pulse(w, a), "source": str(study_path),
-                          "base": str(study_path.parent.resolve()),
-                          "key": f"a{a:.6g}-w{w:.6g}", "omega_ratio": float(w),
-                          "amplitude_ratio": float(a), "row": i, "column": j})
+            cases.append(
+                {
+                    "study": with_pulse(w, a),
+                    "source": str(study_path),
+                    "base": str(study_path.parent.resolve()),
+                    "key": f"a{a:.6g}-w{w:.6g}",
+                    "omega_ratio": float(w),
+                    "amplitude_ratio": float(a),
+                    "row": i,
+                    "column": j,
+                }
+            )
     start = time.perf_counter()
-    results = run_cases(grid_point_case, cases, out, workers=workers, scheduler=scheduler,
-                        progress=progress, force=force)
+    results = run_cases(
+        grid_point_case,
+        cases,
+        out,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+        force=force,
+    )
     summary = assemble_summary(study, omegas, amplitudes, cases, results)
     summary["x_axis"] = "time_scale" if kind == "record" else "omega_ratio"
     if kind == "record":
@@ -193,35 +246,53 @@ def assemble_summary(study, omegas, amplitudes, cases, results) -> dict:
 
     def overturned(modes):
         return [[m != "safe" for m in row] for row in modes]
-    same = [[f == m for f, m in zip(rf, rm)]
-            for rf, rm in zip(overturned(mode_fem), overturned(mode_mb))]
+
+    same = [
+        [f == m for f, m in zip(rf, rm)]
+        for rf, rm in zip(overturned(mode_fem), overturned(mode_mb))
+    ]
     flat = [v for row in same for v in row]
-    rigid = {"question": QUESTIONS["rigid_assumption_ok"],
-             "answer": YES if all(flat) else NO, "measure":
-             "pulses where the FEM and the rigid multibody model give the same outcome "
-             "(overturns or not; one FEM run per pulse)",
-             "count": sum(flat), "points": len(flat), "figure": "maps"}
-    answers = {"rigid_assumption_ok": rigid,
-               "collars_yield": count_answer(QUESTIONS["collars_yield"],
-                                             "pulses where the FEM's collars yield",
-                                             [[u >= 1.0 for u in row] for row in
-                                              grid("collar_utilisation_fem")], "maps")
-               if study.collars else not_assessed(QUESTIONS["collars_yield"],
-                                                  "the column has no collars"),
-               "toe_crushes": count_answer(QUESTIONS["toe_crushes"],
-                                           "pulses where the FEM's toe stress reaches f_c",
-                                           [[r is not None and r >= 1.0 for r in row]
-                                            for row in grid("toe_ratio_fem")], "maps")}
-    models = [grid_outcome("FEM, deformable halves", overturned(mode_fem)),
-              grid_outcome("rigid multibody", overturned(mode_mb)),
-              grid_outcome("SDOF half block with collars (the paper's)", overturned(mode_sdof))]
+    rigid = {
+        "question": QUESTIONS["rigid_assumption_ok"],
+        "answer": YES if all(flat) else NO,
+        "measure": "pulses where the FEM and the rigid multibody model give the same outcome "
+        "(overturns or not; one FEM run per pulse)",
+        "count": sum(flat),
+        "points": len(flat),
+        "figure": "maps",
+    }
+    answers = {
+        "rigid_assumption_ok": rigid,
+        "collars_yield": count_answer(
+            QUESTIONS["collars_yield"],
+            "pulses where the FEM's collars yield",
+            [[u >= 1.0 for u in row] for row in grid("collar_utilisation_fem")],
+            "maps",
+        )
+        if study.collars
+        else not_assessed(QUESTIONS["collars_yield"], "the column has no collars"),
+        "toe_crushes": count_answer(
+            QUESTIONS["toe_crushes"],
+            "pulses where the FEM's toe stress reaches f_c",
+            [[r is not None and r >= 1.0 for r in row] for row in grid("toe_ratio_fem")],
+            "maps",
+        ),
+    }
+    models = [
+        grid_outcome("FEM, deformable halves", overturned(mode_fem)),
+        grid_outcome("rigid multibody", overturned(mode_mb)),
+        grid_outcome("SDOF half block with collars (the paper's)", overturned(mode_sdof)),
+    ]
     return {
-        "study": study.name, "kind": "spectrum-crosscheck",
+        "study": study.name,
+        "kind": "spectrum-crosscheck",
         "outcome": outcome(models, answers),
         "layout": "maps[i][j]: i indexes amplitude_ratios (rows), j indexes omega_ratios",
         "omega_ratios": [float(w) for w in omegas],
         "amplitude_ratios": [float(a) for a in amplitudes],
-        "mode_fem": mode_fem, "mode_multibody": mode_mb, "mode_sdof": mode_sdof,
+        "mode_fem": mode_fem,
+        "mode_multibody": mode_mb,
+        "mode_sdof": mode_sdof,
         "collar_yield_fem": [[u >= 1.0 for u in row] for row in grid("collar_utilisation_fem")],
         "collar_utilisation_fem": grid("collar_utilisation_fem"),
         "toe_ratio_fem": grid("toe_ratio_fem"),

@@ -35,9 +35,11 @@ from .output import _plain, write_json
 NOT_INPUTS = ("progress", "source", "base")
 NOT_STUDY_INPUTS = ("name", "description")
 # the files a case's study dict may name, relative to the case's "base" (key path: what it is)
-INPUT_FILES = {("ground", "record"): "record file",
-               ("ground", "vertical_record"): "vertical record file",
-               ("mesh", "file"): "mesh file"}
+INPUT_FILES = {
+    ("ground", "record"): "record file",
+    ("ground", "vertical_record"): "vertical record file",
+    ("mesh", "file"): "mesh file",
+}
 
 
 # called once before a run computes any case, after its inputs are checked (the command line
@@ -94,16 +96,24 @@ def case_inputs(case: dict, file_hashes: dict | None = None) -> dict:
                 continue
             path = (base / str(given)).resolve()
             if path not in file_hashes:
-                file_hashes[path] = (hashlib.sha256(path.read_bytes()).hexdigest()
-                                     if path.is_file() else None)
+                file_hashes[path] = (
+                    hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else None
+                )
             files[f"{name}.{table}.{key}"] = {"path": str(given), "sha256": file_hashes[path]}
     kept = {k: v for k, v in case.items() if k not in NOT_INPUTS}
     for name in ("study", "ground_study"):
         if isinstance(kept.get(name), dict) and isinstance(kept[name].get("study"), dict):
-            kept[name] = {**kept[name], "study": {k: v for k, v in kept[name]["study"].items()
-                                                  if k not in NOT_STUDY_INPUTS}}
-    return {"case": json.loads(canonical_json(kept)), "files": files,
-            "colonna_version": colonna_version()}
+            kept[name] = {
+                **kept[name],
+                "study": {
+                    k: v for k, v in kept[name]["study"].items() if k not in NOT_STUDY_INPUTS
+                },
+            }
+    return {
+        "case": json.loads(canonical_json(kept)),
+        "files": files,
+        "colonna_version": colonna_version(),
+    }
 
 
 def inputs_hash(inputs: dict) -> str:
@@ -132,8 +142,10 @@ def _first_difference(old, new, path: str = "") -> str | None:
         for key in sorted(set(old) | set(new)):
             where = f"{path}.{key}" if path else str(key)
             if key not in old or key not in new:
-                return (f"{where}: {_value_text(old.get(key), key not in old)} -> "
-                        f"{_value_text(new.get(key), key not in new)}")
+                return (
+                    f"{where}: {_value_text(old.get(key), key not in old)} -> "
+                    f"{_value_text(new.get(key), key not in new)}"
+                )
             found = _first_difference(old[key], new[key], where)
             if found:
                 return found
@@ -153,8 +165,9 @@ def describe_difference(old: dict, new: dict) -> str:
     """The first difference between the saved inputs of a case and the present ones, in
     words: a key path of the case, a changed file, or the colonna version."""
     old_case, new_case = old.get("case", {}), new["case"]
-    found = (_first_difference(old_case.get("study"), new_case.get("study"), "study")
-             or _first_difference(old_case, new_case))
+    found = _first_difference(
+        old_case.get("study"), new_case.get("study"), "study"
+    ) or _first_difference(old_case, new_case)
     if found:
         return found
     old_files = old.get("files", {})
@@ -181,17 +194,28 @@ def stale_cases(cases: list[dict], out: Path, inputs: dict) -> dict:
             continue
         saved = _load_inputs(out, key)
         if saved is None:
-            stale[key] = ("has no record of the inputs it was computed from (an older colonna "
-                          "saved it)")
+            stale[key] = (
+                "has no record of the inputs it was computed from (an older colonna saved it)"
+            )
         elif saved["sha256"] != inputs_hash(inputs[key]):
-            stale[key] = ("was computed from other inputs ("
-                          + describe_difference(saved.get("inputs", {}), inputs[key]) + ")")
+            stale[key] = (
+                "was computed from other inputs ("
+                + describe_difference(saved.get("inputs", {}), inputs[key])
+                + ")"
+            )
     return stale
 
 
-def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Path, *,
-              workers: int | None = None, scheduler: str | None = None,
-              progress: bool = True, force: bool = False) -> dict:
+def run_cases(
+    function: Callable[[dict, str], dict],
+    cases: list[dict],
+    out: Path,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool = True,
+    force: bool = False,
+) -> dict:
     """Results keyed by case key. ``function(case, case_directory)`` runs one case in a worker
     and returns its result; it may write files into its case directory.
 
@@ -209,8 +233,10 @@ def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Pat
         key, why = next(iter(stale.items()))
         n = len(stale) - 1
         more = f" (and {n} more case{'s' if n > 1 else ''})" if n else ""
-        raise InputError(f"{case_dir(out, key)} {why}{more}: pass --force to delete and "
-                         f"recompute {'them' if n else 'it'}, or choose another --out")
+        raise InputError(
+            f"{case_dir(out, key)} {why}{more}: pass --force to delete and "
+            f"recompute {'them' if n else 'it'}, or choose another --out"
+        )
     for key in stale:
         shutil.rmtree(case_dir(out, key))
     results = {}
@@ -228,13 +254,21 @@ def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Pat
     for case in todo:
         case_dir(out, case["key"]).mkdir(parents=True, exist_ok=True)
     # a progress bar on a terminal, nothing in a log (cases already done count as done)
-    bar = tqdm(total=len(cases), initial=len(results), desc="[study] cases", unit="case",
-               disable=not (progress and sys.stderr.isatty()), dynamic_ncols=True)
+    bar = tqdm(
+        total=len(cases),
+        initial=len(results),
+        desc="[study] cases",
+        unit="case",
+        disable=not (progress and sys.stderr.isatty()),
+        dynamic_ncols=True,
+    )
 
     def finish(case, result):
         key = case["key"]
-        write_json(case_dir(out, key) / "inputs.json",       # first: a result has its inputs
-                   {"sha256": inputs_hash(inputs[key]), "inputs": inputs[key]})
+        write_json(
+            case_dir(out, key) / "inputs.json",  # first: a result has its inputs
+            {"sha256": inputs_hash(inputs[key]), "inputs": inputs[key]},
+        )
         write_json(case_dir(out, key) / "result.json", result)
         results[case["key"]] = result
         bar.set_postfix_str(case["key"], refresh=False)
@@ -243,9 +277,12 @@ def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Pat
     if scheduler:
         from distributed import Client
         from distributed import as_completed as dask_completed
+
         with Client(scheduler) as client:
-            futures = {client.submit(function, case, str(case_dir(out, case["key"])),
-                                     pure=False): case for case in todo}
+            futures = {
+                client.submit(function, case, str(case_dir(out, case["key"])), pure=False): case
+                for case in todo
+            }
             for future in dask_completed(futures):
                 finish(futures[future], future.result())
     elif (workers or 1) <= 1 or len(todo) == 1:
@@ -253,8 +290,9 @@ def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Pat
             finish(case, function(case, str(case_dir(out, case["key"]))))
     else:
         with ProcessPoolExecutor(max_workers=workers) as pool:
-            futures = {pool.submit(function, case, str(case_dir(out, case["key"]))): case
-                       for case in todo}
+            futures = {
+                pool.submit(function, case, str(case_dir(out, case["key"]))): case for case in todo
+            }
             for future in as_completed(futures):
                 finish(futures[future], future.result())
     bar.close()
@@ -262,6 +300,12 @@ def run_cases(function: Callable[[dict, str], dict], cases: list[dict], out: Pat
 
 
 def default_workers() -> int:
-    return max(1, min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
-                      else os.cpu_count() or 1, 8))
-
+    return max(
+        1,
+        min(
+            len(os.sched_getaffinity(0))
+            if hasattr(os, "sched_getaffinity")
+            else os.cpu_count() or 1,
+            8,
+        ),
+    )

@@ -46,11 +46,19 @@ def mesh_sizes(data: dict, study) -> list[float]:
     return [study.mesh_size * conv.ratio ** (conv.levels - 1 - k) for k in range(conv.levels)]
 
 
-def run_sweep_study(kind: str, study_path: Path, out: Path, *, workers=None, scheduler=None,
-                    progress: bool = True, force: bool = False) -> dict:
+def run_sweep_study(
+    kind: str,
+    study_path: Path,
+    out: Path,
+    *,
+    workers=None,
+    scheduler=None,
+    progress: bool = True,
+    force: bool = False,
+) -> dict:
     study_path = Path(study_path)
     data = read_toml(study_path, "study file")
-    study = from_dict(data, source=str(study_path), base=study_path.parent)   # fails early
+    study = from_dict(data, source=str(study_path), base=study_path.parent)  # fails early
     out = Path(out)
     start = time.perf_counter()
     if kind == "mesh-convergence":
@@ -60,15 +68,32 @@ def run_sweep_study(kind: str, study_path: Path, out: Path, *, workers=None, sch
         for k, size in enumerate(sizes):
             variant = copy.deepcopy(data)
             variant.setdefault("mesh", {})["size"] = size
-            cases.append(dict(_base(data, study_path), study=variant, key=f"mesh-{k + 1}",
-                              kind="fem", size=size))
-        results = run_cases(_runner, cases, out, workers=workers, scheduler=scheduler,
-                            progress=progress, force=force)
+            cases.append(
+                dict(
+                    _base(data, study_path),
+                    study=variant,
+                    key=f"mesh-{k + 1}",
+                    kind="fem",
+                    size=size,
+                )
+            )
+        results = run_cases(
+            _runner,
+            cases,
+            out,
+            workers=workers,
+            scheduler=scheduler,
+            progress=progress,
+            force=force,
+        )
         summary = _convergence_summary(study, cases, results)
     else:
         out.mkdir(parents=True, exist_ok=True)
-        variants = {"solid": (False, False), "cracked": (True, False),
-                    "cracked-collars": (True, True)}
+        variants = {
+            "solid": (False, False),
+            "cracked": (True, False),
+            "cracked-collars": (True, True),
+        }
         cases = []
         for name, (cracked, collars) in variants.items():
             variant = copy.deepcopy(data)
@@ -76,10 +101,25 @@ def run_sweep_study(kind: str, study_path: Path, out: Path, *, workers=None, sch
             if not collars:
                 variant.pop("collar", None)
             for kind_ in ("fem", "rigid"):
-                cases.append(dict(_base(data, study_path), study=variant, ground_study=data,
-                                  key=f"{name}-{kind_}", kind=kind_, variant=name))
-        results = run_cases(_runner, cases, out, workers=workers, scheduler=scheduler,
-                            progress=progress, force=force)
+                cases.append(
+                    dict(
+                        _base(data, study_path),
+                        study=variant,
+                        ground_study=data,
+                        key=f"{name}-{kind_}",
+                        kind=kind_,
+                        variant=name,
+                    )
+                )
+        results = run_cases(
+            _runner,
+            cases,
+            out,
+            workers=workers,
+            scheduler=scheduler,
+            progress=progress,
+            force=force,
+        )
         summary = _variants_summary(study, variants, results)
     summary["wall_seconds"] = time.perf_counter() - start
     summary["kind"] = kind
@@ -100,15 +140,29 @@ def _convergence_summary(study, cases, results) -> dict:
         values = [get(results[c["key"]]["summary"]) for c in cases]
         table[name] = convergence_table(values, ratio)
     finest = results[cases[-1]["key"]]["summary"]
-    models = [fem_model(f"FEM, mesh size {c['size'] * 1e3:.4g} mm", results[c["key"]]["summary"],
-                        study.rocking_alpha) for c in cases]
-    answers = fem_answers(finest, "the mesh-convergence study runs the FEM alone; the "
-                          "cross-check study compares it with the rigid models",
-                          collars=bool(study.collars))
-    return {"study": study.name, "outcome": outcome(models, answers),
-            "sizes": sizes, "ratio": ratio, "convergence": table,
-            "dofs": [results[c["key"]]["summary"]["dofs"] for c in cases],
-            "fem": {c["key"]: results[c["key"]]["summary"] for c in cases}}
+    models = [
+        fem_model(
+            f"FEM, mesh size {c['size'] * 1e3:.4g} mm",
+            results[c["key"]]["summary"],
+            study.rocking_alpha,
+        )
+        for c in cases
+    ]
+    answers = fem_answers(
+        finest,
+        "the mesh-convergence study runs the FEM alone; the "
+        "cross-check study compares it with the rigid models",
+        collars=bool(study.collars),
+    )
+    return {
+        "study": study.name,
+        "outcome": outcome(models, answers),
+        "sizes": sizes,
+        "ratio": ratio,
+        "convergence": table,
+        "dofs": [results[c["key"]]["summary"]["dofs"] for c in cases],
+        "fem": {c["key"]: results[c["key"]]["summary"] for c in cases},
+    }
 
 
 def _variants_summary(study, variants, results) -> dict:
@@ -132,16 +186,24 @@ def _variants_summary(study, variants, results) -> dict:
         rigid = results[f"{name}-rigid"]
         label = name.replace("-", " with ").replace("cracked with collars", "cracked, with collars")
         cracked, collared = variants[name]
-        alpha = rocking_alpha(study.width, study.height, cracked,
-                              collared and bool(study.collars))
+        alpha = rocking_alpha(study.width, study.height, cracked, collared and bool(study.collars))
         models.append(fem_model(f"FEM, {label}", fem, alpha))
-        models.append(model_outcome(f"SDOF, {label}", rigid["overturned"],
-                                    rigid["max_abs_theta"], rigid["alpha"],
-                                    rigid.get("overturn_time")))
-    as_built = results[f"{list(variants)[-1]}-fem"]["summary"]     # cracked, with collars
-    answers = fem_answers(as_built, "this study compares the solid and cracked columns; the "
-                          "cross-check study compares the FEM with the rigid models",
-                          collars=bool(study.collars))
+        models.append(
+            model_outcome(
+                f"SDOF, {label}",
+                rigid["overturned"],
+                rigid["max_abs_theta"],
+                rigid["alpha"],
+                rigid.get("overturn_time"),
+            )
+        )
+    as_built = results[f"{list(variants)[-1]}-fem"]["summary"]  # cracked, with collars
+    answers = fem_answers(
+        as_built,
+        "this study compares the solid and cracked columns; the "
+        "cross-check study compares the FEM with the rigid models",
+        collars=bool(study.collars),
+    )
     return {"study": study.name, "outcome": outcome(models, answers), "variants": rows}
 
 

@@ -22,7 +22,7 @@ from ..rigid.spectrum import overturning_spectrum
 from .output import write_csv, write_json
 
 ZHANG_MAKRIS = dict(p=2.14, alpha=0.25, restitution=0.9)
-PAPER_AMPLITUDES = (3.0, 3.01, 6.32, 6.33)     # a_p / (g alpha), paper Fig. 5 a-d
+PAPER_AMPLITUDES = (3.0, 3.01, 6.32, 6.33)  # a_p / (g alpha), paper Fig. 5 a-d
 OMEGA_RATIO = 5.0
 
 
@@ -30,12 +30,15 @@ def zhang_makris_block(**kw) -> Block:
     return Block.from_dimensionless(**ZHANG_MAKRIS, **kw)
 
 
-def mode_boundaries(block: Block, omega_ratio: float, model: str, brackets,
-                    tol: float = 1e-6, collars=()) -> list[float]:
+def mode_boundaries(
+    block: Block, omega_ratio: float, model: str, brackets, tol: float = 1e-6, collars=()
+) -> list[float]:
     """Amplitude ratios where the mode changes, refined by bisection inside each bracket."""
+
     def mode(x):
-        return rock(block, pulse_from_ratios(block, "sine", omega_ratio, x, model), collars,
-                    model=model).mode
+        return rock(
+            block, pulse_from_ratios(block, "sine", omega_ratio, x, model), collars, model=model
+        ).mode
 
     found = []
     for lo, hi in brackets:
@@ -63,40 +66,65 @@ def zhang_makris_validation(out: Path, progress: bool = True) -> dict:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     block = zhang_makris_block()
-    summary: dict[str, Any] = {"block": {"p": block.p, "alpha": block.alpha, "restitution": block.nu,
-                         "b": block.b, "h": block.h},
-               "omega_ratio": OMEGA_RATIO, "histories": {}}
+    summary: dict[str, Any] = {
+        "block": {
+            "p": block.p,
+            "alpha": block.alpha,
+            "restitution": block.nu,
+            "b": block.b,
+            "h": block.h,
+        },
+        "omega_ratio": OMEGA_RATIO,
+        "histories": {},
+    }
     start = time.perf_counter()
 
     say("time histories at the paper's amplitudes (linear model, Omega/p = 5)")
     for x in PAPER_AMPLITUDES:
-        result = rock(block, pulse_from_ratios(block, "sine", OMEGA_RATIO, x, "linear"),
-                      model="linear")
+        result = rock(
+            block, pulse_from_ratios(block, "sine", OMEGA_RATIO, x, "linear"), model="linear"
+        )
         tag = f"{x:.2f}".replace(".", "_")
-        write_csv(out / f"history_{tag}.csv",
-                  {"t": result.time, "theta_over_alpha": result.theta / block.alpha,
-                   "theta_dot_over_p": result.theta_dot / block.p})
-        plot_history(result, out / f"history_{tag}.png",
-                     title=f"a_p = {x:g} g alpha, Omega/p = 5: {result.mode}")
-        summary["histories"][f"{x:g}"] = {k: result.summary()[k] for k in
-                                          ("overturned", "mode", "impacts",
-                                           "max_abs_theta_over_alpha")}
+        write_csv(
+            out / f"history_{tag}.csv",
+            {
+                "t": result.time,
+                "theta_over_alpha": result.theta / block.alpha,
+                "theta_dot_over_p": result.theta_dot / block.p,
+            },
+        )
+        plot_history(
+            result,
+            out / f"history_{tag}.png",
+            title=f"a_p = {x:g} g alpha, Omega/p = 5: {result.mode}",
+        )
+        summary["histories"][f"{x:g}"] = {
+            k: result.summary()[k]
+            for k in ("overturned", "mode", "impacts", "max_abs_theta_over_alpha")
+        }
 
     say("mode boundaries at Omega/p = 5 (bisection)")
     brackets = [(2.5, 4.0), (5.5, 6.9), (6.9, 8.0)]
     summary["boundaries"] = {
         "linear": mode_boundaries(block, OMEGA_RATIO, "linear", brackets),
         "nonlinear": mode_boundaries(block, OMEGA_RATIO, "nonlinear", brackets),
-        "meaning": ["safe -> overturns after impact", "overturns after impact -> safe",
-                    "safe -> overturns without impact"],
+        "meaning": [
+            "safe -> overturns after impact",
+            "overturns after impact -> safe",
+            "safe -> overturns without impact",
+        ],
         "paper_fig5_brackets": [[3.0, 3.01], [6.32, 6.33], None],
     }
 
     say("overturning spectra (linear and nonlinear, 300 x 200 pulses each)")
     omegas = np.linspace(0.5, 15.0, 300)
     amplitudes = np.linspace(1.0, 20.0, 200)
-    cracked = Block(b=block.b, h=block.h, mass=2700.0 * 4 * block.b * block.h * np.pi * block.b,
-                    restitution=block.restitution)
+    cracked = Block(
+        b=block.b,
+        h=block.h,
+        mass=2700.0 * 4 * block.b * block.h * np.pi * block.b,
+        restitution=block.restitution,
+    )
     collars = (Collar(y=0.5 * block.h, t=0.01, h=0.04), Collar(y=1.5 * block.h, t=0.01, h=0.04))
     summary["spectra"] = {}
     for model in ("linear", "nonlinear"):
@@ -104,14 +132,20 @@ def zhang_makris_validation(out: Path, progress: bool = True) -> dict:
             spec = overturning_spectrum(blk, omegas, amplitudes, cols, model=model)
             name = f"spectrum_{model}_{label}"
             plot_spectrum(spec, out / f"{name}.png")
-            write_csv(out / f"{name}_minimum_amplitude.csv",
-                      {"omega_ratio": spec.omega_ratios,
-                       "amplitude_ratio": spec.minimum_overturning_amplitude()})
+            write_csv(
+                out / f"{name}_minimum_amplitude.csv",
+                {
+                    "omega_ratio": spec.omega_ratios,
+                    "amplitude_ratio": spec.minimum_overturning_amplitude(),
+                },
+            )
             counts = np.bincount(spec.codes.ravel(), minlength=3)
-            summary["spectra"][name] = {"seconds": spec.seconds,
-                                        "safe": int(counts[0]),
-                                        "after_impact": int(counts[1]),
-                                        "without_impact": int(counts[2])}
+            summary["spectra"][name] = {
+                "seconds": spec.seconds,
+                "safe": int(counts[0]),
+                "after_impact": int(counts[1]),
+                "without_impact": int(counts[2]),
+            }
             say(f"  {name}: {spec.codes.size} pulses in {spec.seconds:.2f} s")
     summary["wall_seconds"] = time.perf_counter() - start
     write_json(out / "summary.json", summary)
@@ -122,11 +156,13 @@ def zhang_makris_validation(out: Path, progress: bool = True) -> dict:
 
 def _write_report(out: Path, s: dict) -> None:
     lin, non = s["boundaries"]["linear"], s["boundaries"]["nonlinear"]
-    rows = "\n".join(f"| {x} | {h['mode']} | {h['impacts']} | {h['max_abs_theta_over_alpha']:.4f} |"
-                     for x, h in s["histories"].items())
+    rows = "\n".join(
+        f"| {x} | {h['mode']} | {h['impacts']} | {h['max_abs_theta_over_alpha']:.4f} |"
+        for x, h in s["histories"].items()
+    )
     text = f"""# Zhang & Makris block: validation of the rigid solver
 
-Block: p = {s['block']['p']:.2f} rad/s, alpha = {s['block']['alpha']:.2f} rad, nu = 0.9;
+Block: p = {s["block"]["p"]:.2f} rad/s, alpha = {s["block"]["alpha"]:.2f} rad, nu = 0.9;
 one-sine pulse, Omega/p = 5, amplitude a_p in units of g alpha (linear model).
 
 | a_p / (g alpha) | mode | impacts | max abs theta / alpha |
@@ -152,8 +188,10 @@ Mode boundaries at Omega/p = 5 (a_p / a_uplift, bisection to 1e-6):
 def run_zhang_makris(study_path: Path, out: Path, *, progress: bool = True, **_) -> dict:
     """The validation as a study (its study file has nothing to vary): summary.json, figures."""
     from .outcome import none_assessed
+
     summary = zhang_makris_validation(Path(out), progress=progress)
-    summary["outcome"] = none_assessed("this study validates the rigid solver against Zhang & "
-                                       "Makris (2001); it assesses no column")
+    summary["outcome"] = none_assessed(
+        "this study validates the rigid solver against Zhang & Makris (2001); it assesses no column"
+    )
     write_json(Path(out) / "summary.json", summary)
     return summary

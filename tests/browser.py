@@ -15,6 +15,7 @@ SPAN = re.compile(r'<span data-key="([^"]+)"(?: data-scale="([^"]+)")?>([^<]*)</
 
 def browser() -> str:
     from colonna.studies.pdf import find_browser
+
     found = find_browser()
     if found is None:
         pytest.skip("no headless browser (make test installs chromium where apt is available)")
@@ -27,9 +28,20 @@ def check_report(page: Path, scratch: Path) -> list[dict]:
     probe = f"<script>{CHECK.read_text()}</script>"
     checked = Path(scratch) / "check.html"
     checked.write_text(text.replace("</body>", probe + "</body>"))
-    run = subprocess.run([browser(), "--headless=new", "--no-sandbox", "--disable-gpu",
-                          "--virtual-time-budget=20000", "--dump-dom", checked.as_uri()],
-                         capture_output=True, text=True, timeout=180)
+    run = subprocess.run(
+        [
+            browser(),
+            "--headless=new",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--virtual-time-budget=20000",
+            "--dump-dom",
+            checked.as_uri(),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=180,
+    )
     found = re.findall(r'<pre id="colonna-check">(.*?)</pre>', run.stdout, re.S)
     assert found, run.stderr[-2000:]
     return json.loads(html.unescape(found[-1]))
@@ -60,13 +72,19 @@ def assert_table_numbers_have_units(page_text: str) -> int:
             for j, (_attrs, cell) in enumerate(cells):
                 spans = [shown for _, _, shown in SPAN.findall(cell)]
                 bare = re.sub(r"<[^>]+>", "", cell).replace("&times;", "").strip()
-                if len(spans) != 1 or not NUMBER.match(spans[0]) or bare != spans[0] and \
-                        "&nbsp;" not in cell:
-                    continue                      # not a lone number (words, prose, yes/no)
+                if (
+                    len(spans) != 1
+                    or not NUMBER.match(spans[0])
+                    or bare != spans[0]
+                    and "&nbsp;" not in cell
+                ):
+                    continue  # not a lone number (words, prose, yes/no)
                 checked += 1
-                has_unit = ("</span>&nbsp;" in cell
-                            or (unit_cell and unit_cell[0].strip())
-                            or (j < len(header) and re.search(r"\([^)]+\)", header[j])))
+                has_unit = (
+                    "</span>&nbsp;" in cell
+                    or (unit_cell and unit_cell[0].strip())
+                    or (j < len(header) and re.search(r"\([^)]+\)", header[j]))
+                )
                 assert has_unit, (row, header)
     return checked
 
@@ -76,6 +94,7 @@ def assert_report_says_what_summary_says(page_text: str, summary: dict) -> int:
     (times its data-scale where the report shows another unit: MPa from Pa, ...), as the
     report formats it; words are the summary's words. Returns how many were checked."""
     from colonna.studies.report import fmt
+
     spans = SPAN.findall(page_text)
     for key, scale, shown in spans:
         node = summary
@@ -95,9 +114,11 @@ def assert_opens_with_the_outcome(page_text: str, summary: dict) -> None:
     summary.json's outcome (the data-key of the word names it)."""
     assert re.findall(r"<h2>([^<]+)</h2>", page_text)[0] == "Outcome"
     answers = summary["outcome"]["answers"]
-    assert [a["key"] for a in answers] == ["rigid_assumption_ok", "collars_yield",
-                                           "toe_crushes"]
+    assert [a["key"] for a in answers] == ["rigid_assumption_ok", "collars_yield", "toe_crushes"]
     for i, a in enumerate(answers):
-        cell = re.search(rf'data-answer="{a["key"]}"[^>]*><span data-key="outcome\.answers\.'
-                         rf'{i}\.answer">([^<]+)</span>', page_text)
+        cell = re.search(
+            rf'data-answer="{a["key"]}"[^>]*><span data-key="outcome\.answers\.'
+            rf'{i}\.answer">([^<]+)</span>',
+            page_text,
+        )
         assert cell and cell.group(1) == a["answer"], a["key"]

@@ -18,4 +18,5 @@ def zm_block():
 def half_column():
     """One half of a cracked marble column 0.8 m wide, 4 m tall (t = pi b, 2700 kg/m^3)."""
     import math
+
     return Block.from_density(b=0.2, h=2.0, density=2700.0, thickness=math.pi * 0.2)

@@ -13,9 +13,23 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 
-def reference_rocking(p, alpha, nu, ground_over_g, t_ground_end, *, nonlinear, t_stop,
-                      collar_ka=0.0, collar_kl=0.0, rtol=1e-12, atol=1e-14, uplift=None,
-                      max_impacts=2000, settle=True):
+def reference_rocking(
+    p,
+    alpha,
+    nu,
+    ground_over_g,
+    t_ground_end,
+    *,
+    nonlinear,
+    t_stop,
+    collar_ka=0.0,
+    collar_kl=0.0,
+    rtol=1e-12,
+    atol=1e-14,
+    uplift=None,
+    max_impacts=2000,
+    settle=True,
+):
     """Return (overturned, impacts, max_abs_theta, impact_times, (t, theta, omega) pieces)."""
     p2 = p * p
     if uplift is None:
@@ -35,6 +49,7 @@ def reference_rocking(p, alpha, nu, ground_over_g, t_ground_end, *, nonlinear, t
             else:
                 acc = p2 * th - p2 * (s * alpha + ug) - 0.5 * collar_kl * th
             return [om, acc]
+
         return f
 
     # start: first time the ground reaches the uplift level (sampled, then refined)
@@ -52,18 +67,29 @@ def reference_rocking(p, alpha, nu, ground_over_g, t_ground_end, *, nonlinear, t
 
     def hit_zero(t, y):
         return y[0]
+
     hit_zero.terminal = True
 
     def fall(t, y):
         return abs(y[0]) - math.pi / 2
+
     fall.terminal = True
 
     while t < t_stop and len(impacts) < max_impacts:
         # integrate in two legs so that the pulse end is a step boundary
         t_next = t_ground_end if t < t_ground_end else t_stop
         hit_zero.direction = 1.0 if s < 0 else -1.0
-        sol = solve_ivp(rhs(s), (t, t_next), y, method="DOP853", rtol=rtol, atol=atol,
-                        events=(hit_zero, fall), dense_output=True, first_step=1e-6)
+        sol = solve_ivp(
+            rhs(s),
+            (t, t_next),
+            y,
+            method="DOP853",
+            rtol=rtol,
+            atol=atol,
+            events=(hit_zero, fall),
+            dense_output=True,
+            first_step=1e-6,
+        )
         pieces.append(sol)
         max_theta = max(max_theta, float(np.max(np.abs(sol.y[0]))))
         if sol.t_events[1].size:
@@ -77,7 +103,7 @@ def reference_rocking(p, alpha, nu, ground_over_g, t_ground_end, *, nonlinear, t
             s = -s
             # after the ground stops, a block upright with less kinetic energy than the gravity
             # barrier at |theta| = alpha can never overturn
-            barrier = p2 * (1 - math.cos(alpha)) if nonlinear else 0.5 * p2 * alpha ** 2
+            barrier = p2 * (1 - math.cos(alpha)) if nonlinear else 0.5 * p2 * alpha**2
             if settle and t >= t_ground_end and 0.5 * y[1] ** 2 < barrier:
                 return False, len(impacts), max_theta, impacts, pieces
             if abs(nu * om) < 1e-9 * p:
@@ -100,4 +126,5 @@ def reference_rocking(p, alpha, nu, ground_over_g, t_ground_end, *, nonlinear, t
 def sine_pulse_over_g(amplitude_over_g, omega, phase, t_end):
     def f(t):
         return amplitude_over_g * math.sin(omega * t + phase) if 0.0 <= t <= t_end else 0.0
+
     return f

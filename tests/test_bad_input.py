@@ -35,6 +35,7 @@ def _file(name, content, mode="w"):
         else:
             path.write_text(content)
         return str(path)
+
     return make
 
 
@@ -47,103 +48,258 @@ CASES = [
     ("negative b", lambda t, o: ["rigid", "--b", "-0.2", "--h", "1"] + PULSE, ["b"]),
     ("zero h", lambda t, o: ["rigid", "--b", "0.2", "--h", "0"] + PULSE, ["h"]),
     ("alpha past pi/2", lambda t, o: ["rigid", "--p", "2", "--alpha", "2"] + PULSE, ["alpha"]),
-    ("restitution above 1", lambda t, o: ["rigid"] + BLOCK + PULSE + ["--restitution", "1.5"],
-     ["restitution"]),
-    ("amplitude below uplift", lambda t, o: ["rigid"] + BLOCK + ["--omega-ratio", "3",
-                                                                 "--amplitude-ratio", "0.5"],
-     ["amplitude"]),
-    ("negative omega", lambda t, o: ["rigid"] + BLOCK + ["--omega-ratio", "-3",
-                                                         "--amplitude-ratio", "2"], ["omega"]),
-    ("huge duration sign", lambda t, o: ["rigid"] + BLOCK + PULSE + ["--duration", "-1"],
-     ["duration"]),
-    ("unknown pulse", lambda t, o: ["rigid"] + BLOCK + PULSE + ["--pulse", "square"],
-     ["--pulse"]),
+    (
+        "restitution above 1",
+        lambda t, o: ["rigid"] + BLOCK + PULSE + ["--restitution", "1.5"],
+        ["restitution"],
+    ),
+    (
+        "amplitude below uplift",
+        lambda t, o: ["rigid"] + BLOCK + ["--omega-ratio", "3", "--amplitude-ratio", "0.5"],
+        ["amplitude"],
+    ),
+    (
+        "negative omega",
+        lambda t, o: ["rigid"] + BLOCK + ["--omega-ratio", "-3", "--amplitude-ratio", "2"],
+        ["omega"],
+    ),
+    (
+        "huge duration sign",
+        lambda t, o: ["rigid"] + BLOCK + PULSE + ["--duration", "-1"],
+        ["duration"],
+    ),
+    ("unknown pulse", lambda t, o: ["rigid"] + BLOCK + PULSE + ["--pulse", "square"], ["--pulse"]),
     ("negative mass", lambda t, o: ["rigid"] + BLOCK + PULSE + ["--mass", "-3"], ["mass"]),
-    ("negative top load", lambda t, o: ["rigid"] + BLOCK + PULSE + ["--mass", "10",
-                                                                    "--top-load", "-5"],
-     ["top_load"]),
-    ("top load without mass", lambda t, o: ["rigid"] + BLOCK + PULSE + ["--top-load", "5"],
-     ["mass"]),
-    ("unknown flag", lambda t, o: ["rigid"] + BLOCK + PULSE + ["--colour", "red"],
-     ["--colour"]),
+    (
+        "negative top load",
+        lambda t, o: ["rigid"] + BLOCK + PULSE + ["--mass", "10", "--top-load", "-5"],
+        ["top_load"],
+    ),
+    (
+        "top load without mass",
+        lambda t, o: ["rigid"] + BLOCK + PULSE + ["--top-load", "5"],
+        ["mass"],
+    ),
+    ("unknown flag", lambda t, o: ["rigid"] + BLOCK + PULSE + ["--colour", "red"], ["--colour"]),
     ("unknown command", lambda t, o: ["wobble"], ["wobble"]),
-    ("bad grid", lambda t, o: ["spectrum"] + BLOCK + ["--omega-ratios", "1:5:x",
-                                                      "--amplitude-ratios", "1:3:3"],
-     ["omega"]),
+    (
+        "bad grid",
+        lambda t, o: (
+            ["spectrum"] + BLOCK + ["--omega-ratios", "1:5:x", "--amplitude-ratios", "1:3:3"]
+        ),
+        ["omega"],
+    ),
     # --- study files ----------------------------------------------------------------------
-    ("missing study file", lambda t, o: ["study", str(t / "nope.toml"), "--out", o],
-     ["nope.toml"]),
-    ("empty study file", lambda t, o: ["fem", _file("e.toml", "")(t), "--out", o],
-     ["column.height is required", "no [ground] table"]),
-    ("binary study file", lambda t, o: ["fem", _file("b.toml", b"\x00\xff\xfe", "wb")(t),
-                                        "--out", o], ["b.toml"]),
-    ("not TOML", lambda t, o: ["fem", _file("x.toml", "[column\nheight=")(t), "--out", o],
-     ["x.toml"]),
-    ("unknown table", lambda t, o: ["fem", _replace("[ground]", "[grund]")(t), "--out", o],
-     ["unknown table grund", "column"]),
-    ("unknown key", lambda t, o: ["fem", _replace("height = 1.0", "heigth = 1.0")(t),
-                                  "--out", o], ["unknown key column.heigth", "height"]),
-    ("string for number", lambda t, o: ["fem", _replace("height = 1.0", 'height = "tall"')(t),
-                                        "--out", o], ["height"]),
-    ("nan in study", lambda t, o: ["fem", _replace("width = 0.2", "width = nan")(t),
-                                   "--out", o], ["column.width = nan", "(0, inf), m"]),
-    ("inf in study", lambda t, o: ["fem", _replace("width = 0.2", "width = inf")(t),
-                                   "--out", o], ["width"]),
-    ("negative E", lambda t, o: ["fem", _replace("[column]", "[stone]\nE = -5e9\n[column]")(t),
-                                 "--out", o], ["stone.E = -5000000000.0", "(0, inf), Pa"]),
-    ("Poisson too big", lambda t, o: ["fem", _replace("[column]", "[stone]\nnu = 0.6\n[column]")(t),
-                                      "--out", o], ["stone.nu = 0.6", "[0, 0.5)"]),
-    ("bool for number", lambda t, o: ["fem", _replace("size = 0.05", "size = true")(t),
-                                      "--out", o], ["mesh.size = True", "a number"]),
-    ("mesh too coarse", lambda t, o: ["fem", _replace("size = 0.05", "size = 5.0")(t),
-                                      "--out", o], ["mesh.size"]),
-    ("collar above the column", lambda t, o: ["fem", _replace("y = 0.5", "y = 3.0")(t),
-                                              "--out", o], ["collar"]),
-    ("collar without t", lambda t, o: ["fem", _replace("t = 0.004\n", "")(t), "--out", o],
-     ["collar[1].t is required", "(0, inf), m"]),
-    ("plastic not a bool", lambda t, o: ["fem", _replace("h = 0.02", 'h = 0.02\nplastic = "yes"')(t),
-                                         "--out", o], ["plastic"]),
-    ("friction negative", lambda t, o: ["fem", _replace("[mesh]", "[contact]\nfriction = -1\n[mesh]")(t),
-                                        "--out", o], ["contact.friction = -1", "[0, inf)"]),
-    ("toe refinements", lambda t, o: ["fem", _replace("grading = 0.0", "grading = 0.0\ntoe_refinements = [1, 3]")(t),
-                                      "--out", o], ["toe_refinements"]),
-    ("vertical without period", lambda t, o: ["fem", _replace("omega_ratio = 3.0", "omega_ratio = 3.0\nvertical_amplitude = 2.0")(t),
-                                              "--out", o], ["vertical_period"]),
-    ("dt above stable", lambda t, o: ["fem", _replace("output_interval = 0.005", "output_interval = 0.005\ndt = 1.0")(t),
-                                      "--out", o], ["dt"]),
-    ("negative output interval", lambda t, o: ["fem", _replace("output_interval = 0.005", "output_interval = -0.005")(t),
-                                               "--out", o], ["run.output_interval = -0.005", "(0, inf), s"]),
-    ("unknown study kind", lambda t, o: ["study", _replace('name = "tiny"', 'name = "tiny"\nkind = "wobble"')(t),
-                                         "--out", o], ["wobble"]),
+    ("missing study file", lambda t, o: ["study", str(t / "nope.toml"), "--out", o], ["nope.toml"]),
+    (
+        "empty study file",
+        lambda t, o: ["fem", _file("e.toml", "")(t), "--out", o],
+        ["column.height is required", "no [ground] table"],
+    ),
+    (
+        "binary study file",
+        lambda t, o: ["fem", _file("b.toml", b"\x00\xff\xfe", "wb")(t), "--out", o],
+        ["b.toml"],
+    ),
+    (
+        "not TOML",
+        lambda t, o: ["fem", _file("x.toml", "[column\nheight=")(t), "--out", o],
+        ["x.toml"],
+    ),
+    (
+        "unknown table",
+        lambda t, o: ["fem", _replace("[ground]", "[grund]")(t), "--out", o],
+        ["unknown table grund", "column"],
+    ),
+    (
+        "unknown key",
+        lambda t, o: ["fem", _replace("height = 1.0", "heigth = 1.0")(t), "--out", o],
+        ["unknown key column.heigth", "height"],
+    ),
+    (
+        "string for number",
+        lambda t, o: ["fem", _replace("height = 1.0", 'height = "tall"')(t), "--out", o],
+        ["height"],
+    ),
+    (
+        "nan in study",
+        lambda t, o: ["fem", _replace("width = 0.2", "width = nan")(t), "--out", o],
+        ["column.width = nan", "(0, inf), m"],
+    ),
+    (
+        "inf in study",
+        lambda t, o: ["fem", _replace("width = 0.2", "width = inf")(t), "--out", o],
+        ["width"],
+    ),
+    (
+        "negative E",
+        lambda t, o: ["fem", _replace("[column]", "[stone]\nE = -5e9\n[column]")(t), "--out", o],
+        ["stone.E = -5000000000.0", "(0, inf), Pa"],
+    ),
+    (
+        "Poisson too big",
+        lambda t, o: ["fem", _replace("[column]", "[stone]\nnu = 0.6\n[column]")(t), "--out", o],
+        ["stone.nu = 0.6", "[0, 0.5)"],
+    ),
+    (
+        "bool for number",
+        lambda t, o: ["fem", _replace("size = 0.05", "size = true")(t), "--out", o],
+        ["mesh.size = True", "a number"],
+    ),
+    (
+        "mesh too coarse",
+        lambda t, o: ["fem", _replace("size = 0.05", "size = 5.0")(t), "--out", o],
+        ["mesh.size"],
+    ),
+    (
+        "collar above the column",
+        lambda t, o: ["fem", _replace("y = 0.5", "y = 3.0")(t), "--out", o],
+        ["collar"],
+    ),
+    (
+        "collar without t",
+        lambda t, o: ["fem", _replace("t = 0.004\n", "")(t), "--out", o],
+        ["collar[1].t is required", "(0, inf), m"],
+    ),
+    (
+        "plastic not a bool",
+        lambda t, o: ["fem", _replace("h = 0.02", 'h = 0.02\nplastic = "yes"')(t), "--out", o],
+        ["plastic"],
+    ),
+    (
+        "friction negative",
+        lambda t, o: ["fem", _replace("[mesh]", "[contact]\nfriction = -1\n[mesh]")(t), "--out", o],
+        ["contact.friction = -1", "[0, inf)"],
+    ),
+    (
+        "toe refinements",
+        lambda t, o: [
+            "fem",
+            _replace("grading = 0.0", "grading = 0.0\ntoe_refinements = [1, 3]")(t),
+            "--out",
+            o,
+        ],
+        ["toe_refinements"],
+    ),
+    (
+        "vertical without period",
+        lambda t, o: [
+            "fem",
+            _replace("omega_ratio = 3.0", "omega_ratio = 3.0\nvertical_amplitude = 2.0")(t),
+            "--out",
+            o,
+        ],
+        ["vertical_period"],
+    ),
+    (
+        "dt above stable",
+        lambda t, o: [
+            "fem",
+            _replace("output_interval = 0.005", "output_interval = 0.005\ndt = 1.0")(t),
+            "--out",
+            o,
+        ],
+        ["dt"],
+    ),
+    (
+        "negative output interval",
+        lambda t, o: [
+            "fem",
+            _replace("output_interval = 0.005", "output_interval = -0.005")(t),
+            "--out",
+            o,
+        ],
+        ["run.output_interval = -0.005", "(0, inf), s"],
+    ),
+    (
+        "unknown study kind",
+        lambda t, o: [
+            "study",
+            _replace('name = "tiny"', 'name = "tiny"\nkind = "wobble"')(t),
+            "--out",
+            o,
+        ],
+        ["wobble"],
+    ),
     # --- records --------------------------------------------------------------------------
-    ("missing record", lambda t, o: ["rigid"] + BLOCK + ["--record", str(t / "none.AT2")],
-     ["none.AT2"]),
-    ("empty record", lambda t, o: ["rigid"] + BLOCK + ["--record", _file("e.txt", "")(t)],
-     ["e.txt"]),
-    ("binary record", lambda t, o: ["rigid"] + BLOCK + ["--record",
-                                                         _file("b.txt", b"\x00\x01\x02", "wb")(t)],
-     ["b.txt"]),
-    ("AT2 without header", lambda t, o: ["rigid"] + BLOCK + ["--record",
-                                                              _file("h.AT2", "1 2 3\n4 5 6\n")(t)],
-     ["NPTS"]),
-    ("AT2 short of values", lambda t, o: ["rigid"] + BLOCK + [
-        "--record", _file("s.AT2", "a\nb\nc\nNPTS= 10, DT= 0.01 SEC\n0.1 0.2\n")(t)], ["NPTS"]),
-    ("AT2 non-numeric", lambda t, o: ["rigid"] + BLOCK + [
-        "--record", _file("n.AT2", "a\nb\nc\nNPTS= 3, DT= 0.01 SEC\n0.1 x 0.2\n")(t)],
-     ["non-numeric"]),
-    ("time not increasing", lambda t, o: ["rigid"] + BLOCK + [
-        "--record", _file("t.txt", "0 0.1\n0.2 0.3\n0.1 0.2\n")(t)], ["time"]),
-    ("nan in record", lambda t, o: ["rigid"] + BLOCK + [
-        "--record", _file("nan.txt", "0 0.1\n0.1 nan\n0.2 0.2\n")(t)], ["non-finite"]),
-    ("record and pulse", lambda t, o: ["rigid"] + BLOCK + PULSE + [
-        "--record", _file("r.txt", "0 0\n1 1\n")(t)], ["--record"]),
+    (
+        "missing record",
+        lambda t, o: ["rigid"] + BLOCK + ["--record", str(t / "none.AT2")],
+        ["none.AT2"],
+    ),
+    (
+        "empty record",
+        lambda t, o: ["rigid"] + BLOCK + ["--record", _file("e.txt", "")(t)],
+        ["e.txt"],
+    ),
+    (
+        "binary record",
+        lambda t, o: ["rigid"] + BLOCK + ["--record", _file("b.txt", b"\x00\x01\x02", "wb")(t)],
+        ["b.txt"],
+    ),
+    (
+        "AT2 without header",
+        lambda t, o: ["rigid"] + BLOCK + ["--record", _file("h.AT2", "1 2 3\n4 5 6\n")(t)],
+        ["NPTS"],
+    ),
+    (
+        "AT2 short of values",
+        lambda t, o: (
+            ["rigid"]
+            + BLOCK
+            + ["--record", _file("s.AT2", "a\nb\nc\nNPTS= 10, DT= 0.01 SEC\n0.1 0.2\n")(t)]
+        ),
+        ["NPTS"],
+    ),
+    (
+        "AT2 non-numeric",
+        lambda t, o: (
+            ["rigid"]
+            + BLOCK
+            + ["--record", _file("n.AT2", "a\nb\nc\nNPTS= 3, DT= 0.01 SEC\n0.1 x 0.2\n")(t)]
+        ),
+        ["non-numeric"],
+    ),
+    (
+        "time not increasing",
+        lambda t, o: (
+            ["rigid"] + BLOCK + ["--record", _file("t.txt", "0 0.1\n0.2 0.3\n0.1 0.2\n")(t)]
+        ),
+        ["time"],
+    ),
+    (
+        "nan in record",
+        lambda t, o: (
+            ["rigid"] + BLOCK + ["--record", _file("nan.txt", "0 0.1\n0.1 nan\n0.2 0.2\n")(t)]
+        ),
+        ["non-finite"],
+    ),
+    (
+        "record and pulse",
+        lambda t, o: ["rigid"] + BLOCK + PULSE + ["--record", _file("r.txt", "0 0\n1 1\n")(t)],
+        ["--record"],
+    ),
     # --- meshes -------------------------------------------------------------------------
-    ("missing mesh file", lambda t, o: ["fem", _replace("size = 0.05\ngrading = 0.0",
-                                                        'file = "none.msh"')(t), "--out", o],
-     ["none.msh"]),
-    ("mesh not a mesh", lambda t, o: ["fem", _replace(
-        "size = 0.05\ngrading = 0.0", f'file = "{_file("m.msh", "hello")(t)}"')(t), "--out", o],
-     ["m.msh"]),
+    (
+        "missing mesh file",
+        lambda t, o: [
+            "fem",
+            _replace("size = 0.05\ngrading = 0.0", 'file = "none.msh"')(t),
+            "--out",
+            o,
+        ],
+        ["none.msh"],
+    ),
+    (
+        "mesh not a mesh",
+        lambda t, o: [
+            "fem",
+            _replace("size = 0.05\ngrading = 0.0", f'file = "{_file("m.msh", "hello")(t)}"')(t),
+            "--out",
+            o,
+        ],
+        ["m.msh"],
+    ),
 ]
 
 
@@ -154,8 +310,11 @@ LINES = {"empty study file": 2}
 @pytest.mark.parametrize("label, argv, words", CASES, ids=[c[0] for c in CASES])
 def test_bad_input_gives_one_line_naming_it(tmp_path, capsys, label, argv, words):
     out = tmp_path / "out"
-    with pytest.raises(SystemExit) if label in ("non-number b", "unknown pulse", "unknown flag",
-                                                "unknown command") else _nothing() as raised:
+    with (
+        pytest.raises(SystemExit)
+        if label in ("non-number b", "unknown pulse", "unknown flag", "unknown command")
+        else _nothing() as raised
+    ):
         code = main(argv(tmp_path, str(out)))
     if raised is not None and getattr(raised, "value", None) is not None:
         code = raised.value.code
@@ -168,8 +327,11 @@ def test_bad_input_gives_one_line_naming_it(tmp_path, capsys, label, argv, words
     for word in words:
         assert word in err, (word, err)
     written = [p for p in out.rglob("*") if p.is_file()] if out.exists() else []
-    assert not [p for p in written if p.suffix == ".part" or p.name in (
-        "summary.json", "history.csv", "index.html")], written
+    assert not [
+        p
+        for p in written
+        if p.suffix == ".part" or p.name in ("summary.json", "history.csv", "index.html")
+    ], written
 
 
 class _nothing:
@@ -180,8 +342,7 @@ class _nothing:
         return False
 
 
-@pytest.mark.skipif(sys.platform == "win32" or os.geteuid() == 0,
-                    reason="root can write anywhere")
+@pytest.mark.skipif(sys.platform == "win32" or os.geteuid() == 0, reason="root can write anywhere")
 def test_output_directory_that_cannot_be_written(tmp_path, capsys):
     locked = tmp_path / "locked"
     locked.mkdir()

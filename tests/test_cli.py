@@ -17,8 +17,18 @@ ZM = ("--p", "2.14", "--alpha", "0.25", "--restitution", "0.9")
 
 
 def test_rigid_json_contract(capsys):
-    code, out, _ = run(capsys, "rigid", *ZM, "--model", "linear", "--omega-ratio", "5",
-                       "--amplitude-ratio", "4", "--json")
+    code, out, _ = run(
+        capsys,
+        "rigid",
+        *ZM,
+        "--model",
+        "linear",
+        "--omega-ratio",
+        "5",
+        "--amplitude-ratio",
+        "4",
+        "--json",
+    )
     assert code == 0
     data = json.loads(out)
     assert data["overturned"] is True and data["mode"] == "after-impact"
@@ -28,11 +38,28 @@ def test_rigid_json_contract(capsys):
 
 def test_rigid_out_writes_history(capsys, tmp_path):
     collars = tmp_path / "collars.toml"
-    collars.write_text("[[collar]]\ny = 1.0\nt = 0.01\nh = 0.04\n\n"
-                       "[[collar]]\ny = 3.0\nt = 0.01\nh = 0.04\n")
-    code, out, _ = run(capsys, "rigid", "--b", "0.2", "--h", "2.0", "--density", "2700",
-                       "--omega-ratio", "2", "--amplitude-ratio", "2", "--collars",
-                       str(collars), "--out", str(tmp_path / "o"), "--json")
+    collars.write_text(
+        "[[collar]]\ny = 1.0\nt = 0.01\nh = 0.04\n\n[[collar]]\ny = 3.0\nt = 0.01\nh = 0.04\n"
+    )
+    code, out, _ = run(
+        capsys,
+        "rigid",
+        "--b",
+        "0.2",
+        "--h",
+        "2.0",
+        "--density",
+        "2700",
+        "--omega-ratio",
+        "2",
+        "--amplitude-ratio",
+        "2",
+        "--collars",
+        str(collars),
+        "--out",
+        str(tmp_path / "o"),
+        "--json",
+    )
     assert code == 0
     data = json.loads(out)
     assert "collar_max_utilisation" in data
@@ -42,8 +69,20 @@ def test_rigid_out_writes_history(capsys, tmp_path):
 
 
 def test_spectrum_json_contract(capsys, tmp_path):
-    code, out, _ = run(capsys, "spectrum", *ZM, "--model", "linear", "--omega-ratios", "1:9:5",
-                       "--amplitude-ratios", "1.5:10:4", "--json", "--out", str(tmp_path))
+    code, out, _ = run(
+        capsys,
+        "spectrum",
+        *ZM,
+        "--model",
+        "linear",
+        "--omega-ratios",
+        "1:9:5",
+        "--amplitude-ratios",
+        "1.5:10:4",
+        "--json",
+        "--out",
+        str(tmp_path),
+    )
     assert code == 0
     data = json.loads(out)
     assert len(data["mode"]) == 4 and len(data["mode"][0]) == 5
@@ -53,26 +92,63 @@ def test_spectrum_json_contract(capsys, tmp_path):
 
 
 def test_design_json(capsys, tmp_path):
-    code, out, _ = run(capsys, "design", "--b", "0.2", "--h", "2.0", "--density", "2700",
-                       "--collar-t", "0.01", "--collar-h", "0.05", "--ag-ratio", "0.3",
-                       "--json", "--out", str(tmp_path))
+    code, out, _ = run(
+        capsys,
+        "design",
+        "--b",
+        "0.2",
+        "--h",
+        "2.0",
+        "--density",
+        "2700",
+        "--collar-t",
+        "0.01",
+        "--collar-h",
+        "0.05",
+        "--ag-ratio",
+        "0.3",
+        "--json",
+        "--out",
+        str(tmp_path),
+    )
     assert code == 0
     data = json.loads(out)
     assert data["required_stiffness"] > 0 and data["collars_needed"] >= 1
     assert (tmp_path / "design_chart.png").exists()
 
 
-@pytest.mark.parametrize("argv, word", [
-    (("rigid", "--p", "2", "--alpha", "2", "--omega-ratio", "2", "--amplitude-ratio", "2"),
-     "alpha"),
-    (("rigid", *ZM, "--omega-ratio", "2", "--amplitude-ratio", "0.5"), "amplitude ratio"),
-    (("rigid", "--b", "-1", "--h", "2", "--omega-ratio", "2", "--amplitude-ratio", "2"), "b "),
-    (("rigid", "--b", "0.2", "--h", "2", "--mass", "-5", "--omega-ratio", "2",
-      "--amplitude-ratio", "2"), "mass"),
-    (("rigid", *ZM, "--record", "/nonexistent/rec.at2"), "rec.at2"),
-    (("spectrum", *ZM, "--omega-ratios", "1:9", "--amplitude-ratios", "1:2:3"),
-     "--omega-ratios"),
-])
+@pytest.mark.parametrize(
+    "argv, word",
+    [
+        (
+            ("rigid", "--p", "2", "--alpha", "2", "--omega-ratio", "2", "--amplitude-ratio", "2"),
+            "alpha",
+        ),
+        (("rigid", *ZM, "--omega-ratio", "2", "--amplitude-ratio", "0.5"), "amplitude ratio"),
+        (("rigid", "--b", "-1", "--h", "2", "--omega-ratio", "2", "--amplitude-ratio", "2"), "b "),
+        (
+            (
+                "rigid",
+                "--b",
+                "0.2",
+                "--h",
+                "2",
+                "--mass",
+                "-5",
+                "--omega-ratio",
+                "2",
+                "--amplitude-ratio",
+                "2",
+            ),
+            "mass",
+        ),
+        (("rigid", *ZM, "--record", "/nonexistent/rec.at2"), "rec.at2"),
+        (
+            ("spectrum", *ZM, "--omega-ratios", "1:9", "--amplitude-ratios", "1:2:3"),
+            "--omega-ratios",
+        ),
+    ],
+)
 def test_bad_input_one_line_error(capsys, argv, word):
     code, out, err = run(capsys, *argv)
     assert code == 2
@@ -83,16 +159,33 @@ def test_bad_input_one_line_error(capsys, argv, word):
 def test_collar_above_top_cli(capsys, tmp_path):
     collars = tmp_path / "c.toml"
     collars.write_text("[[collar]]\ny = 9.0\nt = 0.01\nh = 0.04\n")
-    code, _, err = run(capsys, "rigid", "--b", "0.2", "--h", "2.0", "--density", "2700",
-                       "--omega-ratio", "2", "--amplitude-ratio", "2", "--collars", str(collars))
+    code, _, err = run(
+        capsys,
+        "rigid",
+        "--b",
+        "0.2",
+        "--h",
+        "2.0",
+        "--density",
+        "2700",
+        "--omega-ratio",
+        "2",
+        "--amplitude-ratio",
+        "2",
+        "--collars",
+        str(collars),
+    )
     assert code == 2 and "collar 1 y" in err
 
 
-@pytest.mark.parametrize("argv, word", [
-    (("spectrum", *ZM, "--amplitude-ratios", "1:2:3"), "--omega-ratios"),
-    (("rigid", "--p", "abc"), "--p"),
-    (("rigid", *ZM, "--model", "quadratic"), "--model"),
-])
+@pytest.mark.parametrize(
+    "argv, word",
+    [
+        (("spectrum", *ZM, "--amplitude-ratios", "1:2:3"), "--omega-ratios"),
+        (("rigid", "--p", "abc"), "--p"),
+        (("rigid", *ZM, "--model", "quadratic"), "--model"),
+    ],
+)
 def test_argument_errors_are_one_line(capsys, argv, word):
     with pytest.raises(SystemExit) as exc:
         main(list(argv))
@@ -103,18 +196,34 @@ def test_argument_errors_are_one_line(capsys, argv, word):
 
 # --- the multibody model ------------------------------------------------------------------------
 
+
 def test_rigid_multibody_json_contract_matches_the_python_api(capsys):
     from colonna.rigid import Block, pulse_from_ratios
     from colonna.rigid.multibody import rock_multibody
 
-    code, out, _ = run(capsys, "rigid", "--p", "2.14", "--alpha", "0.25", "--model",
-                       "multibody", "--friction", "2", "--omega-ratio", "5",
-                       "--amplitude-ratio", "3", "--json")
+    code, out, _ = run(
+        capsys,
+        "rigid",
+        "--p",
+        "2.14",
+        "--alpha",
+        "0.25",
+        "--model",
+        "multibody",
+        "--friction",
+        "2",
+        "--omega-ratio",
+        "5",
+        "--amplitude-ratio",
+        "3",
+        "--json",
+    )
     assert code == 0
     data = json.loads(out)
     blk = Block.from_dimensionless(p=2.14, alpha=0.25)
-    direct = rock_multibody(blk, pulse_from_ratios(blk, "sine", 5.0, 3.0, "nonlinear"),
-                            friction=2.0)
+    direct = rock_multibody(
+        blk, pulse_from_ratios(blk, "sine", 5.0, 3.0, "nonlinear"), friction=2.0
+    )
     assert data["overturned"] is direct.overturned and data["mode"] == direct.mode
     assert data["impacts"] == direct.impacts
     for key in ("max_abs_theta_over_alpha", "max_abs_theta_left", "max_abs_theta_right"):
@@ -124,39 +233,87 @@ def test_rigid_multibody_json_contract_matches_the_python_api(capsys):
 def test_rigid_multibody_cracked_with_collars_writes_its_histories(capsys, tmp_path):
     collars = tmp_path / "collars.toml"
     collars.write_text("[[collar]]\ny = 2.0\nt = 0.008\nh = 0.06\n")
-    code, out, _ = run(capsys, "rigid", "--b", "0.1125", "--h", "2.0", "--density", "2700",
-                       "--model", "multibody", "--crack-friction", "0.3", "--collars",
-                       str(collars), "--omega-ratio", "3", "--amplitude-ratio", "2",
-                       "--duration", "1.0", "--out", str(tmp_path / "o"), "--json")
+    code, out, _ = run(
+        capsys,
+        "rigid",
+        "--b",
+        "0.1125",
+        "--h",
+        "2.0",
+        "--density",
+        "2700",
+        "--model",
+        "multibody",
+        "--crack-friction",
+        "0.3",
+        "--collars",
+        str(collars),
+        "--omega-ratio",
+        "3",
+        "--amplitude-ratio",
+        "2",
+        "--duration",
+        "1.0",
+        "--out",
+        str(tmp_path / "o"),
+        "--json",
+    )
     assert code == 0
     data = json.loads(out)
     assert data["cracked"] is True and data["crack_friction"] == 0.3 and data["friction"] == 0.7
     header = (tmp_path / "o" / "history.csv").read_text().splitlines()[0].split(",")
-    for column in ("theta_left", "theta_right", "crack_slip", "collar_1_stress",
-                   "energy_error"):
+    for column in ("theta_left", "theta_right", "crack_slip", "collar_1_stress", "energy_error"):
         assert column in header
     assert (tmp_path / "o" / "impacts.csv").is_file()
 
 
 def test_spectrum_multibody_json(capsys):
-    code, out, _ = run(capsys, "spectrum", "--p", "2.14", "--alpha", "0.25", "--model",
-                       "multibody", "--friction", "2", "--omega-ratios", "2:8:3",
-                       "--amplitude-ratios", "1.5:12:3", "--json")
+    code, out, _ = run(
+        capsys,
+        "spectrum",
+        "--p",
+        "2.14",
+        "--alpha",
+        "0.25",
+        "--model",
+        "multibody",
+        "--friction",
+        "2",
+        "--omega-ratios",
+        "2:8:3",
+        "--amplitude-ratios",
+        "1.5:12:3",
+        "--json",
+    )
     assert code == 0
     data = json.loads(out)
     assert data["model"] == "multibody"
     assert len(data["mode"]) == 3 and len(data["mode"][0]) == 3
 
 
-@pytest.mark.parametrize("argv, word", [
-    (("--model", "nonlinear", "--friction", "0.5"), "--friction"),
-    (("--model", "linear", "--cracked"), "--cracked"),
-    (("--model", "multibody", "--friction", "-0.5"), "friction"),
-    (("--model", "multibody", "--crack-friction", "nan"), "crack friction"),
-])
+@pytest.mark.parametrize(
+    "argv, word",
+    [
+        (("--model", "nonlinear", "--friction", "0.5"), "--friction"),
+        (("--model", "linear", "--cracked"), "--cracked"),
+        (("--model", "multibody", "--friction", "-0.5"), "friction"),
+        (("--model", "multibody", "--crack-friction", "nan"), "crack friction"),
+    ],
+)
 def test_multibody_options_errors_are_one_line(capsys, argv, word):
-    code, _, err = run(capsys, "rigid", "--p", "2", "--alpha", "0.2", "--omega-ratio", "3",
-                       "--amplitude-ratio", "2", *argv)
+    code, _, err = run(
+        capsys,
+        "rigid",
+        "--p",
+        "2",
+        "--alpha",
+        "0.2",
+        "--omega-ratio",
+        "3",
+        "--amplitude-ratio",
+        "2",
+        *argv,
+    )
     assert code == 2
     assert err.count("\n") == 1 and err.startswith("colonna: error:") and word in err
 
@@ -174,16 +331,25 @@ def test_rigid_collar_state_is_apart_from_the_rocking_mode(capsys, tmp_path, mon
 
     collars = tmp_path / "collars.toml"
     collars.write_text(COLLARS)
-    argv = ("rigid", *HALF, "--omega-ratio", "2", "--amplitude-ratio", "3", "--collars",
-            str(collars))
+    argv = (
+        "rigid",
+        *HALF,
+        "--omega-ratio",
+        "2",
+        "--amplitude-ratio",
+        "3",
+        "--collars",
+        str(collars),
+    )
     titles = []
     close = plotting.plt.close
-    monkeypatch.setattr(plotting.plt, "close",
-                        lambda fig: (titles.append(fig.axes[0].get_title()), close(fig)))
+    monkeypatch.setattr(
+        plotting.plt, "close", lambda fig: (titles.append(fig.axes[0].get_title()), close(fig))
+    )
     code, out, _ = run(capsys, *argv, "--json", "--out", str(tmp_path / "o"))
     assert code == 0
     data = json.loads(out)
-    assert not data["overturned"] and data["collar_max_utilisation"] >= 1.0   # the case
+    assert not data["overturned"] and data["collar_max_utilisation"] >= 1.0  # the case
     assert data["mode"] == "safe" and data["motion"] == "rocking"
     assert data["collar_state"] == "yielded"
     for text in (data["verdict"], titles[0]):
@@ -197,8 +363,16 @@ def test_spectrum_counts_safe_pulses_whose_collars_yield(capsys, tmp_path):
     """The printed spectrum counts beside "safe" the pulses in which a collar yields."""
     collars = tmp_path / "collars.toml"
     collars.write_text(COLLARS)
-    argv = ("spectrum", *HALF, "--collars", str(collars), "--omega-ratios", "1:9:3",
-            "--amplitude-ratios", "1.5:10:3")
+    argv = (
+        "spectrum",
+        *HALF,
+        "--collars",
+        str(collars),
+        "--omega-ratios",
+        "1:9:3",
+        "--amplitude-ratios",
+        "1.5:10:3",
+    )
     code, out, _ = run(capsys, *argv, "--json")
     data = json.loads(out)
     modes = sum(data["mode"], [])
@@ -208,7 +382,8 @@ def test_spectrum_counts_safe_pulses_whose_collars_yield(capsys, tmp_path):
     lines = dict(line.split(None, 1) for line in out.splitlines())
     assert int(lines["collars_yielded"]) == sum(yields)
     assert int(lines["safe_with_collars_yielded"]) == sum(
-        y and m == "safe" for y, m in zip(yields, modes))
+        y and m == "safe" for y, m in zip(yields, modes)
+    )
 
 
 def test_motion_and_collar_words():
@@ -221,23 +396,52 @@ def test_motion_and_collar_words():
     assert motion_word(True, 0.5 * alpha, alpha) == "overturned"
     assert collar_state(0.99) == "elastic" and collar_state(1.0) == "yielded"
     assert collar_state(0.99, max_plastic_strain=1e-4) == "yielded"
-    words = verdict({"motion": "no uplift", "overturned": False, "mode": "safe",
-                     "collar_state": "elastic", "collar_max_utilisation": 0.25})
+    words = verdict(
+        {
+            "motion": "no uplift",
+            "overturned": False,
+            "mode": "safe",
+            "collar_state": "elastic",
+            "collar_max_utilisation": 0.25,
+        }
+    )
     assert words == "no uplift; collars elastic (max utilisation 0.25)"
-    assert verdict({"motion": "overturned", "overturned": True, "mode": "after-impact"}) \
+    assert (
+        verdict({"motion": "overturned", "overturned": True, "mode": "after-impact"})
         == "overturned (after-impact)"
+    )
 
 
-@pytest.mark.parametrize("key, unit", [
-    ("edge_stress_max", "MPa"), ("collar_yield_stress", "MPa"), ("edge_stress_ratio", ""),
-    ("base_reaction_static", "kN"), ("top_load", "kN"), ("yield_moment", "kN m"),
-    ("required_stiffness", "kN/m"), ("energy_dissipated", "J"), ("energy_error_max", ""),
-    ("collar_first_yield_time", "s"), ("dt", "s"), ("t_end", "s"), ("wall_seconds", "s"),
-    ("max_abs_theta", "rad"), ("max_abs_theta_over_alpha", ""), ("alpha", "rad"),
-    ("p", "rad/s"), ("b", "m"), ("max_uplift", "m"), ("uplift_acceleration", "m/s^2"),
-    ("column_mass", "kg"), ("collar_max_utilisation", ""), ("restitution_housner", ""),
-    ("steps", ""), ("dofs", ""),
-])
+@pytest.mark.parametrize(
+    "key, unit",
+    [
+        ("edge_stress_max", "MPa"),
+        ("collar_yield_stress", "MPa"),
+        ("edge_stress_ratio", ""),
+        ("base_reaction_static", "kN"),
+        ("top_load", "kN"),
+        ("yield_moment", "kN m"),
+        ("required_stiffness", "kN/m"),
+        ("energy_dissipated", "J"),
+        ("energy_error_max", ""),
+        ("collar_first_yield_time", "s"),
+        ("dt", "s"),
+        ("t_end", "s"),
+        ("wall_seconds", "s"),
+        ("max_abs_theta", "rad"),
+        ("max_abs_theta_over_alpha", ""),
+        ("alpha", "rad"),
+        ("p", "rad/s"),
+        ("b", "m"),
+        ("max_uplift", "m"),
+        ("uplift_acceleration", "m/s^2"),
+        ("column_mass", "kg"),
+        ("collar_max_utilisation", ""),
+        ("restitution_housner", ""),
+        ("steps", ""),
+        ("dofs", ""),
+    ],
+)
 def test_printed_units_follow_the_key(key, unit):
     from colonna.studies.cli import unit_of
 
@@ -250,11 +454,24 @@ def _significant_digits(number: str) -> int:
     return len(digits if "." in mantissa else digits.rstrip("0"))
 
 
-@pytest.mark.parametrize("argv", [
-    ("design", *HALF, "--collar-t", "0.01", "--collar-h", "0.05", "--ag-ratio", "0.3"),
-    ("rigid", *HALF, "--top-load", "5000", "--omega-ratio", "2", "--amplitude-ratio", "3",
-     "--collars", "COLLARS"),
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ("design", *HALF, "--collar-t", "0.01", "--collar-h", "0.05", "--ag-ratio", "0.3"),
+        (
+            "rigid",
+            *HALF,
+            "--top-load",
+            "5000",
+            "--omega-ratio",
+            "2",
+            "--amplitude-ratio",
+            "3",
+            "--collars",
+            "COLLARS",
+        ),
+    ],
+)
 def test_printed_numbers_have_four_digits_and_a_unit_json_keeps_all(capsys, tmp_path, argv):
     """Lines are ``key  value unit``: 4 significant digits in MPa, kN, ...; --json gives the
     same numbers in SI units at full precision."""
@@ -271,7 +488,7 @@ def test_printed_numbers_have_four_digits_and_a_unit_json_keeps_all(capsys, tmp_
     lines = dict(line.split(None, 1) for line in out.splitlines())
     floats = [k for k, v in data.items() if isinstance(v, float)]
     assert floats and set(floats) <= set(lines)
-    assert any(len(repr(data[k])) > 8 for k in floats)        # full precision in the JSON
+    assert any(len(repr(data[k])) > 8 for k in floats)  # full precision in the JSON
     for key in floats:
         unit, factor = unit_of(key)
         number, *shown = lines[key].split(" ", 1)
@@ -282,14 +499,28 @@ def test_printed_numbers_have_four_digits_and_a_unit_json_keeps_all(capsys, tmp_
 
 # --- the first multibody run announces numba's compilation ---------------------------------------
 
+
 @pytest.mark.parametrize("cached", [False, True])
 def test_multibody_run_announces_compilation_only_when_it_compiles(capsys, monkeypatch, cached):
     import colonna.studies.cli as cli
 
     monkeypatch.setattr(cli, "kernels_cached", lambda kernels: cached)
-    code, out, err = run(capsys, "rigid", *ZM, "--model", "multibody", "--friction", "2",
-                         "--omega-ratio", "5", "--amplitude-ratio", "3", "--duration", "1",
-                         "--json")
+    code, out, err = run(
+        capsys,
+        "rigid",
+        *ZM,
+        "--model",
+        "multibody",
+        "--friction",
+        "2",
+        "--omega-ratio",
+        "5",
+        "--amplitude-ratio",
+        "3",
+        "--duration",
+        "1",
+        "--json",
+    )
     assert code == 0 and json.loads(out)["model"] == "multibody"
     assert ("compiling the multibody kernels" in err) is not cached
     assert err.count("\n") == (0 if cached else 1)
@@ -302,16 +533,20 @@ def test_kernels_cached_reads_numba_cache(tmp_path):
     import subprocess
     import sys
 
-    code = ("import sys, numpy as np; from colonna.core import tables as K; "
-            "from colonna.studies.cli import kernels_cached; "
-            "print(kernels_cached([K.table_value])); "
-            "K.table_value(0.5, np.array([0.0, 1.0]), np.array([0.0, 2.0])); "
-            "print(kernels_cached([K.table_value]))")
+    code = (
+        "import sys, numpy as np; from colonna.core import tables as K; "
+        "from colonna.studies.cli import kernels_cached; "
+        "print(kernels_cached([K.table_value])); "
+        "K.table_value(0.5, np.array([0.0, 1.0]), np.array([0.0, 2.0])); "
+        "print(kernels_cached([K.table_value]))"
+    )
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
-    first = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                           text=True, check=True).stdout.split()
-    second = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                            text=True, check=True).stdout.split()
+    first = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    ).stdout.split()
+    second = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    ).stdout.split()
     assert first == ["False", "True"] and second == ["True", "True"]
 
 
@@ -338,30 +573,48 @@ GROUND = "[ground]\namplitude_ratio = 2.0\nomega_ratio = 3.0"
 
 
 @pytest.mark.parametrize("command", ["study", "fem"])
-@pytest.mark.parametrize("keys, lines", [
-    # a column key out of range, an unknown key in [contact], a collar above the column
-    ({"width": -0.2, "y": 1.5, "contact": "frikshun = 0.5"},
-     ["column.width = -0.2 is not allowed: a number in (0, inf), m",
-      "unknown key contact.frikshun (allowed in [contact]: friction, penalty_factor, penalty, "
-      "damping, friction_filter)",
-      "collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)"]),
-    # no [ground] hides neither a collar above the column nor a key out of range
-    ({"y": 1.5, "ground": "", "contact": "friction = -1.0"},
-     ["contact.friction = -1.0 is not allowed: a number in [0, inf)",
-      "the study has no [ground] table: give ground.pulse and, for a pulse, exactly one of "
-      "ground.amplitude and ground.amplitude_ratio and one of ground.period and "
-      "ground.omega_ratio",
-      "collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)"]),
-    # an error in [study] (which says what to run) hides none in the other tables
-    ({"study": "kynd = 'cross-check'", "y": 1.5},
-     ["unknown key study.kynd (allowed in [study]: name, description, kind)",
-      "collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)"]),
-    # a single error: its one line, as ever
-    ({"y": 1.5}, ["collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column "
-                  "height)"]),
-])
-def test_every_error_of_a_study_file_one_line_each_nothing_written(capsys, tmp_path, command,
-                                                                   keys, lines):
+@pytest.mark.parametrize(
+    "keys, lines",
+    [
+        # a column key out of range, an unknown key in [contact], a collar above the column
+        (
+            {"width": -0.2, "y": 1.5, "contact": "frikshun = 0.5"},
+            [
+                "column.width = -0.2 is not allowed: a number in (0, inf), m",
+                "unknown key contact.frikshun (allowed in [contact]: friction, penalty_factor, "
+                "penalty, damping, friction_filter)",
+                "collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)",
+            ],
+        ),
+        # no [ground] hides neither a collar above the column nor a key out of range
+        (
+            {"y": 1.5, "ground": "", "contact": "friction = -1.0"},
+            [
+                "contact.friction = -1.0 is not allowed: a number in [0, inf)",
+                "the study has no [ground] table: give ground.pulse and, for a pulse, exactly one "
+                "of ground.amplitude and ground.amplitude_ratio and one of ground.period and "
+                "ground.omega_ratio",
+                "collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)",
+            ],
+        ),
+        # an error in [study] (which says what to run) hides none in the other tables
+        (
+            {"study": "kynd = 'cross-check'", "y": 1.5},
+            [
+                "unknown key study.kynd (allowed in [study]: name, description, kind)",
+                "collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)",
+            ],
+        ),
+        # a single error: its one line, as ever
+        (
+            {"y": 1.5},
+            ["collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)"],
+        ),
+    ],
+)
+def test_every_error_of_a_study_file_one_line_each_nothing_written(
+    capsys, tmp_path, command, keys, lines
+):
     """``colonna study`` and ``colonna fem``: all the study file's errors at once, one
     ``colonna: error:`` line each naming its key, exit status 2, and no output folder."""
     study = tmp_path / "errors.toml"

@@ -29,6 +29,8 @@ def test_docstring_examples(name):
 
 def test_docstring_examples_exist():
     """The suite above would pass vacuously if no module had an example."""
-    attempted = sum(doctest.testmod(importlib.import_module(n)).attempted for n in
-                    ("colonna", "colonna.rigid.block", "colonna.core.collar"))
+    attempted = sum(
+        doctest.testmod(importlib.import_module(n)).attempted
+        for n in ("colonna", "colonna.rigid.block", "colonna.core.collar")
+    )
     assert attempted >= 5 and colonna.__version__

@@ -23,14 +23,17 @@ def test_band_counts_missing_values_and_keeps_every_value():
     assert empty["median"] is None and empty["missing"] == 2
 
 
-@pytest.mark.parametrize("values, uncertainty, word", [
-    ([1.01, 1.05, 1.2], 0.0, "yes"),         # the whole band past the limit
-    ([0.5, 0.7, 0.99], 0.0, "no"),           # none of it
-    ([0.95, 1.0, 1.05], 0.0, "undecided"),   # straddles it
-    ([1.01, 1.05], 0.02, "undecided"),       # past it, but not once the mesh error is added
-    ([0.9, 0.97], 0.02, "no"),               # below it even so
-    ([0.97, 0.98], 0.05, "undecided"),       # the mesh error reaches the limit
-])
+@pytest.mark.parametrize(
+    "values, uncertainty, word",
+    [
+        ([1.01, 1.05, 1.2], 0.0, "yes"),  # the whole band past the limit
+        ([0.5, 0.7, 0.99], 0.0, "no"),  # none of it
+        ([0.95, 1.0, 1.05], 0.0, "undecided"),  # straddles it
+        ([1.01, 1.05], 0.02, "undecided"),  # past it, but not once the mesh error is added
+        ([0.9, 0.97], 0.02, "no"),  # below it even so
+        ([0.97, 0.98], 0.05, "undecided"),  # the mesh error reaches the limit
+    ],
+)
 def test_decide_follows_the_band_on_each_side_of_the_limit(values, uncertainty, word):
     assert decide(band(values), 1.0, uncertainty) == word
 
@@ -48,9 +51,16 @@ def test_decide_count():
 
 
 def test_ensemble_summary_medians_bands_and_majority():
-    runs = [{"overturned": o, "status": "s", "collar_max_utilisation": u,
-             "collar_first_yield_time": ty, "edge_stress_max": 1e6 * u}
-            for o, u, ty in ((True, 0.8, None), (False, 1.1, 0.5), (True, 0.9, None))]
+    runs = [
+        {
+            "overturned": o,
+            "status": "s",
+            "collar_max_utilisation": u,
+            "collar_first_yield_time": ty,
+            "edge_stress_max": 1e6 * u,
+        }
+        for o, u, ty in ((True, 0.8, None), (False, 1.1, 0.5), (True, 0.9, None))
+    ]
     s = ensemble_summary(runs, LANDING_DEPENDENT)
     assert s["collar_max_utilisation"] == 0.9 and s["edge_stress_max"] == 0.9e6
     assert s["bands"]["collar_max_utilisation"]["max"] == 1.1
@@ -63,11 +73,23 @@ def test_ensemble_summary_medians_bands_and_majority():
 
 def test_a_run_whose_energy_balance_failed_stops_the_study():
     from colonna.studies.crosscheck import check_energy
+
     good = {"energy_error_max": 1e-3, "energy_error_limit": 0.05}
     bad = {"energy_error_max": 0.54, "energy_error_limit": 0.05}
-    check_energy({"fem": {"summary": good, "replica_summaries": [good, good]},
-                  "rigid": {"overturned": False}})
-    with pytest.raises(InputError, match=r"FEM case fem-mesh-2h: the energy balance is off by "
-                                         r"0\.54 .* in 1 of 2 replicas"):
-        check_energy({"fem": {"summary": good, "replica_summaries": [good]},
-                      "fem-mesh-2h": {"summary": good, "replica_summaries": [good, bad]}})
+    check_energy(
+        {
+            "fem": {"summary": good, "replica_summaries": [good, good]},
+            "rigid": {"overturned": False},
+        }
+    )
+    with pytest.raises(
+        InputError,
+        match=r"FEM case fem-mesh-2h: the energy balance is off by "
+        r"0\.54 .* in 1 of 2 replicas",
+    ):
+        check_energy(
+            {
+                "fem": {"summary": good, "replica_summaries": [good]},
+                "fem-mesh-2h": {"summary": good, "replica_summaries": [good, bad]},
+            }
+        )

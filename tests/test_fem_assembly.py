@@ -30,8 +30,11 @@ def test_rigid_body_modes_are_free(model):
     x, y = mesh.points
     for body in range(mesh.n_bodies):
         on = mesh.node_body == body
-        for mode in (np.vstack((on, 0 * on)), np.vstack((0 * on, on)),
-                     np.vstack((-y * on, x * on))):
+        for mode in (
+            np.vstack((on, 0 * on)),
+            np.vstack((0 * on, on)),
+            np.vstack((-y * on, x * on)),
+        ):
             u = mode.T.ravel().astype(float)
             assert np.abs(a.stiffness @ u).max() <= 1e-9 * np.abs(a.stiffness).max()
 
@@ -43,8 +46,8 @@ def test_static_gravity_base_pressure(model):
     n_dof = 2 * mesh.n_nodes
     fixed = []
     for base in mesh.base_nodes:
-        fixed += list(2 * base + 1)             # vertical support
-        fixed.append(2 * base[0])               # one horizontal support per body
+        fixed += list(2 * base + 1)  # vertical support
+        fixed.append(2 * base[0])  # one horizontal support per body
     fixed = np.array(fixed)
     free = np.setdiff1d(np.arange(n_dof), fixed)
     u = np.zeros(n_dof)
@@ -63,5 +66,6 @@ def test_static_gravity_base_pressure(model):
     stress = element_stress(mesh, STONE, u)
     centres = mesh.points[:, mesh.cells].mean(axis=1)
     mid = np.abs(centres[1] - 0.5 * H) < 0.3
-    np.testing.assert_allclose(stress[1, mid], -STONE.density * 9.81 * (H - centres[1, mid]),
-                               rtol=0.02)
+    np.testing.assert_allclose(
+        stress[1, mid], -STONE.density * 9.81 * (H - centres[1, mid]), rtol=0.02
+    )

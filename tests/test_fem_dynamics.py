@@ -24,18 +24,20 @@ def test_gravity_start_is_static_and_base_pressure_is_rho_g_h(tmp_path):
     (A rough base restrains the Poisson expansion and shifts pressure to the corners.)"""
     W, H, T = 0.8, 4.0, 0.5
     stone = Stone()
-    model = build_model(column_mesh(W, H, 0.05, cracked=True), stone, T,
-                        contact=ContactSettings(friction=0.0))
+    model = build_model(
+        column_mesh(W, H, 0.05, cracked=True), stone, T, contact=ContactSettings(friction=0.0)
+    )
     r = run(model, STILL, 0.01, progress=False, output_interval=0.002, out_dir=tmp_path)
     h = r.history
     # contact pressure rho g H along the base, away from the corners (2 %)
     from colonna.studies.output import read_csv
+
     pressure = read_csv(tmp_path / "base_pressure.csv")
     columns = [name for name in pressure if name != "t"]
     assert len(columns) == model.base_nodes.size
     x = model.mesh.points[0, model.base_nodes]
     for name, xv in zip(columns, x):
-        if 0.03 < abs(xv) < 0.37:                       # away from the four corners
+        if 0.03 < abs(xv) < 0.37:  # away from the four corners
             np.testing.assert_allclose(pressure[name], stone.density * 9.81 * H, rtol=0.02)
     weight_half = stone.density * 9.81 * 0.5 * W * H * T
     for b in (1, 2):
@@ -48,12 +50,16 @@ def test_gravity_start_is_static_and_base_pressure_is_rho_g_h(tmp_path):
 
 def test_crack_is_not_welded():
     """Pulled apart, the halves separate freely: no force across the crack."""
-    model = build_model(column_mesh(0.8, 2.0, 0.1, cracked=True), Stone(), 0.5,
-                        contact=ContactSettings(friction=0.0))
+    model = build_model(
+        column_mesh(0.8, 2.0, 0.1, cracked=True),
+        Stone(),
+        0.5,
+        contact=ContactSettings(friction=0.0),
+    )
     body = model.mesh.node_body
     left, right = np.nonzero(body == 0)[0], np.nonzero(body == 1)[0]
     A = model.stiffness
-    dofs = lambda nodes: np.concatenate((2 * nodes, 2 * nodes + 1))   # noqa: E731
+    dofs = lambda nodes: np.concatenate((2 * nodes, 2 * nodes + 1))  # noqa: E731
     assert A[dofs(left)][:, dofs(right)].nnz == 0
     v0 = np.zeros((model.mesh.n_nodes, 2))
     v0[left, 0], v0[right, 0] = -0.1, 0.1
@@ -74,10 +80,14 @@ def test_block_slides_exactly_when_tilt_exceeds_friction(ratio, slides):
     cone's normal force the penalty base flutters there and the block creeps at 0.95 mu.)"""
     mu = 0.3
     a = ratio * mu * 9.81
-    model = build_model(column_mesh(2.0, 0.5, 0.125, cracked=False), Stone(), 0.5,
-                        contact=ContactSettings(friction=mu))
+    model = build_model(
+        column_mesh(2.0, 0.5, 0.125, cracked=False),
+        Stone(),
+        0.5,
+        contact=ContactSettings(friction=mu),
+    )
     r = run(model, constant_ground(a), 0.2, progress=False, output_interval=0.005)
-    t, slip = r.history["t"], -r.history["translation_x_1"]    # pushed toward -x
+    t, slip = r.history["t"], -r.history["translation_x_1"]  # pushed toward -x
     if slides:
         relative_acceleration = 2.0 * np.polyfit(t[4:], slip[4:], 2)[0]
         assert relative_acceleration == pytest.approx(a - mu * 9.81, rel=0.02)
@@ -89,8 +99,12 @@ def test_block_slides_exactly_when_tilt_exceeds_friction(ratio, slides):
 
 
 def _collar_setup():
-    model = build_model(column_mesh(0.8, 2.0, 0.1, cracked=True, pinned_heights=(1.0,)),
-                        Stone(), 0.5, collars=(Collar(y=1.0, t=0.01, h=0.05),))
+    model = build_model(
+        column_mesh(0.8, 2.0, 0.1, cracked=True, pinned_heights=(1.0,)),
+        Stone(),
+        0.5,
+        collars=(Collar(y=1.0, t=0.01, h=0.05),),
+    )
     return model, model.collar_nodes, model.collar_props
 
 
@@ -111,10 +125,12 @@ def test_collar_element_axial_and_lateral_stiffness():
             assert out[0, 0] == pytest.approx(collar.E * collar.area / L * 1e-6, rel=1e-6)
         else:
             shear = abs(out[0, 1] + out[0, 2]) / L
-            assert shear == pytest.approx(12 * collar.E * collar.second_moment / L ** 3 * 1e-6,
-                                          rel=1e-4)
-            assert abs(out[0, 1]) == pytest.approx(6 * collar.E * collar.second_moment
-                                                   / L ** 2 * 1e-6, rel=1e-4)
+            assert shear == pytest.approx(
+                12 * collar.E * collar.second_moment / L**3 * 1e-6, rel=1e-4
+            )
+            assert abs(out[0, 1]) == pytest.approx(
+                6 * collar.E * collar.second_moment / L**2 * 1e-6, rel=1e-4
+            )
 
 
 def test_collar_element_is_rotation_invariant():
@@ -150,10 +166,14 @@ def test_energy_conserved_without_contact_damping():
     W, H = 0.4, 2.0
     blk = Block(b=W / 2, h=H / 2)
     pulse = pulse_from_ratios(blk, "sine", 3.0, 2.5, "nonlinear")
-    model = build_model(column_mesh(W, H, 0.1, cracked=False), Stone(), 0.3,
-                        contact=ContactSettings(friction=1.0, damping=0.0))
+    model = build_model(
+        column_mesh(W, H, 0.1, cracked=False),
+        Stone(),
+        0.3,
+        contact=ContactSettings(friction=1.0, damping=0.0),
+    )
     r = run(model, pulse, 1.5, progress=False, output_interval=2e-3)
-    assert r.summary["max_abs_theta_left"] > 0.5 * blk.alpha      # it really rocked
+    assert r.summary["max_abs_theta_left"] > 0.5 * blk.alpha  # it really rocked
     assert r.summary["energy_error_max"] < 0.01
 
 
@@ -161,6 +181,7 @@ def test_stable_step_estimate_is_sharp_for_the_stone():
     """Central differences on the elastic bodies: 10 % above 2 / omega_max diverges, just
     below stays bounded (omega_max from the lumped-mass eigenproblem)."""
     from colonna.fem.model import max_frequency
+
     model = build_model(column_mesh(0.4, 1.0, 0.1, cracked=True), Stone(), 0.3)
     K_, m = model.stiffness, model.mass
     critical = 2.0 / max_frequency(K_, m)
@@ -179,18 +200,27 @@ def test_stable_step_estimate_is_sharp_for_the_stone():
 
 
 def test_time_step_above_the_stable_one_is_rejected_and_the_estimate_runs():
-    model = build_model(column_mesh(0.4, 1.0, 0.1, cracked=True), Stone(), 0.3,
-                        contact=ContactSettings(damping=0.0))
+    model = build_model(
+        column_mesh(0.4, 1.0, 0.1, cracked=True), Stone(), 0.3, contact=ContactSettings(damping=0.0)
+    )
     step = stable_time_step(model, safety=1.0)
-    assert step.critical < step.critical_elastic          # contact shortens it, reported
+    assert step.critical < step.critical_elastic  # contact shortens it, reported
     with pytest.raises(InputError, match="run dt"):
         run(model, STILL, 0.002, dt=1.1 * step.dt, safety=1.0, progress=False)
     at = run(model, STILL, 0.01, dt=step.dt, safety=1.0, progress=False, output_interval=1e-4)
     assert at.summary["status"] == "completed"
     # far above it (guard lifted) the run goes unstable: stopped and reported as a blow-up,
     # not mistaken for overturning
-    wild = run(model, STILL, 0.01, dt=3.0 * step.critical, safety=1.0, check_dt=False,
-               progress=False, output_interval=1e-4)
+    wild = run(
+        model,
+        STILL,
+        0.01,
+        dt=3.0 * step.critical,
+        safety=1.0,
+        check_dt=False,
+        progress=False,
+        output_interval=1e-4,
+    )
     assert "blow-up" in wild.summary["status"] and not wild.summary["overturned"]
     assert np.max(np.abs(at.history["energy_kinetic"])) < 1e-6
 
@@ -204,8 +234,12 @@ def test_stiff_solid_column_follows_rigid_solution(E, tolerance):
     pulse = pulse_from_ratios(blk, "sine", 3.0, 3.0, "nonlinear")
     rigid = rock(blk, pulse, model="nonlinear", dt_out=1e-3)
     t_impact = rigid.impact_times[0]
-    model = build_model(column_mesh(W, H, 0.1, cracked=False, grading=0.3), Stone(E=E), 0.3,
-                        contact=ContactSettings(friction=1.0, damping=0.0))
+    model = build_model(
+        column_mesh(W, H, 0.1, cracked=False, grading=0.3),
+        Stone(E=E),
+        0.3,
+        contact=ContactSettings(friction=1.0, damping=0.0),
+    )
     r = run(model, pulse, t_impact, progress=False, output_interval=1e-3)
     h = r.history
     reference = np.interp(h["t"], rigid.time, rigid.theta)
@@ -217,6 +251,7 @@ def test_stress_recovery_ignores_rigid_rotation():
     """Element stresses come from the body-frame displacement: a rigid rotation of 0.3 rad
     (a rocking column) produces none, where small-strain elasticity would read ~1 GPa."""
     from colonna.fem.output import stress_fields
+
     model = build_model(column_mesh(0.8, 2.0, 0.1, cracked=True), Stone(), 0.5)
     X = model.X.reshape(-1, 2)
     c, s = math.cos(0.3), math.sin(0.3)
@@ -233,8 +268,9 @@ def test_overturning_is_detected_and_stops_the_run():
     pulse = pulse_from_ratios(blk, "sine", 1.0, 3.0, "nonlinear")
     rigid = rock(blk, pulse, model="nonlinear")
     assert rigid.overturned
-    model = build_model(column_mesh(W, H, 0.05, cracked=False), Stone(), 0.2,
-                        contact=ContactSettings(friction=1.0))
+    model = build_model(
+        column_mesh(W, H, 0.05, cracked=False), Stone(), 0.2, contact=ContactSettings(friction=1.0)
+    )
     r = run(model, pulse, pulse.duration + 3.0, progress=False, output_interval=5e-3)
     assert r.summary["overturned"] and "overturned" in r.summary["status"]
     assert r.summary["t_end"] < pulse.duration + 3.0
@@ -248,8 +284,10 @@ def _first_impact_ratios(model, blk, tilt, replicas=8):
     from colonna.fem.ensemble import band
     from colonna.fem.solver import run_ensemble
     from colonna.rigid.impacts import impact_ratios_from_peaks
-    runs = run_ensemble(model, NoMotion(), 1.2, replicas, progress=False, output_interval=1e-3,
-                        initial_tilt=tilt)
+
+    runs = run_ensemble(
+        model, NoMotion(), 1.2, replicas, progress=False, output_interval=1e-3, initial_tilt=tilt
+    )
     ratios = []
     for r in runs:
         measured = impact_ratios_from_peaks(r.history["t"], r.history["theta_left"], blk.alpha)
@@ -260,7 +298,7 @@ def _first_impact_ratios(model, blk, tilt, replicas=8):
     return band(ratios)
 
 
-STIFFENING = (50e9, 500e9, 5000e9)      # Pa: the stone made ever stiffer
+STIFFENING = (50e9, 500e9, 5000e9)  # Pa: the stone made ever stiffer
 
 
 @pytest.fixture(scope="module")
@@ -269,25 +307,36 @@ def release_bands():
     released from half its alpha, at E = 50, 500 and 5000 GPa, on a meshed base (mesh 0.1 m)
     and on a base one element wide (contact at its two corners only, as a rigid block's)."""
     from colonna.meshes import from_arrays
+
     W, H = 0.4, 2.0
     blk = Block(b=W / 2, h=H / 2)
     X, Y = np.meshgrid([-W / 2, W / 2], np.linspace(0.0, H, 21))
     idx = np.arange(X.size).reshape(X.shape)
-    corners = from_arrays(np.vstack((X.ravel(), Y.ravel())),
-                          np.vstack((idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(),
-                                     idx[1:, 1:].ravel(), idx[1:, :-1].ravel())))
+    corners = from_arrays(
+        np.vstack((X.ravel(), Y.ravel())),
+        np.vstack(
+            (idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel(), idx[1:, :-1].ravel())
+        ),
+    )
     assert corners.base_nodes[0].size == 2
     meshes = {"meshed": column_mesh(W, H, 0.1, cracked=False, grading=0.3), "corners": corners}
-    return blk, {name: [_first_impact_ratios(build_model(mesh, Stone(E=E), 0.3,
-                                                         contact=ContactSettings(friction=1.0)),
-                                             blk, 0.5 * blk.alpha)
-                        for E in STIFFENING]
-                 for name, mesh in meshes.items()}
+    return blk, {
+        name: [
+            _first_impact_ratios(
+                build_model(mesh, Stone(E=E), 0.3, contact=ContactSettings(friction=1.0)),
+                blk,
+                0.5 * blk.alpha,
+            )
+            for E in STIFFENING
+        ]
+        for name, mesh in meshes.items()
+    }
 
 
 @pytest.mark.landing
 def test_free_rocking_impact_loss_of_the_fem_approaches_housner_as_the_stone_stiffens(
-        release_bands):
+    release_bands,
+):
     """A solid column released from half its alpha (no ground motion): the velocity ratio at
     its first impact, measured from the rotation peaks through the free-rocking energy, falls
     toward Housner's 1 - 1.5 sin^2(alpha) = 0.942 as E grows. Over 8 replicas: 0.970-0.975 at
@@ -300,14 +349,17 @@ def test_free_rocking_impact_loss_of_the_fem_approaches_housner_as_the_stone_sti
     The landing is chaotic (a last-bit difference changes which node bounces first), so each
     ratio is a band over replicas and each claim is made against the bands."""
     from colonna.rigid.multibody import rock_multibody
+
     blk, bands = release_bands
     housner = blk.restitution_housner
     soft, stiff, stiffer = bands["meshed"]
-    assert soft["min"] > housner + 0.02                 # elastic stone: far above Housner
+    assert soft["min"] > housner + 0.02  # elastic stone: far above Housner
     assert stiff["median"] < soft["min"] and stiffer["median"] < soft["min"]
     # the spread contact keeps more energy than the corner contact at the same stone
     assert stiff["median"] > bands["corners"][1]["max"]
-    rigid = rock_multibody(blk, NoMotion(), friction=1.0, initial_tilt=0.5 * blk.alpha, duration=0.8)
+    rigid = rock_multibody(
+        blk, NoMotion(), friction=1.0, initial_tilt=0.5 * blk.alpha, duration=0.8
+    )
     assert rigid.impact_velocity_ratios()[0] == pytest.approx(housner, rel=1e-3)
 
 
@@ -322,14 +374,15 @@ def test_free_rocking_fem_with_the_rigid_models_base_contact_approaches_housner(
     blk, bands = release_bands
     housner = blk.restitution_housner
     soft, stiff, stiffer = bands["corners"]
-    assert soft["min"] > housner + 0.008                # elastic stone: above Housner
-    for b in (stiff, stiffer):                          # stiff: Housner within the scatter
+    assert soft["min"] > housner + 0.008  # elastic stone: above Housner
+    for b in (stiff, stiffer):  # stiff: Housner within the scatter
         assert b["min"] - 0.003 <= housner <= b["max"] + 0.003
         assert abs(b["median"] - housner) < abs(soft["median"] - housner) - 0.005
 
 
 def test_release_from_a_tilt_turns_the_static_state_about_the_toe():
     from colonna.fem.solver import static_state, turned_about_toe
+
     model = build_model(column_mesh(0.4, 2.0, 0.1, cracked=True), Stone(), 0.3)
     u0, _, _ = static_state(model)
     x, v = turned_about_toe(model, model.X + u0, 0.1, 0.2)

@@ -48,7 +48,7 @@ def test_multibody_gives_housner_and_the_fem_keeps_more_energy(free_run):
     _, s = free_run
     assert s["multibody_ratio"] == pytest.approx(s["restitution_housner"], rel=2e-3)
     assert s["restitution_housner"] < s["fem_ratio_study_stone"] < 1.0
-    assert s["alpha"] == pytest.approx(0.1 / 0.5 * 1.0, rel=0.02)     # atan(0.1 / 0.5)
+    assert s["alpha"] == pytest.approx(0.1 / 0.5 * 1.0, rel=0.02)  # atan(0.1 / 0.5)
     for variant in s["damping_variants"] + s["mesh_variants"]:
         assert s["restitution_housner"] < variant["ratio_first"] < 1.0
 
@@ -59,10 +59,12 @@ def test_report_states_the_fem_value_for_the_studys_stone(free_run):
     assert_opens_with_the_outcome(page, s)
     assert all(a["answer"] == "not assessed" for a in s["outcome"]["answers"])
     from colonna.studies.report import fmt
-    assert (f'<span data-key="fem_ratio_study_stone">{fmt(s["fem_ratio_study_stone"], 4)}'
-            '</span>') in page
+
+    assert (
+        f'<span data-key="fem_ratio_study_stone">{fmt(s["fem_ratio_study_stone"], 4)}</span>'
+    ) in page
     assert page.count("<svg") == 2
-    assert assert_table_numbers_have_units(page) >= 3      # the variants' ratios
+    assert assert_table_numbers_have_units(page) >= 3  # the variants' ratios
 
 
 def test_free_rocking_report_draws_every_figure_and_legend(free_run, tmp_path):
@@ -71,12 +73,18 @@ def test_free_rocking_report_draws_every_figure_and_legend(free_run, tmp_path):
     assert "Housner 1 - 1.5 sin²α" in {e for r in results for e in r["legend"]}
 
 
-@pytest.mark.parametrize("old, new, word", [
-    ('pulse = "none"', 'pulse = "sine"\namplitude_ratio = 2.0\nomega_ratio = 3.0',
-     "ground.pulse"),
-    ("tilt_fractions = [0.5]", "tilt_fractions = [1.5]", "free_rocking.tilt_fractions"),
-    ("damping = [0.0]", "dampng = [0.0]", "free_rocking.dampng"),
-])
+@pytest.mark.parametrize(
+    "old, new, word",
+    [
+        (
+            'pulse = "none"',
+            'pulse = "sine"\namplitude_ratio = 2.0\nomega_ratio = 3.0',
+            "ground.pulse",
+        ),
+        ("tilt_fractions = [0.5]", "tilt_fractions = [1.5]", "free_rocking.tilt_fractions"),
+        ("damping = [0.0]", "dampng = [0.0]", "free_rocking.dampng"),
+    ],
+)
 def test_bad_free_rocking_input_is_one_line(tmp_path, capsys, old, new, word):
     study = tmp_path / "bad.toml"
     study.write_text(FREE.replace(old, new))

@@ -36,9 +36,13 @@ def test_amplitude_below_uplift_is_rejected(zm_block):
 
 def test_peer_at2_round_trip(tmp_path):
     values = np.sin(np.linspace(0, 6, 23)) * 0.3
-    lines = ["PEER NGA STRONG MOTION DATABASE RECORD", "Test event, station, component",
-             "ACCELERATION TIME SERIES IN UNITS OF G", "NPTS=   23, DT=   .0100 SEC"]
-    body = [" ".join(f"{v:15.7E}" for v in values[i:i + 5]) for i in range(0, values.size, 5)]
+    lines = [
+        "PEER NGA STRONG MOTION DATABASE RECORD",
+        "Test event, station, component",
+        "ACCELERATION TIME SERIES IN UNITS OF G",
+        "NPTS=   23, DT=   .0100 SEC",
+    ]
+    body = [" ".join(f"{v:15.7E}" for v in values[i : i + 5]) for i in range(0, values.size, 5)]
     path = tmp_path / "motion.AT2"
     path.write_text("\n".join(lines + body) + "\n")
     rec = read_record(path)
@@ -61,10 +65,13 @@ def test_two_column_csv_round_trip(tmp_path):
     assert rec.acceleration(0.05) == pytest.approx(0.5 * (a[0] + a[1]))
 
 
-@pytest.mark.parametrize("text, match", [
-    ("PEER\nno header here\n1 2 3\n", "NPTS"),
-    ("PEER\nx\ny\nNPTS= 10, DT= 0.01 SEC\n1 2 3\n", "NPTS = 10"),
-])
+@pytest.mark.parametrize(
+    "text, match",
+    [
+        ("PEER\nno header here\n1 2 3\n", "NPTS"),
+        ("PEER\nx\ny\nNPTS= 10, DT= 0.01 SEC\n1 2 3\n", "NPTS = 10"),
+    ],
+)
 def test_bad_at2_files(tmp_path, text, match):
     path = tmp_path / "bad.at2"
     path.write_text(text)

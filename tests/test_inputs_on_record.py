@@ -27,14 +27,18 @@ from colonna.studies.output import record_inputs
 
 # the smallest study there is: one short FEM run of the tiny column (a collar-design study)
 DESIGN = TINY_STUDY.format(amplitude_ratio=2.5, duration=0.1).replace(
-    'name = "tiny"', 'name = "tiny"\nkind = "collar-design"')
+    'name = "tiny"', 'name = "tiny"\nkind = "collar-design"'
+)
 RECORD = Path(__file__).parent / "data" / "synthetic.AT2"
 
 
 def _files(out: Path) -> dict:
     """Every file under ``out`` with its bytes and modification time."""
-    return {p.relative_to(out): (p.read_bytes(), p.stat().st_mtime_ns)
-            for p in sorted(out.rglob("*")) if p.is_file()}
+    return {
+        p.relative_to(out): (p.read_bytes(), p.stat().st_mtime_ns)
+        for p in sorted(out.rglob("*"))
+        if p.is_file()
+    }
 
 
 @pytest.fixture(scope="module")
@@ -70,10 +74,11 @@ def test_edited_study_is_refused_and_force_recomputes_it(copied, capsys):
     assert str(Path("cases") / "fem") in err
     assert "study.ground.amplitude_ratio: 2.5 -> 3.0" in err
     assert "--force" in err and "another --out" in err
-    assert _files(out) == before                       # nothing was written, nothing lost
+    assert _files(out) == before  # nothing was written, nothing lost
 
-    assert main(["study", str(study), "--out", str(out), "--workers", "1", "--force",
-                 "--json"]) == 0
+    assert (
+        main(["study", str(study), "--out", str(out), "--workers", "1", "--force", "--json"]) == 0
+    )
     new = json.loads(capsys.readouterr().out)
     assert json.loads((out / "summary.json").read_text()) == new
     # the design pulse peak is the amplitude ratio times the uplift acceleration
@@ -102,8 +107,12 @@ def test_changed_record_file_is_detected(tmp_path, capsys):
     record = tmp_path / "quake.AT2"
     shutil.copyfile(RECORD, record)
     study = tmp_path / "record.toml"
-    study.write_text(DESIGN.replace("amplitude_ratio = 2.5\nomega_ratio = 3.0\n",
-                                    'pulse = "record"\nrecord = "quake.AT2"\nscale = 2.0\n'))
+    study.write_text(
+        DESIGN.replace(
+            "amplitude_ratio = 2.5\nomega_ratio = 3.0\n",
+            'pulse = "record"\nrecord = "quake.AT2"\nscale = 2.0\n',
+        )
+    )
     out = tmp_path / "out"
     assert main(["study", str(study), "--out", str(out), "--workers", "1"]) == 0
     before = _files(out)
@@ -145,26 +154,39 @@ def test_a_shipped_study_is_recorded_as_shipped(tmp_path):
 
 # --- run_cases on its own: cheap cases ----------------------------------------------------------
 
+
 def _square(case, directory):
     return {"value": case["x"] ** 2}
 
 
 def _cases(tmp_path, x=3.0, **study):
-    return [{"key": "one", "x": x, "study": study, "base": str(tmp_path), "source": "s.toml",
-             "progress": True},
-            {"key": "two", "x": 2 * x, "study": study, "base": str(tmp_path),
-             "source": "s.toml"}]
+    return [
+        {
+            "key": "one",
+            "x": x,
+            "study": study,
+            "base": str(tmp_path),
+            "source": "s.toml",
+            "progress": True,
+        },
+        {"key": "two", "x": 2 * x, "study": study, "base": str(tmp_path), "source": "s.toml"},
+    ]
 
 
-@pytest.mark.parametrize("table, key, what", [("ground", "record", "record file"),
-                                              ("ground", "vertical_record",
-                                               "vertical record file"),
-                                              ("mesh", "file", "mesh file")])
+@pytest.mark.parametrize(
+    "table, key, what",
+    [
+        ("ground", "record", "record file"),
+        ("ground", "vertical_record", "vertical record file"),
+        ("mesh", "file", "mesh file"),
+    ],
+)
 def test_a_changed_input_file_is_named(tmp_path, table, key, what):
     (tmp_path / "input.txt").write_text("0 0\n1 1\n")
     cases = _cases(tmp_path, **{table: {key: "input.txt"}})
     assert sweep.run_cases(_square, cases, tmp_path / "out", progress=False)["one"] == {
-        "value": 9.0}
+        "value": 9.0
+    }
     (tmp_path / "input.txt").write_text("0 0\n1 2\n")
     with pytest.raises(InputError, match=f"{what} input.txt changed") as raised:
         sweep.run_cases(_square, cases, tmp_path / "out", progress=False)
@@ -183,13 +205,19 @@ def test_what_does_not_change_the_computation_is_not_an_input(tmp_path):
     named = {"name": "a", "kind": "cross-check"}
     sweep.run_cases(counted, _cases(tmp_path, study=named), tmp_path / "out", progress=False)
     renamed = {"name": "b", "description": "now described", "kind": "cross-check"}
-    moved = [dict(c, base=str(tmp_path / "elsewhere"), source="t.toml", progress=False)
-             for c in _cases(tmp_path, study=renamed)]
+    moved = [
+        dict(c, base=str(tmp_path / "elsewhere"), source="t.toml", progress=False)
+        for c in _cases(tmp_path, study=renamed)
+    ]
     sweep.run_cases(counted, moved, tmp_path / "out", progress=False)
     assert calls == ["one", "two"]
     with pytest.raises(InputError, match='study.study.kind: "cross-check" -> "free-rocking"'):
-        sweep.run_cases(counted, _cases(tmp_path, study={**named, "kind": "free-rocking"}),
-                        tmp_path / "out", progress=False)
+        sweep.run_cases(
+            counted,
+            _cases(tmp_path, study={**named, "kind": "free-rocking"}),
+            tmp_path / "out",
+            progress=False,
+        )
 
 
 def test_another_version_is_named_and_nothing_runs_before_the_refusal(tmp_path, monkeypatch):
@@ -218,19 +246,19 @@ def test_another_version_is_named_and_nothing_runs_before_the_refusal(tmp_path, 
 def test_a_case_without_a_record_of_its_inputs_is_refused_then_forced(tmp_path):
     out = tmp_path / "out"
     sweep.run_cases(_square, _cases(tmp_path), out, progress=False)
-    (out / "cases" / "one" / "inputs.json").unlink()         # as an older colonna left it
+    (out / "cases" / "one" / "inputs.json").unlink()  # as an older colonna left it
     (out / "cases" / "one" / "old.csv").write_text("stale")
     with pytest.raises(InputError, match="one has no record of the inputs"):
         sweep.run_cases(_square, _cases(tmp_path), out, progress=False)
     sweep.run_cases(_square, _cases(tmp_path), out, progress=False, force=True)
-    assert not (out / "cases" / "one" / "old.csv").exists()   # the stale case was deleted
+    assert not (out / "cases" / "one" / "old.csv").exists()  # the stale case was deleted
     assert (out / "cases" / "one" / "inputs.json").is_file()
 
 
 def test_an_interrupted_case_is_computed_again_and_a_done_one_kept(tmp_path):
     out = tmp_path / "out"
     sweep.run_cases(_square, _cases(tmp_path), out, progress=False)
-    (out / "cases" / "two" / "result.json").unlink()          # killed before it finished
+    (out / "cases" / "two" / "result.json").unlink()  # killed before it finished
     kept = (out / "cases" / "one" / "result.json").stat().st_mtime_ns
     calls = []
 
@@ -245,30 +273,40 @@ def test_an_interrupted_case_is_computed_again_and_a_done_one_kept(tmp_path):
 
 # --- a vertical acceleration that lifts the column off the ground ------------------------------
 
+
 def test_vertical_amplitude_of_g_or_more_is_an_error(tmp_path, capsys):
     study = tmp_path / "study.toml"
-    study.write_text(DESIGN.replace("omega_ratio = 3.0",
-                                    "omega_ratio = 3.0\nvertical_amplitude = 12.0\n"
-                                    "vertical_period = 0.2"))
+    study.write_text(
+        DESIGN.replace(
+            "omega_ratio = 3.0",
+            "omega_ratio = 3.0\nvertical_amplitude = 12.0\nvertical_period = 0.2",
+        )
+    )
     assert main(["study", str(study), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
-    assert err.strip() == (f"colonna: error: {study}: ground.vertical_amplitude = 12 m/s^2 lifts "
-                           "the column off the ground: it must be below g = 9.81 m/s^2")
+    assert err.strip() == (
+        f"colonna: error: {study}: ground.vertical_amplitude = 12 m/s^2 lifts "
+        "the column off the ground: it must be below g = 9.81 m/s^2"
+    )
     assert not (tmp_path / "out").exists()
-    below = DESIGN.replace("omega_ratio = 3.0", "omega_ratio = 3.0\nvertical_amplitude = -9.8\n"
-                           "vertical_period = 0.2")
+    below = DESIGN.replace(
+        "omega_ratio = 3.0", "omega_ratio = 3.0\nvertical_amplitude = -9.8\nvertical_period = 0.2"
+    )
     assert from_dict(tomllib.loads(below)).vertical.amplitude == -9.8
 
 
 @pytest.mark.parametrize("scale, lifts", [(1.9, False), (2.1, True)])
 def test_vertical_record_reaching_g_is_an_error(tmp_path, scale, lifts):
-    (tmp_path / "up.txt").write_text("0 0\n0.1 5.0\n0.2 -3.0\n0.3 0\n")      # peak 5 m/s^2
-    text = DESIGN.replace("omega_ratio = 3.0", "omega_ratio = 3.0\nvertical_record = "
-                          f'"up.txt"\nvertical_scale = {scale}')
+    (tmp_path / "up.txt").write_text("0 0\n0.1 5.0\n0.2 -3.0\n0.3 0\n")  # peak 5 m/s^2
+    text = DESIGN.replace(
+        "omega_ratio = 3.0",
+        f'omega_ratio = 3.0\nvertical_record = "up.txt"\nvertical_scale = {scale}',
+    )
     data = tomllib.loads(text)
     if not lifts:
-        assert from_dict(data, "s.toml", base=tmp_path).vertical.peak_acceleration == \
-            pytest.approx(5.0 * scale)
+        assert from_dict(data, "s.toml", base=tmp_path).vertical.peak_acceleration == pytest.approx(
+            5.0 * scale
+        )
         return
     with pytest.raises(InputError) as raised:
         from_dict(data, "s.toml", base=tmp_path)
@@ -279,8 +317,11 @@ def test_vertical_record_reaching_g_is_an_error(tmp_path, scale, lifts):
 
 def test_a_pulse_below_uplift_names_its_file():
     data = tomllib.loads(DESIGN.replace("amplitude_ratio = 2.5", "amplitude = 0.1"))
-    with pytest.raises(InputError, match=r"^s\.toml: ground\.amplitude = 0\.1 m/s\^2 is below "
-                                         r"the uplift acceleration"):
+    with pytest.raises(
+        InputError,
+        match=r"^s\.toml: ground\.amplitude = 0\.1 m/s\^2 is below "
+        r"the uplift acceleration",
+    ):
         from_dict(data, "s.toml")
 
 
@@ -291,11 +332,14 @@ def test_report_opens_with_the_outcome_then_lists_the_inputs_of_the_study_file(d
     import re
 
     from colonna.studies.report import fmt, input_unit
+
     page = (design_run / "index.html").read_text()
     sections = re.findall(r"<h2>([^<]+)</h2>", page)
     assert sections[:2] == ["Outcome", "Inputs"], sections
-    assert all(f'data-answer="{key}"' in page
-               for key in ("rigid_assumption_ok", "collars_yield", "toe_crushes"))
+    assert all(
+        f'data-answer="{key}"' in page
+        for key in ("rigid_assumption_ok", "collars_yield", "toe_crushes")
+    )
     given = tomllib.loads(DESIGN)
     cells = re.findall(r'<td data-input="([^"]+)" data-index="(\d+)">([^<]*)</td>', page)
     shown = {(path, int(i)): value for path, i, value in cells}
@@ -311,8 +355,11 @@ def test_report_opens_with_the_outcome_then_lists_the_inputs_of_the_study_file(d
     # the defaults filled in are shown too, and the ground motion is drawn from its CSV
     assert ("column.thickness", 0) in shown and ("collar.fy", 0) in shown
     assert 'data-figure="ground_motion"' in page
-    assert (design_run / "ground_motion.csv").read_text().startswith(
-        "t,horizontal_acceleration,vertical_acceleration")
+    assert (
+        (design_run / "ground_motion.csv")
+        .read_text()
+        .startswith("t,horizontal_acceleration,vertical_acceleration")
+    )
 
 
 def test_pdf_report_starts_with_the_outcome(tmp_path):
@@ -322,21 +369,44 @@ def test_pdf_report_starts_with_the_outcome(tmp_path):
     import subprocess
 
     from colonna.studies.pdf import find_browser
+
     if find_browser() is None or shutil.which("pdftotext") is None:
-        pytest.skip("needs a Chromium browser and poppler's pdftotext (make test installs them "
-                    "where apt is available)")
+        pytest.skip(
+            "needs a Chromium browser and poppler's pdftotext (make test installs them "
+            "where apt is available)"
+        )
     study = tmp_path / "design.toml"
     study.write_text(DESIGN)
     out = tmp_path / "out"
     assert main(["study", str(study), "--out", str(out), "--workers", "1", "--pdf"]) == 0
-    first = subprocess.run(["pdftotext", "-f", "1", "-l", "1", str(out / "report.pdf"), "-"],
-                           capture_output=True, text=True, check=True).stdout
+    first = subprocess.run(
+        ["pdftotext", "-f", "1", "-l", "1", str(out / "report.pdf"), "-"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     flat = " ".join(first.split())
     assert "Outcome" in flat
-    for question in ("rigid-body assumption good enough?", "Do the collars yield?",
-                     "Does the toe crush?"):
+    for question in (
+        "rigid-body assumption good enough?",
+        "Do the collars yield?",
+        "Does the toe crush?",
+    ):
         assert question in flat, question
-    if shutil.which("pdftoppm"):        # the first page renders to an image
-        subprocess.run(["pdftoppm", "-f", "1", "-l", "1", "-png", "-r", "40",
-                        str(out / "report.pdf"), str(tmp_path / "page")], check=True)
+    if shutil.which("pdftoppm"):  # the first page renders to an image
+        subprocess.run(
+            [
+                "pdftoppm",
+                "-f",
+                "1",
+                "-l",
+                "1",
+                "-png",
+                "-r",
+                "40",
+                str(out / "report.pdf"),
+                str(tmp_path / "page"),
+            ],
+            check=True,
+        )
         assert list(tmp_path.glob("page*.png"))

@@ -11,10 +11,20 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-FOLDERS = {"core": ROOT / "colonna" / "core", "rigid": ROOT / "rigid", "fem": ROOT / "fem",
-           "meshes": ROOT / "meshes", "studies": ROOT / "studies"}
-ALLOWED = {"core": set(), "meshes": {"core"}, "rigid": {"core"}, "fem": {"core", "meshes"},
-           "studies": {"core", "rigid", "fem", "meshes"}}
+FOLDERS = {
+    "core": ROOT / "colonna" / "core",
+    "rigid": ROOT / "rigid",
+    "fem": ROOT / "fem",
+    "meshes": ROOT / "meshes",
+    "studies": ROOT / "studies",
+}
+ALLOWED = {
+    "core": set(),
+    "meshes": {"core"},
+    "rigid": {"core"},
+    "fem": {"core", "meshes"},
+    "studies": {"core", "rigid", "fem", "meshes"},
+}
 
 
 def imported_packages(path: Path, package: str) -> set[str]:
@@ -28,7 +38,7 @@ def imported_packages(path: Path, package: str) -> set[str]:
                     found.add(parts[1])
                 elif parts[0] == "colonna":
                     found.update(alias.name for alias in node.names)
-            elif node.level >= 2:            # from ..rigid import x / from .. import rigid
+            elif node.level >= 2:  # from ..rigid import x / from .. import rigid
                 target = (node.module or "").split(".")[0]
                 found.update([target] if target else [alias.name for alias in node.names])
         elif isinstance(node, ast.Import):
@@ -52,9 +62,11 @@ def test_a_package_imports_only_what_the_layout_allows(package):
 def test_the_import_reader_sees_every_form(tmp_path):
     """The reader above would pass vacuously if it missed an import form."""
     module = tmp_path / "m.py"
-    module.write_text("from ..rigid.block import Block\nfrom .. import studies\n"
-                      "import colonna.fem.model\nfrom colonna.meshes import column\n"
-                      "def f():\n    from ..core.errors import InputError\n")
+    module.write_text(
+        "from ..rigid.block import Block\nfrom .. import studies\n"
+        "import colonna.fem.model\nfrom colonna.meshes import column\n"
+        "def f():\n    from ..core.errors import InputError\n"
+    )
     assert imported_packages(module, "x") == {"rigid", "studies", "fem", "meshes", "core"}
 
 
@@ -67,13 +79,16 @@ def test_every_fem_run_of_a_study_goes_through_one_function():
     callers = {}
     for path in sorted(FOLDERS["studies"].rglob("*.py")):
         tree = ast.parse(path.read_text(), str(path))
-        scopes = [(node.name, node) for node in ast.walk(tree)
-                  if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))]
+        scopes = [
+            (node.name, node)
+            for node in ast.walk(tree)
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))
+        ]
         for node in ast.walk(tree):
             if not (isinstance(node, ast.ImportFrom) and (node.module or "").endswith("solver")):
                 continue
             names = FEM_RUNS & {alias.name for alias in node.names}
-            if names:      # the innermost function around the import, or the module
+            if names:  # the innermost function around the import, or the module
                 inner = [name for name, f in scopes if f.lineno <= node.lineno <= f.end_lineno]
                 where = f"{path.name}:{inner[-1] if inner else '<module>'}"
                 callers.setdefault(where, set()).update(names)

@@ -16,8 +16,8 @@ def mesh(request):
 def test_crack_is_not_welded():
     m = column_mesh(0.8, 4.0, 0.1, cracked=True)
     left, right = m.crack_nodes
-    np.testing.assert_allclose(m.points[:, left], m.points[:, right])   # same places
-    assert not set(left) & set(right)                                   # different nodes
+    np.testing.assert_allclose(m.points[:, left], m.points[:, right])  # same places
+    assert not set(left) & set(right)  # different nodes
     # no cell uses nodes of both bodies
     assert np.all(m.node_body[m.cells] == m.cell_body[None, :])
     assert m.n_bodies == 2
@@ -29,8 +29,9 @@ def test_tags_and_area(mesh):
         assert np.all(p[1, nodes] == 0.0) and np.all(np.diff(p[0, nodes]) > 0)
     assert np.all(np.abs(np.abs(p[0, np.concatenate(mesh.outer_nodes)]) - 0.4) < 1e-12)
     q = p[:, mesh.cells]
-    area = 0.5 * np.abs((q[0, 0] - q[0, 2]) * (q[1, 1] - q[1, 3])
-                        - (q[0, 1] - q[0, 3]) * (q[1, 0] - q[1, 2]))
+    area = 0.5 * np.abs(
+        (q[0, 0] - q[0, 2]) * (q[1, 1] - q[1, 3]) - (q[0, 1] - q[0, 3]) * (q[1, 0] - q[1, 2])
+    )
     assert area.sum() == pytest.approx(0.8 * 4.0, rel=1e-12)
 
 
@@ -73,20 +74,25 @@ def test_from_arrays_orients_cells():
 
 def test_xdmf_time_series(tmp_path):
     import meshio
+
     m = column_mesh(0.8, 2.0, 0.2)
-    write_time_series(tmp_path / "run.xdmf", m, [0.0, 0.1],
-                      lambda k: {"u": np.full((m.n_nodes, 2), float(k))})
+    write_time_series(
+        tmp_path / "run.xdmf", m, [0.0, 0.1], lambda k: {"u": np.full((m.n_nodes, 2), float(k))}
+    )
     with meshio.xdmf.TimeSeriesReader(tmp_path / "run.xdmf") as reader:
         reader.read_points_cells()
         t, pd, _ = reader.read_data(1)
     assert t == pytest.approx(0.1) and np.all(pd["u"][:, :2] == 1.0)
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    (dict(width=-1.0, height=4.0, size=0.1), "width"),
-    (dict(width=0.8, height=4.0, size=0.5), "mesh size"),
-    (dict(width=0.8, height=4.0, size=0.1, grading=1.2), "grading"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(width=-1.0, height=4.0, size=0.1), "width"),
+        (dict(width=0.8, height=4.0, size=0.5), "mesh size"),
+        (dict(width=0.8, height=4.0, size=0.1, grading=1.2), "grading"),
+    ],
+)
 def test_bad_mesh_input(kwargs, name):
     with pytest.raises(InputError, match=name):
         column_mesh(**kwargs)

@@ -19,11 +19,11 @@ from colonna.rigid import (
 from colonna.rigid import _multibody as K
 from colonna.rigid.multibody import build_column, default_step, multibody_spectrum, rock_multibody
 
-STICK = 2.0          # a friction coefficient that forbids sliding of these blocks
+STICK = 2.0  # a friction coefficient that forbids sliding of these blocks
 
 
 def zm_block():
-    return Block.from_dimensionless(p=2.14, alpha=0.25)      # Housner restitution
+    return Block.from_dimensionless(p=2.14, alpha=0.25)  # Housner restitution
 
 
 def marble_half():
@@ -45,6 +45,7 @@ def assert_energy_closes(result, tol=1e-2):
 
 # --- one solid block: the SDOF nonlinear model is its no-slip limit ---------------------------
 
+
 @pytest.mark.parametrize("omega_ratio, amplitude_ratio", [(5.0, 2.0), (5.0, 2.5), (8.0, 3.0)])
 def test_solid_block_follows_nonlinear_sdof_to_the_third_impact(omega_ratio, amplitude_ratio):
     blk = zm_block()
@@ -60,9 +61,11 @@ def test_solid_block_follows_nonlinear_sdof_to_the_third_impact(omega_ratio, amp
 
 def _sdof_boundaries(blk, omega_ratio, low, high, n=60):
     """Amplitude ratios where the nonlinear SDOF's overturning verdict changes, by bisection."""
+
     def over(a):
-        return rock(blk, pulse_from_ratios(blk, "sine", omega_ratio, a, "nonlinear"),
-                    model="nonlinear").overturned
+        return rock(
+            blk, pulse_from_ratios(blk, "sine", omega_ratio, a, "nonlinear"), model="nonlinear"
+        ).overturned
 
     grid = np.linspace(low, high, n)
     fate = [over(a) for a in grid]
@@ -80,7 +83,7 @@ def _sdof_boundaries(blk, omega_ratio, low, high, n=60):
 def test_overturning_classification_matches_sdof_on_both_sides_of_zhang_makris_boundaries():
     blk = zm_block()
     boundaries = _sdof_boundaries(blk, 5.0, 1.5, 10.0)
-    assert len(boundaries) >= 2          # the safe region, the overturning one, the safe island
+    assert len(boundaries) >= 2  # the safe region, the overturning one, the safe island
     for boundary in boundaries:
         for side in (0.99, 1.01):
             pulse = pulse_from_ratios(blk, "sine", 5.0, side * boundary, "nonlinear")
@@ -128,8 +131,9 @@ def test_time_step_convergence():
     t3 = ref.impact_times[2]
 
     def error(dt, refine=32):
-        mb = rock_multibody(blk, pulse, friction=STICK, duration=4.0, dt=dt, dt_out=dt,
-                            refine=refine)
+        mb = rock_multibody(
+            blk, pulse, friction=STICK, duration=4.0, dt=dt, dt_out=dt, refine=refine
+        )
         return theta_error(mb, ref, t3)
 
     by_step = [error(dt) for dt in (2e-3, 1e-3, 5e-4, 2.5e-4)]
@@ -146,13 +150,17 @@ def _cracked_column(from_rest: bool = False):
     blk = Block.from_density(b=0.1125, h=2.0, density=2700.0, thickness=math.pi * 0.1125)
     pulse = pulse_from_ratios(blk, "sine", 3.0, 3.0, "nonlinear")
     if from_rest:
-        pulse = HarmonicPulse("sine", pulse.amplitude, pulse.omega, 0.0,
-                              2.0 * math.pi / pulse.omega)
+        pulse = HarmonicPulse(
+            "sine", pulse.amplitude, pulse.omega, 0.0, 2.0 * math.pi / pulse.omega
+        )
     return blk, pulse
 
 
-COLLARS = (Collar(y=0.5, t=0.008, h=0.06), Collar(y=2.0, t=0.008, h=0.06),
-           Collar(y=3.5, t=0.008, h=0.06))
+COLLARS = (
+    Collar(y=0.5, t=0.008, h=0.06),
+    Collar(y=2.0, t=0.008, h=0.06),
+    Collar(y=3.5, t=0.008, h=0.06),
+)
 
 
 @pytest.mark.parametrize("from_rest", [False, True])
@@ -167,8 +175,9 @@ def test_cracked_column_onset_converges_with_the_step(from_rest):
     step = default_step(build_column(blk, cracked=True, collars=COLLARS), pulse)
 
     def theta(factor):
-        r = rock_multibody(blk, pulse, COLLARS, cracked=True, friction=0.7, duration=0.35,
-                           dt=step * factor)
+        r = rock_multibody(
+            blk, pulse, COLLARS, cracked=True, friction=0.7, duration=0.35, dt=step * factor
+        )
         return np.interp(0.3, r.time, r.theta[:, 0])
 
     fine = theta(1.0 / 16.0)
@@ -196,47 +205,102 @@ def test_active_set_solves_the_redundant_contact_problem_exactly():
     nb, nc = 2, column.cand_a.size
     minv = np.repeat(1.0 / column.mass, 3)
     minv[2::3] = 1.0 / column.inertia
-    ws = (np.empty(6), np.empty(6), np.empty(6), np.empty(6), np.zeros(2 * nc),
-          np.zeros(2 * nc), np.zeros(2 * nc), np.zeros(nc), np.zeros((2 * nc, 6)),
-          np.zeros((2 * nc, 2 * nc)), np.zeros(nc, dtype=np.int64), np.zeros(nb, dtype=np.int64),
-          np.zeros((0, 5)), np.zeros((0, 3)))
+    ws = (
+        np.empty(6),
+        np.empty(6),
+        np.empty(6),
+        np.empty(6),
+        np.zeros(2 * nc),
+        np.zeros(2 * nc),
+        np.zeros(2 * nc),
+        np.zeros(nc),
+        np.zeros((2 * nc, 6)),
+        np.zeros((2 * nc, 2 * nc)),
+        np.zeros(nc, dtype=np.int64),
+        np.zeros(nb, dtype=np.int64),
+        np.zeros((0, 5)),
+        np.zeros((0, 3)),
+    )
     P_prev, was_active = np.zeros((nc, 2)), np.zeros(nc, dtype=np.bool_)
     pivot, armed = np.zeros(nb, dtype=np.int64), np.zeros(nb, dtype=np.bool_)
     h = 9e-5
-    for step in range(int(0.3 / h)):            # to t = 0.3 s: the halves rock together
-        K._step(step * h, h, q, v, column.mass, minv, blk.g, column.half, column.cand_a,
-                column.cand_b, column.cand_pt, column.cand_face, column.cand_mu,
-                column.cand_kind, column.col_a, column.col_b, column.col_r, column.col_props,
-                kind, gpar, rec_t, rec_a, 0.0, 1e-10, 500, ws, P_prev, was_active, pivot, armed,
-                IMPACT_THRESHOLD * blk.alpha, np.zeros((10, 4)), np.zeros(4),
-                np.zeros(2 + 2 * nb))
-    n = int(was_active.sum())                   # the last step's problem
+    for step in range(int(0.3 / h)):  # to t = 0.3 s: the halves rock together
+        K._step(
+            step * h,
+            h,
+            q,
+            v,
+            column.mass,
+            minv,
+            blk.g,
+            column.half,
+            column.cand_a,
+            column.cand_b,
+            column.cand_pt,
+            column.cand_face,
+            column.cand_mu,
+            column.cand_kind,
+            column.col_a,
+            column.col_b,
+            column.col_r,
+            column.col_props,
+            kind,
+            gpar,
+            rec_t,
+            rec_a,
+            0.0,
+            1e-10,
+            500,
+            ws,
+            P_prev,
+            was_active,
+            pivot,
+            armed,
+            IMPACT_THRESHOLD * blk.alpha,
+            np.zeros((10, 4)),
+            np.zeros(4),
+            np.zeros(2 + 2 * nb),
+        )
+    n = int(was_active.sum())  # the last step's problem
     assert n == 4
     rows = ws[10][:n]
-    W, b = ws[9][:2 * n, :2 * n].copy(), ws[4][:2 * n].copy()
+    W, b = ws[9][: 2 * n, : 2 * n].copy(), ws[4][: 2 * n].copy()
     mu = column.cand_mu[rows]
     feasible = []
-    for combo in itertools.product(range(4), repeat=n):     # open, stick, slide +, slide -
+    for combo in itertools.product(range(4), repeat=n):  # open, stick, slide +, slide -
         eq, beq, ub, bub = [], [], [], []
         for j, st in enumerate(combo):
             en, et = np.eye(2 * n)[2 * j], np.eye(2 * n)[2 * j + 1]
             if st == 0:
-                eq += [en, et]; beq += [0, 0]; ub.append(-W[2 * j]); bub.append(b[2 * j])
+                eq += [en, et]
+                beq += [0, 0]
+                ub.append(-W[2 * j])
+                bub.append(b[2 * j])
             elif st == 1:
-                eq += [W[2 * j], W[2 * j + 1]]; beq += [-b[2 * j], -b[2 * j + 1]]
-                ub += [-en, et - mu[j] * en, -et - mu[j] * en]; bub += [0, 0, 0]
+                eq += [W[2 * j], W[2 * j + 1]]
+                beq += [-b[2 * j], -b[2 * j + 1]]
+                ub += [-en, et - mu[j] * en, -et - mu[j] * en]
+                bub += [0, 0, 0]
             else:
                 sign = 1.0 if st == 2 else -1.0
-                eq += [W[2 * j], et + sign * mu[j] * en]; beq += [-b[2 * j], 0]
-                ub += [-en, -sign * W[2 * j + 1]]; bub += [0, sign * b[2 * j + 1]]
-        lp = linprog(np.zeros(2 * n), A_ub=np.array(ub), b_ub=bub, A_eq=np.array(eq), b_eq=beq,
-                     bounds=[(None, None)] * (2 * n))
+                eq += [W[2 * j], et + sign * mu[j] * en]
+                beq += [-b[2 * j], 0]
+                ub += [-en, -sign * W[2 * j + 1]]
+                bub += [0, sign * b[2 * j + 1]]
+        lp = linprog(
+            np.zeros(2 * n),
+            A_ub=np.array(ub),
+            b_ub=bub,
+            A_eq=np.array(eq),
+            b_eq=beq,
+            bounds=[(None, None)] * (2 * n),
+        )
         if lp.status == 0:
             feasible.append(W @ lp.x + b)
     assert len(feasible) == 1
     exact = feasible[0]
     scale = np.abs(b).max()
-    for sweeps in (0, 100):            # from nothing, and from the kernel's Gauss-Seidel start
+    for sweeps in (0, 100):  # from nothing, and from the kernel's Gauss-Seidel start
         P = np.zeros(2 * n)
         if sweeps:
             K._solve_contacts(W, b, P, mu, n, 1e-10, sweeps)
@@ -245,6 +309,7 @@ def test_active_set_solves_the_redundant_contact_problem_exactly():
 
 
 # --- friction: sliding and the rock/slide criterion ---------------------------------------------
+
 
 def constant_ground(acceleration, duration):
     return Record(np.array([0.0, duration]), np.array([acceleration, acceleration]), "constant")
@@ -263,7 +328,7 @@ def test_block_on_tilted_ground_slides_exactly_when_tilt_exceeds_friction_angle(
     if factor < 1.0:
         assert np.max(np.abs(x)) < 1e-9
     else:
-        expected = -0.5 * (a - mu * g) * mb.time ** 2       # body force -m a, friction + mu m g
+        expected = -0.5 * (a - mu * g) * mb.time**2  # body force -m a, friction + mu m g
         np.testing.assert_allclose(x, expected, rtol=2e-2, atol=1e-9)
     assert np.max(np.abs(mb.theta)) < 1e-9
     assert_energy_closes(mb)
@@ -279,7 +344,7 @@ def test_slender_block_slides_instead_of_rocking_when_mu_is_below_tan_alpha():
     slides = rock_multibody(blk, pulse, friction=0.8 * tan_alpha, duration=2.0)
     rocks = rock_multibody(blk, pulse, friction=1.2 * tan_alpha, duration=2.0)
     assert slides.max_abs_theta < 1e-4 * blk.alpha and slides.impacts == 0
-    assert np.max(np.abs(slides.centroid[:, 0, 0])) > 0.05          # metres of sliding
+    assert np.max(np.abs(slides.centroid[:, 0, 0])) > 0.05  # metres of sliding
     assert slides.summary()["energy_dissipated"] > 0.0
     assert rocks.max_abs_theta > 0.5 * blk.alpha
     assert_energy_closes(slides)
@@ -288,6 +353,7 @@ def test_slender_block_slides_instead_of_rocking_when_mu_is_below_tan_alpha():
 
 # --- two halves ---------------------------------------------------------------------------------
 
+
 def test_halves_with_frictionless_crack_rock_as_independent_half_blocks():
     """No collars, no crack friction: each half is the SDOF half block up to the first impact.
     They touch at second order only (equal rotations about different toes overlap the faces by
@@ -295,8 +361,9 @@ def test_halves_with_frictionless_crack_rock_as_independent_half_blocks():
     half = marble_half()
     pulse = pulse_from_ratios(half, "sine", 5.0, 2.0, "nonlinear")
     ref = rock(half, pulse, model="nonlinear", duration=6.0, dt_out=1e-3)
-    mb = rock_multibody(half, pulse, cracked=True, friction=STICK, crack_friction=0.0,
-                        duration=6.0, dt_out=1e-3)
+    mb = rock_multibody(
+        half, pulse, cracked=True, friction=STICK, crack_friction=0.0, duration=6.0, dt_out=1e-3
+    )
     t1 = ref.impact_times[0]
     leading = theta_error(mb, ref, t1, body=0)
     leaning = theta_error(mb, ref, t1, body=1)
@@ -314,10 +381,17 @@ def test_stiff_collars_and_crack_friction_lock_the_halves_into_the_whole_column_
     t1 = ref.impact_times[0]
     errors = []
     for stiffening in (1.0, 10.0, 100.0):
-        collars = tuple(Collar(y=y, t=0.008, h=0.06, E=206e9 * stiffening)
-                        for y in (0.5, 2.0, 3.5))
-        mb = rock_multibody(half, pulse, collars, cracked=True, friction=STICK,
-                            crack_friction=0.7, duration=t1 + 0.05, dt_out=1e-3)
+        collars = tuple(Collar(y=y, t=0.008, h=0.06, E=206e9 * stiffening) for y in (0.5, 2.0, 3.5))
+        mb = rock_multibody(
+            half,
+            pulse,
+            collars,
+            cracked=True,
+            friction=STICK,
+            crack_friction=0.7,
+            duration=t1 + 0.05,
+            dt_out=1e-3,
+        )
         errors.append(max(theta_error(mb, ref, t1, body=b, alpha=whole.alpha) for b in (0, 1)))
         assert_energy_closes(mb)
     assert errors[0] > errors[1] > errors[2]
@@ -326,24 +400,53 @@ def test_stiff_collars_and_crack_friction_lock_the_halves_into_the_whole_column_
 
 def test_collar_element_forces_are_the_gradient_of_its_energy():
     half = marble_half()
-    collars = (Collar(y=1.0, t=0.008, h=0.06, pretension=5e3),
-               Collar(y=3.0, t=0.01, h=0.05, length=0.5))
+    collars = (
+        Collar(y=1.0, t=0.008, h=0.06, pretension=5e3),
+        Collar(y=3.0, t=0.01, h=0.05, length=0.5),
+    )
     col = build_column(half, cracked=True, collars=collars)
     rng = np.random.default_rng(1)
     q = col.q_rest + rng.normal(scale=[1e-3, 1e-3, 1e-3] * 2)
     f = np.zeros(6)
     out = np.zeros((2, 5))
-    K.collar_forces(q, col.col_a, col.col_b, col.col_r, col.col_props, f, out,
-                    np.zeros((col.col_a.size, 3)), False)
+    K.collar_forces(
+        q,
+        col.col_a,
+        col.col_b,
+        col.col_r,
+        col.col_props,
+        f,
+        out,
+        np.zeros((col.col_a.size, 3)),
+        False,
+    )
     step = 1e-7
     for k in range(6):
         qp, qm = q.copy(), q.copy()
         qp[k] += step
         qm[k] -= step
-        up = K.collar_forces(qp, col.col_a, col.col_b, col.col_r, col.col_props, np.zeros(0), out,
-                            np.zeros((col.col_a.size, 3)), False)
-        um = K.collar_forces(qm, col.col_a, col.col_b, col.col_r, col.col_props, np.zeros(0), out,
-                            np.zeros((col.col_a.size, 3)), False)
+        up = K.collar_forces(
+            qp,
+            col.col_a,
+            col.col_b,
+            col.col_r,
+            col.col_props,
+            np.zeros(0),
+            out,
+            np.zeros((col.col_a.size, 3)),
+            False,
+        )
+        um = K.collar_forces(
+            qm,
+            col.col_a,
+            col.col_b,
+            col.col_r,
+            col.col_props,
+            np.zeros(0),
+            out,
+            np.zeros((col.col_a.size, 3)),
+            False,
+        )
         assert f[k] == pytest.approx(-(up - um) / (2 * step), rel=1e-5, abs=1e-3)
 
 
@@ -360,17 +463,27 @@ def test_collar_element_axial_and_lateral_stiffness():
         q = col.q_rest.copy()
         q[dof] += d
         f = np.zeros(6)
-        K.collar_forces(q, col.col_a, col.col_b, col.col_r, col.col_props, f, out,
-                    np.zeros((col.col_a.size, 3)), False)
+        K.collar_forces(
+            q,
+            col.col_a,
+            col.col_b,
+            col.col_r,
+            col.col_props,
+            f,
+            out,
+            np.zeros((col.col_a.size, 3)),
+            False,
+        )
         if check == "axial":
             assert out[0, 0] == pytest.approx(collar.E * collar.area / L * d, rel=1e-4)
         else:
             EI = collar.E * collar.second_moment
-            assert -out[0, 1] == pytest.approx(6 * EI * d / L ** 2, rel=1e-4)
-            assert f[1] == pytest.approx(12 * EI * d / L ** 3, rel=1e-4)   # pulls left half up
+            assert -out[0, 1] == pytest.approx(6 * EI * d / L**2, rel=1e-4)
+            assert f[1] == pytest.approx(12 * EI * d / L**3, rel=1e-4)  # pulls left half up
 
 
 # --- spectra and input checks -------------------------------------------------------------------
+
 
 def test_spectrum_points_equal_single_histories_and_the_sdof_away_from_boundaries():
     blk = zm_block()
@@ -389,6 +502,7 @@ def test_solid_block_spectrum_equals_the_nonlinear_sdof_spectrum():
     """The no-slip solid block is the nonlinear SDOF model: the two mode maps agree over a grid
     that holds all three outcomes (a point may differ only on a boundary)."""
     from colonna.rigid.spectrum import overturning_spectrum
+
     blk = zm_block()
     omegas = np.linspace(1.0, 12.0, 12)
     amplitudes = np.linspace(1.2, 16.0, 10)
@@ -414,15 +528,18 @@ def test_collar_yield_map_of_the_spectrum_is_that_of_the_histories():
             assert bool(spec.collar_yields[i, 0]) == (util >= 1.0), (a, util)
 
 
-@pytest.mark.parametrize("kwargs, word", [
-    ({"friction": -0.1}, "friction"),
-    ({"crack_friction": float("nan"), "cracked": True}, "crack friction"),
-    ({"restitution_normal": 1.5}, "restitution_normal"),
-    ({"dt": 0.0}, "dt"),
-    ({"refine": 0}, "refine"),
-    ({"initial_tilt": 2.0}, "initial tilt"),
-    ({"collars": (Collar(y=1.0, t=0.01, h=0.05),)}, "cracked"),
-])
+@pytest.mark.parametrize(
+    "kwargs, word",
+    [
+        ({"friction": -0.1}, "friction"),
+        ({"crack_friction": float("nan"), "cracked": True}, "crack friction"),
+        ({"restitution_normal": 1.5}, "restitution_normal"),
+        ({"dt": 0.0}, "dt"),
+        ({"refine": 0}, "refine"),
+        ({"initial_tilt": 2.0}, "initial tilt"),
+        ({"collars": (Collar(y=1.0, t=0.01, h=0.05),)}, "cracked"),
+    ],
+)
 def test_bad_input_is_named(kwargs, word):
     blk = Block(b=0.2, h=2.0, mass=800.0)
     with pytest.raises(InputError, match=word):

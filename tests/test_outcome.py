@@ -24,7 +24,8 @@ from colonna.studies.outcome import (
 from colonna.studies.report import TEMPLATES, _num
 
 PAGE = TEMPLATES.from_string(
-    '{% from "macros.html.j2" import outcome_section with context %}{{ outcome_section() }}')
+    '{% from "macros.html.j2" import outcome_section with context %}{{ outcome_section() }}'
+)
 
 
 def _render(summary: dict) -> str:
@@ -43,13 +44,18 @@ def _summary(answers: dict) -> dict:
 
 @pytest.mark.parametrize("limit", [1.0])
 @pytest.mark.parametrize("uncertainty", [0.0, 0.05])
-@pytest.mark.parametrize("low, high", [(0.80, 0.90), (0.90, 0.999), (0.98, 1.02),
-                                       (1.0, 1.1), (1.2, 1.3), (0.96, 0.99), (1.01, 1.04)])
+@pytest.mark.parametrize(
+    "low, high",
+    [(0.80, 0.90), (0.90, 0.999), (0.98, 1.02), (1.0, 1.1), (1.2, 1.3), (0.96, 0.99), (1.01, 1.04)],
+)
 def test_the_word_follows_the_band_against_the_limit(low, high, uncertainty, limit):
     b = band([low, 0.5 * (low + high), high])
-    answers = {key: limit_answer(QUESTIONS[key], "stress / strength", b, limit, "-",
-                                 uncertainty, figure="x")
-               for key in ("collars_yield", "toe_crushes")}
+    answers = {
+        key: limit_answer(
+            QUESTIONS[key], "stress / strength", b, limit, "-", uncertainty, figure="x"
+        )
+        for key in ("collars_yield", "toe_crushes")
+    }
     answers["rigid_assumption_ok"] = not_assessed(QUESTIONS["rigid_assumption_ok"], "elsewhere")
     bottom, top = low * (1.0 - uncertainty), high * (1.0 + uncertainty)
     expected = "yes" if bottom >= limit else "no" if top < limit else "undecided"
@@ -91,23 +97,34 @@ def test_impact_count_on_both_sides_of_its_tolerance(impacts_mb, ok):
     assert c["impacts_fem"] == 1 and c["impacts_ok"] is ok
 
 
-@pytest.mark.parametrize("words, answer", [
-    (("yes", "yes", "yes", "not applicable"), "yes"),
-    (("yes", "no", "yes", "yes"), "no"),
-    (("yes", "undecided", "yes", "yes"), "undecided")])
+@pytest.mark.parametrize(
+    "words, answer",
+    [
+        (("yes", "yes", "yes", "not applicable"), "yes"),
+        (("yes", "no", "yes", "yes"), "no"),
+        (("yes", "undecided", "yes", "yes"), "undecided"),
+    ],
+)
 def test_the_rigid_answer_lists_its_counts_by_their_word(words, answer):
     names = ("same outcome", "peak rotation", "impacts", "history")
-    a = criteria_answer(QUESTIONS["rigid_assumption_ok"], answer, dict(zip(names, words)),
-                        figure="theta")
-    answers = {"rigid_assumption_ok": a,
-               "collars_yield": not_assessed(QUESTIONS["collars_yield"], "no collars"),
-               "toe_crushes": not_assessed(QUESTIONS["toe_crushes"], "no FEM")}
+    a = criteria_answer(
+        QUESTIONS["rigid_assumption_ok"], answer, dict(zip(names, words)), figure="theta"
+    )
+    answers = {
+        "rigid_assumption_ok": a,
+        "collars_yield": not_assessed(QUESTIONS["collars_yield"], "no collars"),
+        "toe_crushes": not_assessed(QUESTIONS["toe_crushes"], "no FEM"),
+    }
     page = _render(_summary(answers))
     text = _cell(page, "rigid_assumption_ok", "data-answer")
     assert text == answer
     for name, word in zip(names, words):
-        listed = {"no": a["failed"], "undecided": a["undecided"], "yes": a["passed"],
-                  "not applicable": a["not_applicable"]}[word]
+        listed = {
+            "no": a["failed"],
+            "undecided": a["undecided"],
+            "yes": a["passed"],
+            "not applicable": a["not_applicable"],
+        }[word]
         assert name in listed
     if answer == "no":
         assert "failed in every replica: peak rotation" in re.sub(r"\s+", " ", page)
@@ -117,8 +134,9 @@ def test_the_rigid_answer_lists_its_counts_by_their_word(words, answer):
 def test_an_overturned_model_shows_no_rotation_and_names_the_stopping_rule():
     m = model_outcome("SDOF", True, np.pi / 2, 0.1, 1.4)
     assert m["motion"] == "overturned" and m["peak_rotation"] is None
-    page = _render({"outcome": outcome([m], {k: not_assessed(q, "-")
-                                              for k, q in QUESTIONS.items()})})
+    page = _render(
+        {"outcome": outcome([m], {k: not_assessed(q, "-") for k, q in QUESTIONS.items()})}
+    )
     assert "1.57" not in page and "overturns" in page and "overturning rule" in page
     assert model_outcome("x", False, 1e-9, 0.1)["motion"] == "no uplift"
 
@@ -130,17 +148,22 @@ def _criteria(fem_peak, mb_peak, fem_overturned=False, history_error=0.0, impact
     t = np.linspace(0.0, 1.0, 2001)
     shape = np.where(t < 0.5, np.sin(2 * np.pi * t), 0.5 * np.sin(2 * np.pi * t))
     theta_mb = mb_peak * shape
-    theta_fem = theta_mb + history_error * mb_peak * np.exp(-((t - 0.25) / 0.02) ** 2)
+    theta_fem = theta_mb + history_error * mb_peak * np.exp(-(((t - 0.25) / 0.02) ** 2))
     theta_fem = theta_fem * (fem_peak / np.max(np.abs(theta_fem)))
     if fem_peak == mb_peak:
-        theta_fem = theta_mb + history_error * mb_peak * np.exp(-((t - 0.25) / 0.02) ** 2)
+        theta_fem = theta_mb + history_error * mb_peak * np.exp(-(((t - 0.25) / 0.02) ** 2))
 
     class Study:
         class ground:
             end_time = 0.75
-    fem = {"overturned": fem_overturned, "max_abs_theta_left": fem_peak,
-           "max_abs_theta_right": fem_peak}
+
+    fem = {
+        "overturned": fem_overturned,
+        "max_abs_theta_left": fem_peak,
+        "max_abs_theta_right": fem_peak,
+    }
     mb = {"overturned": False, "max_abs_theta_left": mb_peak, "max_abs_theta_right": mb_peak}
     history = {"t": t, "theta_left": theta_fem, "theta_right": theta_fem}
-    return crosscheck._criteria_one(Study, fem, history, mb, t, [theta_mb, theta_mb],
-                                    impacts_mb, 0.5)
+    return crosscheck._criteria_one(
+        Study, fem, history, mb, t, [theta_mb, theta_mb], impacts_mb, 0.5
+    )

@@ -15,8 +15,21 @@ ROOT = Path(__file__).parents[1]
 def wheel_build(tmp_path_factory):
     """The wheel built from the source tree, and what the build printed."""
     out = tmp_path_factory.mktemp("wheel")
-    proc = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet",
-                           "--wheel-dir", str(out), str(ROOT)], capture_output=True, text=True)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "wheel",
+            "--no-deps",
+            "--quiet",
+            "--wheel-dir",
+            str(out),
+            str(ROOT),
+        ],
+        capture_output=True,
+        text=True,
+    )
     if proc.returncode != 0:
         pytest.skip(f"cannot build a wheel here (no package index?): {proc.stderr[-300:]}")
     return next(out.glob("colonna-*.whl")), proc.stdout + proc.stderr
@@ -37,28 +50,49 @@ def test_wheel_builds_without_setuptools_warnings(wheel_build):
 def test_wheel_holds_only_the_colonna_package(wheel):
     names = zipfile.ZipFile(wheel).namelist()
     tops = {name.split("/")[0] for name in names}
-    assert tops == {"colonna", wheel.name.split("-")[0] + "-" + wheel.name.split("-")[1]
-                    + ".dist-info"}
+    assert tops == {
+        "colonna",
+        wheel.name.split("-")[0] + "-" + wheel.name.split("-")[1] + ".dist-info",
+    }
     for sub in ("rigid", "fem", "meshes", "studies"):
         assert f"colonna/{sub}/__init__.py" in names
-    assert "colonna/studies/default.toml" in names        # the shipped studies
-    assert "colonna/studies/templates/crosscheck.html.j2" in names   # the report templates
+    assert "colonna/studies/default.toml" in names  # the shipped studies
+    assert "colonna/studies/templates/crosscheck.html.j2" in names  # the report templates
 
 
 def test_installed_package_runs_outside_the_source_tree(wheel, tmp_path):
     target = tmp_path / "site"
-    subprocess.run([sys.executable, "-m", "pip", "install", "--no-deps", "--quiet",
-                    "--target", str(target), str(wheel)], check=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "install",
+            "--no-deps",
+            "--quiet",
+            "--target",
+            str(target),
+            str(wheel),
+        ],
+        check=True,
+    )
     assert not any((target / name).exists() for name in ("rigid", "fem", "meshes", "studies"))
-    code = ("import colonna, colonna.studies.cli as cli, colonna.fem, colonna.meshes; "
-            "from colonna.studies.report import TEMPLATES; "
-            "from colonna.studies.schema import json_schema; "
-            "assert TEMPLATES.get_template('crosscheck.html.j2'); "
-            "assert 'column' in json_schema()['properties']; "
-            "print(colonna.rigid.__file__); print(cli.resolve_study('default'))")
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          cwd=tmp_path, env={"PYTHONPATH": str(target), "PATH": ""},
-                          check=True)
+    code = (
+        "import colonna, colonna.studies.cli as cli, colonna.fem, colonna.meshes; "
+        "from colonna.studies.report import TEMPLATES; "
+        "from colonna.studies.schema import json_schema; "
+        "assert TEMPLATES.get_template('crosscheck.html.j2'); "
+        "assert 'column' in json_schema()['properties']; "
+        "print(colonna.rigid.__file__); print(cli.resolve_study('default'))"
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        env={"PYTHONPATH": str(target), "PATH": ""},
+        check=True,
+    )
     rigid_file, default_study = proc.stdout.split()
     assert Path(rigid_file).is_relative_to(target / "colonna" / "rigid")
     assert Path(default_study).is_file()

@@ -18,13 +18,19 @@ def _pulled_apart(collar, duration=0.006, speed=0.4):
     undamped contacts, held by one collar at mid height: the collar stretches, yields if it
     must, and stops them (the run ends before the crack closes again)."""
     mesh = column_mesh(0.4, 2.0, 0.1, cracked=True, grading=0.0, pinned_heights=[1.0])
-    model = build_model(mesh, Stone(), 0.3, (collar,),
-                        ContactSettings(friction=0.0, damping=0.0))
+    model = build_model(mesh, Stone(), 0.3, (collar,), ContactSettings(friction=0.0, damping=0.0))
     v0 = np.zeros((mesh.n_nodes, 2))
     v0[mesh.node_body == 0, 0] = -speed
     v0[mesh.node_body == 1, 0] = speed
-    return run(model, NoMotion(), duration, output_interval=1e-5, initial_velocity=v0,
-               progress=False, stop_on_overturn=False)
+    return run(
+        model,
+        NoMotion(),
+        duration,
+        output_interval=1e-5,
+        initial_velocity=v0,
+        progress=False,
+        stop_on_overturn=False,
+    )
 
 
 def test_plastic_collar_follows_the_bilinear_law_and_the_energy_balance_closes():
@@ -32,15 +38,17 @@ def test_plastic_collar_follows_the_bilinear_law_and_the_energy_balance_closes()
     r = _pulled_apart(collar)
     h, s = r.history, r.summary
     N, eps_p = h["collar_1_axial_force"], h["collar_1_plastic_strain"]
-    assert s["collar_max_plastic_strain"] > 2.0 * collar.fy / collar.E    # well past yield
+    assert s["collar_max_plastic_strain"] > 2.0 * collar.fy / collar.E  # well past yield
     # while it yields, |N| = A (f_y + H eps_p), H = E E_h / (E - E_h), E_h = 0.01 E
     yielding = np.r_[False, np.diff(np.abs(eps_p)) > 0.0]
     assert yielding.sum() > 20
     law = collar.area * (collar.fy + collar.plastic_modulus * np.abs(eps_p[yielding]))
     assert np.abs(np.abs(N[yielding]) - law).max() < 1e-9 * collar.fy * collar.area
     # and never beyond that surface
-    assert np.all(np.abs(N) <= collar.area * (collar.fy + collar.plastic_modulus
-                                              * np.abs(eps_p)) * (1 + 1e-12))
+    assert np.all(
+        np.abs(N)
+        <= collar.area * (collar.fy + collar.plastic_modulus * np.abs(eps_p)) * (1 + 1e-12)
+    )
     # initial kinetic energy = kinetic + stone strain + collar elastic + plastic work (1 %)
     assert s["collar_plastic_work"] > 0.3 * h["energy_kinetic"][0]
     assert h["energy_dissipated"][-1] == pytest.approx(s["collar_plastic_work"], rel=1e-9)
@@ -54,12 +62,14 @@ def test_elastic_collar_is_the_same_law_without_the_yield():
     assert elastic.history["collar_1_axial_force"].max() > 0.004 * 0.03 * 235e6
     assert elastic.summary["collar_plastic_work"] == 0.0
     strong = _pulled_apart(Collar(y=1.0, t=0.004, h=0.03, fy=1e10, plastic=True))
-    np.testing.assert_allclose(strong.history["collar_1_axial_force"],
-                               elastic.history["collar_1_axial_force"], rtol=1e-12)
+    np.testing.assert_allclose(
+        strong.history["collar_1_axial_force"], elastic.history["collar_1_axial_force"], rtol=1e-12
+    )
 
 
-@pytest.mark.parametrize("kw, name", [({"plastic": "yes"}, "plastic"),
-                                      ({"Eh": 3e11}, "Eh"), ({"Eh": -1.0}, "Eh")])
+@pytest.mark.parametrize(
+    "kw, name", [({"plastic": "yes"}, "plastic"), ({"Eh": 3e11}, "Eh"), ({"Eh": -1.0}, "Eh")]
+)
 def test_bad_plastic_collar_input(kw, name):
     with pytest.raises(InputError, match=name):
         Collar(y=1.0, t=0.004, h=0.03, **kw)
@@ -72,26 +82,37 @@ def test_multibody_collar_element_is_bilinear_on_a_load_unload_cycle():
     from colonna.rigid import _multibody as K
     from colonna.rigid.block import Block
     from colonna.rigid.multibody import build_column
+
     collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True)
     column = build_column(Block(b=0.1, h=1.0, mass=100.0), cracked=True, collars=(collar,))
     span = collar.span(0.1)
     eps_y = collar.fy / collar.E
     # back to 2.5 eps_y: sigma = 1.03 f_y - 1.5 E eps_y = -0.47 f_y, inside the elastic range
-    path = np.concatenate((np.linspace(0.0, 4.0 * eps_y, 400),
-                           np.linspace(4.0 * eps_y, 2.5 * eps_y, 400)[1:]))
+    path = np.concatenate(
+        (np.linspace(0.0, 4.0 * eps_y, 400), np.linspace(4.0 * eps_y, 2.5 * eps_y, 400)[1:])
+    )
     state, out = np.zeros((1, 3)), np.zeros((1, 5))
     forces = []
     for eps in path:
         q = column.q_rest.copy()
-        q[3] += eps * span                  # the right half moves out along the chord
-        K.collar_forces(q, column.col_a, column.col_b, column.col_r, column.col_props,
-                        np.zeros(0), out, state, True)
+        q[3] += eps * span  # the right half moves out along the chord
+        K.collar_forces(
+            q,
+            column.col_a,
+            column.col_b,
+            column.col_r,
+            column.col_props,
+            np.zeros(0),
+            out,
+            state,
+            True,
+        )
         forces.append(out[0, 0])
     N = np.array(forces)
     A, E, Eh = collar.area, collar.E, collar.hardening_modulus
-    peak = A * (collar.fy + Eh * (4.0 * eps_y - eps_y))       # bilinear: E_h past eps_y
+    peak = A * (collar.fy + Eh * (4.0 * eps_y - eps_y))  # bilinear: E_h past eps_y
     assert N[399] == pytest.approx(peak, rel=1e-9)
-    assert N[50] == pytest.approx(E * A * path[50], rel=1e-9)          # elastic branch
+    assert N[50] == pytest.approx(E * A * path[50], rel=1e-9)  # elastic branch
     plastic = state[0, 0] / span
     assert plastic == pytest.approx(4.0 * eps_y - peak / (E * A), rel=1e-9)
     assert N[-1] == pytest.approx(E * A * (2.5 * eps_y - plastic), rel=1e-6)  # unloading
@@ -106,13 +127,17 @@ def test_multibody_rocking_with_plastic_collars_keeps_its_energy_balance():
     from colonna.core.ground import sine_pulse
     from colonna.rigid.block import Block
     from colonna.rigid.multibody import rock_multibody
+
     half = Block(b=0.1125, h=2.0, mass=858.0)
     a_up = half.uplift_acceleration()
     pulse = sine_pulse(3.0 * a_up, 3.0 * half.p, a_up)
     thin = dict(y=2.0, t=0.002, h=0.02)
-    runs = {plastic: rock_multibody(half, pulse, (Collar(**thin, plastic=plastic),),
-                                    cracked=True, duration=2.0)
-            for plastic in (False, True)}
+    runs = {
+        plastic: rock_multibody(
+            half, pulse, (Collar(**thin, plastic=plastic),), cracked=True, duration=2.0
+        )
+        for plastic in (False, True)
+    }
     elastic, plastic = runs[False].summary(), runs[True].summary()
     assert elastic["collar_max_utilisation"] > 1.5
     assert plastic["collar_max_plastic_strain"] > 0.1 * 235e6 / 206e9
@@ -125,21 +150,24 @@ def test_fem_collar_element_pulled_quasi_statically_follows_the_bilinear_law():
     one committed evaluation per increment (quasi-static): slopes E A, E_h A past f_y A, E A
     on unloading; the work put in = elastic energy + plastic work to 1e-3."""
     from colonna.fem import _kernels as K
+
     collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True)
     mesh = column_mesh(0.4, 2.0, 0.1, cracked=True, grading=0.0, pinned_heights=[1.0])
     model = build_model(mesh, Stone(), 0.3, (collar,))
     span = collar.span(0.1)
     eps_y = collar.fy / collar.E
-    path = np.concatenate((np.linspace(0.0, 4.0 * eps_y, 400),
-                           np.linspace(4.0 * eps_y, 2.5 * eps_y, 400)[1:]))
+    path = np.concatenate(
+        (np.linspace(0.0, 4.0 * eps_y, 400), np.linspace(4.0 * eps_y, 2.5 * eps_y, 400)[1:])
+    )
     state, out = np.zeros((1, 3)), np.zeros((1, 5))
     right = model.collar_nodes[0, 3:]
     forces = []
     for eps in path:
         x = model.X.copy()
-        x[2 * right] += eps * span           # the right end and its face nodes move out
-        K.collar_forces(x, model.collar_nodes, model.collar_props, out, np.zeros_like(x),
-                        state, True)
+        x[2 * right] += eps * span  # the right end and its face nodes move out
+        K.collar_forces(
+            x, model.collar_nodes, model.collar_props, out, np.zeros_like(x), state, True
+        )
         forces.append(out[0, 0])
     N = np.array(forces)
     A, E, Eh = collar.area, collar.E, collar.hardening_modulus

@@ -44,7 +44,7 @@ def _proxy(out):
 def _outside(out):
     fig, ax = plt.subplots()
     ax.plot([0, 1], [1, 2], color="C0", label="off the page")
-    ax.legend(loc="upper left", bbox_to_anchor=(1.5, 1.0))     # no tight bbox: cut off
+    ax.legend(loc="upper left", bbox_to_anchor=(1.5, 1.0))  # no tight bbox: cut off
     return _figure(out, "outside", fig, "legend outside")
 
 
@@ -52,17 +52,26 @@ def test_the_browser_check_finds_what_is_wrong(tmp_path):
     browser()
     broken = tmp_path / "broken.png"
     broken.write_bytes(b"not a png")
-    figs = [_good(tmp_path), _empty(tmp_path), _proxy(tmp_path), _outside(tmp_path),
-            _image(broken, "an image that does not decode")]
+    figs = [
+        _good(tmp_path),
+        _empty(tmp_path),
+        _proxy(tmp_path),
+        _outside(tmp_path),
+        _image(broken, "an image that does not decode"),
+    ]
     page = TEMPLATES.from_string(
         '{% from "macros.html.j2" import figures with context %}'
-        "<!DOCTYPE html><html><body>{{ figures(figs) }}</body></html>").render(figs=figs)
+        "<!DOCTYPE html><html><body>{{ figures(figs) }}</body></html>"
+    ).render(figs=figs)
     (tmp_path / "index.html").write_text(page)
     found = {r["name"]: r["problems"] for r in check_report(tmp_path / "index.html", tmp_path)}
     assert found["good"] == []
     assert found["empty"] == ["no data drawn"]
-    assert len(found["proxy"]) == 1 and "never drawn" in found["proxy"][0] \
+    assert (
+        len(found["proxy"]) == 1
+        and "never drawn" in found["proxy"][0]
         and "is not drawn" in found["proxy"][0]
+    )
     assert found["outside"] == ['legend entry "off the page" outside the figure']
     assert found["broken"] == ["image not drawn"]
     assert base64.b64decode(figs[-1]["data"]) == b"not a png"
@@ -84,15 +93,23 @@ def _fem_output(out, thetas):
     def displacement(theta):
         c, s = np.cos(theta), np.sin(theta)
         d = X - toe
-        return toe + d @ np.array([[c, -s], [s, c]]) - X     # clockwise: towards the right
+        return toe + d @ np.array([[c, -s], [s, c]]) - X  # clockwise: towards the right
 
     fem = out / "cases" / "fem"
     centres = X[mesh.cells].mean(axis=0)
     for name, theta in zip(("initial", "peak_rotation", "final"), thetas[-3:]):
-        write(fem / f"fields_{name}.vtu", mesh, point_data={"displacement": displacement(theta)},
-              cell_data={"sigma_min_principal": -1e5 * centres[:, 1]})
-    write_time_series(fem / "fields.xdmf", mesh, np.arange(len(thetas)) * 0.1,
-                      lambda k: {"displacement": displacement(thetas[k])})
+        write(
+            fem / f"fields_{name}.vtu",
+            mesh,
+            point_data={"displacement": displacement(theta)},
+            cell_data={"sigma_min_principal": -1e5 * centres[:, 1]},
+        )
+    write_time_series(
+        fem / "fields.xdmf",
+        mesh,
+        np.arange(len(thetas)) * 0.1,
+        lambda k: {"displacement": displacement(thetas[k])},
+    )
     (out / "figures").mkdir()
 
 
@@ -118,24 +135,31 @@ def test_renders_are_cropped_to_the_column_and_show_peak_and_end(tmp_path, capfd
     monkeypatch.delenv("DISPLAY", raising=False)
     _fem_output(tmp_path, [0.0, 0.05, 0.12, 0.04, 0.0, 0.12, 0.04])
     images = render_snapshots(tmp_path, n_frames=4)
-    assert [name for name, _ in images] == ["render_initial.png", "render_peak_rotation.png",
-                                            "render_final.png", "rocking.gif"]
+    assert [name for name, _ in images] == [
+        "render_initial.png",
+        "render_peak_rotation.png",
+        "render_final.png",
+        "rocking.gif",
+    ]
     pictures = {}
     for name, _ in images[:3]:
         border, pictures[name] = _border(tmp_path / "figures" / name)
         assert max(border) <= MARGIN + 1, (name, border)
-        assert pictures[name].shape[0] > 2 * pictures[name].shape[1]    # a tall column
-    assert pictures["render_peak_rotation.png"].shape != pictures["render_final.png"].shape \
-        or np.any(pictures["render_peak_rotation.png"] != pictures["render_final.png"])
+        assert pictures[name].shape[0] > 2 * pictures[name].shape[1]  # a tall column
+    assert pictures["render_peak_rotation.png"].shape != pictures[
+        "render_final.png"
+    ].shape or np.any(pictures["render_peak_rotation.png"] != pictures["render_final.png"])
     gif = Image.open(tmp_path / "figures" / "rocking.gif")
     assert gif.n_frames == 4
     drawn = 0
-    for k in range(gif.n_frames):        # one box for all frames, trimmed as a whole
+    for k in range(gif.n_frames):  # one box for all frames, trimmed as a whole
         gif.seek(k)
         drawn = drawn + 255 - np.asarray(gif.convert("L"), dtype=int)
     rows, cols = np.nonzero((drawn > 6).any(axis=1))[0], np.nonzero((drawn > 6).any(axis=0))[0]
-    assert max(rows[0], drawn.shape[0] - 1 - rows[-1], cols[0],
-               drawn.shape[1] - 1 - cols[-1]) <= MARGIN + 1
+    assert (
+        max(rows[0], drawn.shape[0] - 1 - rows[-1], cols[0], drawn.shape[1] - 1 - cols[-1])
+        <= MARGIN + 1
+    )
     assert "bad X server" not in capfd.readouterr().err
 
 
@@ -154,6 +178,7 @@ def test_a_run_that_ends_at_its_peak_rotation_is_drawn_once(tmp_path):
 # --- the figures of the reports: the design point, a marker per computed pulse, curves that
 # coincide, legends beside the data. Each report is written from made-up run files, its
 # figures kept as _figure receives them; the pages themselves (templates) are not drawn.
+
 
 def _history(t, **columns):
     return {"t": t, **columns}
@@ -174,18 +199,38 @@ def _made_up_runs(out):
     stress = 150e6 * np.abs(np.sin(3 * t))
     runs = {}
     crosscheck = out / "crosscheck"
-    write_csv(crosscheck / "cases" / "fem" / "history.csv", _history(
-        t, theta_left=theta, theta_right=theta, collar_1_stress=stress, collar_2_stress=stress,
-        collar_3_stress=stress, edge_stress_left=5e6 + 0 * t, edge_stress_right=5e6 + 0 * t))
-    write_csv(crosscheck / "cases" / "multibody" / "history.csv",
-              _history(t, theta_left=theta, theta_right=theta))
+    write_csv(
+        crosscheck / "cases" / "fem" / "history.csv",
+        _history(
+            t,
+            theta_left=theta,
+            theta_right=theta,
+            collar_1_stress=stress,
+            collar_2_stress=stress,
+            collar_3_stress=stress,
+            edge_stress_left=5e6 + 0 * t,
+            edge_stress_right=5e6 + 0 * t,
+        ),
+    )
+    write_csv(
+        crosscheck / "cases" / "multibody" / "history.csv",
+        _history(t, theta_left=theta, theta_right=theta),
+    )
     for key in ("rigid", "monolith"):
         write_csv(crosscheck / "cases" / key / "history.csv", _history(t, theta=theta))
-    write_csv(crosscheck / "cases" / "fem" / "base_pressure.csv",
-              {"t": t, **{f"p_x={x:g}": 1e6 * (1 + x) + 0 * t for x in (-0.2, 0.0, 0.2)}})
-    write_json(crosscheck / "summary.json", {
-        "study": "made up", "fem": {"replicas": 1, "edge_length": 0.01},
-        "collar_fy": [235e6] * 3, "stone_fc": 110e6})
+    write_csv(
+        crosscheck / "cases" / "fem" / "base_pressure.csv",
+        {"t": t, **{f"p_x={x:g}": 1e6 * (1 + x) + 0 * t for x in (-0.2, 0.0, 0.2)}},
+    )
+    write_json(
+        crosscheck / "summary.json",
+        {
+            "study": "made up",
+            "fem": {"replicas": 1, "edge_length": 0.01},
+            "collar_fy": [235e6] * 3,
+            "stone_fc": 110e6,
+        },
+    )
     runs["crosscheck"] = crosscheck
 
     design = out / "design"
@@ -193,46 +238,82 @@ def _made_up_runs(out):
     collar = Collar(y=2.0, t=0.008, h=0.06)
     alphas, ratios = np.linspace(0.03, 0.4, 12), np.linspace(0.05, 1.0, 13)
     chart = design_chart(block.b, 2700.0, 0.45, collar, alphas, ratios, block.g)
-    write_csv(design / "figures" / "design_chart.csv",
-              {"alpha": np.repeat(alphas, ratios.size), "ag_over_g": np.tile(ratios, alphas.size),
-               "required_stiffness": chart.ravel()})
-    write_csv(design / "cases" / "fem" / "history.csv", _history(
-        t, **{f"collar_{k}_utilisation": stress / 235e6 for k in (1, 2, 3)}))
-    write_json(design / "summary.json", {
-        "study": "made up", "design": design_collars(block, collar, 0.3 * block.g).to_dict(),
-        "design_alpha": block.alpha, "design_ag_over_g": 0.3, "collars_provided": 3,
-        "lateral_stiffness_provided": 3 * collar.lateral_stiffness(block.b)})
+    write_csv(
+        design / "figures" / "design_chart.csv",
+        {
+            "alpha": np.repeat(alphas, ratios.size),
+            "ag_over_g": np.tile(ratios, alphas.size),
+            "required_stiffness": chart.ravel(),
+        },
+    )
+    write_csv(
+        design / "cases" / "fem" / "history.csv",
+        _history(t, **{f"collar_{k}_utilisation": stress / 235e6 for k in (1, 2, 3)}),
+    )
+    write_json(
+        design / "summary.json",
+        {
+            "study": "made up",
+            "design": design_collars(block, collar, 0.3 * block.g).to_dict(),
+            "design_alpha": block.alpha,
+            "design_ag_over_g": 0.3,
+            "collars_provided": 3,
+            "lateral_stiffness_provided": 3 * collar.lateral_stiffness(block.b),
+        },
+    )
     runs["design"] = design
 
-    grid = out / "grid"            # a 3 x 3 spectrum cross-check
-    modes = [["after-impact", "safe", "safe"], ["without-impact", "after-impact", "safe"],
-             ["without-impact", "without-impact", "after-impact"]]
-    write_json(grid / "summary.json", {
-        "study": "made up", "omega_ratios": [1.0, 3.0, 5.0], "amplitude_ratios": [2.0, 3.0, 4.0],
-        "mode_fem": modes, "mode_multibody": modes,
-        "mode_sdof": [["safe"] * 3, ["safe"] * 3, modes[2]],
-        "collar_utilisation_fem": [[0.5] * 3] * 3, "toe_ratio_fem": [[0.05] * 3] * 3,
-        "collar_yield_fem": [[False] * 3] * 3})
+    grid = out / "grid"  # a 3 x 3 spectrum cross-check
+    modes = [
+        ["after-impact", "safe", "safe"],
+        ["without-impact", "after-impact", "safe"],
+        ["without-impact", "without-impact", "after-impact"],
+    ]
+    write_json(
+        grid / "summary.json",
+        {
+            "study": "made up",
+            "omega_ratios": [1.0, 3.0, 5.0],
+            "amplitude_ratios": [2.0, 3.0, 4.0],
+            "mode_fem": modes,
+            "mode_multibody": modes,
+            "mode_sdof": [["safe"] * 3, ["safe"] * 3, modes[2]],
+            "collar_utilisation_fem": [[0.5] * 3] * 3,
+            "toe_ratio_fem": [[0.05] * 3] * 3,
+            "collar_yield_fem": [[False] * 3] * 3,
+        },
+    )
     runs["grid"] = grid
 
     rocking = out / "free-rocking"
     tilts = []
     for k, fraction in enumerate((0.5, 0.8), start=1):
         for kind in ("fem", "multibody"):
-            write_csv(rocking / "cases" / f"{kind}-tilt{k}" / "history.csv",
-                      _history(t, theta_left=fraction * 0.05 * np.cos(4 * t)))
+            write_csv(
+                rocking / "cases" / f"{kind}-tilt{k}" / "history.csv",
+                _history(t, theta_left=fraction * 0.05 * np.cos(4 * t)),
+            )
         ratios_k = [0.9, 0.88, 0.87]
-        tilts.append({"tilt_fraction": fraction, "fem": {"ratios": ratios_k},
-                      "multibody": {"ratios": ratios_k if k == 1 else [0.8, 0.8]}})
-    write_json(rocking / "summary.json", {"study": "made up", "alpha": 0.05, "tilts": tilts,
-                                          "restitution_housner": 0.85})
+        tilts.append(
+            {
+                "tilt_fraction": fraction,
+                "fem": {"ratios": ratios_k},
+                "multibody": {"ratios": ratios_k if k == 1 else [0.8, 0.8]},
+            }
+        )
+    write_json(
+        rocking / "summary.json",
+        {"study": "made up", "alpha": 0.05, "tilts": tilts, "restitution_housner": 0.85},
+    )
     runs["free-rocking"] = rocking
 
     sweep = out / "sweep"
     for n in ("solid", "cracked", "cracked-collars"):
         scale = 0.5 if n == "solid" else 1.0
-        write_csv(sweep / "cases" / f"{n}-fem" / "history.csv",
-                  _history(t, theta_left=scale * theta, theta_right=scale * theta))
+        write_csv(
+            sweep / "cases" / f"{n}-fem" / "history.csv",
+            _history(t, theta_left=scale * theta, theta_right=scale * theta),
+        )
         write_csv(sweep / "cases" / f"{n}-rigid" / "history.csv", _history(t, theta=theta))
     runs["sweep"] = sweep
     return runs
@@ -263,25 +344,42 @@ def drawn(tmp_path_factory):
         report.write_design_report(runs["design"])
         report.write_spectrum_crosscheck_report(runs["grid"])
         report.write_free_rocking_report(runs["free-rocking"])
-        summary = {"sizes": [0.1, 0.05, 0.025], "convergence": {
-            "peak_rotation": {"values": [0.02, 0.021, 0.0212], "richardson": 0.0213},
-            "collar_max_utilisation": {"values": [0.7, 0.72, 0.73], "richardson": None},
-            "edge_stress_max": {"values": [4e6, 5e6, 5.5e6], "richardson": 6e6}}}
+        summary = {
+            "sizes": [0.1, 0.05, 0.025],
+            "convergence": {
+                "peak_rotation": {"values": [0.02, 0.021, 0.0212], "richardson": 0.0213},
+                "collar_max_utilisation": {"values": [0.7, 0.72, 0.73], "richardson": None},
+                "edge_stress_max": {"values": [4e6, 5e6, 5.5e6], "richardson": 6e6},
+            },
+        }
         report._convergence_figure(runs["sweep"], summary)
-        report._variants_figure(runs["sweep"],
-                                {"variants": ["solid", "cracked", "cracked-collars"]})
+        report._variants_figure(
+            runs["sweep"], {"variants": ["solid", "cracked", "cracked-collars"]}
+        )
     assert read_csv(runs["design"] / "figures" / "design_chart.csv")["alpha"].size == 12 * 13
     return figures
 
 
 # the figures whose curves and legends are checked: of the cross-check only the collar and toe
 # stress figures (its others are drawn elsewhere in write_crosscheck_report)
-CHECKED = ("collars", "toe_stress", "design_chart", "collar_utilisation", "maps", "disagreement",
-           "boundaries", "rotations", "ratios", "convergence", "theta_variants")
+CHECKED = (
+    "collars",
+    "toe_stress",
+    "design_chart",
+    "collar_utilisation",
+    "maps",
+    "disagreement",
+    "boundaries",
+    "rotations",
+    "ratios",
+    "convergence",
+    "theta_variants",
+)
 
 
 def _texts(fig) -> list[str]:
     from matplotlib.text import Text
+
     return [t.get_text() for t in fig.findobj(Text) if t.get_text()]
 
 
@@ -314,8 +412,7 @@ def _scatter_points(ax) -> dict:
         if type(c) is PathCollection:
             colours = c.get_facecolors()
             for k, (x, y) in enumerate(c.get_offsets()):
-                points[(round(float(x), 9), round(float(y), 9))] = to_hex(
-                    colours[k % len(colours)])
+                points[(round(float(x), 9), round(float(y), 9))] = to_hex(colours[k % len(colours)])
     return points
 
 
@@ -331,8 +428,9 @@ def test_coarse_maps_mark_every_computed_pulse(drawn):
     w, a = [1.0, 3.0, 5.0], [2.0, 3.0, 4.0]
     fig, _ = drawn["maps"]
     sdof = [["safe"] * 3, ["safe"] * 3, ["without-impact", "without-impact", "after-impact"]]
-    modes = {0: [["after-impact", "safe", "safe"], ["without-impact", "after-impact", "safe"],
-                 sdof[2]]}
+    modes = {
+        0: [["after-impact", "safe", "safe"], ["without-impact", "after-impact", "safe"], sdof[2]]
+    }
     modes[1], modes[2] = modes[0], sdof
     for k, ax in enumerate(fig.axes):
         points = _scatter_points(ax)
@@ -342,8 +440,9 @@ def test_coarse_maps_mark_every_computed_pulse(drawn):
     fig, _ = drawn["disagreement"]
     assert all(len(_scatter_points(ax)) == 9 for ax in fig.axes)
     codes = np.array([[code[m] for m in row] for row in modes[0]], dtype=np.int8)
-    spectrum = Spectrum(np.array(w), np.array(a), codes, np.zeros((3, 3)), None, "nonlinear",
-                        "sine", 0.0, False)
+    spectrum = Spectrum(
+        np.array(w), np.array(a), codes, np.zeros((3, 3)), None, "nonlinear", "sine", 0.0, False
+    )
     fig, ax = plt.subplots()
     plot_spectrum(spectrum, None, ax=ax)
     assert len(_scatter_points(ax)) == 9
@@ -356,8 +455,11 @@ def _identical_lines(fig):
     for ax in fig.axes:
         lines = [line for line in ax.get_lines() if len(line.get_xdata()) > 2]
         for k, line in enumerate(lines):
-            same = [other for other in lines[k:]
-                    if np.array_equal(other.get_xydata(), line.get_xydata(), equal_nan=True)]
+            same = [
+                other
+                for other in lines[k:]
+                if np.array_equal(other.get_xydata(), line.get_xydata(), equal_nan=True)
+            ]
             if len(same) > 1 and not any(line in g for g in groups):
                 groups.append(same)
     return groups
@@ -375,8 +477,15 @@ def test_curves_that_coincide_stay_visible(drawn):
             assert "None" not in markers and len(set(markers)) == len(group), (name, markers)
             assert all(w1 > w2 for w1, w2 in zip(widths, widths[1:])), (name, widths)
             checked.add(name)
-    assert {"collars", "toe_stress", "collar_utilisation", "theta_variants", "rotations",
-            "ratios", "boundaries"} <= checked
+    assert {
+        "collars",
+        "toe_stress",
+        "collar_utilisation",
+        "theta_variants",
+        "rotations",
+        "ratios",
+        "boundaries",
+    } <= checked
 
 
 def test_legends_cover_no_data(drawn):
@@ -386,7 +495,7 @@ def test_legends_cover_no_data(drawn):
 
     for name in CHECKED:
         fig = drawn[name][0]
-        canvas = FigureCanvasAgg(fig)           # the figure was closed after saving
+        canvas = FigureCanvasAgg(fig)  # the figure was closed after saving
         canvas.draw()
         renderer = canvas.get_renderer()
         legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend()]
@@ -394,8 +503,12 @@ def test_legends_cover_no_data(drawn):
         page = fig.bbox.padded(1.0)
         for legend in legends:
             box = legend.get_window_extent(renderer)
-            assert page.containsx(box.x0) and page.containsx(box.x1) \
-                and page.containsy(box.y0) and page.containsy(box.y1), name
+            assert (
+                page.containsx(box.x0)
+                and page.containsx(box.x1)
+                and page.containsy(box.y0)
+                and page.containsy(box.y1)
+            ), name
             for ax in fig.axes:
                 inner = ax.get_window_extent(renderer).padded(-1.0)
                 assert not box.overlaps(inner), (name, ax.get_title())
@@ -414,12 +527,25 @@ def test_the_crosscheck_spectrum_holds_the_multibody_model_through_the_study_pul
     from colonna.studies.report import _spectrum_figure
 
     study = tomllib.loads(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6))
-    case = {"study": study, "source": str(tmp_path / "tiny.toml"), "base": str(tmp_path),
-            "key": "spectrum", "kind": "spectrum", "multibody_grid": (3, 2)}
+    case = {
+        "study": study,
+        "source": str(tmp_path / "tiny.toml"),
+        "base": str(tmp_path),
+        "key": "spectrum",
+        "kind": "spectrum",
+        "multibody_grid": (3, 2),
+    }
     result = spectrum_case(case, str(tmp_path))
     data = json.loads((tmp_path / "spectrum.json").read_text())
-    assert {"omega_ratios", "amplitude_ratios", "mode", "layout", "collar_yields",
-            "study_omega_ratio", "study_amplitude_ratio"} <= set(data)
+    assert {
+        "omega_ratios",
+        "amplitude_ratios",
+        "mode",
+        "layout",
+        "collar_yields",
+        "study_omega_ratio",
+        "study_amplitude_ratio",
+    } <= set(data)
     mb = data["multibody"]
     assert mb["model"] == "multibody" and mb["cracked"] and mb["friction"] == 0.7
     assert len(mb["omega_ratios"]) == 3 and len(mb["amplitude_ratios"]) == 2
@@ -432,8 +558,9 @@ def test_the_crosscheck_spectrum_holds_the_multibody_model_through_the_study_pul
     assert "verdict relies on the rigid multibody model" in figs[0]["caption"]
     assert any(e.startswith("rigid multibody: ") for e in figs[0]["legend"])
     assert "this study's pulse" in figs[0]["legend"]
-    marked = np.loadtxt(tmp_path / "figures" / "spectrum_multibody.csv", delimiter=",",
-                        skiprows=1, ndmin=2)
+    marked = np.loadtxt(
+        tmp_path / "figures" / "spectrum_multibody.csv", delimiter=",", skiprows=1, ndmin=2
+    )
     assert marked.shape[0] == 6
 
 
@@ -444,7 +571,8 @@ def test_the_reports_figures_pass_the_browser_check(drawn, tmp_path):
     figs = [entry for _, entry in drawn.values()]
     page = TEMPLATES.from_string(
         '{% from "macros.html.j2" import figures with context %}'
-        "<!DOCTYPE html><html><body>{{ figures(figs) }}</body></html>").render(figs=figs)
+        "<!DOCTYPE html><html><body>{{ figures(figs) }}</body></html>"
+    ).render(figs=figs)
     (tmp_path / "index.html").write_text(page)
     found = {r["name"]: r["problems"] for r in check_report(tmp_path / "index.html", tmp_path)}
     assert set(found) == set(drawn) and not any(found.values()), found

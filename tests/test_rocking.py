@@ -15,11 +15,17 @@ CASES = [(5.0, 3.0), (5.0, 4.5), (2.0, 2.0), (8.0, 6.0), (1.0, 1.5), (5.0, 7.3)]
 
 
 def _reference(block, pulse, model, **kw):
-    return reference_rocking(block.p, block.alpha, block.nu,
-                             sine_pulse_over_g(pulse.amplitude / block.g, pulse.omega,
-                                               pulse.phase, pulse.duration),
-                             pulse.duration, nonlinear=model == "nonlinear",
-                             t_stop=pulse.duration + 20.0 / block.p, settle=False, **kw)
+    return reference_rocking(
+        block.p,
+        block.alpha,
+        block.nu,
+        sine_pulse_over_g(pulse.amplitude / block.g, pulse.omega, pulse.phase, pulse.duration),
+        pulse.duration,
+        nonlinear=model == "nonlinear",
+        t_stop=pulse.duration + 20.0 / block.p,
+        settle=False,
+        **kw,
+    )
 
 
 def _ref_theta(pieces, t):
@@ -46,7 +52,7 @@ def test_history_matches_reference_integration(zm_block, model, omega_ratio, amp
     t = result.time[result.time <= min(t_end, result.time[-1])]
     ref = _ref_theta(pieces, t)
     ok = np.isfinite(ref)
-    np.testing.assert_allclose(result.theta[:t.size][ok], ref[ok], atol=1e-7 * zm_block.alpha)
+    np.testing.assert_allclose(result.theta[: t.size][ok], ref[ok], atol=1e-7 * zm_block.alpha)
     if not overturned:
         assert result.max_abs_theta >= max_theta * (1 - 1e-9)
         assert result.max_abs_theta == pytest.approx(max_theta, rel=1e-3)
@@ -60,8 +66,9 @@ def test_closed_form_and_dopri5_agree(zm_block):
     out = np.zeros((exact.time.size + 10, 3))
     impacts = np.zeros((1000, 3))
     dt = exact.time[1] - exact.time[0]
-    status, n_imp, *_ , n_out, _ = K.rk_run(P, rec_t, rec_a, exact.time[-1], 1e-11, 1e-13,
-                                           False, dt, out, impacts)
+    status, n_imp, *_, n_out, _ = K.rk_run(
+        P, rec_t, rec_a, exact.time[-1], 1e-11, 1e-13, False, dt, out, impacts
+    )
     assert exact.solver == "closed-form"
     assert n_imp == exact.impacts
     np.testing.assert_allclose(impacts[:n_imp, 0], exact.impact_times, rtol=1e-8)
@@ -73,20 +80,25 @@ def test_closed_form_and_dopri5_agree(zm_block):
 def test_restitution_applied_at_every_impact(zm_block, model):
     result = rock(zm_block, pulse_from_ratios(zm_block, "sine", 5.0, 2.8, model), model=model)
     assert not result.overturned and result.impacts >= 3
-    np.testing.assert_allclose(result.impact_velocity_after,
-                               0.9 * result.impact_velocity_before, rtol=1e-14)
+    np.testing.assert_allclose(
+        result.impact_velocity_after, 0.9 * result.impact_velocity_before, rtol=1e-14
+    )
     # the block changes side at each impact: successive velocities alternate in sign
     assert np.all(np.diff(np.sign(result.impact_velocity_before)) != 0)
 
 
 def _energy_per_j0(theta, omega, block, model, ka=0.0, kl=0.0):
-    p2, a = block.p ** 2, block.alpha
+    p2, a = block.p**2, block.alpha
     x = np.abs(theta)
     if model == "nonlinear":
         s = np.sin(theta)
-        return (0.5 * omega ** 2 + p2 * (np.cos(a - x) - np.cos(a))
-                + ka * (np.sqrt(1 + 0.25 * s * s) - 1) ** 2 + 0.25 * kl * s * s)
-    return 0.5 * omega ** 2 + p2 * (a * x - 0.5 * x * x) + 0.25 * kl * theta ** 2
+        return (
+            0.5 * omega**2
+            + p2 * (np.cos(a - x) - np.cos(a))
+            + ka * (np.sqrt(1 + 0.25 * s * s) - 1) ** 2
+            + 0.25 * kl * s * s
+        )
+    return 0.5 * omega**2 + p2 * (a * x - 0.5 * x * x) + 0.25 * kl * theta**2
 
 
 def _flights_with_constant_energy(result, energy, t_free, rel_tol):
@@ -122,8 +134,9 @@ def test_energy_conserved_with_collars(half_column):
     pulse = pulse_from_ratios(half_column, "sine", 3.0, 3.0, "nonlinear")
     result = rock(half_column, pulse, collars, model="nonlinear")
     P, *_ = kernel_params(half_column, pulse, collars, "nonlinear")
-    energy = _energy_per_j0(result.theta, result.theta_dot, half_column, "nonlinear",
-                            P[K.P_KA], P[K.P_KL])
+    energy = _energy_per_j0(
+        result.theta, result.theta_dot, half_column, "nonlinear", P[K.P_KA], P[K.P_KL]
+    )
     assert _flights_with_constant_energy(result, energy, pulse.duration, 1e-7) >= 2
 
 
@@ -133,7 +146,7 @@ def test_mirror_symmetry(zm_block, model):
     mirrored = type(pulse)(pulse.kind, -pulse.amplitude, pulse.omega, pulse.phase, pulse.duration)
     a = rock(zm_block, pulse, model=model)
     b = rock(zm_block, mirrored, model=model)
-    assert a.theta.min() < 0 < b.theta.max()     # positive ground push rocks to negative theta
+    assert a.theta.min() < 0 < b.theta.max()  # positive ground push rocks to negative theta
     np.testing.assert_allclose(b.theta, -a.theta, atol=1e-12)
     assert a.mode == b.mode and a.impacts == b.impacts
 
@@ -144,8 +157,7 @@ def test_record_path_reproduces_the_pulse(zm_block):
     t = np.linspace(0.0, pulse.duration, 20001)
     record = Record(t, pulse.acceleration(t))
     a = rock(zm_block, pulse, model="nonlinear", duration=pulse.duration + 5.0)
-    b = rock(zm_block, record, model="nonlinear", duration=pulse.duration + 5.0,
-             dt_out=a.time[1])
+    b = rock(zm_block, record, model="nonlinear", duration=pulse.duration + 5.0, dt_out=a.time[1])
     assert a.impacts == b.impacts
     n = min(a.time.size, b.time.size)
     np.testing.assert_allclose(b.theta[:n], a.theta[:n], atol=2e-5 * zm_block.alpha)
@@ -166,15 +178,22 @@ def test_cosine_pulse_starts_rocking_at_once(zm_block):
     result = rock(zm_block, pulse, model="nonlinear")
     assert abs(result.theta[5]) > 0.0 and result.theta[5] < 0.0
     overturned, impacts, *_ = reference_rocking(
-        zm_block.p, zm_block.alpha, 0.9,
-        lambda t: pulse.acceleration(t) / zm_block.g, pulse.duration, nonlinear=True,
-        t_stop=pulse.duration + 20 / zm_block.p)
+        zm_block.p,
+        zm_block.alpha,
+        0.9,
+        lambda t: pulse.acceleration(t) / zm_block.g,
+        pulse.duration,
+        nonlinear=True,
+        t_stop=pulse.duration + 20 / zm_block.p,
+    )
     assert (result.overturned, result.impacts) == (overturned, impacts)
 
 
 def test_block_stays_put_below_uplift(zm_block):
-    weak = Record(np.linspace(0, 2, 201), 0.5 * zm_block.uplift_acceleration() *
-                  np.sin(np.linspace(0, 2, 201) * 5))
+    weak = Record(
+        np.linspace(0, 2, 201),
+        0.5 * zm_block.uplift_acceleration() * np.sin(np.linspace(0, 2, 201) * 5),
+    )
     result = rock(zm_block, weak, model="nonlinear")
     assert result.max_abs_theta == 0.0 and result.impacts == 0 and not result.overturned
 
@@ -182,8 +201,11 @@ def test_block_stays_put_below_uplift(zm_block):
 def test_housner_default_restitution_used():
     blk = Block(b=0.25, h=2.0)
     result = rock(blk, pulse_from_ratios(blk, "sine", 3.0, 2.5, "nonlinear"), model="nonlinear")
-    np.testing.assert_allclose(result.impact_velocity_after / result.impact_velocity_before,
-                               1 - 1.5 * math.sin(blk.alpha) ** 2, rtol=1e-13)
+    np.testing.assert_allclose(
+        result.impact_velocity_after / result.impact_velocity_before,
+        1 - 1.5 * math.sin(blk.alpha) ** 2,
+        rtol=1e-13,
+    )
 
 
 @pytest.mark.parametrize("model", ["linear", "nonlinear"])
@@ -194,21 +216,26 @@ def test_release_from_a_tilt_reaches_the_vertical_at_the_corrected_eq13_time(mod
     blk = Block.from_dimensionless(p=2.0, alpha=0.2)
     result = rock(blk, NoMotion(), model=model, initial_tilt=-0.1, duration=3.0)
     expected = blk.time_to_vertical(0.1)
-    rel = 1e-9 if model == "linear" else 0.2 ** 2
+    rel = 1e-9 if model == "linear" else 0.2**2
     assert result.impact_times[0] == pytest.approx(expected, rel=rel)
     assert result.theta[0] == -0.1 and not result.overturned
-    np.testing.assert_allclose(result.impact_velocity_after / result.impact_velocity_before,
-                               blk.restitution_housner, rtol=1e-12)
+    np.testing.assert_allclose(
+        result.impact_velocity_after / result.impact_velocity_before,
+        blk.restitution_housner,
+        rtol=1e-12,
+    )
 
 
 def test_release_with_an_outward_spin_above_the_barrier_overturns_without_impact():
     """From upright, theta' > p sqrt(2 (1 - cos alpha)) carries the free block past alpha."""
     blk = Block.from_dimensionless(p=2.0, alpha=0.2)
     barrier = blk.p * math.sqrt(2.0 * (1.0 - math.cos(blk.alpha)))
-    over = rock(blk, NoMotion(), model="nonlinear", initial_angular_velocity=1.01 * barrier,
-                duration=10.0)
-    back = rock(blk, NoMotion(), model="nonlinear", initial_angular_velocity=0.99 * barrier,
-                duration=10.0)
+    over = rock(
+        blk, NoMotion(), model="nonlinear", initial_angular_velocity=1.01 * barrier, duration=10.0
+    )
+    back = rock(
+        blk, NoMotion(), model="nonlinear", initial_angular_velocity=0.99 * barrier, duration=10.0
+    )
     assert over.mode == "without-impact" and back.mode == "safe" and back.impacts >= 1
 
 

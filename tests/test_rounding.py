@@ -42,8 +42,14 @@ CASE = textwrap.dedent("""
     print(json.dumps([{key: r.summary[key] for key in KEYS} | {
         "crack_slip_max": float(max(r.history["crack_slip_max"]))} for r in runs]))
 """)
-KEYS = ("max_abs_theta_left", "max_abs_theta_right", "collar_max_utilisation",
-        "edge_stress_max", "crack_slip_residual", "energy_error_max")
+KEYS = (
+    "max_abs_theta_left",
+    "max_abs_theta_right",
+    "collar_max_utilisation",
+    "edge_stress_max",
+    "crack_slip_residual",
+    "energy_error_max",
+)
 
 
 def _replicas(cpu_name: str | None) -> list[dict]:
@@ -52,8 +58,14 @@ def _replicas(cpu_name: str | None) -> list[dict]:
     if cpu_name:
         env["NUMBA_CPU_NAME"] = cpu_name
     script = f"KEYS = {KEYS!r}\n" + CASE
-    done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,
-                          text=True, timeout=900, check=True)
+    done = subprocess.run(
+        [sys.executable, "-c", script],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=900,
+        check=True,
+    )
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
@@ -66,8 +78,10 @@ def inside_band(value: float, b: dict) -> bool:
     return b["min"] - slack <= value <= b["max"] + slack
 
 
-@pytest.mark.skipif(os.environ.get("NUMBA_CPU_NAME") == "generic",
-                    reason="compares this processor's rounding with the generic one")
+@pytest.mark.skipif(
+    os.environ.get("NUMBA_CPU_NAME") == "generic",
+    reason="compares this processor's rounding with the generic one",
+)
 def test_another_rounding_lands_inside_the_replicas_bands():
     here = _replicas(None)
     generic = _replicas("generic")

@@ -55,8 +55,7 @@ def test_json_schema_has_every_key_with_its_unit_and_range(capsys):
     assert defs["Column"]["properties"]["height"]["unit"] == "m"
 
 
-@pytest.mark.parametrize("model, table", [(Stone, schema.Stone), (ContactSettings,
-                                                                   schema.Contact)])
+@pytest.mark.parametrize("model, table", [(Stone, schema.Stone), (ContactSettings, schema.Contact)])
 def test_schema_defaults_are_the_solvers_defaults(model, table):
     for f in dataclasses.fields(model):
         assert table.model_fields[f.name].default == f.default, f.name
@@ -73,8 +72,10 @@ def test_every_shipped_study_satisfies_the_schema(path):
     assert spec.study.kind in schema.STUDY_KINDS
 
 
-BASE = {"column": {"height": 2.0, "width": 0.4},
-        "ground": {"pulse": "sine", "amplitude_ratio": 2.0, "omega_ratio": 3.0}}
+BASE = {
+    "column": {"height": 2.0, "width": 0.4},
+    "ground": {"pulse": "sine", "amplitude_ratio": 2.0, "omega_ratio": 3.0},
+}
 
 
 def _with(table, **keys):
@@ -83,43 +84,60 @@ def _with(table, **keys):
     return data
 
 
-@pytest.mark.parametrize("data, words", [
-    (_with("column", height=-1.0), ["column.height = -1.0", "(0, inf), m"]),
-    (_with("column", height=True), ["column.height = True", "(0, inf), m"]),
-    (_with("column", height="2"), ["column.height = '2'"]),
-    (_with("stone", fc=float("inf")), ["stone.fc = inf", "(0, inf), Pa"]),
-    (_with("stone", colour=1), ["unknown key stone.colour", "E, nu, density, fc"]),
-    ({**BASE, "colour": {}}, ["unknown table colour", "column"]),
-    ({**BASE, "collar": [{"y": 1.0, "t": 0.01, "h": 0.05},
-                         {"y": 1.0, "t": 0.01, "h": -0.05}]}, ["collar[2].h = -0.05"]),
-    ({**BASE, "collar": [{"y": 3.0, "t": 0.01, "h": 0.05}]},
-     ["collar[1].y = 3 m", "(0, 2] m"]),
-    ({**BASE, "collar": [{"y": 1.0, "t": 0.01, "h": 0.05, "Eh": 300e9}]}, ["Eh", "below E"]),
-    (_with("mesh", size=0.5), ["mesh.size = 0.5 m", "(0, 0.2] m"]),
-    (_with("mesh", toe_refinements=[1, 3, 9]), ["mesh.toe_refinements", "[1, 2, 4]"]),
-    (_with("mesh", toe_refinements=[1.0, 2.0, 4.0]), ["mesh.toe_refinements[1] = 1.0",
-                                                      "integer"]),
-    (_with("ground", amplitude=3.0), ["only one of ground.amplitude"]),
-    ({**BASE, "ground": {"pulse": "cosine", "omega_ratio": 2.0}},
-     ["exactly one of ground.amplitude and ground.amplitude_ratio for a cosine pulse"]),
-    (_with("ground", record="a.AT2"), ["ground.record has no meaning with pulse = 'sine'"]),
-    (_with("ground", vertical_amplitude=2.0), ["ground.vertical_period is required"]),
-    (_with("ground", vertical_amplitude=200.0, vertical_period=0.5),
-     ["ground.vertical_amplitude = 200 m/s^2",
-                                                 "lifts the column off the ground",
-                                                 "below g = 9.81 m/s^2"]),
-    (_with("ground", pulse="square"), ["ground.pulse = 'square'", "'sine', 'cosine'"]),
-    (_with("run", initial_tilt=1.0), ["run.initial_tilt = 1.0", "(-0.785398, 0.785398), rad"]),
-    (_with("contact", damping=1.0), ["contact.damping = 1.0", "[0, 1)"]),
-    (_with("grid", points=[3, 0]), ["grid.points[2] = 0", "[1, inf)"]),
-    (_with("grid", amplitude_ratios=[3.0, 2.0]), ["grid.amplitude_ratios", "start <= stop"]),
-    (_with("convergence", sizes=[0.1, 0.2, 0.05]), ["convergence.sizes", "decrease"]),
-    (_with("free_rocking", tilt_fractions=[1.5]), ["free_rocking.tilt_fractions[1] = 1.5",
-                                                   "(0, 1)"]),
-    (_with("study", kind="wobble"), ["study.kind = 'wobble'", "'cross-check'"]),
-    ({"ground": BASE["ground"]}, ["column.height is required"]),
-    ({"column": BASE["column"]}, ["no [ground] table"]),
-])
+@pytest.mark.parametrize(
+    "data, words",
+    [
+        (_with("column", height=-1.0), ["column.height = -1.0", "(0, inf), m"]),
+        (_with("column", height=True), ["column.height = True", "(0, inf), m"]),
+        (_with("column", height="2"), ["column.height = '2'"]),
+        (_with("stone", fc=float("inf")), ["stone.fc = inf", "(0, inf), Pa"]),
+        (_with("stone", colour=1), ["unknown key stone.colour", "E, nu, density, fc"]),
+        ({**BASE, "colour": {}}, ["unknown table colour", "column"]),
+        (
+            {
+                **BASE,
+                "collar": [{"y": 1.0, "t": 0.01, "h": 0.05}, {"y": 1.0, "t": 0.01, "h": -0.05}],
+            },
+            ["collar[2].h = -0.05"],
+        ),
+        ({**BASE, "collar": [{"y": 3.0, "t": 0.01, "h": 0.05}]}, ["collar[1].y = 3 m", "(0, 2] m"]),
+        ({**BASE, "collar": [{"y": 1.0, "t": 0.01, "h": 0.05, "Eh": 300e9}]}, ["Eh", "below E"]),
+        (_with("mesh", size=0.5), ["mesh.size = 0.5 m", "(0, 0.2] m"]),
+        (_with("mesh", toe_refinements=[1, 3, 9]), ["mesh.toe_refinements", "[1, 2, 4]"]),
+        (
+            _with("mesh", toe_refinements=[1.0, 2.0, 4.0]),
+            ["mesh.toe_refinements[1] = 1.0", "integer"],
+        ),
+        (_with("ground", amplitude=3.0), ["only one of ground.amplitude"]),
+        (
+            {**BASE, "ground": {"pulse": "cosine", "omega_ratio": 2.0}},
+            ["exactly one of ground.amplitude and ground.amplitude_ratio for a cosine pulse"],
+        ),
+        (_with("ground", record="a.AT2"), ["ground.record has no meaning with pulse = 'sine'"]),
+        (_with("ground", vertical_amplitude=2.0), ["ground.vertical_period is required"]),
+        (
+            _with("ground", vertical_amplitude=200.0, vertical_period=0.5),
+            [
+                "ground.vertical_amplitude = 200 m/s^2",
+                "lifts the column off the ground",
+                "below g = 9.81 m/s^2",
+            ],
+        ),
+        (_with("ground", pulse="square"), ["ground.pulse = 'square'", "'sine', 'cosine'"]),
+        (_with("run", initial_tilt=1.0), ["run.initial_tilt = 1.0", "(-0.785398, 0.785398), rad"]),
+        (_with("contact", damping=1.0), ["contact.damping = 1.0", "[0, 1)"]),
+        (_with("grid", points=[3, 0]), ["grid.points[2] = 0", "[1, inf)"]),
+        (_with("grid", amplitude_ratios=[3.0, 2.0]), ["grid.amplitude_ratios", "start <= stop"]),
+        (_with("convergence", sizes=[0.1, 0.2, 0.05]), ["convergence.sizes", "decrease"]),
+        (
+            _with("free_rocking", tilt_fractions=[1.5]),
+            ["free_rocking.tilt_fractions[1] = 1.5", "(0, 1)"],
+        ),
+        (_with("study", kind="wobble"), ["study.kind = 'wobble'", "'cross-check'"]),
+        ({"ground": BASE["ground"]}, ["column.height is required"]),
+        ({"column": BASE["column"]}, ["no [ground] table"]),
+    ],
+)
 def test_errors_name_the_key_path_and_the_allowed_range(data, words):
     with pytest.raises(InputError) as raised:
         schema.parse(data, "s.toml")
@@ -139,25 +157,39 @@ def test_a_valid_study_gets_its_defaults():
 def _limits(table, key):
     prop = table.model_json_schema()["properties"][key]
     prop = next((o for o in prop.get("anyOf", []) if o.get("type") == "number"), prop)
-    return {k: prop[k] for k in ("minimum", "exclusiveMinimum", "maximum", "exclusiveMaximum")
-            if k in prop}
+    return {
+        k: prop[k]
+        for k in ("minimum", "exclusiveMinimum", "maximum", "exclusiveMaximum")
+        if k in prop
+    }
 
 
-@pytest.mark.parametrize("model, table, required", [
-    (Stone, schema.Stone, {}), (ContactSettings, schema.Contact, {}),
-    (Collar, schema.Collar, {"y": 1.0, "t": 0.01, "h": 0.05})])
+@pytest.mark.parametrize(
+    "model, table, required",
+    [
+        (Stone, schema.Stone, {}),
+        (ContactSettings, schema.Contact, {}),
+        (Collar, schema.Collar, {"y": 1.0, "t": 0.01, "h": 0.05}),
+    ],
+)
 def test_the_solvers_own_checks_have_the_schemas_ranges(model, table, required):
     """The dataclasses check their values for the Python API; at each end of every range of
     the schema they accept and reject what the schema does."""
     checked = 0
     for key in table.model_fields:
         for bound, value in _limits(table, key).items():
-            inside = {"minimum": value, "maximum": value,
-                      "exclusiveMinimum": value + 1e-9 * max(1.0, abs(value)),
-                      "exclusiveMaximum": value - 1e-9 * max(1.0, abs(value))}[bound]
-            outside = {"minimum": value - 1e-9 * max(1.0, abs(value)),
-                       "maximum": value + 1e-9 * max(1.0, abs(value)),
-                       "exclusiveMinimum": value, "exclusiveMaximum": value}[bound]
+            inside = {
+                "minimum": value,
+                "maximum": value,
+                "exclusiveMinimum": value + 1e-9 * max(1.0, abs(value)),
+                "exclusiveMaximum": value - 1e-9 * max(1.0, abs(value)),
+            }[bound]
+            outside = {
+                "minimum": value - 1e-9 * max(1.0, abs(value)),
+                "maximum": value + 1e-9 * max(1.0, abs(value)),
+                "exclusiveMinimum": value,
+                "exclusiveMaximum": value,
+            }[bound]
             given = {**required, key: inside}
             table(**given)
             model(**given)
@@ -174,42 +206,84 @@ def test_the_solvers_own_checks_have_the_schemas_ranges(model, table, required):
 COLLAR = {"y": 1.0, "t": 0.01, "h": 0.05}
 
 
-@pytest.mark.parametrize("data, lines", [
-    # a key out of range, an unknown key and a collar above the column: three tables
-    ({**_with("column", width=-0.4), "stone": {"colour": 1}, "collar": [{**COLLAR, "y": 3.0}]},
-     ["column.width = -0.4", "unknown key stone.colour", "collar[1].y = 3 m"]),
-    # no [ground] no longer hides a collar above the column, nor a key out of range
-    ({"column": {"height": 2.0, "width": -0.4}, "collar": [{**COLLAR, "y": 3.0}]},
-     ["column.width = -0.4", "no [ground] table", "collar[1].y = 3 m"]),
-    # every key passes, three checks across tables fail
-    ({"column": BASE["column"], "collar": [{**COLLAR, "y": 3.0}], "mesh": {"size": 0.5}},
-     ["no [ground] table", "collar[1].y = 3 m", "mesh.size = 0.5 m"]),
-    # checks across the keys of a table where another key failed
-    (_with("ground", vertical_amplitude=200.0),
-     ["ground.vertical_amplitude = 200 m/s^2", "ground.vertical_period is required"]),
-    ({**BASE, "collar": [{**COLLAR, "t": -0.01, "Eh": 300e9}, {**COLLAR, "Eh": 300e9}]},
-     ["collar[1].t = -0.01", "collar[2]: Eh = 3e+11 Pa must be below E",
-      "collar[1]: Eh = 3e+11 Pa must be below E"]),
-    ({**_with("grid", omega_ratios=[8.0, 1.0], points=[0, 3]),
-      "convergence": {"sizes": [0.1, 0.2, 0.3], "levels": 2}},
-     ["grid.points[1] = 0", "convergence.levels = 2", "grid.omega_ratios = [8.0, 1.0]",
-      "convergence.sizes = [0.1, 0.2, 0.3] must decrease"]),
-    # a misspelt key is one mistake: the key it leaves missing is not reported again
-    ({**_with("stone", nu=0.6), "column": {"heigth": 2.0, "width": 0.4}},
-     ["unknown key column.heigth", "stone.nu = 0.6"]),
-    ({**_with("run", safety=2.0), "ground": {"amplitud": 2.0, "omega_ratio": 3.0}},
-     ["unknown key ground.amplitud", "run.safety = 2.0"]),
-    ({"grund": BASE["ground"], "column": {"height": 2.0, "width": 0.4},
-      "collar": [{**COLLAR, "y": 3.0}]}, ["unknown table grund", "collar[1].y = 3 m"]),
-    # ... but an unknown key unlike the missing one is another mistake
-    ({"column": {"height": 2.0, "colour": "red"}, "ground": BASE["ground"]},
-     ["column.width is required", "unknown key column.colour"]),
-    # one line for a list of numbers, at its first bad item
-    (_with("mesh", toe_refinements=[1.0, 2.0, 4.0]), ["mesh.toe_refinements[1] = 1.0"]),
-    # a kind that failed does not say what else is required
-    ({"study": {"kind": "wobble"}, "column": {"height": -2.0, "width": 0.4}},
-     ["study.kind = 'wobble'", "column.height = -2.0"]),
-])
+@pytest.mark.parametrize(
+    "data, lines",
+    [
+        # a key out of range, an unknown key and a collar above the column: three tables
+        (
+            {
+                **_with("column", width=-0.4),
+                "stone": {"colour": 1},
+                "collar": [{**COLLAR, "y": 3.0}],
+            },
+            ["column.width = -0.4", "unknown key stone.colour", "collar[1].y = 3 m"],
+        ),
+        # no [ground] no longer hides a collar above the column, nor a key out of range
+        (
+            {"column": {"height": 2.0, "width": -0.4}, "collar": [{**COLLAR, "y": 3.0}]},
+            ["column.width = -0.4", "no [ground] table", "collar[1].y = 3 m"],
+        ),
+        # every key passes, three checks across tables fail
+        (
+            {"column": BASE["column"], "collar": [{**COLLAR, "y": 3.0}], "mesh": {"size": 0.5}},
+            ["no [ground] table", "collar[1].y = 3 m", "mesh.size = 0.5 m"],
+        ),
+        # checks across the keys of a table where another key failed
+        (
+            _with("ground", vertical_amplitude=200.0),
+            ["ground.vertical_amplitude = 200 m/s^2", "ground.vertical_period is required"],
+        ),
+        (
+            {**BASE, "collar": [{**COLLAR, "t": -0.01, "Eh": 300e9}, {**COLLAR, "Eh": 300e9}]},
+            [
+                "collar[1].t = -0.01",
+                "collar[2]: Eh = 3e+11 Pa must be below E",
+                "collar[1]: Eh = 3e+11 Pa must be below E",
+            ],
+        ),
+        (
+            {
+                **_with("grid", omega_ratios=[8.0, 1.0], points=[0, 3]),
+                "convergence": {"sizes": [0.1, 0.2, 0.3], "levels": 2},
+            },
+            [
+                "grid.points[1] = 0",
+                "convergence.levels = 2",
+                "grid.omega_ratios = [8.0, 1.0]",
+                "convergence.sizes = [0.1, 0.2, 0.3] must decrease",
+            ],
+        ),
+        # a misspelt key is one mistake: the key it leaves missing is not reported again
+        (
+            {**_with("stone", nu=0.6), "column": {"heigth": 2.0, "width": 0.4}},
+            ["unknown key column.heigth", "stone.nu = 0.6"],
+        ),
+        (
+            {**_with("run", safety=2.0), "ground": {"amplitud": 2.0, "omega_ratio": 3.0}},
+            ["unknown key ground.amplitud", "run.safety = 2.0"],
+        ),
+        (
+            {
+                "grund": BASE["ground"],
+                "column": {"height": 2.0, "width": 0.4},
+                "collar": [{**COLLAR, "y": 3.0}],
+            },
+            ["unknown table grund", "collar[1].y = 3 m"],
+        ),
+        # ... but an unknown key unlike the missing one is another mistake
+        (
+            {"column": {"height": 2.0, "colour": "red"}, "ground": BASE["ground"]},
+            ["column.width is required", "unknown key column.colour"],
+        ),
+        # one line for a list of numbers, at its first bad item
+        (_with("mesh", toe_refinements=[1.0, 2.0, 4.0]), ["mesh.toe_refinements[1] = 1.0"]),
+        # a kind that failed does not say what else is required
+        (
+            {"study": {"kind": "wobble"}, "column": {"height": -2.0, "width": 0.4}},
+            ["study.kind = 'wobble'", "column.height = -2.0"],
+        ),
+    ],
+)
 def test_every_error_of_a_study_file_comes_at_once_one_line_each(data, lines):
     """Pydantic's errors first, in the order of the schema's tables, then the checks across keys
     (also those of a table where a key failed, which pydantic skips)."""
@@ -226,4 +300,5 @@ def test_a_table_checked_on_its_own_lists_its_errors_too():
         schema.parse_table("grid", {"omega_ratios": [8.0, 1.0], "points": [0, 3]}, "s.toml")
     assert str(raised.value).split("\n") == [
         "s.toml: grid.points[1] = 0 is not allowed: a list of 2 integers in [1, inf)",
-        "s.toml: grid.omega_ratios = [8.0, 1.0] must be [start, stop] with start <= stop"]
+        "s.toml: grid.omega_ratios = [8.0, 1.0] must be [start, stop] with start <= stop",
+    ]

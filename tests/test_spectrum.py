@@ -14,10 +14,15 @@ from colonna.studies.validation import mode_boundaries
 def _reference_mode(block, omega_ratio, amplitude_ratio, model, **kw):
     pulse = pulse_from_ratios(block, "sine", omega_ratio, amplitude_ratio, model)
     overturned, impacts, *_ = reference_rocking(
-        block.p, block.alpha, block.nu,
+        block.p,
+        block.alpha,
+        block.nu,
         sine_pulse_over_g(pulse.amplitude / block.g, pulse.omega, pulse.phase, pulse.duration),
-        pulse.duration, nonlinear=model == "nonlinear", t_stop=pulse.duration + 50 / block.p,
-        **kw)
+        pulse.duration,
+        nonlinear=model == "nonlinear",
+        t_stop=pulse.duration + 50 / block.p,
+        **kw,
+    )
     if not overturned:
         return "safe"
     return "after-impact" if impacts else "without-impact"
@@ -37,11 +42,12 @@ def test_spectrum_matches_reference_at_sampled_points(zm_block, model):
         expected = _reference_mode(zm_block, omegas[j], amplitudes[i], model)
         assert modes[i][j] == expected, (omegas[j], amplitudes[i])
         seen.add(expected)
-    assert len(seen) >= 2      # the sample crosses a boundary
+    assert len(seen) >= 2  # the sample crosses a boundary
 
 
 def test_spectrum_with_collars_matches_reference(half_column):
     from colonna.rigid.collars import collar_kernel_constants
+
     collars = (Collar(y=1.0, t=0.002, h=0.02), Collar(y=3.0, t=0.002, h=0.02))
     ka, kl = collar_kernel_constants(half_column, collars)
     omegas = np.array([1.0, 3.0, 6.0])
@@ -49,8 +55,9 @@ def test_spectrum_with_collars_matches_reference(half_column):
     spec = overturning_spectrum(half_column, omegas, amplitudes, collars, model="nonlinear")
     for i, a in enumerate(amplitudes):
         for j, w in enumerate(omegas):
-            assert spec.modes[i][j] == _reference_mode(half_column, w, a, "nonlinear",
-                                                       collar_ka=ka, collar_kl=kl)
+            assert spec.modes[i][j] == _reference_mode(
+                half_column, w, a, "nonlinear", collar_ka=ka, collar_kl=kl
+            )
     # collar yield map: yields exactly where the peak rotation passes the yield rotation
     theta_y = min(collar_yield_rotation(c, half_column.b) for c in collars)
     np.testing.assert_array_equal(spec.collar_yields, spec.max_abs_theta >= theta_y)
@@ -76,15 +83,18 @@ def test_zhang_makris_published_boundaries(zm_block):
     3.00 g alpha and overturns at 3.01; overturns at 6.32 and is safe at 6.33. The exact solution
     (confirmed against solve_ivp at rtol 1e-12 in test_rocking) puts the boundaries at
     3.019 and 6.318: within 0.3 % of the published figure (see docs/validation.md)."""
-    lower, upper, mode2 = mode_boundaries(zm_block, 5.0, "linear",
-                                          [(2.5, 4.0), (5.5, 6.9), (6.9, 8.0)], tol=1e-5)
+    lower, upper, mode2 = mode_boundaries(
+        zm_block, 5.0, "linear", [(2.5, 4.0), (5.5, 6.9), (6.9, 8.0)], tol=1e-5
+    )
     assert 3.00 * (1 - 3e-3) <= lower <= 3.01 * (1 + 3e-3)
     assert 6.32 * (1 - 5e-4) <= upper <= 6.33 * (1 + 5e-4)
-    assert 7.0 < mode2 < 7.4           # overturning without impact above the safe window
+    assert 7.0 < mode2 < 7.4  # overturning without impact above the safe window
     # the independent reference agrees on both sides of each boundary
-    for boundary, below, above in ((lower, "safe", "after-impact"),
-                                   (upper, "after-impact", "safe"),
-                                   (mode2, "safe", "without-impact")):
+    for boundary, below, above in (
+        (lower, "safe", "after-impact"),
+        (upper, "after-impact", "safe"),
+        (mode2, "safe", "without-impact"),
+    ):
         assert _reference_mode(zm_block, 5.0, boundary - 0.005, "linear") == below
         assert _reference_mode(zm_block, 5.0, boundary + 0.005, "linear") == above
 

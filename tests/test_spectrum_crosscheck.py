@@ -59,8 +59,9 @@ def test_grid_option_sets_the_grid_and_the_summary_has_its_maps(grid_run):
     assert len(s["omega_ratios"]) == 3 and len(s["amplitude_ratios"]) == 3
     for key in ("mode_fem", "mode_multibody", "mode_sdof", "collar_yield_fem", "toe_ratio_fem"):
         assert len(s[key]) == 3 and all(len(row) == 3 for row in s[key]), key
-    words = {w for key in ("mode_fem", "mode_multibody", "mode_sdof") for row in s[key]
-             for w in row}
+    words = {
+        w for key in ("mode_fem", "mode_multibody", "mode_sdof") for row in s[key] for w in row
+    }
     assert words <= {"safe", "after-impact", "without-impact"} and len(words) >= 2
     assert len(list((out / "cases").glob("*/result.json"))) == 9
     page = (out / "index.html").read_text()
@@ -81,8 +82,7 @@ def test_spectrum_crosscheck_report_draws_every_figure_and_legend(grid_run, tmp_
 def test_agreement_numbers_are_those_of_the_maps(grid_run):
     _, _, s = grid_run
     for other in ("multibody", "sdof"):
-        same = [a == b for ra, rb in zip(s["mode_fem"], s[f"mode_{other}"])
-                for a, b in zip(ra, rb)]
+        same = [a == b for ra, rb in zip(s["mode_fem"], s[f"mode_{other}"]) for a, b in zip(ra, rb)]
         assert s[f"agreement_fem_{other}"] == pytest.approx(sum(same) / len(same))
     assert agreement([["safe", "safe"]], [["safe", "after-impact"]]) == 0.5
 
@@ -100,10 +100,22 @@ def test_rows_follow_amplitudes_and_points_are_the_runs(grid_run):
 def test_killed_grid_resumes_with_the_same_summary_and_no_point_redone(grid_run, tmp_path):
     study, _, reference = grid_run
     out = tmp_path / "out"
-    cmd = [sys.executable, "-m", "colonna.studies.cli", "study", str(study), "--out", str(out),
-           "--grid", "3x3", "--workers", "1"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                            cwd=Path(__file__).parents[1])
+    cmd = [
+        sys.executable,
+        "-m",
+        "colonna.studies.cli",
+        "study",
+        str(study),
+        "--out",
+        str(out),
+        "--grid",
+        "3x3",
+        "--workers",
+        "1",
+    ]
+    proc = subprocess.Popen(
+        cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=Path(__file__).parents[1]
+    )
     deadline = time.time() + 240
     while time.time() < deadline and len(list((out / "cases").glob("*/result.json"))) < 2:
         time.sleep(0.05)
@@ -112,7 +124,7 @@ def test_killed_grid_resumes_with_the_same_summary_and_no_point_redone(grid_run,
     done = {p: p.stat().st_mtime_ns for p in (out / "cases").glob("*/result.json")}
     assert 2 <= len(done) < 9
     assert main(["study", str(study), "--out", str(out), "--grid", "3x3", "--workers", "1"]) == 0
-    assert all(p.stat().st_mtime_ns == t for p, t in done.items())      # none redone
+    assert all(p.stat().st_mtime_ns == t for p, t in done.items())  # none redone
     resumed = json.loads((out / "summary.json").read_text())
     for s in (resumed, reference):
         s.pop("wall_seconds")
@@ -120,16 +132,19 @@ def test_killed_grid_resumes_with_the_same_summary_and_no_point_redone(grid_run,
     assert resumed == reference
 
 
-@pytest.mark.parametrize("change, word", [
-    (("--grid", "3by3"), "--grid"),
-    (("--grid", "0x3"), "--grid"),
-    ("points = [4, 4]|points = [4, -1]", "grid.points"),
-    ("omega_ratios = [1.5, 6.0]|omega_ratios = [6.0, 1.5]", "grid.omega_ratios"),
-    ('pulse = "sine"|pulse = "sine"\namplitude_ratio = 2.0', "ground.amplitude_ratio"),
-    ('pulse = "sine"|pulse = "square"', "ground.pulse"),
-    ('pulse = "sine"|pulse = "record"', "ground.record"),
-    ('pulse = "sine"|pulse = "record"\nrecord = "x.AT2"', "grid.omega_ratios"),
-])
+@pytest.mark.parametrize(
+    "change, word",
+    [
+        (("--grid", "3by3"), "--grid"),
+        (("--grid", "0x3"), "--grid"),
+        ("points = [4, 4]|points = [4, -1]", "grid.points"),
+        ("omega_ratios = [1.5, 6.0]|omega_ratios = [6.0, 1.5]", "grid.omega_ratios"),
+        ('pulse = "sine"|pulse = "sine"\namplitude_ratio = 2.0', "ground.amplitude_ratio"),
+        ('pulse = "sine"|pulse = "square"', "ground.pulse"),
+        ('pulse = "sine"|pulse = "record"', "ground.record"),
+        ('pulse = "sine"|pulse = "record"\nrecord = "x.AT2"', "grid.omega_ratios"),
+    ],
+)
 def test_bad_grid_input_is_one_line_naming_it(tmp_path, capsys, change, word):
     text = GRID_STUDY
     extra = []
@@ -143,7 +158,7 @@ def test_bad_grid_input_is_one_line_naming_it(tmp_path, capsys, change, word):
     assert main(["study", str(study), "--out", str(tmp_path / "o"), *extra]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and word in err
-    assert not (tmp_path / "o" / "cases").exists()          # failed before any work
+    assert not (tmp_path / "o" / "cases").exists()  # failed before any work
 
 
 @pytest.mark.slow
@@ -159,10 +174,12 @@ def test_grid_over_a_recorded_motion(tmp_path):
     amplitude_ratio x a_uplift and plays it time_scale times as fast; each point's ground
     motion is that, and the report labels the axis."""
     from colonna.core.ground import read_record
+
     record = Path(__file__).parent / "data" / "synthetic.AT2"
-    text = (GRID_STUDY.replace('pulse = "sine"', f'pulse = "record"\nrecord = "{record}"')
-            .replace("omega_ratios", "time_scales"))
-    text = text.replace("duration = 0.6", "duration = 3.0")      # the record peaks at 1.5 s
+    text = GRID_STUDY.replace('pulse = "sine"', f'pulse = "record"\nrecord = "{record}"').replace(
+        "omega_ratios", "time_scales"
+    )
+    text = text.replace("duration = 0.6", "duration = 3.0")  # the record peaks at 1.5 s
     study = tmp_path / "grid-record.toml"
     study.write_text(text)
     out = tmp_path / "out"
@@ -172,11 +189,13 @@ def test_grid_over_a_recorded_motion(tmp_path):
     assert s["time_scales"] == s["omega_ratios"] and len(s["mode_fem"][0]) == 2
     original = read_record(record)
     from colonna.rigid.block import Block
-    block = Block(b=0.2 / 4, h=1.0 / 2)           # the rocking half of the grid's column
+
+    block = Block(b=0.2 / 4, h=1.0 / 2)  # the rocking half of the grid's column
     results = [json.loads(p.read_text()) for p in (out / "cases").glob("*/result.json")]
     assert len(results) == 2
     for r in results:
-        assert r["ground_peak"] == pytest.approx(r["amplitude_ratio"]
-                                                 * block.uplift_acceleration(), rel=1e-3)
+        assert r["ground_peak"] == pytest.approx(
+            r["amplitude_ratio"] * block.uplift_acceleration(), rel=1e-3
+        )
         assert r["ground_end_time"] == pytest.approx(original.end_time / r["omega_ratio"])
     assert "record time scale" in (out / "index.html").read_text()

@@ -49,14 +49,25 @@ def test_summary_keys(tiny_run):
     _, _, s = tiny_run
     assert set(s["verdict"]) >= {"rigid_assumption_ok", "collars_yield", "toe_crushes"}
     assert {"overturned", "mode", "max_abs_theta"} <= set(s["rigid"])
-    for key in ("fem", "theta_peak_ratio_fem_over_rigid", "restitution_after_motion_fem",
-                "restitution_housner", "theta_peak_ratio_fem_over_multibody"):
+    for key in (
+        "fem",
+        "theta_peak_ratio_fem_over_rigid",
+        "restitution_after_motion_fem",
+        "restitution_housner",
+        "theta_peak_ratio_fem_over_multibody",
+    ):
         assert key in s
     # every answer is a word, decided on the replicas' band
     assert set(s["verdict"].values()) <= {"yes", "no", "undecided"}
-    assert "effective_restitution_fem" not in s      # a ratio under forcing means nothing
-    assert {"overturned", "mode", "max_abs_theta_left", "max_abs_theta_right",
-            "max_abs_crack_slip", "energy_error_max"} <= set(s["rigid_multibody"])
+    assert "effective_restitution_fem" not in s  # a ratio under forcing means nothing
+    assert {
+        "overturned",
+        "mode",
+        "max_abs_theta_left",
+        "max_abs_theta_right",
+        "max_abs_crack_slip",
+        "energy_error_max",
+    } <= set(s["rigid_multibody"])
 
 
 @pytest.mark.landing
@@ -66,34 +77,42 @@ def test_verdict_is_judged_against_the_multibody_model(tiny_run):
     and a history error up to the first impact within its tolerance."""
     root, _, s = tiny_run
     fem, mb, c = s["fem"], s["rigid_multibody"], s["verdict_criteria"]
-    ratio = (max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
-             / max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]))
+    ratio = max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]) / max(
+        mb["max_abs_theta_left"], mb["max_abs_theta_right"]
+    )
     assert s["theta_peak_ratio_fem_over_multibody"] == pytest.approx(ratio)
     # each count is made per replica (from each replica's own history) and answered on them
     from colonna.studies.crosscheck import replica_histories
+
     replicas = json.loads((root / "out" / "cases" / "fem" / "result.json").read_text())
     histories = replica_histories(root / "out" / "cases" / "fem", fem["replicas"])
     assert len(histories) == len(replicas["replica_summaries"]) == fem["replicas"] == 8
-    peaks = [max(r["max_abs_theta_left"], r["max_abs_theta_right"])
-             for r in replicas["replica_summaries"]]
+    peaks = [
+        max(r["max_abs_theta_left"], r["max_abs_theta_right"])
+        for r in replicas["replica_summaries"]
+    ]
     mb_peak = max(mb["max_abs_theta_left"], mb["max_abs_theta_right"])
     assert c["bands"]["peak_ratio"]["values"] == pytest.approx([p / mb_peak for p in peaks])
     assert c["peak_ratio"] == pytest.approx(np.median(peaks) / mb_peak)
 
     def word(flags):
         return "yes" if all(flags) else ("no" if not any(flags) else "undecided")
+
     overturned = [r["overturned"] for r in replicas["replica_summaries"]]
     assert c["same_outcome"] == word([o == mb["overturned"] for o in overturned])
-    assert c["impacts_ok"] == word([abs(n - c["impacts_before_pulse_end_multibody"])
-                                    <= c["tolerances"]["impacts"]
-                                    for n in c["bands"]["impacts_fem"]["values"]])
-    assert c["history_ok"] == word([e <= c["tolerances"]["history"]
-                                    for e in c["bands"]["history_error"]["values"]])
+    assert c["impacts_ok"] == word(
+        [
+            abs(n - c["impacts_before_pulse_end_multibody"]) <= c["tolerances"]["impacts"]
+            for n in c["bands"]["impacts_fem"]["values"]
+        ]
+    )
+    assert c["history_ok"] == word(
+        [e <= c["tolerances"]["history"] for e in c["bands"]["history_error"]["values"]]
+    )
     assert s["verdict"]["rigid_assumption_ok"] in ("yes", "no", "undecided")
     if "no" in (c["same_outcome"], c["peak_ok"], c["impacts_ok"], c["history_ok"]):
         assert s["verdict"]["rigid_assumption_ok"] != "yes"
-    if all(w == "yes" for w in (c["same_outcome"], c["peak_ok"], c["impacts_ok"],
-                                c["history_ok"])):
+    if all(w == "yes" for w in (c["same_outcome"], c["peak_ok"], c["impacts_ok"], c["history_ok"])):
         assert s["verdict"]["rigid_assumption_ok"] == "yes"
     assert 0.0 <= c["history_error_to_first_impact"] < 1.0
     assert mb["energy_error_max"] < 1e-2
@@ -104,9 +123,10 @@ def test_verdict_is_judged_against_the_multibody_model(tiny_run):
     assert fine["dt"] == pytest.approx(0.25 * mb["dt"], rel=1e-12)
     assert 0.0 <= c["history_error_fine_step"] < 1.0 and c["fine_step_factor"] == 0.25
     assert c["history_step_sensitive"] == (c["history_ok_fine_step"] != c["history_ok"])
-    if c["history_ok_fine_step"] != "undecided":    # every replica on one side: the median too
+    if c["history_ok_fine_step"] != "undecided":  # every replica on one side: the median too
         assert (c["history_error_fine_step"] <= c["tolerances"]["history"]) == (
-            c["history_ok_fine_step"] == "yes")
+            c["history_ok_fine_step"] == "yes"
+        )
 
 
 @pytest.mark.landing
@@ -118,16 +138,18 @@ def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
     assert assert_report_says_what_summary_says(page, summary) >= 20
     assert_opens_with_the_outcome(page, summary)
     assert [a["answer"] for a in summary["outcome"]["answers"]] == [
-        summary["verdict"][k] for k in ("rigid_assumption_ok", "collars_yield", "toe_crushes")]
+        summary["verdict"][k] for k in ("rigid_assumption_ok", "collars_yield", "toe_crushes")
+    ]
     # figure data are the run's data
     theta = read_csv(out / "figures" / "theta.csv")
     history = read_csv(out / "cases" / "fem" / "history.csv")
     np.testing.assert_array_equal(theta["theta_fem_left"], history["theta_left"])
     multibody = read_csv(out / "cases" / "multibody" / "history.csv")
-    np.testing.assert_allclose(theta["theta_multibody_right"],
-                               np.interp(theta["t"], multibody["t"], multibody["theta_right"],
-                                         right=np.nan))
-    assert page.count("<svg") >= 6 and "data:image/gif" in page    # figures, renders
+    np.testing.assert_allclose(
+        theta["theta_multibody_right"],
+        np.interp(theta["t"], multibody["t"], multibody["theta_right"], right=np.nan),
+    )
+    assert page.count("<svg") >= 6 and "data:image/gif" in page  # figures, renders
     assert assert_table_numbers_have_units(page) >= 30
     # the deformed column: its magnification stated, collars and toe pressure in the legend
     assert re.search(r"elastic deformation magnified x\d", page)
@@ -140,15 +162,17 @@ def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
     assert toe["ratio"] >= max(toe["ratios"][1:]) == toe["bound_ratio"]
     band = toe["band_ratio"]
     assert band["min"] <= toe["ratio"] <= band["max"]
-    assert summary["verdict"]["toe_crushes"] == ("yes" if band["min"] >= 1.0 else
-                                                 "no" if band["max"] < 1.0 else "undecided")
+    assert summary["verdict"]["toe_crushes"] == (
+        "yes" if band["min"] >= 1.0 else "no" if band["max"] < 1.0 else "undecided"
+    )
     # the restart gives the refined replica's peak back within the replicas' own scatter:
     # round-off at the hand-over is amplified at the landing as between replicas
     assert toe["handover_error"] <= max(toe["replica_spread"], 1e-2)
     fem = summary["fem"]
     study = from_dict(tomllib.loads(TINY))
     assert toe["static_mean_ratio"] == pytest.approx(
-        fem["base_reaction_static"] / (study.width * study.thickness) / study.stone.fc)
+        fem["base_reaction_static"] / (study.width * study.thickness) / study.stone.fc
+    )
 
 
 def test_study_with_a_typo_fails_before_any_work(tmp_path, capsys):
@@ -167,20 +191,30 @@ def test_study_with_a_typo_fails_before_any_work(tmp_path, capsys):
 def test_interrupted_study_resumes_with_identical_results(tiny_run, tmp_path):
     _, study, reference = tiny_run
     out = tmp_path / "out"
-    cmd = [sys.executable, "-m", "colonna.studies.cli", "study", str(study), "--out", str(out),
-           "--workers", "1"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                            cwd=Path(__file__).parents[1])
+    cmd = [
+        sys.executable,
+        "-m",
+        "colonna.studies.cli",
+        "study",
+        str(study),
+        "--out",
+        str(out),
+        "--workers",
+        "1",
+    ]
+    proc = subprocess.Popen(
+        cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=Path(__file__).parents[1]
+    )
     deadline = time.time() + 120
     while time.time() < deadline and not (out / "cases" / "fem" / "result.json").exists():
         time.sleep(0.05)
-    proc.send_signal(signal.SIGKILL)          # killed mid-way: after the first case
+    proc.send_signal(signal.SIGKILL)  # killed mid-way: after the first case
     proc.wait()
     done = sorted(p.parent.name for p in (out / "cases").glob("*/result.json"))
     assert "fem" in done and len(done) < 4
     first = {k: (out / "cases" / k / "result.json").read_text() for k in done}
     resumed = run_study_file(study, out, workers=1, progress=False)
-    for key, text in first.items():             # nothing already computed was redone or lost
+    for key, text in first.items():  # nothing already computed was redone or lost
         assert (out / "cases" / key / "result.json").read_text() == text
     assert _comparable(resumed) == _comparable(reference)
 
@@ -188,10 +222,12 @@ def test_interrupted_study_resumes_with_identical_results(tiny_run, tmp_path):
 def test_dask_path_gives_the_local_summary(tiny_run, tmp_path):
     distributed = pytest.importorskip("distributed")
     _, study, reference = tiny_run
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
-        summary = run_study_file(study, tmp_path / "dask", scheduler=cluster.scheduler_address,
-                                 progress=False)
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        summary = run_study_file(
+            study, tmp_path / "dask", scheduler=cluster.scheduler_address, progress=False
+        )
     assert _comparable(summary) == _comparable(reference)
 
 
@@ -207,7 +243,8 @@ def test_report_renders_in_a_headless_browser(tiny_run, tmp_path):
 
 
 SWEEP = TINY.replace('name = "tiny"', 'name = "tiny"\nkind = "{kind}"').replace(
-    "[run]", "[convergence]\nsizes = [0.1, 0.05, 0.025]\n\n[run]")
+    "[run]", "[convergence]\nsizes = [0.1, 0.05, 0.025]\n\n[run]"
+)
 
 
 @pytest.mark.parametrize("kind", ["mesh-convergence", "solid-vs-cracked"])
@@ -247,16 +284,20 @@ def test_zhang_makris_study(tmp_path, capsys):
 
 def test_collar_design_study(tmp_path, capsys):
     study = tmp_path / "design.toml"
-    study.write_text(TINY.replace('name = "tiny"', 'name = "tiny"\nkind = "collar-design"')
-                     .replace("duration = 0.6", "duration = 0.2"))
+    study.write_text(
+        TINY.replace('name = "tiny"', 'name = "tiny"\nkind = "collar-design"').replace(
+            "duration = 0.6", "duration = 0.2"
+        )
+    )
     out = tmp_path / "out"
     assert main(["study", str(study), "--out", str(out), "--json"]) == 0
     s = json.loads(capsys.readouterr().out)
     d = s["design"]
     assert d["yield_rotation"] > 0 and s["design_adequate"] == (
-        s["lateral_stiffness_provided"] >= d["required_stiffness"])
+        s["lateral_stiffness_provided"] >= d["required_stiffness"]
+    )
     page = (out / "index.html").read_text()
-    assert "data:image/png" not in page          # the chart and the history: inline SVG
+    assert "data:image/png" not in page  # the chart and the history: inline SVG
     for name in ("design_chart", "collar_utilisation"):
         assert re.search(f'data-figure="{name}"[^>]*>\\s*<svg', page), name
     assert assert_table_numbers_have_units(page) >= 10
@@ -270,13 +311,16 @@ def test_cross_check_of_a_recorded_motion(tmp_path):
     the report has no spectrum figure (a record has no place on the pulse spectrum)."""
     record = Path(__file__).parent / "data" / "synthetic.AT2"
     study = tmp_path / "tiny-record.toml"
-    text = TINY.replace("amplitude_ratio = 2.5\nomega_ratio = 3.0\n",
-                        f"pulse = \"record\"\nrecord = \"{record}\"\nscale = 1.5\n")
+    text = TINY.replace(
+        "amplitude_ratio = 2.5\nomega_ratio = 3.0\n",
+        f'pulse = "record"\nrecord = "{record}"\nscale = 1.5\n',
+    )
     text = text.replace("[mesh]", "[mesh]\ntoe_refinements = []")
-    text = text.replace("duration = 0.6", "duration = 2.5")      # the record peaks at 1.5 s
+    text = text.replace("duration = 0.6", "duration = 2.5")  # the record peaks at 1.5 s
     study.write_text(text)
     summary = run_study_file(study, tmp_path / "out", workers=1, progress=False)
     from colonna.core.ground import read_record
+
     peak = 1.5 * read_record(record).peak_acceleration
     pulse = summary["pulse"]
     assert pulse["record"] == "synthetic" and pulse["omega_ratio"] is None
@@ -286,7 +330,7 @@ def test_cross_check_of_a_recorded_motion(tmp_path):
     assert summary["toe_stress"] is None
     assert not (tmp_path / "out" / "cases" / "spectrum").exists()
     page = (tmp_path / "out" / "index.html").read_text()
-    assert "figures/spectrum" not in page and "data-key=\"pulse.amplitude\"" in page
+    assert "figures/spectrum" not in page and 'data-key="pulse.amplitude"' in page
     # the record rocks the column and the FEM and the multibody model agree on its fate
     assert summary["rigid_multibody"]["max_abs_theta_left"] > 0.01
     assert summary["verdict_criteria"]["same_outcome"]
@@ -295,13 +339,19 @@ def test_cross_check_of_a_recorded_motion(tmp_path):
 def test_collar_design_from_a_recorded_motion(tmp_path, capsys):
     """A record designs the collars by its (scaled) peak acceleration."""
     from colonna.core.ground import read_record
+
     record = Path(__file__).parent / "data" / "synthetic.AT2"
     study = tmp_path / "design-record.toml"
-    study.write_text(TINY.replace('name = "tiny"', 'name = "tiny"\nkind = "collar-design"')
-                     .replace("amplitude_ratio = 2.5\nomega_ratio = 3.0\n",
-                              f"pulse = \"record\"\nrecord = \"{record}\"\nscale = 2.0\n")
-                     .replace("duration = 0.6", "duration = 0.2"))
+    study.write_text(
+        TINY.replace('name = "tiny"', 'name = "tiny"\nkind = "collar-design"')
+        .replace(
+            "amplitude_ratio = 2.5\nomega_ratio = 3.0\n",
+            f'pulse = "record"\nrecord = "{record}"\nscale = 2.0\n',
+        )
+        .replace("duration = 0.6", "duration = 0.2")
+    )
     assert main(["study", str(study), "--out", str(tmp_path / "out"), "--json"]) == 0
     s = json.loads(capsys.readouterr().out)
     assert s["design_ag_over_g"] == pytest.approx(
-        2.0 * read_record(record).peak_acceleration / 9.81)
+        2.0 * read_record(record).peak_acceleration / 9.81
+    )

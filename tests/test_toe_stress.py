@@ -25,8 +25,15 @@ THICKNESS = math.pi * WIDTH / 4.0
 
 
 def _mesh(refinement=1, size=0.05):
-    return column_mesh(WIDTH, HEIGHT, size, grading=0.0, pinned_heights=[0.5],
-                       toe_refinement=refinement, toe_zone=0.01)
+    return column_mesh(
+        WIDTH,
+        HEIGHT,
+        size,
+        grading=0.0,
+        pinned_heights=[0.5],
+        toe_refinement=refinement,
+        toe_zone=0.01,
+    )
 
 
 def _model(mesh):
@@ -44,8 +51,10 @@ def rocking_ensemble():
     """The small cracked column rocked by a sine pulse through its first landings: 8 replicas
     perturbed at round-off level (the landings are chaotic), replica 0 the plain run."""
     from colonna.fem.solver import run_ensemble
-    return run_ensemble(_model(_mesh()), _pulse(), 0.6, 8, output_interval=0.005,
-                        edge_length=0.01, progress=False)
+
+    return run_ensemble(
+        _model(_mesh()), _pulse(), 0.6, 8, output_interval=0.005, edge_length=0.01, progress=False
+    )
 
 
 @pytest.fixture(scope="module")
@@ -58,11 +67,13 @@ def test_replica_zero_is_the_plain_run(rocking_run, rocking_ensemble):
     """Replica 0 is unperturbed: it is the plain run, up to the rounding of the batch's
     mat-vec (the same bits on some processors, not on all), which the contact amplifies as it
     amplifies the replicas' 1e-12: it strays from the plain run no more than the replicas do."""
-    plain = run(_model(_mesh()), _pulse(), 0.6, output_interval=0.005, edge_length=0.01,
-                progress=False)
+    plain = run(
+        _model(_mesh()), _pulse(), 0.6, output_interval=0.005, edge_length=0.01, progress=False
+    )
     for key in ("theta_left", "collar_1_stress"):
-        strays = max(np.abs(r.history[key] - plain.history[key]).max()
-                     for r in rocking_ensemble[1:])
+        strays = max(
+            np.abs(r.history[key] - plain.history[key]).max() for r in rocking_ensemble[1:]
+        )
         assert np.abs(rocking_run.history[key] - plain.history[key]).max() <= 2.0 * strays
 
 
@@ -78,7 +89,7 @@ def test_toe_refinement_splits_only_the_elements_at_the_base_corners():
     assert ys_fine.size == ys_plain.size + 3
     assert np.allclose(np.diff(ys_fine)[:4], 0.05 / 4)
     assert np.allclose(np.diff(ys_fine)[4:], np.diff(ys_plain)[1:])
-    assert 0.5 in np.round(ys_fine, 12)                      # the collar row stays
+    assert 0.5 in np.round(ys_fine, 12)  # the collar row stays
     assert fine.min_edge_length() == pytest.approx(plain.min_edge_length() / 4)
 
 
@@ -95,6 +106,7 @@ def test_toe_refinement_needs_a_zone():
 
 # --- transfer between meshes ----------------------------------------------------------------
 
+
 def test_transfer_reproduces_fields_linear_in_each_half_exactly():
     """Bilinear interpolation carries any field linear in x, y (translations, small rotations,
     uniform strain) exactly, half by half: the crack's two faces keep their own values."""
@@ -102,8 +114,9 @@ def test_transfer_reproduces_fields_linear_in_each_half_exactly():
 
     def field(points, body):
         x, y = points
-        return np.stack([1e-3 + 2e-4 * x - 0.01 * y + 1e-3 * body,
-                         3e-4 * x + 1e-4 * y - 2e-3 * body], axis=1)
+        return np.stack(
+            [1e-3 + 2e-4 * x - 0.01 * y + 1e-3 * body, 3e-4 * x + 1e-4 * y - 2e-3 * body], axis=1
+        )
 
     u = field(source.points, source.node_body)
     x, v = transfer_state(source, target, u, -3.0 * u)
@@ -114,9 +127,13 @@ def test_transfer_reproduces_fields_linear_in_each_half_exactly():
 
 def test_transfer_of_contact_forces_keeps_a_uniform_traction_and_the_resultant():
     source, target = _model(_mesh(1)), _model(_mesh(4))
-    traction = 2.5e4                                  # N per m of base, per m of crack
-    state = {"base_ft": traction * source.base_tributary, "base_fc": 2 * traction
-             * source.base_tributary, "crack_ft": [], "crack_fc": []}
+    traction = 2.5e4  # N per m of base, per m of crack
+    state = {
+        "base_ft": traction * source.base_tributary,
+        "base_fc": 2 * traction * source.base_tributary,
+        "crack_ft": [],
+        "crack_fc": [],
+    }
     for slaves, *_ in source.crack_passes:
         ys = source.mesh.points[1, slaves]
         trib = np.diff(np.concatenate(([ys[0]], 0.5 * (ys[1:] + ys[:-1]), [ys[-1]])))
@@ -131,17 +148,21 @@ def test_transfer_of_contact_forces_keeps_a_uniform_traction_and_the_resultant()
 
 # --- the measure ----------------------------------------------------------------------------
 
+
 def test_toe_stress_peak_does_not_depend_on_the_output_interval():
     """The toe stress is the peak over every time step, not a sample at the output times: a
     landing between two outputs is not missed."""
     model = _model(_mesh())
     dt = stable_time_step(model, 0.9).dt
-    runs = [run(model, _pulse(), 0.6, output_interval=steps * dt, edge_length=0.01,
-                progress=False) for steps in (2000, 50)]
+    runs = [
+        run(model, _pulse(), 0.6, output_interval=steps * dt, edge_length=0.01, progress=False)
+        for steps in (2000, 50)
+    ]
     # the same trajectory (the ground is read at times counted in steps) ...
     n = runs[0].history["t"].size - 1
-    assert np.array_equal(runs[0].history["theta_left"][:n],
-                          runs[1].history["theta_left"][::40][:n])
+    assert np.array_equal(
+        runs[0].history["theta_left"][:n], runs[1].history["theta_left"][::40][:n]
+    )
     # ... and the same peak, though the coarse outputs fall 40 times less often
     assert runs[0].summary["edge_stress_max"] == runs[1].summary["edge_stress_max"]
 
@@ -149,19 +170,39 @@ def test_toe_stress_peak_does_not_depend_on_the_output_interval():
 @pytest.mark.landing
 def test_time_averaging_leaves_a_steady_toe_stress_unchanged_and_lowers_a_landing():
     model = _model(_mesh())
-    still = [run(model, NoMotion(), 0.01, output_interval=0.005, edge_length=0.01,
-                 edge_time=tau, progress=False).history for tau in (0.0, 1e-3)]
+    still = [
+        run(
+            model,
+            NoMotion(),
+            0.01,
+            output_interval=0.005,
+            edge_length=0.01,
+            edge_time=tau,
+            progress=False,
+        ).history
+        for tau in (0.0, 1e-3)
+    ]
     for key in ("edge_stress_left", "edge_stress_inner_left"):
         assert still[0][key][-1] > 0.0
         # standing still (to the small vibration the release from the static state leaves)
         assert still[1][key][-1] == pytest.approx(still[0][key][-1], rel=1e-2)
-    rocking = [run(model, _pulse(), 0.6, output_interval=0.005, edge_length=0.01,
-                   edge_time=tau, progress=False).summary["edge_stress_max"]
-               for tau in (0.0, 1e-3)]
+    rocking = [
+        run(
+            model,
+            _pulse(),
+            0.6,
+            output_interval=0.005,
+            edge_length=0.01,
+            edge_time=tau,
+            progress=False,
+        ).summary["edge_stress_max"]
+        for tau in (0.0, 1e-3)
+    ]
     assert rocking[1] < rocking[0]
 
 
 # --- restart --------------------------------------------------------------------------------
+
 
 @pytest.mark.landing
 def test_restart_from_a_recorded_state_continues_the_run(rocking_run, rocking_ensemble):
@@ -171,11 +212,19 @@ def test_restart_from_a_recorded_state_continues_the_run(rocking_run, rocking_en
     k = len(r.displacement_frames) // 2
     t0, u = r.displacement_frames[k]
     state = transfer_state(r.model.mesh, r.model.mesh, u, r.velocity_frames[k][1])
-    again = run(r.model, _pulse(), 0.6 - t0, start_time=t0, initial_state=state,
-                initial_contact=r.contact_frames[k][1], output_interval=0.005,
-                edge_length=0.01, progress=False)
+    again = run(
+        r.model,
+        _pulse(),
+        0.6 - t0,
+        start_time=t0,
+        initial_state=state,
+        initial_contact=r.contact_frames[k][1],
+        output_interval=0.005,
+        edge_length=0.01,
+        progress=False,
+    )
     n = again.history["t"].size
-    assert np.allclose(again.history["t"], r.history["t"][k:k + n], atol=1e-12)
+    assert np.allclose(again.history["t"], r.history["t"][k : k + n], atol=1e-12)
     # The hand-over is exact to round-off (x - X + X), and so is the run up to the next
     # landing; there, which step a contact closes in amplifies round-off (to about 1e-5 of the
     # rotation), so after it the runs agree to 1e-2. Row 0 is left out: a recorded row's
@@ -184,13 +233,15 @@ def test_restart_from_a_recorded_state_continues_the_run(rocking_run, rocking_en
     m = int(round(0.1 / 0.005))
     scale = np.abs(r.history["theta_left"]).max()
     for key in ("theta_left", "theta_right"):
-        error = np.abs(again.history[key][1:m] - r.history[key][k + 1:k + m])
+        error = np.abs(again.history[key][1:m] - r.history[key][k + 1 : k + m])
         assert error[:5].max() < 1e-9 * scale
         # after the landing the restart strays from the run as the replicas (perturbed by
         # 1e-12 of the height at t = 0) stray from each other: no more than twice the most
         # any of them does
-        strays = max(np.abs(other.history[key][k + 1:k + m] - r.history[key][k + 1:k + m]).max()
-                     for other in rocking_ensemble[1:])
+        strays = max(
+            np.abs(other.history[key][k + 1 : k + m] - r.history[key][k + 1 : k + m]).max()
+            for other in rocking_ensemble[1:]
+        )
         assert error.max() <= 2.0 * strays + 1e-9 * scale
 
 
@@ -202,11 +253,18 @@ def test_restart_input_is_checked(rocking_run):
     with pytest.raises(InputError, match="initial_contact"):
         run(model, NoMotion(), 0.01, initial_contact={}, progress=False)
     with pytest.raises(InputError, match="initial_contact"):
-        run(model, NoMotion(), 0.01, initial_state=(x, 0 * x), initial_contact={"base_ft": 1},
-            progress=False)
+        run(
+            model,
+            NoMotion(),
+            0.01,
+            initial_state=(x, 0 * x),
+            initial_contact={"base_ft": 1},
+            progress=False,
+        )
 
 
 # --- the refinement study -------------------------------------------------------------------
+
 
 def _window_spread(runs, t_start, t_end) -> float:
     """(max - min) / median over the runs of the peak toe stress in (t_start, t_end]."""
@@ -214,8 +272,9 @@ def _window_spread(runs, t_start, t_end) -> float:
     for r in runs:
         h = r.history
         inside = (h["t"] > t_start) & (h["t"] <= t_end + 1e-9)
-        peaks.append(max(float(np.max(h[key][inside])) for key in h
-                         if key.startswith("edge_stress_")))
+        peaks.append(
+            max(float(np.max(h[key][inside])) for key in h if key.startswith("edge_stress_"))
+        )
     return (max(peaks) - min(peaks)) / float(np.median(peaks))
 
 
@@ -237,7 +296,7 @@ def test_refinement_over_the_impact_window(rocking_run, rocking_ensemble):
     assert out["stress_bound"] == max(out["peaks"][1:])
     assert 0.0 <= out["spread"] <= out["uncertainty"] < 1.0
     assert out["stress_estimate"] >= out["stress_bound"]
-    if math.isfinite(out["richardson"]):           # a monotone sequence: its extrapolation
+    if math.isfinite(out["richardson"]):  # a monotone sequence: its extrapolation
         assert out["stress_estimate"] == max(out["stress_bound"], out["richardson"])
     with pytest.raises(InputError, match="toe refinements"):
         toe_stress_refinement(r, _pulse(), _mesh, (1, 3, 9))
@@ -252,10 +311,21 @@ def test_refinement_restarts_under_the_vertical_motion_too():
     shaken vertically."""
     from colonna.core.ground import HarmonicPulse
     from colonna.fem.solver import run_ensemble
+
     pulse = _pulse()
     vertical = HarmonicPulse("sine", 0.5 * 9.81, 2.0 * pulse.omega, 0.0, pulse.duration)
-    runs = run_ensemble(_model(_mesh()), pulse, 0.6, 8, output_interval=0.005,
-                        edge_length=0.01, progress=False, vertical=vertical)
-    errors = [toe_stress_refinement(r, pulse, _mesh, (1, 2, 4),
-                                    vertical=vertical)["handover_error"] for r in runs]
+    runs = run_ensemble(
+        _model(_mesh()),
+        pulse,
+        0.6,
+        8,
+        output_interval=0.005,
+        edge_length=0.01,
+        progress=False,
+        vertical=vertical,
+    )
+    errors = [
+        toe_stress_refinement(r, pulse, _mesh, (1, 2, 4), vertical=vertical)["handover_error"]
+        for r in runs
+    ]
     assert np.median(errors) < 0.04

@@ -26,10 +26,10 @@ def _independent_free_rocking(block: Block, tilt: float, t_end: float):
     the potential energy of its centre of mass and of the load point, positions found by
     rotating the body-fixed points (no moment formula), derivative by central differences."""
     b, h, m, g, load = block.b, block.h, block.mass, block.g, block.top_load
-    inertia = m * (b * b + h * h) / 3.0 + m * (b * b + h * h)       # about the corner
+    inertia = m * (b * b + h * h) / 3.0 + m * (b * b + h * h)  # about the corner
 
-    def height(point, theta):   # point in the body frame (origin at the pivot corner)
-        c, s = math.cos(theta), math.sin(theta)            # clockwise by theta
+    def height(point, theta):  # point in the body frame (origin at the pivot corner)
+        c, s = math.cos(theta), math.sin(theta)  # clockwise by theta
         return -s * point[0] + c * point[1]
 
     def potential(theta):
@@ -41,9 +41,11 @@ def _independent_free_rocking(block: Block, tilt: float, t_end: float):
 
     def vertical(t, y):
         return y[0]
+
     vertical.terminal = True
-    return solve_ivp(rhs, (0.0, t_end), [tilt, 0.0], rtol=1e-11, atol=1e-13, events=vertical,
-                     dense_output=True)
+    return solve_ivp(
+        rhs, (0.0, t_end), [tilt, 0.0], rtol=1e-11, atol=1e-13, events=vertical, dense_output=True
+    )
 
 
 def test_top_load_is_checked():
@@ -72,8 +74,14 @@ def test_free_rocking_with_a_top_load_follows_an_independent_integration():
     tilt = 0.5 * blk.critical_angle()
     reference = _independent_free_rocking(blk, tilt, 5.0)
     t_vertical = reference.t_events[0][0]
-    result = rock(blk, NoMotion(), model="nonlinear", initial_tilt=tilt, duration=1.2 * t_vertical,
-                  dt_out=t_vertical / 200)
+    result = rock(
+        blk,
+        NoMotion(),
+        model="nonlinear",
+        initial_tilt=tilt,
+        duration=1.2 * t_vertical,
+        dt_out=t_vertical / 200,
+    )
     inside = result.time < t_vertical
     expected = reference.sol(result.time[inside])[0]
     assert np.abs(result.theta[inside] - expected).max() < 1e-7 * tilt
@@ -105,8 +113,9 @@ def test_the_load_lowers_the_unstable_equilibrium(model):
         if model == "nonlinear":
             r = rock(blk, NoMotion(), model="nonlinear", initial_tilt=factor * tc, duration=6.0)
         else:
-            r = rock_multibody(blk, NoMotion(), friction=1.0, initial_tilt=factor * tc,
-                               duration=6.0)
+            r = rock_multibody(
+                blk, NoMotion(), friction=1.0, initial_tilt=factor * tc, duration=6.0
+            )
         assert r.overturned == falls
 
 
@@ -115,16 +124,16 @@ def test_a_massless_load_keeps_housners_restitution():
     impact comes from its contact impulses, gives Housner's ratio with the load too."""
     for load_ratio in (0.0, LOAD_RATIO):
         blk = _block(load_ratio)
-        r = rock_multibody(blk, NoMotion(), friction=1.0, initial_tilt=0.5 * blk.critical_angle(),
-                           duration=1.5)
-        assert r.impact_velocity_ratios()[0] == pytest.approx(blk.restitution_housner,
-                                                              rel=1e-3)
+        r = rock_multibody(
+            blk, NoMotion(), friction=1.0, initial_tilt=0.5 * blk.critical_angle(), duration=1.5
+        )
+        assert r.impact_velocity_ratios()[0] == pytest.approx(blk.restitution_housner, rel=1e-3)
 
 
 def test_multibody_block_with_a_load_follows_the_nonlinear_sdof():
     blk = _block()
     a_up = blk.uplift_acceleration("nonlinear")
-    pulse = sine_pulse(1.5 * a_up, 8.0 * blk.p, a_up)     # 5 impacts, theta up to 0.5 theta_c
+    pulse = sine_pulse(1.5 * a_up, 8.0 * blk.p, a_up)  # 5 impacts, theta up to 0.5 theta_c
     sdof = rock(blk, pulse, model="nonlinear", duration=2.5)
     # (the load makes the impact timing more sensitive to the step than without: at the
     # default step the error to the third impact is 5e-3 alpha, 0.9e-3 without a load)
@@ -135,10 +144,11 @@ def test_multibody_block_with_a_load_follows_the_nonlinear_sdof():
     theta_mb = mb.theta[: t.size, 0]
     theta_sdof = np.interp(t, sdof.time, sdof.theta)
     assert np.abs(theta_mb - theta_sdof).max() < 1e-3 * blk.alpha
-    assert mb.summary()["energy_error_max"] < 1e-2       # the load's potential included
+    assert mb.summary()["energy_error_max"] < 1e-2  # the load's potential included
 
 
 # --- the FEM ---------------------------------------------------------------------------------
+
 
 def test_fem_static_state_carries_weight_and_top_load():
     """Static reaction = weight + load (to 1e-6: a linear solve). On a frictionless base the
@@ -150,19 +160,20 @@ def test_fem_static_state_carries_weight_and_top_load():
     from colonna.fem.model import ContactSettings, build_model
     from colonna.fem.solver import run, static_state
     from colonna.meshes import column_mesh
+
     width, height, thickness = 0.4, 2.0, 0.3
     stone = Stone()
     weight = stone.density * width * height * thickness * 9.81
     mesh = column_mesh(width, height, 0.025, cracked=False, grading=0.0)
     for load in (0.0, 3.0 * weight):
-        model = build_model(mesh, stone, thickness, contact=ContactSettings(friction=0.0),
-                            top_load=load)
+        model = build_model(
+            mesh, stone, thickness, contact=ContactSettings(friction=0.0), top_load=load
+        )
         r = run(model, NoMotion(), 1e-4, output_interval=1e-4, progress=False)
         assert r.summary["base_reaction_static"] == pytest.approx(weight + load, rel=1e-6)
         assert r.summary["top_load"] == load
         u, _, _ = static_state(model)
-        pressure = (-model.base_kn * u[2 * model.base_nodes + 1]
-                    / (model.base_tributary * thickness))
+        pressure = -model.base_kn * u[2 * model.base_nodes + 1] / (model.base_tributary * thickness)
         # (1 %: self-weight bends the base by nu rho g x^2 / 2E against the penalty springs)
         assert pressure == pytest.approx((weight + load) / (width * thickness), rel=1e-2)
     with pytest.raises(InputError, match="top_load"):
@@ -177,17 +188,28 @@ def test_fem_column_with_a_top_load_rocks_like_the_rigid_block():
     from colonna.fem.model import ContactSettings, build_model
     from colonna.fem.solver import run
     from colonna.meshes import column_mesh
+
     width, height, thickness = 0.4, 2.0, 0.3
     stone = Stone()
     weight = stone.density * width * height * thickness * 9.81
     blk = Block(b=width / 2, h=height / 2, mass=weight / 9.81, top_load=2.0 * weight)
     tilt = 0.5 * blk.critical_angle()
     rigid = rock(blk, NoMotion(), model="nonlinear", initial_tilt=tilt, duration=1.0)
-    model = build_model(column_mesh(width, height, 0.1, cracked=False, grading=0.3), stone,
-                        thickness, contact=ContactSettings(friction=1.0),
-                        top_load=2.0 * weight)
-    r = run(model, NoMotion(), 1.2 * rigid.impact_times[0], output_interval=1e-4,
-            initial_tilt=tilt, progress=False)
+    model = build_model(
+        column_mesh(width, height, 0.1, cracked=False, grading=0.3),
+        stone,
+        thickness,
+        contact=ContactSettings(friction=1.0),
+        top_load=2.0 * weight,
+    )
+    r = run(
+        model,
+        NoMotion(),
+        1.2 * rigid.impact_times[0],
+        output_interval=1e-4,
+        initial_tilt=tilt,
+        progress=False,
+    )
     theta = r.history["theta_left"]
     crossing = np.nonzero(theta <= 0.0)[0][0]
     assert r.history["t"][crossing] == pytest.approx(rigid.impact_times[0], rel=0.01)

@@ -27,15 +27,17 @@ def test_free_fall_of_the_support_leaves_no_restoring_moment(model):
     tilt = 0.3 * blk.alpha
     for vertical, moves in ((_constant(-G, 2.0), False), (NoMotion(), True)):
         if model == "multibody":
-            r = rock_multibody(blk, NoMotion(), friction=1.0, initial_tilt=tilt, duration=1.0,
-                               vertical=vertical)
+            r = rock_multibody(
+                blk, NoMotion(), friction=1.0, initial_tilt=tilt, duration=1.0, vertical=vertical
+            )
             theta = r.theta[:, 0]
         else:
-            r = rock(blk, NoMotion(), model=model, initial_tilt=tilt, duration=1.0,
-                     vertical=vertical)
+            r = rock(
+                blk, NoMotion(), model=model, initial_tilt=tilt, duration=1.0, vertical=vertical
+            )
             theta = r.theta
         if moves:
-            assert theta.min() < 0.0          # it reached the vertical and went past
+            assert theta.min() < 0.0  # it reached the vertical and went past
         else:
             assert np.abs(theta - tilt).max() < 1e-9 * tilt
 
@@ -62,6 +64,7 @@ def test_multibody_with_vertical_shaking_follows_the_nonlinear_sdof():
     rigid multibody block follows the SDOF equation with the weight m (g + vg'') to the second
     impact, and its energy balance (with the vertical work) closes."""
     from colonna.core.ground import HarmonicPulse, sine_pulse
+
     blk = Block(b=0.2, h=1.5, mass=500.0)
     a_up = blk.uplift_acceleration("nonlinear")
     omega = 6.0 * blk.p
@@ -89,11 +92,16 @@ def test_fem_vertical_acceleration_loads_the_base_as_extra_weight():
     from colonna.fem.model import ContactSettings, build_model
     from colonna.fem.solver import run
     from colonna.meshes import column_mesh
+
     width, height, thickness = 0.4, 2.0, 0.3
     stone = Stone()
     weight = stone.density * width * height * thickness * G
-    model = build_model(column_mesh(width, height, 0.05, cracked=True, grading=0.0), stone,
-                        thickness, contact=ContactSettings(friction=0.7, damping=0.2))
+    model = build_model(
+        column_mesh(width, height, 0.05, cracked=True, grading=0.0),
+        stone,
+        thickness,
+        contact=ContactSettings(friction=0.7, damping=0.2),
+    )
     ramp = Record(np.array([0.0, 0.05, 0.2]), np.array([0.0, 0.5 * G, 0.5 * G]), "ramp")
     r = run(model, NoMotion(), 0.15, output_interval=1e-3, vertical=ramp, progress=False)
     reaction = r.history["base_normal_force_1"] + r.history["base_normal_force_2"]
@@ -101,4 +109,4 @@ def test_fem_vertical_acceleration_loads_the_base_as_extra_weight():
     assert reaction[0] == pytest.approx(weight, rel=1e-6)
     assert reaction[late].mean() == pytest.approx(1.5 * weight, rel=0.01)
     assert r.summary["energy_error_max"] < 0.01
-    assert abs(r.history["theta_left"]).max() < 1e-6      # straight up: no rocking
+    assert abs(r.history["theta_left"]).max() < 1e-6  # straight up: no rocking

@@ -31,8 +31,8 @@ class Collar:
     E: float = STEEL_E
     fy: float = STEEL_FY
     pretension: float = 0.0
-    plastic: bool = False           # bilinear in tension and compression (FEM and multibody)
-    Eh: float | None = None         # Pa, hardening (tangent) modulus past f_y; default 1 % of E
+    plastic: bool = False  # bilinear in tension and compression (FEM and multibody)
+    Eh: float | None = None  # Pa, hardening (tangent) modulus past f_y; default 1 % of E
 
     def __post_init__(self):
         require_positive("collar y (height, m)", self.y)
@@ -46,8 +46,14 @@ class Collar:
         if not isinstance(self.plastic, bool):
             raise InputError(f"collar plastic = {self.plastic!r} must be true or false")
         if self.Eh is not None:
-            require_range("collar Eh (hardening modulus, Pa)", self.Eh, 0.0, self.E,
-                          closed_low=True, range_text=f"[0, E = {self.E:g})")
+            require_range(
+                "collar Eh (hardening modulus, Pa)",
+                self.Eh,
+                0.0,
+                self.E,
+                closed_low=True,
+                range_text=f"[0, E = {self.E:g})",
+            )
 
     @property
     def hardening_modulus(self) -> float:
@@ -67,11 +73,11 @@ class Collar:
     @property
     def second_moment(self) -> float:
         """I = t h^3 / 12: bending in the plane of the column (m^4)."""
-        return self.t * self.h ** 3 / 12.0
+        return self.t * self.h**3 / 12.0
 
     @property
     def section_modulus(self) -> float:
-        return self.t * self.h ** 2 / 6.0
+        return self.t * self.h**2 / 6.0
 
     @property
     def yield_moment(self) -> float:

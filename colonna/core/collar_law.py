@@ -33,8 +33,7 @@ def axial_return_mapping(N_trial, ea_l, n_yield, ea, ha, state, c, commit):
 
 
 @njit(cache=True)
-def frame_local_law(stretch, th1, th2, ea_l, ei_l, pretension, n_yield, ea, ha, state, c,
-                    commit):
+def frame_local_law(stretch, th1, th2, ea_l, ei_l, pretension, n_yield, ea, ha, state, c, commit):
     """The collar's co-rotational Euler-Bernoulli frame element in its local frame, shared by
     the FEM's and the multibody model's collars.
 
@@ -44,11 +43,15 @@ def frame_local_law(stretch, th1, th2, ea_l, ei_l, pretension, n_yield, ea, ha, 
     M1 = EI'/L0 (4 th1 + 2 th2), M2 = EI'/L0 (2 th1 + 4 th2); elastic energy
     U = P e + EA/L e^2 / 2 + EI'/L0 (2 th1^2 + 2 th1 th2 + 2 th2^2), e = stretch - s_p.
     Returns (N, M1, M2, U, plastic strain s_p / L)."""
-    N, plastic_strain = axial_return_mapping(pretension + ea_l * (stretch - state[c, 0]), ea_l,
-                                             n_yield, ea, ha, state, c, commit)
+    N, plastic_strain = axial_return_mapping(
+        pretension + ea_l * (stretch - state[c, 0]), ea_l, n_yield, ea, ha, state, c, commit
+    )
     elastic = stretch - plastic_strain * ea / ea_l
     M1 = ei_l * (4.0 * th1 + 2.0 * th2)
     M2 = ei_l * (2.0 * th1 + 4.0 * th2)
-    energy = (pretension * elastic + 0.5 * ea_l * elastic * elastic
-              + ei_l * (2.0 * th1 * th1 + 2.0 * th1 * th2 + 2.0 * th2 * th2))
+    energy = (
+        pretension * elastic
+        + 0.5 * ea_l * elastic * elastic
+        + ei_l * (2.0 * th1 * th1 + 2.0 * th1 * th2 + 2.0 * th2 * th2)
+    )
     return N, M1, M2, energy, plastic_strain

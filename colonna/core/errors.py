@@ -25,17 +25,25 @@ def require_non_negative(name: str, value: float) -> float:
     return value
 
 
-def require_range(name: str, value: float, low: float, high: float, *,
-                  closed_low: bool = False, closed_high: bool = False,
-                  range_text: str | None = None) -> float:
+def require_range(
+    name: str,
+    value: float,
+    low: float,
+    high: float,
+    *,
+    closed_low: bool = False,
+    closed_high: bool = False,
+    range_text: str | None = None,
+) -> float:
     """Check low < value < high (ends included where asked)."""
     value = _as_float(name, value)
     ok_low = value >= low if closed_low else value > low
     ok_high = value <= high if closed_high else value < high
     if not (ok_low and ok_high):
         if range_text is None:
-            range_text = (("[" if closed_low else "(") + f"{low:g}, {high:g}"
-                          + ("]" if closed_high else ")"))
+            range_text = (
+                ("[" if closed_low else "(") + f"{low:g}, {high:g}" + ("]" if closed_high else ")")
+            )
         raise InputError(f"{name} = {value:g} is outside the allowed range {range_text}")
     return value
 

@@ -31,13 +31,13 @@ class GroundMotion(Protocol):
     """What every ground motion gives (a pulse, a record, or :class:`NoMotion`: ``None`` never
     stands for "no motion")."""
 
-    def acceleration(self, t): ...        # m/s^2 at times t (s), zero outside the motion
+    def acceleration(self, t): ...  # m/s^2 at times t (s), zero outside the motion
 
     @property
-    def end_time(self) -> float: ...      # s, when the motion ends
+    def end_time(self) -> float: ...  # s, when the motion ends
 
     @property
-    def peak_acceleration(self) -> float: ...   # m/s^2, largest |acceleration|
+    def peak_acceleration(self) -> float: ...  # m/s^2, largest |acceleration|
 
 
 @dataclass(frozen=True)
@@ -72,7 +72,7 @@ class HarmonicPulse:
 class Record:
     """A recorded ground acceleration, linearly interpolated, zero outside its time span."""
 
-    time: np.ndarray = field(repr=False)           # s, strictly increasing
+    time: np.ndarray = field(repr=False)  # s, strictly increasing
     acceleration_values: np.ndarray = field(repr=False)  # m/s^2
     name: str = "record"
 
@@ -121,15 +121,17 @@ class NoMotion:
         return 0.0
 
 
-NO_MOTION = NoMotion()      # the default of every optional motion (the vertical one)
+NO_MOTION = NoMotion()  # the default of every optional motion (the vertical one)
 
 
 def require_motion(name: str, motion) -> GroundMotion:
     """``motion`` if it is a ground motion; an InputError naming ``name`` otherwise (None
     included: no motion is :data:`NO_MOTION`)."""
     if not isinstance(motion, GroundMotion):
-        raise InputError(f"{name} = {motion!r} is not a ground motion (a pulse, a record, or "
-                         "NoMotion() for none)")
+        raise InputError(
+            f"{name} = {motion!r} is not a ground motion (a pulse, a record, or "
+            "NoMotion() for none)"
+        )
     return motion
 
 
@@ -138,30 +140,36 @@ def sine_pulse(amplitude: float, omega: float, uplift_acceleration: float) -> Ha
     _check_amplitude(amplitude, uplift_acceleration)
     require_positive("omega (pulse circular frequency, rad/s)", omega)
     phase = math.asin(min(1.0, uplift_acceleration / abs(amplitude)))
-    return HarmonicPulse("sine", float(amplitude), float(omega), phase,
-                         (2.0 * math.pi - phase) / omega)
+    return HarmonicPulse(
+        "sine", float(amplitude), float(omega), phase, (2.0 * math.pi - phase) / omega
+    )
 
 
 def cosine_pulse(amplitude: float, omega: float, uplift_acceleration: float) -> HarmonicPulse:
     """One-cosine pulse a_p cos(Omega t), 0 <= t <= 2 pi / Omega: rocking starts at t = 0."""
     _check_amplitude(amplitude, uplift_acceleration)
     require_positive("omega (pulse circular frequency, rad/s)", omega)
-    return HarmonicPulse("cosine", float(amplitude), float(omega), math.pi / 2.0,
-                         2.0 * math.pi / omega)
+    return HarmonicPulse(
+        "cosine", float(amplitude), float(omega), math.pi / 2.0, 2.0 * math.pi / omega
+    )
 
 
 def _check_amplitude(amplitude: float, uplift: float) -> None:
     require_positive("uplift acceleration (m/s^2)", uplift)
     if not abs(amplitude) >= uplift * (1.0 - 1e-12):
-        raise InputError(f"pulse amplitude = {amplitude:g} m/s^2 is below the uplift acceleration "
-                         f"{uplift:g} m/s^2: the block would not rock")
+        raise InputError(
+            f"pulse amplitude = {amplitude:g} m/s^2 is below the uplift acceleration "
+            f"{uplift:g} m/s^2: the block would not rock"
+        )
 
 
 # --- record readers -------------------------------------------------------------------------
 
 _AT2_HEADER = re.compile(
     r"NPTS\s*=\s*(?P<npts>\d+)\s*,?\s*DT\s*=\s*(?P<dt>[0-9.Ee+-]+)"
-    r"|^\s*(?P<npts2>\d+)\s+(?P<dt2>[0-9.Ee+-]+)\s+NPTS", re.IGNORECASE | re.MULTILINE)
+    r"|^\s*(?P<npts2>\d+)\s+(?P<dt2>[0-9.Ee+-]+)\s+NPTS",
+    re.IGNORECASE | re.MULTILINE,
+)
 
 
 def read_peer_at2(path, *, g: float = STANDARD_GRAVITY) -> Record:
@@ -176,17 +184,20 @@ def read_peer_at2(path, *, g: float = STANDARD_GRAVITY) -> Record:
             dt = float(match.group("dt") or match.group("dt2"))
             break
     else:
-        raise InputError(f"record file {path}: no 'NPTS=..., DT=...' header line in the first 10 "
-                         "lines (not a PEER AT2 file?)")
+        raise InputError(
+            f"record file {path}: no 'NPTS=..., DT=...' header line in the first 10 "
+            "lines (not a PEER AT2 file?)"
+        )
     if dt <= 0.0 or npts < 2:
         raise InputError(f"record file {path}: NPTS = {npts}, DT = {dt:g} are not valid")
     try:
-        values = np.array(" ".join(lines[i + 1:]).split(), dtype=float)
+        values = np.array(" ".join(lines[i + 1 :]).split(), dtype=float)
     except ValueError:
         raise InputError(f"record file {path}: non-numeric value after the header") from None
     if values.size < npts:
-        raise InputError(f"record file {path}: header says NPTS = {npts} but {values.size} "
-                         "values follow")
+        raise InputError(
+            f"record file {path}: header says NPTS = {npts} but {values.size} values follow"
+        )
     return Record(np.arange(npts) * dt, values[:npts] * g, name=path.stem)
 
 
@@ -205,12 +216,13 @@ def read_two_column(path, *, units: str = "m/s2", g: float = STANDARD_GRAVITY) -
         try:
             values = [float(x) for x in parts if x]
         except ValueError:
-            if not rows:     # a header line
+            if not rows:  # a header line
                 continue
             raise InputError(f"record file {path}, line {lineno}: not numeric: {line!r}") from None
         if len(values) < 2:
-            raise InputError(f"record file {path}, line {lineno}: needs two columns "
-                             "(time, acceleration)")
+            raise InputError(
+                f"record file {path}, line {lineno}: needs two columns (time, acceleration)"
+            )
         rows.append(values[:2])
     if len(rows) < 2:
         raise InputError(f"record file {path}: fewer than two data rows")
@@ -245,15 +257,19 @@ def acceleration_table(motion, samples_per_period: int = 400):
     if isinstance(motion, Record):
         return motion.time.copy(), motion.acceleration_values.copy()
     if isinstance(motion, HarmonicPulse):
-        n = max(2, int(math.ceil(samples_per_period * motion.duration * motion.omega
-                                 / (2.0 * math.pi))) + 1)
+        n = max(
+            2,
+            int(math.ceil(samples_per_period * motion.duration * motion.omega / (2.0 * math.pi)))
+            + 1,
+        )
         t = np.linspace(0.0, motion.duration, n)
         return t, motion.acceleration(t)
     raise InputError(f"ground motion of type {type(motion).__name__} is not supported")
 
 
-def kernel_tables(ground: GroundMotion, vertical: GroundMotion = NO_MOTION,
-                  horizontal_scale: float = 1.0):
+def kernel_tables(
+    ground: GroundMotion, vertical: GroundMotion = NO_MOTION, horizontal_scale: float = 1.0
+):
     """The tables the compiled solvers read the ground from, one pair of arrays: the
     horizontal record's rows (times ``horizontal_scale``; none for a pulse, which the kernels
     compute) followed by the vertical motion's table (:func:`acceleration_table`), m/s^2.
@@ -268,8 +284,12 @@ def kernel_tables(ground: GroundMotion, vertical: GroundMotion = NO_MOTION,
         times, values = np.concatenate((times, table[0])), np.concatenate((values, table[1]))
     if times.size == 0:
         times = values = np.zeros(1)
-    return (np.ascontiguousarray(times, dtype=float), np.ascontiguousarray(values, dtype=float),
-            n_horizontal, table is not None)
+    return (
+        np.ascontiguousarray(times, dtype=float),
+        np.ascontiguousarray(values, dtype=float),
+        n_horizontal,
+        table is not None,
+    )
 
 
 def peak_acceleration(motion) -> float:

@@ -27,12 +27,14 @@ def synthetic_record():
 
 def write(path: Path) -> None:
     t, a = synthetic_record()
-    lines = ["PEER NGA STRONG MOTION DATABASE RECORD (format only)",
-             "colonna synthetic record: 40 random-phase sines 0.5-8 Hz, envelope peak at 1.5 s",
-             "ACCELERATION TIME SERIES IN UNITS OF G",
-             f"NPTS= {t.size}, DT= {DT:.4f} SEC"]
+    lines = [
+        "PEER NGA STRONG MOTION DATABASE RECORD (format only)",
+        "colonna synthetic record: 40 random-phase sines 0.5-8 Hz, envelope peak at 1.5 s",
+        "ACCELERATION TIME SERIES IN UNITS OF G",
+        f"NPTS= {t.size}, DT= {DT:.4f} SEC",
+    ]
     values = [f"{v: .7E}" for v in a]
-    lines += ["  ".join(values[i:i + 5]) for i in range(0, len(values), 5)]
+    lines += ["  ".join(values[i : i + 5]) for i in range(0, len(values), 5)]
     path.write_text("\n".join(lines) + "\n")
 
 
