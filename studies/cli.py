@@ -460,11 +460,11 @@ def resolve_study(name_or_path: str) -> Path:
 
 
 def _cmd_fem(args) -> dict:
-    from ..fem import _kernels as fem_kernels
     from .fem_study import load, run_fem
 
+    # (no compile notice here: the run's own checks (stable step, mesh, output folder) come
+    # inside run_fem, and a notice must not come before an input error)
     study = load(resolve_study(args.study))
-    _announce_compilation([fem_kernels.advance], "FEM kernels", 40)
     result = run_fem(study, replicas=1, out_dir=args.out, progress=True)[0]
     return result.summary
 
