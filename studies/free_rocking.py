@@ -159,8 +159,7 @@ def run_free_rocking(
                 )
             )
     for k, damping in enumerate(dampings):
-        variant = copy.deepcopy(base_data)
-        variant.setdefault("contact", {})["damping"] = damping
+        variant = schema.variant(base_data, {"contact.damping": damping}, str(study_path))
         cases.append(
             dict(
                 common,
@@ -173,8 +172,7 @@ def run_free_rocking(
             )
         )
     for k, size in enumerate(sizes):
-        variant = copy.deepcopy(base_data)
-        variant.setdefault("mesh", {})["size"] = size
+        variant = schema.variant(base_data, {"mesh.size": size}, str(study_path))
         cases.append(
             dict(
                 common,

@@ -12,6 +12,7 @@ acceleration) are checked where the ground motion is built (:mod:`studies.fem_st
 
 from __future__ import annotations
 
+import copy
 import difflib
 import math
 from typing import Annotated, Any, Literal, get_origin
@@ -566,6 +567,28 @@ class StudyFile(Table):
                     )
                 )
         return found
+
+
+REMOVED = object()  # in variant(): leave this key or table out
+
+
+def variant(data: dict, changes: dict[str, Any], source: str = "study") -> dict:
+    """The tables of a study file with ``changes`` made (dotted key path -> value: "mesh.size",
+    a whole table by its name, :data:`REMOVED` to leave one out), checked against the schema;
+    ``data`` stays as it was. Every variant of a study (a mesh size, a pulse of a grid, the
+    column without its collars) is made here, never by editing the study's dict in place."""
+    out = copy.deepcopy(data)
+    for path, value in changes.items():
+        *tables, key = path.split(".")
+        node = out
+        for table in tables:
+            node = node.setdefault(table, {})
+        if value is REMOVED:
+            node.pop(key, None)
+        else:
+            node[key] = copy.deepcopy(value)
+    parse(out, source)
+    return out
 
 
 def parse(data: dict, source: str = "study") -> StudyFile:

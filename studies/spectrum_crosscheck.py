@@ -22,7 +22,6 @@ the rigid spectra.
 
 from __future__ import annotations
 
-import copy
 import time
 from pathlib import Path
 
@@ -176,21 +175,20 @@ def run_spectrum_crosscheck(
         uplift = as_given.rocking_block.uplift_acceleration("nonlinear")
 
     def with_pulse(omega_ratio, amplitude_ratio):
-        variant = copy.deepcopy(base_data)
         if kind == "record":  # omega_ratio is the time scale here
-            variant["ground"] = {
+            ground = {
                 "pulse": "record",
                 "record": str(record_file),
                 "scale": float(amplitude_ratio * uplift / original.peak_acceleration),
                 "time_scale": float(omega_ratio),
             }
         else:
-            variant["ground"] = {
+            ground = {
                 "pulse": kind,
                 "amplitude_ratio": float(amplitude_ratio),
                 "omega_ratio": float(omega_ratio),
             }
-        return variant
+        return schema.variant(base_data, {"ground": ground}, str(study_path))
 
     study = from_dict(
         with_pulse(omegas[0], amplitudes[0]), source=str(study_path), base=study_path.parent

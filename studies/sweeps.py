@@ -13,7 +13,6 @@ Dask). ``[study] kind`` in the study file picks the study:
 
 from __future__ import annotations
 
-import copy
 import time
 from pathlib import Path
 
@@ -66,8 +65,7 @@ def run_sweep_study(
         out.mkdir(parents=True, exist_ok=True)
         cases = []
         for k, size in enumerate(sizes):
-            variant = copy.deepcopy(data)
-            variant.setdefault("mesh", {})["size"] = size
+            variant = schema.variant(data, {"mesh.size": size}, str(study_path))
             cases.append(
                 dict(
                     _base(data, study_path),
@@ -96,10 +94,11 @@ def run_sweep_study(
         }
         cases = []
         for name, (cracked, collars) in variants.items():
-            variant = copy.deepcopy(data)
-            variant["column"]["cracked"] = cracked
-            if not collars:
-                variant.pop("collar", None)
+            variant = schema.variant(
+                data,
+                {"column.cracked": cracked, **({} if collars else {"collar": schema.REMOVED})},
+                str(study_path),
+            )
             for kind_ in ("fem", "rigid"):
                 cases.append(
                     dict(

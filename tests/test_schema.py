@@ -302,3 +302,25 @@ def test_a_table_checked_on_its_own_lists_its_errors_too():
         "s.toml: grid.points[1] = 0 is not allowed: a list of 2 integers in [1, inf)",
         "s.toml: grid.omega_ratios = [8.0, 1.0] must be [start, stop] with start <= stop",
     ]
+
+
+def test_a_variant_is_a_checked_copy_never_an_edit():
+    """schema.variant makes the study's variants (sweeps, grids, free rocking): the original
+    dict stays as it was, and a variant outside the schema is an InputError naming the key."""
+    import copy
+
+    from colonna.studies import schema
+
+    data = {
+        "column": {"width": 0.5, "height": 3.0, "cracked": True},
+        "ground": {"pulse": "sine", "amplitude_ratio": 2.0, "omega_ratio": 3.0},
+        "collar": [{"y": 1.5, "t": 0.004, "h": 0.04}],
+    }
+    before = copy.deepcopy(data)
+    solid = schema.variant(data, {"column.cracked": False, "collar": schema.REMOVED})
+    finer = schema.variant(data, {"mesh.size": 0.01})
+    assert data == before
+    assert solid["column"]["cracked"] is False and "collar" not in solid
+    assert finer["mesh"] == {"size": 0.01} and finer["collar"] == data["collar"]
+    with pytest.raises(InputError, match="mesh.size"):
+        schema.variant(data, {"mesh.size": -1.0}, "study.toml")
