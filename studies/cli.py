@@ -474,8 +474,8 @@ def _cmd_fem(args) -> dict:
 
 def _cmd_study(args) -> dict:
     from .driver import KINDS, run_study_file, study_kind
+    from .executor import default_workers
     from .spectrum_crosscheck import parse_grid_size
-    from .sweep import default_workers
 
     path = resolve_study(args.study)
     kind = KINDS[study_kind(path)]
@@ -488,7 +488,7 @@ def _cmd_study(args) -> dict:
 
         require_browser()
     from ..fem import _kernels as fem_kernels
-    from .sweep import before_computing
+    from .executor import before_computing
 
     def announce():
         _announce_compilation(
@@ -541,7 +541,7 @@ def _cmd_schema(args) -> None:
 
 
 def _cmd_validate(args) -> dict:
-    from .validation import zhang_makris_validation
+    from .zhang_makris import zhang_makris_validation
 
     return zhang_makris_validation(Path(args.out), progress=not args.json)
 

@@ -1,7 +1,7 @@
 """The cross-check study: one column and pulse through the FEM contact model and the rigid
 rocking solver, side by side, with the safety checks and a verdict.
 
-Cases (run through :mod:`studies.sweep`, each saved as it completes):
+Cases (run through :mod:`studies.executor`, each saved as it completes):
   fem        the 2D contact model of the study
   multibody  the rigid multibody model with the FEM's contact topology: rigid halves, ground and
              crack contact with the study's friction, collars as frame elements. The rigid
@@ -31,6 +31,7 @@ from ..fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide_count
 from ..rigid.impacts import half_cycles, impact_ratios_from_peaks
 from ..rigid.solve import rock
 from ..rigid.spectrum import overturning_spectrum
+from .executor import run_cases
 from .fem_study import from_dict
 from .outcome import (
     QUESTIONS,
@@ -42,7 +43,6 @@ from .outcome import (
     outcome,
 )
 from .output import read_csv, write_csv, write_json
-from .sweep import run_cases
 
 NOT_APPLICABLE = "not applicable"
 

@@ -13,10 +13,10 @@ from ..core.errors import read_toml
 from ..core.ground import peak_acceleration
 from ..rigid.design import design_chart, design_collars
 from .crosscheck import fem_case
+from .executor import run_cases
 from .fem_study import from_dict
 from .outcome import fem_answers, fem_model, outcome
 from .output import write_csv, write_json
-from .sweep import run_cases
 
 ALPHAS = np.linspace(0.03, 0.4, 38)
 RATIOS = np.linspace(0.05, 1.0, 39)

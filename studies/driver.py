@@ -62,7 +62,7 @@ KINDS = {
         "sweeps:run_solid_vs_cracked", "report:write_variants_report", ("outcome",)
     ),
     "zhang-makris": StudyKind(
-        "validation:run_zhang_makris",
+        "zhang_makris:run_zhang_makris",
         "report:write_zhang_makris_report",
         ("outcome", "boundaries"),
         ground_motion=False,

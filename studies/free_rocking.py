@@ -28,10 +28,10 @@ from ..core.errors import InputError, read_toml
 from ..rigid.block import Block
 from ..rigid.impacts import impact_ratios_from_peaks
 from . import schema
+from .executor import run_cases
 from .fem_study import from_dict
 from .outcome import none_assessed
 from .output import write_csv, write_json
-from .sweep import run_cases
 
 
 def with_defaults(data: dict) -> dict:

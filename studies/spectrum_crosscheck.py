@@ -14,7 +14,7 @@ the amplitude axis scales it to a peak of amplitude_ratio x a_uplift, and the ot
 ``time_scales = [start, stop]`` in place of ``omega_ratios``, compresses its time by that factor
 (2: twice as fast, its frequencies doubled), as the omega ratio moves a pulse.
 
-Each grid point is one case of :mod:`studies.sweep` (local processes or Dask, saved as it
+Each grid point is one case of :mod:`studies.executor` (local processes or Dask, saved as it
 completes, resumable). Its FEM run writes no field files: a grid point keeps only its numbers.
 Maps are 2D lists with rows following the amplitude ratios and columns the omega ratios, as in
 the rigid spectra.
@@ -31,10 +31,10 @@ from ..core.errors import InputError, read_toml
 from ..fem.ensemble import NO, YES
 from ..rigid.impacts import half_cycles
 from . import schema
+from .executor import run_cases
 from .fem_study import from_dict
 from .outcome import QUESTIONS, count_answer, grid_outcome, not_assessed, outcome
 from .output import write_json
-from .sweep import run_cases
 
 DEFAULT_X_RANGE = {"omega_ratios": [1.0, 8.0], "time_scales": [0.5, 2.0]}
 MODES = ("safe", "after-impact", "without-impact")

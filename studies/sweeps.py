@@ -1,6 +1,6 @@
 """Studies that sweep a column over variants: mesh convergence, and solid vs cracked.
 
-Each variant is a case of :mod:`studies.sweep` (saved as it completes, resumable, local or
+Each variant is a case of :mod:`studies.executor` (saved as it completes, resumable, local or
 Dask). ``[study] kind`` in the study file picks the study:
 
   mesh-convergence   the FEM model on meshes h, h/r, h/r^2, ... ([convergence] sizes, or levels
@@ -20,10 +20,10 @@ from ..core.errors import read_toml
 from ..fem.convergence import convergence_table
 from . import schema
 from .crosscheck import fem_case, rigid_case
+from .executor import run_cases
 from .fem_study import from_dict, rocking_alpha
 from .outcome import fem_answers, fem_model, model_outcome, outcome
 from .output import write_json
-from .sweep import run_cases
 
 SWEEP_KINDS = ("mesh-convergence", "solid-vs-cracked")
 

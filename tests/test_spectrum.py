@@ -8,7 +8,7 @@ from reference import reference_rocking, sine_pulse_over_g
 from colonna.rigid import Collar, InputError, pulse_from_ratios
 from colonna.rigid.collars import collar_yield_rotation
 from colonna.rigid.spectrum import overturning_spectrum
-from colonna.studies.validation import mode_boundaries
+from colonna.studies.zhang_makris import mode_boundaries
 
 
 def _reference_mode(block, omega_ratio, amplitude_ratio, model, **kw):
