@@ -25,12 +25,9 @@ def elastic_displacement(model, u: np.ndarray) -> np.ndarray:
     (mass-weighted centroid and rotation) leaves: the elastic deformation, in the ground frame
     (n_nodes, 2), m. u minus it is the bodies' rigid motion."""
     local, angle = _split_rigid_motion(model, u)
-    cs, sn = np.cos(angle)[:, None], np.sin(angle)[:, None]
+    cs, sn = np.cos(angle), np.sin(angle)
     return np.column_stack(
-        (
-            cs[:, 0] * local[:, 0] - sn[:, 0] * local[:, 1],
-            sn[:, 0] * local[:, 0] + cs[:, 0] * local[:, 1],
-        )
+        (cs * local[:, 0] - sn * local[:, 1], sn * local[:, 0] + cs * local[:, 1])
     )
 
 
@@ -103,6 +100,7 @@ def write_outputs(result, out: Path) -> None:
     theta = np.maximum(np.abs(result.history["theta_left"]), np.abs(result.history["theta_right"]))
     peak = int(np.argmax(theta))
     model = result.model
+    collar_end = collar_end_marks(model)
     for name, k in (("initial", 0), ("peak_rotation", peak), ("final", len(frames) - 1)):
         t, u = frames[k]
         write(
@@ -111,7 +109,7 @@ def write_outputs(result, out: Path) -> None:
             point_data={
                 "displacement": u,
                 "elastic_displacement": elastic_displacement(model, u),
-                "collar_end": collar_end_marks(model),
+                "collar_end": collar_end,
             },
             cell_data=stress_fields(model, u),
         )

@@ -286,9 +286,7 @@ def rock(
         block, ground, collars, model, initial_tilt, initial_angular_velocity, vertical
     )
     p = block.p
-    t_ground = max(
-        require_motion("ground", ground).end_time, require_motion("vertical", vertical).end_time
-    )
+    t_ground = max(ground.end_time, vertical.end_time)  # motions checked by kernel_params
     if isinstance(ground, NoMotion) and initial_tilt == 0.0 and initial_angular_velocity == 0.0:
         raise InputError(
             "no ground motion and no initial tilt or angular velocity: the block stays at rest"

@@ -84,14 +84,10 @@ def check_study_file(study_path: Path):
     """The study file validated against :mod:`studies.schema` as its kind runs it (a
     free-rocking study with its own defaults), before anything is run or written: every error
     of the file at once, one line each, in one :class:`InputError`."""
-    from .free_rocking import with_defaults
+    from .free_rocking import as_run
     from .schema import parse
 
-    data = read_toml(study_path, "study file")
-    study = data.get("study")
-    if isinstance(study, dict) and study.get("kind") == "free-rocking":
-        data = with_defaults(data)
-    return parse(data, str(study_path))
+    return parse(as_run(read_toml(study_path, "study file")), str(study_path))
 
 
 def run_study_file(

@@ -55,13 +55,12 @@ def record_inputs(out: Path, study_path: Path, options: dict | None = None) -> d
     import tomllib
 
     from . import schema
-    from .free_rocking import with_defaults
+    from .free_rocking import as_run
 
     raw = Path(study_path).read_bytes()
-    data = tomllib.loads(raw.decode())
-    if data.get("study", {}).get("kind") == "free-rocking":  # its own defaults, as it runs
-        data = with_defaults(data)
-    inputs = schema.parse(data, str(study_path)).model_dump(mode="json")
+    inputs = schema.parse(as_run(tomllib.loads(raw.decode())), str(study_path)).model_dump(
+        mode="json"
+    )
     column = inputs.get("column")
     if column is not None:  # the defaults that depend on the column
         from ..core.collar import Collar

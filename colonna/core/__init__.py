@@ -5,8 +5,9 @@
 * :mod:`colonna.core.ground`      ground motions (pulses, records, no motion): one protocol,
   ``acceleration(t)``, ``end_time``, ``peak_acceleration``;
 * :mod:`colonna.core.collar`      the collar description (section, steel, axial law's data);
-* :mod:`colonna.core.collar_law`  the collars' compiled material law, used by the FEM's and the
-  multibody model's frame elements.
+* :mod:`colonna.core.collar_law`  the collars' compiled frame element (local law and axial
+  plasticity), used by the FEM's and the multibody model's collars;
+* :mod:`colonna.core.tables`      the compiled evaluation of the ground-motion tables.
 
 ``rigid``, ``fem``, ``meshes`` and ``studies`` import from here; this package imports none of them.
 """

@@ -1,5 +1,7 @@
-"""The collars' bilinear axial law, shared by the FEM's and the multibody model's compiled
-frame elements (numba): elastic E A up to N_y = f_y A, then isotropic linear hardening."""
+"""The collars' compiled frame element (numba), shared by the FEM's and the multibody model's
+collars: the co-rotational element's local law (:func:`frame_local_law`) and its bilinear axial
+law (:func:`axial_return_mapping`: elastic E A up to N_y = f_y A, then isotropic linear
+hardening)."""
 
 from __future__ import annotations
 

@@ -251,7 +251,6 @@ def acceleration_table(motion, samples_per_period: int = 400):
     outside it: a record as it is, a harmonic pulse sampled ``samples_per_period`` times per
     period over its duration (linear interpolation of the sine is then exact to 3e-5 of its
     amplitude). NoMotion: None."""
-    require_motion("ground motion", motion)
     if isinstance(motion, NoMotion):
         return None
     if isinstance(motion, Record):
