@@ -473,8 +473,9 @@ def _cmd_fem(args) -> dict:
 
 
 def _cmd_study(args) -> dict:
-    from .driver import KINDS, run_study_file, study_kind
+    from .driver import run_study_file, study_kind
     from .executor import default_workers
+    from .kinds import KINDS
     from .spectrum_crosscheck import parse_grid_size
 
     path = resolve_study(args.study)

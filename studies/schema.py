@@ -32,17 +32,10 @@ from ..core.errors import InputError, read_toml
 from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
+from .kinds import KINDS
 
 G = STANDARD_GRAVITY  # m/s^2, the gravity of every study
-STUDY_KINDS = (
-    "cross-check",
-    "collar-design",
-    "spectrum-crosscheck",
-    "free-rocking",
-    "mesh-convergence",
-    "solid-vs-cracked",
-    "zhang-makris",
-)
+STUDY_KINDS = tuple(KINDS)  # the registered kinds (studies/kinds.py)
 
 
 FAILED = object()  # in a table's view (Table.across): a key whose value failed its own check

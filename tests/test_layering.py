@@ -93,3 +93,16 @@ def test_every_fem_run_of_a_study_goes_through_one_function():
                 where = f"{path.name}:{inner[-1] if inner else '<module>'}"
                 callers.setdefault(where, set()).update(names)
     assert set(callers) == {"fem_study.py:run_fem"}, callers
+
+
+def test_the_study_kinds_have_one_registry():
+    """Adding a study kind is one module and one line of studies/kinds.py: the study file's
+    allowed [study] kind values are read from that table, and every registered runner and
+    report writer resolves to a function."""
+    from colonna.studies import driver, kinds, schema
+
+    allowed = schema.StudyFile.model_json_schema()["$defs"]["StudyInfo"]["properties"]["kind"]
+    assert tuple(allowed["enum"]) == tuple(kinds.KINDS)
+    assert driver.KINDS is kinds.KINDS
+    for kind in kinds.KINDS.values():
+        assert callable(driver._function(kind.run)) and callable(driver._function(kind.report))

@@ -1,0 +1,60 @@
+"""The registry of study kinds: the one table a kind is added to.
+
+Each kind is registered by name, with its runner and its report writer as ``"module:function"``
+strings under ``colonna.studies``, imported only when a study of that kind runs. The study
+file's ``[study] kind`` is checked against these names (:mod:`studies.schema`) and the driver
+(:mod:`studies.driver`) runs them. Adding a kind is one module with a ``run`` function
+(``run(study_path, out, *, workers, scheduler, progress, force, **options) -> summary``) and a
+report writer (``write(out) -> index.html``), and one line here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class StudyKind:
+    """A study kind: where its runner and its report writer live, and which summary keys the
+    command line prints (``short``)."""
+
+    run: str  # "module:function" under colonna.studies
+    report: str  # "module:function" under colonna.studies
+    short: tuple[str, ...] = ()
+    ground_motion: bool = True  # its [ground] is one motion (not a grid of them, nor none)
+
+
+KINDS = {
+    "cross-check": StudyKind(
+        "crosscheck:run_crosscheck", "report:write_crosscheck_report", ("outcome", "verdict")
+    ),
+    "collar-design": StudyKind(
+        "design_study:run_design_study",
+        "report:write_design_report",
+        ("outcome", "design_adequate", "fem_collar_max_utilisation"),
+    ),
+    "spectrum-crosscheck": StudyKind(
+        "spectrum_crosscheck:run_spectrum_crosscheck",
+        "report:write_spectrum_crosscheck_report",
+        ("outcome", "agreement_fem_multibody", "agreement_fem_sdof"),
+        ground_motion=False,
+    ),
+    "free-rocking": StudyKind(
+        "free_rocking:run_free_rocking",
+        "report:write_free_rocking_report",
+        ("outcome", "fem_ratio_study_stone", "multibody_ratio", "restitution_housner"),
+        ground_motion=False,
+    ),
+    "mesh-convergence": StudyKind(
+        "sweeps:run_mesh_convergence", "report:write_convergence_report", ("outcome",)
+    ),
+    "solid-vs-cracked": StudyKind(
+        "sweeps:run_solid_vs_cracked", "report:write_variants_report", ("outcome",)
+    ),
+    "zhang-makris": StudyKind(
+        "zhang_makris:run_zhang_makris",
+        "report:write_zhang_makris_report",
+        ("outcome", "boundaries"),
+        ground_motion=False,
+    ),
+}
