@@ -57,6 +57,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_fem.py
 	$(BIN)/python benchmarks/bench_ensemble.py
 	$(BIN)/python benchmarks/bench_multibody.py
+	$(BIN)/python benchmarks/bench_plastic_collars.py
 	$(BIN)/python benchmarks/bench_spectrum_crosscheck.py
 
 clean:

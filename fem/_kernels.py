@@ -206,17 +206,19 @@ def _face_angle(x, below, above):
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
 def collar_forces(x, collars, props, out, f, state, commit):
-    """Co-rotational Euler-Bernoulli frame elements, elastic or bilinear in the axial force.
+    """Co-rotational Euler-Bernoulli frame elements, elastic or elastoplastic (N and M).
 
     collars[c] = (left node, left face below, left face above, right node, right below, right
     above); props[c] = (EA/L, EI'/L0, pretension, L0, chord angle0, left face angle0,
-    right face angle0, N_y = f_y A (0: elastic), E A, H A with H = E E_h / (E - E_h)).
+    right face angle0, N_y = f_y A (0: elastic), E A, H A with H = E E_h / (E - E_h), M_p =
+    f_y t h^2 / 4 (0: elastic in bending)).
     out[c] = (N, M1, M2, elastic energy, plastic strain). End rotations are the rotations of
     the face segments (below -> above); their moments enter as force couples on those nodes.
 
-    Plasticity (axial, isotropic linear hardening, return mapping): state[c] = (plastic
-    elongation s_p (m), accumulated plastic strain, plastic work (J)); N = pretension + EA/L
-    (stretch - s_p), |N| <= N_y + H A alpha. With commit the state is updated (a time step);
+    Plasticity (colonna.core.collar_law.frame_local_law: axial with isotropic linear hardening,
+    end hinges on the N-M interaction surface): state[c] = (plastic elongation s_p (m),
+    accumulated plastic strain, plastic work (J), hinge rotations (rad)); N = pretension +
+    EA/L (stretch - s_p), |N| <= N_y + H A alpha. With commit the state is updated (a time step);
     otherwise the forces are those of the trial state. Returns (elastic energy, plastic work
     of this call)."""
     energy = 0.0
@@ -243,6 +245,7 @@ def collar_forces(x, collars, props, out, f, state, commit):
             props[c, 7],
             props[c, 8],
             props[c, 9],
+            props[c, 10],
             state,
             c,
             commit,
@@ -310,7 +313,8 @@ Collars = namedtuple("Collars", ["nodes", "props"])
 """collar_forces' node table and properties."""
 
 CollarState = namedtuple("CollarState", ["out", "plastic"])
-"""Per state: collar_forces' outputs (B, n_collars, 5) and plastic state (B, n_collars, 3)."""
+"""Per state: collar_forces' outputs (B, n_collars, 5) and plastic state (B, n_collars,
+collar_law.STATE_SIZE)."""
 
 EdgeAverage = namedtuple("EdgeAverage", ["weights", "buffer", "position", "sums", "peak"])
 """The toe resultants weights . base_fn (weights (n_edges, n_base), shared) averaged over the

@@ -32,6 +32,7 @@ import numpy as np
 from scipy.sparse.linalg import spsolve
 from tqdm import tqdm
 
+from ..core.collar_law import STATE_SIZE
 from ..core.errors import InputError, require_positive, require_range
 from ..core.ground import NO_MOTION, GroundMotion, require_motion
 from . import _kernels as K
@@ -74,7 +75,7 @@ def static_state(model: Model):
         model.collar_props,
         out,
         f,  # pretension
-        np.zeros((model.collar_nodes.shape[0], 3)),
+        np.zeros((model.collar_nodes.shape[0], STATE_SIZE)),
         False,
     )
     u = spsolve(total, f)
@@ -457,7 +458,7 @@ def _initial_state(
     contact = {
         "base_fc": np.zeros(model.base_nodes.size),
         "crack_fc": [np.zeros(p[0].size) for p in model.crack_passes],
-        "collar_state": np.zeros((model.collar_nodes.shape[0], 3)),
+        "collar_state": np.zeros((model.collar_nodes.shape[0], STATE_SIZE)),
     }
     if initial_state is not None:
         if initial_tilt != 0.0 or initial_angular_velocity != 0.0:
@@ -508,7 +509,15 @@ def _restore_contact(model, state: dict) -> dict:
         raise InputError(f"run initial_contact: expected arrays of shapes {expected}, got {given}")
     out = {"base_ft": base[0], "base_fc": base[1], "crack_ft": passes[0], "crack_fc": passes[1]}
     if "collar_state" in state:  # the plastic state of the collars
-        out["collar_state"] = np.asarray(state["collar_state"], dtype=float)
+        collar_state = np.asarray(state["collar_state"], dtype=float)
+        shape = (model.collar_nodes.shape[0], STATE_SIZE)
+        if collar_state.shape != shape:
+            raise InputError(
+                f"run initial_contact: collar_state must have shape {shape} (per collar: "
+                f"plastic elongation, accumulated plastic strain, plastic work, two hinge "
+                f"rotations), got {collar_state.shape}"
+            )
+        out["collar_state"] = collar_state
     return out
 
 
@@ -598,7 +607,7 @@ class _BatchState:
         n_collars = model.collar_nodes.shape[0]
         self.collars = K.CollarState(
             np.zeros((batch, n_collars, 5)),
-            rows(start["collar_state"]).reshape(batch, n_collars, 3),
+            rows(start["collar_state"]).reshape(batch, n_collars, STATE_SIZE),
         )
         self.collar_model = K.Collars(model.collar_nodes, model.collar_props)
         self.edge = K.EdgeAverage(
@@ -834,7 +843,10 @@ class _Recorder:
         for k, collar in enumerate(model.collars, start=1):
             N, M1, M2 = collar_out[k - 1, :3]
             moment = max(abs(M1), abs(M2))
-            stress = abs(N) / collar.area + moment / collar.section_modulus
+            stress = min(
+                abs(N) / collar.area + moment / collar.section_modulus,
+                collar.stress_cap(collar_state[k - 1, 1]),
+            )
             row[f"collar_{k}_axial_force"] = N
             row[f"collar_{k}_moment"] = moment
             row[f"collar_{k}_stress"] = stress

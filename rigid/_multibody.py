@@ -30,8 +30,10 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..core.collar_law import frame_local_law
+from ..core.collar_law import RECORDED, STATE_SIZE, frame_local_law
 from ..core.tables import table_value
+
+N_RECORDED = len(RECORDED)  # plastic-state entries per collar in a history row
 
 GROUND_NONE = 0
 GROUND_HARMONIC = 1
@@ -97,15 +99,15 @@ def _world(q, body, lx, ly):
 @njit(cache=True)
 def collar_forces(q, col_a, col_b, col_r, props, f, out, state, commit):
     """Co-rotational Euler-Bernoulli frame elements between body-fixed attachment points (the
-    FEM's collar element with rigid end sections), elastic or bilinear in the axial force.
+    FEM's collar element with rigid end sections), elastic or elastoplastic (N and M).
 
     col_r[c] = (x1, y1, x2, y2): attachment points in the frames of bodies col_a[c], col_b[c];
     props[c] = (EA/L, EI'/L0, pretension, L0, chord angle at rest, N_y = f_y A (0: elastic),
-    E A, H A). Adds the generalised forces -dU/dq to f (if f.size) and writes out[c] = (N, M1,
-    M2, elastic energy, plastic strain). Plasticity as the FEM's (colonna.fem._kernels):
-    state[c] = (plastic elongation, accumulated plastic strain, plastic work), updated with
-    commit. Returns the elastic energy U (J); the plastic work of a committed call is added
-    to state[c, 2]."""
+    E A, H A, M_p (0: elastic in bending)). Adds the generalised forces -dU/dq to f (if
+    f.size) and writes out[c] = (N, M1, M2, elastic energy, plastic strain). Plasticity as
+    the FEM's (colonna.core.collar_law.frame_local_law): state[c] = (plastic elongation,
+    accumulated plastic strain, plastic work, hinge rotations), updated with commit. Returns
+    the elastic energy U (J); the plastic work of a committed call is added to state[c, 2]."""
     energy = 0.0
     for c in range(col_a.size):
         a = col_a[c]
@@ -128,6 +130,7 @@ def collar_forces(q, col_a, col_b, col_r, props, f, out, state, commit):
             props[c, 5],
             props[c, 6],
             props[c, 7],
+            props[c, 8],
             state,
             c,
             commit,
@@ -639,8 +642,9 @@ def simulate(
     barrier: the least mechanical energy (J above rest) any part needs to overturn; with
     early_exit the run stops as settled once the ground is still, the energy is below it and
     every body stands within its toes.
-    energy_scale: J, for the blow-up check. col_limits[c] = (A, W, f_y) of each collar: the
-    largest utilisation (|N|/A + max|M|/W) / f_y over the steps' midpoints is returned.
+    energy_scale: J, for the blow-up check. col_limits[c] = (A, W, f_y, H or -1) of each collar
+    (MultibodyColumn.col_limits): the largest utilisation (|N|/A + max|M|/W) / f_y, that stress
+    capped at f_y + H alpha for a plastic collar, over the steps' midpoints is returned.
 
     Returns (status, steps done, rows written, impacts, overturn reason, overturn time, peak
     |theta| (rad) of each body as a 2-vector, most solver iterations in a step, largest collar
@@ -667,7 +671,7 @@ def simulate(
         np.zeros(nc, dtype=np.int64),
         np.zeros(nb, dtype=np.int64),
         np.zeros((col_a.size, 5)),
-        np.zeros((col_a.size, 3)),
+        np.zeros((col_a.size, STATE_SIZE)),
     )
     col_out = ws[12]
     col_state = ws[13]
@@ -821,6 +825,8 @@ def simulate(
                 abs(col_out[c, 0]) / col_limits[c, 0]
                 + max(abs(col_out[c, 1]), abs(col_out[c, 2])) / col_limits[c, 1]
             )
+            if col_limits[c, 3] >= 0.0:  # a plastic collar: its fibres on the hardening line
+                stress = min(stress, col_limits[c, 2] + col_limits[c, 3] * col_state[c, 1])
             max_util = max(max_util, stress / col_limits[c, 2])
             max_plastic = max(max_plastic, abs(col_out[c, 4]))
         finite = True
@@ -982,8 +988,8 @@ def _write_row(
         out[row, k0 + 5 + k] = forces[k]
     k1 = k0 + 5 + forces.size  # then per collar: plastic elongation (m), its accumulation
     for c in range(col_state.shape[0]):
-        out[row, k1 + 2 * c] = col_state[c, 0]
-        out[row, k1 + 2 * c + 1] = col_state[c, 1]
+        for k in range(N_RECORDED):
+            out[row, k1 + N_RECORDED * c + k] = col_state[c, RECORDED[k]]
 
 
 @njit(cache=True)
@@ -1100,7 +1106,9 @@ def spectrum_modes(
         n_steps = int(math.ceil((t_end + free_time) / h))
         q = q0.copy()
         v = np.zeros_like(q0)
-        out = np.zeros((1, 1 + N_BODY_COLS * mass.size + N_TAIL + 2 * mass.size + 2 * col_a.size))
+        out = np.zeros(
+            (1, 1 + N_BODY_COLS * mass.size + N_TAIL + 2 * mass.size + N_RECORDED * col_a.size)
+        )
         impacts = np.zeros((1, 4))
         status, steps, rows, n_imp, reason, t_over, peak, it, util, _pl, _pw = simulate(
             q,

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.collar_law import RECORDED, STATE_SIZE
 from ..core.errors import InputError, require_non_negative, require_positive, require_range
 from ..core.ground import (
     NO_MOTION,
@@ -87,10 +88,16 @@ class MultibodyColumn:
 
     @property
     def col_limits(self) -> np.ndarray:
-        """(A, W, f_y) of each collar: area (m^2), section modulus (m^3), yield stress (Pa)."""
+        """(A, W, f_y, H) of each collar: area (m^2), section modulus (m^3), yield stress (Pa)
+        and, for a plastic collar, the plastic modulus H (Pa; -1: elastic collar, its stress
+        is not capped; see Collar.stress_cap)."""
         return np.array(
-            [(c.area, c.section_modulus, c.fy) for c in self.collars], dtype=float
-        ).reshape(-1, 3)
+            [
+                (c.area, c.section_modulus, c.fy, c.plastic_modulus if c.plastic else -1.0)
+                for c in self.collars
+            ],
+            dtype=float,
+        ).reshape(-1, 4)
 
     @property
     def n_bodies(self) -> int:
@@ -135,7 +142,7 @@ class MultibodyColumn:
         stiffness = np.zeros((n, n))
         step = 1e-7 * self.column_width
         out = np.zeros((self.col_a.size, 5))
-        state = np.zeros((self.col_a.size, 3))
+        state = np.zeros((self.col_a.size, STATE_SIZE))
         for k in range(n):
             q = self.q_rest.copy()
             fp, fm = np.zeros(n), np.zeros(n)
@@ -214,7 +221,7 @@ def build_column(
     col_a = np.zeros(len(collars), dtype=np.int64)
     col_b = np.ones(len(collars), dtype=np.int64)
     col_r = np.zeros((len(collars), 4))
-    col_props = np.zeros((len(collars), 8))
+    col_props = np.zeros((len(collars), 9))
     for c, collar in enumerate(collars):
         y = collar.y - h  # height relative to the centroids
         col_r[c] = (-b, y, b, y)  # outer faces: left half x = -2b, right x = 2b
@@ -232,6 +239,7 @@ def build_column(
             collar.fy * collar.area if collar.plastic else 0.0,
             collar.E * collar.area,
             collar.plastic_modulus * collar.area,
+            collar.plastic_moment if collar.plastic else 0.0,
         )
     return MultibodyColumn(
         block,
@@ -532,7 +540,11 @@ def rock_multibody(
     n_steps = int(math.ceil(duration / dt))
     q, v = tilted_state(column, initial_tilt, initial_angular_velocity)
     n_cols = (
-        1 + K.N_BODY_COLS * column.n_bodies + K.N_TAIL + 2 * column.n_bodies + 2 * column.col_a.size
+        1
+        + K.N_BODY_COLS * column.n_bodies
+        + K.N_TAIL
+        + 2 * column.n_bodies
+        + K.N_RECORDED * column.col_a.size
     )
     out = np.zeros((n_steps // out_every + 3, n_cols))
     impacts = np.zeros((max_impacts_stored, 4))
@@ -672,7 +684,8 @@ def _result(
         solver_iterations_max=int(iters),
     )
     ncol = column.col_a.size
-    plastic = tail[:, K.N_TAIL + 2 * nb : K.N_TAIL + 2 * nb + 2 * ncol].reshape(t.size, ncol, 2)
+    recorded = tail[:, K.N_TAIL + 2 * nb : K.N_TAIL + 2 * nb + K.N_RECORDED * ncol]
+    plastic = recorded.reshape(t.size, ncol, K.N_RECORDED)
     result.collar_histories = collar_histories(column, t, q, plastic)
     return result
 
@@ -711,19 +724,19 @@ def _crack_kinematics(column, q):
 def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[CollarHistory]:
     """N (tension +), end moment, extreme-fibre stress |N|/A + max|M|/W and utilisation of
     every collar over time, from the frame element (as the FEM reports them). ``plastic``:
-    (n_times, n_collars, 2) plastic elongation and accumulated plastic strain of plastic
-    collars at those times (zero if None)."""
+    (n_times, n_collars, len(RECORDED)) plastic elongation, accumulated plastic strain and
+    hinge rotations of plastic collars at those times (zero if None)."""
     if not column.collars:
         return []
     n = q.shape[0]
     ncol = column.col_a.size
     forces = np.zeros((n, ncol, 5))
     out = np.zeros((ncol, 5))
-    state = np.zeros((ncol, 3))
+    state = np.zeros((ncol, STATE_SIZE))
     flat = q.reshape(n, -1)
     for k in range(n):
         if plastic is not None:
-            state[:, :2] = plastic[k]
+            state[:, list(RECORDED)] = plastic[k]
         K.collar_forces(
             flat[k],
             column.col_a,
@@ -741,7 +754,11 @@ def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[Collar
         axial = forces[:, c, 0]
         moment = np.maximum(np.abs(forces[:, c, 1]), np.abs(forces[:, c, 2]))
         shear = (forces[:, c, 1] + forces[:, c, 2]) / collar.span(column.block.b)
-        stress = np.abs(axial) / collar.area + moment / collar.section_modulus
+        alpha = plastic[:, c, 1] if plastic is not None else np.zeros(n)
+        stress = np.minimum(
+            np.abs(axial) / collar.area + moment / collar.section_modulus,
+            collar.stress_cap(alpha),
+        )
         util = stress / collar.fy
         hit = np.nonzero(util >= 1.0)[0]
         histories.append(

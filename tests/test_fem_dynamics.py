@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from colonna.core.collar_law import STATE_SIZE
 from colonna.fem import _kernels as K
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model, stable_time_step
@@ -120,7 +121,7 @@ def test_collar_element_axial_and_lateral_stiffness():
             x[2 * node] += dx
             x[2 * node + 1] += dy
         f = np.zeros_like(x)
-        K.collar_forces(x, nodes, props, out, f, np.zeros((1, 3)), False)
+        K.collar_forces(x, nodes, props, out, f, np.zeros((1, STATE_SIZE)), False)
         if check == "axial":
             assert out[0, 0] == pytest.approx(collar.E * collar.area / L * 1e-6, rel=1e-6)
         else:
@@ -140,7 +141,7 @@ def test_collar_element_is_rotation_invariant():
     P = model.X.reshape(-1, 2)
     x = np.column_stack((c * P[:, 0] - s * P[:, 1], s * P[:, 0] + c * P[:, 1])).ravel()
     f = np.zeros_like(x)
-    K.collar_forces(x, nodes, props, out, f, np.zeros((1, 3)), False)
+    K.collar_forces(x, nodes, props, out, f, np.zeros((1, STATE_SIZE)), False)
     assert np.abs(out[0, :3]).max() < 1e-6 and np.abs(f).max() < 1e-6
 
 
@@ -150,14 +151,16 @@ def test_collar_forces_are_the_energy_gradient():
     x = model.X + 1e-4 * rng.standard_normal(model.X.size)
     out = np.zeros((1, 5))
     f = np.zeros_like(x)
-    K.collar_forces(x, nodes, props, out, f, np.zeros((1, 3)), False)
+    K.collar_forces(x, nodes, props, out, f, np.zeros((1, STATE_SIZE)), False)
     dofs = np.unique(np.concatenate((2 * nodes[0], 2 * nodes[0] + 1)))
     for d in dofs:
         e = []
         for sign in (1, -1):
             xx = x.copy()
             xx[d] += sign * 1e-7
-            K.collar_forces(xx, nodes, props, out, np.zeros_like(x), np.zeros((1, 3)), False)
+            K.collar_forces(
+                xx, nodes, props, out, np.zeros_like(x), np.zeros((1, STATE_SIZE)), False
+            )
             e.append(out[0, 3])
         assert -(e[0] - e[1]) / 2e-7 == pytest.approx(f[d], rel=1e-4, abs=1e-3)
 

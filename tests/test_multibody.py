@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from colonna.core.collar_law import STATE_SIZE
 from colonna.rigid import (
     Block,
     Collar,
@@ -219,7 +220,7 @@ def test_active_set_solves_the_redundant_contact_problem_exactly():
         np.zeros(nc, dtype=np.int64),
         np.zeros(nb, dtype=np.int64),
         np.zeros((0, 5)),
-        np.zeros((0, 3)),
+        np.zeros((0, STATE_SIZE)),
     )
     P_prev, was_active = np.zeros((nc, 2)), np.zeros(nc, dtype=np.bool_)
     pivot, armed = np.zeros(nb, dtype=np.int64), np.zeros(nb, dtype=np.bool_)
@@ -417,7 +418,7 @@ def test_collar_element_forces_are_the_gradient_of_its_energy():
         col.col_props,
         f,
         out,
-        np.zeros((col.col_a.size, 3)),
+        np.zeros((col.col_a.size, STATE_SIZE)),
         False,
     )
     step = 1e-7
@@ -433,7 +434,7 @@ def test_collar_element_forces_are_the_gradient_of_its_energy():
             col.col_props,
             np.zeros(0),
             out,
-            np.zeros((col.col_a.size, 3)),
+            np.zeros((col.col_a.size, STATE_SIZE)),
             False,
         )
         um = K.collar_forces(
@@ -444,7 +445,7 @@ def test_collar_element_forces_are_the_gradient_of_its_energy():
             col.col_props,
             np.zeros(0),
             out,
-            np.zeros((col.col_a.size, 3)),
+            np.zeros((col.col_a.size, STATE_SIZE)),
             False,
         )
         assert f[k] == pytest.approx(-(up - um) / (2 * step), rel=1e-5, abs=1e-3)
@@ -471,7 +472,7 @@ def test_collar_element_axial_and_lateral_stiffness():
             col.col_props,
             f,
             out,
-            np.zeros((col.col_a.size, 3)),
+            np.zeros((col.col_a.size, STATE_SIZE)),
             False,
         )
         if check == "axial":

@@ -4,6 +4,7 @@ element, the energy balance with the plastic work, and the study keys."""
 import numpy as np
 import pytest
 
+from colonna.core.collar_law import STATE_SIZE
 from colonna.core.errors import InputError
 from colonna.core.ground import NoMotion
 from colonna.fem.assembly import Stone
@@ -91,7 +92,7 @@ def test_multibody_collar_element_is_bilinear_on_a_load_unload_cycle():
     path = np.concatenate(
         (np.linspace(0.0, 4.0 * eps_y, 400), np.linspace(4.0 * eps_y, 2.5 * eps_y, 400)[1:])
     )
-    state, out = np.zeros((1, 3)), np.zeros((1, 5))
+    state, out = np.zeros((1, STATE_SIZE)), np.zeros((1, 5))
     forces = []
     for eps in path:
         q = column.q_rest.copy()
@@ -159,7 +160,7 @@ def test_fem_collar_element_pulled_quasi_statically_follows_the_bilinear_law():
     path = np.concatenate(
         (np.linspace(0.0, 4.0 * eps_y, 400), np.linspace(4.0 * eps_y, 2.5 * eps_y, 400)[1:])
     )
-    state, out = np.zeros((1, 3)), np.zeros((1, 5))
+    state, out = np.zeros((1, STATE_SIZE)), np.zeros((1, 5))
     right = model.collar_nodes[0, 3:]
     forces = []
     for eps in path:
@@ -177,3 +178,170 @@ def test_fem_collar_element_pulled_quasi_statically_follows_the_bilinear_law():
     assert N[-1] == pytest.approx(E * A * (2.5 * eps_y - plastic), rel=1e-6)
     work = np.sum(0.5 * (N[1:] + N[:-1]) * np.diff(path) * span)
     assert work == pytest.approx(out[0, 3] + state[0, 2], rel=1e-3)
+
+
+# --- bending: the end hinges on the N-M interaction surface ----------------------------------
+
+
+def _fem_element(collar):
+    """The FEM frame element of `collar` (0.4 m span) and a function that imposes on its right
+    end (node and face nodes) an axial stretch and a lateral offset, returning the element's
+    (N, M1, M2, elastic energy) and the forces on the moved dofs (lateral ones summed)."""
+    from colonna.fem import _kernels as K
+
+    mesh = column_mesh(0.4, 2.0, 0.1, cracked=True, grading=0.0, pinned_heights=[1.0])
+    model = build_model(mesh, Stone(), 0.3, (collar,))
+    right = model.collar_nodes[0, 3:]
+    out = np.zeros((1, 5))
+
+    def impose(dx, dy, state, commit=True):
+        x = model.X.copy()
+        x[2 * right] += dx
+        x[2 * right + 1] += dy
+        f = np.zeros_like(x)
+        K.collar_forces(x, model.collar_nodes, model.collar_props, out, f, state, commit)
+        return out[0, :4].copy(), (f[2 * right].sum(), f[2 * right + 1].sum())
+
+    return impose, collar.span(0.1)
+
+
+def _multibody_element(collar):
+    """As _fem_element, for the multibody model's frame element (right half moved)."""
+    from colonna.rigid import _multibody as K
+    from colonna.rigid.block import Block
+    from colonna.rigid.multibody import build_column
+
+    column = build_column(Block(b=0.1, h=2.0, mass=100.0), cracked=True, collars=(collar,))
+    out = np.zeros((1, 5))
+
+    def impose(dx, dy, state, commit=True):
+        q = column.q_rest.copy()
+        q[3] += dx
+        q[4] += dy
+        f = np.zeros(q.size)
+        K.collar_forces(
+            q, column.col_a, column.col_b, column.col_r, column.col_props, f, out, state, commit
+        )
+        return out[0, :4].copy(), (f[3], f[4])
+
+    return impose, collar.span(0.1)
+
+
+def _offset_cycle(impose, collar, span, axial_ratio=0.0):
+    """A full quasi-static cycle of the lateral end offset, 0 -> 4 d_y -> -4 d_y -> 0 (d_y =
+    M_y L^2 / (6 E I), fixed-fixed), the chord held at the length that carries axial_ratio N_p
+    (elastic stretch): the end moves on a circle, so that the offset bends the collar without
+    the membrane stretch of a purely lateral move (6 % of the span here). Returns the offsets,
+    the chord rotations, the element's outputs (N, M1, M2, U), the work done on the moved end
+    per increment and the state."""
+    from colonna.core.collar_law import STATE_SIZE
+
+    d_y = collar.yield_moment * span**2 / (6.0 * collar.E * collar.second_moment)
+    stretch = axial_ratio * collar.fy * collar.area * span / (collar.E * collar.area)
+    step = d_y / 200.0
+    path = np.concatenate(
+        (
+            np.arange(0.0, 4.0 * d_y, step),
+            np.arange(4.0 * d_y, -4.0 * d_y, -step),
+            np.arange(-4.0 * d_y, step / 2, step),
+        )
+    )
+    chord = span + stretch
+    dx = np.sqrt(chord**2 - path**2) - span
+    state = np.zeros((1, STATE_SIZE))
+    rows = [impose(x, y, state) for x, y in zip(dx, path)]
+    outs = np.array([r[0] for r in rows])
+    f = np.array([r[1] for r in rows])
+    # work done on the element by the imposed motion: -(force of the collar on the end) . dx
+    work = -(
+        0.5 * (f[1:, 0] + f[:-1, 0]) * np.diff(dx) + 0.5 * (f[1:, 1] + f[:-1, 1]) * np.diff(path)
+    )
+    return path, np.arcsin(path / chord), d_y, outs, work, state
+
+
+@pytest.mark.parametrize("element", [_fem_element, _multibody_element], ids=["fem", "multibody"])
+def test_fixed_fixed_collar_yields_in_bending_to_the_plastic_moment(element):
+    """Imposed relative end offset d, both ends held against rotation: M = 6 E I d / L^2 while
+    elastic, the extreme fibre reaches f_y at M_y (the stress reported), the end moment levels
+    off at M_p = f_y t h^2 / 4 (times the hardening factor), unloading is elastic, and a full
+    cycle's loop area is the plastic work plus the change of elastic energy (1 %)."""
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True)
+    impose, span = element(collar)
+    path, beta, d_y, outs, work, state = _offset_cycle(impose, collar, span)
+    M = np.abs(outs[:, 1])
+    EI = collar.E * collar.second_moment
+    # elastic branch (up to the plastic moment M_p = 1.5 M_y, at d = 1.5 d_y): 6 E I d / L^2
+    # for small d (the co-rotational element: 6 E I beta / L of the chord rotation beta)
+    early = (path > 0) & (path < 1.4 * d_y) & (np.arange(path.size) < 800)
+    np.testing.assert_allclose(M[early], 6.0 * EI * beta[early] / span, rtol=1e-9)
+    assert M[1] == pytest.approx(6.0 * EI * path[1] / span**2, rel=1e-6)
+    at_yield = np.argmin(np.abs(path[:800] - d_y))
+    assert M[at_yield] / collar.section_modulus == pytest.approx(collar.fy, rel=1e-2)
+    # the plateau: M_p times the hardening factor, within 2 % of M_p
+    peak = M[799]
+    assert collar.plastic_moment <= peak <= 1.02 * collar.plastic_moment
+    g = 1.0 + collar.plastic_modulus * state[0, 1] / collar.fy  # the hardening factor
+    assert M.max() <= g * collar.plastic_moment * (1.0 + 1e-12) and g < 1.02
+    assert state[0, 3] != 0.0 and state[0, 4] != 0.0  # both hinges turned
+    # unloading from the peak is elastic: slope 6 E I / L^2
+    slope = (outs[801, 1] - outs[800, 1]) / (beta[801] - beta[800])
+    assert abs(slope) == pytest.approx(6.0 * EI / span, rel=1e-9)
+    # the loop: work done on the element over the cycle = plastic work + elastic energy left
+    assert state[0, 2] > 0.5 * work.sum()
+    assert work.sum() == pytest.approx(state[0, 2] + outs[-1, 3] - outs[0, 3], rel=1e-2)
+
+
+@pytest.mark.parametrize("element", [_fem_element, _multibody_element], ids=["fem", "multibody"])
+def test_under_half_the_squash_load_the_hinges_form_at_three_quarters_of_m_p(element):
+    """With N = N_p / 2 held, the interaction surface M / M_p + (N / N_p)^2 = 1 gives the
+    plateau 0.75 M_p; N itself stays at N_p / 2 (the hinges rotate, the axial law holds N)."""
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True)
+    impose, span = element(collar)
+    path, beta, d_y, outs, _work, state = _offset_cycle(impose, collar, span, axial_ratio=0.5)
+    M = np.abs(outs[:, 1])
+    assert M[799] == pytest.approx(0.75 * collar.plastic_moment, rel=0.02)
+    # never outside the hardened surface: M <= g M_p (1 - (N / (g N_p))^2), g = 1 + H alpha / f_y
+    g = 1.0 + collar.plastic_modulus * state[0, 1] / collar.fy
+    assert g < 1.02
+    assert M.max() <= collar.plastic_moment * (g - 0.25 / g) * (1.0 + 1e-12)
+    assert outs[799, 0] == pytest.approx(0.5 * collar.fy * collar.area, rel=1e-3)
+
+
+def test_an_elastic_collar_keeps_bending_past_the_plastic_moment():
+    """plastic = false: the same cycle stays on 6 E I d / L^2 (the report then quotes an elastic
+    stress past f_y, which the utilisation flags)."""
+    collar = Collar(y=1.0, t=0.004, h=0.03)
+    impose, span = _fem_element(collar)
+    path, beta, d_y, outs, _work, state = _offset_cycle(impose, collar, span)
+    EI = collar.E * collar.second_moment
+    np.testing.assert_allclose(
+        np.abs(outs[:, 1]), 6.0 * EI * np.abs(beta) / span, rtol=1e-9, atol=1e-6
+    )
+    assert np.abs(outs[:, 1]).max() > 2.5 * collar.yield_moment
+    assert not state.any()
+
+
+def test_collar_bent_by_sliding_halves_yields_and_the_energy_balance_closes():
+    """The right half of a column flung up along the crack on frictionless, undamped contacts:
+    the collar at mid height bends (and stretches), its end hinges yield, the end moments
+    reach the plastic moment and never pass it (the hardening is small here), and the initial
+    kinetic energy = kinetic + strain + contact + gravity + collar elastic + plastic work (1 %)."""
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True)
+    mesh = column_mesh(0.4, 2.0, 0.1, cracked=True, grading=0.0, pinned_heights=[1.0])
+    model = build_model(mesh, Stone(), 0.3, (collar,), ContactSettings(friction=0.0, damping=0.0))
+    v0 = np.zeros((mesh.n_nodes, 2))
+    v0[mesh.node_body == 1, 1] = 1.0
+    r = run(
+        model,
+        NoMotion(),
+        0.03,
+        output_interval=1e-5,
+        initial_velocity=v0,
+        progress=False,
+        stop_on_overturn=False,
+    )
+    h, s = r.history, r.summary
+    assert s["collar_plastic_work"] > 0.1 * h["energy_kinetic"][0]
+    moment = h["collar_1_moment"]
+    assert 0.98 * collar.plastic_moment < moment.max() <= 1.02 * collar.plastic_moment
+    assert s["energy_error_max"] < 0.01

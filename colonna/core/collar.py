@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from .constants import STEEL_E, STEEL_FY
 from .errors import InputError, require_non_negative, require_positive, require_range
 
@@ -78,6 +80,23 @@ class Collar:
     @property
     def section_modulus(self) -> float:
         return self.t * self.h**2 / 6.0
+
+    @property
+    def plastic_moment(self) -> float:
+        """M_p = f_y t h^2 / 4 (N m): the rectangle's full plastic moment (shape factor 1.5)."""
+        return self.fy * self.t * self.h**2 / 4.0
+
+    def stress_cap(self, alpha=0.0):
+        """The largest extreme-fibre stress the collar's steel can carry (Pa): f_y + H alpha
+        for a plastic collar at accumulated plastic strain alpha (past first yield the outer
+        fibres sit on the hardening line, whatever the elastic formula |N|/A + |M|/W says),
+        infinite for an elastic one (its stress is the elastic formula's)."""
+        alpha = np.asarray(alpha, dtype=float)
+        if self.plastic:
+            cap = self.fy + self.plastic_modulus * alpha
+        else:
+            cap = np.full(alpha.shape, np.inf)
+        return cap if cap.ndim else float(cap)
 
     @property
     def yield_moment(self) -> float:

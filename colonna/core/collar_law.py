@@ -1,11 +1,22 @@
 """The collars' compiled frame element (numba), shared by the FEM's and the multibody model's
-collars: the co-rotational element's local law (:func:`frame_local_law`) and its bilinear axial
+collars: the co-rotational element's local law (:func:`frame_local_law`), its bilinear axial
 law (:func:`axial_return_mapping`: elastic E A up to N_y = f_y A, then isotropic linear
-hardening)."""
+hardening) and its end hinges (:func:`hinge_return_mapping`: the end moments bounded by the
+rectangle's N-M interaction surface |M| / M_p + (N / N_p)^2 <= 1).
+
+A plastic collar's state, per collar (``STATE_SIZE`` numbers): plastic elongation s_p (m),
+accumulated (work-equivalent) plastic strain alpha, plastic work (J), and the plastic
+rotations of its two end hinges (rad)."""
 
 from __future__ import annotations
 
 from numba import njit
+
+STATE_SIZE = 5
+"""Numbers per collar in a plastic state: (s_p, alpha, plastic work, hinge 1, hinge 2)."""
+
+RECORDED = (0, 1, 3, 4)
+"""The state entries a history records to rebuild the collar's forces (all but the work)."""
 
 
 @njit(cache=True)
@@ -14,8 +25,8 @@ def axial_return_mapping(N_trial, ea_l, n_yield, ea, ha, state, c, commit):
 
     n_yield = f_y A (0: elastic collar), ea = E A, ha = H A with H = E E_h / (E - E_h), ea_l =
     E A / L. state[c] = (plastic elongation s_p (m), accumulated plastic strain alpha, plastic
-    work (J)); |N| <= n_yield + H A alpha, with the excess returned along EA/L and the surface
-    grown by the plastic strain. Updates the state with commit. Returns (N, s_p / L)."""
+    work (J), ...); |N| <= n_yield + H A alpha, with the excess returned along EA/L and the
+    surface grown by the plastic strain. Updates the state with commit. Returns (N, s_p / L)."""
     s_p = state[c, 0]
     if n_yield <= 0.0:
         return N_trial, 0.0
@@ -35,25 +46,101 @@ def axial_return_mapping(N_trial, ea_l, n_yield, ea, ha, state, c, commit):
 
 
 @njit(cache=True)
-def frame_local_law(stretch, th1, th2, ea_l, ei_l, pretension, n_yield, ea, ha, state, c, commit):
+def _clip(value, limit):
+    return min(max(value, -limit), limit)
+
+
+@njit(cache=True)
+def hinge_return_mapping(M1_trial, M2_trial, ei_l, cap1, cap2):
+    """End moments of the frame element with rigid-plastic hinges at its ends, from the trial
+    (elastic) moments M_trial = EI'/L0 [[4, 2], [2, 4]] (theta - theta_p,n) and the hinges'
+    moment capacities cap1, cap2 >= 0.
+
+    The closest point of the box |M_i| <= cap_i to the trial in the element's complementary
+    energy norm, (M - M_trial)^T C (M - M_trial) with C = [[4, -2], [-2, 4]] / (12 EI'/L0)
+    (backward Euler with normality: the box is convex and its closest point is the one of the
+    candidates, the trial itself, a hinge on its face with the other moment relaxed, or a
+    corner, that is admissible and nearest). Returns (M1, M2, dtheta_p1, dtheta_p2), the
+    plastic rotation increments dtheta_p = C (M_trial - M); M . dtheta_p >= 0 (dissipative)."""
+    if abs(M1_trial) <= cap1 and abs(M2_trial) <= cap2:
+        return M1_trial, M2_trial, 0.0, 0.0
+    best = 1e300
+    M1 = M2 = 0.0
+    # a hinge on its face: the other end's moment changes by half as much (C12 / C22 = -1/2)
+    for face in range(4):
+        if face < 2:
+            m1 = cap1 if face == 0 else -cap1
+            m2 = M2_trial + 0.5 * (m1 - M1_trial)
+        else:
+            m2 = cap2 if face == 2 else -cap2
+            m1 = M1_trial + 0.5 * (m2 - M2_trial)
+        if abs(m1) > cap1 * (1.0 + 1e-12) or abs(m2) > cap2 * (1.0 + 1e-12):
+            continue
+        d1 = m1 - M1_trial
+        d2 = m2 - M2_trial
+        distance = 4.0 * d1 * d1 - 4.0 * d1 * d2 + 4.0 * d2 * d2
+        if distance < best:
+            best, M1, M2 = distance, m1, m2
+    for corner in range(4):
+        m1 = cap1 if corner % 2 == 0 else -cap1
+        m2 = cap2 if corner < 2 else -cap2
+        d1 = m1 - M1_trial
+        d2 = m2 - M2_trial
+        distance = 4.0 * d1 * d1 - 4.0 * d1 * d2 + 4.0 * d2 * d2
+        if distance < best:
+            best, M1, M2 = distance, m1, m2
+    d1 = M1_trial - M1
+    d2 = M2_trial - M2
+    scale = 1.0 / (12.0 * ei_l)
+    return M1, M2, scale * (4.0 * d1 - 2.0 * d2), scale * (-2.0 * d1 + 4.0 * d2)
+
+
+@njit(cache=True)
+def frame_local_law(
+    stretch, th1, th2, ea_l, ei_l, pretension, n_yield, ea, ha, m_plastic, state, c, commit
+):
     """The collar's co-rotational Euler-Bernoulli frame element in its local frame, shared by
     the FEM's and the multibody model's collars.
 
     stretch = chord length - L0 (m), th1, th2 = end rotations relative to the chord (rad);
     ea_l = E A / L, ei_l = E I' / L0, pretension (N), and the axial law's n_yield, ea, ha
     (:func:`axial_return_mapping`, which updates state[c] with commit). End moments
-    M1 = EI'/L0 (4 th1 + 2 th2), M2 = EI'/L0 (2 th1 + 4 th2); elastic energy
-    U = P e + EA/L e^2 / 2 + EI'/L0 (2 th1^2 + 2 th1 th2 + 2 th2^2), e = stretch - s_p.
+    M1 = EI'/L0 (4 a1 + 2 a2), M2 = EI'/L0 (2 a1 + 4 a2) of the elastic end rotations
+    a_i = th_i - theta_p,i; elastic energy U = P e + EA/L e^2 / 2 + EI'/L0 (2 a1^2 + 2 a1 a2 +
+    2 a2^2), e = stretch - s_p.
+
+    m_plastic = M_p = f_y t h^2 / 4 (0: elastic in bending): the end hinges yield on the
+    rectangle's N-M interaction surface |M| / (g M_p) + (N / (g N_p))^2 = 1, with the axial
+    law's isotropic hardening g = 1 + H alpha / f_y. The axial plastic flow is the axial law's
+    (the hinges rotate, they do not lengthen: the surface is exact, the flow rule decoupled).
+    Hinge work W_M = M . dtheta_p counts in the plastic work and hardens the section by the
+    work-equivalent plastic strain W_M / (g N_p L) (as axial flow does: d alpha = ds_p / L).
     Returns (N, M1, M2, U, plastic strain s_p / L)."""
     N, plastic_strain = axial_return_mapping(
         pretension + ea_l * (stretch - state[c, 0]), ea_l, n_yield, ea, ha, state, c, commit
     )
     elastic = stretch - plastic_strain * ea / ea_l
-    M1 = ei_l * (4.0 * th1 + 2.0 * th2)
-    M2 = ei_l * (2.0 * th1 + 4.0 * th2)
+    a1 = th1 - state[c, 3]
+    a2 = th2 - state[c, 4]
+    M1 = ei_l * (4.0 * a1 + 2.0 * a2)
+    M2 = ei_l * (2.0 * a1 + 4.0 * a2)
+    if m_plastic > 0.0 and n_yield > 0.0:
+        g = 1.0 + ha * state[c, 1] / n_yield
+        ratio = N / (g * n_yield)
+        capacity = max(0.0, g * m_plastic * (1.0 - ratio * ratio))
+        M1, M2, dp1, dp2 = hinge_return_mapping(M1, M2, ei_l, capacity, capacity)
+        if dp1 != 0.0 or dp2 != 0.0:
+            a1 -= dp1
+            a2 -= dp2
+            if commit:
+                work = M1 * dp1 + M2 * dp2
+                state[c, 3] += dp1
+                state[c, 4] += dp2
+                state[c, 2] += work
+                state[c, 1] += work / (g * n_yield * ea / ea_l)
     energy = (
         pretension * elastic
         + 0.5 * ea_l * elastic * elastic
-        + ei_l * (2.0 * th1 * th1 + 2.0 * th1 * th2 + 2.0 * th2 * th2)
+        + ei_l * (2.0 * a1 * a1 + 2.0 * a1 * a2 + 2.0 * a2 * a2)
     )
     return N, M1, M2, energy, plastic_strain

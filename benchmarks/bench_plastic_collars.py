@@ -1,0 +1,94 @@
+"""Cost of plastic collars (axial law and N-M end hinges) against elastic ones.
+
+1. FEM: one explicit step of the default column (three collars) with elastic and with plastic
+   collars, medians of five interleaved runs of the first 5000 steps.
+2. The frame element alone, per collar and call, FEM and multibody kernels: elastic; plastic
+   inside the surface; plastic on the surface (a hinge returning every call).
+Run: make bench
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from pathlib import Path
+
+import numpy as np
+
+from colonna.core.collar import Collar
+from colonna.core.collar_law import STATE_SIZE
+from colonna.fem import _kernels as FK
+from colonna.fem.assembly import Stone
+from colonna.fem.model import build_model, stable_time_step
+from colonna.fem.solver import run
+from colonna.meshes import column_mesh
+from colonna.rigid import _multibody as MK
+from colonna.rigid.block import Block
+from colonna.rigid.multibody import build_column
+from colonna.studies.fem_study import build, load
+
+STUDY = Path(__file__).resolve().parents[1] / "studies" / "default.toml"
+CALLS = 200_000
+
+
+def _per_step(study, plastic: bool, steps: int) -> float:
+    collars = tuple(dataclasses.replace(c, plastic=plastic) for c in study.collars)
+    model = build(dataclasses.replace(study, collars=collars))
+    dt = stable_time_step(model, study.safety).dt
+    result = run(model, study.ground, steps * dt, progress=False, output_interval=steps * dt)
+    return result.summary["wall_seconds"] / result.summary["steps"]
+
+
+def _element_calls(plastic: bool, offset: float) -> tuple[float, float]:
+    """Seconds per call of the FEM and the multibody element at a lateral end offset (m)."""
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=plastic)
+    mesh = column_mesh(0.4, 2.0, 0.1, cracked=True, grading=0.0, pinned_heights=[1.0])
+    model = build_model(mesh, Stone(), 0.3, (collar,))
+    x = model.X.copy()
+    x[2 * model.collar_nodes[0, 3:] + 1] += offset
+    out, f = np.zeros((1, 5)), np.zeros_like(x)
+    state = np.zeros((1, STATE_SIZE))
+    args = (x, model.collar_nodes, model.collar_props, out, f, state, False)
+    FK.collar_forces(*args)
+    start = time.perf_counter()
+    for _ in range(CALLS):
+        FK.collar_forces(*args)
+    fem = (time.perf_counter() - start) / CALLS
+    column = build_column(Block(b=0.1, h=2.0, mass=100.0), cracked=True, collars=(collar,))
+    q = column.q_rest.copy()
+    q[4] += offset
+    f = np.zeros(q.size)
+    margs = (q, column.col_a, column.col_b, column.col_r, column.col_props, f, out, state, False)
+    MK.collar_forces(*margs)
+    start = time.perf_counter()
+    for _ in range(CALLS):
+        MK.collar_forces(*margs)
+    return fem, (time.perf_counter() - start) / CALLS
+
+
+def main() -> None:
+    study = load(STUDY)
+    steps = 5000
+    _per_step(study, True, 10)  # compilation
+    samples: dict[bool, list[float]] = {False: [], True: []}
+    for _ in range(5):
+        for plastic in (False, True):
+            samples[plastic].append(_per_step(study, plastic, steps))
+    elastic, plastic = (float(np.median(samples[p])) for p in (False, True))
+    print(
+        f"FEM step, default column: elastic collars {elastic * 1e6:.1f} us, plastic collars "
+        f"{plastic * 1e6:.1f} us ({plastic / elastic:.2f} x)"
+    )
+    print("frame element, per call (python call overhead included)   FEM      multibody")
+    d_y = Collar(y=1.0, t=0.004, h=0.03).yield_displacement(0.1)
+    for name, flag, offset in (
+        ("elastic", False, 2.0 * d_y),
+        ("plastic, inside the surface", True, 0.5 * d_y),
+        ("plastic, hinges returning", True, 2.0 * d_y),
+    ):
+        fem, mb = _element_calls(flag, offset)
+        print(f"  {name:52s} {fem * 1e6:6.2f} us {mb * 1e6:8.2f} us")
+
+
+if __name__ == "__main__":
+    main()
