@@ -843,10 +843,7 @@ class _Recorder:
         for k, collar in enumerate(model.collars, start=1):
             N, M1, M2 = collar_out[k - 1, :3]
             moment = max(abs(M1), abs(M2))
-            stress = min(
-                abs(N) / collar.area + moment / collar.section_modulus,
-                collar.stress_cap(collar_state[k - 1, 1]),
-            )
+            stress = collar.fibre_stress(N, moment, collar_state[k - 1, 1])
             row[f"collar_{k}_axial_force"] = N
             row[f"collar_{k}_moment"] = moment
             row[f"collar_{k}_stress"] = stress

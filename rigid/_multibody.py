@@ -986,7 +986,7 @@ def _write_row(
     out[row, k0 + 4] = tallies[1]
     for k in range(forces.size):
         out[row, k0 + 5 + k] = forces[k]
-    k1 = k0 + 5 + forces.size  # then per collar: plastic elongation (m), its accumulation
+    k1 = k0 + 5 + forces.size  # then per collar its plastic state's RECORDED entries
     for c in range(col_state.shape[0]):
         for k in range(N_RECORDED):
             out[row, k1 + N_RECORDED * c + k] = col_state[c, RECORDED[k]]

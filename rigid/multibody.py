@@ -90,7 +90,7 @@ class MultibodyColumn:
     def col_limits(self) -> np.ndarray:
         """(A, W, f_y, H) of each collar: area (m^2), section modulus (m^3), yield stress (Pa)
         and, for a plastic collar, the plastic modulus H (Pa; -1: elastic collar, its stress
-        is not capped; see Collar.stress_cap)."""
+        is not capped; see Collar.fibre_stress)."""
         return np.array(
             [
                 (c.area, c.section_modulus, c.fy, c.plastic_modulus if c.plastic else -1.0)
@@ -755,10 +755,7 @@ def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[Collar
         moment = np.maximum(np.abs(forces[:, c, 1]), np.abs(forces[:, c, 2]))
         shear = (forces[:, c, 1] + forces[:, c, 2]) / collar.span(column.block.b)
         alpha = plastic[:, c, 1] if plastic is not None else np.zeros(n)
-        stress = np.minimum(
-            np.abs(axial) / collar.area + moment / collar.section_modulus,
-            collar.stress_cap(alpha),
-        )
+        stress = collar.fibre_stress(axial, moment, alpha)
         util = stress / collar.fy
         hit = np.nonzero(util >= 1.0)[0]
         histories.append(

@@ -86,17 +86,14 @@ class Collar:
         """M_p = f_y t h^2 / 4 (N m): the rectangle's full plastic moment (shape factor 1.5)."""
         return self.fy * self.t * self.h**2 / 4.0
 
-    def stress_cap(self, alpha=0.0):
-        """The largest extreme-fibre stress the collar's steel can carry (Pa): f_y + H alpha
-        for a plastic collar at accumulated plastic strain alpha (past first yield the outer
-        fibres sit on the hardening line, whatever the elastic formula |N|/A + |M|/W says),
-        infinite for an elastic one (its stress is the elastic formula's)."""
-        alpha = np.asarray(alpha, dtype=float)
+    def fibre_stress(self, axial, moment, alpha=0.0):
+        """Extreme-fibre stress (Pa) under axial force N (N) and end moment M (N m), scalars or
+        arrays: the elastic |N|/A + |M|/W, capped for a plastic collar at f_y + H alpha, the
+        stress its outer fibres carry once they yield (alpha: accumulated plastic strain)."""
+        stress = np.abs(axial) / self.area + np.abs(moment) / self.section_modulus
         if self.plastic:
-            cap = self.fy + self.plastic_modulus * alpha
-        else:
-            cap = np.full(alpha.shape, np.inf)
-        return cap if cap.ndim else float(cap)
+            stress = np.minimum(stress, self.fy + self.plastic_modulus * np.asarray(alpha))
+        return stress if np.ndim(stress) else float(stress)
 
     @property
     def yield_moment(self) -> float:

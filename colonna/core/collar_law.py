@@ -46,11 +46,6 @@ def axial_return_mapping(N_trial, ea_l, n_yield, ea, ha, state, c, commit):
 
 
 @njit(cache=True)
-def _clip(value, limit):
-    return min(max(value, -limit), limit)
-
-
-@njit(cache=True)
 def hinge_return_mapping(M1_trial, M2_trial, ei_l, cap1, cap2):
     """End moments of the frame element with rigid-plastic hinges at its ends, from the trial
     (elastic) moments M_trial = EI'/L0 [[4, 2], [2, 4]] (theta - theta_p,n) and the hinges'
@@ -66,27 +61,22 @@ def hinge_return_mapping(M1_trial, M2_trial, ei_l, cap1, cap2):
         return M1_trial, M2_trial, 0.0, 0.0
     best = 1e300
     M1 = M2 = 0.0
-    # a hinge on its face: the other end's moment changes by half as much (C12 / C22 = -1/2)
-    for face in range(4):
-        if face < 2:
-            m1 = cap1 if face == 0 else -cap1
+    for candidate in range(8):
+        sign = 1.0 if candidate % 2 == 0 else -1.0
+        if candidate < 2:  # hinge 1 on a face: M2 changes by half as much (C12 / C22 = -1/2)
+            m1 = sign * cap1
             m2 = M2_trial + 0.5 * (m1 - M1_trial)
-        else:
-            m2 = cap2 if face == 2 else -cap2
+        elif candidate < 4:  # hinge 2 on a face
+            m2 = sign * cap2
             m1 = M1_trial + 0.5 * (m2 - M2_trial)
+        else:  # a corner: both hinges
+            m1 = sign * cap1
+            m2 = cap2 if candidate < 6 else -cap2
         if abs(m1) > cap1 * (1.0 + 1e-12) or abs(m2) > cap2 * (1.0 + 1e-12):
             continue
         d1 = m1 - M1_trial
         d2 = m2 - M2_trial
-        distance = 4.0 * d1 * d1 - 4.0 * d1 * d2 + 4.0 * d2 * d2
-        if distance < best:
-            best, M1, M2 = distance, m1, m2
-    for corner in range(4):
-        m1 = cap1 if corner % 2 == 0 else -cap1
-        m2 = cap2 if corner < 2 else -cap2
-        d1 = m1 - M1_trial
-        d2 = m2 - M2_trial
-        distance = 4.0 * d1 * d1 - 4.0 * d1 * d2 + 4.0 * d2 * d2
+        distance = d1 * d1 - d1 * d2 + d2 * d2  # proportional to d^T C d
         if distance < best:
             best, M1, M2 = distance, m1, m2
     d1 = M1_trial - M1
