@@ -210,14 +210,16 @@ def collar_forces(x, collars, props, out, f, state, commit):
 
     collars[c] = (left node, left face below, left face above, right node, right below, right
     above); props[c] = (EA/L, EI'/L0, pretension, L0, chord angle0, left face angle0,
-    right face angle0, N_y = f_y A (0: elastic), E A, H A with H = E E_h / (E - E_h), M_p =
-    f_y t h^2 / 4 (0: elastic in bending)).
-    out[c] = (N, M1, M2, elastic energy, plastic strain). End rotations are the rotations of
-    the face segments (below -> above); their moments enter as force couples on those nodes.
+    right face angle0, then the law row of colonna.core.collar.Collar.law: N_y, E A, H A, M_p,
+    1 / (E W), h / (2 L_p), eps_u).
+    out[c] = (N, M1, M2, elastic energy, plastic strain, extreme-fibre strain, end rotations
+    th1, th2 relative to the chord). End rotations are the rotations of the face segments
+    (below -> above); their moments enter as force couples on those nodes.
 
     Plasticity (colonna.core.collar_law.frame_local_law: axial with isotropic linear hardening,
     end hinges on the N-M interaction surface): state[c] = (plastic elongation s_p (m),
-    accumulated plastic strain, plastic work (J), hinge rotations (rad)); N = pretension +
+    accumulated plastic strain, plastic work (J), hinge rotations (rad), largest fibre
+    strain, fractured); N = pretension +
     EA/L (stretch - s_p), |N| <= N_y + H A alpha. With commit the state is updated (a time step);
     otherwise the forces are those of the trial state. Returns (elastic energy, plastic work
     of this call)."""
@@ -235,22 +237,22 @@ def collar_forces(x, collars, props, out, f, state, commit):
         th1 = phi1 - beta
         th2 = phi2 - beta
         work_before = state[c, 2]
-        N, M1, M2, e, plastic_strain = frame_local_law(
+        N, M1, M2, e, plastic_strain, fibre = frame_local_law(
             length - props[c, 3],
             th1,
             th2,
             props[c, 0],
             props[c, 1],
             props[c, 2],
-            props[c, 7],
-            props[c, 8],
-            props[c, 9],
-            props[c, 10],
+            props[c, 7:],
             state,
             c,
             commit,
         )
         work += state[c, 2] - work_before
+        out[c, 5] = fibre
+        out[c, 6] = th1
+        out[c, 7] = th2
         out[c, 4] = plastic_strain
         out[c, 0] = N
         out[c, 1] = M1

@@ -30,6 +30,9 @@ LANDING_DEPENDENT = (
     "edge_stress_ratio",
     "collar_max_plastic_strain",
     "collar_plastic_work",
+    "collar_max_fibre_strain",
+    "collar_ductility_demand",
+    "collar_fracture_time",
     "crack_slip_residual",
     "t_end",
     "energy_error_max",
@@ -100,18 +103,22 @@ def decide_count(flags) -> str:
 def ensemble_summary(summaries: list[dict], keys=LANDING_DEPENDENT) -> dict:
     """One summary for an ensemble: replica 0's (the unperturbed run) for what does not depend
     on landings, the median over the replicas for what does (``keys``), with ``bands``
-    (:func:`band` of each) and ``replicas``. ``overturned`` is the majority's, with
-    ``overturned_replicas`` counting them and ``overturned_answer`` yes / no / undecided."""
+    (:func:`band` of each) and ``replicas``. ``overturned`` (and, with collars,
+    ``collar_fractured``) is the majority's, with ``overturned_replicas`` counting them and
+    ``overturned_answer`` yes / no / undecided."""
     out = dict(summaries[0])
     bands = {key: band(s.get(key) for s in summaries) for key in keys if key in summaries[0]}
     for key, b in bands.items():
         # the median where at least half the replicas have a value (a first-yield time is
         # None where most never yield)
         out[key] = b["median"] if b["missing"] * 2 <= b["n"] else None
-    flags = [bool(s["overturned"]) for s in summaries]
-    out["overturned"] = sum(flags) * 2 > len(flags)
-    out["overturned_replicas"] = int(sum(flags))
-    out["overturned_answer"] = decide_count(flags)
+    for flag in ("overturned", "collar_fractured"):  # yes-or-no outcomes of each replica
+        if flag not in summaries[0]:
+            continue
+        flags = [bool(s[flag]) for s in summaries]
+        out[flag] = sum(flags) * 2 > len(flags)
+        out[f"{flag}_replicas"] = int(sum(flags))
+        out[f"{flag}_answer"] = decide_count(flags)
     out["statuses"] = [s["status"] for s in summaries]
     out["replicas"] = len(summaries)
     out["bands"] = bands

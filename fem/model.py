@@ -17,7 +17,7 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse.linalg import eigsh
 
-from ..core.collar_law import STATE_SIZE
+from ..core.collar_law import LAW_SIZE, OUT_SIZE, STATE_SIZE
 from ..core.constants import STANDARD_GRAVITY
 from ..core.errors import InputError, require_non_negative, require_positive, require_range
 from ..meshes.column import ColumnMesh
@@ -205,7 +205,7 @@ def _neighbour(mesh: ColumnMesh, nodes: np.ndarray, axis: int) -> np.ndarray:
 
 def _collar_elements(mesh: ColumnMesh, collars):
     nodes = np.zeros((len(collars), 6), dtype=np.int64)
-    props = np.zeros((len(collars), 11))
+    props = np.zeros((len(collars), 7 + LAW_SIZE))
     if not collars:
         return nodes, props
     faces = mesh.outer_nodes  # left and right outer faces (of one body if solid)
@@ -241,10 +241,7 @@ def _collar_elements(mesh: ColumnMesh, collars):
             math.atan2(chord[1], chord[0]),
             angles[0],
             angles[1],
-            collar.fy * collar.area if collar.plastic else 0.0,
-            collar.E * collar.area,
-            collar.plastic_modulus * collar.area,
-            collar.plastic_moment if collar.plastic else 0.0,
+            *collar.law(),
         )
     return nodes, props
 
@@ -291,7 +288,7 @@ def collar_stiffness(model: Model, h: float = 1e-7) -> sparse.csr_matrix:
         np.concatenate([2 * model.collar_nodes.ravel(), 2 * model.collar_nodes.ravel() + 1])
     )
     x = model.X.copy()
-    out = np.zeros((model.collar_nodes.shape[0], 5))
+    out = np.zeros((model.collar_nodes.shape[0], OUT_SIZE))
     state = np.zeros((model.collar_nodes.shape[0], STATE_SIZE))
     cols = []
     step = h * model.mesh.width

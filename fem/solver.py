@@ -32,7 +32,7 @@ import numpy as np
 from scipy.sparse.linalg import spsolve
 from tqdm import tqdm
 
-from ..core.collar_law import STATE_SIZE
+from ..core.collar_law import FIBRE_STRAIN, FRACTURED, OUT_SIZE, STATE_SIZE
 from ..core.errors import InputError, require_positive, require_range
 from ..core.ground import NO_MOTION, GroundMotion, require_motion
 from . import _kernels as K
@@ -68,7 +68,7 @@ def static_state(model: Model):
     springs = contact_stiffness(model, tangential_scale=tangential)
     total = (model.stiffness + springs + collar_stiffness(model)).tocsc()
     f = model.gravity.copy()
-    out = np.zeros((model.collar_nodes.shape[0], 5))
+    out = np.zeros((model.collar_nodes.shape[0], OUT_SIZE))
     K.collar_forces(
         model.X.copy(),
         model.collar_nodes,
@@ -606,7 +606,7 @@ class _BatchState:
         self.crack_states = tuple(states)
         n_collars = model.collar_nodes.shape[0]
         self.collars = K.CollarState(
-            np.zeros((batch, n_collars, 5)),
+            np.zeros((batch, n_collars, OUT_SIZE)),
             rows(start["collar_state"]).reshape(batch, n_collars, STATE_SIZE),
         )
         self.collar_model = K.Collars(model.collar_nodes, model.collar_props)
@@ -617,7 +617,7 @@ class _BatchState:
             np.zeros((batch, weights.shape[0])),
             np.zeros((batch, weights.shape[0])),
         )
-        self.scratch = K.Scratch(np.zeros((n, batch)), np.zeros((n, batch)), np.zeros((batch, n)))
+        self.scratch = K.Scratch(*(np.zeros((n, batch)) for _ in K.Scratch._fields))
 
     def advance(self, n_steps, dt, blend, stiffness, acc, vacc):
         K.advance(
@@ -848,8 +848,14 @@ class _Recorder:
             row[f"collar_{k}_moment"] = moment
             row[f"collar_{k}_stress"] = stress
             row[f"collar_{k}_utilisation"] = stress / collar.fy
+            row[f"collar_{k}_fibre_strain"] = collar_out[k - 1, 5]
             if collar.plastic:
                 row[f"collar_{k}_plastic_strain"] = collar_out[k - 1, 4]
+                for end, side in enumerate(("left", "right")):
+                    row[f"collar_{k}_moment_{side}"] = collar_out[k - 1, 1 + end]
+                    row[f"collar_{k}_rotation_{side}"] = collar_out[k - 1, 6 + end]
+                    row[f"collar_{k}_hinge_rotation_{side}"] = collar_state[k - 1, 3 + end]
+                row[f"collar_{k}_fractured"] = collar_state[k - 1, FRACTURED]
         kinetic, gravity = energies[5], energies[4]
         row.update(
             energy_kinetic=kinetic,
@@ -999,6 +1005,7 @@ def _summary(
             default=0.0,
         ),
         "collar_plastic_work": float(collar_state[:, 2].sum()),
+        **_fibre_strain_summary(collars, h, collar_state),
         # what the run leaves behind: the crack slip at its end (m)
         "crack_slip_residual": float(h["crack_slip_max"][-1]) if "crack_slip_max" in h else 0.0,
         "top_load": model.top_load,
@@ -1015,4 +1022,26 @@ def _summary(
         "dofs": int(model.n_dofs),
         "wall_seconds": wall,
         "t_end": float(h["t"][-1]),
+    }
+
+
+def _fibre_strain_summary(collars, history, collar_state) -> dict:
+    """The collars' largest extreme-fibre strain (the state's running maximum over every step),
+    ductility demand (that strain / (f_y / E)), and whether and when (the first output at
+    which it is recorded) the first one fractured."""
+    if not collars:
+        return {}
+    demand = [
+        collar_state[c, FIBRE_STRAIN] / collar.yield_strain for c, collar in enumerate(collars)
+    ]
+    times = []
+    for k in range(1, len(collars) + 1):
+        broken = np.nonzero(history.get(f"collar_{k}_fractured", np.zeros(0)) > 0.0)[0]
+        if broken.size:
+            times.append(float(history["t"][broken[0]]))
+    return {
+        "collar_max_fibre_strain": float(np.max(collar_state[:, FIBRE_STRAIN])),
+        "collar_ductility_demand": float(max(demand)),
+        "collar_fractured": bool(times),
+        "collar_fracture_time": min(times) if times else None,
     }

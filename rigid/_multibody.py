@@ -30,7 +30,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..core.collar_law import RECORDED, STATE_SIZE, frame_local_law
+from ..core.collar_law import OUT_SIZE, RECORDED, STATE_SIZE, frame_local_law
 from ..core.tables import table_value
 
 N_RECORDED = len(RECORDED)  # plastic-state entries per collar in a history row
@@ -102,11 +102,13 @@ def collar_forces(q, col_a, col_b, col_r, props, f, out, state, commit):
     FEM's collar element with rigid end sections), elastic or elastoplastic (N and M).
 
     col_r[c] = (x1, y1, x2, y2): attachment points in the frames of bodies col_a[c], col_b[c];
-    props[c] = (EA/L, EI'/L0, pretension, L0, chord angle at rest, N_y = f_y A (0: elastic),
-    E A, H A, M_p (0: elastic in bending)). Adds the generalised forces -dU/dq to f (if
-    f.size) and writes out[c] = (N, M1, M2, elastic energy, plastic strain). Plasticity as
-    the FEM's (colonna.core.collar_law.frame_local_law): state[c] = (plastic elongation,
-    accumulated plastic strain, plastic work, hinge rotations), updated with commit. Returns
+    props[c] = (EA/L, EI'/L0, pretension, L0, chord angle at rest, then the law row of
+    colonna.core.collar.Collar.law). Adds the generalised forces -dU/dq to f (if f.size) and
+    writes out[c] = (N, M1, M2, elastic energy, plastic strain, extreme-fibre strain, end
+    rotations th1, th2 relative to the chord). Plasticity and fracture as the FEM's
+    (colonna.core.collar_law.frame_local_law): state[c] = (plastic elongation, accumulated
+    plastic strain, plastic work, hinge rotations, largest fibre strain, fractured), updated
+    with commit. Returns
     the elastic energy U (J); the plastic work of a committed call is added to state[c, 2]."""
     energy = 0.0
     for c in range(col_a.size):
@@ -120,21 +122,21 @@ def collar_forces(q, col_a, col_b, col_r, props, f, out, state, commit):
         beta = math.atan2(dy, dx) - props[c, 4]
         th1 = q[3 * a + 2] - beta
         th2 = q[3 * b + 2] - beta
-        N, M1, M2, e, plastic_strain = frame_local_law(
+        N, M1, M2, e, plastic_strain, fibre = frame_local_law(
             length - props[c, 3],
             th1,
             th2,
             props[c, 0],
             props[c, 1],
             props[c, 2],
-            props[c, 5],
-            props[c, 6],
-            props[c, 7],
-            props[c, 8],
+            props[c, 5:],
             state,
             c,
             commit,
         )
+        out[c, 5] = fibre
+        out[c, 6] = th1
+        out[c, 7] = th2
         out[c, 4] = plastic_strain
         out[c, 0] = N
         out[c, 1] = M1
@@ -670,7 +672,7 @@ def simulate(
         np.zeros((2 * nc, 2 * nc)),
         np.zeros(nc, dtype=np.int64),
         np.zeros(nb, dtype=np.int64),
-        np.zeros((col_a.size, 5)),
+        np.zeros((col_a.size, OUT_SIZE)),
         np.zeros((col_a.size, STATE_SIZE)),
     )
     col_out = ws[12]

@@ -28,7 +28,14 @@ from typing import Any
 
 import numpy as np
 
-from ..core.collar_law import RECORDED, STATE_SIZE
+from ..core.collar_law import (
+    FIBRE_STRAIN,
+    FRACTURED,
+    LAW_SIZE,
+    OUT_SIZE,
+    RECORDED,
+    STATE_SIZE,
+)
 from ..core.errors import InputError, require_non_negative, require_positive, require_range
 from ..core.ground import (
     NO_MOTION,
@@ -42,7 +49,13 @@ from ..core.ground import (
 from . import _multibody as K
 from .block import Block
 from .collars import validate_collars
-from .solve import CollarHistory, collar_state, motion_word, verdict
+from .solve import (
+    CollarHistory,
+    collar_state,
+    collar_strain_summary,
+    motion_word,
+    verdict,
+)
 
 DEFAULT_FRICTION = 0.7  # as the FEM's ContactSettings
 STEPS_PER_ROCKING_TIME = 1000  # default step: (1/p) / 1000
@@ -141,7 +154,7 @@ class MultibodyColumn:
         n = self.q_rest.size
         stiffness = np.zeros((n, n))
         step = 1e-7 * self.column_width
-        out = np.zeros((self.col_a.size, 5))
+        out = np.zeros((self.col_a.size, OUT_SIZE))
         state = np.zeros((self.col_a.size, STATE_SIZE))
         for k in range(n):
             q = self.q_rest.copy()
@@ -221,7 +234,7 @@ def build_column(
     col_a = np.zeros(len(collars), dtype=np.int64)
     col_b = np.ones(len(collars), dtype=np.int64)
     col_r = np.zeros((len(collars), 4))
-    col_props = np.zeros((len(collars), 9))
+    col_props = np.zeros((len(collars), 5 + LAW_SIZE))
     for c, collar in enumerate(collars):
         y = collar.y - h  # height relative to the centroids
         col_r[c] = (-b, y, b, y)  # outer faces: left half x = -2b, right x = 2b
@@ -236,10 +249,7 @@ def build_column(
             collar.pretension,
             chord,
             0.0,
-            collar.fy * collar.area if collar.plastic else 0.0,
-            collar.E * collar.area,
-            collar.plastic_modulus * collar.area,
-            collar.plastic_moment if collar.plastic else 0.0,
+            *collar.law(),
         )
     return MultibodyColumn(
         block,
@@ -405,6 +415,9 @@ class MultibodyResult:
                     "max_stress": float(np.max(hist.stress)),
                     "max_utilisation": hist.max_utilisation,
                     "first_yield_time": hist.first_yield_time,
+                    "max_fibre_strain": hist.max_fibre_strain,
+                    "ductility_demand": hist.ductility_demand,
+                    "fracture_time": hist.fracture_time,
                 }
                 for hist in self.collar_histories
             ]
@@ -415,8 +428,11 @@ class MultibodyResult:
             out["collar_first_yield_time"] = min(yields) if yields else None
             out["collar_max_plastic_strain"] = self.collar_max_plastic_strain
             out["collar_plastic_work"] = self.collar_plastic_work
+            out.update(collar_strain_summary(self.collar_histories))
             out["collar_state"] = collar_state(
-                out["collar_max_utilisation"], self.collar_max_plastic_strain
+                out["collar_max_utilisation"],
+                self.collar_max_plastic_strain,
+                out["collar_fractured"],
             )
         return {"verdict": verdict(out), **out}  # first: what a person reads first
 
@@ -722,16 +738,18 @@ def _crack_kinematics(column, q):
 
 
 def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[CollarHistory]:
-    """N (tension +), end moment, extreme-fibre stress |N|/A + max|M|/W and utilisation of
-    every collar over time, from the frame element (as the FEM reports them). ``plastic``:
-    (n_times, n_collars, len(RECORDED)) plastic elongation, accumulated plastic strain and
-    hinge rotations of plastic collars at those times (zero if None)."""
+    """N (tension +), end moment, extreme-fibre stress |N|/A + max|M|/W, utilisation, fibre
+    strain, end moments and rotations of every collar over time, from the frame element (as
+    the FEM reports them). ``plastic``: (n_times, n_collars, len(RECORDED)) the collars'
+    recorded state at those times (colonna.core.collar_law.RECORDED: plastic elongation,
+    accumulated plastic strain, hinge rotations, largest fibre strain, fractured; zero if
+    None)."""
     if not column.collars:
         return []
     n = q.shape[0]
     ncol = column.col_a.size
-    forces = np.zeros((n, ncol, 5))
-    out = np.zeros((ncol, 5))
+    forces = np.zeros((n, ncol, OUT_SIZE))
+    out = np.zeros((ncol, OUT_SIZE))
     state = np.zeros((ncol, STATE_SIZE))
     flat = q.reshape(n, -1)
     for k in range(n):
@@ -754,13 +772,31 @@ def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[Collar
         axial = forces[:, c, 0]
         moment = np.maximum(np.abs(forces[:, c, 1]), np.abs(forces[:, c, 2]))
         shear = (forces[:, c, 1] + forces[:, c, 2]) / collar.span(column.block.b)
-        alpha = plastic[:, c, 1] if plastic is not None else np.zeros(n)
+        recorded = plastic[:, c] if plastic is not None else np.zeros((n, K.N_RECORDED))
+        alpha = recorded[:, RECORDED.index(1)]
         stress = collar.fibre_stress(axial, moment, alpha)
         util = stress / collar.fy
         hit = np.nonzero(util >= 1.0)[0]
+        fibre = forces[:, c, 5]
+        largest = recorded[:, RECORDED.index(FIBRE_STRAIN)]
+        broken = np.nonzero(recorded[:, RECORDED.index(FRACTURED)] > 0.0)[0]
+        hinges = recorded[:, [RECORDED.index(3), RECORDED.index(4)]]
         histories.append(
             CollarHistory(
-                collar, axial, shear, moment, stress, util, float(t[hit[0]]) if hit.size else None
+                collar,
+                axial,
+                shear,
+                moment,
+                stress,
+                util,
+                float(t[hit[0]]) if hit.size else None,
+                fibre_strain=fibre,
+                # the state's running maximum (every step) where recorded, else the samples'
+                max_fibre_strain=float(max(np.max(largest), np.max(fibre))) if n else 0.0,
+                fracture_time=float(t[broken[0]]) if broken.size else None,
+                end_moments=forces[:, c, 1:3].copy(),
+                end_rotations=forces[:, c, 6:8].copy(),
+                hinge_rotations=hinges,
             )
         )
     return histories

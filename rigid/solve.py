@@ -53,10 +53,28 @@ def motion_word(overturned: bool, max_abs_theta: float, alpha: float) -> str:
     return "rocking" if max_abs_theta > UPLIFT_THRESHOLD * alpha else "no uplift"
 
 
-def collar_state(max_utilisation: float, max_plastic_strain: float = 0.0) -> str:
-    """``"yielded"`` once a collar's stress reached f_y (utilisation >= 1) or it strained
-    plastically, else ``"elastic"``."""
+def collar_state(
+    max_utilisation: float, max_plastic_strain: float = 0.0, fractured: bool = False
+) -> str:
+    """ "fractured" (a plastic collar's fibre strain reached eps_u), "yielded" (a fibre reached
+    f_y or flowed) or "elastic"."""
+    if fractured:
+        return "fractured"
     return "yielded" if max_utilisation >= 1.0 or max_plastic_strain > 0.0 else "elastic"
+
+
+def collar_strain_summary(histories) -> dict:
+    """The collars' largest extreme-fibre strain, ductility demand (that strain / f_y / E) and
+    whether and when the first one fractured, from their CollarHistory's."""
+    strains = [(h.max_fibre_strain, h.ductility_demand) for h in histories]
+    strains = [s for s in strains if s[0] is not None]
+    broken = [h.fracture_time for h in histories if h.fracture_time is not None]
+    return {
+        "collar_max_fibre_strain": max((s[0] for s in strains), default=None),
+        "collar_ductility_demand": max((s[1] for s in strains), default=None),
+        "collar_fractured": bool(broken),
+        "collar_fracture_time": min(broken) if broken else None,
+    }
 
 
 def verdict(summary: dict) -> str:
@@ -84,10 +102,27 @@ class CollarHistory:
     stress: np.ndarray = field(repr=False)
     utilisation: np.ndarray = field(repr=False)
     first_yield_time: float | None = None
+    # the frame element's (multibody): extreme-fibre strain now and its largest value reached
+    # (lumped hinges, colonna.core.collar_law), the time of fracture (None: it holds), and
+    # per end (left, right) the signed moment, the rotation relative to the chord and the
+    # hinge's plastic rotation (n_times, 2)
+    fibre_strain: np.ndarray | None = field(default=None, repr=False)
+    max_fibre_strain: float | None = None
+    fracture_time: float | None = None
+    end_moments: np.ndarray | None = field(default=None, repr=False)
+    end_rotations: np.ndarray | None = field(default=None, repr=False)
+    hinge_rotations: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def max_utilisation(self) -> float:
         return float(np.max(self.utilisation)) if self.utilisation.size else 0.0
+
+    @property
+    def ductility_demand(self) -> float | None:
+        """Largest fibre strain / yield strain (None where the model has no fibre strain)."""
+        if self.max_fibre_strain is None:
+            return None
+        return self.max_fibre_strain / self.collar.yield_strain
 
 
 @dataclass

@@ -27,7 +27,7 @@ from pydantic import (
     model_validator,
 )
 
-from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_FY
+from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_EPS_U, STEEL_FY
 from ..core.errors import InputError, read_toml
 from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
@@ -123,13 +123,43 @@ class Collar(Table):
     Eh: float | None = quantity(
         "Pa", "Hardening (tangent) modulus past f_y, below E; default 0.01 E.", ge=0
     )
+    eps_u: float = quantity(
+        "-",
+        "Ultimate (fracture) strain of a plastic collar's extreme fibre, above f_y / E; "
+        "default 0.15, the elongation at failure EN 1993-1-1 3.2.2(1) requires of steel "
+        "used in plastic analysis.",
+        STEEL_EPS_U,
+        gt=0,
+        le=1,
+    )
+    hinge_length: float | None = quantity(
+        "m",
+        "Length of an end hinge's plastic zone, over which its rotation gives a fibre "
+        "strain; default the section height h.",
+        gt=0,
+    )
 
     @staticmethod
     def across(c: dict, given: set) -> list[tuple[str, tuple]]:
-        """The hardening modulus below E."""
-        if c["Eh"] is None or not _known(c["Eh"], c["E"]) or c["Eh"] < c["E"]:
-            return []
-        return [(f"Eh = {c['Eh']:g} Pa must be below E = {c['E']:g} Pa", ())]
+        """The hardening modulus below E; a plastic collar's ultimate strain above its yield
+        strain."""
+        found = []
+        if c["Eh"] is not None and _known(c["Eh"], c["E"]) and c["Eh"] >= c["E"]:
+            found.append((f"Eh = {c['Eh']:g} Pa must be below E = {c['E']:g} Pa", ()))
+        if (
+            c["plastic"] is True
+            and _known(c["eps_u"], c["fy"], c["E"])
+            and c["eps_u"] <= c["fy"] / c["E"]
+        ):
+            found.append(
+                (
+                    f"eps_u = {c['eps_u']:g} must be above the yield strain "
+                    f"fy / E = {c['fy'] / c['E']:.3g} (a plastic collar yields before it "
+                    "breaks)",
+                    (),
+                )
+            )
+        return found
 
 
 PULSE_PAIRS = (("amplitude", "amplitude_ratio"), ("period", "omega_ratio"))

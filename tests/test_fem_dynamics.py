@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from colonna.core.collar_law import STATE_SIZE
+from colonna.core.collar_law import OUT_SIZE, STATE_SIZE
 from colonna.fem import _kernels as K
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model, stable_time_step
@@ -113,7 +113,7 @@ def test_collar_element_axial_and_lateral_stiffness():
     model, nodes, props = _collar_setup()
     collar = model.collars[0]
     L = 0.8
-    out = np.zeros((1, 5))
+    out = np.zeros((1, OUT_SIZE))
     # axial: move the right end (with its face nodes) along the chord
     for dx, dy, check in ((1e-6, 0.0, "axial"), (0.0, 1e-6, "lateral")):
         x = model.X.copy()
@@ -136,7 +136,7 @@ def test_collar_element_axial_and_lateral_stiffness():
 
 def test_collar_element_is_rotation_invariant():
     model, nodes, props = _collar_setup()
-    out = np.zeros((1, 5))
+    out = np.zeros((1, OUT_SIZE))
     c, s = math.cos(0.3), math.sin(0.3)
     P = model.X.reshape(-1, 2)
     x = np.column_stack((c * P[:, 0] - s * P[:, 1], s * P[:, 0] + c * P[:, 1])).ravel()
@@ -149,7 +149,7 @@ def test_collar_forces_are_the_energy_gradient():
     model, nodes, props = _collar_setup()
     rng = np.random.default_rng(3)
     x = model.X + 1e-4 * rng.standard_normal(model.X.size)
-    out = np.zeros((1, 5))
+    out = np.zeros((1, OUT_SIZE))
     f = np.zeros_like(x)
     K.collar_forces(x, nodes, props, out, f, np.zeros((1, STATE_SIZE)), False)
     dofs = np.unique(np.concatenate((2 * nodes[0], 2 * nodes[0] + 1)))

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from colonna.core.collar_law import STATE_SIZE
+from colonna.core.collar_law import OUT_SIZE, STATE_SIZE
 from colonna.rigid import (
     Block,
     Collar,
@@ -219,7 +219,7 @@ def test_active_set_solves_the_redundant_contact_problem_exactly():
         np.zeros((2 * nc, 2 * nc)),
         np.zeros(nc, dtype=np.int64),
         np.zeros(nb, dtype=np.int64),
-        np.zeros((0, 5)),
+        np.zeros((0, OUT_SIZE)),
         np.zeros((0, STATE_SIZE)),
     )
     P_prev, was_active = np.zeros((nc, 2)), np.zeros(nc, dtype=np.bool_)
@@ -409,7 +409,7 @@ def test_collar_element_forces_are_the_gradient_of_its_energy():
     rng = np.random.default_rng(1)
     q = col.q_rest + rng.normal(scale=[1e-3, 1e-3, 1e-3] * 2)
     f = np.zeros(6)
-    out = np.zeros((2, 5))
+    out = np.zeros((2, OUT_SIZE))
     K.collar_forces(
         q,
         col.col_a,
@@ -459,7 +459,7 @@ def test_collar_element_axial_and_lateral_stiffness():
     col = build_column(half, cracked=True, collars=(collar,))
     L = 4.0 * half.b
     d = 1e-5
-    out = np.zeros((1, 5))
+    out = np.zeros((1, OUT_SIZE))
     for dof, check in ((3, "axial"), (4, "lateral")):
         q = col.q_rest.copy()
         q[dof] += d

@@ -4,7 +4,7 @@ element, the energy balance with the plastic work, and the study keys."""
 import numpy as np
 import pytest
 
-from colonna.core.collar_law import STATE_SIZE
+from colonna.core.collar_law import FIBRE_STRAIN, FRACTURED, OUT_SIZE, STATE_SIZE
 from colonna.core.errors import InputError
 from colonna.core.ground import NoMotion
 from colonna.fem.assembly import Stone
@@ -69,7 +69,15 @@ def test_elastic_collar_is_the_same_law_without_the_yield():
 
 
 @pytest.mark.parametrize(
-    "kw, name", [({"plastic": "yes"}, "plastic"), ({"Eh": 3e11}, "Eh"), ({"Eh": -1.0}, "Eh")]
+    "kw, name",
+    [
+        ({"plastic": "yes"}, "plastic"),
+        ({"Eh": 3e11}, "Eh"),
+        ({"Eh": -1.0}, "Eh"),
+        ({"eps_u": 1e-3, "plastic": True}, "eps_u"),  # below f_y / E: breaks before yielding
+        ({"eps_u": 2.0}, "eps_u"),
+        ({"hinge_length": 0.0}, "hinge_length"),
+    ],
 )
 def test_bad_plastic_collar_input(kw, name):
     with pytest.raises(InputError, match=name):
@@ -92,7 +100,7 @@ def test_multibody_collar_element_is_bilinear_on_a_load_unload_cycle():
     path = np.concatenate(
         (np.linspace(0.0, 4.0 * eps_y, 400), np.linspace(4.0 * eps_y, 2.5 * eps_y, 400)[1:])
     )
-    state, out = np.zeros((1, STATE_SIZE)), np.zeros((1, 5))
+    state, out = np.zeros((1, STATE_SIZE)), np.zeros((1, OUT_SIZE))
     forces = []
     for eps in path:
         q = column.q_rest.copy()
@@ -160,7 +168,7 @@ def test_fem_collar_element_pulled_quasi_statically_follows_the_bilinear_law():
     path = np.concatenate(
         (np.linspace(0.0, 4.0 * eps_y, 400), np.linspace(4.0 * eps_y, 2.5 * eps_y, 400)[1:])
     )
-    state, out = np.zeros((1, STATE_SIZE)), np.zeros((1, 5))
+    state, out = np.zeros((1, STATE_SIZE)), np.zeros((1, OUT_SIZE))
     right = model.collar_nodes[0, 3:]
     forces = []
     for eps in path:
@@ -192,7 +200,7 @@ def _fem_element(collar):
     mesh = column_mesh(0.4, 2.0, 0.1, cracked=True, grading=0.0, pinned_heights=[1.0])
     model = build_model(mesh, Stone(), 0.3, (collar,))
     right = model.collar_nodes[0, 3:]
-    out = np.zeros((1, 5))
+    out = np.zeros((1, OUT_SIZE))
 
     def impose(dx, dy, state, commit=True):
         x = model.X.copy()
@@ -200,7 +208,7 @@ def _fem_element(collar):
         x[2 * right + 1] += dy
         f = np.zeros_like(x)
         K.collar_forces(x, model.collar_nodes, model.collar_props, out, f, state, commit)
-        return out[0, :4].copy(), (f[2 * right].sum(), f[2 * right + 1].sum())
+        return out[0].copy(), (f[2 * right].sum(), f[2 * right + 1].sum())
 
     return impose, collar.span(0.1)
 
@@ -212,7 +220,7 @@ def _multibody_element(collar):
     from colonna.rigid.multibody import build_column
 
     column = build_column(Block(b=0.1, h=2.0, mass=100.0), cracked=True, collars=(collar,))
-    out = np.zeros((1, 5))
+    out = np.zeros((1, OUT_SIZE))
 
     def impose(dx, dy, state, commit=True):
         q = column.q_rest.copy()
@@ -222,7 +230,7 @@ def _multibody_element(collar):
         K.collar_forces(
             q, column.col_a, column.col_b, column.col_r, column.col_props, f, out, state, commit
         )
-        return out[0, :4].copy(), (f[3], f[4])
+        return out[0].copy(), (f[3], f[4])
 
     return impose, collar.span(0.1)
 
@@ -234,7 +242,7 @@ def _offset_cycle(impose, collar, span, axial_ratio=0.0):
     the membrane stretch of a purely lateral move (6 % of the span here). Returns the offsets,
     the chord rotations, the element's outputs (N, M1, M2, U), the work done on the moved end
     per increment and the state."""
-    from colonna.core.collar_law import STATE_SIZE
+    from colonna.core.collar_law import FIBRE_STRAIN, FRACTURED, OUT_SIZE, STATE_SIZE
 
     d_y = collar.yield_moment * span**2 / (6.0 * collar.E * collar.second_moment)
     stretch = axial_ratio * collar.fy * collar.area * span / (collar.E * collar.area)
@@ -318,7 +326,12 @@ def test_an_elastic_collar_keeps_bending_past_the_plastic_moment():
         np.abs(outs[:, 1]), 6.0 * EI * np.abs(beta) / span, rtol=1e-9, atol=1e-6
     )
     assert np.abs(outs[:, 1]).max() > 2.5 * collar.yield_moment
-    assert not state.any()
+    # no plastic flow, no fracture; only the largest fibre strain is kept: the elastic
+    # bending strain M / (E W) of the largest end moment
+    assert not state[:, :FIBRE_STRAIN].any() and not state[:, FRACTURED].any()
+    assert state[0, FIBRE_STRAIN] == pytest.approx(
+        np.abs(outs[:, 1]).max() / (collar.E * collar.section_modulus), rel=1e-9
+    )
 
 
 def test_collar_bent_by_sliding_halves_yields_and_the_energy_balance_closes():
@@ -345,3 +358,101 @@ def test_collar_bent_by_sliding_halves_yields_and_the_energy_balance_closes():
     moment = h["collar_1_moment"]
     assert 0.98 * collar.plastic_moment < moment.max() <= 1.02 * collar.plastic_moment
     assert s["energy_error_max"] < 0.01
+
+
+# --- fracture: the extreme fibre's strain against eps_u ----------------------------------------
+
+
+@pytest.mark.parametrize("element", [_fem_element, _multibody_element], ids=["fem", "multibody"])
+def test_fixed_fixed_collar_fractures_where_its_fibre_strain_reaches_eps_u(element):
+    """The offset cycle of a collar with eps_u = 0.006: on the plateau both hinges carry M_p
+    and turn by theta_p = beta - M_p L / (6 E I) (the ends held, beta the chord rotation), so
+    the extreme fibre's strain is M_p / (E W) + theta_p h / (2 L_p); the collar breaks at the
+    offset where that reaches eps_u, then carries nothing, and all the work put into it has
+    gone into plastic work and the energy released by the break (1 %)."""
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True, eps_u=0.006)
+    impose, span = element(collar)
+    path, beta, d_y, outs, work, state = _offset_cycle(impose, collar, span)
+    EI, EW = collar.E * collar.second_moment, collar.E * collar.section_modulus
+    assert state[0, FRACTURED] == 1.0
+    broken = np.flatnonzero(np.all(outs[:, :4] == 0.0, axis=1) & (np.arange(path.size) > 0))
+    k = broken[0]
+    assert np.all(outs[k:, :4] == 0.0)  # nothing carried from the break on
+    # the closed form on the plateau (hardening < 2 %): the strain at the step before the break
+    plateau = collar.plastic_moment / EW
+    theta_p = beta[k - 1] - collar.plastic_moment * span / (6.0 * EI)
+    predicted = plateau + theta_p * collar.h / (2.0 * collar.plastic_hinge_length)
+    assert outs[k - 1, 5] == pytest.approx(predicted, rel=0.02)
+    assert outs[k - 1, 5] < collar.eps_u <= state[0, FIBRE_STRAIN]
+    # the offset of the break from the same closed form, to one increment
+    beta_break = collar.plastic_moment * span / (6.0 * EI) + (collar.eps_u - plateau) * 2.0 * (
+        collar.plastic_hinge_length / collar.h
+    )
+    assert abs(beta[k] - beta_break) < 0.03 * beta_break
+    # the work put in = plastic work + the elastic energy the break released (no energy left)
+    assert work.sum() == pytest.approx(state[0, 2], rel=1e-2)
+
+
+def test_a_collar_that_breaks_in_a_run_drops_out_and_the_energy_balance_closes():
+    """The flung-up half of the bending test with a brittle collar (eps_u = 0.004): the collar
+    breaks, the summary says when, the collar carries nothing after that, the ductility demand
+    is the largest fibre strain over the yield strain, and the energy balance (the released
+    elastic energy counted as dissipated) still closes to 1 %."""
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True, eps_u=0.004)
+    mesh = column_mesh(0.4, 2.0, 0.1, cracked=True, grading=0.0, pinned_heights=[1.0])
+    model = build_model(mesh, Stone(), 0.3, (collar,), ContactSettings(friction=0.0, damping=0.0))
+    v0 = np.zeros((mesh.n_nodes, 2))
+    v0[mesh.node_body == 1, 1] = 1.0
+    r = run(
+        model,
+        NoMotion(),
+        0.03,
+        output_interval=1e-5,
+        initial_velocity=v0,
+        progress=False,
+        stop_on_overturn=False,
+    )
+    h, s = r.history, r.summary
+    assert s["collar_fractured"] and s["collar_fracture_time"] is not None
+    after = h["t"] >= s["collar_fracture_time"]
+    assert 0 < after.sum() < after.size
+    assert np.all(h["collar_1_fractured"][after] == 1.0) and not h["collar_1_fractured"][0]
+    assert np.all(h["collar_1_axial_force"][after] == 0.0)
+    assert np.all(h["collar_1_moment"][after] == 0.0)
+    assert s["collar_max_fibre_strain"] >= collar.eps_u
+    assert s["collar_ductility_demand"] == pytest.approx(
+        s["collar_max_fibre_strain"] / collar.yield_strain, rel=1e-12
+    )
+    assert s["energy_error_max"] < 0.01
+
+
+def test_multibody_collar_breaks_and_reports_it():
+    """The multibody model's rocking test with a brittle thin collar: it breaks, the summary
+    says when and gives the ductility demand, the collar's forces are zero after the break,
+    and the energy balance closes to 1 %; with the default eps_u the same collar holds."""
+    from colonna.core.ground import sine_pulse
+    from colonna.rigid.block import Block
+    from colonna.rigid.multibody import rock_multibody
+
+    half = Block(b=0.1125, h=2.0, mass=858.0)
+    a_up = half.uplift_acceleration()
+    pulse = sine_pulse(3.0 * a_up, 3.0 * half.p, a_up)
+    thin = dict(y=2.0, t=0.002, h=0.02, plastic=True)
+    holds, breaks = (
+        rock_multibody(half, pulse, (Collar(**thin, eps_u=eps_u),), cracked=True, duration=2.0)
+        for eps_u in (0.15, 0.003)
+    )
+    s = breaks.summary()
+    assert s["collar_fractured"] and s["collar_state"] == "fractured"
+    hist = breaks.collar_histories[0]
+    after = breaks.time >= s["collar_fracture_time"]
+    assert 0 < after.sum() < after.size
+    assert np.all(hist.axial_force[after] == 0.0) and np.all(hist.end_moment[after] == 0.0)
+    assert s["collar_max_fibre_strain"] >= 0.003
+    assert s["collar_ductility_demand"] == pytest.approx(
+        s["collar_max_fibre_strain"] / hist.collar.yield_strain, rel=1e-12
+    )
+    assert s["energy_error_max"] < 1e-2
+    kept = holds.summary()
+    assert not kept["collar_fractured"] and kept["collar_fracture_time"] is None
+    assert 1.0 < kept["collar_ductility_demand"] < 0.15 / hist.collar.yield_strain

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .constants import STEEL_E, STEEL_FY
+from .constants import STEEL_E, STEEL_EPS_U, STEEL_FY
 from .errors import InputError, require_non_negative, require_positive, require_range
 
 
@@ -35,6 +35,8 @@ class Collar:
     pretension: float = 0.0
     plastic: bool = False  # bilinear in tension and compression (FEM and multibody)
     Eh: float | None = None  # Pa, hardening (tangent) modulus past f_y; default 1 % of E
+    eps_u: float = STEEL_EPS_U  # fracture strain of a plastic collar's extreme fibre
+    hinge_length: float | None = None  # m, length of an end hinge's plastic zone; default h
 
     def __post_init__(self):
         require_positive("collar y (height, m)", self.y)
@@ -56,6 +58,14 @@ class Collar:
                 closed_low=True,
                 range_text=f"[0, E = {self.E:g})",
             )
+        require_range("collar eps_u (ultimate strain)", self.eps_u, 0.0, 1.0, closed_high=True)
+        if self.plastic and self.eps_u <= self.fy / self.E:
+            raise InputError(
+                f"collar eps_u = {self.eps_u:g} must be above the yield strain "
+                f"fy / E = {self.fy / self.E:.3g} (a plastic collar yields before it breaks)"
+            )
+        if self.hinge_length is not None:
+            require_positive("collar hinge_length (m)", self.hinge_length)
 
     @property
     def hardening_modulus(self) -> float:
@@ -94,6 +104,34 @@ class Collar:
         if self.plastic:
             stress = np.minimum(stress, self.fy + self.plastic_modulus * np.asarray(alpha))
         return stress if np.ndim(stress) else float(stress)
+
+    @property
+    def yield_strain(self) -> float:
+        """eps_y = f_y / E."""
+        return self.fy / self.E
+
+    @property
+    def plastic_hinge_length(self) -> float:
+        """L_p (m): the length over which an end hinge's plastic rotation is spread to give a
+        fibre strain; default the band's depth h (the usual lumped-plasticity estimate for a
+        steel member, of the order of its depth)."""
+        return self.h if self.hinge_length is None else self.hinge_length
+
+    def law(self) -> tuple:
+        """The frame element's law row (colonna.core.collar_law.LAW_SIZE numbers): N_y = f_y A,
+        E A, H A, M_p, 1 / (E W), h / (2 L_p), eps_u; the yield and fracture entries are 0 for
+        an elastic collar (it never yields nor breaks: its stress past f_y is reported as
+        such)."""
+        plastic = self.plastic
+        return (
+            self.fy * self.area if plastic else 0.0,
+            self.E * self.area,
+            self.plastic_modulus * self.area,
+            self.plastic_moment if plastic else 0.0,
+            1.0 / (self.E * self.section_modulus),
+            self.h / (2.0 * self.plastic_hinge_length),
+            self.eps_u if plastic else 0.0,
+        )
 
     @property
     def yield_moment(self) -> float:

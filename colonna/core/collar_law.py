@@ -4,19 +4,32 @@ law (:func:`axial_return_mapping`: elastic E A up to N_y = f_y A, then isotropic
 hardening) and its end hinges (:func:`hinge_return_mapping`: the end moments bounded by the
 rectangle's N-M interaction surface |M| / M_p + (N / N_p)^2 <= 1).
 
-A plastic collar's state, per collar (``STATE_SIZE`` numbers): plastic elongation s_p (m),
-accumulated (work-equivalent) plastic strain alpha, plastic work (J), and the plastic
-rotations of its two end hinges (rad)."""
+A collar's law is a row of ``LAW_SIZE`` numbers (:meth:`colonna.core.collar.Collar.law`), its
+state per collar ``STATE_SIZE`` numbers: plastic elongation s_p (m), accumulated
+(work-equivalent) plastic strain alpha, plastic work (J, with the energy a fracture releases),
+the plastic rotations of its two end hinges (rad), the largest extreme-fibre strain reached,
+and 1 once the collar has fractured (0 before)."""
 
 from __future__ import annotations
 
 from numba import njit
 
-STATE_SIZE = 5
-"""Numbers per collar in a plastic state: (s_p, alpha, plastic work, hinge 1, hinge 2)."""
+STATE_SIZE = 7
+"""Numbers per collar in a state: (s_p, alpha, plastic work, hinge 1, hinge 2, largest fibre
+strain, fractured)."""
 
-RECORDED = (0, 1, 3, 4)
+RECORDED = (0, 1, 3, 4, 5, 6)
 """The state entries a history records to rebuild the collar's forces (all but the work)."""
+
+LAW_SIZE = 7
+"""Numbers in a collar's law row: (N_y = f_y A (0: elastic), E A, H A, M_p (0: elastic in
+bending), 1 / (E W), h / (2 L_p), eps_u (0: never fractures))."""
+
+FIBRE_STRAIN, FRACTURED = 5, 6  # their places in the state
+
+OUT_SIZE = 8
+"""Outputs per collar of the models' collar_forces: (N, M1, M2, elastic energy, plastic strain
+s_p / L, extreme-fibre strain, end rotations th1, th2 relative to the chord)."""
 
 
 @njit(cache=True)
@@ -86,15 +99,14 @@ def hinge_return_mapping(M1_trial, M2_trial, ei_l, cap1, cap2):
 
 
 @njit(cache=True)
-def frame_local_law(
-    stretch, th1, th2, ea_l, ei_l, pretension, n_yield, ea, ha, m_plastic, state, c, commit
-):
+def frame_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, commit):
     """The collar's co-rotational Euler-Bernoulli frame element in its local frame, shared by
     the FEM's and the multibody model's collars.
 
     stretch = chord length - L0 (m), th1, th2 = end rotations relative to the chord (rad);
-    ea_l = E A / L, ei_l = E I' / L0, pretension (N), and the axial law's n_yield, ea, ha
-    (:func:`axial_return_mapping`, which updates state[c] with commit). End moments
+    ea_l = E A / L, ei_l = E I' / L0, pretension (N); law = the collar's law row (LAW_SIZE:
+    n_yield, ea, ha of :func:`axial_return_mapping`, which updates state[c] with commit, then
+    m_plastic, strain_per_moment, strain_per_hinge_rotation, ultimate_strain). End moments
     M1 = EI'/L0 (4 a1 + 2 a2), M2 = EI'/L0 (2 a1 + 4 a2) of the elastic end rotations
     a_i = th_i - theta_p,i; elastic energy U = P e + EA/L e^2 / 2 + EI'/L0 (2 a1^2 + 2 a1 a2 +
     2 a2^2), e = stretch - s_p.
@@ -105,7 +117,17 @@ def frame_local_law(
     (the hinges rotate, they do not lengthen: the surface is exact, the flow rule decoupled).
     Hinge work W_M = M . dtheta_p counts in the plastic work and hardens the section by the
     work-equivalent plastic strain W_M / (g N_p L) (as axial flow does: d alpha = ds_p / L).
-    Returns (N, M1, M2, U, plastic strain s_p / L)."""
+
+    Extreme-fibre strain (lumped plasticity): the axial strain N / (E A) + s_p / L plus, at the
+    more strained end, the elastic bending strain |M_i| / (E W) and the hinge's plastic
+    rotation spread over the hinge length, |theta_p,i| h / (2 L_p). Its largest value is kept
+    in state[c, FIBRE_STRAIN]; a plastic collar whose fibre strain reaches ultimate_strain
+    fractures (state[c, FRACTURED] = 1): from that step on it carries nothing, and the elastic
+    energy it held is released into the plastic work (the energy balance stays closed).
+    Returns (N, M1, M2, U, plastic strain s_p / L, fibre strain)."""
+    if state[c, FRACTURED] != 0.0:
+        return 0.0, 0.0, 0.0, 0.0, state[c, 0] * ea_l / law[1], 0.0
+    n_yield, ea, ha, m_plastic = law[0], law[1], law[2], law[3]
     N, plastic_strain = axial_return_mapping(
         pretension + ea_l * (stretch - state[c, 0]), ea_l, n_yield, ea, ha, state, c, commit
     )
@@ -133,4 +155,15 @@ def frame_local_law(
         + 0.5 * ea_l * elastic * elastic
         + ei_l * (2.0 * a1 * a1 + 2.0 * a1 * a2 + 2.0 * a2 * a2)
     )
-    return N, M1, M2, energy, plastic_strain
+    bending = max(
+        abs(M1) * law[4] + abs(state[c, 3]) * law[5], abs(M2) * law[4] + abs(state[c, 4]) * law[5]
+    )
+    fibre = abs(N / ea + plastic_strain) + bending
+    if commit:
+        if fibre > state[c, FIBRE_STRAIN]:
+            state[c, FIBRE_STRAIN] = fibre
+        if n_yield > 0.0 and law[6] > 0.0 and fibre >= law[6]:
+            state[c, FRACTURED] = 1.0
+            state[c, 2] += energy  # released: the broken band's ends spring back
+            return 0.0, 0.0, 0.0, 0.0, plastic_strain, fibre
+    return N, M1, M2, energy, plastic_strain, fibre
