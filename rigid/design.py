@@ -114,3 +114,43 @@ def design_chart(
         block = Block.from_density(b, b / math.tan(alpha), density, thickness, g=g)
         k[i] = required_stiffness(block, ratios * g, d_y, th_y)
     return k
+
+
+# --- beyond first yield: the thinnest band that holds, from the multibody model --------------
+
+FLAT_BAR_THICKNESSES = (0.003, 0.004, 0.005, 0.006, 0.008, 0.01, 0.012, 0.015, 0.02, 0.025, 0.03)
+"""m: the flat-bar thicknesses the ductile design tries (the usual hot-rolled range, EN 10058)."""
+
+
+def collar_trial(summary: dict, ductility_limit: float) -> dict:
+    """One band thickness's outcome from a multibody summary with plastic collars, and the
+    two design answers for the collars (the column's own fate is reported beside them: a pulse
+    that overturns the whole column overturns it whatever ties its halves):
+    ``never_yields`` (no fibre reaches f_y) and ``holds`` (no collar breaks and the ductility
+    demand, largest fibre strain / yield strain, stays within ``ductility_limit``), both over
+    the run, up to the overturning where the column overturns."""
+    demand = summary.get("collar_ductility_demand") or 0.0
+    broken = bool(summary.get("collar_fractured"))
+    return {
+        "overturned": bool(summary["overturned"]),
+        "collar_max_utilisation": summary.get("collar_max_utilisation"),
+        "collar_ductility_demand": demand,
+        "collar_fractured": broken,
+        "collar_fracture_time": summary.get("collar_fracture_time"),
+        "collar_plastic_work": summary.get("collar_plastic_work"),
+        "never_yields": summary.get("collar_max_utilisation", 0.0) < 1.0,
+        "holds": not broken and demand <= ductility_limit,
+    }
+
+
+def thinnest_passing(thicknesses, passes) -> float | None:
+    """The smallest thickness from which every thicker one tried also passes (a rocking
+    response need not be monotone in the band's thickness: a thin band that passes between
+    two that fail is not a design); None if the thickest fails."""
+    order = np.argsort(thicknesses)
+    best = None
+    for k in order[::-1]:
+        if not passes[k]:
+            break
+        best = float(thicknesses[k])
+    return best

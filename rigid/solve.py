@@ -63,6 +63,26 @@ def collar_state(
     return "yielded" if max_utilisation >= 1.0 or max_plastic_strain > 0.0 else "elastic"
 
 
+def elastic_collar_note(histories) -> str | None:
+    """What an elastic-collar answer means where a collar passed f_y (None where none did):
+    the SDOF model's springs stay elastic, so a stress past f_y is the elastic stress the
+    steel cannot carry, and what follows (hinges, more slip, a break) is not modelled."""
+    passed = [
+        f"collar {k} (y = {h.collar.y:g} m, utilisation {h.max_utilisation:.3g})"
+        for k, h in enumerate(histories, start=1)
+        if h.max_utilisation >= 1.0
+    ]
+    if not passed:
+        return None
+    return (
+        "elastic collars assumed: "
+        + ", ".join(passed)
+        + " passed f_y, so the stress past f_y is not one the steel can carry and what "
+        "follows (hinges, more crack slip, a break) is not in this model; run the multibody "
+        "or FEM model with plastic = true collars for it"
+    )
+
+
 def collar_strain_summary(histories) -> dict:
     """The collars' largest extreme-fibre strain, ductility demand (that strain / f_y / E) and
     whether and when the first one fractured, from their CollarHistory's."""
@@ -86,7 +106,9 @@ def verdict(summary: dict) -> str:
     if "collar_state" in summary:
         words += (
             f"; collars {summary['collar_state']} "
-            f"(max utilisation {summary['collar_max_utilisation']:.3g})"
+            f"(max utilisation {summary['collar_max_utilisation']:.3g}"
+            + (", elastic collars assumed" if summary.get("collar_note") else "")
+            + ")"
         )
     return words
 
@@ -191,6 +213,10 @@ class RockingResult:
                 h.first_yield_time for h in self.collar_histories if h.first_yield_time is not None
             ]
             out["collar_first_yield_time"] = min(yields) if yields else None
+            out["collar_law"] = "elastic"  # the SDOF springs never yield nor break
+            note = elastic_collar_note(self.collar_histories)
+            if note:
+                out["collar_note"] = note
         return {"verdict": verdict(out), **out}  # first: what a person reads first
 
 

@@ -9,10 +9,17 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.constants import DUCTILITY_LIMIT
 from ..core.errors import read_toml
 from ..core.ground import peak_acceleration
-from ..rigid.design import design_chart, design_collars
-from .crosscheck import fem_case
+from ..rigid.design import (
+    FLAT_BAR_THICKNESSES,
+    collar_trial,
+    design_chart,
+    design_collars,
+    thinnest_passing,
+)
+from .crosscheck import _study_from_case, fem_case
 from .executor import run_cases
 from .fem_study import from_dict
 from .outcome import fem_answers, fem_model, outcome
@@ -43,9 +50,23 @@ def run_design_study(
     start = time.perf_counter()
     # the FEM case first: a case saved from other inputs is refused before anything is written
     base = {"study": data, "source": str(study_path), "base": str(study_path.parent.resolve())}
+    thicknesses = sorted({*FLAT_BAR_THICKNESSES, study.collars[0].t})
+    trial_cases = [
+        dict(base, key=f"band_{1e3 * t:g}mm", kind="band", t=t, ductility_limit=DUCTILITY_LIMIT)
+        for t in thicknesses
+    ]
     results = run_cases(
         fem_case,
         [dict(base, key="fem", kind="fem")],
+        out,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+        force=force,
+    )
+    trials = run_cases(
+        band_case,
+        trial_cases,
         out,
         workers=workers,
         scheduler=scheduler,
@@ -87,6 +108,7 @@ def run_design_study(
             fem["max_abs_theta_left"], fem["max_abs_theta_right"]
         )
         / design["yield_rotation"],
+        "ductile_design": ductile_design(study, thicknesses, trial_cases, trials),
         "wall_seconds": time.perf_counter() - start,
         "outcome": outcome(
             [fem_model("FEM, deformable halves", fem, study.rocking_alpha)],
@@ -99,3 +121,50 @@ def run_design_study(
     }
     write_json(out / "summary.json", summary)
     return summary
+
+
+def band_case(case: dict, directory: str) -> dict:
+    """The study's column and pulse in the rigid multibody model with every collar's band
+    ``case["t"]`` thick (m) and plastic (N-M hinges, fracture at eps_u): its outcome
+    (:func:`colonna.rigid.design.collar_trial`)."""
+    from dataclasses import replace
+
+    from ..rigid.multibody import history_columns, rock_multibody
+
+    study = _study_from_case(case)
+    collars = tuple(replace(c, t=case["t"], plastic=True) for c in study.collars)
+    result = rock_multibody(
+        study.rocking_block,
+        study.ground,
+        collars,
+        cracked=study.cracked,
+        friction=study.contact.friction,
+        duration=study.duration,
+        vertical=study.vertical,
+        initial_tilt=study.initial_tilt,
+        initial_angular_velocity=study.initial_angular_velocity,
+    )
+    write_csv(Path(directory) / "history.csv", history_columns(result))
+    return {"t": case["t"], **collar_trial(result.summary(), case["ductility_limit"])}
+
+
+def ductile_design(study, thicknesses, cases, trials) -> dict:
+    """Beside the first-yield design: over flat-bar thicknesses of the study's band (its height
+    h, heights and steel kept, collars plastic), the thinnest band whose fibres never reach f_y
+    in the multibody run ("never yields"), and the thinnest with which no collar breaks and
+    the ductility demand stays within the limit ("yields but holds"); each the thinnest from
+    which every thicker band tried also passes. Whether the column stands is reported per
+    band: collars tie the halves, they do not stop a pulse that overturns the whole column."""
+    rows = [trials[c["key"]] for c in cases]
+    t = np.array(thicknesses)
+    return {
+        "model": "rigid multibody, plastic collars (N-M hinges, fracture at eps_u)",
+        "ductility_limit": DUCTILITY_LIMIT,
+        "ductility_limit_source": "EN 1993-1-1:2005, 3.2.2(1): eps_u >= 15 eps_y",
+        "eps_u": study.collars[0].eps_u,
+        "band_height": study.collars[0].h,
+        "study_t": study.collars[0].t,
+        "trials": rows,
+        "never_yields_t": thinnest_passing(t, [r["never_yields"] for r in rows]),
+        "holds_t": thinnest_passing(t, [r["holds"] for r in rows]),
+    }

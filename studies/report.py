@@ -996,13 +996,70 @@ def write_design_report(out: Path) -> Path:
         "(collars with the same history on top of each other, each with its own "
         "dashes and markers)",
     )
+    figs = [chart_fig, util_fig]
+    if "ductile_design" in s:
+        figs.append(_ductile_design_figure(out, s["ductile_design"]))
     return _render(
         out,
         "design.html.j2",
         s,
         f"colonna collar design: {s['study']}",
         rows=DESIGN_NUMBERS,
-        figs=[chart_fig, util_fig],
+        figs=figs,
+    )
+
+
+def _ductile_design_figure(out: Path, design: dict):
+    """Utilisation and ductility demand of the plastic collars against the band's thickness
+    (multibody runs), with f_y and the ductility limit, the bands that break or whose column
+    overturns marked; the two thinnest answers as vertical lines."""
+    trials = design["trials"]
+    t_mm = np.array([1e3 * r["t"] for r in trials])
+    util = np.array([r["collar_max_utilisation"] for r in trials], dtype=float)
+    demand = np.array([r["collar_ductility_demand"] for r in trials], dtype=float)
+    broken = np.array([r["collar_fractured"] for r in trials], dtype=bool)
+    fell = np.array([r["overturned"] for r in trials], dtype=bool)
+    write_csv(
+        out / "figures" / "ductile_design.csv",
+        {
+            "t_mm": t_mm,
+            "collar_max_utilisation": util,
+            "collar_ductility_demand": demand,
+            "collar_fractured": broken.astype(int),
+            "overturned": fell.astype(int),
+        },
+    )
+    fig, ax = plt.subplots(figsize=(8.5, 3.8))
+    ax.plot(t_mm, demand, "o-", color="C0", label="ductility demand eps_max / eps_y")
+    ax.plot(t_mm, util, "s--", color="C1", label="utilisation sigma / f_y")
+    if broken.any():
+        ax.plot(t_mm[broken], demand[broken], "x", ms=10, color="C3", label="a collar breaks")
+    if fell.any():
+        ax.plot(t_mm[fell], util[fell], "v", ms=7, mfc="none", color="k", label="column overturns")
+    ax.axhline(1.0, color="C1", ls=":", lw=1, label="f_y")
+    limit = design["ductility_limit"]
+    ax.axhline(limit, color="C0", ls=":", lw=1, label=f"ductility limit {limit:g}")
+    for key, style, text in (
+        ("never_yields_t", "-", "never yields"),
+        ("holds_t", "--", "yields but holds"),
+    ):
+        if design.get(key) is not None:
+            ax.axvline(1e3 * design[key], color="0.4", ls=style, lw=1, label=f"thinnest: {text}")
+    ax.set_yscale("log")
+    ax.set_xlabel("band thickness t (mm)")
+    ax.set_ylabel("largest over the run (-)")
+    _legend_beside(ax)
+    fig.tight_layout()
+    return _figure(
+        out,
+        "ductile_design",
+        fig,
+        "Collars beyond first yield (rigid multibody model, every collar plastic, the study's "
+        f"band height {1e3 * design['band_height']:g} mm, heights and steel): the largest "
+        "utilisation and ductility demand over the run against the band's thickness; where the "
+        "column overturns (triangles) the run, and these numbers, end there: collars tie the "
+        "halves, they do not stop a pulse that overturns the whole column",
+        data_file="figures/ductile_design.csv",
     )
 
 
@@ -1021,6 +1078,23 @@ DESIGN_NUMBERS = [
     ("FEM first yield", "fem_collar_first_yield_time", "s"),
     ("FEM overturned", "fem_overturned", ""),
     ("FEM peak rotation / theta_y", "fem_max_rotation_over_yield_rotation", "-"),
+    (
+        "thinnest band that never yields (multibody, plastic collars; n/a: none tried)",
+        "ductile_design.never_yields_t",
+        "mm",
+    ),
+    (
+        "thinnest band that yields but holds (no break, ductility demand within the limit; "
+        "n/a: none tried)",
+        "ductile_design.holds_t",
+        "mm",
+    ),
+    (
+        "ductility limit (EN 1993-1-1, 3.2.2: eps_u >= 15 eps_y)",
+        "ductile_design.ductility_limit",
+        "-",
+    ),
+    ("band thickness of the study's collars", "ductile_design.study_t", "mm"),
 ]
 
 

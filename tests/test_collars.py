@@ -189,3 +189,15 @@ def test_collars_need_mass():
             (Collar(y=1.0, t=0.01, h=0.05),),
             model="nonlinear",
         )
+
+
+def test_the_thinnest_band_that_passes_is_the_one_every_thicker_band_confirms():
+    """A rocking response need not be monotone in the band: a thin band that passes between
+    two that fail is not a design."""
+    from colonna.rigid.design import thinnest_passing
+
+    t = [0.003, 0.004, 0.005, 0.006, 0.008]
+    assert thinnest_passing(t, [True, False, True, True, True]) == 0.005
+    assert thinnest_passing(t[::-1], [True, True, True, False, True]) == 0.005  # any order
+    assert thinnest_passing(t, [True] * 5) == 0.003
+    assert thinnest_passing(t, [True, True, True, True, False]) is None

@@ -296,9 +296,26 @@ def test_collar_design_study(tmp_path, capsys):
     assert d["yield_rotation"] > 0 and s["design_adequate"] == (
         s["lateral_stiffness_provided"] >= d["required_stiffness"]
     )
+    # beyond first yield: one multibody run per flat-bar thickness, plastic collars
+    ductile = s["ductile_design"]
+    trials = ductile["trials"]
+    assert len(trials) >= 11 and [r["t"] for r in trials] == sorted(r["t"] for r in trials)
+    for r in trials:
+        # an elastic band's fibre strain is its stress over E: the demand (a running maximum
+        # over every step) is at least the utilisation sampled at the outputs
+        if r["never_yields"]:
+            assert r["collar_ductility_demand"] >= r["collar_max_utilisation"] * (1 - 1e-9)
+            assert r["holds"] and r["collar_plastic_work"] == 0.0
+        assert r["holds"] == (
+            not r["collar_fractured"] and r["collar_ductility_demand"] <= 15.0
+        )
+    never, holds = ductile["never_yields_t"], ductile["holds_t"]
+    assert never is not None and holds is not None and holds <= never
+    assert all(r["never_yields"] for r in trials if r["t"] >= never)
+    assert all(r["holds"] for r in trials if r["t"] >= holds)
     page = (out / "index.html").read_text()
     assert "data:image/png" not in page  # the chart and the history: inline SVG
-    for name in ("design_chart", "collar_utilisation"):
+    for name in ("design_chart", "collar_utilisation", "ductile_design"):
         assert re.search(f'data-figure="{name}"[^>]*>\\s*<svg', page), name
     assert assert_table_numbers_have_units(page) >= 10
     assert assert_report_says_what_summary_says(page, s) >= 10
