@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.constants import DUCTILITY_LIMIT
 from ..core.errors import InputError, read_toml
 from ..core.ground import HarmonicPulse, NoMotion
 from ..fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide_count
@@ -35,6 +36,7 @@ from .executor import run_cases
 from .fem_study import from_dict
 from .outcome import (
     QUESTIONS,
+    collars_hold,
     criteria_answer,
     fem_model,
     limit_answer,
@@ -561,6 +563,9 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "fem": fem,
         "collar_heights": [c.y for c in study.collars],
         "collar_fy": [c.fy for c in study.collars],  # Pa
+        "collars": [_collar_section(study, c) for c in study.collars],
+        # largest fibre strain / yield strain a collar may reach (EN 1993-1-1: eps_u >= 15 eps_y)
+        "collar_ductility_limit": DUCTILITY_LIMIT,
         "stone_fc": study.stone.fc,  # Pa
         "toe_stress": _toe_stress(study, results),
         "rigid_multibody": {
@@ -578,6 +583,12 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
                 "max_uplift",
                 "collar_max_utilisation",
                 "collar_first_yield_time",
+                "collar_max_fibre_strain",
+                "collar_ductility_demand",
+                "collar_fractured",
+                "collar_fracture_time",
+                "collar_max_plastic_strain",
+                "collar_plastic_work",
                 "impact_velocity_ratio_mean",
                 "energy_error_max",
                 "friction",
@@ -595,6 +606,8 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
             "collar_max_utilisation": rigid.get("collar_max_utilisation"),
             "collar_state": rigid.get("collar_state"),
             "impacts": rigid["impacts"],
+            # "elastic" springs, and where a collar passed f_y, what that leaves out
+            **{key: rigid[key] for key in ("collar_law", "collar_note") if key in rigid},
         },
         "rigid_monolith": {
             "overturned": monolith["overturned"],
@@ -623,6 +636,30 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "pulse": _pulse_summary(study, results),
         "peak_tolerance": PEAK_TOLERANCE,
         "convergence": _uncertainty(results),
+    }
+
+
+def _collar_section(study, collar) -> dict:
+    """A collar as the report draws it (SI units): its height, band section, span between
+    the attachment points (the column's width unless set), steel (E, f_y, the hardening
+    modulus E_h and plastic modulus H), law (plastic or elastic), fracture strain eps_u and
+    end hinges' plastic length L_p, with the moments and strain they give: M_y = f_y t h^2 / 6,
+    M_p = f_y t h^2 / 4, eps_y = f_y / E."""
+    return {
+        "y": collar.y,
+        "t": collar.t,
+        "h": collar.h,
+        "span": collar.length if collar.length is not None else study.width,
+        "E": collar.E,
+        "fy": collar.fy,
+        "Eh": collar.hardening_modulus,
+        "plastic_modulus": collar.plastic_modulus,
+        "plastic": collar.plastic,
+        "eps_u": collar.eps_u,
+        "hinge_length": collar.plastic_hinge_length,
+        "yield_moment": collar.yield_moment,
+        "plastic_moment": collar.plastic_moment,
+        "yield_strain": collar.yield_strain,
     }
 
 
@@ -795,7 +832,7 @@ def toe_crushes(study, results: dict) -> dict:
 
 
 def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
-    """summary["outcome"] of the cross-check: each model's outcome and the three answers."""
+    """summary["outcome"] of the cross-check: each model's outcome and the four answers."""
     fem = results["fem"]["summary"]
     rigid, monolith, mb = results["rigid"], results["monolith"], results["multibody"]
     alpha = study.rocking_alpha
@@ -808,6 +845,7 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
             alpha,
             mb.get("overturn_time"),
             collar_utilisation=mb.get("collar_max_utilisation") if study.collars else None,
+            collar_fractured=bool(mb.get("collar_fractured")),
         ),
         model_outcome(
             "SDOF half block with collars (the paper's)",
@@ -841,6 +879,7 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
         {
             "rigid_assumption_ok": rigid_answer,
             "collars_yield": collars_yield(study, fem, results),
+            "collars_hold": collars_hold(fem, study.collars, figure="collar_hinge"),
             "toe_crushes": toe_crushes(study, results),
         },
     )

@@ -11,7 +11,9 @@ many replicas overturned.
 toe crush?", each yes / no / undecided / not assessed, with the number behind it (median and
 band over the replicas), its limit, the relation between them (``stays below``, ``reaches``,
 ``straddles``) and the figure that shows it. The word and the relation come from one comparison
-(:func:`limit_answer`), so the sentence can never contradict its number.
+(:func:`limit_answer`), so the sentence can never contradict its number. A study that follows
+the collars past f_y (the cross-check) also answers "Do the collars hold?" (:func:`collars_hold`:
+did a plastic collar's extreme fibre reach its fracture strain?); the others leave it out.
 """
 
 from __future__ import annotations
@@ -24,8 +26,14 @@ NOT_ASSESSED = "not assessed"
 QUESTIONS = {
     "rigid_assumption_ok": "Is the rigid-body assumption good enough?",
     "collars_yield": "Do the collars yield?",
+    "collars_hold": "Do the collars hold?",
     "toe_crushes": "Does the toe crush?",
 }
+# answered only by the studies that ask them (listed where given, left out otherwise)
+OPTIONAL_QUESTIONS = ("collars_hold",)
+
+# why "Do the collars hold?" has no answer for elastic collars
+ELASTIC_COLLARS_NOT_FOLLOWED = "elastic collars are not followed past f_y (set plastic = true)"
 
 # how each answer word relates the band to its limit (the relation is the comparison's
 # result, named; see limit_answer)
@@ -41,11 +49,13 @@ def model_outcome(
     replicas: int | None = None,
     overturned_replicas: int | None = None,
     collar_utilisation: float | None = None,
+    collar_fractured: bool = False,
 ) -> dict:
     """One model's outcome. ``peak_rotation`` (rad) is the largest |theta| of a rocking half
     (None or the pi/2 convention of an overturned block are not reported as a rotation);
     ``alpha`` its slenderness (rad); ``collar_utilisation`` the largest sigma / f_y of its
-    collars, whose state (elastic / yielded) is then said beside the motion."""
+    collars, whose state (elastic / yielded, or fractured where ``collar_fractured``: a
+    plastic collar broke) is then said beside the motion."""
     motion = motion_word(bool(overturned), 0.0 if peak_rotation is None else peak_rotation, alpha)
     out = {
         "model": model,
@@ -60,7 +70,7 @@ def model_outcome(
         out.update(replicas=int(replicas), overturned_replicas=int(overturned_replicas or 0))
     if collar_utilisation is not None:
         out.update(
-            collar_state=collar_state(collar_utilisation),
+            collar_state=collar_state(collar_utilisation, fractured=bool(collar_fractured)),
             collar_utilisation=float(collar_utilisation),
         )
     return out
@@ -134,12 +144,51 @@ def criteria_answer(
 def none_assessed(why: str) -> dict:
     """summary["outcome"] of a study that assesses no column against a ground motion (no
     models to tell, each answer not assessed, for the reason ``why``)."""
-    return outcome([], {key: not_assessed(question, why) for key, question in QUESTIONS.items()})
+    return outcome(
+        [],
+        {
+            key: not_assessed(question, why)
+            for key, question in QUESTIONS.items()
+            if key not in OPTIONAL_QUESTIONS
+        },
+    )
 
 
 def outcome(models: list[dict], answers: dict[str, dict]) -> dict:
-    """summary["outcome"]: the models' outcomes and the three answers, in QUESTIONS' order."""
-    return {"models": models, "answers": [dict(answers[key], key=key) for key in QUESTIONS]}
+    """summary["outcome"]: the models' outcomes and the answers, in QUESTIONS' order (every
+    question but the OPTIONAL_QUESTIONS, which are listed where ``answers`` has them)."""
+    return {
+        "models": models,
+        "answers": [
+            dict(answers[key], key=key)
+            for key in QUESTIONS
+            if key in answers or key not in OPTIONAL_QUESTIONS
+        ],
+    }
+
+
+def collars_hold(fem: dict, collars, figure: str | None = None) -> dict:
+    """Do the collars hold? From an FEM ensemble summary ``fem`` and the study's ``collars``:
+    for plastic collars yes where no replica had a collar fracture (its extreme fibre reached
+    eps_u), no where every replica had one, undecided otherwise (``collar_fractured_answer``,
+    turned round), with the count of replicas behind it; not assessed without collars, or
+    with elastic collars only (they are never followed past f_y, so they never break)."""
+    question = QUESTIONS["collars_hold"]
+    if not collars:
+        return not_assessed(question, "the column has no collars")
+    if not any(c.plastic for c in collars):
+        return not_assessed(question, ELASTIC_COLLARS_NOT_FOLLOWED)
+    fractured = fem.get("collar_fractured_answer")
+    if fractured not in (YES, NO, UNDECIDED):
+        return not_assessed(question, "no record of the collars' fracture in the FEM run")
+    return {
+        "question": question,
+        "answer": {YES: NO, NO: YES, UNDECIDED: UNDECIDED}[fractured],
+        "measure": "replicas in which a collar fractured (its extreme fibre reached eps_u)",
+        "count": int(fem["collar_fractured_replicas"]),
+        "points": int(fem.get("replicas", 1)),
+        "figure": figure,
+    }
 
 
 def grid_outcome(model: str, overturned: list[list]) -> dict:

@@ -29,7 +29,9 @@ from matplotlib.artist import Artist  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
+from matplotlib.ticker import FuncFormatter  # noqa: E402
 
+from ..core.constants import DUCTILITY_LIMIT  # noqa: E402
 from .output import read_csv, write_csv  # noqa: E402
 
 TEMPLATES = jinja2.Environment(
@@ -259,6 +261,9 @@ def _image(path: Path, caption: str, name: str | None = None) -> dict:
     }
 
 
+SIDES = ("left", "right")  # a collar's ends in the FEM history
+PLAIN = FuncFormatter(lambda value, _: f"{value:g}")  # tick labels as numbers, not powers
+
 # curves that may lie on top of each other (collars with one history, ...): each its own
 # dashes, width and markers, so that none hides another
 LINE_STYLES = ("-", "--", "-.", ":")
@@ -421,28 +426,9 @@ def write_crosscheck_report(out: Path) -> Path:
             )
         )
 
-    # 3b. plastic strain of plastic collars
-    plastic_cols = sorted(k for k in fem_h if k.endswith("_plastic_strain"))
-    if plastic_cols:
-        write_csv(
-            out / "figures" / "collar_plastic_strain.csv",
-            {"t": t, **{k: fem_h[k] for k in plastic_cols}},
-        )
-        fig, ax = plt.subplots(figsize=(8, 3.0))
-        for k in plastic_cols:
-            ax.plot(t, 1e3 * fem_h[k], label=f"FEM {k.replace('_plastic_strain', '')}")
-        ax.set_xlabel("t (s)")
-        ax.set_ylabel("plastic strain (per mille)")
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        figs.append(
-            _figure(
-                out,
-                "collar_plastic_strain",
-                fig,
-                "Plastic strain of the plastic collars (bilinear law, hardening E_h)",
-            )
-        )
+    # 3b. plastic collars: the end hinges of the most strained one, its plastic strain along
+    # the band, and the times of first yield and fracture
+    _collar_hinge_figure(out, summary, fem_h, figs)
 
     # 4. toe stress against f_c
     edge_cols = [k for k in fem_h if k.startswith("edge_stress_")]
@@ -502,7 +488,200 @@ def write_crosscheck_report(out: Path) -> Path:
         figs=figs,
         renders=renders,
         renders_error=renders_error,
-        rows=CROSSCHECK_NUMBERS,
+        rows=[row for row in CROSSCHECK_NUMBERS if _has(summary, row[1])],
+    )
+
+
+def _has(summary: dict, dotted: str) -> bool:
+    """Whether summary.json has a value (None included) at the dotted key: a row of a Numbers
+    table is left out where its key is not there (an SDOF collar note where no collar passed
+    f_y, the fibre strains of a column without collars, a summary of an earlier version)."""
+    try:
+        _get(summary, dotted)
+    except (KeyError, IndexError, TypeError):
+        return False
+    return True
+
+
+def _first_time(t, flags) -> float | None:
+    """The first time at which ``flags`` holds (None where it never does)."""
+    hit = np.flatnonzero(flags)
+    return float(t[hit[0]]) if hit.size else None
+
+
+def hinge_strain_profile(collar: dict, axial: float, hinges: tuple[float, float]):
+    """The plastic strain of a collar's extreme fibre along its span under the lumped-hinge
+    model (colonna.core.collar_law): the axial plastic strain |s_p / L| everywhere, plus at
+    each end, over the hinge length L_p, the hinge's plastic rotation spread over it,
+    |theta_p| h / (2 L_p) (hinge zones longer than half the span overlap and add). ``collar``
+    is one of summary["collars"]. Returns (x, strain), a step profile: each piece's two ends,
+    x from the left attachment (m)."""
+    span, lp, h = collar["span"], collar["hinge_length"], collar["h"]
+    rotation = [abs(r) * h / (2.0 * lp) for r in hinges]
+    edges = np.unique(np.clip([0.0, lp, span - lp, span], 0.0, span))
+    x, strain = [], []
+    for a, b in zip(edges[:-1], edges[1:]):
+        middle = 0.5 * (a + b)
+        value = abs(axial) + rotation[0] * (middle < lp) + rotation[1] * (middle > span - lp)
+        x += [a, b]
+        strain += [value, value]
+    return np.array(x), np.array(strain)
+
+
+def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> None:
+    """The plastic collars of the FEM run (replica 0, the unperturbed run, whose history is
+    drawn): (a) the end moment against the end rotation (relative to the chord) at both ends
+    of the most strained collar (the largest extreme-fibre strain), with +-M_y and +-M_p;
+    (b) that collar's plastic strain along its span at the end of the run, from its axial
+    plastic strain and end hinges (:func:`hinge_strain_profile`), with the largest fibre
+    strain it reached and eps_u; (c) the fibre strain of every plastic collar over time, with
+    the most strained one's first yield and fracture. Drawn only for plastic collars."""
+    collars = summary.get("collars") or []
+    plastic = [
+        k
+        for k, c in enumerate(collars, start=1)
+        if c["plastic"] and f"collar_{k}_moment_left" in fem_h
+    ]
+    if not plastic:
+        return
+    t = fem_h["t"]
+    peaks = {k: float(np.max(fem_h[f"collar_{k}_fibre_strain"])) for k in plastic}
+    # a collar that broke reached eps_u, whatever its history sampled before the break
+    k = max(plastic, key=lambda j: (bool(np.any(fem_h[f"collar_{j}_fractured"] > 0.0)), peaks[j]))
+    c = collars[k - 1]
+    # the largest fibre strain over every step (the run's state), where this collar has the
+    # run's largest: the history samples only the output times, and after a fracture it is 0
+    peak = peaks[k]
+    values = summary["fem"].get("bands", {}).get("collar_max_fibre_strain", {}).get("values")
+    every = [float(np.max(fem_h[key])) for key in fem_h if key.endswith("_fibre_strain")]
+    if values and values[0] is not None and peak >= max(every):
+        peak = max(peak, float(values[0]))
+    yielded = _first_time(t, fem_h[f"collar_{k}_utilisation"] >= 1.0)
+    fractured = _first_time(t, fem_h[f"collar_{k}_fractured"] > 0.0)
+    axial = float(fem_h[f"collar_{k}_plastic_strain"][-1])
+    left, right = (float(fem_h[f"collar_{k}_hinge_rotation_{side}"][-1]) for side in SIDES)
+    x, profile = hinge_strain_profile(c, axial, (left, right))
+    columns = {"t": t}
+    for j in plastic:
+        columns.update({key: fem_h[key] for key in fem_h if key.startswith(f"collar_{j}_")})
+    write_csv(out / "figures" / "collar_hinge.csv", columns)
+    write_csv(
+        out / "figures" / "collar_hinge_profile.csv",
+        {"x": x, "plastic_fibre_strain": profile},
+    )
+
+    fig, (ax_m, ax_p, ax_t) = plt.subplots(3, 1, figsize=(9.5, 9.0))
+    # (a) moment against rotation at both ends, kN m against mrad, up to a fracture (the
+    # broken band's ends turn on carrying nothing)
+    held = t < fractured if fractured is not None else np.ones(t.size, dtype=bool)
+    ends = [
+        (
+            1e3 * fem_h[f"collar_{k}_rotation_{side}"][held],
+            1e-3 * fem_h[f"collar_{k}_moment_{side}"][held],
+        )
+        for side in SIDES
+    ]
+    for j, (side, (rotation, moment)) in enumerate(zip(SIDES, ends)):
+        ax_m.plot(
+            rotation,
+            moment,
+            color=f"C{j}",
+            ls=LINE_STYLES[j],
+            lw=1.6 - 0.6 * j,
+            label=f"{side} end",
+        )
+    if fractured is not None and held.any():
+        ax_m.plot(
+            [r[-1] for r, _ in ends],
+            [m[-1] for _, m in ends],
+            "X",
+            ls="none",
+            color="C3",
+            ms=8,
+            label="last output before the fracture",
+        )
+    for value, style, name in (
+        (c["plastic_moment"], ("k", "--"), "M_p = f_y t h\u00b2/4 (plastic)"),
+        (c["yield_moment"], ("0.5", ":"), "M_y = f_y t h\u00b2/6 (first yield)"),
+    ):
+        for sign in (1.0, -1.0):
+            ax_m.axhline(
+                sign * 1e-3 * value,
+                color=style[0],
+                ls=style[1],
+                lw=1,
+                label=f"\u00b1{name}" if sign > 0 else None,
+            )
+    ax_m.set_xlabel("end rotation relative to the chord (mrad)")
+    ax_m.set_ylabel("end moment (kN m)")
+    ax_m.set_title(f"(a) collar {k} (y = {c['y']:g} m): end moment against rotation", fontsize=9)
+    _legend_beside(ax_m)
+    # (b) the plastic strain along the span at the end of the run, per mille
+    eps_y = 1e3 * c["yield_strain"]
+    ax_p.plot(1e3 * x, 1e3 * profile, color="C2", lw=2, label="plastic strain at the end")
+    ax_p.axhline(
+        1e3 * peak,
+        color="C3",
+        ls="-.",
+        lw=1,
+        label=f"largest fibre strain reached, {1e3 * peak:.3g} per mille",
+    )
+    ax_p.axhline(1e3 * c["eps_u"], color="k", ls="--", lw=1, label="eps_u (fracture)")
+    ax_p.axhline(eps_y, color="0.5", ls=":", lw=1, label="eps_y = f_y / E")
+    for end in (c["hinge_length"], c["span"] - c["hinge_length"]):
+        ax_p.axvline(1e3 * end, color="0.8", lw=0.8)
+    ax_p.set_yscale("symlog", linthresh=eps_y)  # eps_u is often far above the rest
+    ax_p.yaxis.set_major_formatter(PLAIN)
+    top = 1e3 * 1.5 * max(c["eps_u"], peak, float(np.max(profile)))
+    ax_p.set_ylim(0.0, top)
+    ax_p.set_xlabel(f"along the collar (mm), hinges over L_p = {1e3 * c['hinge_length']:.3g} mm")
+    ax_p.set_ylabel("extreme-fibre strain (per mille)")
+    ax_p.set_title(f"(b) collar {k}: plastic strain along it (lumped hinges)", fontsize=9)
+    _legend_beside(ax_p)
+    # (c) fibre strain over time, first yield and fracture
+    for j, n in enumerate(plastic):
+        ax_t.plot(
+            t,
+            1e3 * fem_h[f"collar_{n}_fibre_strain"],
+            color=f"C{j}",
+            **_distinct(j, len(plastic)),
+            label=f"collar {n}",
+        )
+    ax_t.axhline(1e3 * c["eps_u"], color="k", ls="--", lw=1, label="eps_u (fracture)")
+    ax_t.axhline(eps_y, color="0.5", ls=":", lw=1, label="eps_y = f_y / E")
+    for when, colour, name in ((yielded, "C1", "first yield"), (fractured, "C3", "fracture")):
+        if when is not None:
+            ax_t.axvline(when, color=colour, lw=1.2, label=f"collar {k}: {name}, t = {when:.4g} s")
+    ax_t.set_yscale("symlog", linthresh=eps_y)
+    ax_t.yaxis.set_major_formatter(PLAIN)
+    ax_t.set_ylim(0.0, top)
+    ax_t.set_xlabel("t (s)")
+    ax_t.set_ylabel("extreme-fibre strain (per mille)")
+    ax_t.set_title("(c) the plastic collars' fibre strain over time", fontsize=9)
+    _legend_beside(ax_t)
+    fig.tight_layout()
+    caption = (
+        f"Plastic collars, FEM replica 0: collar {k}, the most strained, "
+        + (f"first yields at t = {yielded:.4g} s" if yielded is not None else "does not yield")
+        + (
+            f" and fractures at t = {fractured:.4g} s (its fibre strain reached eps_u)"
+            if fractured is not None
+            else " and does not fracture"
+        )
+        + "; its end hinges' moment-rotation loops against M_y and M_p (the hinges harden "
+        "slightly past M_p, and the moment falls with the axial force on the N-M surface), "
+        "and its residual plastic strain along the band: the axial plastic strain everywhere "
+        "plus each hinge's plastic rotation spread over its length L_p = "
+        f"{1e3 * c['hinge_length']:.3g} mm"
+    )
+    figs.append(
+        _figure(
+            out,
+            "collar_hinge",
+            fig,
+            caption,
+            data_file="figures/collar_hinge.csv, figures/collar_hinge_profile.csv",
+        )
     )
 
 
@@ -536,6 +715,17 @@ CROSSCHECK_NUMBERS = [
         "rigid_multibody.collar_max_utilisation",
         "-",
     ),
+    (
+        "multibody collar ductility demand, largest fibre strain / (f_y / E) "
+        f"(limit {DUCTILITY_LIMIT:g}: EN 1993-1-1 eps_u >= 15 eps_y)",
+        "rigid_multibody.collar_ductility_demand",
+        "-",
+    ),
+    (
+        "multibody first collar fracture (n/a: the collars hold)",
+        "rigid_multibody.collar_fracture_time",
+        "s",
+    ),
     ("multibody energy balance error (max, relative)", "rigid_multibody.energy_error_max", "-"),
     ("multibody wall time", "rigid_multibody.wall_seconds", "s"),
     ("SDOF peak rotation, half + collars (n/a where it overturns)", "rigid.max_abs_theta", "rad"),
@@ -549,6 +739,11 @@ CROSSCHECK_NUMBERS = [
         "SDOF peak rotation, whole column (n/a where it overturns)",
         "rigid_monolith.max_abs_theta",
         "rad",
+    ),
+    (
+        "SDOF collars: elastic springs; where one passed f_y, what that leaves out",
+        "rigid.collar_note",
+        "",
     ),
     ("halves rock as one block", "verdict.rocks_as_one_block", ""),
     ("FEM status", "fem.status", ""),
@@ -570,6 +765,25 @@ CROSSCHECK_NUMBERS = [
     ("top load on the capital", "fem.top_load", "kN"),
     ("collar plastic strain max, FEM", "fem.collar_max_plastic_strain", "-"),
     ("collar plastic work, FEM", "fem.collar_plastic_work", "J"),
+    (
+        "collar extreme-fibre strain max, FEM: axial + bending + hinge rotation over L_p "
+        "(median of the replicas)",
+        "fem.collar_max_fibre_strain",
+        "per mille",
+    ),
+    (
+        "collar ductility demand, FEM: largest fibre strain / (f_y / E) "
+        f"(limit {DUCTILITY_LIMIT:g}: EN 1993-1-1 eps_u >= 15 eps_y)",
+        "fem.collar_ductility_demand",
+        "-",
+    ),
+    (
+        "first collar fracture, FEM (median over the replicas; n/a: the collars hold in half "
+        "of them or more)",
+        "fem.collar_fracture_time",
+        "s",
+    ),
+    ("FEM replicas in which a collar fractured", "fem.collar_fractured_replicas", "-"),
     ("crack slip left at the end of the run, FEM", "fem.crack_slip_residual", "mm"),
     ("static base reaction, FEM: weight + top load", "fem.base_reaction_static", "kN"),
 ]

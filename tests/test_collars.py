@@ -106,6 +106,28 @@ def test_collar_history_first_yield(half_column):
     assert s["collar_first_yield_time"] == pytest.approx(hist.first_yield_time)
 
 
+def test_sdof_summary_says_its_collars_are_elastic_and_what_that_leaves_out(half_column):
+    """The SDOF model's collar springs never yield: its summary names its collar law, and
+    where a collar passed f_y, a note naming that collar and its utilisation says that the
+    stress past f_y is not one the steel can carry and what is not modelled (the verdict
+    says elastic collars were assumed); where none passed f_y there is no note."""
+    pulse = pulse_from_ratios(half_column, "sine", 2.0, 3.0, "nonlinear")
+    weak = rock(half_column, pulse, (Collar(y=1.0, t=0.01, h=0.05),), model="nonlinear")
+    s = weak.summary()
+    assert s["collar_law"] == "elastic" and s["collar_max_utilisation"] > 1.0
+    note = s["collar_note"]
+    assert note.startswith("elastic collars assumed: collar 1 (y = 1 m, utilisation ")
+    assert f"utilisation {s['collar_max_utilisation']:.3g})" in note
+    assert "not in this model" in note and "plastic = true" in note
+    assert "elastic collars assumed" in s["verdict"]
+    strong = rock(half_column, pulse, (Collar(y=1.0, t=0.01, h=0.05, fy=1e11),), model="nonlinear")
+    s = strong.summary()
+    assert s["collar_law"] == "elastic" and s["collar_max_utilisation"] < 1.0
+    assert "collar_note" not in s and "elastic collars assumed" not in s["verdict"]
+    bare = rock(half_column, pulse, model="nonlinear").summary()
+    assert "collar_law" not in bare and "collar_note" not in bare
+
+
 def test_design_hand_calculation(half_column):
     c = Collar(y=1.0, t=0.01, h=0.05)
     b = half_column.b

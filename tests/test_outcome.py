@@ -11,13 +11,16 @@ import re
 import numpy as np
 import pytest
 
+from colonna.core.collar import Collar
 from colonna.fem.ensemble import band
 from colonna.studies import crosscheck
 from colonna.studies.outcome import (
     QUESTIONS,
+    collars_hold,
     criteria_answer,
     limit_answer,
     model_outcome,
+    none_assessed,
     not_assessed,
     outcome,
 )
@@ -139,6 +142,63 @@ def test_an_overturned_model_shows_no_rotation_and_names_the_stopping_rule():
     )
     assert "1.57" not in page and "overturns" in page and "overturning rule" in page
     assert model_outcome("x", False, 1e-9, 0.1)["motion"] == "no uplift"
+
+
+@pytest.mark.parametrize(
+    "fractured, replicas, hold", [("no", 0, "yes"), ("yes", 8, "no"), ("undecided", 3, "undecided")]
+)
+def test_the_collars_hold_where_no_plastic_collar_fractured(fractured, replicas, hold):
+    """ "Do the collars hold?" turns the replicas' "a collar fractured" round (a plastic collar
+    beside an elastic one is enough to ask it), and the page says the count behind the word,
+    coloured good only for yes, with the link to the hinge figure."""
+    collars = (Collar(y=1.0, t=0.004, h=0.02, plastic=True), Collar(y=2.0, t=0.004, h=0.02))
+    fem = {
+        "collar_fractured_answer": fractured,
+        "collar_fractured_replicas": replicas,
+        "replicas": 8,
+    }
+    a = collars_hold(fem, collars, figure="collar_hinge")
+    assert a["answer"] == hold and a["count"] == replicas and a["points"] == 8
+    answers = {k: not_assessed(q, "elsewhere") for k, q in QUESTIONS.items()}
+    answers["collars_hold"] = a
+    page = _render(_summary(answers))
+    assert _cell(page, "collars_hold", "data-answer") == hold
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page))
+    assert f"a collar fractured (its extreme fibre reached eps_u): {replicas} of 8" in text
+    assert 'href="#figure-collar_hinge"' in page
+    colour = re.search(r'data-answer="collars_hold" class="([^"]+)"', page).group(1)
+    assert colour == {"yes": "good", "no": "bad", "undecided": "undecided"}[hold]
+    # the four answers in QUESTIONS' order
+    assert [a["key"] for a in _summary(answers)["outcome"]["answers"]] == list(QUESTIONS)
+
+
+def test_whether_collars_hold_is_asked_only_of_plastic_collars_and_where_a_study_asks_it():
+    """Elastic collars are never followed past f_y, so whether they hold is not assessed
+    (saying how to assess it); a study that does not ask the question (free rocking, the
+    spectrum cross-check) lists the other three; a model whose collar broke says so."""
+    fem = {"collar_fractured_answer": "no", "collar_fractured_replicas": 0, "replicas": 8}
+    elastic = collars_hold(fem, (Collar(y=1.0, t=0.004, h=0.02),))
+    assert elastic["answer"] == "not assessed" and "set plastic = true" in elastic["why"]
+    assert collars_hold(fem, ())["why"] == "the column has no collars"
+    three = ["rigid_assumption_ok", "collars_yield", "toe_crushes"]
+    asked = {k: not_assessed(q, "-") for k, q in QUESTIONS.items() if k in three}
+    assert [a["key"] for a in outcome([], asked)["answers"]] == three
+    assert [a["key"] for a in none_assessed("no ground motion")["answers"]] == three
+    with pytest.raises(KeyError):  # the three are always answered, if only as not assessed
+        outcome([], {"collars_hold": elastic})
+    broken = model_outcome(
+        "multibody", False, 0.02, 0.1, collar_utilisation=1.3, collar_fractured=True
+    )
+    assert broken["collar_state"] == "fractured"
+    assert model_outcome("multibody", False, 0.02, 0.1, collar_utilisation=1.3)["collar_state"] == (
+        "yielded"
+    )
+    page = _render(
+        {"outcome": outcome([broken], {k: not_assessed(q, "-") for k, q in QUESTIONS.items()})}
+    )
+    assert re.search(
+        r'<span class="bad"><span data-key="outcome\.models\.0\.collar_state">fractured', page
+    )
 
 
 def _criteria(fem_peak, mb_peak, fem_overturned=False, history_error=0.0, impacts_mb=1):

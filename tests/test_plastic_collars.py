@@ -242,7 +242,7 @@ def _offset_cycle(impose, collar, span, axial_ratio=0.0):
     the membrane stretch of a purely lateral move (6 % of the span here). Returns the offsets,
     the chord rotations, the element's outputs (N, M1, M2, U), the work done on the moved end
     per increment and the state."""
-    from colonna.core.collar_law import FIBRE_STRAIN, FRACTURED, OUT_SIZE, STATE_SIZE
+    from colonna.core.collar_law import STATE_SIZE
 
     d_y = collar.yield_moment * span**2 / (6.0 * collar.E * collar.second_moment)
     stretch = axial_ratio * collar.fy * collar.area * span / (collar.E * collar.area)

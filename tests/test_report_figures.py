@@ -576,3 +576,141 @@ def test_the_reports_figures_pass_the_browser_check(drawn, tmp_path):
     (tmp_path / "index.html").write_text(page)
     found = {r["name"]: r["problems"] for r in check_report(tmp_path / "index.html", tmp_path)}
     assert set(found) == set(drawn) and not any(found.values()), found
+
+
+# --- plastic collars in the cross-check report ------------------------------------------------
+
+
+def _plastic_crosscheck(root, eps_u=None):
+    """The tiny cross-check with its collar plastic, its f_y lowered to 60 MPa so that the
+    thin band yields in bending under the study's pulse (ductility demand about 11), and
+    ``eps_u`` where given (0.0025 breaks it); 2 FEM replicas, no toe refinement. The pulse
+    is given as a record of the same sine, so that the cross-check runs no spectrum (the
+    slow part of it); the report is written without the 3-D renders."""
+    import tomllib
+
+    from tiny_study import TINY_STUDY
+
+    from colonna.studies import report
+    from colonna.studies.crosscheck import run_crosscheck
+    from colonna.studies.fem_study import from_dict
+
+    text = TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6)
+    ground = from_dict(tomllib.loads(text)).ground
+    t = np.linspace(0.0, ground.end_time, 201)
+    root.mkdir(parents=True, exist_ok=True)
+    np.savetxt(root / "pulse.csv", np.c_[t, ground.acceleration(t)], delimiter=",")
+    collar = "h = 0.02\nplastic = true\nfy = 60e6\n" + (f"eps_u = {eps_u}\n" if eps_u else "")
+    text = (
+        text.replace("h = 0.02\n", collar)
+        .replace(
+            "amplitude_ratio = 2.5\nomega_ratio = 3.0\n", 'pulse = "record"\nrecord = "pulse.csv"\n'
+        )
+        .replace("grading = 0.0\n", "grading = 0.0\ntoe_refinements = []\n")
+        .replace("[run]\n", "[run]\nreplicas = 2\n")
+    )
+    (root / "tiny-plastic.toml").write_text(text)
+    out = root / "out"
+    summary = run_crosscheck(root / "tiny-plastic.toml", out, workers=1, progress=False)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(report, "_renders", lambda out: ([], "not rendered in this test"))
+        report.write_crosscheck_report(out)
+    return out, summary
+
+
+@pytest.mark.parametrize("eps_u", [None, 0.0025], ids=["holds", "breaks"])
+def test_the_crosscheck_report_draws_the_hinges_of_plastic_collars(tmp_path, eps_u):
+    """A tiny cross-check whose plastic collar yields: its report has the hinge figure with
+    its data, whose end moments reach the plastic moment M_p and never pass it by more than
+    the hardening the collar's plastic work allows (g = 1 + H alpha / f_y, alpha <= W /
+    (N_p L)), whose plastic strain profile is the lumped-hinge one of the run's last hinge
+    rotations; the fibre strain, ductility demand and fracture rows; the multibody and SDOF
+    numbers in summary.json; and "Do the collars hold?" answered from the replicas (no with
+    eps_u = 0.0025, where the band breaks and carries nothing after)."""
+    from browser import assert_report_says_what_summary_says, assert_table_numbers_have_units
+
+    from colonna.studies import report
+    from colonna.studies.output import read_csv
+
+    out, summary = _plastic_crosscheck(tmp_path, eps_u)
+    page = (out / "index.html").read_text()
+    fem, collar = summary["fem"], summary["collars"][0]
+    assert collar["plastic"] and collar["span"] == pytest.approx(0.2)
+    assert collar["hinge_length"] == pytest.approx(0.02)  # L_p = h by default
+    assert collar["plastic_moment"] == pytest.approx(60e6 * 0.004 * 0.02**2 / 4)
+    assert fem["collar_max_utilisation"] >= 1.0  # it yields
+    # summary.json: the multibody's collar keys and the SDOF's elastic law with its note
+    mb = summary["rigid_multibody"]
+    assert {
+        "collar_max_fibre_strain",
+        "collar_ductility_demand",
+        "collar_fractured",
+        "collar_fracture_time",
+        "collar_max_plastic_strain",
+        "collar_plastic_work",
+    } <= set(mb)
+    assert mb["collar_ductility_demand"] > 1.0
+    rigid = summary["rigid"]
+    assert rigid["collar_law"] == "elastic" and rigid["collar_max_utilisation"] > 1.0
+    assert rigid["collar_note"].startswith("elastic collars assumed")
+    # "Do the collars hold?": no fracture in any replica -> yes, in every replica -> no
+    answers = {a["key"]: a for a in summary["outcome"]["answers"]}
+    hold = answers["collars_hold"]
+    word = {"no": "yes", "yes": "no", "undecided": "undecided"}[fem["collar_fractured_answer"]]
+    assert hold["answer"] == word == ("yes" if eps_u is None else "no")
+    assert hold["count"] == fem["collar_fractured_replicas"] and hold["points"] == 2
+    # the figure and its data
+    assert 'data-figure="collar_hinge"' in page and 'href="#figure-collar_hinge"' in page
+    loops = read_csv(out / "figures" / "collar_hinge.csv")
+    profile = read_csv(out / "figures" / "collar_hinge_profile.csv")
+    history = read_csv(out / "cases" / "fem" / "history.csv")
+    np.testing.assert_array_equal(loops["collar_1_moment_left"], history["collar_1_moment_left"])
+    moments = np.abs(np.r_[loops["collar_1_moment_left"], loops["collar_1_moment_right"]])
+    m_p, n_p = collar["plastic_moment"], collar["fy"] * collar["t"] * collar["h"]
+    work = fem["bands"]["collar_plastic_work"]["values"][0]  # replica 0's, drawn
+    hardened = m_p * (
+        1.0 + collar["plastic_modulus"] * work / (collar["fy"] * n_p * collar["span"])
+    )
+    assert 0.95 * m_p < moments.max() <= hardened * (1.0 + 1e-9)
+    # the profile: axial plastic strain plus each hinge's rotation spread over L_p
+    last = {side: history[f"collar_1_hinge_rotation_{side}"][-1] for side in ("left", "right")}
+    axial = abs(history["collar_1_plastic_strain"][-1])
+    spread = collar["h"] / (2.0 * collar["hinge_length"])
+    assert profile["x"][0] == 0.0 and profile["x"][-1] == pytest.approx(collar["span"])
+    ends = profile["plastic_fibre_strain"][[0, -1]]
+    np.testing.assert_allclose(ends, [axial + abs(last[s]) * spread for s in ("left", "right")])
+    middle = profile["plastic_fibre_strain"][np.abs(profile["x"] - 0.1) < 0.05]
+    np.testing.assert_allclose(middle, axial)
+    assert ends.max() > 0.0  # the hinges turned
+    # the Numbers rows and the verdict's words
+    for key in (
+        "fem.collar_max_fibre_strain",
+        "fem.collar_ductility_demand",
+        "fem.collar_fracture_time",
+        "fem.collar_fractured_replicas",
+        "rigid_multibody.collar_ductility_demand",
+        "rigid_multibody.collar_fracture_time",
+        "rigid.collar_note",
+        "fem.bands.collar_ductility_demand.median",
+    ):
+        assert f'data-key="{key}"' in page, key
+    assert "limit 15: EN 1993-1-1 eps_u &gt;= 15 eps_y" in page
+    assert assert_report_says_what_summary_says(page, summary) >= 40
+    assert assert_table_numbers_have_units(page) >= 20
+    if eps_u is None:
+        assert fem["collar_fracture_time"] is None and "does not fracture" in page
+    else:
+        broke = history["t"] >= fem["bands"]["collar_fracture_time"]["values"][0]
+        assert broke.any() and np.all(loops["collar_1_moment_left"][broke] == 0.0)
+        assert "a collar fractured</b> in" in page and " and fractures at t = " in page
+    # drawn in a browser, legend and all (where there is one: tests/data/report_check.js)
+    from colonna.studies.pdf import find_browser
+
+    if eps_u is not None and find_browser() is not None:
+        found = {r["name"]: r["problems"] for r in check_report(out / "index.html", tmp_path)}
+        assert found["collar_hinge"] == [], found
+    # an elastic collar has no hinges to draw
+    figs: list = []
+    elastic = dict(summary, collars=[dict(collar, plastic=False)])
+    report._collar_hinge_figure(out, elastic, history, figs)
+    assert figs == []
