@@ -45,11 +45,15 @@ from ..core.tables import table_value
     P_LOAD,
     P_NHREC,
     P_VERT,
-) = range(17)
-N_PARAMS = 17  # P_TH0, P_OM0: initial rotation (rad) and angular velocity (rad/s), 0: at rest
+    P_TRAP_E,
+    P_TRAP_TH,
+) = range(19)
+N_PARAMS = 19  # P_TH0, P_OM0: initial rotation (rad) and angular velocity (rad/s), 0: at rest
 # P_LOAD: lambda = top load / (m g). P_NHREC: how many of the rows of (rec_t, rec_a) are the
 # horizontal record; P_VERT = 1: the rows after them are the vertical ground acceleration / g
-# (piecewise linear, zero outside), 0: no vertical motion
+# (piecewise linear, zero outside), 0: no vertical motion. P_TRAP_E, P_TRAP_TH: with collars,
+# collar_barrier's (V_max, theta_max), 0 until computed (by rk_run when first needed, or once
+# for a whole spectrum: they depend on the block and the collars, not on the pulse)
 
 GROUND_NONE, GROUND_HARMONIC, GROUND_RECORD = 0, 1, 2
 
@@ -168,6 +172,46 @@ def energy_barrier(P):
             + lam * (2.0 * math.cos(a) * (math.cos(tc) - 1.0) + math.sin(a) * math.sin(tc))
         )
     return 0.5 * P[P_P2] * a * a
+
+
+@njit(cache=True)
+def collar_barrier(P):
+    """With collars: (V_max, theta_max), the largest potential V(theta) = gravity + top load +
+    collar springs on [0, pi/2] (mechanical_energy at rest, symmetric in theta) and where it is
+    (sampled at 2048 points: a little low at worst, so a trap it declares is a trap). A free
+    block with less energy can never reach pi/2, where overturning is declared."""
+    n = 2048
+    best = 0.0
+    where = HALF_PI
+    for k in range(1, n + 1):
+        th = HALF_PI * k / n
+        v = mechanical_energy(th, 0.0, P)
+        if v > best:
+            best = v
+            where = th
+    return best, where
+
+
+@njit(cache=True)
+def turning_point(theta, energy, P):
+    """The first |theta'| >= |theta| where the free block of mechanical energy ``energy``
+    stops (V(theta') = energy), found by stepping out and bisecting; pi/2 if none before."""
+    x0 = abs(theta)
+    step = HALF_PI / 2048
+    x1 = x0
+    while x1 < HALF_PI:
+        x1 = min(x1 + step, HALF_PI)
+        if mechanical_energy(x1, 0.0, P) >= energy:
+            lo = x1 - step if x1 - step > x0 else x0
+            hi = x1
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                if mechanical_energy(mid, 0.0, P) >= energy:
+                    hi = mid
+                else:
+                    lo = mid
+            return hi
+    return HALF_PI
 
 
 @njit(cache=True)
@@ -403,6 +447,11 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
     t_free = ground_end(P, rec_t)
     has_collars = P[P_KA] != 0.0 or P[P_KL] != 0.0
     barrier = energy_barrier(P)
+    # with collars the springs raise the barrier (a swing past alpha may be held): the largest
+    # potential on the way to pi/2, and the free block's peak taken from its turning point
+    if has_collars and P[P_TRAP_E] == 0.0:
+        P[P_TRAP_E], P[P_TRAP_TH] = collar_barrier(P)
+    trap_energy, trap_angle = P[P_TRAP_E], P[P_TRAP_TH]
     # linear model: the free block diverges once beyond its unstable equilibrium moving outward,
     # at alpha p^2 / (p^2 - k_l / 2) with collars (none if the collars make it stable)
     theta_c = critical_angle(P)
@@ -535,7 +584,12 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
                 t = t_up
                 om = 0.0
                 s = -s_up
-            elif early_exit and t >= t_free and 0.5 * om * om < barrier:
+            elif early_exit and not has_collars and t >= t_free and 0.5 * om * om < barrier:
+                status = AT_REST
+                break
+            elif early_exit and has_collars and t >= t_free and 0.5 * om * om < trap_energy:
+                # the swing that starts here is the largest left: its turning point is the peak
+                max_theta = max(max_theta, turning_point(0.0, 0.5 * om * om, P))
                 status = AT_REST
                 break
             h = max(h, 1e-6 / p)
@@ -556,7 +610,24 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
                 max_theta = HALF_PI
                 break
             # trapped in the well: inside |theta| < alpha without the energy to reach alpha
-            if early_exit and abs(th) < theta_c and mechanical_energy(th, om, P) < barrier:
+            if (
+                early_exit
+                and not has_collars
+                and abs(th) < theta_c
+                and mechanical_energy(th, om, P) < barrier
+            ):
+                status = AT_REST
+                break
+            # with collars: swinging out below the largest potential on the way to pi/2; the
+            # swing's turning point (no loss before it) is the peak, later swings are smaller
+            if (
+                early_exit
+                and has_collars
+                and th * om > 0.0
+                and abs(th) < trap_angle
+                and mechanical_energy(th, om, P) < trap_energy
+            ):
+                max_theta = max(max_theta, turning_point(th, mechanical_energy(th, om, P), P))
                 status = AT_REST
                 break
         h *= min(5.0, 0.9 * max(err, 1e-10) ** -0.2)
@@ -844,6 +915,14 @@ def spectrum_modes(
     max_theta = np.zeros((n_a, n_w))
     closed_form = (not nonlinear) and ka == 0.0 and kl == 0.0
     empty = np.zeros(1)
+    # the collars' trap (block and collars only): once for the whole map
+    trap = (0.0, 0.0)
+    if ka != 0.0 or kl != 0.0:
+        trap = collar_barrier(
+            make_params(
+                p, alpha, nonlinear, GROUND_HARMONIC, 0.0, 1.0, 0.0, 0.0, ka, kl, nu, uplift, load
+            )
+        )
     for k in prange(n_a * n_w):
         i = k // n_w
         j = k % n_w
@@ -859,6 +938,8 @@ def spectrum_modes(
         P = make_params(
             p, alpha, nonlinear, GROUND_HARMONIC, ag, omega, phase, t_end, ka, kl, nu, uplift, load
         )
+        P[P_TRAP_E] = trap[0]
+        P[P_TRAP_TH] = trap[1]
         t_stop = t_end + t_after
         segs = np.zeros((1, 6))
         imps = np.zeros((1, 3))

@@ -110,3 +110,69 @@ def test_spectrum_layout_and_json(zm_block):
 def test_spectrum_rejects_amplitude_below_uplift(zm_block):
     with pytest.raises(InputError, match="amplitude"):
         overturning_spectrum(zm_block, [1.0], [0.5])
+
+
+@pytest.mark.parametrize("model", ["linear", "nonlinear"])
+def test_collared_spectrum_stops_early_without_changing_its_answer(model):
+    """With collars a free swing past alpha may be held, so the spectrum stops following a
+    pulse once the free block's energy is below the largest potential (gravity + collars) on
+    the way to pi/2, taking the peak from the swing's turning point. Every pulse of a grid
+    then has the fate and the peak rotation of the run followed to its end (the slow way)."""
+    from colonna.rigid import Block
+    from colonna.rigid import _kernels as K
+    from colonna.rigid.collars import collar_kernel_constants
+    from colonna.rigid.solve import kernel_block_constants
+
+    free = Block.from_dimensionless(p=2.14, alpha=0.25, restitution=0.9)
+    block = Block(b=free.b, h=free.h, mass=2700.0 * 4 * free.b * free.h * np.pi * free.b)
+    collars = (Collar(y=0.5 * block.h, t=0.01, h=0.04), Collar(y=1.5 * block.h, t=0.01, h=0.04))
+    omegas, amplitudes = np.array([1.0, 2.5, 6.0]), np.array([1.5, 4.0, 12.0])
+    spec = overturning_spectrum(block, omegas, amplitudes, collars, model=model)
+    ka, kl = collar_kernel_constants(block, collars)
+    p, alpha, uplift, _, load = kernel_block_constants(block, model)
+    stopped_early = 0
+    for i, ratio in enumerate(amplitudes):
+        for j, omega_ratio in enumerate(omegas):
+            omega = omega_ratio * block.p  # the pulse of the map's node, as the map makes it
+            phase = np.arcsin(1.0 / ratio)
+            t_end = (2.0 * np.pi - phase) / omega
+            P = K.make_params(
+                p,
+                alpha,
+                model == "nonlinear",
+                K.GROUND_HARMONIC,
+                ratio * uplift,
+                omega,
+                phase,
+                t_end,
+                ka,
+                kl,
+                block.nu,
+                uplift,
+                load,
+            )
+            t_stop = t_end + 50.0 / block.p
+            empty = np.zeros(1)
+            runs = [
+                K.rk_run(
+                    P.copy(),
+                    empty,
+                    empty,
+                    t_stop,
+                    1e-10,
+                    1e-12,
+                    early,
+                    0.0,
+                    np.zeros((1, 3)),
+                    np.zeros((1, 3)),
+                )
+                for early in (True, False)
+            ]
+            (status, _, peak, t_stopped, _, _), (status_full, _, peak_full, _, _, _) = runs
+            stopped_early += t_stopped < 0.5 * t_stop
+            assert (status == K.OVERTURNED) == (status_full == K.OVERTURNED)
+            assert (spec.codes[i, j] != K.SAFE) == (status_full == K.OVERTURNED)
+            if status_full != K.OVERTURNED:
+                assert peak == pytest.approx(peak_full, rel=1e-6)
+                assert spec.max_abs_theta[i, j] == pytest.approx(peak_full, rel=1e-6)
+    assert stopped_early >= 4  # the early stop is exercised
