@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from colonna.core.collar import Collar
-from colonna.core.collar_law import STATE_SIZE
+from colonna.core.collar_law import OUT_SIZE, STATE_SIZE
 from colonna.fem import _kernels as FK
 from colonna.fem.assembly import Stone
 from colonna.fem.model import build_model, stable_time_step
@@ -46,7 +46,7 @@ def _element_calls(plastic: bool, offset: float) -> tuple[float, float]:
     model = build_model(mesh, Stone(), 0.3, (collar,))
     x = model.X.copy()
     x[2 * model.collar_nodes[0, 3:] + 1] += offset
-    out, f = np.zeros((1, 5)), np.zeros_like(x)
+    out, f = np.zeros((1, OUT_SIZE)), np.zeros_like(x)
     state = np.zeros((1, STATE_SIZE))
     args = (x, model.collar_nodes, model.collar_props, out, f, state, False)
     FK.collar_forces(*args)
