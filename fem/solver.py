@@ -617,7 +617,7 @@ class _BatchState:
             np.zeros((batch, weights.shape[0])),
             np.zeros((batch, weights.shape[0])),
         )
-        self.scratch = K.Scratch(*(np.zeros((n, batch)) for _ in K.Scratch._fields))
+        self.scratch = K.Scratch(np.zeros((n, batch)), np.zeros((n, batch)), np.zeros((batch, n)))
 
     def advance(self, n_steps, dt, blend, stiffness, acc, vacc):
         K.advance(
