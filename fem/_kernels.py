@@ -315,8 +315,8 @@ Collars = namedtuple("Collars", ["nodes", "props"])
 """collar_forces' node table and properties."""
 
 CollarState = namedtuple("CollarState", ["out", "plastic"])
-"""Per state: collar_forces' outputs (B, n_collars, 5) and plastic state (B, n_collars,
-collar_law.STATE_SIZE)."""
+"""Per state: collar_forces' outputs (B, n_collars, collar_law.OUT_SIZE) and plastic state
+(B, n_collars, collar_law.STATE_SIZE)."""
 
 EdgeAverage = namedtuple("EdgeAverage", ["weights", "buffer", "position", "sums", "peak"])
 """The toe resultants weights . base_fn (weights (n_edges, n_base), shared) averaged over the

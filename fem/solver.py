@@ -32,6 +32,7 @@ import numpy as np
 from scipy.sparse.linalg import spsolve
 from tqdm import tqdm
 
+from ..core.collar import collar_strain_summary
 from ..core.collar_law import FIBRE_STRAIN, FRACTURED, OUT_SIZE, STATE_SIZE
 from ..core.errors import InputError, require_positive, require_range
 from ..core.ground import NO_MOTION, GroundMotion, require_motion
@@ -1005,7 +1006,17 @@ def _summary(
             default=0.0,
         ),
         "collar_plastic_work": float(collar_state[:, 2].sum()),
-        **_fibre_strain_summary(collars, h, collar_state),
+        # the largest fibre strain is the state's running maximum over every step; a fracture
+        # time is the first output at which the break is recorded
+        **(
+            collar_strain_summary(
+                collars,
+                collar_state[:, FIBRE_STRAIN],
+                [_fracture_time(h, k) for k in range(1, len(collars) + 1)],
+            )
+            if collars
+            else {}
+        ),
         # what the run leaves behind: the crack slip at its end (m)
         "crack_slip_residual": float(h["crack_slip_max"][-1]) if "crack_slip_max" in h else 0.0,
         "top_load": model.top_load,
@@ -1025,23 +1036,7 @@ def _summary(
     }
 
 
-def _fibre_strain_summary(collars, history, collar_state) -> dict:
-    """The collars' largest extreme-fibre strain (the state's running maximum over every step),
-    ductility demand (that strain / (f_y / E)), and whether and when (the first output at
-    which it is recorded) the first one fractured."""
-    if not collars:
-        return {}
-    demand = [
-        collar_state[c, FIBRE_STRAIN] / collar.yield_strain for c, collar in enumerate(collars)
-    ]
-    times = []
-    for k in range(1, len(collars) + 1):
-        broken = np.nonzero(history.get(f"collar_{k}_fractured", np.zeros(0)) > 0.0)[0]
-        if broken.size:
-            times.append(float(history["t"][broken[0]]))
-    return {
-        "collar_max_fibre_strain": float(np.max(collar_state[:, FIBRE_STRAIN])),
-        "collar_ductility_demand": float(max(demand)),
-        "collar_fractured": bool(times),
-        "collar_fracture_time": min(times) if times else None,
-    }
+def _fracture_time(history, k) -> float | None:
+    """The first output time at which collar k (from 1) is recorded broken, None if never."""
+    broken = np.nonzero(history.get(f"collar_{k}_fractured", np.zeros(0)) > 0.0)[0]
+    return float(history["t"][broken[0]]) if broken.size else None

@@ -108,8 +108,8 @@ def collar_forces(q, col_a, col_b, col_r, props, f, out, state, commit):
     rotations th1, th2 relative to the chord). Plasticity and fracture as the FEM's
     (colonna.core.collar_law.frame_local_law): state[c] = (plastic elongation, accumulated
     plastic strain, plastic work, hinge rotations, largest fibre strain, fractured), updated
-    with commit. Returns
-    the elastic energy U (J); the plastic work of a committed call is added to state[c, 2]."""
+    with commit. Returns the elastic energy U (J); the plastic work of a committed call is
+    added to state[c, 2]."""
     energy = 0.0
     for c in range(col_a.size):
         a = col_a[c]

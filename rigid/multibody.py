@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.collar import collar_strain_summary
 from ..core.collar_law import (
     FIBRE_STRAIN,
     FRACTURED,
@@ -52,7 +53,6 @@ from .collars import validate_collars
 from .solve import (
     CollarHistory,
     collar_state,
-    collar_strain_summary,
     motion_word,
     verdict,
 )
@@ -428,7 +428,14 @@ class MultibodyResult:
             out["collar_first_yield_time"] = min(yields) if yields else None
             out["collar_max_plastic_strain"] = self.collar_max_plastic_strain
             out["collar_plastic_work"] = self.collar_plastic_work
-            out.update(collar_strain_summary(self.collar_histories))
+            hists = self.collar_histories
+            out.update(
+                collar_strain_summary(
+                    [h.collar for h in hists],
+                    [h.max_fibre_strain for h in hists],
+                    [h.fracture_time for h in hists],
+                )
+            )
             out["collar_state"] = collar_state(
                 out["collar_max_utilisation"],
                 self.collar_max_plastic_strain,

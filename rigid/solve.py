@@ -83,20 +83,6 @@ def elastic_collar_note(histories) -> str | None:
     )
 
 
-def collar_strain_summary(histories) -> dict:
-    """The collars' largest extreme-fibre strain, ductility demand (that strain / f_y / E) and
-    whether and when the first one fractured, from their CollarHistory's."""
-    strains = [(h.max_fibre_strain, h.ductility_demand) for h in histories]
-    strains = [s for s in strains if s[0] is not None]
-    broken = [h.fracture_time for h in histories if h.fracture_time is not None]
-    return {
-        "collar_max_fibre_strain": max((s[0] for s in strains), default=None),
-        "collar_ductility_demand": max((s[1] for s in strains), default=None),
-        "collar_fractured": bool(broken),
-        "collar_fracture_time": min(broken) if broken else None,
-    }
-
-
 def verdict(summary: dict) -> str:
     """The motion and, with collars, their state, from a rigid summary: e.g. ``"rocking;
     collars yielded (max utilisation 26.7)"``, ``"overturned (after-impact)"``."""

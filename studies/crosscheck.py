@@ -177,7 +177,7 @@ def rigid_case(case: dict, directory: str) -> dict:
 
 def multibody_case(case: dict, directory: str) -> dict:
     """The rigid multibody model of the study, at its default step times ``step_factor``."""
-    from ..rigid.multibody import build_column, default_step, history_columns, rock_multibody
+    from ..rigid.multibody import build_column, default_step, history_columns
 
     study = _study_from_case(case)
     dt = None
@@ -189,7 +189,22 @@ def multibody_case(case: dict, directory: str) -> dict:
             friction=study.contact.friction,
         )
         dt = case["step_factor"] * default_step(column, study.ground)
-    result = rock_multibody(
+    result = run_multibody(study, dt)
+    write_csv(Path(directory) / "history.csv", history_columns(result))
+    summary = result.summary()
+    summary["restitution_after_motion"] = restitution_after_motion(
+        study, result.time, result.theta[:, 0]
+    )
+    return summary
+
+
+def run_multibody(study, dt: float | None = None):
+    """The rigid multibody model of a study (its default step where ``dt`` is None). Every
+    study kind's multibody run goes through here; a variant is a changed study
+    (``dataclasses.replace``), as for :func:`colonna.studies.fem_study.run_fem`."""
+    from ..rigid.multibody import rock_multibody
+
+    return rock_multibody(
         study.rocking_block,
         study.ground,
         study.collars,
@@ -201,12 +216,6 @@ def multibody_case(case: dict, directory: str) -> dict:
         initial_angular_velocity=study.initial_angular_velocity,
         dt=dt,
     )
-    write_csv(Path(directory) / "history.csv", history_columns(result))
-    summary = result.summary()
-    summary["restitution_after_motion"] = restitution_after_motion(
-        study, result.time, result.theta[:, 0]
-    )
-    return summary
 
 
 def spectrum_case(case: dict, directory: str) -> dict:

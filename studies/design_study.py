@@ -19,7 +19,7 @@ from ..rigid.design import (
     design_collars,
     thinnest_passing,
 )
-from .crosscheck import _study_from_case, fem_case
+from .crosscheck import _study_from_case, fem_case, run_multibody
 from .executor import run_cases
 from .fem_study import from_dict
 from .outcome import fem_answers, fem_model, outcome
@@ -129,21 +129,11 @@ def band_case(case: dict, directory: str) -> dict:
     (:func:`colonna.rigid.design.collar_trial`)."""
     from dataclasses import replace
 
-    from ..rigid.multibody import history_columns, rock_multibody
+    from ..rigid.multibody import history_columns
 
     study = _study_from_case(case)
     collars = tuple(replace(c, t=case["t"], plastic=True) for c in study.collars)
-    result = rock_multibody(
-        study.rocking_block,
-        study.ground,
-        collars,
-        cracked=study.cracked,
-        friction=study.contact.friction,
-        duration=study.duration,
-        vertical=study.vertical,
-        initial_tilt=study.initial_tilt,
-        initial_angular_velocity=study.initial_angular_velocity,
-    )
+    result = run_multibody(replace(study, collars=collars))
     write_csv(Path(directory) / "history.csv", history_columns(result))
     return {"t": case["t"], **collar_trial(result.summary(), case["ductility_limit"])}
 

@@ -156,3 +156,18 @@ class Collar:
     def yield_displacement(self, b: float | None = None) -> float:
         """Lateral end offset at first yield, d_y = M_y L^2 / (6 E I) (corrected Eq. 22), m."""
         return self.yield_moment * self.span(b) ** 2 / (6.0 * self.E * self.second_moment)
+
+
+def collar_strain_summary(collars, largest_strains, fracture_times) -> dict:
+    """The collars' largest extreme-fibre strain, ductility demand (a collar's largest strain
+    over its f_y / E, the most of them) and whether and when the first one fractured, from
+    each collar's largest fibre strain and fracture time (None: it holds). The FEM and the
+    multibody summaries both give these."""
+    demands = [e / c.yield_strain for c, e in zip(collars, largest_strains)]
+    broken = [t for t in fracture_times if t is not None]
+    return {
+        "collar_max_fibre_strain": float(max(largest_strains)),
+        "collar_ductility_demand": float(max(demands)),
+        "collar_fractured": bool(broken),
+        "collar_fracture_time": min(broken) if broken else None,
+    }
