@@ -21,7 +21,10 @@ import math
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import carray, njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 from ..core.collar_law import frame_local_law
 
@@ -329,45 +332,184 @@ y and rotation), tallies (B, 2: dissipated energy, external work), energies (B, 
 base contact, crack contact, collar, gravity, kinetic), alive (B,: False stops a state) and
 done (B,: steps done by the last call)."""
 
-Scratch = namedtuple("Scratch", ["u_loc", "f_loc", "f"])
-"""Work arrays: local displacements and elastic forces (n_dofs, B: a state per column, so
-the block mat-vec reads each block once for all states) and external forces (B, n_dofs)."""
+Scratch = namedtuple("Scratch", ["work"])
+"""advance's work array, flat and 64-byte aligned (make it with new_scratch; one serves any
+batch size). For a group of up to GROUP states, state j of the group in column j: per dof d and
+component c (position, velocity, external force, local displacement, elastic force) the entry
+(COMPONENTS d + c) GROUP + j, so that a node's data for all the states of a group lie together,
+each row of GROUP states in one cache line. One state has the plain layout: the components one
+after the other, each n_dofs long."""
+
+
+# States per group of advance (see _advance_group): a compile-time constant, so that the rows a
+# loop over a group's states touches lie at fixed offsets from each other and the loops have a
+# fixed trip count: they vectorise (4 doubles a vector; GROUP is a multiple of 4)
+GROUP = 8
+# per dof and state in Scratch.work: position, velocity, external force, local displacement,
+# elastic force
+COMPONENTS = 5
+POSITION, VELOCITY, FORCE, LOCAL, ELASTIC = range(COMPONENTS)
+
+
+def new_scratch(n_dofs):
+    """A Scratch for a model of n_dofs dofs (any batch size), its work array 64-byte aligned
+    (a row of a group's GROUP states fills one cache line)."""
+    size = COMPONENTS * GROUP * n_dofs
+    buffer = np.zeros(size + 8)
+    start = (-buffer.ctypes.data % 64) // 8
+    return Scratch(buffer[start : start + size])
+
+
+@intrinsic
+def _stack_rows(typingctx, rows):
+    """Work buffer of `rows` x GROUP float64 (rows a constant) on the stack, as a pointer for
+    numba.carray: the per-state sums of a pass. The compiler knows that it overlaps no array,
+    so a loop over the states that sums into it vectorises without run-time overlap checks."""
+    if not isinstance(rows, types.IntegerLiteral):
+        return None
+
+    def codegen(context, builder, signature, args):
+        size = context.get_constant(types.intp, rows.literal_value * GROUP)
+        return cgutils.alloca_once(builder, context.get_value_type(types.float64), size=size)
+
+    return types.CPointer(types.float64)(rows), codegen
 
 
 @njit(cache=True)
-def bsr_matmat(indptr, indices, blocks, x, out):
-    """out = A x for A in block-sparse-row form with 2 x 2 blocks and x of shape (n, B): one
-    read of each block serves the B columns (the loop over them vectorises). One column (a
-    plain run) keeps its sums in registers. Strict IEEE arithmetic (no fast-math)."""
-    batch = x.shape[1]
-    if batch == 1:
+def _span(array, start, length, single):
+    """array[start : start + length] as (view, offset of start in it): for a group of states a
+    view, inside which the rows a loop over the states touches are at fixed offsets (so that it
+    vectorises); for one state (single, a compile-time constant) the array itself and start,
+    no view to build per node."""
+    if single:
+        return array, start
+    return array[start : start + length], 0
+
+
+def _contiguous(array_type):
+    """Whether a numba type is a contiguous 1-d float64 array (what _madd4 and _copy4 take)."""
+    return (
+        isinstance(array_type, types.Array)
+        and array_type.ndim == 1
+        and array_type.layout == "C"
+        and array_type.dtype == types.float64
+    )
+
+
+def _vector_at(context, builder, array_type, array, index):
+    """Pointer to array[index : index + 4] as one 4-double vector."""
+    data = context.make_array(array_type)(context, builder, array).data
+    pointer = builder.gep(data, [index])
+    return builder.bitcast(pointer, ir.PointerType(ir.VectorType(ir.DoubleType(), 4)))
+
+
+def _splat(builder, value):
+    """A 4-double vector of value."""
+    vector = ir.VectorType(ir.DoubleType(), 4)
+    lane = builder.insert_element(
+        ir.Constant(vector, ir.Undefined), value, ir.Constant(ir.IntType(32), 0)
+    )
+    zeros = ir.Constant(ir.VectorType(ir.IntType(32), 4), [0, 0, 0, 0])
+    return builder.shuffle_vector(lane, ir.Constant(vector, ir.Undefined), zeros)
+
+
+@intrinsic
+def _madd4(typingctx, acc, at, a, x, xt, b, yt):
+    """acc[at : at + 4] += a * x[xt : xt + 4] + b * x[yt : yt + 4] (acc, x: contiguous 1-d
+    float64 arrays, unchecked bounds) as 4-wide vector operations, in strict IEEE arithmetic:
+    the same operations, in the same order, as the scalar acc[at + r] += a * x[xt + r] + b *
+    x[yt + r]. Explicit, because numba runs only the loop vectoriser, and a loop over the 8
+    states of a group with a fixed count is unrolled into scalar code before it is vectorised:
+    with these a row's sums stay in vector registers."""
+    if not (_contiguous(acc) and _contiguous(x)):
+        return None
+
+    def codegen(context, builder, signature, args):
+        acc_type, _, _, x_type, _, _, _ = signature.args
+        acc_value, at_value, a_value, x_value, xt_value, b_value, yt_value = args
+        target = _vector_at(context, builder, acc_type, acc_value, at_value)
+        first = builder.load(_vector_at(context, builder, x_type, x_value, xt_value), align=8)
+        second = builder.load(_vector_at(context, builder, x_type, x_value, yt_value), align=8)
+        terms = builder.fadd(
+            builder.fmul(_splat(builder, a_value), first),
+            builder.fmul(_splat(builder, b_value), second),
+        )
+        builder.store(builder.fadd(builder.load(target, align=8), terms), target, align=8)
+        return context.get_dummy_value()
+
+    return types.void(acc, at, a, x, xt, b, yt), codegen
+
+
+@intrinsic
+def _copy4(typingctx, target, tt, source, st):
+    """target[tt : tt + 4] = source[st : st + 4] (source None: zeros) as one 4-wide vector
+    (target, source: contiguous 1-d float64 arrays, unchecked bounds)."""
+    if not (_contiguous(target) and (isinstance(source, types.NoneType) or _contiguous(source))):
+        return None
+
+    def codegen(context, builder, signature, args):
+        target_type, _, source_type, _ = signature.args
+        pointer = _vector_at(context, builder, target_type, args[0], args[1])
+        if isinstance(source_type, types.NoneType):
+            value = ir.Constant(ir.VectorType(ir.DoubleType(), 4), [0.0] * 4)
+        else:
+            value = builder.load(
+                _vector_at(context, builder, source_type, args[2], args[3]), align=8
+            )
+        builder.store(value, pointer, align=8)
+        return context.get_dummy_value()
+
+    return types.void(target, tt, source, st), codegen
+
+
+@njit(cache=True)
+def bsr_matmat(indptr, indices, blocks, work, single):
+    """The elastic forces K u of a group of states: K in block-sparse-row form with 2 x 2
+    blocks (one per node pair) applied to the LOCAL component of Scratch.work, the result in
+    its ELASTIC component (single, a compile-time constant: one state, in its layout). One read
+    of each block serves all the states. A row's sums stay in registers: for one state as
+    scalars, for a group as 4-wide vectors (_madd4 on a stack buffer the compiler keeps in
+    registers), all GROUP columns at once. Every state gets the sums of the one-state path, in
+    the same order. Strict IEEE arithmetic (no fast-math)."""
+    if single:
+        n = work.size // COMPONENTS
+        u = work[LOCAL * n : (LOCAL + 1) * n]
+        out = work[ELASTIC * n : (ELASTIC + 1) * n]
         for i in range(indptr.size - 1):
             a0 = 0.0
             a1 = 0.0
             for k in range(indptr[i], indptr[i + 1]):
                 j = indices[k]
-                x0 = x[2 * j, 0]
-                x1 = x[2 * j + 1, 0]
+                x0 = u[2 * j]
+                x1 = u[2 * j + 1]
                 a0 += blocks[k, 0, 0] * x0 + blocks[k, 0, 1] * x1
                 a1 += blocks[k, 1, 0] * x0 + blocks[k, 1, 1] * x1
-            out[2 * i, 0] = a0
-            out[2 * i + 1, 0] = a1
+            out[2 * i] = a0
+            out[2 * i + 1] = a1
         return
+    node = 2 * COMPONENTS * GROUP
+    u0 = LOCAL * GROUP
+    u1 = u0 + COMPONENTS * GROUP
+    k0 = ELASTIC * GROUP
+    k1 = k0 + COMPONENTS * GROUP
+    acc = carray(_stack_rows(2), (2 * GROUP,))
     for i in range(indptr.size - 1):
-        for r in range(batch):
-            out[2 * i, r] = 0.0
-            out[2 * i + 1, r] = 0.0
+        for h in range(0, 2 * GROUP, 4):
+            _copy4(acc, h, None, 0)
         for k in range(indptr[i], indptr[i + 1]):
             j = indices[k]
-            a00 = blocks[k, 0, 0]
-            a01 = blocks[k, 0, 1]
-            a10 = blocks[k, 1, 0]
-            a11 = blocks[k, 1, 1]
-            for r in range(batch):
-                x0 = x[2 * j, r]
-                x1 = x[2 * j + 1, r]
-                out[2 * i, r] += a00 * x0 + a01 * x1
-                out[2 * i + 1, r] += a10 * x0 + a11 * x1
+            b00 = blocks[k, 0, 0]
+            b01 = blocks[k, 0, 1]
+            b10 = blocks[k, 1, 0]
+            b11 = blocks[k, 1, 1]
+            u = work[node * j : node * (j + 1)]
+            for h in range(0, GROUP, 4):
+                _madd4(acc, h, b00, u, u0 + h, b01, u1 + h)
+                _madd4(acc, GROUP + h, b10, u, u0 + h, b11, u1 + h)
+        out = work[node * i : node * (i + 1)]
+        for h in range(0, GROUP, 4):
+            _copy4(out, k0 + h, acc, h)
+            _copy4(out, k1 + h, acc, GROUP + h)
 
 
 @njit(cache=True, fastmath=SAFE_FASTMATH)
@@ -424,23 +566,19 @@ def advance(
     shorter than an output interval is not missed and penalty-contact chatter faster than the
     averaging time is not taken for stress. motion.done[r]: the steps state r did.
 
-    Per step and state: one pass for the body frames, one for the local displacements; then
-    one block mat-vec for the whole batch; then per state the contact and collar forces and one
-    fused pass that rotates the elastic forces back, updates velocity and position and loads
-    gravity and ground force for the next step."""
-    x, v, frames = motion.x, motion.v, motion.frames
-    X, mass, node_body, centroid_ref, gravity = (
-        bodies.X,
-        bodies.mass,
-        bodies.node_body,
-        bodies.centroid_ref,
-        bodies.gravity,
-    )
-    u_loc, f_loc, f = scratch.u_loc, scratch.f_loc, scratch.f
-    batch = x.shape[0]
+    The live states go through _advance_group in groups of GROUP, a group of one state in the
+    one-state layout (a version of _advance_group compiled for it: a plain run keeps its speed).
+    """
+    X, mass, node_body, centroid_ref = bodies.X, bodies.mass, bodies.node_body, bodies.centroid_ref
     n_nodes = node_body.size
-    n_bodies = centroid_ref.shape[0]
-    # reference positions relative to their body's centroid, and inverse masses
+    live = np.empty(motion.alive.size, dtype=np.int64)
+    n_live = 0
+    for r in range(motion.alive.size):
+        motion.done[r] = 0
+        if motion.alive[r]:
+            live[n_live] = r
+            n_live += 1
+    # reference positions relative to their body's centroid, inverse masses, body masses
     rel = np.empty(2 * n_nodes)
     inv_mass = np.empty(n_nodes)
     for i in range(n_nodes):
@@ -448,64 +586,245 @@ def advance(
         rel[2 * i] = X[2 * i] - centroid_ref[b, 0]
         rel[2 * i + 1] = X[2 * i + 1] - centroid_ref[b, 1]
         inv_mass[i] = 1.0 / mass[2 * i]
-    cos_b = np.ones((batch, n_bodies))
-    sin_b = np.zeros((batch, n_bodies))
-    for r in range(batch):
-        motion.done[r] = 0
-        ag = ground_acc[r, 0]
-        av = ground_vacc[r, 0]
-        for i in range(n_nodes):
-            f[r, 2 * i] = gravity[2 * i] - mass[2 * i] * ag
-            f[r, 2 * i + 1] = gravity[2 * i + 1] - mass[2 * i] * av
+    body_mass = np.zeros(centroid_ref.shape[0])
+    for b in range(body_mass.size):
+        for k in range(bodies.offsets[b], bodies.offsets[b + 1]):
+            body_mass[b] += mass[2 * bodies.order[k]]
+    for first in range(0, n_live, GROUP):
+        states = live[first : min(first + GROUP, n_live)]
+        # single is a compile-time constant of _advance_group: a version for one state, in the
+        # one-state layout, and one for GROUP states
+        if states.size == 1:
+            _advance_group(
+                n_steps,
+                dt,
+                mu,
+                blend,
+                stiffness,
+                bodies,
+                base,
+                cracks,
+                collars,
+                ground_acc,
+                ground_vacc,
+                motion,
+                base_state,
+                crack_states,
+                collar_state,
+                edge,
+                states,
+                scratch.work,
+                rel,
+                inv_mass,
+                body_mass,
+                True,
+            )
+        else:
+            _advance_group(
+                n_steps,
+                dt,
+                mu,
+                blend,
+                stiffness,
+                bodies,
+                base,
+                cracks,
+                collars,
+                ground_acc,
+                ground_vacc,
+                motion,
+                base_state,
+                crack_states,
+                collar_state,
+                edge,
+                states,
+                scratch.work,
+                rel,
+                inv_mass,
+                body_mass,
+                False,
+            )
+
+
+@njit(cache=True, fastmath=SAFE_FASTMATH)
+def _advance_group(
+    n_steps,
+    dt,
+    mu,
+    blend,
+    stiffness,
+    bodies,
+    base,
+    cracks,
+    collars,
+    ground_acc,
+    ground_vacc,
+    motion,
+    base_state,
+    crack_states,
+    collar_state,
+    edge,
+    states,
+    work,
+    rel,
+    inv_mass,
+    body_mass,
+    single,
+):
+    """advance for the live states `states` (at most GROUP; one if single, a compile-time
+    constant). rel: reference positions relative to their body's centroid; inv_mass per node;
+    body_mass per body.
+
+    Layout (Scratch): the states' positions and velocities are copied into the work array at
+    entry and back at exit (or when a state stops), state states[j] in column j. The per-node
+    passes run over the nodes with the states innermost: a node's shared data (mass, reference
+    position, stiffness blocks) is read once for all the states, and the loop over them is
+    contiguous, at fixed offsets from the node's start, with its sums in stack buffers
+    (_stack_rows): it vectorises. The mat-vec and the fused pass run over all GROUP columns (a
+    fixed count), the other passes over the states' columns; the columns past the states (and
+    a stopped state's) are parked at rest at the reference positions, their results unread.
+    The contact and collar functions get a state's columns as strided views. One state has the
+    plain layout and scalar loops.
+
+    Per step: body by body, the body frames from the sums left by the last update and one pass
+    for the local displacements; one block mat-vec for all the states (bsr_matmat); per state
+    the contact and collar forces; one fused pass, body by body, that rotates the elastic forces
+    back, updates velocity and position, loads gravity and ground force for the next step and
+    sums the next step's frame sums."""
+    x, v, frames = motion.x, motion.v, motion.frames
+    X, mass, gravity, order, offsets = (
+        bodies.X,
+        bodies.mass,
+        bodies.gravity,
+        bodies.order,
+        bodies.offsets,
+    )
+    n_dofs = x.shape[1]
+    n_bodies = body_mass.size
+    width = states.size
+    # the columns of a group (compile-time) and the states' (a number known only at run time);
+    # the strides in the work array between two components of a dof and between the two dofs
+    # of a node
+    if single:
+        group = 1
+        lanes = 1
+        component = n_dofs
+        dof = 1
+    else:
+        group = GROUP
+        lanes = width
+        component = GROUP
+        dof = COMPONENTS * GROUP
+    node = 2 * dof
+    x0 = POSITION * component
+    v0 = VELOCITY * component
+    f0 = FORCE * component
+    u0 = LOCAL * component
+    k0 = ELASTIC * component
+    grid = work[: COMPONENTS * group * n_dofs]
+    if single:
+        columns = grid.reshape((COMPONENTS, n_dofs, 1)).transpose((1, 0, 2))
+    else:
+        columns = grid.reshape((n_dofs, COMPONENTS, GROUP))
+    running = np.zeros(group, dtype=np.bool_)
+    for j in range(group):
+        if j < width:
+            running[j] = True
+            columns[:, POSITION, j] = x[states[j]]
+            columns[:, VELOCITY, j] = v[states[j]]
+        else:
+            columns[:, POSITION, j] = X
+            columns[:, VELOCITY, j] = 0.0
+        columns[:, LOCAL, j] = 0.0
+        columns[:, ELASTIC, j] = 0.0
+    # per state: body rotations (n_bodies of them); on the stack: the frame sums of a body, its
+    # centroid and rotation, the fused pass' sums, this and the next step's ground
+    # accelerations, the contact and collar results
+    cos_b = np.ones((n_bodies, group))
+    sin_b = np.zeros((n_bodies, group))
+    sums = carray(_stack_rows(4), (4, GROUP))
+    frame = carray(_stack_rows(4), (4, GROUP))
+    totals = carray(_stack_rows(5), (5, GROUP))
+    ground = carray(_stack_rows(4), (4, GROUP))
+    results = carray(_stack_rows(4), (4, GROUP))
+    for j in range(group):
+        ground[0, j] = ground_acc[states[j], 0] if j < width else 0.0
+        ground[1, j] = ground_vacc[states[j], 0] if j < width else 0.0
+    for k in range(order.size):
+        i = order[k]
+        w, o = _span(grid, node * i, node, single)
+        for j in range(group):
+            w[o + f0 + j] = gravity[2 * i] - mass[2 * i] * ground[0, j]
+            w[o + f0 + dof + j] = gravity[2 * i + 1] - mass[2 * i] * ground[1, j]
+    # the body frames' sums of the positions, per body and state: here for the first step, then
+    # by the fused pass for the next
+    body_sums = np.zeros((n_bodies, 4, group))
+    for b in range(n_bodies):
+        for k in range(offsets[b], offsets[b + 1]):
+            i = order[k]
+            m = mass[2 * i]
+            px = rel[2 * i]
+            py = rel[2 * i + 1]
+            w, o = _span(grid, node * i, node, single)
+            for j in range(group):
+                xj = w[o + x0 + j]
+                yj = w[o + x0 + dof + j]
+                body_sums[b, 0, j] += m * xj
+                body_sums[b, 1, j] += m * yj
+                body_sums[b, 2, j] += m * (px * xj + py * yj)
+                body_sums[b, 3, j] += m * (px * yj - py * xj)
     for step in range(n_steps):
-        for r in range(batch):
-            if not motion.alive[r]:
-                continue
-            # body frames: centroid and best-fit rotation in one pass (sum m (X - C) = 0),
-            # body by body so that the sums stay in registers
-            for b in range(n_bodies):
-                s0 = 0.0
-                s1 = 0.0
-                s2 = 0.0
-                s3 = 0.0
-                s4 = 0.0
-                for k in range(bodies.offsets[b], bodies.offsets[b + 1]):
-                    i = bodies.order[k]
-                    m = mass[2 * i]
-                    xi = x[r, 2 * i]
-                    yi = x[r, 2 * i + 1]
-                    px = rel[2 * i]
-                    py = rel[2 * i + 1]
-                    s0 += m
-                    s1 += m * xi
-                    s2 += m * yi
-                    s3 += m * (px * xi + py * yi)
-                    s4 += m * (px * yi - py * xi)
-                cx = s1 / s0
-                cy = s2 / s0
-                phi = math.atan2(s4, s3)
-                frames[r, b, 0] = cx
-                frames[r, b, 1] = cy
-                frames[r, b, 2] = phi
+        # body frames: centroid and best-fit rotation from the sums (sum m (X - C) = 0), then the
+        # local displacements, body by body
+        for b in range(n_bodies):
+            for j in range(lanes):
+                cx = body_sums[b, 0, j] / body_mass[b]
+                cy = body_sums[b, 1, j] / body_mass[b]
+                phi = math.atan2(body_sums[b, 3, j], body_sums[b, 2, j])
                 c = math.cos(phi)
                 s = math.sin(phi)
-                cos_b[r, b] = c
-                sin_b[r, b] = s
-                # local displacements (a column per state)
-                for k in range(bodies.offsets[b], bodies.offsets[b + 1]):
-                    i = bodies.order[k]
-                    qx = x[r, 2 * i] - cx
-                    qy = x[r, 2 * i + 1] - cy
-                    u_loc[2 * i, r] = c * qx + s * qy - rel[2 * i]
-                    u_loc[2 * i + 1, r] = -s * qx + c * qy - rel[2 * i + 1]
-        bsr_matmat(stiffness.indptr, stiffness.indices, stiffness.blocks, u_loc, f_loc)
-        for r in range(batch):
-            if not motion.alive[r]:
+                frame[0, j] = cx
+                frame[1, j] = cy
+                frame[2, j] = c
+                frame[3, j] = s
+                cos_b[b, j] = c
+                sin_b[b, j] = s
+                if running[j]:
+                    frames[states[j], b, 0] = cx
+                    frames[states[j], b, 1] = cy
+                    frames[states[j], b, 2] = phi
+            for k in range(offsets[b], offsets[b + 1]):
+                i = order[k]
+                px = rel[2 * i]
+                py = rel[2 * i + 1]
+                w, o = _span(grid, node * i, node, single)
+                for j in range(lanes):
+                    qx = w[o + x0 + j] - frame[0, j]
+                    qy = w[o + x0 + dof + j] - frame[1, j]
+                    w[o + u0 + j] = frame[2, j] * qx + frame[3, j] * qy - px
+                    w[o + u0 + dof + j] = -frame[3, j] * qx + frame[2, j] * qy - py
+        bsr_matmat(stiffness.indptr, stiffness.indices, stiffness.blocks, grid, single)
+        # contact and collars, state by state on its columns
+        for j in range(group):
+            if not running[j]:
+                ground[0, j] = 0.0
+                ground[1, j] = 0.0
+                ground[2, j] = 0.0
+                ground[3, j] = 0.0
                 continue
-            ag = ground_acc[r, step]
-            av = ground_vacc[r, step]
-            xr, vr, fr = x[r], v[r], f[r]
-            # contact and collars
+            r = states[j]
+            ground[0, j] = ground_acc[r, step]
+            ground[1, j] = ground_vacc[r, step]
+            ground[2, j] = ground_acc[r, step + 1] if step + 1 < n_steps else ground[0, j]
+            ground[3, j] = ground_vacc[r, step + 1] if step + 1 < n_steps else ground[1, j]
+            if single:  # contiguous
+                xr = grid[x0 : x0 + n_dofs]
+                vr = grid[v0 : v0 + n_dofs]
+                fr = grid[f0 : f0 + n_dofs]
+            else:
+                xr = columns[:, POSITION, j]
+                vr = columns[:, VELOCITY, j]
+                fr = columns[:, FORCE, j]
             e_base, p_base = base_contact(
                 xr,
                 vr,
@@ -558,45 +877,90 @@ def advance(
                 collar_state.plastic[r],
                 True,
             )
-            # fused: elastic forces back to the ground frame, update, next step's loads
-            ag_next = ground_acc[r, step + 1] if step + 1 < n_steps else ag
-            av_next = ground_vacc[r, step + 1] if step + 1 < n_steps else av
-            e_strain = 0.0
-            e_grav = 0.0
-            e_kin = 0.0
-            work = 0.0
-            vv = 0.0
-            for i in range(n_nodes):
-                b = node_body[i]
-                c = cos_b[r, b]
-                s = sin_b[r, b]
-                fx = f_loc[2 * i, r]
-                fy = f_loc[2 * i + 1, r]
-                e_strain += 0.5 * (u_loc[2 * i, r] * fx + u_loc[2 * i + 1, r] * fy)
+            results[0, j] = e_base
+            results[1, j] = e_crack
+            results[2, j] = e_collar
+            results[3, j] = (p_base + p_crack) * dt + w_plastic
+        # fused, body by body: elastic forces back to the ground frame, update, next step's
+        # loads; per state the sums of strain, gravity and kinetic energy, external work, |v|^2
+        # and the next step's frame sums (of the new positions)
+        for j in range(group):
+            for e in range(5):
+                totals[e, j] = 0.0
+        for b in range(n_bodies):
+            for j in range(group):
+                frame[2, j] = cos_b[b, j]
+                frame[3, j] = sin_b[b, j]
+                sums[0, j] = 0.0
+                sums[1, j] = 0.0
+                sums[2, j] = 0.0
+                sums[3, j] = 0.0
+            for k in range(offsets[b], offsets[b + 1]):
+                i = order[k]
                 m = mass[2 * i]
-                e_grav -= gravity[2 * i + 1] * (xr[2 * i + 1] - X[2 * i + 1])
                 dt_m = dt * inv_mass[i]
-                vx = vr[2 * i] + dt_m * (fr[2 * i] - (c * fx - s * fy))
-                vy = vr[2 * i + 1] + dt_m * (fr[2 * i + 1] - (s * fx + c * fy))
-                # kinetic energy conserved by central differences: m v(n-1/2) . v(n+1/2) / 2
-                e_kin += 0.5 * m * (vr[2 * i] * vx + vr[2 * i + 1] * vy)
-                vr[2 * i] = vx
-                vr[2 * i + 1] = vy
-                xr[2 * i] += dt * vx
-                xr[2 * i + 1] += dt * vy
-                work -= m * (ag * vx + av * vy) * dt
-                vv += vx * vx + vy * vy
-                fr[2 * i] = gravity[2 * i] - m * ag_next
-                fr[2 * i + 1] = gravity[2 * i + 1] - m * av_next
-            motion.tallies[r, 0] += (p_base + p_crack) * dt + w_plastic
-            motion.tallies[r, 1] += work
+                gx = gravity[2 * i]
+                gy = gravity[2 * i + 1]
+                y_ref = X[2 * i + 1]
+                px = rel[2 * i]
+                py = rel[2 * i + 1]
+                w, o = _span(grid, node * i, node, single)
+                for j in range(group):
+                    c = frame[2, j]
+                    s = frame[3, j]
+                    fx = w[o + k0 + j]
+                    fy = w[o + k0 + dof + j]
+                    totals[0, j] += 0.5 * (w[o + u0 + j] * fx + w[o + u0 + dof + j] * fy)
+                    totals[1, j] -= gy * (w[o + x0 + dof + j] - y_ref)
+                    vx0 = w[o + v0 + j]
+                    vy0 = w[o + v0 + dof + j]
+                    vx = vx0 + dt_m * (w[o + f0 + j] - (c * fx - s * fy))
+                    vy = vy0 + dt_m * (w[o + f0 + dof + j] - (s * fx + c * fy))
+                    # kinetic energy conserved by central differences: m v(n-1/2) . v(n+1/2) / 2
+                    totals[2, j] += 0.5 * m * (vx0 * vx + vy0 * vy)
+                    w[o + v0 + j] = vx
+                    w[o + v0 + dof + j] = vy
+                    xj = w[o + x0 + j] + dt * vx
+                    yj = w[o + x0 + dof + j] + dt * vy
+                    w[o + x0 + j] = xj
+                    w[o + x0 + dof + j] = yj
+                    totals[3, j] -= m * (ground[0, j] * vx + ground[1, j] * vy) * dt
+                    totals[4, j] += vx * vx + vy * vy
+                    w[o + f0 + j] = gx - m * ground[2, j]
+                    w[o + f0 + dof + j] = gy - m * ground[3, j]
+                    # the next step's frame sums
+                    sums[0, j] += m * xj
+                    sums[1, j] += m * yj
+                    sums[2, j] += m * (px * xj + py * yj)
+                    sums[3, j] += m * (px * yj - py * xj)
+            for j in range(group):
+                body_sums[b, 0, j] = sums[0, j]
+                body_sums[b, 1, j] = sums[1, j]
+                body_sums[b, 2, j] = sums[2, j]
+                body_sums[b, 3, j] = sums[3, j]
+        for j in range(width):
+            if not running[j]:
+                continue
+            r = states[j]
+            motion.tallies[r, 0] += results[3, j]
+            motion.tallies[r, 1] += totals[3, j]
             energies = motion.energies[r]
-            energies[0] = e_strain
-            energies[1] = e_base
-            energies[2] = e_crack
-            energies[3] = e_collar
-            energies[4] = e_grav
-            energies[5] = e_kin
+            energies[0] = totals[0, j]
+            energies[1] = results[0, j]
+            energies[2] = results[1, j]
+            energies[3] = results[2, j]
+            energies[4] = totals[1, j]
+            energies[5] = totals[2, j]
             motion.done[r] = step + 1
-            if not (math.isfinite(vv) and math.isfinite(e_strain)):
+            if not (math.isfinite(totals[4, j]) and math.isfinite(totals[0, j])):
                 motion.alive[r] = False
+                running[j] = False
+                x[r] = columns[:, POSITION, j]
+                v[r] = columns[:, VELOCITY, j]
+                columns[:, POSITION, j] = X
+                columns[:, VELOCITY, j] = 0.0
+                body_sums[:, :, j] = 0.0
+    for j in range(width):
+        if running[j]:
+            x[states[j]] = columns[:, POSITION, j]
+            v[states[j]] = columns[:, VELOCITY, j]

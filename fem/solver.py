@@ -618,7 +618,7 @@ class _BatchState:
             np.zeros((batch, weights.shape[0])),
             np.zeros((batch, weights.shape[0])),
         )
-        self.scratch = K.Scratch(np.zeros((n, batch)), np.zeros((n, batch)), np.zeros((batch, n)))
+        self.scratch = K.new_scratch(n)
 
     def advance(self, n_steps, dt, blend, stiffness, acc, vacc):
         K.advance(
