@@ -28,8 +28,9 @@ from numba.extending import intrinsic
 
 from ..core.collar_law import frame_local_law
 
-# fast-math without the no-NaN / no-Inf assumptions: the blow-up check must keep its meaning
-SAFE_FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
+# Strict IEEE arithmetic everywhere (no fast-math): the one-state path and the group path are
+# different compiled code, and only without contraction (FMA) and reassociation do they round
+# alike, so that a state's trajectory is the same bits alone or in any batch (measured: no cost)
 
 
 @njit(cache=True)
@@ -56,7 +57,7 @@ def _coulomb(force, kt, vt, dt, limit):
     return slip_force, power
 
 
-@njit(cache=True, fastmath=SAFE_FASTMATH)
+@njit(cache=True)
 def _penalty_contact(k, gap, vn, vt, kn, kt, cn, mu, dt, ft, normal_force, fn_filtered, blend):
     """One closed contact (gap < 0, normal velocity vn, tangential vt): damped penalty normal
     force (never tensile), Coulomb friction on the filtered cone. Updates the state of contact
@@ -72,7 +73,7 @@ def _penalty_contact(k, gap, vn, vt, kn, kt, cn, mu, dt, ft, normal_force, fn_fi
     return fn, trial, energy, power
 
 
-@njit(cache=True, fastmath=SAFE_FASTMATH)
+@njit(cache=True)
 def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force, fn_filtered, blend):
     """Base nodes against the rigid ground y = 0. ft: tangential force per node (state);
     fn_filtered: the normal force low-pass filtered for the friction cone (state; blend =
@@ -97,7 +98,7 @@ def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force, fn_filter
     return energy, power
 
 
-@njit(cache=True, fastmath=SAFE_FASTMATH)
+@njit(cache=True)
 def crack_contact(
     x,
     v,
@@ -207,7 +208,7 @@ def _face_angle(x, below, above):
     return math.atan2(x[2 * above + 1] - x[2 * below + 1], x[2 * above] - x[2 * below])
 
 
-@njit(cache=True, fastmath=SAFE_FASTMATH)
+@njit(cache=True)
 def collar_forces(x, collars, props, out, f, state, commit):
     """Co-rotational Euler-Bernoulli frame elements, elastic or elastoplastic (N and M).
 
@@ -512,7 +513,7 @@ def bsr_matmat(indptr, indices, blocks, work, single):
             _copy4(out, k1 + h, acc, GROUP + h)
 
 
-@njit(cache=True, fastmath=SAFE_FASTMATH)
+@njit(cache=True)
 def _edge_average(edge, r, base_fn):
     """Push the toe resultants of state r into its averaging buffer; keep the peak average."""
     n_avg = edge.buffer.shape[2]
@@ -533,7 +534,7 @@ def _edge_average(edge, r, base_fn):
     edge.position[r] = (slot + 1) % n_avg
 
 
-@njit(cache=True, fastmath=SAFE_FASTMATH)
+@njit(cache=True)
 def advance(
     n_steps,
     dt,
@@ -646,7 +647,7 @@ def advance(
             )
 
 
-@njit(cache=True, fastmath=SAFE_FASTMATH)
+@njit(cache=True)
 def _advance_group(
     n_steps,
     dt,

@@ -485,6 +485,10 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
     h_max = 0.1 / max(p, P[P_OMEGA]) if P[P_GROUND] == GROUND_HARMONIC else 0.1 / p
     status = RUNNING
     steps = 0
+    # first same as last: the acceleration at (t, th, s) is kept between steps, so a step after an
+    # accepted or a rejected one costs six evaluations instead of seven (same numbers: it is the
+    # very evaluation the step would repeat); NaN: to be evaluated (start, impact, lift-off)
+    acc_now = math.nan
     while status == RUNNING:
         if t >= t_stop:
             status = REACHED_END
@@ -497,8 +501,10 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
         if t < t_free < t + h:
             h = t_free - t  # land on the end of the ground motion (a kink in the forcing)
         # --- one DOPRI5 step ---------------------------------------------------------------
+        if math.isnan(acc_now):
+            acc_now = angular_acceleration(t, th, s, P, rec_t, rec_a)
         K0[0] = om
-        K1[0] = angular_acceleration(t, th, s, P, rec_t, rec_a)
+        K1[0] = acc_now
         for i in range(1, 6):
             y0 = th
             y1 = om
@@ -569,6 +575,7 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
                 impacts[n_imp, 2] = om
             n_imp += 1
             acc0 = angular_acceleration(t, 0.0, s, P, rec_t, rec_a)
+            acc_now = acc0
             resting = n_imp >= MAX_IMPACTS or om == 0.0
             if not resting and om * acc0 < 0.0:
                 resting = 2.0 * abs(om / acc0) * p < REST_HOP
@@ -584,6 +591,7 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
                 t = t_up
                 om = 0.0
                 s = -s_up
+                acc_now = math.nan
             elif early_exit and not has_collars and t >= t_free and 0.5 * om * om < barrier:
                 status = AT_REST
                 break
@@ -598,6 +606,7 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
         t = t + h
         th = n0
         om = n1
+        acc_now = K1[6]
         max_theta = max(max_theta, abs(th))
         if t >= t_free:
             if (
