@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 import sys
 import time
+from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -48,6 +49,9 @@ REPLICAS = 8  # default size of an ensemble (run_ensemble; [run] replicas)
 # replicas start from positions moved by this fraction of the column height (standard normal
 # offsets): far below anything physical, far above the last bit of a position
 REPLICA_PERTURBATION = 1e-12
+# runs that advance together when a batch of many runs is streamed through iter_batch: one
+# group of the kernel (its cost per state is lowest at a full group)
+BATCH_SLOTS = K.GROUP
 
 
 @dataclass
@@ -213,14 +217,24 @@ def run_ensemble(
     )
 
 
-def run_batch(
+def run_batch(model: Model, grounds: list, duration, **options) -> list[FemResult]:
+    """One run of the model per ground motion in ``grounds``, advanced together
+    (:func:`iter_batch`), as a list in the order of ``grounds``."""
+    results: list = [None] * len(grounds)
+    for k, result in iter_batch(model, grounds, duration, **options):
+        results[k] = result
+    return results
+
+
+def iter_batch(
     model: Model,
     grounds: list,
-    duration: float,
+    duration,
     *,
     verticals: list | None = None,
     out_dirs: list | None = None,
     offsets: list | None = None,
+    slots: int | None = None,
     dt: float | None = None,
     safety: float = 0.9,
     output_interval: float | None = None,
@@ -235,13 +249,31 @@ def run_batch(
     start_time: float = 0.0,
     initial_state: tuple | None = None,
     initial_contact: dict | None = None,
-) -> list[FemResult]:
+    stop_when_settled: bool = False,
+):
     """One run of the model per ground motion in ``grounds`` (with ``verticals[k]``, None for
-    none), advanced together: the states share the model and its stable step, and each step
-    reads the stiffness once for all of them. ``offsets[k]``: initial position offsets (m,
-    flat) of state k (replicas, see :func:`run_ensemble`). A state stops on its own (overturned
-    or blown up) while the others go on. ``out_dirs[k]``: where state k writes its files (None:
-    nowhere; only the first also writes its field files). Other arguments as in :func:`run`."""
+    none), advanced together: the runs share the model and its stable step, and each step
+    reads the stiffness once for all the states in the kernel. Yields (k, FemResult of run k)
+    as each run ends.
+
+    ``slots``: how many runs advance at once (default: all). With fewer slots than runs, a run
+    that ends (overturned, at rest past its duration, or blown up) leaves its slot to the next
+    run waiting, so the batch never waits on its longest member. A run's trajectory does not
+    depend on its slot nor on its companions (the kernel computes each state alone, in strict
+    arithmetic): run k of a batch is the same bits as run k alone.
+
+    ``duration``: seconds, one for all or one per run (then ``output_interval`` is required:
+    the runs share it). ``offsets[k]``: initial position offsets (m, flat) of run k (replicas,
+    see :func:`run_ensemble`). ``out_dirs[k]``: where run k writes its files (None: nowhere;
+    only run 0 writes field files).
+
+    ``stop_when_settled``: a run from the static state stops once its fate is settled: after
+    the ground motion, every body short of its toe (|theta| below its slenderness angle) and
+    the mechanical energy above the start (plus the balance error) below half the work that
+    tips one body onto its toe. Energy only leaves the column once the ground is still
+    (contact damping, friction, plastic work), so it can no longer reach a toe, let alone
+    overturn, and every later swing is smaller than that energy allows (for maps of outcomes,
+    such as the spectrum's grid points). Other arguments as in :func:`run`."""
     batch = len(grounds)
     if batch < 1:
         raise InputError("run_batch: no ground motion given")
@@ -250,17 +282,24 @@ def run_batch(
         require_motion(f"ground motion {k + 1}", g)
         require_motion(f"vertical ground motion {k + 1}", vg)
     out_dirs = [None] * batch if out_dirs is None else list(out_dirs)
+    durations = [duration] * batch if np.ndim(duration) == 0 else list(duration)
     if (
         len(verticals) != batch
         or len(out_dirs) != batch
+        or len(durations) != batch
         or (offsets is not None and len(offsets) != batch)
     ):
         raise InputError(
             f"run_batch: {batch} ground motions but {len(verticals)} vertical "
-            f"motions, {len(out_dirs)} output folders"
+            f"motions, {len(out_dirs)} output folders, {len(durations)} durations"
             + ("" if offsets is None else f", {len(offsets)} offsets")
         )
-    require_positive("run duration (s)", duration)
+    for d in durations:
+        require_positive("run duration (s)", d)
+    slots = batch if slots is None else int(slots)
+    if slots < 1:
+        raise InputError(f"run_batch slots = {slots} must be at least 1")
+    slots = min(slots, batch)
     require_range(
         "run initial_tilt (rad)",
         initial_tilt,
@@ -280,10 +319,12 @@ def run_batch(
                 "reduction): lower it or leave it out"
             )
     if output_interval is None:
-        output_interval = duration / 400.0
+        if len(set(durations)) > 1:
+            raise InputError("run_batch: runs of different durations need an output_interval")
+        output_interval = durations[0] / 400.0
     require_positive("run output_interval (s)", output_interval)
     steps_per_output = max(1, int(round(output_interval / dt)))
-    n_outputs = int(math.ceil(duration / (steps_per_output * dt)))
+    n_outputs = [int(math.ceil(d / (steps_per_output * dt))) for d in durations]
     mesh = model.mesh
     body_width = mesh.width / mesh.n_bodies
     if edge_length is None:
@@ -318,28 +359,32 @@ def run_batch(
     state = _BatchState(
         model,
         start,
-        batch,
+        slots,
         max(1, int(round(edge_time / dt))),
         np.ascontiguousarray(np.array(list(toes.values()))),
     )
-    if offsets is not None:
-        for r, offset in enumerate(offsets):
-            state.motion.x[r] += np.asarray(offset, dtype=float).reshape(-1)
-    recorders = [_Recorder(model, edge_length, list(toes), out) for out in out_dirs]
     tau = model.contact.friction_filter
     blend = 1.0 if tau == 0.0 else min(1.0, dt / tau)
     stiffness = _stiffness(model)
+    static_start = (
+        initial_state is None
+        and initial_tilt == 0.0
+        and initial_angular_velocity == 0.0
+        and initial_velocity is None
+    )
     ground_end = [max(g.end_time, vg.end_time) for g, vg in zip(grounds, verticals)]
-    t = float(start_time)
-    steps_done = 0
+    pending = deque(range(batch))
+    run_in = [-1] * slots  # the run in each slot (-1: none)
+    recorders: dict[int, _Recorder] = {}
+    steps_done = [0] * batch
+    outputs = [0] * batch  # output intervals done
     reasons = ["completed"] * batch
     overturned = [False] * batch
-    energy0 = [None] * batch
-    outputs = [0] * batch
-    start_clock = time.perf_counter()
+    energy0: list = [None] * batch
+    walls = [0.0] * batch  # each run's share of the compute time (s)
     # a progress bar on a terminal only (quiet in logs and under a sweep's workers)
     bar = tqdm(
-        total=round(duration, 6),
+        total=round(sum(durations), 6),
         desc="[fem]" if batch == 1 else f"[fem x{batch}]",
         unit="s",
         dynamic_ncols=True,
@@ -347,69 +392,72 @@ def run_batch(
         bar_format="{desc} {percentage:5.1f}%|{bar}| t = {n:.3f}/{total:.3f} s "
         "[{elapsed}<{remaining}]",
     )
-    # the forces of the initial state (contact normal forces at rest) for the first record
-    state.evaluate(dt, blend, stiffness)
-    for r in range(batch):
-        recorders[r].start_edge_average(state, r)
-    motion = state.motion
-    for k in range(n_outputs + 1):
-        for r in np.flatnonzero(motion.alive).tolist():
-            row = recorders[r].record(t, state, r)
-            if energy0[r] is None:
-                energy0[r] = row["energy_total"]
-            recorders[r].finish_row(row, energy0[r])
-            outputs[r] = k
-            stop = _check(row, recorders[r], ground_end[r], t, stop_on_overturn)
-            if stop is not None:
-                reasons[r], overturned[r] = stop
-                motion.alive[r] = False
-        if k == n_outputs or not motion.alive.any():
-            break
-        # times from the step count, not accumulated: the trajectory then does not depend on
-        # how the steps are grouped into output intervals (contact stick/slip decisions amplify
-        # round-off differences)
-        times = start_time + dt * (steps_done + np.arange(steps_per_output))
-        acc = np.array([g.acceleration(times) for g in grounds], dtype=float)
-        vacc = np.array([vg.acceleration(times) for vg in verticals], dtype=float)
-        live = motion.alive.copy()
-        state.advance(steps_per_output, dt, blend, stiffness, acc, vacc)
-        steps_done += steps_per_output
-        t = start_time + steps_done * dt
-        for r in np.flatnonzero(live & (motion.done < steps_per_output)).tolist():
-            t_r = start_time + (steps_done - steps_per_output + motion.done[r]) * dt
-            reasons[r] = (
-                f"numerical blow-up at t = {t_r:.4g} s: the state stopped being "
-                f"finite (dt = {dt:.3g} s too large for the contact or collar "
-                "stiffness?)"
-            )
-        bar.update(min(steps_per_output * dt, bar.total - bar.n))
-    wall = time.perf_counter() - start_clock
-    bar.close()
-    static_start = (
-        initial_state is None
-        and initial_tilt == 0.0
-        and initial_angular_velocity == 0.0
-        and initial_velocity is None
-    )
-    results = []
-    for r, recorder in enumerate(recorders):
+
+    credited = [0.0] * batch
+
+    def credit(k: int, seconds: float) -> None:
+        """Advance the progress bar by run k's simulated seconds, up to its duration."""
+        seconds = min(seconds, durations[k] - credited[k])
+        credited[k] += seconds
+        bar.update(seconds)
+
+    def load(slot: int, k: int) -> None:
+        """Start run k in the slot: its initial state and the forces there."""
+        clock = time.perf_counter()
+        state.reset(slot, start, None if offsets is None else offsets[k])
+        # the forces of the initial state (contact normal forces at rest) for the first record
+        state.evaluate(dt, blend, stiffness, slot)
+        recorders[k] = _Recorder(model, edge_length, list(toes), out_dirs[k])
+        recorders[k].start_edge_average(state, slot)
+        run_in[slot] = k
+        walls[k] += time.perf_counter() - clock
+
+    def record(slot: int) -> bool:
+        """Record the slot's run at its present output time; False where the run ends."""
+        clock = time.perf_counter()
+        k = run_in[slot]
+        t = start_time + steps_done[k] * dt
+        row = recorders[k].record(t, state, slot)
+        if energy0[k] is None:
+            energy0[k] = row["energy_total"]
+        recorders[k].finish_row(row, energy0[k])
+        stop = _check(
+            row,
+            recorders[k],
+            ground_end[k],
+            t,
+            stop_on_overturn,
+            energy0[k] if stop_when_settled and static_start else None,
+        )
+        walls[k] += time.perf_counter() - clock
+        if stop is not None:
+            reasons[k], overturned[k] = stop
+            return False
+        return outputs[k] < n_outputs[k]
+
+    def finish(slot: int) -> tuple[int, FemResult]:
+        """End the slot's run: its result, files written; the slot is free."""
+        k = run_in[slot]
+        run_in[slot] = -1
+        state.motion.alive[slot] = False
+        recorder = recorders.pop(k)
         history = recorder.close()
         summary = _summary(
             model,
             history,
-            reasons[r],
-            overturned[r],
+            reasons[k],
+            overturned[k],
             dt,
             step,
-            outputs[r],
+            outputs[k],
             steps_per_output,
-            wall / batch,
+            walls[k],
             edge_length,
             edge_time,
             static_start,
-            state.collars.plastic[r],
+            state.collars.plastic[slot],
         )
-        summary["batch_size"] = batch
+        summary["batch_size"] = slots
         result = FemResult(
             history,
             summary,
@@ -418,15 +466,66 @@ def run_batch(
             recorder.velocity_frames,
             recorder.contact_frames,
         )
-        results.append(result)
-        if out_dirs[r] is not None:
+        if out_dirs[k] is not None:
             from .output import write_outputs, write_summary
 
-            if r == 0:
-                write_outputs(result, Path(out_dirs[r]))
+            if k == 0:
+                write_outputs(result, Path(out_dirs[k]))
             else:
-                write_summary(Path(out_dirs[r]) / "summary.json", summary)
-    return results
+                write_summary(Path(out_dirs[k]) / "summary.json", summary)
+        credit(k, durations[k])  # the rest of a run that ended early
+        return k, result
+
+    def refill(slot: int):
+        """Start the next waiting run in a free slot (yielding any that end at once)."""
+        while pending:
+            load(slot, pending.popleft())
+            if record(slot):
+                return
+            yield finish(slot)
+
+    try:
+        for slot in range(slots):
+            yield from refill(slot)
+        motion = state.motion
+        while motion.alive.any():
+            live = np.flatnonzero(motion.alive).tolist()
+            acc = np.zeros((slots, steps_per_output))
+            vacc = np.zeros((slots, steps_per_output))
+            for slot in live:
+                k = run_in[slot]
+                # times from the step count, not accumulated: the trajectory then does not
+                # depend on how the steps are grouped into output intervals (contact stick/slip
+                # decisions amplify round-off differences)
+                times = start_time + dt * (steps_done[k] + np.arange(steps_per_output))
+                acc[slot] = grounds[k].acceleration(times)
+                vacc[slot] = verticals[k].acceleration(times)
+            clock = time.perf_counter()
+            state.advance(steps_per_output, dt, blend, stiffness, acc, vacc)
+            share = (time.perf_counter() - clock) / len(live)
+            for slot in live:
+                k = run_in[slot]
+                walls[k] += share
+                done = int(motion.done[slot])
+                if done < steps_per_output:
+                    t_k = start_time + (steps_done[k] + done) * dt
+                    reasons[k] = (
+                        f"numerical blow-up at t = {t_k:.4g} s: the state stopped being "
+                        f"finite (dt = {dt:.3g} s too large for the contact or collar "
+                        "stiffness?)"
+                    )
+                    steps_done[k] += done
+                    yield finish(slot)
+                    yield from refill(slot)
+                    continue
+                steps_done[k] += steps_per_output
+                outputs[k] += 1
+                credit(k, steps_per_output * dt)
+                if not record(slot):
+                    yield finish(slot)
+                    yield from refill(slot)
+    finally:
+        bar.close()
 
 
 def turned_about_toe(model: Model, x: np.ndarray, tilt: float, angular_velocity: float):
@@ -641,10 +740,37 @@ class _BatchState:
             self.scratch,
         )
 
-    def evaluate(self, dt, blend, stiffness):
-        """The forces at the present state without moving it: one step of size 0 on copies of
-        the state, whose outputs (contact normal forces, collar forces, frames, energies) are
-        kept."""
+    def reset(self, slot: int, start: dict, offset=None) -> None:
+        """Put state ``slot`` at ``start`` (positions moved by ``offset``, m, flat), at rest in
+        its contact and collar history, and alive."""
+        m = self.motion
+        m.x[slot] = start["x"] if offset is None else start["x"] + np.asarray(offset).ravel()
+        m.v[slot] = start["v"]
+        for array in (m.frames, m.tallies, m.energies):
+            array[slot] = 0.0
+        m.alive[slot] = True
+        m.done[slot] = 0
+        crack_ft = list(start["crack_ft"]) + [np.zeros(0)] * 2
+        crack_fc = list(start["crack_fc"]) + [np.zeros(0)] * 2
+        for contact, seg, ft, fc in (
+            (self.base_state, 0, start["base_ft"], start["base_fc"]),
+            *((c, -1, crack_ft[p], crack_fc[p]) for p, c in enumerate(self.crack_states)),
+        ):
+            contact.seg[slot] = seg
+            contact.ft[slot] = ft
+            contact.fn[slot] = 0.0
+            contact.fc[slot] = fc
+        self.collars.out[slot] = 0.0
+        self.collars.plastic[slot] = np.asarray(start["collar_state"]).reshape(
+            self.collars.plastic.shape[1:]
+        )
+        for array in (self.edge.buffer, self.edge.position, self.edge.sums, self.edge.peak):
+            array[slot] = 0
+
+    def evaluate(self, dt, blend, stiffness, slot: int) -> None:
+        """The forces of state ``slot`` at its present state without moving it: one step of
+        size 0 on copies of the state, whose outputs (contact normal forces, collar forces,
+        frames, energies) are kept."""
         copy = lambda bundle: type(bundle)(
             *(
                 a.copy() if isinstance(a, np.ndarray) else a  # noqa: E731
@@ -656,6 +782,8 @@ class _BatchState:
             copy(self.base_state),
             tuple(copy(c) for c in self.crack_states),
         )
+        motion.alive[:] = False
+        motion.alive[slot] = True
         collars, edge = copy(self.collars), copy(self.edge)
         zeros = np.zeros((self.motion.x.shape[0], 1))
         K.advance(
@@ -677,12 +805,12 @@ class _BatchState:
             edge,
             self.scratch,
         )
-        self.motion.frames[:] = motion.frames
-        self.motion.energies[:] = motion.energies
-        self.base_state.fn[:] = base.fn
+        self.motion.frames[slot] = motion.frames[slot]
+        self.motion.energies[slot] = motion.energies[slot]
+        self.base_state.fn[slot] = base.fn[slot]
         for mine, new in zip(self.crack_states, cracks):
-            mine.fn[:] = new.fn
-        self.collars.out[:] = collars.out
+            mine.fn[slot] = new.fn[slot]
+        self.collars.out[slot] = collars.out[slot]
 
 
 def _tributary_intervals(mesh):
@@ -736,6 +864,8 @@ class _Recorder:
         r_b = 0.5 * math.hypot(w_b, mesh.height)
         alpha_b = math.atan2(w_b, mesh.height)
         self.scale = float(model.mass[0::2].sum()) * model.g * r_b * (1.0 - math.cos(alpha_b))
+        self.tipping_work = self.scale / mesh.n_bodies  # J: one body onto its toe
+        self.tipping_angle = alpha_b  # rad: a body's centre of mass above its toe
         self.potential_scale = float(model.mass[0::2].sum()) * model.g * mesh.height
         self.body_mass = np.array(
             [model.node_mass[mesh.node_body == b].sum() for b in range(mesh.n_bodies)]
@@ -924,8 +1054,9 @@ class _Recorder:
         return {k: np.array([r[k] for r in self.rows]) for k in keys}
 
 
-def _check(row, recorder, ground_end, t, stop_on_overturn):
-    """None to go on, or (reason, overturned)."""
+def _check(row, recorder, ground_end, t, stop_on_overturn, rest_energy=None):
+    """None to go on, or (reason, overturned). ``rest_energy`` (J, the energy at the static
+    start): stop a run whose fate is settled (see :func:`iter_batch`)."""
     thetas = [row["theta_left"], row["theta_right"]]
     # no physical motion has more kinetic energy than the column's whole potential energy
     # plus the work the ground put in; beyond that the integration has gone unstable
@@ -943,6 +1074,22 @@ def _check(row, recorder, ground_end, t, stop_on_overturn):
             "(time step too large for the contact or collar stiffness?)",
             False,
         )
+    if (
+        rest_energy is not None
+        and t > ground_end
+        and max(abs(th) for th in thetas) < recorder.tipping_angle
+    ):
+        # on the near side of every toe, with less energy than reaching one takes
+        above_rest = row["energy_total"] - rest_energy
+        bound = above_rest + abs(row["energy_error"]) * recorder.scale
+        if bound < 0.5 * recorder.tipping_work:
+            return (
+                f"settled at t = {t:.4g} s: after the ground motion the column, short of "
+                f"its toes, holds {above_rest:.3g} J above its rest state, less than half "
+                f"the {recorder.tipping_work:.3g} J that tip one body onto its toe: it can "
+                "no longer overturn",
+                False,
+            )
     if not stop_on_overturn:
         return None
     if max(abs(th) for th in thetas) >= math.pi / 4:

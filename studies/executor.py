@@ -23,6 +23,7 @@ import sys
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
+from typing import Any
 
 from tqdm import tqdm
 
@@ -207,7 +208,7 @@ def stale_cases(cases: list[dict], out: Path, inputs: dict) -> dict:
 
 
 def run_cases(
-    function: Callable[[dict, str], dict],
+    function: Callable[..., Any],
     cases: list[dict],
     out: Path,
     *,
@@ -215,9 +216,16 @@ def run_cases(
     scheduler: str | None = None,
     progress: bool = True,
     force: bool = False,
+    batched: bool = False,
 ) -> dict:
     """Results keyed by case key. ``function(case, case_directory)`` runs one case in a worker
     and returns its result; it may write files into its case directory.
+
+    ``batched``: ``function(cases, case_directories)`` runs several cases in one worker and
+    yields (index in cases, result) as each completes (cases that share a model advancing
+    together, as the spectrum's grid points on the batched FEM kernel). The cases to run are
+    dealt round-robin into one share per worker (per thread of a Dask cluster); the worker
+    saves each result as it completes, so an interrupted share loses nothing already computed.
 
     A saved case is reused only when it was computed from the same inputs
     (:func:`case_inputs`). One saved from other inputs is an :class:`InputError` naming the
@@ -274,28 +282,87 @@ def run_cases(
         bar.set_postfix_str(case["key"], refresh=False)
         bar.update(1)
 
+    def finish_all(share, results, batched):
+        for case, result in zip(share, results if batched else [results]):
+            finish(case, result)
+
+    def saving(share):
+        """Per case of a share: its folder and the inputs record it is saved with."""
+        return [
+            (
+                str(case_dir(out, c["key"])),
+                {"sha256": inputs_hash(inputs[c["key"]]), "inputs": inputs[c["key"]]},
+            )
+            for c in share
+        ]
+
     if scheduler:
         from distributed import Client
         from distributed import as_completed as dask_completed
 
         with Client(scheduler) as client:
-            futures = {
-                client.submit(function, case, str(case_dir(out, case["key"])), pure=False): case
-                for case in todo
-            }
+            if batched:
+                shares = _deal(todo, sum(client.nthreads().values()))
+                futures = {
+                    client.submit(_run_share, function, share, saving(share), pure=False): share
+                    for share in shares
+                }
+            else:
+                futures = {
+                    client.submit(function, case, str(case_dir(out, case["key"])), pure=False): [
+                        case
+                    ]
+                    for case in todo
+                }
             for future in dask_completed(futures):
-                finish(futures[future], future.result())
+                finish_all(futures[future], future.result(), batched)
     elif (workers or 1) <= 1 or len(todo) == 1:
-        for case in todo:
-            finish(case, function(case, str(case_dir(out, case["key"]))))
+        if batched:  # in this process: each case saved as it completes
+            folders = [str(case_dir(out, c["key"])) for c in todo]
+            for index, result in function(todo, folders):
+                finish(todo[index], result)
+        else:
+            for case in todo:
+                finish(case, function(case, str(case_dir(out, case["key"]))))
     else:
         with ProcessPoolExecutor(max_workers=workers) as pool:
-            futures = {
-                pool.submit(function, case, str(case_dir(out, case["key"]))): case for case in todo
-            }
+            if batched:
+                shares = _deal(todo, workers or 1)
+                futures = {
+                    pool.submit(_run_share, function, share, saving(share)): share
+                    for share in shares
+                }
+            else:
+                futures = {
+                    pool.submit(function, case, str(case_dir(out, case["key"]))): [case]
+                    for case in todo
+                }
             for future in as_completed(futures):
-                finish(futures[future], future.result())
+                finish_all(futures[future], future.result(), batched)
     bar.close()
+    return results
+
+
+def _deal(cases: list, shares: int) -> list[list]:
+    """The cases dealt round-robin into at most ``shares`` non-empty shares (neighbouring cases,
+    often alike in cost, go to different workers)."""
+    shares = max(1, min(shares, len(cases)))
+    return [cases[i::shares] for i in range(shares)]
+
+
+def _run_share(function, cases: list[dict], saving: list) -> list[dict]:
+    """Run a share of cases through a batched ``function`` in a worker, saving each result
+    (inputs.json first, then result.json) the moment it is yielded; the results in the order
+    of ``cases``."""
+    results: list = [None] * len(cases)
+    for index, result in function(cases, [folder for folder, _ in saving]):
+        folder, record = saving[index]
+        write_json(Path(folder) / "inputs.json", record)
+        write_json(Path(folder) / "result.json", result)
+        results[index] = result
+    missing = [c["key"] for c, r in zip(cases, results) if r is None]
+    if missing:
+        raise RuntimeError(f"batched case function gave no result for {missing}")
     return results
 
 

@@ -63,6 +63,8 @@ class FemStudy:
     top_load: float = 0.0  # N, on the capital
     vertical: GroundMotion = NO_MOTION  # vertical ground motion
     replicas: int = 1  # FEM runs as an ensemble of this many replicas
+    # stop a run once it can no longer overturn (fem.solver.iter_batch): for maps of outcomes
+    stop_when_settled: bool = False
 
     @property
     def rocking_block(self) -> Block:
@@ -311,4 +313,63 @@ def run_fem(study: FemStudy, *, replicas: int | None = None, out_dir=None, progr
         progress=progress,
         initial_tilt=study.initial_tilt,
         initial_angular_velocity=study.initial_angular_velocity,
+        stop_when_settled=study.stop_when_settled,
+    )
+
+
+# what the runs of iter_fem may not differ in: the model and the run settings (they share one
+# model and one stable step); the ground motions and durations may differ
+SHARED_BY_A_BATCH = (
+    "height",
+    "width",
+    "thickness",
+    "cracked",
+    "stone",
+    "collars",
+    "contact",
+    "mesh_size",
+    "grading",
+    "mesh_file",
+    "edge_length",
+    "output_interval",
+    "dt",
+    "safety",
+    "initial_tilt",
+    "initial_angular_velocity",
+    "edge_time",
+    "top_load",
+    "stop_when_settled",
+)
+
+
+def iter_fem(studies: list[FemStudy], *, slots: int | None = None):
+    """One FEM run of each study (no replicas), the studies differing only in their ground
+    motion and duration (the pulses of a grid), advanced together on the batched kernel
+    (:func:`colonna.fem.solver.iter_batch`, ``slots`` runs at a time, default
+    :data:`colonna.fem.solver.BATCH_SLOTS`). Yields (index in studies, FemResult) as each run
+    ends; each is the same bits as ``run_fem(study, replicas=1)``."""
+    from ..fem.solver import BATCH_SLOTS, iter_batch
+
+    first = studies[0]
+    for study in studies[1:]:
+        for name in SHARED_BY_A_BATCH:
+            if getattr(study, name) != getattr(first, name):
+                raise ValueError(
+                    f"iter_fem: the studies differ in {name}: one model cannot run them"
+                )
+    return iter_batch(
+        build(first),
+        [study.ground for study in studies],
+        [study.duration for study in studies],
+        verticals=[study.vertical for study in studies],
+        slots=BATCH_SLOTS if slots is None else slots,
+        dt=first.dt,
+        safety=first.safety,
+        output_interval=first.output_interval,
+        edge_length=first.edge_length,
+        edge_time=first.edge_time,
+        progress=False,
+        initial_tilt=first.initial_tilt,
+        initial_angular_velocity=first.initial_angular_velocity,
+        stop_when_settled=first.stop_when_settled,
     )

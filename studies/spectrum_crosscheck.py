@@ -22,6 +22,8 @@ the rigid spectra.
 
 from __future__ import annotations
 
+import dataclasses
+import json
 import time
 from pathlib import Path
 
@@ -74,14 +76,44 @@ def grid_of(
 
 
 def grid_point_case(case: dict, directory: str) -> dict:
-    """One pulse through the FEM, multibody and SDOF models: modes and the FEM's safety
-    numbers."""
-    from ..rigid.multibody import rock_multibody
-    from ..rigid.solve import rock
+    """One pulse through the FEM, multibody and SDOF models, alone: modes and the FEM's
+    safety numbers (what :func:`grid_points_case` gives for the same point in a batch)."""
     from .fem_study import run_fem
 
+    study = _point_study(case)
+    return _point_result(case, study, run_fem(study, replicas=1)[0])
+
+
+def grid_points_case(cases: list[dict], directories: list[str]):
+    """Grid points through the FEM, multibody and SDOF models, the FEM runs of the points that
+    share a model advancing together on the batched kernel (:func:`studies.fem_study.iter_fem`,
+    a full group of the kernel per pass through the stiffness; a pulse that ends leaves its
+    slot to the next). Yields (index in cases, result) as each point completes; a point's
+    result is the same as :func:`grid_point_case`'s for it alone."""
+    from .fem_study import iter_fem
+
+    studies = [_point_study(case) for case in cases]
+    groups: dict = {}  # the points whose studies differ only in their ground motion
+    for index, case in enumerate(cases):
+        shared = {k: v for k, v in case["study"].items() if k != "ground"}
+        groups.setdefault(json.dumps(shared, sort_keys=True, default=str), []).append(index)
+    for members in groups.values():
+        for k, fem in iter_fem([studies[i] for i in members]):
+            index = members[k]
+            yield index, _point_result(cases[index], studies[index], fem)
+
+
+def _point_study(case: dict):
+    """A grid point's study; its FEM run stops once the point's outcome is settled."""
     study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
-    fem = run_fem(study, replicas=1)[0]
+    return dataclasses.replace(study, stop_when_settled=True)
+
+
+def _point_result(case: dict, study, fem) -> dict:
+    """A grid point's result from its FEM run; the multibody and SDOF runs of its pulse."""
+    from ..rigid.multibody import rock_multibody
+    from ..rigid.solve import rock
+
     s = fem.summary
     fem_impacts = max(
         _impacts_before(fem.history, key, s["t_end"]) for key in ("theta_left", "theta_right")
@@ -193,6 +225,17 @@ def run_spectrum_crosscheck(
     study = from_dict(
         with_pulse(omegas[0], amplitudes[0]), source=str(study_path), base=study_path.parent
     )  # fails early
+    if study.output_interval is None:
+        # one output interval for every point (the runs of a batch share it), as a run's
+        # default: 1/400 of the shortest point's duration
+        shortest = min(
+            from_dict(with_pulse(w, a), source=str(study_path), base=study_path.parent).duration
+            for a in amplitudes
+            for w in omegas
+        )
+        base_data = schema.variant(
+            base_data, {"run.output_interval": shortest / 400.0}, str(study_path)
+        )
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     cases = []
@@ -212,13 +255,14 @@ def run_spectrum_crosscheck(
             )
     start = time.perf_counter()
     results = run_cases(
-        grid_point_case,
+        grid_points_case,
         cases,
         out,
         workers=workers,
         scheduler=scheduler,
         progress=progress,
         force=force,
+        batched=True,
     )
     summary = assemble_summary(study, omegas, amplitudes, cases, results)
     summary["x_axis"] = "time_scale" if kind == "record" else "omega_ratio"

@@ -97,6 +97,26 @@ def test_rows_follow_amplitudes_and_points_are_the_runs(grid_run):
             assert point["toe_ratio_fem"] == s["toe_ratio_fem"][i][j]
 
 
+def test_a_batched_grid_point_is_the_point_run_alone(grid_run):
+    """The grid's points advance together on the batched FEM kernel, several pulses per pass
+    through the stiffness, a pulse that ends leaving its slot to the next. Each point's result
+    is the one it has run alone, to the last bit: the kernel computes a state the same way
+    whatever shares its batch (strict arithmetic), so batching moves no answer."""
+    from colonna.studies.spectrum_crosscheck import grid_point_case
+
+    study, out, _ = grid_run
+    folders = sorted((out / "cases").iterdir())
+    assert len(folders) == 9
+    for folder in (folders[4], folders[8]):
+        saved = json.loads((folder / "result.json").read_text())
+        case = json.loads((folder / "inputs.json").read_text())["inputs"]["case"]
+        case = {**case, "source": str(study), "base": str(study.parent)}
+        alone = json.loads(json.dumps(grid_point_case(case, str(folder))))
+        for result in (saved, alone):
+            result.pop("fem_seconds")
+        assert alone == saved
+
+
 def test_killed_grid_resumes_with_the_same_summary_and_no_point_redone(grid_run, tmp_path):
     study, _, reference = grid_run
     out = tmp_path / "out"
@@ -199,3 +219,42 @@ def test_grid_over_a_recorded_motion(tmp_path):
         )
         assert r["ground_end_time"] == pytest.approx(original.end_time / r["omega_ratio"])
     assert "record time scale" in (out / "index.html").read_text()
+
+
+@pytest.mark.parametrize("amplitude_ratio", [1.7, 1.9])
+def test_a_run_stopped_as_settled_could_not_have_overturned(amplitude_ratio):
+    """A grid point's FEM run stops once its fate is settled: after the pulse, every half
+    short of its toe and less mechanical energy above rest than half the work that tips one
+    onto its toe. The premise is that energy only leaves once the ground is still: the run
+    carried on to its end agrees up to the stop, never again holds more energy than at the
+    stop, never reaches a toe and does not overturn."""
+    import dataclasses
+    import math
+    import tomllib
+
+    import numpy as np
+
+    from colonna.studies import schema
+    from colonna.studies.fem_study import from_dict, run_fem
+
+    data = tomllib.loads(GRID_STUDY.replace("duration = 0.6\n", ""))
+    data.pop("grid")
+    data = schema.variant(
+        data,
+        {"ground": {"pulse": "sine", "amplitude_ratio": amplitude_ratio, "omega_ratio": 5.0}},
+    )
+    study = from_dict(data)
+    full = run_fem(study, replicas=1)[0]
+    settled = run_fem(dataclasses.replace(study, stop_when_settled=True), replicas=1)[0]
+    assert settled.summary["status"].startswith("settled")
+    assert not full.summary["overturned"]
+    n = settled.history["t"].size
+    assert study.ground.end_time < settled.history["t"][-1] < full.history["t"][-1]
+    for key in ("theta_left", "theta_right", "energy_total", "edge_stress_left"):
+        assert np.array_equal(full.history[key][:n], settled.history[key])
+    energy = full.history["energy_total"] - full.history["energy_total"][0]
+    scale = abs(settled.history["energy_error"][-1]) * energy[n - 1] + 1e-9
+    assert energy[n:].max() <= energy[n - 1] + 0.01 * abs(energy[n - 1]) + scale
+    alpha = math.atan2(0.2 / 2, 1.0)  # a half's slenderness angle
+    later = np.abs(np.r_[full.history["theta_left"][n:], full.history["theta_right"][n:]])
+    assert later.max() < alpha
