@@ -16,6 +16,8 @@ $(STAMP): pyproject.toml
 	@# setuptools warns on every editable install of folders mapped to other package names
 	@# (rigid/ -> colonna.rigid), which this layout does on purpose: that one notice is hidden
 	PYTHONWARNINGS="ignore::UserWarning" $(BIN)/python -m pip install --quiet -e '.[test,lint]'
+	@# compile the kernels into numba's cache once, so that no first run pays for it
+	$(BIN)/colonna warmup
 	touch $(STAMP)
 
 demo: $(STAMP)

@@ -547,6 +547,17 @@ def _cmd_validate(args) -> dict:
     return zhang_makris_validation(Path(args.out), progress=not args.json)
 
 
+# --- colonna warmup -----------------------------------------------------------------------------
+
+
+def _cmd_warmup(args) -> None:
+    from .warmup import warm
+
+    print("colonna: compiling the kernels into numba's cache (once per install)", file=sys.stderr)
+    seconds = warm(say=lambda line: print(line, file=sys.stderr))
+    print(f"colonna: kernels compiled and cached in {seconds:.0f} s", file=sys.stderr)
+
+
 # --- parser -------------------------------------------------------------------------------------
 
 
@@ -665,6 +676,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="print the key list as Markdown tables instead (docs/study-file.md)",
     )
     p.set_defaults(func=_cmd_schema)
+
+    p = sub.add_parser(
+        "warmup",
+        help="compile the kernels into numba's cache (make does it after installing)",
+    )
+    p.set_defaults(func=_cmd_warmup)
 
     p = sub.add_parser("validate", help="Zhang & Makris validation block (p = 2.14, alpha = 0.25)")
     p.add_argument("--out", type=Path, default=Path("out/validation"))

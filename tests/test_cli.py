@@ -1,6 +1,7 @@
 """The ``colonna`` command line: JSON contracts, files written, one-line errors."""
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -625,3 +626,64 @@ def test_every_error_of_a_study_file_one_line_each_nothing_written(
     assert code == 2 and printed == ""
     assert err.splitlines() == [f"colonna: error: {study}: {line}" for line in lines]
     assert not out.exists()
+
+
+# --- colonna warmup: the kernels compiled once, at install time ---------------------------------
+
+
+def _readme_examples() -> list[list[str]]:
+    """The command lines of the README's command-line block (continuation lines joined)."""
+    text = (Path(__file__).parents[1] / "README.md").read_text()
+    block = text.split("## Command line", 1)[1].split("```sh", 1)[1].split("```", 1)[0]
+    lines = block.replace("\\\n", " ").splitlines()
+    return [line.split()[1:] for line in lines if line.startswith("colonna ")]
+
+
+def _flavour(argv: list[str]) -> tuple:
+    """What decides which kernels a command line compiles: its command, model, and whether
+    it has collars or a crack."""
+    model = argv[argv.index("--model") + 1] if "--model" in argv else "nonlinear"
+    return (argv[0], model, "--collars" in argv, "--cracked" in argv)
+
+
+def test_warmup_runs_every_flavour_of_the_readme_examples():
+    """`make` runs `colonna warmup` after installing so that a fresh install's first run of a
+    README example loads compiled kernels instead of compiling them: the warm-up must run
+    every rigid and spectrum flavour the README shows (a flavour it missed would compile on
+    the user's first run)."""
+    from colonna.studies.warmup import commands
+
+    warmed = {_flavour(argv) for _, argv in commands(Path("."))}
+    shown = {_flavour(argv) for argv in _readme_examples() if argv[0] in ("rigid", "spectrum")}
+    assert shown and shown <= warmed, shown - warmed
+    assert {"fem"} <= {argv[0] for _, argv in commands(Path("."))}
+
+
+@pytest.mark.slow
+def test_after_warmup_a_readme_example_compiles_nothing(tmp_path):
+    """After `colonna warmup` into an empty numba cache, the README's multibody examples (the
+    longest to compile) and a FEM ensemble of another column load every kernel from the cache:
+    numba saves nothing new (NUMBA_DEBUG_CACHE reports each save). make test-all."""
+    import os
+    import subprocess
+    import sys
+
+    from colonna.studies.warmup import FEM_STUDY
+
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    cli = [sys.executable, "-m", "colonna.studies.cli"]
+    subprocess.run([*cli, "warmup"], env=env, check=True, cwd=tmp_path)
+    (tmp_path / "collars.toml").write_text("[[collar]]\ny = 0.5\nt = 0.006\nh = 0.05\n")
+    study = FEM_STUDY.format(replicas=8).replace("width = 0.2", "width = 0.3")
+    (tmp_path / "fem.toml").write_text(study)
+    examples = [argv for argv in _readme_examples() if _flavour(argv)[1] == "multibody"]
+    for argv in [*examples, ["fem", "fem.toml", "--out", "fem"]]:
+        run = subprocess.run(
+            [*cli, *argv],
+            env={**env, "NUMBA_DEBUG_CACHE": "1"},
+            cwd=tmp_path,
+            capture_output=True,
+            text=True,
+        )
+        assert run.returncode == 0, run.stderr
+        assert "data saved to" not in run.stdout + run.stderr, argv

@@ -1,0 +1,109 @@
+"""Compile the numba kernels of the command line into numba's cache, once, when colonna is
+installed (``make`` runs ``colonna warmup`` after ``pip install``).
+
+numba compiles a kernel the first time a process calls it with a given signature and, with
+``cache=True``, saves the machine code beside its module (the ``__pycache__`` folders of the
+package; ``NUMBA_CACHE_DIR`` moves them). A later process loads it in a fraction of a second, so
+after this a fresh install's first run of a command costs about what its second does. The
+warm-up runs the README's command-line examples on tiny inputs (a short pulse, a 2 x 2 grid, a
+coarse mesh) in this process: the kernels get exactly the signatures the commands use. The cache
+is keyed on the source files and the processor; an edited kernel or another machine compiles
+again, on its first call.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import tempfile
+import time
+from pathlib import Path
+
+COLLARS = """
+[[collar]]
+y = 0.5
+t = 0.006
+h = 0.05
+
+[[collar]]
+y = 1.5
+t = 0.006
+h = 0.05
+"""
+
+FEM_STUDY = """
+[study]
+name = "warmup"
+[column]
+height = 1.0
+width = 0.2
+[[collar]]
+y = 0.5
+t = 0.004
+h = 0.02
+[[collar]]
+y = 0.8
+t = 0.004
+h = 0.02
+plastic = true
+[ground]
+amplitude_ratio = 3.0
+omega_ratio = 3.0
+[mesh]
+size = 0.1
+grading = 0.0
+[run]
+duration = 0.004
+output_interval = 0.002
+replicas = {replicas}
+"""
+
+
+def commands(folder: Path) -> list[tuple[str, list[str]]]:
+    """(what, arguments) of the command lines run: the README's examples, made tiny."""
+    collars = folder / "collars.toml"
+    block = ["--b", "0.2", "--h", "2.0", "--density", "2700"]
+    sdof = ["--p", "2.14", "--alpha", "0.25"]
+    pulse = ["--omega-ratio", "3", "--amplitude-ratio", "3"]
+    grid = ["--omega-ratios", "1:4:2", "--amplitude-ratios", "1.5:4:2"]
+    return [
+        ("rigid, linear", ["rigid", *sdof, "--model", "linear", "--restitution", "0.9", *pulse]),
+        ("rigid, nonlinear", ["rigid", *sdof, *pulse]),
+        ("rigid, collars", ["rigid", *block, "--collars", str(collars), *pulse]),
+        (
+            "rigid, multibody",
+            ["rigid", "--model", "multibody", *block, "--collars", str(collars), *pulse],
+        ),
+        (
+            "rigid, multibody cracked",
+            ["rigid", "--model", "multibody", *sdof, "--friction", "2", "--cracked", *pulse],
+        ),
+        ("spectrum, linear", ["spectrum", *sdof, "--model", "linear", *grid]),
+        ("spectrum, nonlinear", ["spectrum", *sdof, *grid]),
+        ("spectrum, collars", ["spectrum", *block, "--collars", str(collars), *grid]),
+        ("spectrum, multibody", ["spectrum", *sdof, "--model", "multibody", *grid]),
+        # one run (the kernel's one-state code) and an ensemble (its group code)
+        ("fem, one run", ["fem", str(folder / "fem-1.toml"), "--out", str(folder / "fem-1")]),
+        ("fem, ensemble", ["fem", str(folder / "fem-2.toml"), "--out", str(folder / "fem-2")]),
+    ]
+
+
+def warm(say=print) -> float:
+    """Run the tiny command lines (their output discarded); the seconds it took."""
+    from .cli import main
+
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        (folder / "collars.toml").write_text(COLLARS)
+        for replicas in (1, 2):
+            (folder / f"fem-{replicas}.toml").write_text(FEM_STUDY.format(replicas=replicas))
+        for what, argv in commands(folder):
+            clock = time.perf_counter()
+            sink = io.StringIO()
+            with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
+                code = main([*argv, "--json"])
+            if code != 0:
+                raise RuntimeError(f"colonna warmup: {what} failed:\n{sink.getvalue()}")
+            say(f"  {what}: {time.perf_counter() - clock:.1f} s")
+    return time.perf_counter() - start
