@@ -1,18 +1,22 @@
 """Cost of the spectrum cross-check (the shipped study: the default column, coarse mesh).
 
-* the FEM cost of one grid point (mean over the grid), and the wall time of the shipped 30-point
-  grid on the local cores;
+* the FEM cost of one grid point (mean over the grid: its share of the batched kernel's time),
+  and the wall time of the shipped 30-point grid on the local cores (the points of a worker
+  advance together, 8 pulses per pass through the stiffness; issue 19's target: 40 s on 2);
+* with --fine, a 16 x 16 grid of the same study on the local cores (target: 5 minutes on 2);
 * the Dask path on a LocalCluster with 1 and 2 single-threaded workers over the same 4 points:
   the measured speed-up gives a parallel efficiency, and from it what a 64-core cluster would
   take for the shipped grid and for a 16 x 16 one.
 
-Run: make bench (takes a few minutes). Each run writes into a fresh temporary directory.
+Run: make bench (takes a few minutes; --fine adds about ten). Each run writes into a fresh
+temporary directory.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -42,6 +46,17 @@ def main() -> None:
             "add a few ms)"
         )
         print(f"shipped grid ({points} points) on {cores} local processes: {wall:.0f} s")
+        settled = sum(
+            json.loads(p.read_text())["status_fem"].startswith("settled")
+            for p in (tmp / "full" / "cases").glob("*/result.json")
+        )
+        print(f"  {settled} of its points stopped once settled (could no longer overturn)")
+        if "--fine" in sys.argv:
+            fine_wall, fine = timed(study, tmp / "fine", grid=(16, 16), workers=cores)
+            print(
+                f"16 x 16 grid ({fine['points']} points) on {cores} local processes: "
+                f"{fine_wall:.0f} s ({fine['fem_seconds_per_point']:.1f} s of FEM per point)"
+            )
         from distributed import Client, LocalCluster
 
         times = {}
