@@ -47,13 +47,17 @@ from ..core.tables import table_value
     P_VERT,
     P_TRAP_E,
     P_TRAP_TH,
-) = range(19)
-N_PARAMS = 19  # P_TH0, P_OM0: initial rotation (rad) and angular velocity (rad/s), 0: at rest
+    P_SIN_ALPHA,
+    P_COS_ALPHA,
+) = range(21)
+N_PARAMS = 21  # P_TH0, P_OM0: initial rotation (rad) and angular velocity (rad/s), 0: at rest
 # P_LOAD: lambda = top load / (m g). P_NHREC: how many of the rows of (rec_t, rec_a) are the
 # horizontal record; P_VERT = 1: the rows after them are the vertical ground acceleration / g
 # (piecewise linear, zero outside), 0: no vertical motion. P_TRAP_E, P_TRAP_TH: with collars,
 # collar_barrier's (V_max, theta_max), 0 until computed (by rk_run when first needed, or once
-# for a whole spectrum: they depend on the block and the collars, not on the pulse)
+# for a whole spectrum: they depend on the block and the collars, not on the pulse).
+# P_SIN_ALPHA, P_COS_ALPHA: sin and cos of alpha, so that the equation of motion takes the
+# sine and cosine of s alpha - theta from those of theta (two transcendentals a stage less)
 
 GROUND_NONE, GROUND_HARMONIC, GROUND_RECORD = 0, 1, 2
 
@@ -76,6 +80,8 @@ def make_params(
     P[P_LOAD] = load
     P[P_P2] = p * p
     P[P_ALPHA] = alpha
+    P[P_SIN_ALPHA] = math.sin(alpha)
+    P[P_COS_ALPHA] = math.cos(alpha)
     P[P_NONLINEAR] = 1.0 if nonlinear else 0.0
     P[P_GROUND] = ground_kind
     P[P_AG] = ag
@@ -118,18 +124,30 @@ def vertical_over_g(t, P, rec_t, rec_a):
 
 @njit(cache=True)
 def angular_acceleration(t, theta, s, P, rec_t, rec_a):
+    """theta'' at time t of the block at theta rocking on side s."""
     ug = ground_over_g(t, P, rec_t, rec_a)
     weight = 1.0 + vertical_over_g(t, P, rec_t, rec_a)  # (g + vg'') / g
+    return angular_acceleration_given_ground(ug, weight, theta, s, P)
+
+
+@njit(cache=True)
+def angular_acceleration_given_ground(ug, weight, theta, s, P):
+    """theta'' of the block at theta on side s under the ground's ug''/g and (g + vg'')/g: the
+    equation of motion without the ground's clock, so that stages sharing a time share it."""
     p2 = P[P_P2]
     lam = P[P_LOAD]
     if P[P_NONLINEAR] > 0.5:
-        arg = s * P[P_ALPHA] - theta
-        acc = -p2 * (weight * math.sin(arg) + ug * math.cos(arg))
+        sn = math.sin(theta)
+        cs = math.cos(theta)
+        # sin and cos of s alpha - theta, by the angle-difference formulas
+        s_sin_alpha = s * P[P_SIN_ALPHA]
+        sin_arg = s_sin_alpha * cs - P[P_COS_ALPHA] * sn
+        cos_arg = P[P_COS_ALPHA] * cs + s_sin_alpha * sn
+        acc = -p2 * (weight * sin_arg + ug * cos_arg)
         if lam != 0.0:
-            acc -= p2 * lam * (math.sin(arg) - math.cos(P[P_ALPHA]) * math.sin(theta))
+            acc -= p2 * lam * (sin_arg - P[P_COS_ALPHA] * sn)
         if P[P_KA] != 0.0 or P[P_KL] != 0.0:
-            sn = math.sin(theta)
-            sc = sn * math.cos(theta)
+            sc = sn * cs
             root = math.sqrt(1.0 + 0.25 * sn * sn)
             acc -= P[P_KA] * (root - 1.0) * sc / (2.0 * root) + 0.5 * P[P_KL] * sc
     else:
@@ -148,14 +166,24 @@ def mechanical_energy(theta, omega, P):
     a = P[P_ALPHA]
     x = abs(theta)
     if P[P_NONLINEAR] > 0.5:
-        e = 0.5 * omega * omega + p2 * (math.cos(a - x) - math.cos(a))
-        # the top load's potential: its height 2h cos(theta) + b sin|theta| above its rest
-        e += p2 * P[P_LOAD] * (2.0 * math.cos(a) * (math.cos(x) - 1.0) + math.sin(a) * math.sin(x))
-        sn = math.sin(theta)
-        e += P[P_KA] * (math.sqrt(1.0 + 0.25 * sn * sn) - 1.0) ** 2 + 0.25 * P[P_KL] * sn * sn
+        e = 0.5 * omega * omega + potential_energy(math.sin(x), math.cos(x), P)
     else:
         e = 0.5 * omega * omega + p2 * (a * x - 0.5 * x * x) + 0.25 * P[P_KL] * theta * theta
     return e
+
+
+@njit(cache=True)
+def potential_energy(sin_x, cos_x, P):
+    """Nonlinear model: gravity + top load + collar potential per J0 (rad^2/s^2) at |theta| = x,
+    from sin x and cos x (zero upright; cos(alpha - x) by the angle-difference formula)."""
+    p2 = P[P_P2]
+    ca = P[P_COS_ALPHA]
+    sa = P[P_SIN_ALPHA]
+    e = p2 * (ca * (cos_x - 1.0) + sa * sin_x)
+    # the top load's potential: its height 2h cos(theta) + b sin|theta| above its rest
+    e += p2 * P[P_LOAD] * (2.0 * ca * (cos_x - 1.0) + sa * sin_x)
+    root = math.sqrt(1.0 + 0.25 * sin_x * sin_x)
+    return e + P[P_KA] * (root - 1.0) ** 2 + 0.25 * P[P_KL] * sin_x * sin_x
 
 
 @njit(cache=True)
@@ -195,23 +223,67 @@ def collar_barrier(P):
 @njit(cache=True)
 def turning_point(theta, energy, P):
     """The first |theta'| >= |theta| where the free block of mechanical energy ``energy``
-    stops (V(theta') = energy), found by stepping out and bisecting; pi/2 if none before."""
+    stops (V(theta') = energy), found by stepping out by pi/4096 and refining the root in the
+    step that gets there; pi/2 if none before. The steps rotate (sin, cos) of the angle instead
+    of evaluating them (rounding drift ~1e-13 over the quarter turn: it can only move the
+    bracketing step when V is that close to the energy at a step's end)."""
     x0 = abs(theta)
     step = HALF_PI / 2048
+    cos_step = math.cos(step)
+    sin_step = math.sin(step)
+    sn = math.sin(x0)
+    cs = math.cos(x0)
     x1 = x0
     while x1 < HALF_PI:
-        x1 = min(x1 + step, HALF_PI)
-        if mechanical_energy(x1, 0.0, P) >= energy:
-            lo = x1 - step if x1 - step > x0 else x0
-            hi = x1
-            for _ in range(60):
-                mid = 0.5 * (lo + hi)
-                if mechanical_energy(mid, 0.0, P) >= energy:
-                    hi = mid
-                else:
-                    lo = mid
-            return hi
+        if x1 + step < HALF_PI:
+            x1 += step
+            sn, cs = sn * cos_step + cs * sin_step, cs * cos_step - sn * sin_step
+        else:
+            x1 = HALF_PI
+            sn = math.sin(x1)
+            cs = math.cos(x1)
+        if _potential(x1, sn, cs, P) >= energy:
+            return _potential_root(energy, max(x0, x1 - step), x1, P)
     return HALF_PI
+
+
+@njit(cache=True)
+def _potential(x, sin_x, cos_x, P):
+    """V at |theta| = x of the model at hand (the nonlinear one from sin x and cos x)."""
+    if P[P_NONLINEAR] > 0.5:
+        return potential_energy(sin_x, cos_x, P)
+    return mechanical_energy(x, 0.0, P)
+
+
+@njit(cache=True)
+def _potential_root(energy, lo, hi, P):
+    """x in [lo, hi] where V(x) = energy, V(lo) < energy <= V(hi) (Illinois); the end of the
+    final bracket on the V >= energy side."""
+    flo = _potential(lo, math.sin(lo), math.cos(lo), P) - energy
+    fhi = _potential(hi, math.sin(hi), math.cos(hi), P) - energy
+    if flo >= 0.0:
+        return lo
+    side = 0
+    for _ in range(200):
+        if hi - lo <= 4e-16 * max(1.0, abs(hi)) or fhi == flo:
+            break
+        mid = (lo * fhi - hi * flo) / (fhi - flo)
+        if not (lo < mid < hi):
+            mid = 0.5 * (lo + hi)
+        fm = _potential(mid, math.sin(mid), math.cos(mid), P) - energy
+        if fm >= 0.0:
+            hi = mid
+            fhi = fm
+            if side == -1:
+                flo *= 0.5
+            side = -1
+        else:
+            lo = mid
+            flo = fm
+            if side == 1:
+                fhi *= 0.5
+            side = 1
+    return hi
 
 
 @njit(cache=True)
@@ -482,7 +554,10 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
         th = 0.0
         om = 0.0
     h = 1e-3 / max(p, P[P_OMEGA])
-    h_max = 0.1 / max(p, P[P_OMEGA]) if P[P_GROUND] == GROUND_HARMONIC else 0.1 / p
+    # the largest step: a tenth of the shortest period at hand, the pulse's while the ground
+    # moves, the block's own once it is still (free rocking, as for a record)
+    h_max_free = 0.1 / p
+    h_max = 0.1 / max(p, P[P_OMEGA]) if P[P_GROUND] == GROUND_HARMONIC else h_max_free
     status = RUNNING
     steps = 0
     # first same as last: the acceleration at (t, th, s) is kept between steps, so a step after an
@@ -497,7 +572,7 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
         if steps > 50_000_000:
             status = REACHED_END
             break
-        h = min(h, h_max, t_stop - t)
+        h = min(h, h_max if t < t_free else h_max_free, t_stop - t)
         if t < t_free < t + h:
             h = t_free - t  # land on the end of the ground motion (a kink in the forcing)
         # --- one DOPRI5 step ---------------------------------------------------------------
@@ -505,6 +580,8 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
             acc_now = angular_acceleration(t, th, s, P, rec_t, rec_a)
         K0[0] = om
         K1[0] = acc_now
+        ug = 0.0
+        weight = 1.0
         for i in range(1, 6):
             y0 = th
             y1 = om
@@ -512,14 +589,18 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
                 y0 += h * _A[i, j] * K0[j]
                 y1 += h * _A[i, j] * K1[j]
             K0[i] = y1
-            K1[i] = angular_acceleration(t + _C[i] * h, y0, s, P, rec_t, rec_a)
+            t_stage = t + _C[i] * h
+            ug = ground_over_g(t_stage, P, rec_t, rec_a)
+            weight = 1.0 + vertical_over_g(t_stage, P, rec_t, rec_a)
+            K1[i] = angular_acceleration_given_ground(ug, weight, y0, s, P)
         n0 = th
         n1 = om
         for j in range(6):
             n0 += h * _B[j] * K0[j]
             n1 += h * _B[j] * K1[j]
         K0[6] = n1
-        K1[6] = angular_acceleration(t + h, n0, s, P, rec_t, rec_a)
+        # the last stage is at t + h too (_C[5] = 1): its ground is the one just evaluated
+        K1[6] = angular_acceleration_given_ground(ug, weight, n0, s, P)
         e0 = 0.0
         e1 = 0.0
         for j in range(7):
@@ -898,6 +979,20 @@ def _mode(status, n_imp):
     return SAFE
 
 
+@njit(cache=True)
+def spread_stride(n):
+    """A stride coprime with n near n / golden ratio: k -> (k * stride) % n visits every one of
+    n cells once, and any run of consecutive k lands on cells spread over the whole grid."""
+    stride = max(1, int(0.6180339887498949 * n))
+    while True:
+        a, b = stride, n
+        while b != 0:
+            a, b = b, a % b
+        if a == 1:
+            return stride
+        stride += 1
+
+
 @njit(parallel=True, cache=True)
 def spectrum_modes(
     p,
@@ -932,9 +1027,15 @@ def spectrum_modes(
                 p, alpha, nonlinear, GROUND_HARMONIC, 0.0, 1.0, 0.0, 0.0, ka, kl, nu, uplift, load
             )
         )
-    for k in prange(n_a * n_w):
-        i = k // n_w
-        j = k % n_w
+    # prange hands each thread one block of consecutive k; a pulse's cost depends on where it is
+    # on the grid (long pulses at low omega ratios, more rocking at high amplitudes), so k is
+    # mapped to a cell spread over the grid and each thread gets a fair share of the work
+    n_cells = n_a * n_w
+    stride = spread_stride(n_cells)
+    for k in prange(n_cells):
+        cell = (k * stride) % n_cells
+        i = cell // n_w
+        j = cell % n_w
         ratio = amplitude_ratios[i]
         omega = omega_ratios[j] * p
         ag = ratio * uplift

@@ -2,10 +2,12 @@
 ratios Omega/p and amplitude ratios a_p / a_uplift, with or without collars.
 
 Each grid point is an independent pulse run from rest; the grid runs in parallel over the CPU cores
-(numba ``prange``). With collars, a second map tells where a collar reaches f_y (the elastic collar
-model holds only up to there). The linear model without collars uses the exact closed form, all
-other cases the DOPRI5 integrator with event location. A run stops as soon as its fate is certain:
-overturned, or (after the pulse) mechanical energy below the gravity barrier at |theta| = alpha.
+(numba ``prange``; the points are dealt out spread over the grid so that the cores share the work
+evenly, and each is computed by the same code whatever the thread count). With collars, a second
+map tells where a collar reaches f_y (the elastic collar model holds only up to there). The linear
+model without collars uses the exact closed form, all other cases the DOPRI5 integrator with event
+location. A run stops as soon as its fate is certain: overturned, or (after the pulse) mechanical
+energy below the gravity barrier at |theta| = alpha.
 """
 
 from __future__ import annotations

@@ -176,3 +176,131 @@ def test_collared_spectrum_stops_early_without_changing_its_answer(model):
                 assert peak == pytest.approx(peak_full, rel=1e-6)
                 assert spec.max_abs_theta[i, j] == pytest.approx(peak_full, rel=1e-6)
     assert stopped_early >= 4  # the early stop is exercised
+
+
+def _collared_block_and_collars():
+    """The benchmark's cracked block (Zhang & Makris geometry, granite mass) with two collars."""
+    from colonna.rigid import Block
+
+    free = Block.from_dimensionless(p=2.14, alpha=0.25, restitution=0.9)
+    block = Block(b=free.b, h=free.h, mass=2700.0 * 4 * free.b * free.h * np.pi * free.b)
+    collars = (Collar(y=0.5 * block.h, t=0.01, h=0.04), Collar(y=1.5 * block.h, t=0.01, h=0.04))
+    return block, collars
+
+
+@pytest.mark.parametrize("model", ["linear", "nonlinear"])
+def test_parallel_spectrum_is_the_pulse_by_pulse_map(model):
+    """The map's kernel deals its cells out to the threads in a spread order: every cell must
+    hold exactly (bit for bit) what one rk_run of that cell's pulse gives, and the map must not
+    depend on the thread count."""
+    import math
+
+    import numba
+
+    from colonna.rigid import _kernels as K
+    from colonna.rigid.collars import collar_kernel_constants
+    from colonna.rigid.solve import DEFAULT_ATOL, kernel_block_constants
+
+    block, collars = _collared_block_and_collars()
+    omegas = np.array([0.7, 1.0, 1.9, 2.5, 4.0, 6.0, 11.0])
+    amplitudes = np.array([1.5, 2.2, 4.0, 8.0, 12.0, 19.0])
+    spec = overturning_spectrum(block, omegas, amplitudes, collars, model=model)
+    ka, kl = collar_kernel_constants(block, collars)
+    p, alpha, uplift, _, load = kernel_block_constants(block, model)
+    empty = np.zeros(1)
+    for i, ratio in enumerate(amplitudes):
+        for j, omega_ratio in enumerate(omegas):
+            omega = omega_ratio * (block.p / p) * p  # as overturning_spectrum and the kernel
+            phase = math.asin(min(1.0, 1.0 / ratio))
+            t_end = (2.0 * math.pi - phase) / omega
+            P = K.make_params(
+                p,
+                alpha,
+                model == "nonlinear",
+                K.GROUND_HARMONIC,
+                ratio * uplift,
+                omega,
+                phase,
+                t_end,
+                ka,
+                kl,
+                block.nu,
+                uplift,
+                load,
+            )
+            status, n_imp, peak, *_ = K.rk_run(
+                P,
+                empty,
+                empty,
+                t_end + 50.0 / block.p,
+                1e-9,
+                DEFAULT_ATOL,
+                True,
+                0.0,
+                np.zeros((1, 3)),
+                np.zeros((1, 3)),
+            )
+            assert spec.codes[i, j] == K._mode(status, n_imp), (i, j)
+            assert spec.max_abs_theta[i, j] == peak, (i, j)
+    assert len(set(spec.codes.ravel().tolist())) >= 2  # the grid crosses a boundary
+    threads = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        serial = overturning_spectrum(block, omegas, amplitudes, collars, model=model)
+    finally:
+        numba.set_num_threads(threads)
+    np.testing.assert_array_equal(serial.codes, spec.codes)
+    np.testing.assert_array_equal(serial.max_abs_theta, spec.max_abs_theta)
+
+
+def test_spread_order_visits_every_cell_once():
+    """The map's cell order is a permutation: no cell is skipped or computed twice."""
+    from colonna.rigid import _kernels as K
+
+    for n in (1, 2, 3, 4, 10, 42, 80_000, 12_345):
+        stride = K.spread_stride(n)
+        cells = (np.arange(n, dtype=np.int64) * stride) % n
+        assert np.array_equal(np.sort(cells), np.arange(n)), n
+
+
+@pytest.mark.parametrize("model", ["linear", "nonlinear"])
+def test_turning_point_is_the_first_root_of_the_potential(model):
+    """The collared free block's turning point against a root of V(x) = E found by scipy on the
+    potential sampled finely (the first crossing beyond the start)."""
+    from scipy.optimize import brentq
+
+    from colonna.rigid import _kernels as K
+    from colonna.rigid.collars import collar_kernel_constants
+    from colonna.rigid.solve import kernel_block_constants
+
+    block, collars = _collared_block_and_collars()
+    ka, kl = collar_kernel_constants(block, collars)
+    p, alpha, uplift, _, load = kernel_block_constants(block, model)
+    P = K.make_params(
+        p,
+        alpha,
+        model == "nonlinear",
+        K.GROUND_HARMONIC,
+        0.0,
+        1.0,
+        0.0,
+        0.0,
+        ka,
+        kl,
+        block.nu,
+        uplift,
+        load,
+    )
+    V = lambda x: K.mechanical_energy(x, 0.0, P)
+    xs = np.linspace(0.0, np.pi / 2, 20_001)
+    vs = np.array([V(x) for x in xs])
+    v_max, x_max = K.collar_barrier(P)  # the exit uses it inside |theta| < x_max only
+    for start in (0.0, 0.2 * x_max, 0.6 * x_max, 0.95 * x_max):
+        for fraction in (0.02, 0.3, 0.9):
+            energy = V(start) + fraction * (v_max - V(start))
+            beyond = (xs > start) & (vs >= energy)
+            assert beyond.any()
+            k = int(np.argmax(beyond))
+            lo, hi = max(start, xs[k - 1]), xs[k]
+            expected = brentq(lambda x, e: V(x) - e, lo, hi, args=(energy,), xtol=1e-15)
+            assert K.turning_point(-start, energy, P) == pytest.approx(expected, abs=1e-12)
