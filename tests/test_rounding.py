@@ -1,11 +1,12 @@
-"""Answers that hold on any machine: the FEM's landing-dependent numbers, recomputed with the
-kernels compiled for another processor (another rounding of every operation), fall inside the
-bands of the replicas computed here.
+"""Answers that hold on any machine.
 
 ``NUMBA_CPU_NAME=generic`` compiles the kernels without this processor's instructions (no fused
-multiply-add, other vector widths), which changes the last bits of every result: the same
-perturbation a change of machine makes. The landings amplify it, so single numbers move by
-several per cent; their bands must not."""
+multiply-add, other vector widths). The FEM kernels are strict IEEE arithmetic (no contraction,
+no reassociation), so they give the same bits either way: a change of instruction set moves
+nothing. What a machine can still change (the static solve's sparse library, the mathematical
+library's sine and arctangent, another numba) moves the last bits of the start, and the
+landings amplify that, so single numbers move by several per cent; their bands must not. That
+is pinned with another set of round-off-level perturbations of the start."""
 
 import json
 import os
@@ -38,7 +39,7 @@ CASE = textwrap.dedent("""
     uplift = half.uplift_acceleration("nonlinear")
     pulse = sine_pulse(2.5 * uplift, 3.0 * half.p, uplift)
     runs = run_ensemble(model, pulse, 0.6, 8, output_interval=0.005, edge_length=0.01,
-                        progress=False)
+                        progress=False, perturbation=PERTURBATION)
     print(json.dumps([{key: r.summary[key] for key in KEYS} | {
         "crack_slip_max": float(max(r.history["crack_slip_max"]))} for r in runs]))
 """)
@@ -52,12 +53,12 @@ KEYS = (
 )
 
 
-def _replicas(cpu_name: str | None) -> list[dict]:
+def _replicas(cpu_name: str | None, perturbation: float = 1e-12) -> list[dict]:
     env = dict(os.environ)
     env.pop("NUMBA_CPU_NAME", None)
     if cpu_name:
         env["NUMBA_CPU_NAME"] = cpu_name
-    script = f"KEYS = {KEYS!r}\n" + CASE
+    script = f"KEYS = {KEYS!r}\nPERTURBATION = {perturbation!r}\n" + CASE
     done = subprocess.run(
         [sys.executable, "-c", script],
         env=env,
@@ -78,27 +79,32 @@ def inside_band(value: float, b: dict) -> bool:
     return b["min"] - slack <= value <= b["max"] + slack
 
 
+@pytest.fixture(scope="module")
+def here():
+    return _replicas(None)
+
+
 @pytest.mark.skipif(
     os.environ.get("NUMBA_CPU_NAME") == "generic",
-    reason="compares this processor's rounding with the generic one",
+    reason="compares this processor's instructions with the generic ones",
 )
-def test_another_rounding_lands_inside_the_replicas_bands():
-    here = _replicas(None)
-    generic = _replicas("generic")
+def test_the_kernels_give_the_same_bits_on_another_instruction_set(here):
+    """Strict arithmetic: compiled for a generic processor, every replica's numbers are the
+    same bits as here (fast-math would fuse and reorder differently per instruction set)."""
+    assert _replicas("generic") == here
+
+
+def test_another_perturbation_lands_inside_the_replicas_bands(here):
+    """Replicas started from another set of round-off-level offsets (3e-12 of the height in
+    place of 1e-12): every median inside this ensemble's bands, and the bands are not empty
+    words (the landings do scatter the collar and toe)."""
+    other = _replicas(None, perturbation=3e-12)
     keys = list(here[0])
-    # the two roundings do differ: the first replica's numbers are not the same bits
-    assert any(here[0][k] != generic[0][k] for k in keys)
+    assert any(here[1][k] != other[1][k] for k in keys)  # other landings
     for key in keys:
         b = band(r[key] for r in here)
-        other = float(np.median([r[key] for r in generic]))
-        assert inside_band(other, b), (key, other, b)
-    # and the bands are not empty words: the landings do scatter the collar and toe
+        median = float(np.median([r[key] for r in other]))
+        assert inside_band(median, b), (key, median, b)
     for key in ("collar_max_utilisation", "edge_stress_max"):
         b = band(r[key] for r in here)
         assert b["max"] > b["min"]
-
-
-def test_inside_band_rejects_a_median_off_the_band():
-    b = band([1.0, 1.1, 1.2, 1.05])
-    assert inside_band(1.25, b) and inside_band(0.95, b)
-    assert not inside_band(1.35, b) and not inside_band(0.85, b)
