@@ -358,7 +358,6 @@ def iter_batch(
     toes = edge_weights(model, edge_length)
     state = _BatchState(
         model,
-        start,
         slots,
         max(1, int(round(edge_time / dt))),
         np.ascontiguousarray(np.array(list(toes.values()))),
@@ -631,18 +630,12 @@ def _stiffness(model: Model) -> K.Stiffness:
 
 
 class _BatchState:
-    """The kernel's bundles (fem._kernels) for B states of one model, all from ``start``."""
+    """The kernel's bundles (fem._kernels) for B slots of one model, each slot empty (not
+    alive) until :meth:`reset` puts a run's start in it."""
 
-    def __init__(self, model: Model, start: dict, batch: int, edge_steps: int, weights: np.ndarray):
+    def __init__(self, model: Model, batch: int, edge_steps: int, weights: np.ndarray):
         self.model = model
         n, n_base = model.n_dofs, model.base_nodes.size
-        rows = lambda a: np.ascontiguousarray(
-            np.repeat(
-                np.asarray(a, dtype=float)[None],  # noqa: E731
-                batch,
-                axis=0,
-            )
-        )
         node_body = model.mesh.node_body
         order = np.argsort(node_body, kind="stable").astype(np.int64)
         offsets = np.searchsorted(node_body[order], np.arange(model.mesh.n_bodies + 1))
@@ -676,38 +669,28 @@ class _BatchState:
             )
         self.cracks = tuple(passes)
         self.motion = K.Motion(
-            rows(start["x"]),
-            rows(start["v"]),
+            np.zeros((batch, n)),
+            np.zeros((batch, n)),
             np.zeros((batch, model.mesh.n_bodies, 3)),
             np.zeros((batch, 2)),
             np.zeros((batch, 6)),
-            np.ones(batch, dtype=np.bool_),
+            np.zeros(batch, dtype=np.bool_),
             np.zeros(batch, dtype=np.int64),
         )
-        self.base_state = K.ContactState(
-            np.zeros((batch, n_base), dtype=np.int64),
-            rows(start["base_ft"]),
-            np.zeros((batch, n_base)),
-            rows(start["base_fc"]),
-        )
-        states = []
-        for p, crack in enumerate(self.cracks):
-            m = crack.nodes.size
-            ft = start["crack_ft"][p] if p < len(start["crack_ft"]) else np.zeros(0)
-            fc = start["crack_fc"][p] if p < len(start["crack_fc"]) else np.zeros(0)
-            states.append(
-                K.ContactState(
-                    np.full((batch, m), -1, dtype=np.int64),
-                    rows(ft),
-                    np.zeros((batch, m)),
-                    rows(fc),
-                )
+
+        def contact_state(nodes: int) -> K.ContactState:
+            return K.ContactState(
+                np.zeros((batch, nodes), dtype=np.int64),
+                np.zeros((batch, nodes)),
+                np.zeros((batch, nodes)),
+                np.zeros((batch, nodes)),
             )
-        self.crack_states = tuple(states)
+
+        self.base_state = contact_state(n_base)
+        self.crack_states = tuple(contact_state(crack.nodes.size) for crack in self.cracks)
         n_collars = model.collar_nodes.shape[0]
         self.collars = K.CollarState(
-            np.zeros((batch, n_collars, OUT_SIZE)),
-            rows(start["collar_state"]).reshape(batch, n_collars, STATE_SIZE),
+            np.zeros((batch, n_collars, OUT_SIZE)), np.zeros((batch, n_collars, STATE_SIZE))
         )
         self.collar_model = K.Collars(model.collar_nodes, model.collar_props)
         self.edge = K.EdgeAverage(

@@ -303,18 +303,26 @@ def run_fem(study: FemStudy, *, replicas: int | None = None, out_dir=None, progr
         study.ground,
         study.duration,
         study.replicas if replicas is None else replicas,
-        dt=study.dt,
-        safety=study.safety,
-        output_interval=study.output_interval,
-        edge_length=study.edge_length,
-        edge_time=study.edge_time,
         out_dir=out_dir,
         vertical=study.vertical,
         progress=progress,
-        initial_tilt=study.initial_tilt,
-        initial_angular_velocity=study.initial_angular_velocity,
-        stop_when_settled=study.stop_when_settled,
+        **_run_settings(study),
     )
+
+
+def _run_settings(study: FemStudy) -> dict:
+    """The solver's run settings of a study (those of :data:`SHARED_BY_A_BATCH` that are not
+    the model's): one place for run_fem and iter_fem."""
+    return {
+        "dt": study.dt,
+        "safety": study.safety,
+        "output_interval": study.output_interval,
+        "edge_length": study.edge_length,
+        "edge_time": study.edge_time,
+        "initial_tilt": study.initial_tilt,
+        "initial_angular_velocity": study.initial_angular_velocity,
+        "stop_when_settled": study.stop_when_settled,
+    }
 
 
 # what the runs of iter_fem may not differ in: the model and the run settings (they share one
@@ -343,33 +351,33 @@ SHARED_BY_A_BATCH = (
 
 
 def iter_fem(studies: list[FemStudy], *, slots: int | None = None):
-    """One FEM run of each study (no replicas), the studies differing only in their ground
-    motion and duration (the pulses of a grid), advanced together on the batched kernel
-    (:func:`colonna.fem.solver.iter_batch`, ``slots`` runs at a time, default
-    :data:`colonna.fem.solver.BATCH_SLOTS`). Yields (index in studies, FemResult) as each run
-    ends; each is the same bits as ``run_fem(study, replicas=1)``."""
+    """One FEM run of each study (no replicas). The studies that differ only in their ground
+    motion and duration (the pulses of a grid: :data:`SHARED_BY_A_BATCH` equal) share a model
+    and advance together on the batched kernel (:func:`colonna.fem.solver.iter_batch`,
+    ``slots`` runs at a time, default :data:`colonna.fem.solver.BATCH_SLOTS`). Yields (index in
+    studies, FemResult) as each run ends; each is the same bits as ``run_fem(study,
+    replicas=1)``."""
     from ..fem.solver import BATCH_SLOTS, iter_batch
 
-    first = studies[0]
-    for study in studies[1:]:
-        for name in SHARED_BY_A_BATCH:
-            if getattr(study, name) != getattr(first, name):
-                raise ValueError(
-                    f"iter_fem: the studies differ in {name}: one model cannot run them"
-                )
-    return iter_batch(
-        build(first),
-        [study.ground for study in studies],
-        [study.duration for study in studies],
-        verticals=[study.vertical for study in studies],
-        slots=BATCH_SLOTS if slots is None else slots,
-        dt=first.dt,
-        safety=first.safety,
-        output_interval=first.output_interval,
-        edge_length=first.edge_length,
-        edge_time=first.edge_time,
-        progress=False,
-        initial_tilt=first.initial_tilt,
-        initial_angular_velocity=first.initial_angular_velocity,
-        stop_when_settled=first.stop_when_settled,
-    )
+    groups: list[list[int]] = []
+    for index, study in enumerate(studies):
+        for members in groups:
+            first = studies[members[0]]
+            if all(getattr(study, k) == getattr(first, k) for k in SHARED_BY_A_BATCH):
+                members.append(index)
+                break
+        else:
+            groups.append([index])
+    for members in groups:
+        first = studies[members[0]]
+        runs = iter_batch(
+            build(first),
+            [studies[i].ground for i in members],
+            [studies[i].duration for i in members],
+            verticals=[studies[i].vertical for i in members],
+            slots=BATCH_SLOTS if slots is None else slots,
+            progress=False,
+            **_run_settings(first),
+        )
+        for k, result in runs:
+            yield members[k], result

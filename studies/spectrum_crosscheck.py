@@ -23,7 +23,6 @@ the rigid spectra.
 from __future__ import annotations
 
 import dataclasses
-import json
 import time
 from pathlib import Path
 
@@ -93,14 +92,8 @@ def grid_points_case(cases: list[dict], directories: list[str]):
     from .fem_study import iter_fem
 
     studies = [_point_study(case) for case in cases]
-    groups: dict = {}  # the points whose studies differ only in their ground motion
-    for index, case in enumerate(cases):
-        shared = {k: v for k, v in case["study"].items() if k != "ground"}
-        groups.setdefault(json.dumps(shared, sort_keys=True, default=str), []).append(index)
-    for members in groups.values():
-        for k, fem in iter_fem([studies[i] for i in members]):
-            index = members[k]
-            yield index, _point_result(cases[index], studies[index], fem)
+    for index, fem in iter_fem(studies):
+        yield index, _point_result(cases[index], studies[index], fem)
 
 
 def _point_study(case: dict):
