@@ -271,30 +271,29 @@ def run_cases(
         dynamic_ncols=True,
     )
 
-    def finish(case, result):
+    def record(key):
+        """What a case's inputs.json holds: the hash of its inputs, and the inputs."""
+        return {"sha256": inputs_hash(inputs[key]), "inputs": inputs[key]}
+
+    def finish(case, result, saved=False):
+        """Keep a case's result; write its files, unless a worker on this machine has
+        (``saved``: a share run in a local process)."""
         key = case["key"]
-        write_json(
-            case_dir(out, key) / "inputs.json",  # first: a result has its inputs
-            {"sha256": inputs_hash(inputs[key]), "inputs": inputs[key]},
-        )
-        write_json(case_dir(out, key) / "result.json", result)
-        results[case["key"]] = result
-        bar.set_postfix_str(case["key"], refresh=False)
+        if not saved:
+            # inputs first: a result has its inputs
+            write_json(case_dir(out, key) / "inputs.json", record(key))
+            write_json(case_dir(out, key) / "result.json", result)
+        results[key] = result
+        bar.set_postfix_str(key, refresh=False)
         bar.update(1)
 
-    def finish_all(share, results, batched):
-        for case, result in zip(share, results if batched else [results]):
-            finish(case, result)
+    def finish_all(share, outcome, batched, saved=False):
+        for case, result in zip(share, outcome if batched else [outcome]):
+            finish(case, result, saved)
 
     def saving(share):
         """Per case of a share: its folder and the inputs record it is saved with."""
-        return [
-            (
-                str(case_dir(out, c["key"])),
-                {"sha256": inputs_hash(inputs[c["key"]]), "inputs": inputs[c["key"]]},
-            )
-            for c in share
-        ]
+        return [(str(case_dir(out, c["key"])), record(c["key"])) for c in share]
 
     if scheduler:
         from distributed import Client
@@ -338,7 +337,8 @@ def run_cases(
                     for case in todo
                 }
             for future in as_completed(futures):
-                finish_all(futures[future], future.result(), batched)
+                # a share's worker saved each of its cases already (same machine)
+                finish_all(futures[future], future.result(), batched, saved=batched)
     bar.close()
     return results
 
