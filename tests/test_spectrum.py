@@ -112,45 +112,63 @@ def test_spectrum_rejects_amplitude_below_uplift(zm_block):
         overturning_spectrum(zm_block, [1.0], [0.5])
 
 
+def _collared_block_and_collars():
+    """The benchmark's cracked block (Zhang & Makris geometry, granite mass) with two collars."""
+    from colonna.rigid import Block
+
+    free = Block.from_dimensionless(p=2.14, alpha=0.25, restitution=0.9)
+    block = Block(b=free.b, h=free.h, mass=2700.0 * 4 * free.b * free.h * np.pi * free.b)
+    collars = (Collar(y=0.5 * block.h, t=0.01, h=0.04), Collar(y=1.5 * block.h, t=0.01, h=0.04))
+    return block, collars
+
+
+def _map_pulse(block, collars, model, amplitude_ratio, omega_ratio):
+    """The kernel parameters and the end time (s) of one pulse of a map, made as
+    overturning_spectrum makes them."""
+    import math
+
+    from colonna.rigid import _kernels as K
+    from colonna.rigid.collars import collar_kernel_constants
+    from colonna.rigid.solve import kernel_block_constants
+
+    ka, kl = collar_kernel_constants(block, collars)
+    p, alpha, uplift, _, load = kernel_block_constants(block, model)
+    omega = omega_ratio * (block.p / p) * p  # as overturning_spectrum and the kernel
+    phase = math.asin(min(1.0, 1.0 / amplitude_ratio))
+    t_end = (2.0 * math.pi - phase) / omega
+    P = K.make_params(
+        p,
+        alpha,
+        model == "nonlinear",
+        K.GROUND_HARMONIC,
+        amplitude_ratio * uplift,
+        omega,
+        phase,
+        t_end,
+        ka,
+        kl,
+        block.nu,
+        uplift,
+        load,
+    )
+    return P, t_end
+
+
 @pytest.mark.parametrize("model", ["linear", "nonlinear"])
 def test_collared_spectrum_stops_early_without_changing_its_answer(model):
     """With collars a free swing past alpha may be held, so the spectrum stops following a
     pulse once the free block's energy is below the largest potential (gravity + collars) on
     the way to pi/2, taking the peak from the swing's turning point. Every pulse of a grid
     then has the fate and the peak rotation of the run followed to its end (the slow way)."""
-    from colonna.rigid import Block
     from colonna.rigid import _kernels as K
-    from colonna.rigid.collars import collar_kernel_constants
-    from colonna.rigid.solve import kernel_block_constants
 
-    free = Block.from_dimensionless(p=2.14, alpha=0.25, restitution=0.9)
-    block = Block(b=free.b, h=free.h, mass=2700.0 * 4 * free.b * free.h * np.pi * free.b)
-    collars = (Collar(y=0.5 * block.h, t=0.01, h=0.04), Collar(y=1.5 * block.h, t=0.01, h=0.04))
+    block, collars = _collared_block_and_collars()
     omegas, amplitudes = np.array([1.0, 2.5, 6.0]), np.array([1.5, 4.0, 12.0])
     spec = overturning_spectrum(block, omegas, amplitudes, collars, model=model)
-    ka, kl = collar_kernel_constants(block, collars)
-    p, alpha, uplift, _, load = kernel_block_constants(block, model)
     stopped_early = 0
     for i, ratio in enumerate(amplitudes):
         for j, omega_ratio in enumerate(omegas):
-            omega = omega_ratio * block.p  # the pulse of the map's node, as the map makes it
-            phase = np.arcsin(1.0 / ratio)
-            t_end = (2.0 * np.pi - phase) / omega
-            P = K.make_params(
-                p,
-                alpha,
-                model == "nonlinear",
-                K.GROUND_HARMONIC,
-                ratio * uplift,
-                omega,
-                phase,
-                t_end,
-                ka,
-                kl,
-                block.nu,
-                uplift,
-                load,
-            )
+            P, t_end = _map_pulse(block, collars, model, ratio, omega_ratio)
             t_stop = t_end + 50.0 / block.p
             empty = np.zeros(1)
             runs = [
@@ -178,56 +196,24 @@ def test_collared_spectrum_stops_early_without_changing_its_answer(model):
     assert stopped_early >= 4  # the early stop is exercised
 
 
-def _collared_block_and_collars():
-    """The benchmark's cracked block (Zhang & Makris geometry, granite mass) with two collars."""
-    from colonna.rigid import Block
-
-    free = Block.from_dimensionless(p=2.14, alpha=0.25, restitution=0.9)
-    block = Block(b=free.b, h=free.h, mass=2700.0 * 4 * free.b * free.h * np.pi * free.b)
-    collars = (Collar(y=0.5 * block.h, t=0.01, h=0.04), Collar(y=1.5 * block.h, t=0.01, h=0.04))
-    return block, collars
-
-
 @pytest.mark.parametrize("model", ["linear", "nonlinear"])
 def test_parallel_spectrum_is_the_pulse_by_pulse_map(model):
     """The map's kernel deals its cells out to the threads in a spread order: every cell must
     hold exactly (bit for bit) what one rk_run of that cell's pulse gives, and the map must not
     depend on the thread count."""
-    import math
-
     import numba
 
     from colonna.rigid import _kernels as K
-    from colonna.rigid.collars import collar_kernel_constants
-    from colonna.rigid.solve import DEFAULT_ATOL, kernel_block_constants
+    from colonna.rigid.solve import DEFAULT_ATOL
 
     block, collars = _collared_block_and_collars()
     omegas = np.array([0.7, 1.0, 1.9, 2.5, 4.0, 6.0, 11.0])
     amplitudes = np.array([1.5, 2.2, 4.0, 8.0, 12.0, 19.0])
     spec = overturning_spectrum(block, omegas, amplitudes, collars, model=model)
-    ka, kl = collar_kernel_constants(block, collars)
-    p, alpha, uplift, _, load = kernel_block_constants(block, model)
     empty = np.zeros(1)
     for i, ratio in enumerate(amplitudes):
         for j, omega_ratio in enumerate(omegas):
-            omega = omega_ratio * (block.p / p) * p  # as overturning_spectrum and the kernel
-            phase = math.asin(min(1.0, 1.0 / ratio))
-            t_end = (2.0 * math.pi - phase) / omega
-            P = K.make_params(
-                p,
-                alpha,
-                model == "nonlinear",
-                K.GROUND_HARMONIC,
-                ratio * uplift,
-                omega,
-                phase,
-                t_end,
-                ka,
-                kl,
-                block.nu,
-                uplift,
-                load,
-            )
+            P, t_end = _map_pulse(block, collars, model, ratio, omega_ratio)
             status, n_imp, peak, *_ = K.rk_run(
                 P,
                 empty,
