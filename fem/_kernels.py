@@ -33,18 +33,7 @@ from ..core.collar_law import frame_local_law
 # alike, so that a state's trajectory is the same bits alone or in any batch (measured: no cost)
 
 
-@njit(cache=True)
-def _filter(state, k, value, blend):
-    """Exponential low-pass filter of a contact's normal force, started at the force itself
-    when the contact closes (so an impact gets its full friction at once)."""
-    if state[k] == 0.0:
-        state[k] = value
-    else:
-        state[k] += blend * (value - state[k])
-    return state[k]
-
-
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _coulomb(force, kt, vt, dt, limit):
     """Incremental Coulomb friction: the trial force force - k_t v_t dt, returned to the cone
     |f| <= limit. Returns (tangential force, dissipated power): the cone force times the
@@ -57,51 +46,80 @@ def _coulomb(force, kt, vt, dt, limit):
     return slip_force, power
 
 
-@njit(cache=True)
-def _penalty_contact(k, gap, vn, vt, kn, kt, cn, mu, dt, ft, normal_force, fn_filtered, blend):
-    """One closed contact (gap < 0, normal velocity vn, tangential vt): damped penalty normal
-    force (never tensile), Coulomb friction on the filtered cone. Updates the state of contact
-    k; returns (normal force, tangential force, elastic energy, dissipated power)."""
-    fn_el = -kn[k] * gap
-    fn = max(fn_el - cn[k] * vn, 0.0)
-    normal_force[k] = fn
-    cone = _filter(fn_filtered, k, fn, blend)
-    trial, power = _coulomb(ft[k], kt[k], vt, dt, mu * cone)
-    ft[k] = trial
+@njit(cache=True, inline="always")
+def _penalty_contact(gap, vn, vt, kn, kt, cn, mu, dt, ft, fc, blend):
+    """One closed contact (gap < 0, normal velocity vn, tangential vt; penalties kn, kt,
+    damping cn): damped penalty normal force (never tensile), Coulomb friction on the filtered
+    cone. ft: the tangential force of the last step; fc: the normal force low-pass filtered for
+    the cone (exponential, blend = dt / tau; 0: the contact was open, and the filter starts at
+    the force itself, so an impact gets its full friction at once). Returns (normal force,
+    tangential force, filtered normal force, elastic energy, dissipated power)."""
+    fn_el = -kn * gap
+    fn = max(fn_el - cn * vn, 0.0)
+    cone = fn if fc == 0.0 else fc + blend * (fn - fc)
+    trial, power = _coulomb(ft, kt, vt, dt, mu * cone)
     power += (fn - fn_el) * (-vn)  # damping, or the clipped tensile part
-    energy = 0.5 * kn[k] * gap * gap + 0.5 * trial * trial / kt[k]
-    return fn, trial, energy, power
+    energy = 0.5 * kn * gap * gap + 0.5 * trial * trial / kt
+    return fn, trial, cone, energy, power
 
 
 @njit(cache=True)
-def base_contact(x, v, nodes, kn, kt, cn, mu, dt, ft, f, normal_force, fn_filtered, blend):
-    """Base nodes against the rigid ground y = 0. ft: tangential force per node (state);
-    fn_filtered: the normal force low-pass filtered for the friction cone (state; blend =
-    dt / tau, 1 for no filter). Returns (elastic contact energy, dissipated power)."""
-    energy = 0.0
-    power = 0.0
+def base_contact(
+    x, v, f, running, states, nodes, kn, kt, cn, mu, dt, ft, normal_force, fn_filtered, blend, out
+):
+    """Base nodes against the rigid ground y = 0, for the running columns of a group.
+
+    x, v, f: positions, velocities and forces (n_dofs, columns), column j holding state
+    states[j] if running[j]. ft, normal_force, fn_filtered (states, nodes): tangential force,
+    normal force, and the normal force low-pass filtered for the friction cone (blend = dt /
+    tau, 1 for no filter). out[0, j], out[1, j]: the elastic contact energy and dissipated
+    power of column j. Node by node with the columns innermost, so that a node's rows are read
+    once for the group (a state's sums still run over the nodes in order: the same bits alone
+    or in a group)."""
+    for j in range(states.size):
+        out[0, j] = 0.0
+        out[1, j] = 0.0
     for k in range(nodes.size):
         i = nodes[k]
-        gap = x[2 * i + 1]
-        if gap >= 0.0:
-            ft[k] = 0.0
-            normal_force[k] = 0.0
-            fn_filtered[k] = 0.0
-            continue
-        fn, trial, e, p = _penalty_contact(
-            k, gap, v[2 * i + 1], v[2 * i], kn, kt, cn, mu, dt, ft, normal_force, fn_filtered, blend
-        )
-        f[2 * i] += trial
-        f[2 * i + 1] += fn
-        energy += e
-        power += p
-    return energy, power
+        for j in range(states.size):
+            if not running[j]:
+                continue
+            r = states[j]
+            gap = x[2 * i + 1, j]
+            if gap >= 0.0:
+                ft[r, k] = 0.0
+                normal_force[r, k] = 0.0
+                fn_filtered[r, k] = 0.0
+                continue
+            fn, trial, cone, e, p = _penalty_contact(
+                gap,
+                v[2 * i + 1, j],
+                v[2 * i, j],
+                kn[k],
+                kt[k],
+                cn[k],
+                mu,
+                dt,
+                ft[r, k],
+                fn_filtered[r, k],
+                blend,
+            )
+            ft[r, k] = trial
+            normal_force[r, k] = fn
+            fn_filtered[r, k] = cone
+            f[2 * i, j] += trial
+            f[2 * i + 1, j] += fn
+            out[0, j] += e
+            out[1, j] += p
 
 
 @njit(cache=True)
 def crack_contact(
     x,
     v,
+    f,
+    running,
+    states,
     slaves,
     masters,
     outward_sign,
@@ -112,95 +130,102 @@ def crack_contact(
     dt,
     seg,
     ft,
-    f,
     normal_force,
     fn_filtered,
     blend,
+    out,
 ):
-    """Node-to-segment contact of the slave face's nodes on the master face (ordered by height).
+    """Node-to-segment contact of the slave face's nodes on the master face (ordered by height),
+    for the running columns of a group (x, v, f, running, states, out as in base_contact).
 
     outward_sign: +1 if the master face's outward normal is the segment direction turned
-    clockwise (the left body's crack face), -1 otherwise. seg[k]: master segment last used by
-    slave k (state, -1: none). Returns (elastic energy, dissipated power)."""
-    energy = 0.0
-    power = 0.0
+    clockwise (the left body's crack face), -1 otherwise. seg[r, k]: master segment last used
+    by slave k in state r (-1: none)."""
+    for j in range(states.size):
+        out[0, j] = 0.0
+        out[1, j] = 0.0
     n_seg = masters.size - 1
     for k in range(slaves.size):
         s = slaves[k]
-        sx = x[2 * s]
-        sy = x[2 * s + 1]
-        j0 = seg[k] if seg[k] >= 0 else 0
-        # the segment used last step nearly always still holds the projection; else search
-        # outward from it, alternating up and down
-        found = -1
-        xi = 0.0
-        for step in range(2 * n_seg):
-            j = j0 + (step + 1) // 2 if step % 2 == 0 else j0 - (step + 1) // 2
-            if j < 0 or j >= n_seg:
-                if j0 + step // 2 >= n_seg and j0 - step // 2 < 0:
-                    break
+        for j in range(states.size):
+            if not running[j]:
                 continue
-            a = masters[j]
-            b = masters[j + 1]
-            dx = x[2 * b] - x[2 * a]
-            dy = x[2 * b + 1] - x[2 * a + 1]
-            t = ((sx - x[2 * a]) * dx + (sy - x[2 * a + 1]) * dy) / (dx * dx + dy * dy)
-            if -1e-12 <= t <= 1.0 + 1e-12:
-                found = j
-                xi = min(max(t, 0.0), 1.0)
-                break
-        if found < 0:
-            seg[k] = -1
-            ft[k] = 0.0
-            normal_force[k] = 0.0
-            fn_filtered[k] = 0.0
-            continue
-        seg[k] = found
-        a = masters[found]
-        b = masters[found + 1]
-        dx = x[2 * b] - x[2 * a]
-        dy = x[2 * b + 1] - x[2 * a + 1]
-        length = math.sqrt(dx * dx + dy * dy)
-        tx = dx / length
-        ty = dy / length
-        nx = outward_sign * ty
-        ny = -outward_sign * tx
-        px = x[2 * a] + xi * dx
-        py = x[2 * a + 1] + xi * dy
-        gap = (sx - px) * nx + (sy - py) * ny
-        if gap >= 0.0:
-            ft[k] = 0.0
-            normal_force[k] = 0.0
-            fn_filtered[k] = 0.0
-            continue
-        rvx = v[2 * s] - ((1.0 - xi) * v[2 * a] + xi * v[2 * b])
-        rvy = v[2 * s + 1] - ((1.0 - xi) * v[2 * a + 1] + xi * v[2 * b + 1])
-        fn, trial, e, p = _penalty_contact(
-            k,
-            gap,
-            rvx * nx + rvy * ny,
-            rvx * tx + rvy * ty,
-            kn,
-            kt,
-            cn,
-            mu,
-            dt,
-            ft,
-            normal_force,
-            fn_filtered,
-            blend,
-        )
-        energy += e
-        power += p
-        fx = fn * nx + trial * tx
-        fy = fn * ny + trial * ty
-        f[2 * s] += fx
-        f[2 * s + 1] += fy
-        f[2 * a] -= (1.0 - xi) * fx
-        f[2 * a + 1] -= (1.0 - xi) * fy
-        f[2 * b] -= xi * fx
-        f[2 * b + 1] -= xi * fy
-    return energy, power
+            r = states[j]
+            sx = x[2 * s, j]
+            sy = x[2 * s + 1, j]
+            # the master segment onto which the slave projects: the one used last step nearly
+            # always still holds it; else search outward from it, alternating up and down (in
+            # line: a call passing arrays would cost reference counting per node)
+            j0 = seg[r, k] if seg[r, k] >= 0 else 0
+            found = -1
+            xi = 0.0
+            for step in range(2 * n_seg):
+                m = j0 + (step + 1) // 2 if step % 2 == 0 else j0 - (step + 1) // 2
+                if m < 0 or m >= n_seg:
+                    if j0 + step // 2 >= n_seg and j0 - step // 2 < 0:
+                        break
+                    continue
+                a = masters[m]
+                b = masters[m + 1]
+                dx = x[2 * b, j] - x[2 * a, j]
+                dy = x[2 * b + 1, j] - x[2 * a + 1, j]
+                t = ((sx - x[2 * a, j]) * dx + (sy - x[2 * a + 1, j]) * dy) / (dx * dx + dy * dy)
+                if -1e-12 <= t <= 1.0 + 1e-12:
+                    found = m
+                    xi = min(max(t, 0.0), 1.0)
+                    break
+            if found < 0:
+                seg[r, k] = -1
+                ft[r, k] = 0.0
+                normal_force[r, k] = 0.0
+                fn_filtered[r, k] = 0.0
+                continue
+            seg[r, k] = found
+            a = masters[found]
+            b = masters[found + 1]
+            dx = x[2 * b, j] - x[2 * a, j]
+            dy = x[2 * b + 1, j] - x[2 * a + 1, j]
+            length = math.sqrt(dx * dx + dy * dy)
+            tx = dx / length
+            ty = dy / length
+            nx = outward_sign * ty
+            ny = -outward_sign * tx
+            px = x[2 * a, j] + xi * dx
+            py = x[2 * a + 1, j] + xi * dy
+            gap = (sx - px) * nx + (sy - py) * ny
+            if gap >= 0.0:
+                ft[r, k] = 0.0
+                normal_force[r, k] = 0.0
+                fn_filtered[r, k] = 0.0
+                continue
+            rvx = v[2 * s, j] - ((1.0 - xi) * v[2 * a, j] + xi * v[2 * b, j])
+            rvy = v[2 * s + 1, j] - ((1.0 - xi) * v[2 * a + 1, j] + xi * v[2 * b + 1, j])
+            fn, trial, cone, e, p = _penalty_contact(
+                gap,
+                rvx * nx + rvy * ny,
+                rvx * tx + rvy * ty,
+                kn[k],
+                kt[k],
+                cn[k],
+                mu,
+                dt,
+                ft[r, k],
+                fn_filtered[r, k],
+                blend,
+            )
+            ft[r, k] = trial
+            normal_force[r, k] = fn
+            fn_filtered[r, k] = cone
+            out[0, j] += e
+            out[1, j] += p
+            fx = fn * nx + trial * tx
+            fy = fn * ny + trial * ty
+            f[2 * s, j] += fx
+            f[2 * s + 1, j] += fy
+            f[2 * a, j] -= (1.0 - xi) * fx
+            f[2 * a + 1, j] -= (1.0 - xi) * fy
+            f[2 * b, j] -= xi * fx
+            f[2 * b + 1, j] -= xi * fy
 
 
 @njit(cache=True)
@@ -748,6 +773,10 @@ def _advance_group(
     totals = carray(_stack_rows(5), (5, GROUP))
     ground = carray(_stack_rows(4), (4, GROUP))
     results = carray(_stack_rows(4), (4, GROUP))
+    contact = carray(_stack_rows(6), (6, GROUP))
+    positions = columns[:, POSITION, :]
+    velocities = columns[:, VELOCITY, :]
+    forces = columns[:, FORCE, :]
     for j in range(group):
         ground[0, j] = ground_acc[states[j], 0] if j < width else 0.0
         ground[1, j] = ground_vacc[states[j], 0] if j < width else 0.0
@@ -805,7 +834,7 @@ def _advance_group(
                     w[o + u0 + j] = frame[2, j] * qx + frame[3, j] * qy - px
                     w[o + u0 + dof + j] = -frame[3, j] * qx + frame[2, j] * qy - py
         bsr_matmat(stiffness.indptr, stiffness.indices, stiffness.blocks, grid, single)
-        # contact and collars, state by state on its columns
+        # this and the next step's ground accelerations
         for j in range(group):
             if not running[j]:
                 ground[0, j] = 0.0
@@ -818,57 +847,65 @@ def _advance_group(
             ground[1, j] = ground_vacc[r, step]
             ground[2, j] = ground_acc[r, step + 1] if step + 1 < n_steps else ground[0, j]
             ground[3, j] = ground_vacc[r, step + 1] if step + 1 < n_steps else ground[1, j]
+        # contact, node by node for the whole group (a node's rows are read once), then the
+        # toe averages and the collars state by state
+        base_contact(
+            positions,
+            velocities,
+            forces,
+            running,
+            states,
+            base.nodes,
+            base.kn,
+            base.kt,
+            base.cn,
+            mu,
+            dt,
+            base_state.ft,
+            base_state.fn,
+            base_state.fc,
+            blend,
+            contact[0:2],
+        )
+        for p in range(2):
+            crack = cracks[p]
+            if crack.nodes.size == 0:
+                contact[2 + 2 * p, :] = 0.0
+                contact[3 + 2 * p, :] = 0.0
+                continue
+            state = crack_states[p]
+            crack_contact(
+                positions,
+                velocities,
+                forces,
+                running,
+                states,
+                crack.nodes,
+                crack.masters,
+                crack.sign,
+                crack.kn,
+                crack.kt,
+                crack.cn,
+                mu,
+                dt,
+                state.seg,
+                state.ft,
+                state.fn,
+                state.fc,
+                blend,
+                contact[2 + 2 * p : 4 + 2 * p],
+            )
+        for j in range(width):
+            if not running[j]:
+                continue
+            r = states[j]
+            _edge_average(edge, r, base_state.fn[r])
             if single:  # contiguous
                 xr = grid[x0 : x0 + n_dofs]
-                vr = grid[v0 : v0 + n_dofs]
                 fr = grid[f0 : f0 + n_dofs]
             else:
                 xr = columns[:, POSITION, j]
-                vr = columns[:, VELOCITY, j]
                 fr = columns[:, FORCE, j]
-            e_base, p_base = base_contact(
-                xr,
-                vr,
-                base.nodes,
-                base.kn,
-                base.kt,
-                base.cn,
-                mu,
-                dt,
-                base_state.ft[r],
-                fr,
-                base_state.fn[r],
-                base_state.fc[r],
-                blend,
-            )
-            _edge_average(edge, r, base_state.fn[r])
-            e_crack = 0.0
-            p_crack = 0.0
-            for p in range(2):
-                crack = cracks[p]
-                if crack.nodes.size == 0:
-                    continue
-                state = crack_states[p]
-                e1, p1 = crack_contact(
-                    xr,
-                    vr,
-                    crack.nodes,
-                    crack.masters,
-                    crack.sign,
-                    crack.kn,
-                    crack.kt,
-                    crack.cn,
-                    mu,
-                    dt,
-                    state.seg[r],
-                    state.ft[r],
-                    fr,
-                    state.fn[r],
-                    state.fc[r],
-                    blend,
-                )
-                e_crack += e1
-                p_crack += p1
             e_collar, w_plastic = collar_forces(
                 xr,
                 collars.nodes,
@@ -878,10 +915,15 @@ def _advance_group(
                 collar_state.plastic[r],
                 True,
             )
-            results[0, j] = e_base
+            e_crack = 0.0
+            p_crack = 0.0
+            for p in range(2):
+                e_crack += contact[2 + 2 * p, j]
+                p_crack += contact[3 + 2 * p, j]
+            results[0, j] = contact[0, j]
             results[1, j] = e_crack
             results[2, j] = e_collar
-            results[3, j] = (p_base + p_crack) * dt + w_plastic
+            results[3, j] = (contact[1, j] + p_crack) * dt + w_plastic
         # fused, body by body: elastic forces back to the ground frame, update, next step's
         # loads; per state the sums of strain, gravity and kinetic energy, external work, |v|^2
         # and the next step's frame sums (of the new positions)
