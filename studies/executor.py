@@ -33,7 +33,7 @@ from .output import _plain, write_json
 # case keys that do not change what a case computes (left out of its inputs): how it reports
 # progress, and where the study file was (the files it names are hashed by their bytes); and
 # the keys of a study dict's [study] table that only name it
-NOT_INPUTS = ("progress", "source", "base")
+NOT_INPUTS = ("progress", "source", "base", "cost")  # cost: a scheduling hint (see _deal)
 NOT_STUDY_INPUTS = ("name", "description")
 # the files a case's study dict may name, relative to the case's "base" (key path: what it is)
 INPUT_FILES = {
@@ -224,7 +224,8 @@ def run_cases(
     ``batched``: ``function(cases, case_directories)`` runs several cases in one worker and
     yields (index in cases, result) as each completes (cases that share a model advancing
     together, as the spectrum's grid points on the batched FEM kernel). The cases to run are
-    dealt round-robin into one share per worker (per thread of a Dask cluster); the worker
+    dealt into one share per worker (per thread of a Dask cluster), of about equal total
+    ``case["cost"]`` (an optional estimate, not an input of the case); the worker
     saves each result as it completes, so an interrupted share loses nothing already computed.
 
     A saved case is reused only when it was computed from the same inputs
@@ -344,10 +345,20 @@ def run_cases(
 
 
 def _deal(cases: list, shares: int) -> list[list]:
-    """The cases dealt round-robin into at most ``shares`` non-empty shares (neighbouring cases,
-    often alike in cost, go to different workers)."""
+    """The cases dealt into at most ``shares`` non-empty shares of about equal cost: the
+    costliest first, each to the share with the least cost so far (longest processing time
+    first). A case's ``"cost"`` (any unit, default 1: then the deal is round-robin) is an
+    estimate, for instance the simulated duration of a grid point; each share lists its cases
+    costliest first."""
     shares = max(1, min(shares, len(cases)))
-    return [cases[i::shares] for i in range(shares)]
+    order = sorted(range(len(cases)), key=lambda i: -float(cases[i].get("cost", 1.0)))
+    dealt: list[list] = [[] for _ in range(shares)]
+    load = [0.0] * shares
+    for i in order:
+        share = min(range(shares), key=lambda k: (load[k], k))
+        dealt[share].append(cases[i])
+        load[share] += float(cases[i].get("cost", 1.0))
+    return dealt
 
 
 def _run_share(function, cases: list[dict], saving: list) -> list[dict]:

@@ -369,6 +369,9 @@ def iter_fem(studies: list[FemStudy], *, slots: int | None = None):
         else:
             groups.append([index])
     for members in groups:
+        # the longest runs first: they advance together, and the short ones take the slots that
+        # runs ending early leave, so the batch does not end on a few long runs alone
+        members.sort(key=lambda i: -studies[i].duration)
         first = studies[members[0]]
         runs = iter_batch(
             build(first),

@@ -234,9 +234,12 @@ def run_spectrum_crosscheck(
     cases = []
     for i, a in enumerate(amplitudes):
         for j, w in enumerate(omegas):
+            point = with_pulse(w, a)
+            duration = from_dict(point, source=str(study_path), base=study_path.parent).duration
             cases.append(
                 {
-                    "study": with_pulse(w, a),
+                    "study": point,
+                    "cost": duration,  # the workers' shares are balanced on it (s simulated)
                     "source": str(study_path),
                     "base": str(study_path.parent.resolve()),
                     "key": f"a{a:.6g}-w{w:.6g}",

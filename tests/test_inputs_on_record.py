@@ -194,8 +194,8 @@ def test_a_changed_input_file_is_named(tmp_path, table, key, what):
 
 
 def test_what_does_not_change_the_computation_is_not_an_input(tmp_path):
-    """Progress reporting, where the study file was and the study's name and description do
-    not change what a case computes; its kind does."""
+    """Progress reporting, where the study file was, a scheduling cost and the study's name
+    and description do not change what a case computes; its kind does."""
     calls = []
 
     def counted(case, directory):
@@ -210,6 +210,8 @@ def test_what_does_not_change_the_computation_is_not_an_input(tmp_path):
         for c in _cases(tmp_path, study=renamed)
     ]
     executor.run_cases(counted, moved, tmp_path / "out", progress=False)
+    rescheduled = [dict(c, cost=7.0) for c in _cases(tmp_path, study=renamed)]  # a hint only
+    executor.run_cases(counted, rescheduled, tmp_path / "out", progress=False)
     assert calls == ["one", "two"]
     with pytest.raises(InputError, match='study.study.kind: "cross-check" -> "free-rocking"'):
         executor.run_cases(
@@ -410,3 +412,26 @@ def test_pdf_report_starts_with_the_outcome(tmp_path):
             check=True,
         )
         assert list(tmp_path.glob("page*.png"))
+
+
+def test_shares_are_balanced_on_the_cases_cost():
+    """Equal costs (or none) deal round-robin; unequal ones go costliest first to the share
+    with the least so far, so that no worker ends long after the others (the spectrum's grid
+    points are dealt on their simulated durations)."""
+    plain = [{"key": str(i)} for i in range(7)]
+    assert [[c["key"] for c in s] for s in executor._deal(plain, 3)] == [
+        ["0", "3", "6"],
+        ["1", "4"],
+        ["2", "5"],
+    ]
+    # a grid row's durations (s): round-robin would give 46 s to one worker and 34.5 s to the
+    # other over five such rows
+    durations = [4.8, 2.9, 2.4, 2.1, 2.0, 1.9] * 5
+    cases = [{"key": str(i), "cost": d} for i, d in enumerate(durations)]
+    shares = executor._deal(cases, 2)
+    assert sorted(c["key"] for s in shares for c in s) == sorted(c["key"] for c in cases)
+    loads = [sum(c["cost"] for c in s) for s in shares]
+    assert max(loads) - min(loads) <= max(durations)  # the greedy bound
+    assert max(loads) < 0.51 * sum(durations)
+    for share in shares:  # costliest first
+        assert [c["cost"] for c in share] == sorted((c["cost"] for c in share), reverse=True)
