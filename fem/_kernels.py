@@ -709,14 +709,16 @@ def _advance_group(
     (_stack_rows): it vectorises. The mat-vec and the fused pass run over all GROUP columns (a
     fixed count), the other passes over the states' columns; the columns past the states (and
     a stopped state's) are parked at rest at the reference positions, their results unread.
-    The contact and collar functions get a state's columns as strided views. One state has the
-    plain layout and scalar loops.
+    The contact functions get the group's columns (node by node, the columns innermost), the
+    collar function a state's columns as strided views. One state has the plain layout and
+    scalar loops.
 
     Per step: body by body, the body frames from the sums left by the last update and one pass
-    for the local displacements; one block mat-vec for all the states (bsr_matmat); per state
-    the contact and collar forces; one fused pass, body by body, that rotates the elastic forces
-    back, updates velocity and position, loads gravity and ground force for the next step and
-    sums the next step's frame sums."""
+    for the local displacements; one block mat-vec for all the states (bsr_matmat); the base and
+    crack contact for all the states; per state the toe averages and the collar forces; one
+    fused pass, body by body, that rotates the elastic forces back, updates velocity and
+    position, loads gravity and ground force for the next step and sums the next step's frame
+    sums."""
     x, v, frames = motion.x, motion.v, motion.frames
     X, mass, gravity, order, offsets = (
         bodies.X,
