@@ -281,9 +281,7 @@ def run_cases(
         (``saved``: a share run in a local process)."""
         key = case["key"]
         if not saved:
-            # inputs first: a result has its inputs
-            write_json(case_dir(out, key) / "inputs.json", record(key))
-            write_json(case_dir(out, key) / "result.json", result)
+            save_case(case_dir(out, key), record(key), result)
         results[key] = result
         bar.set_postfix_str(key, refresh=False)
         bar.update(1)
@@ -344,6 +342,12 @@ def run_cases(
     return results
 
 
+def save_case(folder: Path, record: dict, result) -> None:
+    """A case's files: its inputs record first, so that a result always has its inputs."""
+    write_json(folder / "inputs.json", record)
+    write_json(folder / "result.json", result)
+
+
 def _deal(cases: list, shares: int) -> list[list]:
     """The cases dealt into at most ``shares`` non-empty shares of about equal cost: the
     costliest first, each to the share with the least cost so far (longest processing time
@@ -351,13 +355,13 @@ def _deal(cases: list, shares: int) -> list[list]:
     estimate, for instance the simulated duration of a grid point; each share lists its cases
     costliest first."""
     shares = max(1, min(shares, len(cases)))
-    order = sorted(range(len(cases)), key=lambda i: -float(cases[i].get("cost", 1.0)))
+    costs = [float(case.get("cost", 1.0)) for case in cases]
     dealt: list[list] = [[] for _ in range(shares)]
     load = [0.0] * shares
-    for i in order:
+    for i in sorted(range(len(cases)), key=lambda i: -costs[i]):
         share = min(range(shares), key=lambda k: (load[k], k))
         dealt[share].append(cases[i])
-        load[share] += float(cases[i].get("cost", 1.0))
+        load[share] += costs[i]
     return dealt
 
 
@@ -368,8 +372,7 @@ def _run_share(function, cases: list[dict], saving: list) -> list[dict]:
     results: list = [None] * len(cases)
     for index, result in function(cases, [folder for folder, _ in saving]):
         folder, record = saving[index]
-        write_json(Path(folder) / "inputs.json", record)
-        write_json(Path(folder) / "result.json", result)
+        save_case(Path(folder), record, result)
         results[index] = result
     missing = [c["key"] for c, r in zip(cases, results) if r is None]
     if missing:

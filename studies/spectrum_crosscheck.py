@@ -218,28 +218,27 @@ def run_spectrum_crosscheck(
     study = from_dict(
         with_pulse(omegas[0], amplitudes[0]), source=str(study_path), base=study_path.parent
     )  # fails early
+    # each point's simulated duration (s): the workers' shares are balanced on it
+    durations = {
+        (w, a): from_dict(with_pulse(w, a), source=str(study_path), base=study_path.parent).duration
+        for a in amplitudes
+        for w in omegas
+    }
     if study.output_interval is None:
         # one output interval for every point (the runs of a batch share it), as a run's
         # default: 1/400 of the shortest point's duration
-        shortest = min(
-            from_dict(with_pulse(w, a), source=str(study_path), base=study_path.parent).duration
-            for a in amplitudes
-            for w in omegas
-        )
         base_data = schema.variant(
-            base_data, {"run.output_interval": shortest / 400.0}, str(study_path)
+            base_data, {"run.output_interval": min(durations.values()) / 400.0}, str(study_path)
         )
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     cases = []
     for i, a in enumerate(amplitudes):
         for j, w in enumerate(omegas):
-            point = with_pulse(w, a)
-            duration = from_dict(point, source=str(study_path), base=study_path.parent).duration
             cases.append(
                 {
-                    "study": point,
-                    "cost": duration,  # the workers' shares are balanced on it (s simulated)
+                    "study": with_pulse(w, a),
+                    "cost": durations[w, a],
                     "source": str(study_path),
                     "base": str(study_path.parent.resolve()),
                     "key": f"a{a:.6g}-w{w:.6g}",
