@@ -251,26 +251,38 @@ def _collar_elements(mesh: ColumnMesh, collars):
 # ------------------------------------------------------------------------------------------
 
 
+def base_stiffness(model: Model, tangential_scale: float = 1.0) -> sparse.csr_matrix:
+    """Linearised stiffness of the base springs (all closed, ground frame): kn on each base
+    node's vertical dof, ``tangential_scale`` * kt on its horizontal one."""
+    n = model.n_dofs
+    rows = np.concatenate([2 * model.base_nodes + 1, 2 * model.base_nodes])
+    vals = np.concatenate([model.base_kn, tangential_scale * model.base_kt])
+    return sparse.csr_matrix((vals, (rows, rows)), shape=(n, n))
+
+
+def crack_stiffness(model: Model, tangential_scale: float = 1.0) -> sparse.csr_matrix:
+    """Linearised stiffness of the crack springs in the reference configuration (faces
+    coincident, all closed); the tangential springs scaled by ``tangential_scale``."""
+    n = model.n_dofs
+    rows, cols, vals = [], [], []
+    for slaves, masters, _sign, knn, ktt, _ in model.crack_passes:
+        partners = coincident_nodes(model.mesh, slaves, masters)
+        for dof, k in ((0, knn), (1, tangential_scale * ktt)):
+            i, j = 2 * slaves + dof, 2 * partners + dof
+            rows += [i, j, i, j]
+            cols += [i, j, j, i]
+            vals += [k, k, -k, -k]
+    if not rows:
+        return sparse.csr_matrix((n, n))
+    return sparse.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
+    )
+
+
 def contact_stiffness(model: Model, tangential_scale: float = 1.0) -> sparse.csr_matrix:
     """Linearised stiffness of the contact springs in the reference configuration (all closed);
     the tangential springs scaled by ``tangential_scale``."""
-    n = model.n_dofs
-    rows, cols, vals = [], [], []
-
-    def spring(i, j, k):  # dof i to dof j (j < 0: to the ground)
-        rows.append(i), cols.append(i), vals.append(k)
-        if j >= 0:
-            rows.extend([j, i, j]), cols.extend([j, j, i]), vals.extend([k, -k, -k])
-
-    for node, knn, ktt in zip(model.base_nodes, model.base_kn, model.base_kt):
-        spring(2 * node + 1, -1, knn)
-        spring(2 * node, -1, tangential_scale * ktt)
-    for slaves, masters, _sign, knn, ktt, _ in model.crack_passes:
-        partners = coincident_nodes(model.mesh, slaves, masters)
-        for s, m_, k1, k2 in zip(slaves, partners, knn, ktt):  # faces coincide at rest
-            spring(2 * s, 2 * m_, k1)
-            spring(2 * s + 1, 2 * m_ + 1, tangential_scale * k2)
-    return sparse.csr_matrix((vals, (rows, cols)), shape=(n, n))
+    return base_stiffness(model, tangential_scale) + crack_stiffness(model, tangential_scale)
 
 
 def coincident_nodes(mesh: ColumnMesh, slaves: np.ndarray, masters: np.ndarray) -> np.ndarray:
@@ -308,6 +320,8 @@ def collar_stiffness(model: Model, h: float = 1e-7) -> sparse.csr_matrix:
 
 def max_frequency(stiffness: sparse.spmatrix, mass: np.ndarray) -> float:
     """Highest circular frequency sqrt(lambda_max(M^-1 K)) with lumped mass (rad/s)."""
+    if stiffness.count_nonzero() == 0:  # no springs of that kind (a solid column, no collars)
+        return 0.0
     scale = sparse.diags(1.0 / np.sqrt(mass))
     A = (scale @ stiffness @ scale).tocsr()
     # a fixed start vector keeps dt reproducible to the last digit (rocking is chaotic)
@@ -337,14 +351,24 @@ class StableStep:
 
 
 def stable_time_step(model: Model, safety: float = 0.9) -> StableStep:
-    """Stable step from omega_max^2 <= lambda_max(stone) + lambda_max(contact + collars).
+    """Stable step from omega_max^2 <= lambda_max(stone + base) + lambda_max(crack + collars).
 
-    The two spectra are each invariant under rotation of the bodies, and Weyl's inequality
-    bounds the top eigenvalue of their sum in every configuration. The exact top frequency of
-    the upright column is not enough: once a half rocks onto a toe, its rotated stiffness and
-    the ground-frame contact springs line up differently and the sum can exceed it."""
+    The base springs are isotropic (kn = kt, each k I on one node, anchored to the ground), so
+    the spectrum of stone plus base is invariant under any rotation of each body, and losing
+    springs (a lifted or sliding node) only lowers it: its upright value with all base nodes
+    closed bounds every configuration. The crack springs and collars join the bodies to each
+    other, and the halves turn apart; Weyl's inequality adds their top eigenvalue. The exact
+    top frequency of the upright column is not enough: once a half rocks onto a toe, its
+    rotated stiffness and the springs between the halves line up differently and the sum can
+    exceed it. (With kn != kt the base joins the crack and collars in the second term.)"""
     require_range("run safety (time-step safety factor)", safety, 0.0, 1.0, closed_high=True)
     w_el = max_frequency(model.stiffness, model.mass)
-    w_springs = max_frequency(contact_stiffness(model) + collar_stiffness(model), model.mass)
-    w_bound = math.sqrt(w_el**2 + w_springs**2)
+    between = crack_stiffness(model) + collar_stiffness(model)
+    if np.array_equal(model.base_kn, model.base_kt):
+        bodies = model.stiffness + base_stiffness(model)
+    else:
+        bodies, between = model.stiffness, between + base_stiffness(model)
+    w_bound = math.sqrt(
+        max_frequency(bodies, model.mass) ** 2 + max_frequency(between, model.mass) ** 2
+    )
     return StableStep(2.0 / w_el, 2.0 / w_bound, safety, model.contact.damping)

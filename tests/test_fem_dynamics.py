@@ -202,6 +202,47 @@ def test_stable_step_estimate_is_sharp_for_the_stone():
     assert growth[1.1] > 1e6
 
 
+def test_stable_step_bound_covers_rocked_configurations():
+    """The bound behind the stable step holds when the halves turn apart and base nodes lift:
+    for random rotations of each half (up to 0.4 rad) and random sets of closed base springs,
+    the exact top frequency of the linearised system stays below it, while some of these
+    configurations exceed the upright column's exact top frequency (so that alone would not
+    do)."""
+    from scipy import sparse
+
+    from colonna.fem.model import (
+        base_stiffness,
+        collar_stiffness,
+        crack_stiffness,
+        max_frequency,
+    )
+
+    model = build_model(
+        column_mesh(0.4, 1.0, 0.1, cracked=True),
+        Stone(),
+        0.3,
+        collars=(Collar(y=0.5, t=0.01, h=0.05),),
+    )
+    bound = 2.0 / stable_time_step(model, 1.0).critical
+    between = crack_stiffness(model) + collar_stiffness(model)
+    upright = max_frequency(model.stiffness + base_stiffness(model) + between, model.mass)
+    body = model.mesh.node_body
+    rng = np.random.default_rng(1)
+    worst = 0.0
+    for _ in range(30):
+        angle = rng.uniform(-0.4, 0.4, size=2)[body]
+        c, s = np.cos(angle), np.sin(angle)
+        rotation = sparse.block_diag([np.array([[ci, -si], [si, ci]]) for ci, si in zip(c, s)])
+        closed = np.zeros(model.n_dofs)
+        kept = model.base_nodes[rng.random(model.base_nodes.size) < 0.5]
+        closed[2 * kept] = closed[2 * kept + 1] = 1.0
+        base = sparse.diags(closed) @ base_stiffness(model)
+        stiffness = rotation @ model.stiffness @ rotation.T + base + between
+        worst = max(worst, max_frequency(stiffness.tocsr(), model.mass))
+    assert worst <= bound
+    assert worst > upright * (1.0 + 1e-4)
+
+
 def test_time_step_above_the_stable_one_is_rejected_and_the_estimate_runs():
     model = build_model(
         column_mesh(0.4, 1.0, 0.1, cracked=True), Stone(), 0.3, contact=ContactSettings(damping=0.0)
@@ -279,25 +320,42 @@ def test_overturning_is_detected_and_stops_the_run():
     assert r.summary["t_end"] < pulse.duration + 3.0
 
 
+STEP_FRACTIONS = (1.0, 0.85, 0.7)  # of the stable step
+
+
 def _first_impact_ratios(model, blk, tilt, replicas=8):
     """The velocity ratio at the first impact of a free release from ``tilt``, measured from
-    the rotation peaks, for each replica of an ensemble: the landing is chaotic, so the ratio
-    is a band (:func:`colonna.fem.ensemble.band`), not one number."""
+    the rotation peaks, for each replica of an ensemble run at each of ``STEP_FRACTIONS`` of
+    the stable step: the landing is chaotic, so the ratio is a band
+    (:func:`colonna.fem.ensemble.band`), not one number. The step belongs in the band: the
+    penalty contact is resolved by a few steps, and over 0.7-1 of the stable step the median
+    ratio moves by up to 0.03 at 5000 GPa (by 0.008 at 50 GPa), where replicas at one step
+    spread over 0.002-0.04."""
     from colonna.core.ground import NoMotion
     from colonna.fem.ensemble import band
+    from colonna.fem.model import stable_time_step
     from colonna.fem.solver import run_ensemble
     from colonna.rigid.impacts import impact_ratios_from_peaks
 
-    runs = run_ensemble(
-        model, NoMotion(), 1.2, replicas, progress=False, output_interval=1e-3, initial_tilt=tilt
-    )
+    stable = stable_time_step(model, 1.0).dt
     ratios = []
-    for r in runs:
-        measured = impact_ratios_from_peaks(r.history["t"], r.history["theta_left"], blk.alpha)
-        # the fall to the first impact is not chaotic: the corrected Eq. 13 time
-        assert measured.times[0] == pytest.approx(blk.time_to_vertical(tilt), rel=0.02)
-        assert r.summary["energy_error_max"] < 0.01
-        ratios.append(measured.ratios[0])
+    for fraction in STEP_FRACTIONS:
+        runs = run_ensemble(
+            model,
+            NoMotion(),
+            1.2,
+            replicas,
+            progress=False,
+            output_interval=1e-3,
+            initial_tilt=tilt,
+            dt=0.9 * fraction * stable,
+        )
+        for r in runs:
+            measured = impact_ratios_from_peaks(r.history["t"], r.history["theta_left"], blk.alpha)
+            # the fall to the first impact is not chaotic: the corrected Eq. 13 time
+            assert measured.times[0] == pytest.approx(blk.time_to_vertical(tilt), rel=0.02)
+            assert r.summary["energy_error_max"] < 0.01
+            ratios.append(measured.ratios[0])
     return band(ratios)
 
 
@@ -342,15 +400,15 @@ def test_free_rocking_impact_loss_of_the_fem_approaches_housner_as_the_stone_sti
 ):
     """A solid column released from half its alpha (no ground motion): the velocity ratio at
     its first impact, measured from the rotation peaks through the free-rocking energy, falls
-    toward Housner's 1 - 1.5 sin^2(alpha) = 0.942 as E grows. Over 8 replicas: 0.970-0.975 at
-    50 GPa, median 0.964 (0.954-0.968) at 500 GPa, median 0.950 (0.932-0.967) at 5000 GPa:
-    the stiffer the stone, the shorter and more chaotic the landing. The rigid multibody model
-    gives Housner's value itself. The meshed base keeps more of the rocking energy than a base
-    touching at its corners only (the next test): its impact is spread over the elastic base
-    contact instead of a blow at one corner.
+    toward Housner's 1 - 1.5 sin^2(alpha) = 0.942 as E grows. Over 8 replicas at each of three
+    steps: median 0.975 (0.969-0.976) at 50 GPa, 0.962 (0.953-0.971) at 500 GPa, 0.943
+    (0.906-0.968) at 5000 GPa: the stiffer the stone, the shorter and more chaotic the
+    landing. The rigid multibody model gives Housner's value itself. The meshed base keeps
+    more of the rocking energy than a base touching at its corners only (the next test): its
+    impact is spread over the elastic base contact instead of a blow at one corner.
 
     The landing is chaotic (a last-bit difference changes which node bounces first), so each
-    ratio is a band over replicas and each claim is made against the bands."""
+    ratio is a band over replicas and steps, and each claim is made against the bands."""
     from colonna.rigid.multibody import rock_multibody
 
     blk, bands = release_bands
@@ -370,17 +428,17 @@ def test_free_rocking_impact_loss_of_the_fem_approaches_housner_as_the_stone_sti
 def test_free_rocking_fem_with_the_rigid_models_base_contact_approaches_housner(release_bands):
     """The same release on a mesh one element wide: the base touches the ground at its two
     corners only, as a rigid block's flat base does (and as in the multibody model). Then the
-    FEM's velocity ratio does approach Housner's 0.942 as E grows: over 8 replicas 0.954-0.956
-    at 50 GPa, 0.940-0.947 (median 0.945) at 500 GPa and 0.939-0.946 (median 0.941) at 5000
-    GPa, Housner's value inside both stiff bands. The landing is chaotic: the claims are made
-    against the bands."""
+    FEM's velocity ratio does approach Housner's 0.942 as E grows: over 8 replicas at each of
+    three steps, median 0.955 (0.950-0.961) at 50 GPa, 0.936 (0.923-0.947) at 500 GPa and
+    0.941 (0.921-0.955) at 5000 GPa, Housner's value inside both stiff bands. The landing is
+    chaotic: the claims are made against the bands."""
     blk, bands = release_bands
     housner = blk.restitution_housner
     soft, stiff, stiffer = bands["corners"]
-    assert soft["min"] > housner + 0.008  # elastic stone: above Housner
+    assert soft["min"] > housner + 0.005  # elastic stone: above Housner
     for b in (stiff, stiffer):  # stiff: Housner within the scatter
         assert b["min"] - 0.003 <= housner <= b["max"] + 0.003
-        assert abs(b["median"] - housner) < abs(soft["median"] - housner) - 0.005
+        assert abs(b["median"] - housner) < abs(soft["median"] - housner)
 
 
 def test_release_from_a_tilt_turns_the_static_state_about_the_toe():
