@@ -116,6 +116,7 @@ def run_design_study(
                 fem,
                 "the collar-design study runs the FEM alone; the "
                 "cross-check study compares it with the rigid models",
+                study.collars,
             ),
         ),
     }

@@ -12,8 +12,9 @@ toe crush?", each yes / no / undecided / not assessed, with the number behind it
 band over the replicas), its limit, the relation between them (``stays below``, ``reaches``,
 ``straddles``) and the figure that shows it. The word and the relation come from one comparison
 (:func:`limit_answer`), so the sentence can never contradict its number. A study that follows
-the collars past f_y (the cross-check) also answers "Do the collars hold?" (:func:`collars_hold`:
-did a plastic collar's extreme fibre reach its fracture strain?); the others leave it out.
+the collars past f_y also answers "Do the collars hold?" (:func:`collars_hold`: did a plastic
+collar's extreme fibre reach its fracture strain?): the cross-check always, the studies whose
+FEM runs alone (:func:`fem_answers`) where a collar is plastic; the others leave it out.
 """
 
 from __future__ import annotations
@@ -217,10 +218,12 @@ def count_answer(question: str, measure: str, flags: list[list], figure: str | N
     }
 
 
-def fem_answers(fem: dict, why_not_rigid: str, collars: bool = True) -> dict[str, dict]:
-    """The three answers of a study whose FEM runs alone (an ensemble summary ``fem``): the
-    collars and the toe on the study mesh; the rigid-body question left to the cross-check."""
-    return {
+def fem_answers(fem: dict, why_not_rigid: str, collars=()) -> dict[str, dict]:
+    """The answers of a study whose FEM runs alone (an ensemble summary ``fem``; ``collars``
+    the study's): the collars and the toe on the study mesh, and, where a collar is plastic
+    (followed past f_y to fracture), whether the collars hold (:func:`collars_hold`); the
+    rigid-body question left to the cross-check."""
+    answers = {
         "rigid_assumption_ok": not_assessed(QUESTIONS["rigid_assumption_ok"], why_not_rigid),
         "collars_yield": limit_answer(
             QUESTIONS["collars_yield"],
@@ -239,6 +242,9 @@ def fem_answers(fem: dict, why_not_rigid: str, collars: bool = True) -> dict[str
             "-",
         ),
     }
+    if any(c.plastic for c in collars):
+        answers["collars_hold"] = collars_hold(fem, collars)
+    return answers
 
 
 def fem_model(model: str, fem: dict, alpha: float) -> dict:

@@ -151,7 +151,7 @@ def _convergence_summary(study, cases, results) -> dict:
         finest,
         "the mesh-convergence study runs the FEM alone; the "
         "cross-check study compares it with the rigid models",
-        collars=bool(study.collars),
+        collars=study.collars,
     )
     return {
         "study": study.name,
@@ -201,7 +201,7 @@ def _variants_summary(study, variants, results) -> dict:
         as_built,
         "this study compares the solid and cracked columns; the "
         "cross-check study compares the FEM with the rigid models",
-        collars=bool(study.collars),
+        collars=study.collars,
     )
     return {"study": study.name, "outcome": outcome(models, answers), "variants": rows}
 

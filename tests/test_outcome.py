@@ -18,6 +18,7 @@ from colonna.studies.outcome import (
     QUESTIONS,
     collars_hold,
     criteria_answer,
+    fem_answers,
     limit_answer,
     model_outcome,
     none_assessed,
@@ -227,3 +228,29 @@ def _criteria(fem_peak, mb_peak, fem_overturned=False, history_error=0.0, impact
     return crosscheck._criteria_one(
         Study, fem, history, mb, t, [theta_mb, theta_mb], impacts_mb, 0.5
     )
+
+
+def test_a_study_whose_fem_runs_alone_asks_whether_plastic_collars_hold():
+    """The design, mesh-convergence and solid-vs-cracked studies answer from their FEM
+    ensemble alone (fem_answers): with a plastic collar they also ask "Do the collars hold?",
+    its word turned round from the replicas' fracture count; with elastic collars (never followed
+    past f_y) or none they leave it out, and without collars "Do the collars yield?" is not
+    assessed."""
+    fem = {
+        "bands": {
+            "collar_max_utilisation": band([1.1, 1.2, 1.3]),
+            "edge_stress_ratio": band([0.1]),
+        },
+        "collar_fractured_answer": "yes",
+        "collar_fractured_replicas": 8,
+        "replicas": 8,
+    }
+    elastic = (Collar(y=1.0, t=0.004, h=0.02),)
+    plastic = (Collar(y=1.0, t=0.004, h=0.02, plastic=True),)
+    asked = fem_answers(fem, "-", plastic)
+    assert asked["collars_hold"]["answer"] == "no" and asked["collars_hold"]["count"] == 8
+    assert asked["collars_yield"]["answer"] == "yes"
+    assert [a["key"] for a in outcome([], asked)["answers"]] == list(QUESTIONS)
+    assert "collars_hold" not in fem_answers(fem, "-", elastic)
+    bare = fem_answers(fem, "-", ())
+    assert "collars_hold" not in bare and bare["collars_yield"]["answer"] == "not assessed"
