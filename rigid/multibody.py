@@ -462,10 +462,19 @@ def history_columns(result: MultibodyResult) -> dict:
         columns["crack_slip"] = result.crack_slip
         columns["crack_normal_force"] = result.crack_normal_force
     for k, hist in enumerate(result.collar_histories, start=1):
+        # the FEM history's collar columns (fem.solver), of the same frame element and law
         columns[f"collar_{k}_axial_force"] = hist.axial_force
         columns[f"collar_{k}_moment"] = hist.end_moment
         columns[f"collar_{k}_stress"] = hist.stress
         columns[f"collar_{k}_utilisation"] = hist.utilisation
+        columns[f"collar_{k}_fibre_strain"] = hist.fibre_strain
+        if hist.collar.plastic:
+            columns[f"collar_{k}_plastic_strain"] = hist.plastic_strain
+            for end, side in enumerate(("left", "right")):
+                columns[f"collar_{k}_moment_{side}"] = hist.end_moments[:, end]
+                columns[f"collar_{k}_rotation_{side}"] = hist.end_rotations[:, end]
+                columns[f"collar_{k}_hinge_rotation_{side}"] = hist.hinge_rotations[:, end]
+            columns[f"collar_{k}_fractured"] = hist.fractured
     for key, values in result.energies.items():
         columns[f"energy_{key}"] = values
     return columns
@@ -804,6 +813,8 @@ def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[Collar
                 end_moments=forces[:, c, 1:3].copy(),
                 end_rotations=forces[:, c, 6:8].copy(),
                 hinge_rotations=hinges,
+                plastic_strain=forces[:, c, 4].copy(),
+                fractured=(recorded[:, RECORDED.index(FRACTURED)] > 0.0).astype(float),
             )
         )
     return histories

@@ -120,6 +120,9 @@ class CollarHistory:
     end_moments: np.ndarray | None = field(default=None, repr=False)
     end_rotations: np.ndarray | None = field(default=None, repr=False)
     hinge_rotations: np.ndarray | None = field(default=None, repr=False)
+    # accumulated plastic strain of the axial law (-) and the fracture flag (1 once broken)
+    plastic_strain: np.ndarray | None = field(default=None, repr=False)
+    fractured: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def max_utilisation(self) -> float:

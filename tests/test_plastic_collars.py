@@ -450,3 +450,44 @@ def test_multibody_collar_breaks_and_reports_it():
     kept = holds.summary()
     assert not kept["collar_fractured"] and kept["collar_fracture_time"] is None
     assert 1.0 < kept["collar_ductility_demand"] < 0.15 / hist.collar.yield_strain
+
+
+def test_the_multibody_history_has_the_fem_histories_collar_columns():
+    """history.csv of the multibody model carries the FEM's collar columns (same frame element
+    and law: fibre strain; for a plastic collar its plastic strain, end moments, rotations,
+    hinge rotations and fracture flag), so a study's two histories read alike. The brittle
+    collar that breaks in the multibody rocking test: the fracture flag is 0 before the
+    reported fracture time and 1 from it, and the hinges turned before the break."""
+    from colonna.core.ground import sine_pulse
+    from colonna.rigid.block import Block
+    from colonna.rigid.multibody import history_columns, rock_multibody
+
+    collar = Collar(y=2.0, t=0.002, h=0.02, plastic=True, eps_u=0.003)
+    half = Block(b=0.1125, h=2.0, mass=858.0)
+    a_up = half.uplift_acceleration()
+    result = rock_multibody(
+        half, sine_pulse(3.0 * a_up, 3.0 * half.p, a_up), (collar,), cracked=True, duration=2.0
+    )
+    columns = history_columns(result)
+    fem = _flung_up(Collar(y=1.0, t=0.004, h=0.03, plastic=True, eps_u=0.004)).history
+    assert {k for k in columns if k.startswith("collar_")} == {
+        k for k in fem if k.startswith("collar_")
+    }
+    hist = result.collar_histories[0]
+    broken = result.time >= result.summary()["collar_fracture_time"]
+    assert np.all(columns["collar_1_fractured"][broken] == 1.0)
+    assert np.all(columns["collar_1_fractured"][~broken] == 0.0)
+    # it yields in bending (its axial plastic strain stays 0): the end hinges turn first
+    assert np.array_equal(columns["collar_1_plastic_strain"], hist.plastic_strain)
+    hinges = np.abs(columns["collar_1_hinge_rotation_left"]) + np.abs(
+        columns["collar_1_hinge_rotation_right"]
+    )
+    assert hinges[~broken].max() > 0.0
+    assert np.array_equal(columns["collar_1_fibre_strain"], hist.fibre_strain)
+    band = Collar(y=2.0, t=0.008, h=0.06)
+    gentle = sine_pulse(1.5 * a_up, 3.0 * half.p, a_up)
+    elastic = rock_multibody(half, gentle, (band,), cracked=True)
+    assert {k for k in history_columns(elastic) if k.startswith("collar_")} == {
+        f"collar_1_{name}"
+        for name in ("axial_force", "moment", "stress", "utilisation", "fibre_strain")
+    }
