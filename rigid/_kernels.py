@@ -255,6 +255,29 @@ def _potential(x, sin_x, cos_x, P):
     return mechanical_energy(x, 0.0, P)
 
 
+@njit(cache=True, inline="always")
+def _secant(lo, hi, flo, fhi):
+    """The regula falsi point of the bracket [lo, hi], or its midpoint where that falls outside."""
+    mid = (lo * fhi - hi * flo) / (fhi - flo)
+    return mid if lo < mid < hi else 0.5 * (lo + hi)
+
+
+@njit(cache=True, inline="always")
+def _illinois(lo, hi, flo, fhi, mid, fm, upper, side):
+    """One Illinois update of the bracket [lo, hi] (values flo, fhi) with the point mid (value
+    fm): it replaces hi where ``upper`` (mid lies on hi's side of the root), else lo, and halves
+    the value kept at the other end when the same end moved last time (``side``: -1 hi, 1 lo,
+    0 neither). Returns (lo, hi, flo, fhi, side). The root finders below share it and keep their
+    own loops: a finder taking the function as an argument stops numba from caching."""
+    if upper:
+        if side == -1:
+            flo *= 0.5
+        return lo, mid, flo, fm, -1
+    if side == 1:
+        fhi *= 0.5
+    return mid, hi, fm, fhi, 1
+
+
 @njit(cache=True)
 def _potential_root(energy, lo, hi, P):
     """x in [lo, hi] where V(x) = energy, V(lo) < energy <= V(hi) (Illinois); the end of the
@@ -267,22 +290,9 @@ def _potential_root(energy, lo, hi, P):
     for _ in range(200):
         if hi - lo <= 4e-16 * max(1.0, abs(hi)) or fhi == flo:
             break
-        mid = (lo * fhi - hi * flo) / (fhi - flo)
-        if not (lo < mid < hi):
-            mid = 0.5 * (lo + hi)
+        mid = _secant(lo, hi, flo, fhi)
         fm = _potential(mid, math.sin(mid), math.cos(mid), P) - energy
-        if fm >= 0.0:
-            hi = mid
-            fhi = fm
-            if side == -1:
-                flo *= 0.5
-            side = -1
-        else:
-            lo = mid
-            flo = fm
-            if side == 1:
-                fhi *= 0.5
-            side = 1
+        lo, hi, flo, fhi, side = _illinois(lo, hi, flo, fhi, mid, fm, fm >= 0.0, side)
     return hi
 
 
@@ -480,24 +490,13 @@ def _dense_root(component, level, h, y0, y1, K0, K1, lo, hi):
     for _ in range(200):
         if fhi == flo:
             break
-        mid = (lo * fhi - hi * flo) / (fhi - flo)
-        if not (lo < mid < hi):
-            mid = 0.5 * (lo + hi)
+        mid = _secant(lo, hi, flo, fhi)
         fm = _dense(mid, h, y0, y1, K0, K1)[component] - level
         if fm == 0.0:
             return mid
-        if (fm > 0.0) == (fhi > 0.0):
-            hi = mid
-            fhi = fm
-            if side == -1:
-                flo *= 0.5
-            side = -1
-        else:
-            lo = mid
-            flo = fm
-            if side == 1:
-                fhi *= 0.5
-            side = 1
+        lo, hi, flo, fhi, side = _illinois(
+            lo, hi, flo, fhi, mid, fm, (fm > 0.0) == (fhi > 0.0), side
+        )
         if hi - lo <= 4e-16 * max(1.0, abs(hi)):
             break
     return lo if abs(flo) < abs(fhi) else hi
@@ -777,37 +776,25 @@ def _lin_segment(t0, th0, om0, s, pulse_on, P, seg):
 
 @njit(cache=True)
 def _lin_root(component, level, seg, P, a, b):
-    """Root in [a, b] of the closed-form theta (0) or omega (1) minus level (Illinois).
-
-    The twin of :func:`_dense_root` on purpose: a shared root finder taking the function as an
-    argument stops numba from caching the kernels (every process would recompile for ~20 s)."""
-    fa = _lin_state(a, seg, P)[component] - level
-    fb = _lin_state(b, seg, P)[component] - level
+    """Root in [a, b] of the closed-form theta (0) or omega (1) minus level (Illinois), as
+    :func:`_dense_root`."""
+    lo, hi = a, b
+    flo = _lin_state(lo, seg, P)[component] - level
+    fhi = _lin_state(hi, seg, P)[component] - level
     side = 0
     for _ in range(200):
-        if fb == fa:
+        if fhi == flo:
             break
-        m = (a * fb - b * fa) / (fb - fa)
-        if not (a < m < b):
-            m = 0.5 * (a + b)
-        fm = _lin_state(m, seg, P)[component] - level
+        mid = _secant(lo, hi, flo, fhi)
+        fm = _lin_state(mid, seg, P)[component] - level
         if fm == 0.0:
-            return m
-        if (fm > 0.0) == (fb > 0.0):
-            b = m
-            fb = fm
-            if side == -1:
-                fa *= 0.5
-            side = -1
-        else:
-            a = m
-            fa = fm
-            if side == 1:
-                fb *= 0.5
-            side = 1
-        if b - a <= 4e-16 * max(1.0, abs(b)):
+            return mid
+        lo, hi, flo, fhi, side = _illinois(
+            lo, hi, flo, fhi, mid, fm, (fm > 0.0) == (fhi > 0.0), side
+        )
+        if hi - lo <= 4e-16 * max(1.0, abs(hi)):
             break
-    return a if abs(fa) < abs(fb) else b
+    return lo if abs(flo) < abs(fhi) else hi
 
 
 @njit(cache=True)
