@@ -795,7 +795,8 @@ def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[Collar
         hit = np.nonzero(util >= 1.0)[0]
         fibre = forces[:, c, 5]
         largest = recorded[:, RECORDED.index(FIBRE_STRAIN)]
-        broken = np.nonzero(recorded[:, RECORDED.index(FRACTURED)] > 0.0)[0]
+        fractured = recorded[:, RECORDED.index(FRACTURED)] > 0.0
+        broken = np.nonzero(fractured)[0]
         hinges = recorded[:, [RECORDED.index(3), RECORDED.index(4)]]
         histories.append(
             CollarHistory(
@@ -814,7 +815,7 @@ def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[Collar
                 end_rotations=forces[:, c, 6:8].copy(),
                 hinge_rotations=hinges,
                 plastic_strain=forces[:, c, 4].copy(),
-                fractured=(recorded[:, RECORDED.index(FRACTURED)] > 0.0).astype(float),
+                fractured=fractured.astype(float),
             )
         )
     return histories
