@@ -215,15 +215,15 @@ def run_spectrum_crosscheck(
             }
         return schema.variant(base_data, {"ground": ground}, str(study_path))
 
-    study = from_dict(
-        with_pulse(omegas[0], amplitudes[0]), source=str(study_path), base=study_path.parent
-    )  # fails early
-    # each point's simulated duration (s): the workers' shares are balanced on it
-    durations = {
-        (w, a): from_dict(with_pulse(w, a), source=str(study_path), base=study_path.parent).duration
+    # every point's study, before anything runs (fails early); its simulated duration (s)
+    # balances the workers' shares
+    points = {
+        (w, a): from_dict(with_pulse(w, a), source=str(study_path), base=study_path.parent)
         for a in amplitudes
         for w in omegas
     }
+    study = points[omegas[0], amplitudes[0]]
+    durations = {key: point.duration for key, point in points.items()}
     if study.output_interval is None:
         # one output interval for every point (the runs of a batch share it), as a run's
         # default: 1/400 of the shortest point's duration
