@@ -113,11 +113,32 @@ def base_contact(
             out[1, j] += p
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always", error_model="numpy")
+def _segment_search(grid, sx, sy, masters, first, node, offset, dof):
+    """The master segment onto which the slave at (sx, sy) projects, searched outward from
+    segment `first`, alternating up and down: (segment, local coordinate in [0, 1]) or (-1,
+    0.0) for none. grid, node, offset (the state's position column), dof as in crack_contact."""
+    n_seg = masters.size - 1
+    for step in range(2 * n_seg):
+        m = first + (step + 1) // 2 if step % 2 == 0 else first - (step + 1) // 2
+        if m < 0 or m >= n_seg:
+            if first + step // 2 >= n_seg and first - step // 2 < 0:
+                break
+            continue
+        a = node * masters[m] + offset
+        b = node * masters[m + 1] + offset
+        dx = grid[b] - grid[a]
+        dy = grid[b + dof] - grid[a + dof]
+        t = ((sx - grid[a]) * dx + (sy - grid[a + dof]) * dy) / (dx * dx + dy * dy)
+        if -1e-12 <= t <= 1.0 + 1e-12:
+            return m, min(max(t, 0.0), 1.0)
+    return -1, 0.0
+
+
+@njit(cache=True, error_model="numpy")
 def crack_contact(
-    x,
-    v,
-    f,
+    grid,
+    single,
     running,
     states,
     slaves,
@@ -136,70 +157,90 @@ def crack_contact(
     out,
 ):
     """Node-to-segment contact of the slave face's nodes on the master face (ordered by height),
-    for the running columns of a group (x, v, f, running, states, out as in base_contact).
+    for the running columns of a group (running, states, out as in base_contact).
 
-    outward_sign: +1 if the master face's outward normal is the segment direction turned
-    clockwise (the left body's crack face), -1 otherwise. seg[r, k]: master segment last used
-    by slave k in state r (-1: none)."""
+    grid: the work array of Scratch (positions, velocities and forces of the group's states,
+    in the layout of a group, or of one state if single, a compile-time constant: the strides
+    are then constants and the index arithmetic folds). outward_sign: +1 if the master face's
+    outward normal is the segment direction turned clockwise (the left body's crack face), -1
+    otherwise. seg[r, k]: master segment last used by slave k in state r (-1: none).
+
+    The segment used last step nearly always still holds the slave: it is tried first, and
+    only where it does not is the face searched. A slave clearly on the open side of its
+    segment (the cross product of the segment and the slave's offset from its projection has
+    the open sign by a margin far above rounding) is open without the normal's square root and
+    divisions: the same decisions, and so the same bits, as the full gap test. Degenerate
+    (zero-length) segments give inf or nan rather than raising (error_model numpy), which the
+    run's finiteness check stops."""
+    if single:
+        component = grid.size // COMPONENTS
+        dof = 1
+    else:
+        component = GROUP
+        dof = COMPONENTS * GROUP
+    node = 2 * dof
+    x0 = POSITION * component
+    v0 = VELOCITY * component
+    f0 = FORCE * component
     for j in range(states.size):
         out[0, j] = 0.0
         out[1, j] = 0.0
-    n_seg = masters.size - 1
     for k in range(slaves.size):
-        s = slaves[k]
+        s = node * slaves[k]
         for j in range(states.size):
             if not running[j]:
                 continue
             r = states[j]
-            sx = x[2 * s, j]
-            sy = x[2 * s + 1, j]
-            # the master segment onto which the slave projects: the one used last step nearly
-            # always still holds it; else search outward from it, alternating up and down (in
-            # line: a call passing arrays would cost reference counting per node)
-            j0 = seg[r, k] if seg[r, k] >= 0 else 0
-            found = -1
-            xi = 0.0
-            for step in range(2 * n_seg):
-                m = j0 + (step + 1) // 2 if step % 2 == 0 else j0 - (step + 1) // 2
-                if m < 0 or m >= n_seg:
-                    if j0 + step // 2 >= n_seg and j0 - step // 2 < 0:
-                        break
-                    continue
-                a = masters[m]
-                b = masters[m + 1]
-                dx = x[2 * b, j] - x[2 * a, j]
-                dy = x[2 * b + 1, j] - x[2 * a + 1, j]
-                t = ((sx - x[2 * a, j]) * dx + (sy - x[2 * a + 1, j]) * dy) / (dx * dx + dy * dy)
-                if -1e-12 <= t <= 1.0 + 1e-12:
-                    found = m
-                    xi = min(max(t, 0.0), 1.0)
-                    break
+            sx = grid[s + x0 + j]
+            sy = grid[s + x0 + dof + j]
+            first = seg[r, k]
+            if first < 0:
+                first = 0
+            a = node * masters[first] + x0 + j
+            b = node * masters[first + 1] + x0 + j
+            dx = grid[b] - grid[a]
+            dy = grid[b + dof] - grid[a + dof]
+            t = ((sx - grid[a]) * dx + (sy - grid[a + dof]) * dy) / (dx * dx + dy * dy)
+            if -1e-12 <= t <= 1.0 + 1e-12:
+                found = first
+                xi = min(max(t, 0.0), 1.0)
+            else:
+                found, xi = _segment_search(grid, sx, sy, masters, first, node, x0 + j, dof)
+            seg[r, k] = found
             if found < 0:
-                seg[r, k] = -1
                 ft[r, k] = 0.0
                 normal_force[r, k] = 0.0
                 fn_filtered[r, k] = 0.0
                 continue
-            seg[r, k] = found
-            a = masters[found]
-            b = masters[found + 1]
-            dx = x[2 * b, j] - x[2 * a, j]
-            dy = x[2 * b + 1, j] - x[2 * a + 1, j]
+            a = node * masters[found] + j
+            b = node * masters[found + 1] + j
+            ax = grid[a + x0]
+            ay = grid[a + x0 + dof]
+            dx = grid[b + x0] - ax
+            dy = grid[b + x0 + dof] - ay
+            qx = sx - (ax + xi * dx)
+            qy = sy - (ay + xi * dy)
+            cross_x = qx * dy
+            cross_y = qy * dx
+            if outward_sign * (cross_x - cross_y) > 1e-13 * (abs(cross_x) + abs(cross_y)):
+                ft[r, k] = 0.0
+                normal_force[r, k] = 0.0
+                fn_filtered[r, k] = 0.0
+                continue
             length = math.sqrt(dx * dx + dy * dy)
             tx = dx / length
             ty = dy / length
             nx = outward_sign * ty
             ny = -outward_sign * tx
-            px = x[2 * a, j] + xi * dx
-            py = x[2 * a + 1, j] + xi * dy
-            gap = (sx - px) * nx + (sy - py) * ny
+            gap = qx * nx + qy * ny
             if gap >= 0.0:
                 ft[r, k] = 0.0
                 normal_force[r, k] = 0.0
                 fn_filtered[r, k] = 0.0
                 continue
-            rvx = v[2 * s, j] - ((1.0 - xi) * v[2 * a, j] + xi * v[2 * b, j])
-            rvy = v[2 * s + 1, j] - ((1.0 - xi) * v[2 * a + 1, j] + xi * v[2 * b + 1, j])
+            sj = s + j
+            rvx = grid[sj + v0] - ((1.0 - xi) * grid[a + v0] + xi * grid[b + v0])
+            rvy = grid[sj + v0 + dof] - ((1.0 - xi) * grid[a + v0 + dof] + xi * grid[b + v0 + dof])
             fn, trial, cone, e, p = _penalty_contact(
                 gap,
                 rvx * nx + rvy * ny,
@@ -220,12 +261,12 @@ def crack_contact(
             out[1, j] += p
             fx = fn * nx + trial * tx
             fy = fn * ny + trial * ty
-            f[2 * s, j] += fx
-            f[2 * s + 1, j] += fy
-            f[2 * a, j] -= (1.0 - xi) * fx
-            f[2 * a + 1, j] -= (1.0 - xi) * fy
-            f[2 * b, j] -= xi * fx
-            f[2 * b + 1, j] -= xi * fy
+            grid[sj + f0] += fx
+            grid[sj + f0 + dof] += fy
+            grid[a + f0] -= (1.0 - xi) * fx
+            grid[a + f0 + dof] -= (1.0 - xi) * fy
+            grid[b + f0] -= xi * fx
+            grid[b + f0 + dof] -= xi * fy
 
 
 @njit(cache=True)
@@ -877,9 +918,8 @@ def _advance_group(
                 continue
             state = crack_states[p]
             crack_contact(
-                positions,
-                velocities,
-                forces,
+                grid,
+                single,
                 running,
                 states,
                 crack.nodes,
