@@ -63,6 +63,14 @@ def _penalty_contact(gap, vn, vt, kn, kt, cn, mu, dt, ft, fc, blend):
     return fn, trial, cone, energy, power
 
 
+@njit(cache=True, inline="always")
+def _release(ft, normal_force, fn_filtered, r, k):
+    """Contact k of state r is open: no forces, and the friction cone's filter starts afresh."""
+    ft[r, k] = 0.0
+    normal_force[r, k] = 0.0
+    fn_filtered[r, k] = 0.0
+
+
 @njit(cache=True)
 def base_contact(
     x, v, f, running, states, nodes, kn, kt, cn, mu, dt, ft, normal_force, fn_filtered, blend, out
@@ -87,9 +95,7 @@ def base_contact(
             r = states[j]
             gap = x[2 * i + 1, j]
             if gap >= 0.0:
-                ft[r, k] = 0.0
-                normal_force[r, k] = 0.0
-                fn_filtered[r, k] = 0.0
+                _release(ft, normal_force, fn_filtered, r, k)
                 continue
             fn, trial, cone, e, p = _penalty_contact(
                 gap,
@@ -113,11 +119,34 @@ def base_contact(
             out[1, j] += p
 
 
+@njit(cache=True, inline="always")
+def _strides(single, n_dofs):
+    """The strides in Scratch.work between two components of a dof and between the two dofs of
+    a node: for one state (single, a compile-time constant) n_dofs and 1, for a group GROUP and
+    COMPONENTS * GROUP (constants: the index arithmetic folds)."""
+    if single:
+        return n_dofs, 1
+    return GROUP, COMPONENTS * GROUP
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _project(grid, sx, sy, masters, m, node, offset, dof):
+    """Whether the slave at (sx, sy) projects onto master segment m (within 1e-12 of its ends),
+    and the projection's local coordinate clamped to [0, 1]. grid, node, offset (the state's
+    position column), dof as in crack_contact."""
+    a = node * masters[m] + offset
+    b = node * masters[m + 1] + offset
+    dx = grid[b] - grid[a]
+    dy = grid[b + dof] - grid[a + dof]
+    t = ((sx - grid[a]) * dx + (sy - grid[a + dof]) * dy) / (dx * dx + dy * dy)
+    return -1e-12 <= t <= 1.0 + 1e-12, min(max(t, 0.0), 1.0)
+
+
 @njit(cache=True, inline="always", error_model="numpy")
 def _segment_search(grid, sx, sy, masters, first, node, offset, dof):
     """The master segment onto which the slave at (sx, sy) projects, searched outward from
     segment `first`, alternating up and down: (segment, local coordinate in [0, 1]) or (-1,
-    0.0) for none. grid, node, offset (the state's position column), dof as in crack_contact."""
+    0.0) for none (arguments as in _project)."""
     n_seg = masters.size - 1
     for step in range(2 * n_seg):
         m = first + (step + 1) // 2 if step % 2 == 0 else first - (step + 1) // 2
@@ -125,13 +154,9 @@ def _segment_search(grid, sx, sy, masters, first, node, offset, dof):
             if first + step // 2 >= n_seg and first - step // 2 < 0:
                 break
             continue
-        a = node * masters[m] + offset
-        b = node * masters[m + 1] + offset
-        dx = grid[b] - grid[a]
-        dy = grid[b + dof] - grid[a + dof]
-        t = ((sx - grid[a]) * dx + (sy - grid[a + dof]) * dy) / (dx * dx + dy * dy)
-        if -1e-12 <= t <= 1.0 + 1e-12:
-            return m, min(max(t, 0.0), 1.0)
+        inside, xi = _project(grid, sx, sy, masters, m, node, offset, dof)
+        if inside:
+            return m, xi
     return -1, 0.0
 
 
@@ -172,12 +197,7 @@ def crack_contact(
     divisions: the same decisions, and so the same bits, as the full gap test. Degenerate
     (zero-length) segments give inf or nan rather than raising (error_model numpy), which the
     run's finiteness check stops."""
-    if single:
-        component = grid.size // COMPONENTS
-        dof = 1
-    else:
-        component = GROUP
-        dof = COMPONENTS * GROUP
+    component, dof = _strides(single, grid.size // COMPONENTS)
     node = 2 * dof
     x0 = POSITION * component
     v0 = VELOCITY * component
@@ -193,24 +213,14 @@ def crack_contact(
             r = states[j]
             sx = grid[s + x0 + j]
             sy = grid[s + x0 + dof + j]
-            first = seg[r, k]
-            if first < 0:
-                first = 0
-            a = node * masters[first] + x0 + j
-            b = node * masters[first + 1] + x0 + j
-            dx = grid[b] - grid[a]
-            dy = grid[b + dof] - grid[a + dof]
-            t = ((sx - grid[a]) * dx + (sy - grid[a + dof]) * dy) / (dx * dx + dy * dy)
-            if -1e-12 <= t <= 1.0 + 1e-12:
-                found = first
-                xi = min(max(t, 0.0), 1.0)
-            else:
+            first = max(seg[r, k], 0)
+            inside, xi = _project(grid, sx, sy, masters, first, node, x0 + j, dof)
+            found = first
+            if not inside:
                 found, xi = _segment_search(grid, sx, sy, masters, first, node, x0 + j, dof)
             seg[r, k] = found
             if found < 0:
-                ft[r, k] = 0.0
-                normal_force[r, k] = 0.0
-                fn_filtered[r, k] = 0.0
+                _release(ft, normal_force, fn_filtered, r, k)
                 continue
             a = node * masters[found] + j
             b = node * masters[found + 1] + j
@@ -223,9 +233,7 @@ def crack_contact(
             cross_x = qx * dy
             cross_y = qy * dx
             if outward_sign * (cross_x - cross_y) > 1e-13 * (abs(cross_x) + abs(cross_y)):
-                ft[r, k] = 0.0
-                normal_force[r, k] = 0.0
-                fn_filtered[r, k] = 0.0
+                _release(ft, normal_force, fn_filtered, r, k)
                 continue
             length = math.sqrt(dx * dx + dy * dy)
             tx = dx / length
@@ -234,9 +242,7 @@ def crack_contact(
             ny = -outward_sign * tx
             gap = qx * nx + qy * ny
             if gap >= 0.0:
-                ft[r, k] = 0.0
-                normal_force[r, k] = 0.0
-                fn_filtered[r, k] = 0.0
+                _release(ft, normal_force, fn_filtered, r, k)
                 continue
             sj = s + j
             rvx = grid[sj + v0] - ((1.0 - xi) * grid[a + v0] + xi * grid[b + v0])
@@ -771,19 +777,11 @@ def _advance_group(
     n_dofs = x.shape[1]
     n_bodies = body_mass.size
     width = states.size
-    # the columns of a group (compile-time) and the states' (a number known only at run time);
-    # the strides in the work array between two components of a dof and between the two dofs
-    # of a node
-    if single:
-        group = 1
-        lanes = 1
-        component = n_dofs
-        dof = 1
-    else:
-        group = GROUP
-        lanes = width
-        component = GROUP
-        dof = COMPONENTS * GROUP
+    # the strides in the work array; the columns of a group (compile-time) and the states' (a
+    # number known only at run time)
+    component, dof = _strides(single, n_dofs)
+    group = 1 if single else GROUP
+    lanes = 1 if single else width
     node = 2 * dof
     x0 = POSITION * component
     v0 = VELOCITY * component
