@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -59,6 +60,225 @@ def impact_window(history: dict, lead: float = LEAD_TIME, tail: float = TAIL_TIM
     return toe, start, float(t[i]) + tail, float(t[i])
 
 
+def check_refinements(refinements) -> list[int]:
+    """The refinements as ints: 1, then at least two doublings (an :class:`InputError` else)."""
+    refinements = [int(r) for r in refinements]
+    if (
+        len(refinements) < 3
+        or refinements[0] != 1
+        or any(b != 2 * a for a, b in zip(refinements, refinements[1:]))
+    ):
+        raise InputError(
+            f"toe refinements = {refinements}: need 1 and then at least two "
+            "doublings (1, 2, 4, ...)"
+        )
+    return refinements
+
+
+def refinement_start(result: FemResult, lead: float = LEAD_TIME, tail: float = TAIL_TIME) -> dict:
+    """Where the refined runs start: the impact window of ``result``'s history
+    (:func:`impact_window`, its start moved to the output time nearest it) and ``result``'s
+    state there. Returns toe, t_start, t_end, t_peak (s); interval (s, the output interval);
+    original_peak (Pa, the run's own peak over the window); edge_length (m) and edge_time (s);
+    displacement and velocity (n_nodes, 2) and contact (a ``contact_frames`` entry) at
+    t_start. Plain arrays and numbers: it can be saved (:func:`write_start`) and the windows
+    run elsewhere (:func:`refine_window`)."""
+    history = result.history
+    toe, t_start, t_end, t_peak = impact_window(history, lead, tail)
+    times = np.array([t for t, _ in result.displacement_frames])
+    k = int(np.argmin(np.abs(times - t_start)))
+    t_start = float(times[k])
+    interval = float(np.median(np.diff(history["t"])))
+    inside = (history["t"] > t_start) & (history["t"] <= t_end + 0.5 * interval)
+    original = max(
+        float(np.max(history[key][inside])) for key in history if key.startswith("edge_stress_")
+    )
+    return {
+        "toe": toe,
+        "t_start": t_start,
+        "t_end": t_end,
+        "t_peak": t_peak,
+        "interval": interval,
+        "original_peak": original,
+        "edge_length": float(result.summary["edge_length"]),
+        "edge_time": float(result.summary["edge_time"]),
+        "displacement": np.asarray(result.displacement_frames[k][1]),
+        "velocity": np.asarray(result.velocity_frames[k][1]),
+        "contact": result.contact_frames[k][1],
+    }
+
+
+START_ARRAYS = ("displacement", "velocity")
+
+
+def write_start(path, start: dict) -> None:
+    """``start`` (:func:`refinement_start`) as one ``.npz`` file (arrays bit for bit, the
+    numbers as 0-d arrays, the toe's name as a string), written whole or not at all."""
+    import os
+    from pathlib import Path
+
+    path = Path(path)
+    arrays: dict[str, Any] = {key: np.asarray(start[key]) for key in START_ARRAYS}
+    contact = start["contact"]
+    for key, value in contact.items():
+        if isinstance(value, list):  # one array per crack pass
+            for p, part in enumerate(value):
+                arrays[f"contact.{key}.{p}"] = np.asarray(part)
+        else:
+            arrays[f"contact.{key}"] = np.asarray(value)
+    for key, value in start.items():
+        if key not in (*START_ARRAYS, "contact"):
+            arrays[key] = np.asarray(value)
+    partial = path.with_name(path.name + ".partial")
+    with open(partial, "wb") as f:
+        np.savez(f, **arrays)
+    os.replace(partial, path)
+
+
+def start_digest(start: dict) -> str:
+    """SHA-256 of a ``start`` (:func:`refinement_start`): of its numbers and of its arrays'
+    bytes, shapes and types, in a fixed order. The same state gives the same digest, however
+    often it is saved."""
+    import hashlib
+
+    digest = hashlib.sha256()
+    flat = {k: v for k, v in start.items() if k != "contact"}
+    for key, value in start["contact"].items():
+        for p, part in enumerate(value if isinstance(value, list) else [value]):
+            flat[f"contact.{key}.{p}"] = part
+    for key in sorted(flat):
+        value = np.asarray(flat[key])
+        digest.update(f"{key}:{value.dtype.str}:{value.shape}:".encode())
+        digest.update(np.ascontiguousarray(value).tobytes())
+    return digest.hexdigest()
+
+
+def read_start(path) -> dict:
+    """The ``start`` dict that :func:`write_start` saved."""
+    with np.load(path) as data:
+        start: dict = {"contact": {}}
+        for name in data.files:
+            value = data[name]
+            if not name.startswith("contact."):
+                start[name] = value if name in START_ARRAYS else value.item()
+                continue
+            _, key, *part = name.split(".")
+            if part:
+                start["contact"].setdefault(key, {})[int(part[0])] = value
+            else:
+                start["contact"][key] = value
+    for key, value in start["contact"].items():
+        if isinstance(value, dict):
+            start["contact"][key] = [value[p] for p in sorted(value)]
+    return start
+
+
+def refine_window(
+    model,
+    start: dict,
+    mesh: ColumnMesh,
+    ground,
+    *,
+    vertical: GroundMotion = NO_MOTION,
+    progress: bool = False,
+) -> dict:
+    """One refined run over the window of ``start`` (:func:`refinement_start` of a run of
+    ``model``) on ``mesh``: restarted from that state (:func:`colonna.fem.transfer.transfer_state`
+    and :func:`~colonna.fem.transfer.transfer_contact`) under ``ground`` and ``vertical``.
+    Returns peaks_by_toe (Pa, the largest toe stress of each toe over the window), dofs, steps
+    and dt (s)."""
+    from .transfer import transfer_contact, transfer_state
+
+    fine = build_model(
+        mesh,
+        model.stone,
+        model.thickness,
+        model.collars,
+        model.contact,
+        model.g,
+        model.top_load,
+    )
+    t_start, t_end = start["t_start"], start["t_end"]
+    window = run(
+        fine,
+        ground,
+        t_end - t_start,
+        start_time=t_start,
+        initial_state=transfer_state(model.mesh, mesh, start["displacement"], start["velocity"]),
+        initial_contact=transfer_contact(model, fine, start["contact"]),
+        output_interval=start["interval"],
+        edge_length=start["edge_length"],
+        edge_time=start["edge_time"],
+        progress=progress,
+        stop_on_overturn=False,
+        vertical=vertical,
+    )
+    if window.summary["status"] != "completed":
+        raise InputError(
+            f"toe refinement of a {fine.n_dofs}-dof mesh: the restarted run stopped: "
+            f"{window.summary['status']}"
+        )
+    return {
+        "peaks_by_toe": {
+            key.removeprefix("edge_stress_"): float(np.max(window.history[key]))
+            for key in window.history
+            if key.startswith("edge_stress_")
+        },
+        "dofs": int(fine.n_dofs),
+        "steps": int(window.summary["steps"]),
+        "dt": float(window.summary["dt"]),
+    }
+
+
+def refinement_summary(start: dict, refinements, windows: list[dict]) -> dict:
+    """What the refinement shows, from the windows (:func:`refine_window`, one per refinement,
+    in the order of ``refinements``) restarted from ``start``.
+
+    Returns (stresses in Pa): toe, t_start, t_end, t_peak; refinements, dofs, steps, dt;
+    peaks_by_toe (one dict per refinement), peaks (the largest over the toes);
+    handover_error: refinement 1 against the original run over the same window (relative);
+    stress_bound: the largest peak of the refined meshes (r > 1), spread: their
+    (max - min) / max; :func:`convergence_table` of the last three peaks; stress_estimate:
+    the quoted value, the larger of stress_bound and the Richardson estimate (where the peaks
+    converge monotonically), uncertainty: the larger of the spread and the finest mesh's
+    estimated relative error."""
+    refinements = check_refinements(refinements)
+    by_toe = [w["peaks_by_toe"] for w in windows]
+    peaks = [max(p.values()) for p in by_toe]
+    refined = peaks[1:]
+    table = convergence_table(peaks, 2.0)
+    # the quoted value: the refined meshes' largest, or the Richardson estimate where the
+    # peaks converge monotonically toward a larger one; its uncertainty the larger of their
+    # spread and the finest mesh's estimated error
+    spread = (max(refined) - min(refined)) / max(refined)
+    estimate, uncertainty = max(refined), spread
+    if math.isfinite(table["richardson"]) and table["richardson"] > 0.0:
+        estimate = max(estimate, table["richardson"])
+        uncertainty = max(uncertainty, table["fine_relative_error"])
+    original = start["original_peak"]
+    return {
+        "toe": start["toe"],
+        "t_start": start["t_start"],
+        "t_end": start["t_end"],
+        "t_peak": start["t_peak"],
+        "edge_length": start["edge_length"],
+        "edge_time": start["edge_time"],
+        "refinements": refinements,
+        "dofs": [w["dofs"] for w in windows],
+        "steps": [w["steps"] for w in windows],
+        "dt": [w["dt"] for w in windows],
+        "peaks_by_toe": by_toe,
+        "peaks": peaks,
+        "original_peak": original,
+        "handover_error": abs(peaks[0] - original) / original if original > 0 else 0.0,
+        "stress_bound": max(refined),
+        "spread": spread,
+        "stress_estimate": estimate,
+        "uncertainty": uncertainty,
+        **table,
+    }
+
+
 def toe_stress_refinement(
     result: FemResult,
     ground,
@@ -72,110 +292,16 @@ def toe_stress_refinement(
 ) -> dict:
     """Peak toe stress over the impact window on meshes ``mesh_for(r)`` for r in
     ``refinements`` (1, then doubling), each restarted from ``result``'s state, under the
-    same ``ground`` and ``vertical`` motions as the run that gave ``result``.
-
-    Returns (stresses in Pa): toe, t_start, t_end, t_peak; refinements, dofs, steps, dt;
-    peaks_by_toe (one dict per refinement), peaks (the largest over the toes);
-    handover_error: refinement 1 against the original run over the same window (relative);
-    stress_bound: the largest peak of the refined meshes (r > 1), spread: their
-    (max - min) / max; :func:`convergence_table` of the last three peaks; stress_estimate:
-    the quoted value, the larger of stress_bound and the Richardson estimate (where the peaks
-    converge monotonically), uncertainty: the larger of the spread and the finest mesh's
-    estimated relative error."""
-    refinements = [int(r) for r in refinements]
-    if (
-        len(refinements) < 3
-        or refinements[0] != 1
-        or any(b != 2 * a for a, b in zip(refinements, refinements[1:]))
-    ):
-        raise InputError(
-            f"toe refinements = {refinements}: need 1 and then at least two "
-            "doublings (1, 2, 4, ...)"
+    same ``ground`` and ``vertical`` motions as the run that gave ``result``: in one process,
+    :func:`refinement_start`, :func:`refine_window` for each refinement, and
+    :func:`refinement_summary` (which says what it returns). The cross-check runs the windows
+    as cases of their own, on as many workers as there are."""
+    refinements = check_refinements(refinements)
+    start = refinement_start(result, lead, tail)
+    windows = [
+        refine_window(
+            result.model, start, mesh_for(r), ground, vertical=vertical, progress=progress
         )
-    from .transfer import transfer_contact, transfer_state
-
-    model, history = result.model, result.history
-    toe, t_start, t_end, t_peak = impact_window(history, lead, tail)
-    times = np.array([t for t, _ in result.displacement_frames])
-    k = int(np.argmin(np.abs(times - t_start)))
-    t_start = float(times[k])
-    u, v = result.displacement_frames[k][1], result.velocity_frames[k][1]
-    contact = result.contact_frames[k][1]
-    summary = result.summary
-    interval = float(np.median(np.diff(history["t"])))
-    inside = (history["t"] > t_start) & (history["t"] <= t_end + 0.5 * interval)
-    original = max(
-        float(np.max(history[key][inside])) for key in history if key.startswith("edge_stress_")
-    )
-    by_toe, dofs, steps, dts = [], [], [], []
-    for r in refinements:
-        mesh = mesh_for(r)
-        fine = build_model(
-            mesh,
-            model.stone,
-            model.thickness,
-            model.collars,
-            model.contact,
-            model.g,
-            model.top_load,
-        )
-        window = run(
-            fine,
-            ground,
-            t_end - t_start,
-            start_time=t_start,
-            initial_state=transfer_state(model.mesh, mesh, u, v),
-            initial_contact=transfer_contact(model, fine, contact),
-            output_interval=interval,
-            edge_length=summary["edge_length"],
-            edge_time=summary["edge_time"],
-            progress=progress,
-            stop_on_overturn=False,
-            vertical=vertical,
-        )
-        if window.summary["status"] != "completed":
-            raise InputError(
-                f"toe refinement {r}: the restarted run stopped: {window.summary['status']}"
-            )
-        by_toe.append(
-            {
-                key.removeprefix("edge_stress_"): float(np.max(window.history[key]))
-                for key in window.history
-                if key.startswith("edge_stress_")
-            }
-        )
-        dofs.append(int(fine.n_dofs))
-        steps.append(int(window.summary["steps"]))
-        dts.append(float(window.summary["dt"]))
-    peaks = [max(p.values()) for p in by_toe]
-    refined = peaks[1:]
-    table = convergence_table(peaks, 2.0)
-    # the quoted value: the refined meshes' largest, or the Richardson estimate where the
-    # peaks converge monotonically toward a larger one; its uncertainty the larger of their
-    # spread and the finest mesh's estimated error
-    spread = (max(refined) - min(refined)) / max(refined)
-    estimate, uncertainty = max(refined), spread
-    if math.isfinite(table["richardson"]) and table["richardson"] > 0.0:
-        estimate = max(estimate, table["richardson"])
-        uncertainty = max(uncertainty, table["fine_relative_error"])
-    return {
-        "toe": toe,
-        "t_start": t_start,
-        "t_end": t_end,
-        "t_peak": t_peak,
-        "edge_length": summary["edge_length"],
-        "edge_time": summary["edge_time"],
-        "refinements": refinements,
-        "dofs": dofs,
-        "steps": steps,
-        "dt": dts,
-        "peaks_by_toe": by_toe,
-        "peaks": peaks,
-        "original_peak": original,
-        "handover_error": abs(peaks[0] - original) / original if original > 0 else 0.0,
-        "stress_bound": max(refined),
-        "spread": spread,
-        "stress_estimate": estimate,
-        "uncertainty": uncertainty,
-        **table,
-    }
+        for r in refinements
+    ]
+    return refinement_summary(start, refinements, windows)

@@ -68,8 +68,11 @@ def fem_case(case: dict, directory: str) -> dict:
     """The study's FEM run as an ensemble of replicas (``case["replicas"]``, default the study's
     ``[run] replicas``): ``summary`` is :func:`colonna.fem.ensemble.ensemble_summary` of the
     replicas' (landing-dependent numbers as median and band), ``replica_summaries`` each
-    replica's own; with ``toe_refinement`` the toe stress is refined over the landing of the
-    replica whose toe stress is the median."""
+    replica's own. With ``toe_refinement`` it also saves where the toe stress's refinement
+    starts (:func:`colonna.fem.toe_stress.refinement_start` of the replica whose toe stress is
+    the median) as ``toe_start.npz``, and says so under ``toe_start`` (the replica and the
+    state's SHA-256, :func:`colonna.fem.toe_stress.start_digest`): the refined windows are
+    cases of their own (:func:`toe_case`)."""
     from ..fem.ensemble import ensemble_summary, median_replica
     from .fem_study import run_fem
 
@@ -88,20 +91,77 @@ def fem_case(case: dict, directory: str) -> dict:
         "crack_slip_max": summary["crack_slip_max"],
     }
     if case.get("toe_refinement") and study.mesh_file is None and study.toe_refinements:
-        from ..fem.toe_stress import toe_stress_refinement
-        from .fem_study import toe_mesh
-
-        m = median_replica([s["edge_stress_max"] for s in summaries])
-        out["toe_refinement"] = toe_stress_refinement(
-            replicas[m],
-            study.ground,
-            lambda r: toe_mesh(study, r),
-            study.toe_refinements,
-            vertical=study.vertical,
+        from ..fem.toe_stress import (
+            check_refinements,
+            refinement_start,
+            start_digest,
+            write_start,
         )
-        out["toe_refinement"]["replica"] = m
-        write_json(Path(directory) / "toe_refinement.json", out["toe_refinement"])
+
+        check_refinements(study.toe_refinements)
+        m = median_replica([s["edge_stress_max"] for s in summaries])
+        start = refinement_start(replicas[m])
+        write_start(Path(directory) / TOE_START, start)
+        out["toe_start"] = {"replica": m, "sha256": start_digest(start)}
     return out
+
+
+TOE_START = "toe_start.npz"  # in the fem case's folder: the state the toe windows restart from
+
+
+def toe_case(case: dict, directory: str) -> dict:
+    """One window of the toe stress's refinement: the study's mesh with its toe zones refined
+    ``case["refinement"]`` times, restarted from the state the FEM case saved in its folder
+    (beside this case's: ``cases/fem``), whose SHA-256 ``case["start"]`` is an input of this
+    case, over the impact window (:func:`colonna.fem.toe_stress.refine_window`)."""
+    from ..fem.toe_stress import read_start, refine_window, start_digest
+    from .fem_study import build, toe_mesh
+
+    study = _study_from_case(case)
+    path = Path(directory).parent / "fem" / TOE_START
+    start = read_start(path)
+    if start_digest(start) != case["start"]:
+        raise InputError(f"{path} is not the state the FEM case saved: run with --force")
+    return refine_window(
+        build(study),
+        start,
+        toe_mesh(study, case["refinement"]),
+        study.ground,
+        vertical=study.vertical,
+    )
+
+
+def refine_toe_stress(study, base: dict, fem: dict, out: Path, **run_options) -> dict | None:
+    """The toe stress's refinement over the impact of the FEM case's median replica: one case
+    per refinement (:func:`toe_case`, the finest first: they run on as many workers as there
+    are, each saved as it completes), then :func:`colonna.fem.toe_stress.refinement_summary`
+    with the replica's number. None when the FEM case saved no start (a mesh file, or no
+    refinements asked for)."""
+    from ..fem.toe_stress import read_start, refinement_summary
+
+    start = fem.get("toe_start")
+    if start is None:
+        return None
+    path = out / "cases" / "fem" / TOE_START
+    refinements = list(study.toe_refinements)
+    cases = [
+        dict(
+            base,
+            key=f"toe-{r}",
+            kind="toe",
+            refinement=r,
+            start=start["sha256"],
+            cost=float(r * r),  # about steps x dofs: both grow with r
+        )
+        for r in sorted(refinements, reverse=True)
+    ]
+    windows = run_cases(_case_runner, cases, out, **run_options)
+    refined = refinement_summary(
+        read_start(path), refinements, [windows[f"toe-{r}"] for r in refinements]
+    )
+    refined["replica"] = start["replica"]
+    write_json(out / "toe_refinement.json", refined)
+    return refined
 
 
 # landing-dependent numbers of a FEM run, reported as bands over the replicas
@@ -275,6 +335,8 @@ def _case_runner(case: dict, directory: str) -> dict:
         return rigid_case(case, directory)
     if kind == "multibody":
         return multibody_case(case, directory)
+    if kind == "toe":
+        return toe_case(case, directory)
     return spectrum_case(case, directory)
 
 
@@ -317,16 +379,13 @@ def run_crosscheck(
             coarse.setdefault("mesh", {})["size"] = factor * study.mesh_size
             cases.append(dict(base, study=coarse, key=f"fem-mesh-{factor}h", kind="fem"))
     start = time.perf_counter()
-    results = run_cases(
-        _case_runner,
-        cases,
-        out,
-        workers=workers,
-        scheduler=scheduler,
-        progress=progress,
-        force=force,
-    )
+    options: dict = dict(workers=workers, scheduler=scheduler, progress=progress, force=force)
+    results = run_cases(_case_runner, cases, out, **options)
     check_energy(results)
+    # then the toe stress's refinement, from the state the FEM case saved
+    refined = refine_toe_stress(study, base, results["fem"], out, **options)
+    if refined is not None:
+        results["fem"] = {**results["fem"], "toe_refinement": refined}
     fem_histories = replica_histories(out / "cases" / "fem", results["fem"]["summary"]["replicas"])
     criteria = verdict_criteria(
         study, results, fem_histories, read_csv(out / "cases" / "multibody" / "history.csv")

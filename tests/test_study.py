@@ -221,6 +221,32 @@ def test_interrupted_study_resumes_with_identical_results(tiny_run, tmp_path):
     assert _comparable(resumed) == _comparable(reference)
 
 
+def test_toe_windows_are_cases_of_their_own_and_resume_apart_from_the_fem(tiny_run, tmp_path):
+    """The toe stress's refined windows are cases saved one by one after the FEM ensemble: a
+    run stopped among them keeps the ensemble and the windows done, computes the rest, and
+    reports what the uninterrupted run reported."""
+    import shutil
+
+    root, study, reference = tiny_run
+    out = tmp_path / "out"
+    shutil.copytree(root / "out", out)
+    toe = reference["toe_stress"]
+    finest = max(toe["refinements"])
+    assert sorted(p.name for p in (out / "cases").glob("toe-*")) == sorted(
+        f"toe-{r}" for r in toe["refinements"]
+    )
+    (out / "cases" / f"toe-{finest}" / "result.json").unlink()  # stopped while it ran
+    kept = {
+        key: (out / "cases" / key / "result.json").stat().st_mtime_ns
+        for key in ("fem", "toe-1", "multibody")
+    }
+    resumed = run_study_file(study, out, workers=1, progress=False)
+    for key, mtime in kept.items():
+        assert (out / "cases" / key / "result.json").stat().st_mtime_ns == mtime
+    assert (out / "cases" / f"toe-{finest}" / "result.json").is_file()
+    assert _comparable(resumed) == _comparable(reference)
+
+
 def test_dask_path_gives_the_local_summary(tiny_run, tmp_path):
     distributed = pytest.importorskip("distributed")
     _, study, reference = tiny_run

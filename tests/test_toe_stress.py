@@ -12,7 +12,16 @@ from colonna.core.ground import NoMotion, sine_pulse
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model, stable_time_step
 from colonna.fem.solver import run
-from colonna.fem.toe_stress import impact_window, toe_stress_refinement
+from colonna.fem.toe_stress import (
+    impact_window,
+    read_start,
+    refine_window,
+    refinement_start,
+    refinement_summary,
+    start_digest,
+    toe_stress_refinement,
+    write_start,
+)
 from colonna.fem.transfer import transfer_contact, transfer_state
 from colonna.meshes import column_mesh
 from colonna.rigid.block import Block
@@ -300,6 +309,26 @@ def test_refinement_over_the_impact_window(rocking_run, rocking_ensemble):
         assert out["stress_estimate"] == max(out["stress_bound"], out["richardson"])
     with pytest.raises(InputError, match="toe refinements"):
         toe_stress_refinement(r, _pulse(), _mesh, (1, 3, 9))
+
+
+def test_windows_run_apart_from_a_saved_start_give_the_refinement_bit_for_bit(
+    rocking_run, tmp_path
+):
+    """The cross-check runs each refined window as a case of its own (any order, any worker),
+    from the start the FEM case saved to a file: the summary is the one-process refinement's,
+    to the bit (deterministic: a restart from the same state, however it travelled). The
+    saved state's digest is the state's, and one changed bit changes it."""
+    whole = toe_stress_refinement(rocking_run, _pulse(), _mesh, (1, 2, 4))
+    start = refinement_start(rocking_run)
+    write_start(tmp_path / "start.npz", start)
+    saved = read_start(tmp_path / "start.npz")
+    assert start_digest(saved) == start_digest(start)
+    assert saved["toe"] == start["toe"] and saved["t_start"] == start["t_start"]
+    windows = {r: refine_window(rocking_run.model, saved, _mesh(r), _pulse()) for r in (4, 1, 2)}
+    apart = refinement_summary(saved, (1, 2, 4), [windows[r] for r in (1, 2, 4)])
+    assert apart == whole
+    saved["contact"]["crack_ft"][1][0] = np.nextafter(saved["contact"]["crack_ft"][1][0], 1.0)
+    assert start_digest(saved) != start_digest(start)
 
 
 @pytest.mark.landing
