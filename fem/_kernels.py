@@ -369,7 +369,9 @@ def collar_forces(x, collars, props, out, f, state, commit):
 # stiffness serves all of them.
 
 Stiffness = namedtuple("Stiffness", ["indptr", "indices", "blocks"])
-"""The stone's stiffness in block-sparse-row form, 2 x 2 blocks (one block per node pair)."""
+"""The stone's stiffness in block-sparse-row form, 2 x 2 blocks (one block per node pair), each
+block stored by columns: blocks[k, c, r] is row r, column c of block k (so that a column is two
+adjacent doubles: one 2-wide vector in the one-state mat-vec)."""
 
 Bodies = namedtuple(
     "Bodies", ["X", "mass", "node_body", "centroid_ref", "gravity", "order", "offsets"]
@@ -535,30 +537,68 @@ def _copy4(typingctx, target, tt, source, st):
     return types.void(target, tt, source, st), codegen
 
 
+@intrinsic
+def _madd2(typingctx, acc, columns, ct, x0, x1):
+    """acc[0 : 2] += columns[ct : ct + 2] * x0 + columns[ct + 2 : ct + 4] * x1 (acc, columns:
+    contiguous 1-d float64 arrays, unchecked bounds) as 2-wide vector operations, in strict
+    IEEE arithmetic: lane r is the scalar acc[r] += K[r, 0] * x0 + K[r, 1] * x1 of a 2 x 2
+    block stored by columns, the same operations in the same order."""
+    if not (_contiguous(acc) and _contiguous(columns)):
+        return None
+
+    def codegen(context, builder, signature, args):
+        acc_type, columns_type = signature.args[0], signature.args[1]
+        acc_value, columns_value, ct_value, x0_value, x1_value = args
+        vector = ir.VectorType(ir.DoubleType(), 2)
+
+        def at(array_type, array, index):
+            data = context.make_array(array_type)(context, builder, array).data
+            return builder.bitcast(builder.gep(data, [index]), ir.PointerType(vector))
+
+        def splat(value):
+            lane = builder.insert_element(
+                ir.Constant(vector, ir.Undefined), value, ir.Constant(ir.IntType(32), 0)
+            )
+            zeros = ir.Constant(ir.VectorType(ir.IntType(32), 2), [0, 0])
+            return builder.shuffle_vector(lane, ir.Constant(vector, ir.Undefined), zeros)
+
+        one = context.get_constant(types.intp, 2)
+        first = builder.load(at(columns_type, columns_value, ct_value), align=8)
+        second = builder.load(at(columns_type, columns_value, builder.add(ct_value, one)), align=8)
+        terms = builder.fadd(
+            builder.fmul(first, splat(x0_value)), builder.fmul(second, splat(x1_value))
+        )
+        target = at(acc_type, acc_value, context.get_constant(types.intp, 0))
+        builder.store(builder.fadd(builder.load(target, align=8), terms), target, align=8)
+        return context.get_dummy_value()
+
+    return types.void(acc, columns, ct, x0, x1), codegen
+
+
 @njit(cache=True)
 def bsr_matmat(indptr, indices, blocks, work, single):
     """The elastic forces K u of a group of states: K in block-sparse-row form with 2 x 2
     blocks (one per node pair) applied to the LOCAL component of Scratch.work, the result in
     its ELASTIC component (single, a compile-time constant: one state, in its layout). One read
-    of each block serves all the states. A row's sums stay in registers: for one state as
-    scalars, for a group as 4-wide vectors (_madd4 on a stack buffer the compiler keeps in
-    registers), all GROUP columns at once. Every state gets the sums of the one-state path, in
+    of each block serves all the states. A row's sums stay in registers: for one state the
+    node's two rows as one 2-wide vector (_madd2: a block's columns are adjacent), for a group
+    as 4-wide vectors (_madd4 on a stack buffer the compiler keeps in registers), all GROUP
+    columns at once. Every state gets the sums of the one-state path, in
     the same order. Strict IEEE arithmetic (no fast-math)."""
     if single:
         n = work.size // COMPONENTS
         u = work[LOCAL * n : (LOCAL + 1) * n]
         out = work[ELASTIC * n : (ELASTIC + 1) * n]
+        columns = blocks.reshape(blocks.size)
+        row = carray(_stack_rows(1), (GROUP,))
         for i in range(indptr.size - 1):
-            a0 = 0.0
-            a1 = 0.0
+            row[0] = 0.0
+            row[1] = 0.0
             for k in range(indptr[i], indptr[i + 1]):
                 j = indices[k]
-                x0 = u[2 * j]
-                x1 = u[2 * j + 1]
-                a0 += blocks[k, 0, 0] * x0 + blocks[k, 0, 1] * x1
-                a1 += blocks[k, 1, 0] * x0 + blocks[k, 1, 1] * x1
-            out[2 * i] = a0
-            out[2 * i + 1] = a1
+                _madd2(row, columns, 4 * k, u[2 * j], u[2 * j + 1])
+            out[2 * i] = row[0]
+            out[2 * i + 1] = row[1]
         return
     node = 2 * COMPONENTS * GROUP
     u0 = LOCAL * GROUP
@@ -572,8 +612,8 @@ def bsr_matmat(indptr, indices, blocks, work, single):
         for k in range(indptr[i], indptr[i + 1]):
             j = indices[k]
             b00 = blocks[k, 0, 0]
-            b01 = blocks[k, 0, 1]
-            b10 = blocks[k, 1, 0]
+            b01 = blocks[k, 1, 0]
+            b10 = blocks[k, 0, 1]
             b11 = blocks[k, 1, 1]
             u = work[node * j : node * (j + 1)]
             for h in range(0, GROUP, 4):

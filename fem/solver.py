@@ -625,7 +625,8 @@ def _stiffness(model: Model) -> K.Stiffness:
     return K.Stiffness(
         A.indptr.astype(np.int64),
         A.indices.astype(np.int64),
-        np.ascontiguousarray(A.data, dtype=float),
+        # each block by columns (fem._kernels.Stiffness)
+        np.ascontiguousarray(A.data.transpose(0, 2, 1), dtype=float),
     )
 
 
