@@ -151,9 +151,8 @@ def refine_toe_stress(study, base: dict, fem: dict, out: Path, **run_options) ->
             kind="toe",
             refinement=r,
             start=start["sha256"],
-            cost=float(r * r),  # about steps x dofs: both grow with r
         )
-        for r in sorted(refinements, reverse=True)
+        for r in sorted(refinements, reverse=True)  # the finest (the longest) starts first
     ]
     windows = run_cases(_case_runner, cases, out, **run_options)
     refined = refinement_summary(
