@@ -471,20 +471,20 @@ def _contiguous(array_type):
     )
 
 
-def _vector_at(context, builder, array_type, array, index):
-    """Pointer to array[index : index + 4] as one 4-double vector."""
+def _vector_at(context, builder, array_type, array, index, lanes=4):
+    """Pointer to array[index : index + lanes] as one vector of `lanes` doubles."""
     data = context.make_array(array_type)(context, builder, array).data
     pointer = builder.gep(data, [index])
-    return builder.bitcast(pointer, ir.PointerType(ir.VectorType(ir.DoubleType(), 4)))
+    return builder.bitcast(pointer, ir.PointerType(ir.VectorType(ir.DoubleType(), lanes)))
 
 
-def _splat(builder, value):
-    """A 4-double vector of value."""
-    vector = ir.VectorType(ir.DoubleType(), 4)
+def _splat(builder, value, lanes=4):
+    """A vector of `lanes` doubles, each value."""
+    vector = ir.VectorType(ir.DoubleType(), lanes)
     lane = builder.insert_element(
         ir.Constant(vector, ir.Undefined), value, ir.Constant(ir.IntType(32), 0)
     )
-    zeros = ir.Constant(ir.VectorType(ir.IntType(32), 4), [0, 0, 0, 0])
+    zeros = ir.Constant(ir.VectorType(ir.IntType(32), lanes), [0] * lanes)
     return builder.shuffle_vector(lane, ir.Constant(vector, ir.Undefined), zeros)
 
 
@@ -549,26 +549,19 @@ def _madd2(typingctx, acc, columns, ct, x0, x1):
     def codegen(context, builder, signature, args):
         acc_type, columns_type = signature.args[0], signature.args[1]
         acc_value, columns_value, ct_value, x0_value, x1_value = args
-        vector = ir.VectorType(ir.DoubleType(), 2)
-
-        def at(array_type, array, index):
-            data = context.make_array(array_type)(context, builder, array).data
-            return builder.bitcast(builder.gep(data, [index]), ir.PointerType(vector))
-
-        def splat(value):
-            lane = builder.insert_element(
-                ir.Constant(vector, ir.Undefined), value, ir.Constant(ir.IntType(32), 0)
-            )
-            zeros = ir.Constant(ir.VectorType(ir.IntType(32), 2), [0, 0])
-            return builder.shuffle_vector(lane, ir.Constant(vector, ir.Undefined), zeros)
-
-        one = context.get_constant(types.intp, 2)
-        first = builder.load(at(columns_type, columns_value, ct_value), align=8)
-        second = builder.load(at(columns_type, columns_value, builder.add(ct_value, one)), align=8)
-        terms = builder.fadd(
-            builder.fmul(first, splat(x0_value)), builder.fmul(second, splat(x1_value))
+        second_at = builder.add(ct_value, context.get_constant(types.intp, 2))
+        first = builder.load(
+            _vector_at(context, builder, columns_type, columns_value, ct_value, 2), align=8
         )
-        target = at(acc_type, acc_value, context.get_constant(types.intp, 0))
+        second = builder.load(
+            _vector_at(context, builder, columns_type, columns_value, second_at, 2), align=8
+        )
+        terms = builder.fadd(
+            builder.fmul(first, _splat(builder, x0_value, 2)),
+            builder.fmul(second, _splat(builder, x1_value, 2)),
+        )
+        zero = context.get_constant(types.intp, 0)
+        target = _vector_at(context, builder, acc_type, acc_value, zero, 2)
         builder.store(builder.fadd(builder.load(target, align=8), terms), target, align=8)
         return context.get_dummy_value()
 
@@ -583,8 +576,8 @@ def bsr_matmat(indptr, indices, blocks, work, single):
     of each block serves all the states. A row's sums stay in registers: for one state the
     node's two rows as one 2-wide vector (_madd2: a block's columns are adjacent), for a group
     as 4-wide vectors (_madd4 on a stack buffer the compiler keeps in registers), all GROUP
-    columns at once. Every state gets the sums of the one-state path, in
-    the same order. Strict IEEE arithmetic (no fast-math)."""
+    columns at once. Every state gets the sums of the one-state path, in the same order.
+    Strict IEEE arithmetic (no fast-math)."""
     if single:
         n = work.size // COMPONENTS
         u = work[LOCAL * n : (LOCAL + 1) * n]

@@ -111,6 +111,24 @@ def refinement_start(result: FemResult, lead: float = LEAD_TIME, tail: float = T
 START_ARRAYS = ("displacement", "velocity")
 
 
+def _flat_start(start: dict) -> dict[str, Any]:
+    """``start`` as one flat mapping of names to arrays: the contact's entries as
+    ``contact.<key>`` (``contact.<key>.<pass>`` for one array per crack pass), the numbers and
+    the toe's name as 0-d arrays (what :func:`write_start` saves and :func:`start_digest`
+    hashes; :func:`read_start` undoes it)."""
+    flat: dict[str, Any] = {}
+    for key, value in start.items():
+        if key != "contact":
+            flat[key] = np.asarray(value)
+    for key, value in start["contact"].items():
+        if isinstance(value, list):  # one array per crack pass
+            for p, part in enumerate(value):
+                flat[f"contact.{key}.{p}"] = np.asarray(part)
+        else:
+            flat[f"contact.{key}"] = np.asarray(value)
+    return flat
+
+
 def write_start(path, start: dict) -> None:
     """``start`` (:func:`refinement_start`) as one ``.npz`` file (arrays bit for bit, the
     numbers as 0-d arrays, the toe's name as a string), written whole or not at all."""
@@ -118,20 +136,9 @@ def write_start(path, start: dict) -> None:
     from pathlib import Path
 
     path = Path(path)
-    arrays: dict[str, Any] = {key: np.asarray(start[key]) for key in START_ARRAYS}
-    contact = start["contact"]
-    for key, value in contact.items():
-        if isinstance(value, list):  # one array per crack pass
-            for p, part in enumerate(value):
-                arrays[f"contact.{key}.{p}"] = np.asarray(part)
-        else:
-            arrays[f"contact.{key}"] = np.asarray(value)
-    for key, value in start.items():
-        if key not in (*START_ARRAYS, "contact"):
-            arrays[key] = np.asarray(value)
     partial = path.with_name(path.name + ".partial")
     with open(partial, "wb") as f:
-        np.savez(f, **arrays)
+        np.savez(f, **_flat_start(start))
     os.replace(partial, path)
 
 
@@ -142,12 +149,9 @@ def start_digest(start: dict) -> str:
     import hashlib
 
     digest = hashlib.sha256()
-    flat = {k: v for k, v in start.items() if k != "contact"}
-    for key, value in start["contact"].items():
-        for p, part in enumerate(value if isinstance(value, list) else [value]):
-            flat[f"contact.{key}.{p}"] = part
+    flat = _flat_start(start)
     for key in sorted(flat):
-        value = np.asarray(flat[key])
+        value = flat[key]
         digest.update(f"{key}:{value.dtype.str}:{value.shape}:".encode())
         digest.update(np.ascontiguousarray(value).tobytes())
     return digest.hexdigest()

@@ -64,6 +64,9 @@ def _study_from_case(case):
     return study
 
 
+TOE_START = "toe_start.npz"  # in the fem case's folder: the state the toe windows restart from
+
+
 def fem_case(case: dict, directory: str) -> dict:
     """The study's FEM run as an ensemble of replicas (``case["replicas"]``, default the study's
     ``[run] replicas``): ``summary`` is :func:`colonna.fem.ensemble.ensemble_summary` of the
@@ -104,9 +107,6 @@ def fem_case(case: dict, directory: str) -> dict:
         write_start(Path(directory) / TOE_START, start)
         out["toe_start"] = {"replica": m, "sha256": start_digest(start)}
     return out
-
-
-TOE_START = "toe_start.npz"  # in the fem case's folder: the state the toe windows restart from
 
 
 def toe_case(case: dict, directory: str) -> dict:
