@@ -30,10 +30,9 @@ from ..core.errors import InputError, read_toml
 from ..core.ground import HarmonicPulse, NoMotion
 from ..fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide_count
 from ..rigid.impacts import half_cycles, impact_ratios_from_peaks
-from ..rigid.solve import rock
 from ..rigid.spectrum import overturning_spectrum
 from .executor import run_cases
-from .fem_study import from_dict
+from .fem_study import from_dict, run_multibody, run_sdof
 from .outcome import (
     QUESTIONS,
     collars_hold,
@@ -211,20 +210,9 @@ def fem_run_summary(study, result) -> dict:
 
 def rigid_case(case: dict, directory: str) -> dict:
     study = _study_from_case(case)
-    if case["key"] == "monolith":
-        block, collars = study.column_block, ()
-    else:
-        block, collars = study.rocking_block, study.collars
-    result = rock(
-        block,
-        study.ground,
-        collars,
-        model="nonlinear",
-        duration=study.duration,
-        vertical=study.vertical,
-        initial_tilt=study.initial_tilt,
-        initial_angular_velocity=study.initial_angular_velocity,
-    )
+    whole_column = case["key"] == "monolith"
+    result = run_sdof(study, whole_column=whole_column)
+    block = study.column_block if whole_column else study.rocking_block
     columns = {"t": result.time, "theta": result.theta, "theta_dot": result.theta_dot}
     for k, hist in enumerate(result.collar_histories, start=1):
         columns[f"collar_{k}_stress"] = hist.stress
@@ -255,26 +243,6 @@ def multibody_case(case: dict, directory: str) -> dict:
         study, result.time, result.theta[:, 0]
     )
     return summary
-
-
-def run_multibody(study, dt: float | None = None):
-    """The rigid multibody model of a study (its default step where ``dt`` is None). Every
-    study kind's multibody run goes through here; a variant is a changed study
-    (``dataclasses.replace``), as for :func:`colonna.studies.fem_study.run_fem`."""
-    from ..rigid.multibody import rock_multibody
-
-    return rock_multibody(
-        study.rocking_block,
-        study.ground,
-        study.collars,
-        cracked=study.cracked,
-        friction=study.contact.friction,
-        duration=study.duration,
-        vertical=study.vertical,
-        initial_tilt=study.initial_tilt,
-        initial_angular_velocity=study.initial_angular_velocity,
-        dt=dt,
-    )
 
 
 def spectrum_case(case: dict, directory: str) -> dict:

@@ -19,9 +19,9 @@ from ..rigid.design import (
     design_collars,
     thinnest_passing,
 )
-from .crosscheck import _study_from_case, fem_case, run_multibody
+from .crosscheck import _study_from_case, fem_case
 from .executor import run_cases
-from .fem_study import from_dict
+from .fem_study import from_dict, run_multibody
 from .outcome import fem_answers, fem_model, outcome
 from .output import write_csv, write_json
 

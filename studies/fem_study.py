@@ -310,6 +310,50 @@ def run_fem(study: FemStudy, *, replicas: int | None = None, out_dir=None, progr
     )
 
 
+def run_multibody(study: FemStudy, dt: float | None = None):
+    """The rigid multibody model of a study (:func:`colonna.rigid.multibody.rock_multibody`; its
+    default step where ``dt`` is None). Every study kind's multibody run goes through here (the
+    cross-check, the design study, the spectrum's grid points, free rocking): a variant is a
+    changed study (``dataclasses.replace``), as for :func:`run_fem`."""
+    from ..rigid.multibody import rock_multibody
+
+    return rock_multibody(
+        study.rocking_block,
+        study.ground,
+        study.collars,
+        cracked=study.cracked,
+        friction=study.contact.friction,
+        duration=study.duration,
+        vertical=study.vertical,
+        initial_tilt=study.initial_tilt,
+        initial_angular_velocity=study.initial_angular_velocity,
+        dt=dt,
+    )
+
+
+def run_sdof(study: FemStudy, *, whole_column: bool = False):
+    """The SDOF rocking block of a study, nonlinear (:func:`colonna.rigid.solve.rock`): the
+    half (or the whole, if not cracked) with the study's collars, the paper's model; with
+    ``whole_column`` the uncracked column without collars (the monolith). Every study kind's
+    SDOF run goes through here, as for :func:`run_fem`."""
+    from ..rigid.solve import rock
+
+    if whole_column:
+        block, collars = study.column_block, ()
+    else:
+        block, collars = study.rocking_block, study.collars
+    return rock(
+        block,
+        study.ground,
+        collars,
+        model="nonlinear",
+        duration=study.duration,
+        vertical=study.vertical,
+        initial_tilt=study.initial_tilt,
+        initial_angular_velocity=study.initial_angular_velocity,
+    )
+
+
 def _run_settings(study: FemStudy) -> dict:
     """The solver's run settings of a study (those of :data:`SHARED_BY_A_BATCH` that are not
     the model's): one place for run_fem and iter_fem."""

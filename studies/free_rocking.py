@@ -29,7 +29,7 @@ from ..rigid.block import Block
 from ..rigid.impacts import impact_ratios_from_peaks
 from . import schema
 from .executor import run_cases
-from .fem_study import from_dict
+from .fem_study import from_dict, run_multibody
 from .outcome import none_assessed
 from .output import write_csv, write_json
 
@@ -54,8 +54,6 @@ def as_run(data: dict) -> dict:
 
 
 def free_rocking_case(case: dict, directory: str) -> dict:
-    from ..rigid.multibody import rock_multibody
-
     study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
     alpha = case["alpha"]
     tilt = case["tilt_fraction"] * alpha
@@ -93,15 +91,7 @@ def free_rocking_case(case: dict, directory: str) -> dict:
             "energy_error_max": max(r.summary["energy_error_max"] for r in replicas),
             "wall_seconds": result.summary["wall_seconds"],
         }
-    result = rock_multibody(
-        study.rocking_block,
-        study.ground,
-        study.collars,
-        cracked=study.cracked,
-        friction=study.contact.friction,
-        duration=study.duration,
-        initial_tilt=tilt,
-    )
+    result = run_multibody(replace(study, initial_tilt=tilt))
     t, theta = result.time, result.theta[:, 0]
     write_csv(
         Path(directory) / "history.csv",

@@ -33,7 +33,7 @@ from ..fem.ensemble import NO, YES
 from ..rigid.impacts import half_cycles
 from . import schema
 from .executor import run_cases
-from .fem_study import from_dict
+from .fem_study import from_dict, run_multibody, run_sdof
 from .outcome import QUESTIONS, count_answer, grid_outcome, not_assessed, outcome
 from .output import write_json
 
@@ -104,23 +104,12 @@ def _point_study(case: dict):
 
 def _point_result(case: dict, study, fem) -> dict:
     """A grid point's result from its FEM run; the multibody and SDOF runs of its pulse."""
-    from ..rigid.multibody import rock_multibody
-    from ..rigid.solve import rock
-
     s = fem.summary
     fem_impacts = max(
         _impacts_before(fem.history, key, s["t_end"]) for key in ("theta_left", "theta_right")
     )
-    block = study.rocking_block
-    mb = rock_multibody(
-        block,
-        study.ground,
-        study.collars,
-        cracked=study.cracked,
-        friction=study.contact.friction,
-        duration=study.duration,
-    )
-    sdof = rock(block, study.ground, study.collars, model="nonlinear", duration=study.duration)
+    mb = run_multibody(study)
+    sdof = run_sdof(study)
     return {
         "omega_ratio": case["omega_ratio"],
         "amplitude_ratio": case["amplitude_ratio"],
