@@ -410,9 +410,6 @@ class Rigid(Table):
         ge=0,
         le=1,
     )
-    model: Literal["nonlinear", "linear"] = Field(
-        "nonlinear", description="Equation of motion of the SDOF model."
-    )
 
 
 class StudyInfo(Table):

@@ -117,6 +117,15 @@ CASES = [
         ["unknown key column.heigth", "height"],
     ),
     (
+        # the studies run the nonlinear SDOF equation (their pulses are scaled by its uplift):
+        # a key choosing another would be read by nothing
+        "SDOF equation in a study",
+        lambda t, o: (
+            ["fem", _replace("[ground]", '[rigid]\nmodel = "linear"\n\n[ground]')(t)] + ["--out", o]
+        ),
+        ["unknown key rigid.model", "restitution"],
+    ),
+    (
         "string for number",
         lambda t, o: ["fem", _replace("height = 1.0", 'height = "tall"')(t), "--out", o],
         ["height"],
