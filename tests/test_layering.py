@@ -71,13 +71,13 @@ def test_the_import_reader_sees_every_form(tmp_path):
 
 
 FEM_RUNS = {"run", "run_ensemble", "run_batch", "iter_batch"}
+RIGID_RUNS = {"rock", "rock_multibody"}
 
 
-def test_every_fem_run_of_a_study_goes_through_one_function():
-    """studies/ reaches the FEM solver's run functions in one place, fem_study (run_fem, and
-    iter_fem for a batch of pulses on one model), so the kinds cannot drift apart on the
-    arguments of one computation (issue 17)."""
-    callers = {}
+def _importers(module_suffixes: tuple[str, ...], names: set) -> dict:
+    """Where studies/ imports any of ``names`` from a module whose dotted name ends with one of
+    ``module_suffixes``: {"file.py:innermost function (or <module>)": names imported there}."""
+    callers: dict = {}
     for path in sorted(FOLDERS["studies"].rglob("*.py")):
         tree = ast.parse(path.read_text(), str(path))
         scopes = [
@@ -86,14 +86,38 @@ def test_every_fem_run_of_a_study_goes_through_one_function():
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))
         ]
         for node in ast.walk(tree):
-            if not (isinstance(node, ast.ImportFrom) and (node.module or "").endswith("solver")):
+            if not (
+                isinstance(node, ast.ImportFrom) and (node.module or "").endswith(module_suffixes)
+            ):
                 continue
-            names = FEM_RUNS & {alias.name for alias in node.names}
-            if names:  # the innermost function around the import, or the module
+            found = names & {alias.name for alias in node.names}
+            if found:  # the innermost function around the import, or the module
                 inner = [name for name, f in scopes if f.lineno <= node.lineno <= f.end_lineno]
                 where = f"{path.name}:{inner[-1] if inner else '<module>'}"
-                callers.setdefault(where, set()).update(names)
+                callers.setdefault(where, set()).update(found)
+    return callers
+
+
+def test_every_fem_run_of_a_study_goes_through_one_function():
+    """studies/ reaches the FEM solver's run functions in one place, fem_study (run_fem, and
+    iter_fem for a batch of pulses on one model), so the kinds cannot drift apart on the
+    arguments of one computation (issue 17)."""
+    callers = _importers(("solver",), FEM_RUNS)
     assert set(callers) == {"fem_study.py:run_fem", "fem_study.py:iter_fem"}, callers
+
+
+def test_every_rigid_run_of_a_study_goes_through_one_function():
+    """The rigid models of a study's column run in one place each, fem_study's run_sdof and
+    run_multibody, so that every kind starts them as its FEM (tilt, angular velocity, vertical
+    motion). Elsewhere only the command line (a block from flags, no study) and the Zhang &
+    Makris validation (the paper's dimensionless block) call them."""
+    callers = _importers(("solve", "multibody"), RIGID_RUNS)
+    assert set(callers) == {
+        "fem_study.py:run_sdof",
+        "fem_study.py:run_multibody",
+        "cli.py:_cmd_rigid",
+        "zhang_makris.py:<module>",
+    }, callers
 
 
 def test_the_study_kinds_have_one_registry():
