@@ -533,7 +533,7 @@ def rock_multibody(
     vertical: GroundMotion = NO_MOTION,
 ) -> MultibodyResult:
     """Time history of the rigid multibody column under ``ground`` (a pulse, a record, or
-    None for free rocking from ``initial_tilt``).
+    NoMotion(), the default, for free rocking from ``initial_tilt``).
 
     duration: s (default: end of the ground motion + 20 / p); dt: time step (s, default
     :func:`default_step`); dt_out: output interval (s, default 1/200 of 1/p, at least dt).

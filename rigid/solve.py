@@ -321,7 +321,7 @@ def rock(
     max_impacts_stored: int = 20_000,
     vertical: GroundMotion = NO_MOTION,
 ) -> RockingResult:
-    """Rocking response of ``block`` to ``ground`` (a pulse, a record, or None: free rocking),
+    """Rocking response of ``block`` to ``ground`` (a pulse, a record, or NoMotion(): free rocking),
     starting at rest upright, or released at t = 0 from ``initial_tilt`` (rad) with
     ``initial_angular_velocity`` (rad/s). ``vertical``: the vertical ground acceleration
     (upward positive; a pulse or a record), which scales the weight by (g + vg'') / g and the

@@ -292,7 +292,8 @@ def run_fem(study: FemStudy, *, replicas: int | None = None, out_dir=None, progr
     unperturbed run and writes the files of a run into ``out_dir``.
 
     Every FEM run of every study kind goes through here (the single study, the cross-check,
-    the spectrum's grid points, free rocking, the sweeps): a variant is a changed study
+    free rocking, the sweeps; the spectrum's grid points through :func:`iter_fem`, batched on
+    one model): a variant is a changed study
     (``dataclasses.replace``), never another argument set. The refinement of the toe stress
     restarts these runs on finer meshes (:func:`colonna.fem.toe_stress.toe_stress_refinement`)."""
     from ..fem.solver import run_ensemble
