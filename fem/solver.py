@@ -40,6 +40,8 @@ from ..core.ground import NO_MOTION, GroundMotion, require_motion
 from . import _kernels as K
 from .model import Model, coincident_nodes, collar_stiffness, contact_stiffness, stable_time_step
 
+BLOW_UP = "numerical blow-up"  # how the status of a run stopped as unstable begins
+
 EDGE_TIME = 2.5e-4  # s: default averaging time of the toe stress (see run)
 # energy balance error (relative to the energy scale, see the module) past which a run is
 # unreliable; a correct run closes to about 1e-2 (tests), undamped frictionless penalty
@@ -323,6 +325,11 @@ def iter_batch(
             raise InputError("run_batch: runs of different durations need an output_interval")
         output_interval = durations[0] / 400.0
     require_positive("run output_interval (s)", output_interval)
+    if output_interval > max(durations):
+        raise InputError(
+            f"run output_interval = {output_interval:g} s must be at most the run's duration "
+            f"{max(durations):g} s (the run ends on a whole output interval)"
+        )
     steps_per_output = max(1, int(round(output_interval / dt)))
     n_outputs = [int(math.ceil(d / (steps_per_output * dt))) for d in durations]
     mesh = model.mesh
@@ -509,7 +516,7 @@ def iter_batch(
                 if done < steps_per_output:
                     t_k = start_time + (steps_done[k] + done) * dt
                     reasons[k] = (
-                        f"numerical blow-up at t = {t_k:.4g} s: the state stopped being "
+                        f"{BLOW_UP} at t = {t_k:.4g} s: the state stopped being "
                         f"finite (dt = {dt:.3g} s too large for the contact or collar "
                         "stiffness?)"
                     )
@@ -1054,7 +1061,7 @@ def _check(row, recorder, ground_end, t, stop_on_overturn, rest_energy=None):
         or stored > budget
     ):
         return (
-            f"numerical blow-up at t = {t:.4g} s: the energy grew without bound "
+            f"{BLOW_UP} at t = {t:.4g} s: the energy grew without bound "
             "(time step too large for the contact or collar stiffness?)",
             False,
         )
@@ -1154,7 +1161,9 @@ def _summary(
         "energy_error_max": float(np.max(np.abs(h["energy_error"]))),
         # past this the run is unreliable: a study stops rather than report from it
         "energy_error_limit": ENERGY_ERROR_LIMIT,
-        "energy_reliable": bool(np.max(np.abs(h["energy_error"])) <= ENERGY_ERROR_LIMIT),
+        # a run stopped as blown up is never reliable, whatever its last balance said
+        "energy_reliable": bool(np.max(np.abs(h["energy_error"])) <= ENERGY_ERROR_LIMIT)
+        and not reason.startswith(BLOW_UP),
         "dt": dt,
         "dt_critical": step.critical,
         "dt_critical_elastic": step.critical_elastic,

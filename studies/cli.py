@@ -466,7 +466,15 @@ def _cmd_fem(args) -> dict:
     # inside run_fem, and a notice must not come before an input error)
     study = load(resolve_study(args.study))
     result = run_fem(study, replicas=1, out_dir=args.out, progress=True)[0]
-    return result.summary
+    summary = result.summary
+    if not summary["energy_reliable"]:  # a blow-up, or a balance past its limit
+        raise InputError(
+            f"the run is unreliable, its numbers are not an answer: {summary['status']} "
+            f"(energy balance off by {summary['energy_error_max']:.3g} of the energy scale, "
+            f"limit {summary['energy_error_limit']:g}; a time step or contact penalty too large "
+            f"for the loads?); its files are kept in {args.out} to be looked at"
+        )
+    return summary
 
 
 # --- colonna study ------------------------------------------------------------------------------

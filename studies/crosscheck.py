@@ -29,6 +29,7 @@ from ..core.constants import DUCTILITY_LIMIT
 from ..core.errors import InputError, read_toml
 from ..core.ground import HarmonicPulse, NoMotion
 from ..fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide_count
+from ..fem.solver import BLOW_UP
 from ..rigid.impacts import half_cycles, impact_ratios_from_peaks
 from ..rigid.spectrum import overturning_spectrum
 from .executor import run_cases
@@ -389,18 +390,21 @@ def check_energy(results: dict) -> None:
         summary = result.get("summary") if isinstance(result, dict) else None
         if not summary or "energy_error_limit" not in summary:
             continue
-        bad = [
-            s["energy_error_max"]
-            for s in result.get("replica_summaries", [summary])
-            if s["energy_error_max"] > s["energy_error_limit"]
-        ]
+        replicas = result.get("replica_summaries", [summary])
+        bad = [s for s in replicas if not s["energy_reliable"]]
         if bad:
+            blown = [s["status"] for s in bad if s["status"].startswith(BLOW_UP)]
+            why = (
+                blown[0]
+                if blown
+                else f"the energy balance is off by "
+                f"{max(s['energy_error_max'] for s in bad):.3g} of the energy scale (limit "
+                f"{summary['energy_error_limit']:g})"
+            )
             raise InputError(
-                f"FEM case {key}: the energy balance is off by {max(bad):.3g} of the energy "
-                f"scale in {len(bad)} of {len(result.get('replica_summaries', [1]))} replicas "
-                f"(limit {summary['energy_error_limit']:g}): the run is unreliable, so no "
-                "report is written from it (a time step or contact penalty too large, or "
-                "undamped frictionless contact; see cases/" + key + "/history.csv)"
+                f"FEM case {key}: {len(bad)} of {len(replicas)} replicas are unreliable, "
+                f"{why}: no report is written from them (a time step or contact penalty too "
+                "large, or undamped frictionless contact; see cases/" + key + "/history.csv)"
             )
 
 

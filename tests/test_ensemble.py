@@ -74,8 +74,16 @@ def test_ensemble_summary_medians_bands_and_majority():
 def test_a_run_whose_energy_balance_failed_stops_the_study():
     from colonna.studies.crosscheck import check_energy
 
-    good = {"energy_error_max": 1e-3, "energy_error_limit": 0.05}
-    bad = {"energy_error_max": 0.54, "energy_error_limit": 0.05}
+    limit = {"energy_error_limit": 0.05}
+    good = {"energy_error_max": 1e-3, "energy_reliable": True, "status": "completed", **limit}
+    bad = {"energy_error_max": 0.54, "energy_reliable": False, "status": "completed", **limit}
+    # stopped at its first check: no balance to be off, but nothing to report either
+    blown = {
+        "energy_error_max": 0.0,
+        "energy_reliable": False,
+        "status": "numerical blow-up at t = 0 s: the energy grew without bound",
+        **limit,
+    }
     check_energy(
         {
             "fem": {"summary": good, "replica_summaries": [good, good]},
@@ -84,8 +92,8 @@ def test_a_run_whose_energy_balance_failed_stops_the_study():
     )
     with pytest.raises(
         InputError,
-        match=r"FEM case fem-mesh-2h: the energy balance is off by "
-        r"0\.54 .* in 1 of 2 replicas",
+        match=r"FEM case fem-mesh-2h: 1 of 2 replicas are unreliable, the energy balance "
+        r"is off by 0\.54 ",
     ):
         check_energy(
             {
@@ -93,3 +101,5 @@ def test_a_run_whose_energy_balance_failed_stops_the_study():
                 "fem-mesh-2h": {"summary": good, "replica_summaries": [good, bad]},
             }
         )
+    with pytest.raises(InputError, match=r"FEM case fem: 1 of 2 replicas .* numerical blow-up"):
+        check_energy({"fem": {"summary": good, "replica_summaries": [blown, good]}})
