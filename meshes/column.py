@@ -84,6 +84,19 @@ def _split(coords: np.ndarray, near, parts: int) -> np.ndarray:
     return np.concatenate(out)
 
 
+MAX_NODES = 200_000  # an explicit run on more would take days (the step shrinks with the size)
+
+
+def _require_node_count(n_nodes: int, size: float, area: float) -> None:
+    """An InputError where a mesh would have more than MAX_NODES nodes, before it is built."""
+    if n_nodes > MAX_NODES:
+        smallest = math.sqrt(area / MAX_NODES)
+        raise InputError(
+            f"mesh size = {size:g} m gives {n_nodes:,} nodes on this column: at most "
+            f"{MAX_NODES:,} (a size of at least about {smallest:.2g} m here)"
+        )
+
+
 def column_mesh(
     width: float,
     height: float,
@@ -116,6 +129,8 @@ def column_mesh(
     require_range("mesh grading", grading, 0.0, 1.0, closed_low=True)
     n_x = max(2, math.ceil(body_width / size))
     n_y = max(2, math.ceil(height / size))
+    n_bodies = 2 if cracked else 1
+    _require_node_count(n_bodies * (n_x + 1) * (n_y + 1), size, n_bodies * body_width * height)
     ys = height * _graded(n_y, grading, both_ends=False)
     for y_pin in pinned_heights:
         require_range("pinned height (m)", y_pin, 0.0, height, closed_high=True)
@@ -137,6 +152,7 @@ def column_mesh(
         require_positive("mesh toe_zone (m)", toe_zone)
         ys = _split(ys, lambda lo, hi: lo < toe_zone, toe_refinement)
         xs = _split(xs, lambda lo, hi: lo < toe_zone or hi > body_width - toe_zone, toe_refinement)
+    _require_node_count(n_bodies * xs.size * ys.size, size, n_bodies * body_width * height)
     offsets = [-0.5 * width, 0.0] if cracked else [-0.5 * width]
 
     points, cells, cell_body, node_body = [], [], [], []

@@ -151,8 +151,19 @@ class Block:
 
     @property
     def nu(self) -> float:
-        """Coefficient of restitution in use: the given one or Housner's."""
-        return housner_restitution(self.alpha) if self.restitution is None else self.restitution
+        """Coefficient of restitution in use: the given one or Housner's. Housner's is negative
+        past alpha = asin(sqrt(2/3)) (54.7 deg, a squat block), where his impact law no longer
+        describes a block that rocks on: then a restitution must be given."""
+        if self.restitution is not None:
+            return self.restitution
+        nu = housner_restitution(self.alpha)
+        if nu < 0.0:
+            raise InputError(
+                f"Housner's restitution 1 - 1.5 sin^2(alpha) = {nu:.3g} is negative for this "
+                f"squat block (alpha = {self.alpha:.3g} rad, above asin(sqrt(2/3)) = "
+                f"{math.asin(math.sqrt(2.0 / 3.0)):.3g} rad): give a restitution in [0, 1]"
+            )
+        return nu
 
     @property
     def restitution_housner(self) -> float:

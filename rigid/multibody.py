@@ -37,7 +37,13 @@ from ..core.collar_law import (
     RECORDED,
     STATE_SIZE,
 )
-from ..core.errors import InputError, require_non_negative, require_positive, require_range
+from ..core.errors import (
+    InputError,
+    require_history_rows,
+    require_non_negative,
+    require_positive,
+    require_range,
+)
 from ..core.ground import (
     NO_MOTION,
     GroundMotion,
@@ -569,6 +575,7 @@ def rock_multibody(
         dt_out = 1.0 / (200.0 * block.p)
     require_positive("dt_out (s)", dt_out)
     out_every = max(1, int(round(dt_out / dt)))
+    require_history_rows(duration, out_every * dt)
     n_steps = int(math.ceil(duration / dt))
     q, v = tilted_state(column, initial_tilt, initial_angular_velocity)
     n_cols = (

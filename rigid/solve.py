@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from ..core.errors import InputError, require_positive, require_range
+from ..core.errors import InputError, require_history_rows, require_positive, require_range
 from ..core.ground import (
     NO_MOTION,
     GroundMotion,
@@ -350,7 +350,7 @@ def rock(
             scale = min(scale, 2.0 * math.pi / ground.omega)
         dt_out = scale / 200.0
     require_positive("dt_out (s)", dt_out)
-    n_max = int(duration / dt_out) + 2
+    n_max = require_history_rows(duration, dt_out)
     impacts = np.zeros((max_impacts_stored, 3))
 
     closed_form = (

@@ -153,6 +153,9 @@ def check_spectrum_grid(omega_ratios, amplitude_ratios, pulse: str):
     return omega_ratios, amplitude_ratios
 
 
+MAX_RANGE_POINTS = 10_000  # per axis: 10^8 pulses of a spectrum would take hours
+
+
 def parse_range(text: str, name: str) -> np.ndarray:
     """'START:STOP:N' -> N evenly spaced values (inclusive)."""
     parts = text.split(":")
@@ -162,6 +165,8 @@ def parse_range(text: str, name: str) -> np.ndarray:
         start, stop, n = float(parts[0]), float(parts[1]), int(parts[2])
     except ValueError:
         raise InputError(f"{name} = {text!r} is not of the form START:STOP:N") from None
-    if n < 1:
-        raise InputError(f"{name}: N = {n} must be >= 1")
+    if not 1 <= n <= MAX_RANGE_POINTS:
+        raise InputError(f"{name}: N = {n} must be in [1, {MAX_RANGE_POINTS:,}]")
+    if n > 1 and not start < stop:
+        raise InputError(f"{name} = {text!r}: START must be below STOP (START:STOP:N)")
     return np.linspace(start, stop, n)

@@ -258,6 +258,7 @@ def run_cases(
             todo.append(case)
     if not todo:
         return results
+    client = _connect(scheduler) if scheduler else None  # before any folder is made
     for announce in BEFORE_COMPUTING:
         announce()
     for case in todo:
@@ -294,11 +295,10 @@ def run_cases(
         """Per case of a share: its folder and the inputs record it is saved with."""
         return [(str(case_dir(out, c["key"])), record(c["key"])) for c in share]
 
-    if scheduler:
-        from distributed import Client
+    if client is not None:
         from distributed import as_completed as dask_completed
 
-        with Client(scheduler) as client:
+        with client:
             if batched:
                 shares = _deal(todo, sum(client.nthreads().values()))
                 futures = {
@@ -340,6 +340,18 @@ def run_cases(
                 finish_all(futures[future], future.result(), batched, saved=batched)
     bar.close()
     return results
+
+
+def _connect(scheduler: str):
+    """A Dask client of the scheduler at ``scheduler``, or an InputError naming it."""
+    from distributed import Client
+
+    try:
+        return Client(scheduler)
+    except (OSError, ValueError, TypeError) as exc:  # a malformed address, or none answers
+        raise InputError(
+            f"--scheduler {scheduler!r}: no Dask scheduler could be reached there ({exc})"
+        ) from None
 
 
 def save_case(folder: Path, record: dict, result) -> None:

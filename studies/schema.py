@@ -400,6 +400,20 @@ class Run(Table):
         le=64,
     )
 
+    @staticmethod
+    def across(r: dict, given: set) -> list[tuple[str, tuple]]:
+        """An output interval no longer than the run (the run ends on a whole interval)."""
+        d, k = r["duration"], r["output_interval"]
+        if d is not None and k is not None and _known(d, k) and k > d:
+            return [
+                (
+                    f"output_interval = {k:g} s must be at most duration = {d:g} s "
+                    "(the run ends on a whole output interval)",
+                    (),
+                )
+            ]
+        return []
+
 
 class Rigid(Table):
     """[rigid]: options of the rigid models."""
@@ -626,6 +640,11 @@ class CollarFile(Table):
 def read_collars(path) -> tuple[rigid_collars.Collar, ...]:
     """The collars of a TOML file of [[collar]] tables (keys as in a study file)."""
     spec = _validate(CollarFile, read_toml(path, "collar file"), str(path))
+    if not spec.collar:
+        raise InputError(
+            f"{path}: a collar file needs at least one [[collar]] table (for a column without "
+            "collars, leave the collar file out)"
+        )
     return tuple(rigid_collars.Collar(**c.model_dump()) for c in spec.collar)
 
 

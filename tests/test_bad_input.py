@@ -230,6 +230,58 @@ CASES = [
         ],
         ["wobble"],
     ),
+    (
+        # the run would have gone on to a whole output interval, 10 s in place of 0.05 s
+        "output interval past the duration",
+        lambda t, o: (
+            ["fem", _replace("output_interval = 0.005", "output_interval = 10.0")(t)] + ["--out", o]
+        ),
+        ["output_interval", "duration"],
+    ),
+    (
+        "mesh of millions of nodes",
+        lambda t, o: ["fem", _replace("size = 0.05", "size = 1e-5")(t), "--out", o],
+        ["mesh size", "200,000"],
+    ),
+    (
+        "no Dask scheduler there",
+        lambda t, o: (
+            ["study", _replace("[run]", "[run]")(t), "--out", o] + ["--scheduler", "not an address"]
+        ),
+        ["--scheduler"],
+    ),
+    (
+        "squat block without a restitution",
+        lambda t, o: ["rigid", "--b", "2", "--h", "0.5"] + PULSE,
+        ["restitution", "alpha"],
+    ),
+    (
+        "collar file without collars",
+        lambda t, o: ["rigid"] + BLOCK + PULSE + ["--collars", _file("none.toml", "")(t)],
+        ["none.toml", "[[collar]]"],
+    ),
+    (
+        "spectrum range backwards",
+        lambda t, o: (
+            ["spectrum"] + BLOCK + ["--omega-ratios", "5:1:3"] + ["--amplitude-ratios", "1:3:3"]
+        ),
+        ["--omega-ratios", "START"],
+    ),
+    (
+        "spectrum of 10^16 pulses",
+        lambda t, o: (
+            ["spectrum"]
+            + BLOCK
+            + ["--omega-ratios", "1:5:100000000"]
+            + ["--amplitude-ratios", "1:3:100000000"]
+        ),
+        ["--omega-ratios", "10,000"],
+    ),
+    (
+        "history of petabytes",
+        lambda t, o: ["rigid"] + BLOCK + PULSE + ["--duration", "1e12"],
+        ["duration", "rows"],
+    ),
     # --- records --------------------------------------------------------------------------
     (
         "missing record",
@@ -373,3 +425,19 @@ def test_output_path_that_is_a_file(tmp_path, capsys):
     assert code == 2 and err.startswith("colonna: error: ") and err.count("\n") == 1, err
     assert "taken" in err
     assert target.read_text() == "not a directory"
+
+
+def test_a_run_that_blows_up_stops_and_says_why(tmp_path, capsys):
+    """A load that no column carries (10^30 N on the capital) blows the integration up at its
+    first check, before the energy balance has a step to be off by: the run still ends with an
+    error naming the blow-up (exit status 2), its summary says it is unreliable, and its files
+    stay to be looked at."""
+    import json
+
+    study = _replace("width = 0.2", "width = 0.2\ntop_load = 1e30")(tmp_path)
+    out = tmp_path / "out"
+    assert main(["fem", study, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "unreliable" in err[0] and "numerical blow-up" in err[0]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["energy_reliable"] is False and summary["status"].startswith("numerical")
