@@ -130,6 +130,14 @@ def _with(table, **keys):
         (_with("grid", amplitude_ratios=[3.0, 2.0]), ["grid.amplitude_ratios", "start <= stop"]),
         (_with("convergence", sizes=[0.1, 0.2, 0.05]), ["convergence.sizes", "decrease"]),
         (
+            _with("convergence", sizes=[0.1, 0.05, 0.0125]),
+            ["convergence.sizes", "one ratio", "2, 4"],
+        ),
+        (
+            _with("convergence", sizes=[0.1, 0.05, 0.025], levels=4),
+            ["convergence.sizes goes without levels and ratio"],
+        ),
+        (
             _with("free_rocking", tilt_fractions=[1.5]),
             ["free_rocking.tilt_fractions[1] = 1.5", "(0, 1)"],
         ),
