@@ -22,6 +22,11 @@ class StudyKind:
     report: str  # "module:function" under colonna.studies
     short: tuple[str, ...] = ()
     ground_motion: bool = True  # its [ground] is one motion (not a grid of them, nor none)
+    tables: tuple[str, ...] = ()  # the tables of its own it reads (of KIND_TABLES)
+
+
+# tables that only some kinds read: in a study of another kind they would be read by nothing
+KIND_TABLES = ("grid", "convergence", "free_rocking")
 
 
 KINDS = {
@@ -38,15 +43,20 @@ KINDS = {
         "report:write_spectrum_crosscheck_report",
         ("outcome", "agreement_fem_multibody", "agreement_fem_sdof"),
         ground_motion=False,
+        tables=("grid",),
     ),
     "free-rocking": StudyKind(
         "free_rocking:run_free_rocking",
         "report:write_free_rocking_report",
         ("outcome", "fem_ratio_study_stone", "multibody_ratio", "restitution_housner"),
         ground_motion=False,
+        tables=("free_rocking",),
     ),
     "mesh-convergence": StudyKind(
-        "sweeps:run_mesh_convergence", "report:write_convergence_report", ("outcome",)
+        "sweeps:run_mesh_convergence",
+        "report:write_convergence_report",
+        ("outcome",),
+        tables=("convergence",),
     ),
     "solid-vs-cracked": StudyKind(
         "sweeps:run_solid_vs_cracked", "report:write_variants_report", ("outcome",)

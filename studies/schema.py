@@ -32,7 +32,7 @@ from ..core.errors import InputError, read_toml
 from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
-from .kinds import KINDS
+from .kinds import KIND_TABLES, KINDS
 
 G = STANDARD_GRAVITY  # m/s^2, the gravity of every study
 STUDY_KINDS = tuple(KINDS)  # the registered kinds (studies/kinds.py)
@@ -560,6 +560,17 @@ class StudyFile(Table):
         kind = s["study"]["kind"] if isinstance(s["study"], dict) else FAILED
         c, ground = s["column"], s["ground"]
         found: list[tuple[str, tuple]] = []
+        for table in KIND_TABLES:  # a table no code of this kind would read
+            if table in given and isinstance(kind, str) and table not in KINDS[kind].tables:
+                readers = [name for name, k in KINDS.items() if table in k.tables]
+                found.append(
+                    (
+                        f"[{table}] is read by studies of kind {' or '.join(readers)} only, and "
+                        f"this study is of kind {kind!r}: leave the table out, or set "
+                        "[study] kind",
+                        (),
+                    )
+                )
         if c is None:
             if kind in (FAILED, "zhang-makris"):  # (a failed kind may need no column)
                 return []

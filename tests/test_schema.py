@@ -78,9 +78,19 @@ BASE = {
 }
 
 
+# the kind that reads a table of its own (studies/kinds.py)
+READER = {
+    "grid": "spectrum-crosscheck",
+    "convergence": "mesh-convergence",
+    "free_rocking": "free-rocking",
+}
+
+
 def _with(table, **keys):
     data = json.loads(json.dumps(BASE))
     data.setdefault(table, {}).update(keys)
+    if table in READER:
+        data["study"] = {"kind": READER[table]}
     return data
 
 
@@ -129,6 +139,11 @@ def _with(table, **keys):
         (_with("grid", points=[3, 0]), ["grid.points[2] = 0", "[1, inf)"]),
         (_with("grid", amplitude_ratios=[3.0, 2.0]), ["grid.amplitude_ratios", "start <= stop"]),
         (_with("convergence", sizes=[0.1, 0.2, 0.05]), ["convergence.sizes", "decrease"]),
+        (
+            # a table of another kind's would be read by nothing
+            {**BASE, "grid": {"points": [3, 3]}},
+            ["[grid] is read by studies of kind spectrum-crosscheck only", "'cross-check'"],
+        ),
         (
             _with("convergence", sizes=[0.1, 0.05, 0.0125]),
             ["convergence.sizes", "one ratio", "2, 4"],
@@ -259,6 +274,7 @@ COLLAR = {"y": 1.0, "t": 0.01, "h": 0.05}
                 "convergence.levels = 2",
                 "grid.omega_ratios = [8.0, 1.0]",
                 "convergence.sizes = [0.1, 0.2, 0.3] must decrease",
+                "[convergence] is read by studies of kind mesh-convergence only",
             ],
         ),
         # a misspelt key is one mistake: the key it leaves missing is not reported again
