@@ -609,8 +609,8 @@ class StudyFile(Table):
             if _known(collar, c["height"]) and _known(collar["y"]) and collar["y"] > c["height"]:
                 found.append(
                     (
-                        f"collar[{i}].y = {collar['y']:g} m is outside the allowed range "
-                        f"(0, {c['height']:g}] m (the column height)",
+                        f"collar[{i}].y = {collar['y']:.10g} m is outside the allowed range "
+                        f"(0, {c['height']:.10g}] m (the column height)",
                         (),
                     )
                 )

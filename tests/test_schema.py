@@ -139,6 +139,10 @@ def _with(table, **keys):
         (_with("grid", points=[3, 0]), ["grid.points[2] = 0", "[1, inf)"]),
         (_with("grid", amplitude_ratios=[3.0, 2.0]), ["grid.amplitude_ratios", "start <= stop"]),
         (_with("convergence", sizes=[0.1, 0.2, 0.05]), ["convergence.sizes", "decrease"]),
+        (  # just past the top: the message must not round it onto the top
+            {**BASE, "collar": [{"y": 2.0000001, "t": 0.01, "h": 0.05}]},
+            ["collar[1].y = 2.0000001 m is outside the allowed range (0, 2] m"],
+        ),
         (
             # a table of another kind's would be read by nothing
             {**BASE, "grid": {"points": [3, 3]}},
