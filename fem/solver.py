@@ -159,6 +159,23 @@ def run(
     )[0]
 
 
+def unreliable_reason(summaries: list[dict]) -> str | None:
+    """Why runs are unreliable (``energy_reliable`` false in any of their summaries), or None:
+    a blow-up by its status (its balance may never have had a step to be off by), else the
+    largest energy balance error against its limit."""
+    bad = [s for s in summaries if not s["energy_reliable"]]
+    if not bad:
+        return None
+    blown = [s["status"] for s in bad if s["status"].startswith(BLOW_UP)]
+    if blown:
+        return blown[0]
+    worst = max(bad, key=lambda s: s["energy_error_max"])
+    return (
+        f"the energy balance is off by {worst['energy_error_max']:.3g} of the energy scale "
+        f"(limit {worst['energy_error_limit']:g})"
+    )
+
+
 def replica_perturbation(
     model: Model, replica: int, size: float = REPLICA_PERTURBATION
 ) -> np.ndarray:

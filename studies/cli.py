@@ -460,21 +460,20 @@ def resolve_study(name_or_path: str) -> Path:
 
 
 def _cmd_fem(args) -> dict:
+    from ..fem.solver import unreliable_reason
     from .fem_study import load, run_fem
 
     # (no compile notice here: the run's own checks (stable step, mesh, output folder) come
     # inside run_fem, and a notice must not come before an input error)
     study = load(resolve_study(args.study))
     result = run_fem(study, replicas=1, out_dir=args.out, progress=True)[0]
-    summary = result.summary
-    if not summary["energy_reliable"]:  # a blow-up, or a balance past its limit
+    why = unreliable_reason([result.summary])  # a blow-up, or a balance past its limit
+    if why is not None:
         raise InputError(
-            f"the run is unreliable, its numbers are not an answer: {summary['status']} "
-            f"(energy balance off by {summary['energy_error_max']:.3g} of the energy scale, "
-            f"limit {summary['energy_error_limit']:g}; a time step or contact penalty too large "
-            f"for the loads?); its files are kept in {args.out} to be looked at"
+            f"the run is unreliable, its numbers are not an answer: {why}; its files are "
+            f"kept in {args.out} to be looked at"
         )
-    return summary
+    return result.summary
 
 
 # --- colonna study ------------------------------------------------------------------------------

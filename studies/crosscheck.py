@@ -29,7 +29,7 @@ from ..core.constants import DUCTILITY_LIMIT
 from ..core.errors import InputError, read_toml
 from ..core.ground import HarmonicPulse, NoMotion
 from ..fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide_count
-from ..fem.solver import BLOW_UP
+from ..fem.solver import unreliable_reason
 from ..rigid.impacts import half_cycles, impact_ratios_from_peaks
 from ..rigid.spectrum import overturning_spectrum
 from .executor import run_cases
@@ -211,15 +211,13 @@ def fem_run_summary(study, result) -> dict:
 
 def rigid_case(case: dict, directory: str) -> dict:
     study = _study_from_case(case)
-    whole_column = case["key"] == "monolith"
-    result = run_sdof(study, whole_column=whole_column)
-    block = study.column_block if whole_column else study.rocking_block
+    result = run_sdof(study, whole_column=case["key"] == "monolith")
     columns = {"t": result.time, "theta": result.theta, "theta_dot": result.theta_dot}
     for k, hist in enumerate(result.collar_histories, start=1):
         columns[f"collar_{k}_stress"] = hist.stress
     write_csv(Path(directory) / "history.csv", columns)
     summary = result.summary()
-    summary["alpha"] = block.alpha
+    summary["alpha"] = result.block.alpha
     return summary
 
 
@@ -391,18 +389,11 @@ def check_energy(results: dict) -> None:
         if not summary or "energy_error_limit" not in summary:
             continue
         replicas = result.get("replica_summaries", [summary])
-        bad = [s for s in replicas if not s["energy_reliable"]]
-        if bad:
-            blown = [s["status"] for s in bad if s["status"].startswith(BLOW_UP)]
-            why = (
-                blown[0]
-                if blown
-                else f"the energy balance is off by "
-                f"{max(s['energy_error_max'] for s in bad):.3g} of the energy scale (limit "
-                f"{summary['energy_error_limit']:g})"
-            )
+        why = unreliable_reason(replicas)
+        if why is not None:
+            bad = sum(not s["energy_reliable"] for s in replicas)
             raise InputError(
-                f"FEM case {key}: {len(bad)} of {len(replicas)} replicas are unreliable, "
+                f"FEM case {key}: {bad} of {len(replicas)} replicas are unreliable, "
                 f"{why}: no report is written from them (a time step or contact penalty too "
                 "large, or undamped frictionless contact; see cases/" + key + "/history.csv)"
             )
