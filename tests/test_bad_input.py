@@ -245,9 +245,7 @@ CASES = [
     ),
     (
         "no Dask scheduler there",
-        lambda t, o: (
-            ["study", _replace("[run]", "[run]")(t), "--out", o] + ["--scheduler", "not an address"]
-        ),
+        lambda t, o: ["study", _study(t, TINY), "--out", o] + ["--scheduler", "not an address"],
         ["--scheduler"],
     ),
     (

@@ -18,6 +18,7 @@ from colonna.fem.model import ContactSettings
 from colonna.rigid.collars import Collar
 from colonna.studies import schema
 from colonna.studies.cli import main
+from colonna.studies.kinds import KINDS
 
 ROOT = Path(__file__).resolve().parents[1]
 STUDIES = sorted((ROOT / "studies").glob("*.toml"))
@@ -78,12 +79,8 @@ BASE = {
 }
 
 
-# the kind that reads a table of its own (studies/kinds.py)
-READER = {
-    "grid": "spectrum-crosscheck",
-    "convergence": "mesh-convergence",
-    "free_rocking": "free-rocking",
-}
+# the kind that reads a table of its own (the registry, studies/kinds.py)
+READER = {table: name for name, kind in KINDS.items() for table in kind.tables}
 
 
 def _with(table, **keys):
