@@ -9,6 +9,7 @@ must reach the rocking half's uplift acceleration), files found relative to the 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -20,9 +21,11 @@ from ..core.ground import (
     HarmonicPulse,
     NoMotion,
     Record,
+    RecordNote,
     cosine_pulse,
     read_record,
     sine_pulse,
+    weak_record_note,
 )
 from ..fem.assembly import Stone
 from ..fem.model import ContactSettings
@@ -230,17 +233,36 @@ def _vertical(ground: schema.Ground, horizontal, base: Path, source: str = "stud
 
 
 def _ground(ground: schema.Ground, block: Block, base: Path, source: str = "study"):
-    """The horizontal ground motion; a pulse must reach the rocking half's uplift."""
+    """The horizontal ground motion; a pulse must reach the rocking half's uplift. A record
+    that does not is a :class:`RecordNote` warning (its file is read by
+    :func:`read_record`: uniform sampling, MAX_RECORD_STEP or finer, AT2 units from its
+    header)."""
     if ground.pulse == "none":
         return NoMotion()
+    uplift = block.uplift_acceleration("nonlinear")
     if ground.pulse == "record":
         assert ground.record is not None  # the schema asks for it with pulse = "record"
         record = read_record(base / ground.record, g=block.g)
         speed = ground.time_scale or 1.0
         if speed != 1.0:  # t -> t / time_scale: the record played faster
             record = Record(record.time / speed, record.acceleration_values, record.name)
-        return record.scaled(1.0 if ground.scale is None else ground.scale)
-    uplift = block.uplift_acceleration("nonlinear")
+        scale = 1.0 if ground.scale is None else ground.scale
+        record = record.scaled(scale)
+        if ground.vertical_record is None and ground.vertical_amplitude is None:
+            # a vertical motion lowers the uplift acceleration: then the record may rock it
+            note = weak_record_note(
+                record,
+                uplift,
+                what=f"{source}: ground.record {ground.record!r}",
+                scale=scale,
+                scale_name="ground.scale",
+                uplift_text="g tan(alpha) (1 + lambda) of the rocking half",
+                in_m_s2=Path(ground.record).suffix.lower() != ".at2",
+                g=block.g,
+            )
+            if note is not None:
+                warnings.warn(note, RecordNote, stacklevel=3)
+        return record
     amplitude = (
         ground.amplitude if ground.amplitude is not None else ground.amplitude_ratio * uplift
     )

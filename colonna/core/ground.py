@@ -7,7 +7,10 @@ block rocks from t = 0 as soon as ``a_p`` exceeds the uplift acceleration. Both 
 ``a_p sin(Omega t + phase)`` on ``[0, duration]``. A negative ``a_p`` mirrors the pulse.
 
 Records are read from a two-column text/CSV file (time in s, acceleration in m/s^2 unless
-``units='g'``) or from the PEER NGA ``.AT2`` format (acceleration in g).
+``units`` says otherwise) or from the PEER NGA ``.AT2`` format (units from its header's
+``UNITS OF ...`` phrase). A record file must be sampled uniformly at :data:`MAX_RECORD_STEP` or
+finer; one that never reaches a column's uplift acceleration is legitimate but worth a note
+(:func:`weak_record_note`).
 """
 
 from __future__ import annotations
@@ -15,6 +18,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
+from decimal import Decimal, InvalidOperation
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
@@ -165,15 +169,79 @@ def _check_amplitude(amplitude: float, uplift: float) -> None:
 
 # --- record readers -------------------------------------------------------------------------
 
+MAX_RECORD_STEP = 0.02
+"""s, the coarsest sampling step a record file may have (50 samples a second). Strong-motion
+databases deliver 0.005 to 0.02 s (PEER NGA); at 0.02 s the band they keep (up to 25 Hz, the
+Nyquist frequency) is there and a 5 Hz wave, where most of the energy of a record lies, has
+10 samples a period (linear interpolation within 5 % of its peak). A coarser file has lost the
+peaks that uplift and strike a column, and interpolating it does not bring them back."""
+
+# m/s^2 per unit of a record file, by the names read_two_column's ``units`` takes; g stands
+# for the reader's ``g``
+UNITS = {"g": None, "m/s2": 1.0, "cm/s2": 0.01, "gal": 0.01, "mm/s2": 0.001}
+KNOWN_UNITS = "g, cm/s^2 (gal), m/s^2, mm/s^2"
+
 _AT2_HEADER = re.compile(
     r"NPTS\s*=\s*(?P<npts>\d+)\s*,?\s*DT\s*=\s*(?P<dt>[0-9.Ee+-]+)"
     r"|^\s*(?P<npts2>\d+)\s+(?P<dt2>[0-9.Ee+-]+)\s+NPTS",
     re.IGNORECASE | re.MULTILINE,
 )
+_UNITS_PHRASE = re.compile(r"\bUNITS?\s*(?:OF\b|IN\b|:|=)\s*(?P<unit>[^\s,;()]+)", re.IGNORECASE)
+
+
+def _unit_name(text: str) -> str | None:
+    """The :data:`UNITS` key of a unit as written in a header ('CM/SEC/SEC', 'cm/s^2', 'GAL',
+    'G.'), or None."""
+    unit = text.lower().rstrip(".:")
+    for old, new in (("sec", "s"), ("**", ""), ("^", ""), ("\u00b2", "2"), ("gals", "gal")):
+        unit = unit.replace(old, new)
+    unit = re.sub(r"/s/s$", "/s2", unit)
+    return unit if unit in UNITS else None
+
+
+def _at2_units(path: Path, header: list[str]) -> str:
+    """The :data:`UNITS` key the header lines of an AT2 file give ('UNITS OF G', ...)."""
+    found: dict[str, int] = {}
+    for lineno, line in enumerate(header, start=1):
+        for match in _UNITS_PHRASE.finditer(line):
+            unit = _unit_name(match.group("unit"))
+            if unit is None:
+                raise InputError(
+                    f"record file {path}, line {lineno}: units {match.group('unit')!r} are not "
+                    f"known (known: {KNOWN_UNITS})"
+                )
+            found.setdefault(unit, lineno)
+    if not found:
+        raise InputError(
+            f"record file {path}: no 'UNITS OF ...' phrase in the header (lines 1-{len(header)}), "
+            f"so the acceleration's units are unknown (known: {KNOWN_UNITS})"
+        )
+    if len({UNITS[u] for u in found}) > 1:  # gal and cm/s2 agree
+        where = ", ".join(f"{u} on line {n}" for u, n in found.items())
+        raise InputError(f"record file {path}: the header gives two units ({where})")
+    return next(iter(found))
+
+
+def _to_si(unit: str, g: float) -> float:
+    """m/s^2 per unit of :data:`UNITS` ``unit``."""
+    factor = UNITS[unit]
+    return g if factor is None else factor
+
+
+def _check_step(path: Path, dt: float) -> None:
+    """A record file's sampling step must be :data:`MAX_RECORD_STEP` or finer."""
+    if dt > MAX_RECORD_STEP * (1.0 + 1e-9):
+        raise InputError(
+            f"record file {path}: sampling step {dt:.6g} s ({1.0 / dt:.3g} Hz) is coarser than "
+            f"{MAX_RECORD_STEP:g} s ({1.0 / MAX_RECORD_STEP:g} Hz), the least a record must be "
+            "sampled at to keep the peaks that rock a column"
+        )
 
 
 def read_peer_at2(path, *, g: float = STANDARD_GRAVITY) -> Record:
-    """Read a PEER NGA ``.AT2`` accelerogram (acceleration in g) into m/s^2."""
+    """Read a PEER NGA ``.AT2`` accelerogram into m/s^2, in the units its header states
+    ('ACCELERATION TIME SERIES IN UNITS OF G'; also cm/s^2 or gal, m/s^2, mm/s^2); its DT must
+    be :data:`MAX_RECORD_STEP` or finer."""
     path = Path(path)
     text = _read_text(path)
     lines = text.splitlines()
@@ -181,14 +249,20 @@ def read_peer_at2(path, *, g: float = STANDARD_GRAVITY) -> Record:
         match = _AT2_HEADER.search(line)
         if match:
             npts = int(match.group("npts") or match.group("npts2"))
-            dt = float(match.group("dt") or match.group("dt2"))
+            dt_text = match.group("dt") or match.group("dt2")
+            try:
+                dt = float(dt_text)
+            except ValueError:
+                raise InputError(
+                    f"record file {path}, line {i + 1}: DT = {dt_text!r} is not a number"
+                ) from None
             break
     else:
         raise InputError(
             f"record file {path}: no 'NPTS=..., DT=...' header line in the first 10 "
             "lines (not a PEER AT2 file?)"
         )
-    if dt <= 0.0 or npts < 2:
+    if not (0.0 < dt < math.inf) or npts < 2:
         raise InputError(f"record file {path}: NPTS = {npts}, DT = {dt:g} are not valid")
     try:
         values = np.array(" ".join(lines[i + 1 :]).split(), dtype=float)
@@ -198,23 +272,61 @@ def read_peer_at2(path, *, g: float = STANDARD_GRAVITY) -> Record:
         raise InputError(
             f"record file {path}: header says NPTS = {npts} but {values.size} values follow"
         )
-    return Record(np.arange(npts) * dt, values[:npts] * g, name=path.stem)
+    unit = _at2_units(path, lines[: i + 1])
+    _check_step(path, dt)
+    return Record(np.arange(npts) * dt, values[:npts] * _to_si(unit, g), name=path.stem)
+
+
+def _last_digit(text: str) -> float:
+    """The value of the last digit a number is printed with: '0.0050' -> 1e-4, '1.5E+01' -> 1."""
+    try:
+        exponent = Decimal(text).as_tuple().exponent
+    except InvalidOperation:
+        return 0.0
+    return 10.0 ** min(exponent, 300) if isinstance(exponent, int) else 0.0  # '0e999'
+
+
+def _check_uniform(path: Path, time: np.ndarray, printed: list[str], lines: list[int]) -> float:
+    """The step of a uniformly sampled record's times; an InputError at a gap or an uneven step.
+
+    The step is the median one; each step may differ from it by 1 % (clocks in single
+    precision), more where the times are printed rounded (twice the last digit of the finer
+    printed of the two, at most half the step): 0.0067, 0.0133, 0.02 stand for 0.02 / 3 s steps.
+    A missing sample, a gap or a change of rate is refused."""
+    steps = np.diff(time)
+    dt = float(np.median(steps))
+    digit = np.array([_last_digit(x) for x in printed])
+    rounding = np.minimum(2.0 * np.minimum(digit[:-1], digit[1:]), 0.5 * dt)
+    off = np.flatnonzero(np.abs(steps - dt) > rounding + 0.01 * dt)
+    if off.size:
+        k = int(off[0])
+        raise InputError(
+            f"record file {path}: the time step from t = {time[k]:g} s (line {lines[k]}) to "
+            f"t = {time[k + 1]:g} s (line {lines[k + 1]}) is {steps[k]:.6g} s, the record's step "
+            f"is {dt:.6g} s: gapped or non-uniform sampling is not interpolated (resample the "
+            "record uniformly)"
+        )
+    return dt
 
 
 def read_two_column(path, *, units: str = "m/s2", g: float = STANDARD_GRAVITY) -> Record:
     """Read ``time, acceleration`` rows (comma, semicolon or whitespace separated; '#' comments
-    and a non-numeric header line are skipped). ``units`` is 'm/s2' or 'g'."""
+    and a non-numeric header line are skipped). ``units``: one of :data:`UNITS` ('m/s2', 'g',
+    'cm/s2', 'gal', 'mm/s2'). The times must be uniformly spaced, :data:`MAX_RECORD_STEP` or
+    finer."""
     path = Path(path)
-    if units not in ("m/s2", "g"):
-        raise InputError(f"units = {units!r} is not one of m/s2, g")
+    if units not in UNITS:
+        raise InputError(f"units = {units!r} is not one of {', '.join(UNITS)}")
     rows: list[list[float]] = []
+    printed: list[str] = []  # the times as written, for their rounding
+    lines: list[int] = []
     for lineno, line in enumerate(_read_text(path).splitlines(), start=1):
         line = line.split("#", 1)[0].strip()
         if not line:
             continue
-        parts = re.split(r"[,;\s]+", line)
+        parts = [x for x in re.split(r"[,;\s]+", line) if x]
         try:
-            values = [float(x) for x in parts if x]
+            values = [float(x) for x in parts]
         except ValueError:
             if not rows:  # a header line
                 continue
@@ -224,19 +336,66 @@ def read_two_column(path, *, units: str = "m/s2", g: float = STANDARD_GRAVITY) -
                 f"record file {path}, line {lineno}: needs two columns (time, acceleration)"
             )
         rows.append(values[:2])
+        printed.append(parts[0])
+        lines.append(lineno)
     if len(rows) < 2:
         raise InputError(f"record file {path}: fewer than two data rows")
     data = np.array(rows)
-    scale = g if units == "g" else 1.0
-    return Record(data[:, 0], data[:, 1] * scale, name=path.stem)
+    record = Record(data[:, 0], data[:, 1] * _to_si(units, g), name=path.stem)
+    _check_step(path, _check_uniform(path, record.time, printed, lines))
+    return record
 
 
 def read_record(path, *, g: float = STANDARD_GRAVITY) -> Record:
-    """Read a record by extension: ``.at2`` as PEER NGA, anything else as two columns."""
+    """Read a record by extension: ``.at2`` as PEER NGA, anything else as two columns (m/s^2)."""
     path = Path(path)
     if path.suffix.lower() == ".at2":
         return read_peer_at2(path, g=g)
     return read_two_column(path, g=g)
+
+
+class RecordNote(UserWarning):
+    """A note on a record that is not an error: one that never uplifts the column."""
+
+
+def uplift_margin(motion, uplift_acceleration: float) -> float:
+    """The motion's peak |acceleration| over the uplift acceleration (both m/s^2): below 1, a
+    rigid block at rest is never uplifted by it (horizontal motion alone)."""
+    require_positive("uplift acceleration (m/s^2)", uplift_acceleration)
+    return peak_acceleration(motion) / uplift_acceleration
+
+
+def weak_record_note(
+    record: Record,
+    uplift_acceleration: float,
+    *,
+    what: str | None = None,
+    scale: float = 1.0,
+    scale_name: str = "scale",
+    uplift_text: str = "g tan(alpha)",
+    in_m_s2: bool = False,
+    g: float = STANDARD_GRAVITY,
+) -> str | None:
+    """One line saying that ``record`` (already times ``scale``) never reaches the uplift
+    acceleration, so that the column stays at rest; None if it does. ``in_m_s2``: the file was
+    read as m/s^2 without saying so (two columns), and the line says what its peak would be in g
+    where that would rock the column."""
+    if uplift_margin(record, uplift_acceleration) >= 1.0:
+        return None
+    peak = record.peak_acceleration
+    what = what or f"record {record.name!r}"
+    note = (
+        f"{what} peaks at {peak:.3g} m/s^2 ({scale_name} = {scale:g} included), below the "
+        f"uplift acceleration {uplift_text} = {uplift_acceleration:.3g} m/s^2: the record "
+        "alone does not uplift the column, which stays at rest"
+    )
+    as_written = peak / abs(scale) if scale else 0.0
+    if in_m_s2 and 0.0 < as_written <= 2.0 and peak * g >= uplift_acceleration:
+        note += (
+            f"; if the file's accelerations are in g (it is read in m/s^2), set "
+            f"{scale_name} = {scale * g:.4g}"
+        )
+    return note
 
 
 def _read_text(path: Path) -> str:
