@@ -22,6 +22,7 @@ from ..rigid.design import (
 from .crosscheck import _study_from_case, fem_case
 from .executor import run_cases
 from .fem_study import from_dict, run_multibody
+from .guard import check_fem_results
 from .outcome import fem_answers, fem_model, outcome
 from .output import write_csv, write_json
 
@@ -64,6 +65,7 @@ def run_design_study(
         progress=progress,
         force=force,
     )
+    check_fem_results(results, out)
     trials = run_cases(
         band_case,
         trial_cases,

@@ -30,6 +30,7 @@ from ..rigid.impacts import impact_ratios_from_peaks
 from . import schema
 from .executor import run_cases
 from .fem_study import from_dict, run_multibody
+from .guard import check_fem_results, reliability
 from .outcome import none_assessed
 from .output import write_csv, write_json
 
@@ -89,6 +90,7 @@ def free_rocking_case(case: dict, directory: str) -> dict:
             "replicas": len(replicas),
             "status": result.summary["status"],
             "energy_error_max": max(r.summary["energy_error_max"] for r in replicas),
+            "fem_runs": [reliability(r.summary) for r in replicas],
             "wall_seconds": result.summary["wall_seconds"],
         }
     result = run_multibody(replace(study, initial_tilt=tilt))
@@ -194,6 +196,7 @@ def run_free_rocking(
         progress=progress,
         force=force,
     )
+    check_fem_results(results, out)
     housner = Block(b=1.0, h=1.0 / math.tan(alpha)).restitution_housner
     base_fem = results["fem-tilt1"]
     summary = {

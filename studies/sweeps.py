@@ -22,6 +22,7 @@ from . import schema
 from .crosscheck import fem_case, rigid_case
 from .executor import run_cases
 from .fem_study import from_dict, rocking_alpha
+from .guard import check_fem_results
 from .outcome import fem_answers, fem_model, model_outcome, outcome
 from .output import write_json
 
@@ -84,6 +85,7 @@ def run_sweep_study(
             progress=progress,
             force=force,
         )
+        check_fem_results(results, out)
         summary = _convergence_summary(study, cases, results)
     else:
         out.mkdir(parents=True, exist_ok=True)
@@ -119,6 +121,7 @@ def run_sweep_study(
             progress=progress,
             force=force,
         )
+        check_fem_results(results, out)
         summary = _variants_summary(study, variants, results)
     summary["wall_seconds"] = time.perf_counter() - start
     summary["kind"] = kind

@@ -72,7 +72,7 @@ def test_ensemble_summary_medians_bands_and_majority():
 
 
 def test_a_run_whose_energy_balance_failed_stops_the_study():
-    from colonna.studies.crosscheck import check_energy
+    from colonna.studies.guard import check_fem_results as check_energy
 
     limit = {"energy_error_limit": 0.05}
     good = {"energy_error_max": 1e-3, "energy_reliable": True, "status": "completed", **limit}
@@ -92,7 +92,7 @@ def test_a_run_whose_energy_balance_failed_stops_the_study():
     )
     with pytest.raises(
         InputError,
-        match=r"FEM case fem-mesh-2h: 1 of 2 replicas are unreliable, the energy balance "
+        match=r"FEM case fem-mesh-2h is unreliable \(1 of 2 FEM runs: the energy balance "
         r"is off by 0\.54 ",
     ):
         check_energy(
@@ -101,5 +101,7 @@ def test_a_run_whose_energy_balance_failed_stops_the_study():
                 "fem-mesh-2h": {"summary": good, "replica_summaries": [good, bad]},
             }
         )
-    with pytest.raises(InputError, match=r"FEM case fem: 1 of 2 replicas .* numerical blow-up"):
+    with pytest.raises(
+        InputError, match=r"FEM case fem is unreliable \(1 of 2 FEM runs: numerical blow-up"
+    ):
         check_energy({"fem": {"summary": good, "replica_summaries": [blown, good]}})

@@ -1,0 +1,89 @@
+"""One guard for every study kind: a FEM run whose energy balance failed, or that blew up, is
+never an answer. Each kind passes the results of its cases here before it assembles a summary;
+a case with an unreliable FEM run stops the study with one line naming the case and why
+(:func:`colonna.fem.solver.unreliable_reason`), its files kept in ``cases/`` to be looked at.
+
+A case result holds its FEM runs in one of the shapes the kinds save:
+
+* ``replica_summaries`` (or a lone ``summary``): the FEM summaries of an ensemble
+  (:func:`studies.crosscheck.fem_case`);
+* ``fem_runs``: a list of the reliability keys of each run (:func:`reliability`), as the
+  spectrum's grid points and free rocking save them;
+* ``status_fem`` and ``energy_error_fem``: a grid point saved before ``fem_runs`` was kept.
+"""
+
+from __future__ import annotations
+
+from ..core.errors import InputError
+
+# what a run's reliability is read from (keys of a FEM run summary)
+RELIABILITY_KEYS = ("status", "energy_reliable", "energy_error_max", "energy_error_limit")
+
+
+class UnreliableRun(InputError):
+    """A FEM run of a study is not an answer: its energy balance failed, or it blew up."""
+
+
+def reliability(summary: dict) -> dict:
+    """The keys of a FEM run summary that say whether it is an answer (:data:`RELIABILITY_KEYS`)."""
+    return {key: summary[key] for key in RELIABILITY_KEYS}
+
+
+def fem_runs(result) -> list[dict]:
+    """The FEM runs of a case result, as summaries with :data:`RELIABILITY_KEYS` (none for a
+    case without a FEM run)."""
+    if not isinstance(result, dict):
+        return []
+    if isinstance(result.get("fem_runs"), list):
+        return result["fem_runs"]
+    if isinstance(result.get("replica_summaries"), list):
+        return result["replica_summaries"]
+    summary = result.get("summary")
+    if isinstance(summary, dict) and "energy_error_limit" in summary:
+        return [summary]
+    if "status_fem" in result and "energy_error_fem" in result:
+        from ..fem.solver import BLOW_UP, ENERGY_ERROR_LIMIT
+
+        error = float(result["energy_error_fem"])
+        status = str(result["status_fem"])
+        return [
+            {
+                "status": status,
+                "energy_reliable": not status.startswith(BLOW_UP) and error <= ENERGY_ERROR_LIMIT,
+                "energy_error_max": error,
+                "energy_error_limit": ENERGY_ERROR_LIMIT,
+            }
+        ]
+    return []
+
+
+def unreliable_cases(results: dict) -> dict[str, str]:
+    """Case key -> why its FEM runs are not an answer, for the cases whose runs are not."""
+    from ..fem.solver import unreliable_reason
+
+    found = {}
+    for key, result in results.items():
+        runs = fem_runs(result)
+        why = unreliable_reason(runs) if runs else None
+        if why is not None:
+            bad = sum(not run["energy_reliable"] for run in runs)
+            found[key] = f"{bad} of {len(runs)} FEM run{'s' if len(runs) > 1 else ''}: {why}"
+    return found
+
+
+def check_fem_results(results: dict, out=None) -> None:
+    """Stop the study (:class:`UnreliableRun`, one line) where any case's FEM run is not an
+    answer: the first such case by name, why, and how many more there are."""
+    found = unreliable_cases(results)
+    if not found:
+        return
+    key, why = next(iter(found.items()))
+    more = len(found) - 1
+    where = f"{out}/cases/{key}" if out is not None else f"cases/{key}"
+    raise UnreliableRun(
+        f"FEM case {key} is unreliable ({why})"
+        + (f", and {more} more case{'s' if more > 1 else ''}" if more else "")
+        + f": no report is written from it; its files are kept in {where} (a time step or "
+        "contact penalty too large, a stone modulus in the wrong unit, or undamped "
+        "frictionless contact)"
+    )
