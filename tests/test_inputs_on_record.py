@@ -14,6 +14,7 @@ import shutil
 import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
 from tiny_study import TINY_STUDY
 
@@ -299,7 +300,9 @@ def test_vertical_amplitude_of_g_or_more_is_an_error(tmp_path, capsys):
 
 @pytest.mark.parametrize("scale, lifts", [(1.9, False), (2.1, True)])
 def test_vertical_record_reaching_g_is_an_error(tmp_path, scale, lifts):
-    (tmp_path / "up.txt").write_text("0 0\n0.1 5.0\n0.2 -3.0\n0.3 0\n")  # peak 5 m/s^2
+    t = np.arange(31) * 0.01  # 0 -> 5 -> -3 -> 0 m/s^2 every 0.1 s, sampled at 0.01 s
+    a = np.interp(t, [0.0, 0.1, 0.2, 0.3], [0.0, 5.0, -3.0, 0.0])  # peak 5 m/s^2
+    (tmp_path / "up.txt").write_text("".join(f"{x:.2f} {y:.6g}\n" for x, y in zip(t, a)))
     text = DESIGN.replace(
         "omega_ratio = 3.0",
         f'omega_ratio = 3.0\nvertical_record = "up.txt"\nvertical_scale = {scale}',
