@@ -9,6 +9,7 @@ must reach the rocking half's uplift acceleration), files found relative to the 
 from __future__ import annotations
 
 import math
+import os
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -206,7 +207,9 @@ def _vertical(ground: schema.Ground, horizontal, base: Path, source: str = "stud
     the schema)."""
     if ground.vertical_record is not None:
         scale = 1.0 if ground.vertical_scale is None else ground.vertical_scale
-        record = read_record(base / ground.vertical_record, g=schema.G)
+        record = _read_study_record(
+            base, ground.vertical_record, "ground.vertical_record", source, schema.G
+        )
         peak = abs(scale) * record.peak_acceleration
         if peak >= schema.G:
             raise InputError(
@@ -232,6 +235,16 @@ def _vertical(ground: schema.Ground, horizontal, base: Path, source: str = "stud
     )
 
 
+def _read_study_record(base: Path, given: str, key: str, source: str, g: float):
+    """A study's record file, read by :func:`read_record`; what is wrong with it is said with
+    the study's key that names it (``ground.record = 'x.AT2': record file ... cannot be
+    read``)."""
+    try:
+        return read_record(base / given, g=g)
+    except InputError as exc:
+        raise InputError(f"{source}: {key} = {given!r}: {exc}") from None
+
+
 def _ground(ground: schema.Ground, block: Block, base: Path, source: str = "study"):
     """The horizontal ground motion; a pulse must reach the rocking half's uplift. A record
     that does not is a :class:`RecordNote` warning (its file is read by
@@ -242,7 +255,7 @@ def _ground(ground: schema.Ground, block: Block, base: Path, source: str = "stud
     uplift = block.uplift_acceleration("nonlinear")
     if ground.pulse == "record":
         assert ground.record is not None  # the schema asks for it with pulse = "record"
-        record = read_record(base / ground.record, g=block.g)
+        record = _read_study_record(base, ground.record, "ground.record", source, block.g)
         speed = ground.time_scale or 1.0
         if speed != 1.0:  # t -> t / time_scale: the record played faster
             record = Record(record.time / speed, record.acceleration_values, record.name)
@@ -451,3 +464,139 @@ def iter_fem(studies: list[FemStudy], *, slots: int | None = None):
         )
         for k, result in runs:
             yield members[k], result
+
+
+# --- the work of FEM runs, bounded before they run ------------------------------------------------
+
+# CPU seconds to advance one node of a mesh by one explicit time step, for one state (a replica
+# or a grid point). Measured on the 2-core machine of the README's timings (benchmarks/bench_fem.py
+# and run_ensemble on the default column's meshes, 8 replicas or 1): alone, 48-52 ns
+# (73-78 us a step on 1,512 nodes); in a batch of 8 replicas, 20 ns a state (23 ns on 440 nodes,
+# 14 ns on 5,590). The studies run batches (replicas, grid points): 25 ns, with a little margin.
+NODE_STEP_SECONDS = 25e-9
+WORK_LIMIT_SECONDS = 2 * 3600.0  # the CPU time a study (or colonna fem) may ask for, unless --long
+# what one state keeps per output row (measured: 54.5 kB on 1,512 nodes): its displacement and
+# velocity frames, 4 numbers a node, and the row's numbers and contact state
+OUTPUT_BYTES_PER_NODE = 32
+OUTPUT_ROW_BYTES = 8000
+STATE_BYTES_PER_NODE = 400  # a state's own arrays in the kernel (positions, velocities, forces)
+# the keys of a FemStudy that make its model and time step (build, stable_time_step)
+MODEL_KEYS = (
+    "height",
+    "width",
+    "thickness",
+    "cracked",
+    "stone",
+    "collars",
+    "contact",
+    "mesh_size",
+    "grading",
+    "mesh_file",
+    "top_load",
+    "safety",
+    "dt",
+)
+
+
+@dataclass(frozen=True)
+class FemWork:
+    """What FEM runs ask for, estimated before they run: ``state_steps`` (time steps x states,
+    a state being a replica or a grid point), ``node_steps`` (each state-step x the nodes of its
+    mesh), the largest mesh's ``nodes``, and ``memory`` (bytes) of the largest run, its states
+    held at once. Runs add up (``+``)."""
+
+    state_steps: float = 0.0
+    node_steps: float = 0.0
+    nodes: int = 0
+    memory: float = 0.0
+
+    @property
+    def seconds(self) -> float:
+        """CPU seconds at :data:`NODE_STEP_SECONDS` a node-step."""
+        return self.node_steps * NODE_STEP_SECONDS
+
+    def __add__(self, other: FemWork) -> FemWork:
+        return FemWork(
+            self.state_steps + other.state_steps,
+            self.node_steps + other.node_steps,
+            max(self.nodes, other.nodes),
+            max(self.memory, other.memory),
+        )
+
+
+def fem_work(
+    study: FemStudy, states: int = 1, *, held: int | None = None, models: dict | None = None
+) -> FemWork:
+    """The work of ``states`` FEM runs of ``study`` over its whole duration (its replicas, or
+    grid points that share its model and duration; ``held`` of them at once, default all), as
+    :func:`run_fem` would run them: the model is built for its nodes and stable step (once per
+    model in ``models``, a cache shared by the runs of a study: about 0.1 s for the default
+    column). A run that stops early (overturned, settled) costs less."""
+    key = tuple(getattr(study, k) for k in MODEL_KEYS)
+    if models is None or key not in models:
+        from ..fem.model import stable_time_step
+
+        model = build(study)
+        dt = study.dt if study.dt is not None else stable_time_step(model, study.safety).dt
+        found = (model.n_dofs // 2, dt)
+        if models is not None:
+            models[key] = found
+    else:
+        found = models[key]
+    nodes, dt = found
+    interval = study.output_interval or study.duration / 400.0
+    per_output = max(1.0, round(interval / dt))
+    outputs = math.ceil(study.duration / (per_output * dt))
+    steps = float(outputs) * per_output
+    per_state = (
+        outputs * (OUTPUT_BYTES_PER_NODE * nodes + OUTPUT_ROW_BYTES)
+        + STATE_BYTES_PER_NODE * nodes
+        + 16.0 * per_output  # the ground accelerations of an output interval
+        + 32.0 * max(1.0, round(study.edge_time / dt))  # the toe stresses' averaging window
+    )
+    at_once = states if held is None else min(states, held)
+    return FemWork(steps * states, steps * states * nodes, nodes, at_once * per_state)
+
+
+def memory_limit() -> float:
+    """The memory (bytes) one FEM run may ask for: half this machine's (16 GiB where it cannot
+    be read)."""
+    try:
+        return 0.5 * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, ValueError, OSError):
+        return 16.0 * 2**30
+
+
+def require_bounded_work(
+    work: FemWork, *, long: bool = False, what: str = "this study", fewer: str = ""
+) -> None:
+    """An InputError of one line where ``work`` is more than :data:`WORK_LIMIT_SECONDS` of CPU
+    (unless ``long``: the user asked for it) or more memory than :func:`memory_limit` (always:
+    it would not fit), giving the estimate and what to change (``fewer``: the study's own ways
+    to ask for less, "fewer replicas")."""
+    if work.seconds > WORK_LIMIT_SECONDS and not long:
+        raise InputError(
+            f"{what} asks for {work.state_steps:.2g} state-steps (time steps x runs and "
+            f"replicas) on up to {work.nodes:,} nodes, about {_hours(work.seconds)} of CPU at "
+            f"{NODE_STEP_SECONDS * 1e9:g} ns a node-step (limit {_hours(WORK_LIMIT_SECONDS)}): "
+            f"shorten [run] duration, coarsen [mesh] size{fewer}, or pass --long to run it "
+            "anyway"
+        )
+    limit = memory_limit()
+    if work.memory > limit:
+        raise InputError(
+            f"{what} asks for about {work.memory / 2**30:.3g} GiB of memory for one FEM run's "
+            f"history and states (at most {limit / 2**30:.3g} GiB, half of this machine's): "
+            "lengthen [run] output_interval, shorten [run] duration or coarsen [mesh] size"
+        )
+
+
+def _hours(seconds: float) -> str:
+    """A duration for people: '40 min', '14 h', '3.2 days', '2e+03 years'."""
+    for unit, size in (("years", 365 * 86400.0), ("days", 86400.0), ("h", 3600.0)):
+        if seconds >= 2.0 * size:
+            break
+    else:
+        unit, size = "min", 60.0
+    value = seconds / size
+    return f"{value:.0f} {unit}" if 10.0 <= value < 1e4 else f"{value:.2g} {unit}"
