@@ -17,7 +17,9 @@ import argparse
 import dataclasses
 import json
 import math
+import signal
 import sys
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -697,19 +699,66 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _raise_terminated(signum, frame):
+    """SIGTERM as Ctrl-C is: an exception in the main thread, so that a command stopped by
+    ``kill`` or a job scheduler ends its workers and says what it kept."""
+    from .executor import StudyInterrupted
+
+    raise StudyInterrupted(signum)
+
+
+def _interrupted(args, exc: KeyboardInterrupt) -> int:
+    """The one line of a command stopped by Ctrl-C or SIGTERM, and its exit status (128 +
+    the signal: 130, 143). Further signals are ignored while it is said (a second Ctrl-C
+    would be a traceback)."""
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    from .executor import StudyInterrupted, saved_cases
+
+    signum = getattr(exc, "signum", signal.SIGINT)
+    message = str(exc) if isinstance(exc, StudyInterrupted) else "interrupted"
+    if message == "interrupted" and args.command == "study":  # outside the cases: count them
+        folder = Path(args.out) / "cases"
+        message = (
+            f"interrupted: {len(saved_cases(args.out))} cases saved in {folder}; "
+            "run the same command again to resume"
+        )
+    print(f"colonna: {message}", file=sys.stderr, flush=True)
+    return 128 + int(signum)
+
+
 def main(argv=None) -> int:
+    """The command line: one line on stderr and status 2 for bad input; 1 for a study that
+    cannot go on (a lost Dask scheduler); 130 (Ctrl-C) or 143 (SIGTERM) for an interrupted
+    command, its worker processes ended and the cases saved kept."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    from .executor import StudyStopped
+
+    handlers = {}  # the handlers to put back (main is called in-process by tests too)
+    if threading.current_thread() is threading.main_thread():  # where signals can be caught
+        handlers = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
+        signal.signal(signal.SIGTERM, _raise_terminated)
     try:
         summary = args.func(args)
     except InputError as exc:
         for line in str(exc).splitlines():  # a study file's errors: one line each
             print(f"colonna: error: {line}", file=sys.stderr)
         return 2
+    except StudyStopped as exc:
+        print(f"colonna: error: {exc}", file=sys.stderr)
+        return 1
     except OSError as exc:  # an output path that cannot be made or written
         where = exc.filename if exc.filename is not None else ""
         print(f"colonna: error: cannot write {where}: {exc.strerror or exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt as exc:
+        return _interrupted(args, exc)
+    finally:
+        for sig, handler in handlers.items():
+            if handler is not None:
+                signal.signal(sig, handler)
     _emit(args, summary)
     return 0
 

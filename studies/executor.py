@@ -9,26 +9,41 @@ the cases already done from the same inputs and runs only the rest, so an interr
 loses nothing and finishes with the same results. A case saved from other inputs (or without a
 record of them) is never reused: the run is refused before any computation, naming the first
 difference, unless ``force`` deletes such cases and computes them again.
+
+A saved result is checked, not trusted: ``inputs.json`` also holds the SHA-256 of the bytes of
+``result.json``, and a result that cannot be read or does not match it (damaged, edited by
+hand, or its writing interrupted) is named on stderr and computed again, never used.
+
+Stopping: Ctrl-C or SIGTERM (see ``colonna.studies.cli.main``) ends the worker processes and
+raises :class:`StudyInterrupted` with the count of cases saved; workers also end when the main
+process is killed outright (:func:`_worker_start`). A lost Dask scheduler is a
+:class:`StudyStopped`. The cases saved are kept either way, and a rerun resumes from them.
 """
 
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import hashlib
 import importlib
 import json
+import logging
+import multiprocessing
 import os
 import shutil
+import signal
 import sys
+import threading
+import time
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import CancelledError, ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
 
 from tqdm import tqdm
 
 from ..core.errors import InputError
-from .output import _plain, write_json
+from .output import _atomic_write_bytes, _plain, write_json
 
 # case keys that do not change what a case computes (left out of its inputs): how it reports
 # progress, and where the study file was (the files it names are hashed by their bytes); and
@@ -59,15 +74,78 @@ def before_computing(callback: Callable[[], None]):
         BEFORE_COMPUTING.remove(callback)
 
 
+class StudyInterrupted(KeyboardInterrupt):
+    """A run stopped by a signal, SIGINT (Ctrl-C) or SIGTERM (``signum``), with what it kept:
+    ``saved`` of ``total`` cases (those known so far) in ``folder``; None where not counted
+    (raised by the SIGTERM handler of ``colonna.studies.cli.main``, counted by
+    :func:`run_cases`). A KeyboardInterrupt, so that no ``except Exception`` swallows it."""
+
+    def __init__(
+        self,
+        signum: int = signal.SIGINT,
+        saved: int | None = None,
+        total: int | None = None,
+        folder: Path | None = None,
+    ):
+        super().__init__(signum)
+        self.signum, self.saved, self.total, self.folder = signum, saved, total, folder
+
+    def __str__(self) -> str:
+        if self.saved is None:
+            return "interrupted"
+        return (
+            f"interrupted: {self.saved} of {self.total} cases saved in {self.folder}; "
+            "run the same command again to resume"
+        )
+
+
+class StudyStopped(Exception):
+    """A run that cannot go on for a reason outside its inputs (the Dask scheduler was lost);
+    the message says what, and that the cases saved are kept. One line on the command line."""
+
+
 def case_dir(out: Path, key: str) -> Path:
     return Path(out) / "cases" / key
 
 
-def load_done(out: Path, key: str) -> dict | None:
-    path = case_dir(out, key) / "result.json"
-    if path.is_file():
-        return json.loads(path.read_text())
-    return None
+def _checked_result(folder: Path) -> tuple[bool, Any, str | None]:
+    """(done, result, problem) of a case folder: done where result.json has the SHA-256 its
+    record (inputs.json) holds; otherwise ``problem`` says why a result.json that is there is
+    not used (None where there is none: never computed, or its writing was interrupted)."""
+    path = folder / "result.json"
+    if not path.exists():
+        return False, None, None
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        return False, None, f"cannot be read ({exc.strerror or exc})"
+    saved = _load_inputs(folder)
+    expected = saved.get("result_sha256") if saved is not None else None
+    if not isinstance(expected, str) or hashlib.sha256(data).hexdigest() != expected:
+        return False, None, "is damaged or was edited (checksum mismatch)"
+    try:
+        return True, json.loads(data), None
+    except ValueError:  # matches its checksum yet is not JSON: written so by hand
+        return False, None, "is damaged or was edited (not JSON)"
+
+
+def load_done(out: Path, key: str) -> Any | None:
+    """The saved result of a case, or None where it is to be computed: none saved, or one
+    that does not match its record's checksum, which is named in one line on stderr (a
+    damaged or edited result is never used, nor a reason to stop)."""
+    done, result, problem = _checked_result(case_dir(out, key))
+    if problem is not None:
+        where = case_dir(out, key) / "result.json"
+        print(f"[study] {where} {problem}: computing it again", file=sys.stderr, flush=True)
+    return result if done else None
+
+
+def saved_cases(out: Path) -> set[str]:
+    """The keys of the cases in ``out/cases`` whose result matches its record's checksum."""
+    folder = Path(out) / "cases"
+    if not folder.is_dir():
+        return set()
+    return {d.name for d in folder.iterdir() if d.is_dir() and _checked_result(d)[0]}
 
 
 def colonna_version() -> str:
@@ -121,12 +199,13 @@ def inputs_hash(inputs: dict) -> str:
     return hashlib.sha256(canonical_json(inputs).encode()).hexdigest()
 
 
-def _load_inputs(out: Path, key: str) -> dict | None:
+def _load_inputs(folder: Path) -> dict | None:
+    """A case folder's record (inputs.json), or None where it is missing or unreadable."""
     try:
-        saved = json.loads((case_dir(out, key) / "inputs.json").read_text())
+        saved = json.loads((folder / "inputs.json").read_text())
     except (OSError, ValueError):
         return None
-    return saved if isinstance(saved, dict) and "sha256" in saved else None
+    return saved if isinstance(saved, dict) and isinstance(saved.get("sha256"), str) else None
 
 
 def _value_text(value, missing: bool) -> str:
@@ -165,13 +244,15 @@ def _first_difference(old, new, path: str = "") -> str | None:
 def describe_difference(old: dict, new: dict) -> str:
     """The first difference between the saved inputs of a case and the present ones, in
     words: a key path of the case, a changed file, or the colonna version."""
-    old_case, new_case = old.get("case", {}), new["case"]
+    old_case, new_case = old.get("case"), new["case"]
+    old_case = old_case if isinstance(old_case, dict) else {}
     found = _first_difference(
         old_case.get("study"), new_case.get("study"), "study"
     ) or _first_difference(old_case, new_case)
     if found:
         return found
-    old_files = old.get("files", {})
+    old_files = old.get("files")
+    old_files = old_files if isinstance(old_files, dict) else {}
     for where, file in new["files"].items():
         before = old_files.get(where)
         if before is None or before.get("sha256") != file["sha256"]:
@@ -187,23 +268,30 @@ def describe_difference(old: dict, new: dict) -> str:
 
 def stale_cases(cases: list[dict], out: Path, inputs: dict) -> dict:
     """Cases of ``out`` saved (result.json) from other inputs than ``inputs`` (by key), or
-    without a record of them: key -> what is wrong with it, in words (the first difference)."""
+    without a record of them or of their result's checksum (an older colonna saved them): key
+    -> what is wrong with it, in words (the first difference)."""
     stale = {}
     for case in cases:
         key = case["key"]
-        if not (case_dir(out, key) / "result.json").is_file():
+        folder = case_dir(out, key)
+        if not (folder / "result.json").exists():
             continue
-        saved = _load_inputs(out, key)
+        saved = _load_inputs(folder)
         if saved is None:
             stale[key] = (
                 "has no record of the inputs it was computed from (an older colonna saved it)"
+                if not (folder / "inputs.json").exists()
+                else "has a record of its inputs (inputs.json) that cannot be read"
             )
         elif saved["sha256"] != inputs_hash(inputs[key]):
+            old = saved.get("inputs")
             stale[key] = (
                 "was computed from other inputs ("
-                + describe_difference(saved.get("inputs", {}), inputs[key])
+                + describe_difference(old if isinstance(old, dict) else {}, inputs[key])
                 + ")"
             )
+        elif "result_sha256" not in saved:
+            stale[key] = "has no checksum of its result on record (an older colonna saved it)"
     return stale
 
 
@@ -230,8 +318,22 @@ def run_cases(
 
     A saved case is reused only when it was computed from the same inputs
     (:func:`case_inputs`). One saved from other inputs is an :class:`InputError` naming the
-    first difference, before anything runs; ``force``: such cases are deleted and run again."""
-    out = Path(out)
+    first difference, before anything runs; ``force``: such cases are deleted and run again.
+
+    Ctrl-C or SIGTERM (any KeyboardInterrupt) ends the local worker processes and is raised
+    again as a :class:`StudyInterrupted` counting the cases saved; a lost Dask scheduler is a
+    :class:`StudyStopped`. Either way the cases saved are kept for a rerun."""
+    try:
+        return _run_cases(function, cases, Path(out), workers, scheduler, progress, force, batched)
+    except KeyboardInterrupt as exc:
+        signum = getattr(exc, "signum", signal.SIGINT)
+        saved = saved_cases(out)
+        total = len(saved | {c["key"] for c in cases})
+        raise StudyInterrupted(signum, len(saved), total, Path(out) / "cases") from None
+
+
+def _run_cases(function, cases, out, workers, scheduler, progress, force, batched) -> dict:
+    """:func:`run_cases` without its translation of an interrupt."""
     keys = [c["key"] for c in cases]
     if len(set(keys)) != len(keys):
         raise ValueError("case keys must be unique")
@@ -295,51 +397,96 @@ def run_cases(
         """Per case of a share: its folder and the inputs record it is saved with."""
         return [(str(case_dir(out, c["key"])), record(c["key"])) for c in share]
 
-    if client is not None:
-        from distributed import as_completed as dask_completed
-
-        with client:
-            if batched:
-                shares = _deal(todo, sum(client.nthreads().values()))
-                futures = {
-                    client.submit(_run_share, function, share, saving(share), pure=False): share
-                    for share in shares
-                }
+    try:
+        if client is not None:
+            _run_on_dask(client, scheduler, function, todo, out, batched, saving, finish_all)
+        elif (workers or 1) <= 1 or len(todo) == 1:
+            if batched:  # in this process: each case saved as it completes
+                folders = [str(case_dir(out, c["key"])) for c in todo]
+                for index, result in function(todo, folders):
+                    finish(todo[index], result)
             else:
-                futures = {
-                    client.submit(function, case, str(case_dir(out, case["key"])), pure=False): [
-                        case
-                    ]
-                    for case in todo
-                }
-            for future in dask_completed(futures):
-                finish_all(futures[future], future.result(), batched)
-    elif (workers or 1) <= 1 or len(todo) == 1:
-        if batched:  # in this process: each case saved as it completes
-            folders = [str(case_dir(out, c["key"])) for c in todo]
-            for index, result in function(todo, folders):
-                finish(todo[index], result)
+                for case in todo:
+                    finish(case, function(case, str(case_dir(out, case["key"]))))
         else:
-            for case in todo:
-                finish(case, function(case, str(case_dir(out, case["key"]))))
-    else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            if batched:
-                shares = _deal(todo, workers or 1)
-                futures = {
-                    pool.submit(_run_share, function, share, saving(share)): share
-                    for share in shares
-                }
-            else:
-                futures = {
-                    pool.submit(function, case, str(case_dir(out, case["key"]))): [case]
-                    for case in todo
-                }
-            for future in as_completed(futures):
-                # a share's worker saved each of its cases already (same machine)
-                finish_all(futures[future], future.result(), batched, saved=batched)
-    bar.close()
+            forkserver = multiprocessing.get_start_method() == "forkserver"
+            pool = ProcessPoolExecutor(
+                max_workers=workers,
+                initializer=_worker_start,
+                initargs=(None if forkserver else os.getpid(),),
+            )
+            try:
+                if batched:
+                    shares = _deal(todo, workers or 1)
+                    futures = {
+                        pool.submit(_run_share, function, share, saving(share)): share
+                        for share in shares
+                    }
+                else:
+                    futures = {
+                        pool.submit(function, case, str(case_dir(out, case["key"]))): [case]
+                        for case in todo
+                    }
+                for future in as_completed(futures):
+                    # a share's worker saved each of its cases already (same machine)
+                    finish_all(futures[future], future.result(), batched, saved=batched)
+            except BaseException:  # an interrupt, or a case's error: no worker goes on
+                _stop_pool(pool)
+                raise
+            pool.shutdown()
+    finally:
+        bar.close()
     return results
+
+
+def _run_on_dask(client, scheduler, function, todo, out, batched, saving, finish_all) -> None:
+    """The cases ``todo`` run on a Dask cluster, each saved here as it arrives. A scheduler
+    lost on the way (its futures cancelled, its connection closed) is a :class:`StudyStopped`
+    naming it, rather than distributed's traceback; the client's own log of the loss (a
+    failed reconnection) is silenced, the one line saying it all."""
+    from distributed import as_completed as dask_completed
+    from distributed.comm import CommClosedError
+
+    client_log = logging.getLogger("distributed.client")
+    level = client_log.level
+    try:
+        with client:
+            try:
+                if batched:
+                    shares = _deal(todo, sum(client.nthreads().values()))
+                    futures = {
+                        client.submit(_run_share, function, share, saving(share), pure=False): (
+                            share
+                        )
+                        for share in shares
+                    }
+                else:
+                    futures = {
+                        client.submit(
+                            function, case, str(case_dir(out, case["key"])), pure=False
+                        ): [case]
+                        for case in todo
+                    }
+                for future in dask_completed(futures):
+                    finish_all(futures[future], future.result(), batched)
+            except (CancelledError, CommClosedError):
+                client_log.setLevel(logging.CRITICAL)  # its closing logs a failed reconnection
+                raise
+    except (CancelledError, CommClosedError) as exc:
+        saved = saved_cases(out)
+        total = len(saved | {c["key"] for c in todo})
+        reason = getattr(exc, "reason", None)
+        what = (
+            "was lost"
+            if reason in (None, "scheduler-connection-lost")
+            else f"cancelled the cases ({reason})"
+        )
+        raise StudyStopped(
+            f"the Dask scheduler {scheduler} {what} after {len(saved)} of {total} cases: the "
+            "cases saved are kept; run the same command again to resume"
+        ) from None
+    finally:
+        client_log.setLevel(level)
 
 
 def _connect(scheduler: str):
@@ -355,9 +502,15 @@ def _connect(scheduler: str):
 
 
 def save_case(folder: Path, record: dict, result) -> None:
-    """A case's files: its inputs record first, so that a result always has its inputs."""
-    write_json(folder / "inputs.json", record)
-    write_json(folder / "result.json", result)
+    """A case's files, each written atomically: its record first (inputs.json: ``record`` and
+    the SHA-256 of the result's bytes), then result.json. The one place a case is saved (here,
+    in a local worker or on a Dask worker). Stopped between the two, the record names a result
+    that is not there, or not those bytes: the case is computed again, never taken as done."""
+    data = (json.dumps(_plain(result), indent=2) + "\n").encode()  # as write_json writes it
+    write_json(
+        folder / "inputs.json", {**record, "result_sha256": hashlib.sha256(data).hexdigest()}
+    )
+    _atomic_write_bytes(folder / "result.json", data)
 
 
 def _deal(cases: list, shares: int) -> list[list]:
@@ -392,13 +545,66 @@ def _run_share(function, cases: list[dict], saving: list) -> list[dict]:
     return results
 
 
+def available_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the system says it)."""
+    if hasattr(os, "sched_getaffinity"):
+        return max(1, len(os.sched_getaffinity(0)))
+    return os.cpu_count() or 1
+
+
 def default_workers() -> int:
-    return max(
-        1,
-        min(
-            len(os.sched_getaffinity(0))
-            if hasattr(os, "sched_getaffinity")
-            else os.cpu_count() or 1,
-            8,
-        ),
-    )
+    return max(1, min(available_cores(), 8))
+
+
+PR_SET_PDEATHSIG = 1  # linux/prctl.h
+
+
+def _worker_start(parent: int | None) -> None:
+    """Run first in each local worker process: Ctrl-C is left to the main process (which
+    ends the workers; a terminal sends it to the whole process group), SIGTERM ends the
+    worker (not the handler a forked worker inherits from the command line), and the worker
+    ends when its parent does, even killed outright (SIGKILL): on Linux the kernel sends it
+    SIGTERM (prctl PR_SET_PDEATHSIG, on the exit of the thread that started it: the main
+    thread, which submits the cases); elsewhere a thread looks for its parent every second.
+    ``parent``: the main process's pid (None where a fork server, which ends with the main
+    process, starts the workers); a parent already gone by then (the race) ends it at once."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    parent = os.getppid() if parent is None else parent
+    watched = False
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            watched = libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGTERM), 0, 0, 0) == 0
+        except (OSError, AttributeError):
+            watched = False
+    if os.getppid() != parent:  # ended before the kernel watched it: this is an orphan
+        os._exit(1)
+    if not watched:
+        threading.Thread(target=_watch_parent, args=(parent,), daemon=True).start()
+
+
+def _watch_parent(parent: int) -> None:
+    """End this worker when its parent has ended (it is then another's child)."""
+    while os.getppid() == parent:
+        time.sleep(1.0)
+    os._exit(1)
+
+
+def _stop_pool(pool: ProcessPoolExecutor) -> None:
+    """End a local pool now: its queued cases cancelled, its running ones killed (SIGTERM,
+    then SIGKILL after 5 s), its processes reaped. concurrent.futures has no way to stop a
+    running task, so this reaches into ``pool._processes`` (CPython's name for them, there
+    since 3.2); where it is missing, the workers still end with the main process."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    manager = getattr(pool, "_executor_manager_thread", None)
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        process.terminate()
+    for process in processes:
+        process.join(5.0)
+        if process.is_alive():
+            process.kill()
+            process.join(5.0)
+    if manager is not None:
+        manager.join(5.0)
