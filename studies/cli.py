@@ -483,15 +483,19 @@ def _cmd_fem(args) -> dict:
 
 def _cmd_study(args) -> dict:
     from .driver import run_study_file, study_kind
-    from .executor import default_workers
+    from .executor import available_cores, default_workers
     from .kinds import KINDS
     from .spectrum_crosscheck import parse_grid_size
 
     path = resolve_study(args.study)
     kind = KINDS[study_kind(path)]
     workers = args.workers if args.workers is not None else default_workers()
-    if workers < 1:
-        raise InputError(f"--workers = {workers} must be >= 1")
+    cores = available_cores()
+    if not 1 <= workers <= cores:  # more processes than cores only slows every case down
+        raise InputError(
+            f"--workers = {workers} is outside 1..{cores} "
+            f"(this machine has {cores} core{'s' if cores > 1 else ''})"
+        )
     grid = parse_grid_size(args.grid) if args.grid is not None else None
     if args.pdf:
         from .pdf import require_browser
@@ -655,7 +659,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--scheduler", help="address of a Dask distributed scheduler (default: local processes)"
     )
-    p.add_argument("--workers", type=int, help="local worker processes (default: the cores)")
+    p.add_argument(
+        "--workers",
+        type=int,
+        help="local worker processes, 1 to the cores this machine has (default: the cores, "
+        "at most 8)",
+    )
     p.add_argument(
         "--grid",
         help="NxM: the spectrum cross-check's grid, N omega ratios by M "

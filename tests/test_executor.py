@@ -361,6 +361,45 @@ def test_a_stopped_study_is_one_error_line_with_status_1(monkeypatch, capsys, tm
     )
 
 
+# --- 5. --workers is bounded by the machine ----------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "workers, cores, words",
+    [
+        (64, 2, "outside 1..2 (this machine has 2 cores)"),
+        (3, 2, "outside 1..2 (this machine has 2 cores)"),
+        (0, 2, "outside 1..2 (this machine has 2 cores)"),
+        (-1, 2, "outside 1..2 (this machine has 2 cores)"),
+        (2, 1, "outside 1..1 (this machine has 1 core)"),
+    ],
+)
+def test_workers_beyond_the_cores_are_an_error(
+    tmp_path, monkeypatch, capsys, workers, cores, words
+):
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(cores)), raising=False)
+    monkeypatch.setattr(os, "cpu_count", lambda: cores)
+
+    def run(out, workers, scheduler):
+        raise AssertionError("a study with a bad --workers ran")
+
+    _fake_study(monkeypatch, run)
+    out = tmp_path / "out"
+    argv = ["study", "free-rocking", "--out", str(out), "--workers", str(workers)]
+    assert cli.main(argv) == 2
+    assert capsys.readouterr().err == f"colonna: error: --workers = {workers} is {words}\n"
+    assert not out.exists()
+
+
+def test_workers_up_to_the_cores_run(tmp_path, monkeypatch):
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0, 1}, raising=False)
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
+    ran = []
+    _fake_study(monkeypatch, lambda out, workers, scheduler: ran.append(workers))
+    assert cli.main(["study", "free-rocking", "--out", str(tmp_path), "--workers", "2"]) == 0
+    assert ran == [2]
+
+
 # --- the signalled study, run as a script ------------------------------------------------------
 
 
