@@ -38,7 +38,9 @@ def interpolation_matrices(source: ColumnMesh, target: ColumnMesh) -> list:
         used = np.unique(cells)
         local = np.full(source.n_nodes, -1)
         local[used] = np.arange(used.size)
-        mesh = MeshQuad(source.points[:, used], local[cells])
+        mesh = MeshQuad(
+            np.ascontiguousarray(source.points[:, used]), np.ascontiguousarray(local[cells])
+        )
         basis = Basis(mesh, ElementQuad1())
         targets = target.body_nodes(body)
         # keep the probes strictly inside the body's bounding box (round-off on the faces)

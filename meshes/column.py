@@ -64,7 +64,8 @@ class ColumnMesh:
     def to_skfem(self):
         from skfem import MeshQuad
 
-        return MeshQuad(self.points, self.cells)
+        # contiguous arrays: scikit-fem copies others and logs a warning for each large mesh
+        return MeshQuad(np.ascontiguousarray(self.points), np.ascontiguousarray(self.cells))
 
 
 def _graded(n: int, grading: float, both_ends: bool) -> np.ndarray:

@@ -35,6 +35,7 @@ import signal
 import sys
 import threading
 import time
+import warnings
 from collections.abc import Callable
 from concurrent.futures import CancelledError, ProcessPoolExecutor, as_completed
 from pathlib import Path
@@ -570,6 +571,11 @@ def _worker_start(parent: int | None) -> None:
     process, starts the workers); a parent already gone by then (the race) ends it at once."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    # a note on the inputs (a record too weak to uplift the column) was the main process's
+    # to give, once, when it checked them: each worker reading them again stays quiet
+    from ..core.ground import RecordNote
+
+    warnings.simplefilter("ignore", RecordNote)
     parent = os.getppid() if parent is None else parent
     watched = False
     if sys.platform.startswith("linux"):
