@@ -87,6 +87,18 @@ def test_peak_count_does_not_apply_where_a_model_overturns():
     assert crosscheck.count_word([None, True]) == "yes"
 
 
+def test_a_column_both_models_keep_at_rest_agrees_whatever_its_sway():
+    """No uplift in either model (rotations below 1e-4 alpha): the FEM's is elastic sway, its
+    sign changes vibration, so the counts of rocking do not apply and the outcomes agree (they
+    had said 'no' on a peak ratio of 1.5e6 between 2e-7 and 1e-13 rad). Where one model uplifts
+    and the other does not, the outcomes differ."""
+    c = _criteria(fem_peak=2e-7, mb_peak=1e-13, impacts_mb=0)
+    assert c["at_rest"] and c["same_outcome"] and c["all_ok"]
+    assert c["peak_ok"] is None and c["impacts_ok"] is None and c["history_ok"] is None
+    rocking = _criteria(fem_peak=0.002, mb_peak=1e-13, impacts_mb=0)
+    assert not rocking["at_rest"] and not rocking["same_outcome"] and not rocking["all_ok"]
+
+
 @pytest.mark.parametrize("error, ok", [(0.09, True), (0.11, False)])
 def test_history_count_on_both_sides_of_its_tolerance(error, ok):
     assert crosscheck.HISTORY_TOLERANCE == pytest.approx(0.10)
@@ -215,6 +227,8 @@ def _criteria(fem_peak, mb_peak, fem_overturned=False, history_error=0.0, impact
         theta_fem = theta_mb + history_error * mb_peak * np.exp(-(((t - 0.25) / 0.02) ** 2))
 
     class Study:
+        rocking_alpha = 0.1
+
         class ground:
             end_time = 0.75
 
