@@ -161,7 +161,7 @@ def refine_toe_stress(study, base: dict, fem: dict, out: Path, **run_options) ->
         )
         for r in sorted(refinements, reverse=True)  # the finest (the longest) starts first
     ]
-    windows = run_cases(_case_runner, cases, out, **run_options)
+    windows = run_cases(_case_runner, cases, out, stage="toe stress windows", **run_options)
     refined = refinement_summary(
         read_start(path), refinements, [windows[f"toe-{r}"] for r in refinements]
     )
@@ -359,7 +359,7 @@ def run_crosscheck(
             cases.append(dict(base, study=coarse, key=f"fem-mesh-{factor}h", kind="fem"))
     start = time.perf_counter()
     options: dict = dict(workers=workers, scheduler=scheduler, progress=progress, force=force)
-    results = run_cases(_case_runner, cases, out, **options)
+    results = run_cases(_case_runner, cases, out, stage="FEM and rigid models", **options)
     check_fem_results(results, out)
     # then the toe stress's refinement, from the state the FEM case saved
     refined = refine_toe_stress(study, base, results["fem"], out, **options)

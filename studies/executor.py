@@ -306,6 +306,7 @@ def run_cases(
     progress: bool = True,
     force: bool = False,
     batched: bool = False,
+    stage: str = "cases",
 ) -> dict:
     """Results keyed by case key. ``function(case, case_directory)`` runs one case in a worker
     and returns its result; it may write files into its case directory.
@@ -323,9 +324,12 @@ def run_cases(
 
     Ctrl-C or SIGTERM (any KeyboardInterrupt) ends the local worker processes and is raised
     again as a :class:`StudyInterrupted` counting the cases saved; a lost Dask scheduler is a
-    :class:`StudyStopped`. Either way the cases saved are kept for a rerun."""
+    :class:`StudyStopped`. Either way the cases saved are kept for a rerun. ``stage``: what
+    the progress bar calls the cases (a study that runs them in stages names each)."""
     try:
-        return _run_cases(function, cases, Path(out), workers, scheduler, progress, force, batched)
+        return _run_cases(
+            function, cases, Path(out), workers, scheduler, progress, force, batched, stage
+        )
     except KeyboardInterrupt as exc:
         signum = getattr(exc, "signum", signal.SIGINT)
         saved = saved_cases(out)
@@ -333,7 +337,9 @@ def run_cases(
         raise StudyInterrupted(signum, len(saved), total, Path(out) / "cases") from None
 
 
-def _run_cases(function, cases, out, workers, scheduler, progress, force, batched) -> dict:
+def _run_cases(
+    function, cases, out, workers, scheduler, progress, force, batched, stage="cases"
+) -> dict:
     """:func:`run_cases` without its translation of an interrupt."""
     keys = [c["key"] for c in cases]
     if len(set(keys)) != len(keys):
@@ -370,7 +376,7 @@ def _run_cases(function, cases, out, workers, scheduler, progress, force, batche
     bar = tqdm(
         total=len(cases),
         initial=len(results),
-        desc="[study] cases",
+        desc=f"[study] {stage}",
         unit="case",
         disable=not (progress and sys.stderr.isatty()),
         dynamic_ncols=True,
