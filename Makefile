@@ -8,7 +8,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 OUT    ?= out
 
-.PHONY: demo validate test test-all lint bench clean browser
+.PHONY: demo validate test test-all lint bench clean browser coverage
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -47,6 +47,15 @@ test: $(STAMP) browser
 
 test-all: $(STAMP) browser
 	$(BIN)/python -m pytest -q -m ""
+
+# branch coverage of studies/ by the default test suite (README, "Testing"): .coverage, a table
+coverage: $(STAMP) browser
+	$(BIN)/coverage run --branch --source=studies -m pytest -q
+	$(BIN)/coverage report --skip-covered
+	$(BIN)/coverage json -q -o coverage.json
+	@$(BIN)/python -c "import json; t = json.load(open('coverage.json'))['totals']; \
+	print(f\"studies/ branches covered: {t['covered_branches']} of {t['num_branches']} \
+	({100 * t['covered_branches'] / t['num_branches']:.1f} %)\")"
 
 # ruff (lint + format check) and mypy, as configured in pyproject.toml; .ci/run runs it
 lint: $(STAMP)
