@@ -32,9 +32,18 @@ class Stone:
     fc: float = 110e6
 
     def __post_init__(self):
-        require_positive("stone E (Pa)", self.E)
+        # hard limits as in the study file's schema (studies.schema.Stone says why): past them
+        # the stiffness or the mass overflows the stable-step estimate
+        require_range("stone E (Pa)", self.E, 1e6, 1e14, closed_low=True, closed_high=True)
         require_range("stone nu", self.nu, 0.0, 0.5, closed_low=True)
-        require_positive("stone density (kg/m^3)", self.density)
+        require_range(
+            "stone density (kg/m^3)",
+            self.density,
+            100.0,
+            30000.0,
+            closed_low=True,
+            closed_high=True,
+        )
         require_positive("stone fc (Pa)", self.fc)
 
     @property

@@ -15,11 +15,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import sparse
-from scipy.sparse.linalg import eigsh
+from scipy.sparse.linalg import ArpackError, eigsh
 
 from ..core.collar_law import LAW_SIZE, OUT_SIZE, STATE_SIZE
 from ..core.constants import STANDARD_GRAVITY
-from ..core.errors import InputError, require_non_negative, require_positive, require_range
+from ..core.errors import InputError, require_non_negative, require_range
 from ..meshes.column import ColumnMesh
 from . import _kernels as K
 from .assembly import Stone, assemble
@@ -42,11 +42,33 @@ class ContactSettings:
     friction_filter: float = 1e-3
 
     def __post_init__(self):
+        # hard limits as in the study file's schema (studies.schema.Contact says why)
         require_non_negative("contact friction", self.friction)
-        require_non_negative("contact friction_filter (s)", self.friction_filter)
-        require_positive("contact penalty_factor", self.penalty_factor)
+        require_range(
+            "contact friction_filter (s)",
+            self.friction_filter,
+            0.0,
+            1.0,
+            closed_low=True,
+            closed_high=True,
+        )
+        require_range(
+            "contact penalty_factor",
+            self.penalty_factor,
+            1e-3,
+            1e3,
+            closed_low=True,
+            closed_high=True,
+        )
         if self.penalty is not None:
-            require_positive("contact penalty (N/m^3)", self.penalty)
+            require_range(
+                "contact penalty (N/m^3)",
+                self.penalty,
+                1e6,
+                1e18,
+                closed_low=True,
+                closed_high=True,
+            )
         require_range("contact damping", self.damping, 0.0, 1.0, closed_low=True)
 
 
@@ -154,6 +176,14 @@ def build_model(
             passes.append((slaves.astype(np.int64), masters.astype(np.int64), sign, k, k.copy(), c))
 
     collar_nodes, collar_props = _collar_elements(mesh, collars)
+    numbers = [a.lumped_mass, a.stiffness.data, base_kn, base_cn, collar_props]
+    numbers += [q[3] for q in passes]
+    if not (np.all(a.lumped_mass > 0.0) and all(np.all(np.isfinite(n)) for n in numbers)):
+        raise InputError(
+            f"the FEM model's masses and stiffnesses are not all finite and positive (stone E = "
+            f"{stone.E:g} Pa, density = {stone.density:g} kg/m^3, thickness = {thickness:g} m, "
+            "the contact penalty and the collars): an input is far outside its range"
+        )
     return Model(
         mesh,
         stone,
@@ -324,8 +354,22 @@ def max_frequency(stiffness: sparse.spmatrix, mass: np.ndarray) -> float:
         return 0.0
     scale = sparse.diags(1.0 / np.sqrt(mass))
     A = (scale @ stiffness @ scale).tocsr()
+    if not np.all(np.isfinite(A.data)):
+        raise InputError(
+            "the FEM model's stiffness over its mass overflows (an input far outside its range: "
+            "the stone's E or density, the thickness, the contact penalty, a collar)"
+        )
     # a fixed start vector keeps dt reproducible to the last digit (rocking is chaotic)
-    lam = eigsh(A, k=1, which="LA", return_eigenvectors=False, tol=1e-8, v0=np.ones(A.shape[0]))[0]
+    try:
+        lam = eigsh(
+            A, k=1, which="LA", return_eigenvectors=False, tol=1e-8, v0=np.ones(A.shape[0])
+        )[0]
+    except ArpackError as exc:
+        raise InputError(
+            f"the stable time step cannot be found ({exc.__class__.__name__}): an input is far "
+            "outside its range (the stone's E or density, the thickness, the contact penalty, a "
+            "collar)"
+        ) from None
     return float(math.sqrt(max(lam, 0.0)))
 
 

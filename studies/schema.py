@@ -27,6 +27,7 @@ from pydantic import (
     model_validator,
 )
 
+from ..core.collar import LOWEST as COLLAR_LOWEST
 from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_EPS_U, STEEL_FY
 from ..core.errors import InputError, read_toml
 from ..fem.solver import EDGE_TIME, REPLICAS
@@ -39,11 +40,61 @@ STUDY_KINDS = tuple(KINDS)  # the registered kinds (studies/kinds.py)
 
 
 FAILED = object()  # in a table's view (Table.across): a key whose value failed its own check
+LONGEST = 3600.0  # s: the longest run or motion (the longest records last a few minutes)
 
 
-def quantity(unit: str, description: str, default: Any = None, **limits) -> Any:
-    """A field with its unit (SI) and limits (gt, ge, lt, le), shown in the JSON Schema."""
-    return Field(default, description=description, json_schema_extra={"unit": unit}, **limits)
+def quantity(
+    unit: str,
+    description: str,
+    default: Any = None,
+    plausible: tuple[float, float, str, str] | None = None,
+    **limits,
+) -> Any:
+    """A field with its unit (SI) and limits (gt, ge, lt, le), shown in the JSON Schema.
+
+    ``plausible`` = (low, high, shown in, of what): the range (SI) in which the value of a real
+    column lies, written in another unit (``GPa``) for people. Outside it the study stops with
+    the likely unit slip (:func:`implausible`) unless the key is listed in [study] intended;
+    the description says so, and the JSON Schema carries it as ``plausible``."""
+    extra: dict[str, Any] = {"unit": unit}
+    if plausible is not None:
+        low, high, shown, what = plausible
+        extra["plausible"] = {"range": [low, high], "shown_in": shown, "of": what}
+        description += (
+            f" Plausible: {'up to ' if low == 0.0 else ''}{_range_words(low, high, shown)} "
+            f"({what}); outside it an error, unless the key is in [study] intended."
+        )
+    return Field(default, description=description, json_schema_extra=extra, **limits)
+
+
+# units a number may have been written in by mistake, by the SI unit of its key: (name, SI per
+# one of it). A value outside its plausible range is read in each; one that lands inside is
+# suggested ("did you mean 275 MPa?").
+UNIT_SLIPS: dict[str, tuple[tuple[str, float], ...]] = {
+    "Pa": (("kPa", 1e3), ("MPa", 1e6), ("GPa", 1e9)),
+    "m": (("mm", 1e-3), ("cm", 1e-2)),
+    "kg/m^3": (("g/cm^3", 1e3),),
+    "s": (("ms", 1e-3),),
+    "m/s^2": (("cm/s^2", 1e-2),),
+}
+SHOWN_IN = {"GPa": 1e9, "MPa": 1e6, "kPa": 1e3, "mm": 1e-3, "cm": 1e-2, "ms": 1e-3}
+
+
+def _number(value: float) -> str:
+    """A number as people write it: 50000, 0.008, 5e10 (not 5e+10)."""
+    text = f"{value:.6g}"
+    if "e" in text:
+        mantissa, exponent = text.split("e")
+        text = f"{mantissa}e{int(exponent)}"
+    return text
+
+
+def _range_words(low: float, high: float, shown: str) -> str:
+    """'1-200 GPa'; 'at most 50 m/s^2 in size' for a range from 0 of a signed key."""
+    factor = SHOWN_IN.get(shown, 1.0)
+    if low == 0.0:
+        return f"{_number(high / factor)} {shown} in size"
+    return f"{_number(low / factor)}-{_number(high / factor)} {shown}"
 
 
 class Table(BaseModel):
@@ -71,13 +122,31 @@ class Table(BaseModel):
 class Column(Table):
     """[column]: the column's geometry and the load it carries."""
 
-    height: float = quantity("m", "Height of the column shaft.", ..., gt=0)
-    width: float = quantity("m", "Width (diameter) of the column, 4b.", ..., gt=0)
+    height: float = quantity(
+        "m",
+        "Height of the column shaft; 1 cm to 100 m (beyond, no column: the mesh and the time "
+        "step leave what the models are built for).",
+        ...,
+        (0.3, 30.0, "m", "a stone column"),
+        ge=0.01,
+        le=100,
+    )
+    width: float = quantity(
+        "m",
+        "Width (diameter) of the column, 4b; 1 mm to 20 m (as the height).",
+        ...,
+        (0.05, 5.0, "m", "a stone column"),
+        ge=0.001,
+        le=20,
+    )
     thickness: float | None = quantity(
         "m",
         "Out-of-plane thickness of the 2D model; default pi * width / 4 (the half column "
-        "then has the mass of a half circular column).",
-        gt=0,
+        "then has the mass of a half circular column); 1 mm to 20 m (as the width).",
+        None,
+        (0.05, 5.0, "m", "a stone column"),
+        ge=0.001,
+        le=20,
     )
     cracked: bool = Field(
         True, description="A full-height vertical crack splits the column into two halves."
@@ -95,26 +164,91 @@ class Column(Table):
 class Stone(Table):
     """[stone]: linear elastic stone (defaults: a white marble)."""
 
-    E: float = quantity("Pa", "Young's modulus.", 50e9, gt=0)
+    E: float = quantity(
+        "Pa",
+        "Young's modulus; 1 MPa to 100 TPa (100 times diamond's, room for a stiff-limit "
+        "study; beyond, the stiffness overflows the stable-step estimate).",
+        50e9,
+        (1e9, 200e9, "GPa", "stone"),
+        ge=1e6,
+        le=1e14,
+    )
     nu: float = quantity("-", "Poisson's ratio.", 0.2, ge=0, lt=0.5)
-    density: float = quantity("kg/m^3", "Density.", 2700.0, gt=0)
-    fc: float = quantity("Pa", "Compressive strength, for the toe-crushing check.", 110e6, gt=0)
+    density: float = quantity(
+        "kg/m^3",
+        "Density; 100 to 30000 kg/m^3 (from the lightest solids to past osmium; beyond, the "
+        "mass overflows the stable-step estimate).",
+        2700.0,
+        (1000.0, 4000.0, "kg/m^3", "stone"),
+        ge=100,
+        le=30000,
+    )
+    fc: float = quantity(
+        "Pa",
+        "Compressive strength, for the toe-crushing check.",
+        110e6,
+        (1e6, 500e6, "MPa", "stone"),
+        gt=0,
+    )
 
 
 class Collar(Table):
     """[[collar]]: one steel collar (flat bar around the column), counted from 1."""
 
     y: float = quantity(
-        "m", "Height of the collar above the base (at most the column height).", ..., gt=0
+        "m",
+        "Height of the collar above the base, from 1 mm (a row of nodes is placed there: one "
+        "nearer the base leaves an element of no height) to the column height.",
+        ...,
+        ge=COLLAR_LOWEST,
     )
-    t: float = quantity("m", "Section thickness (radial).", ..., gt=0)
-    h: float = quantity("m", "Section height (vertical).", ..., gt=0)
+    t: float = quantity(
+        "m",
+        "Section thickness (radial), at most 1 m.",
+        ...,
+        (1e-3, 0.2, "mm", "a steel collar's section"),
+        gt=0,
+        le=1,
+    )
+    h: float = quantity(
+        "m",
+        "Section height (vertical), at most 1 m.",
+        ...,
+        (1e-3, 0.2, "mm", "a steel collar's section"),
+        gt=0,
+        le=1,
+    )
     length: float | None = quantity(
-        "m", "Span between the attachment points; default the column width.", gt=0
+        "m",
+        "Span between the attachment points; default the column width; 1 mm to 100 m (a "
+        "shorter span makes the collar's stiffness E A / L overflow the stable step).",
+        None,
+        (0.05, 10.0, "m", "a collar's span"),
+        ge=1e-3,
+        le=100,
     )
-    E: float = quantity("Pa", "Young's modulus of the steel.", STEEL_E, gt=0)
-    fy: float = quantity("Pa", "Yield stress of the steel.", STEEL_FY, gt=0)
-    pretension: float = quantity("N", "Axial pretension (tension positive).", 0.0, ge=0)
+    E: float = quantity(
+        "Pa",
+        "Young's modulus of the steel, at most 100 TPa (as the stone's).",
+        STEEL_E,
+        (150e9, 250e9, "GPa", "structural steel"),
+        gt=0,
+        le=1e14,
+    )
+    fy: float = quantity(
+        "Pa",
+        "Yield stress of the steel.",
+        STEEL_FY,
+        (100e6, 1000e6, "MPa", "structural steel"),
+        gt=0,
+    )
+    pretension: float = quantity(
+        "N",
+        "Axial pretension (tension positive), at most the yield force fy t h (past it the "
+        "band has yielded before the column moves).",
+        0.0,
+        ge=0,
+    )
     plastic: bool = Field(
         False,
         description="Bilinear elastic-plastic collars (FEM and "
@@ -136,14 +270,25 @@ class Collar(Table):
         "m",
         "Length of an end hinge's plastic zone, over which its rotation gives a fibre "
         "strain; default the section height h.",
+        None,
+        (1e-3, 1.0, "mm", "a collar's hinge"),
         gt=0,
     )
 
     @staticmethod
     def across(c: dict, given: set) -> list[tuple[str, tuple]]:
         """The hardening modulus below E; a plastic collar's ultimate strain above its yield
-        strain."""
+        strain; the pretension at most the yield force."""
         found = []
+        force = c["fy"] * c["t"] * c["h"] if _known(c["fy"], c["t"], c["h"]) else None
+        if _known(c["pretension"]) and force is not None and c["pretension"] > force:
+            found.append(
+                (
+                    f"pretension = {c['pretension']:g} N must be at most the yield force "
+                    f"fy t h = {force:.4g} N (past it the band has yielded)",
+                    (),
+                )
+            )
         if c["Eh"] is not None and _known(c["Eh"], c["E"]) and c["Eh"] >= c["E"]:
             found.append((f"Eh = {c['Eh']:g} Pa must be below E = {c['E']:g} Pa", ()))
         if (
@@ -186,24 +331,52 @@ class Ground(Table):
     amplitude: float | None = quantity(
         "m/s^2",
         "Pulse amplitude a_p (sign: direction), "
-        "|a_p| at least the uplift acceleration; or give "
-        "amplitude_ratio.",
+        "|a_p| at least the uplift acceleration and at most 1000 m/s^2 (100 g: no ground "
+        "shakes so, and the FEM blows up past it); or give amplitude_ratio.",
+        None,
+        (0.0, 50.0, "m/s^2", "a ground motion (5 g)"),
+        ge=-1000,
+        le=1000,
     )
     amplitude_ratio: float | None = quantity(
-        "-", "a_p / (g tan alpha (1 + lambda)) of the rocking half; or give amplitude.", ge=1
+        "-",
+        "a_p / (g tan alpha (1 + lambda)) of the rocking half, 1 to 1000 (past it the FEM "
+        "blows up); or give amplitude.",
+        ge=1,
+        le=1000,
     )
-    period: float | None = quantity("s", "Pulse period T_p; or give omega_ratio.", gt=0)
+    period: float | None = quantity(
+        "s",
+        "Pulse period T_p, at most 1000 s (the run lasts as long); or give omega_ratio.",
+        None,
+        (0.02, 30.0, "s", "a pulse"),
+        gt=0,
+        le=1000,
+    )
     omega_ratio: float | None = quantity(
-        "-", "Omega / p of the rocking half; or give period.", gt=0
+        "-",
+        "Omega / p of the rocking half, 0.001 to 1000 (a smaller one is a pulse thousands of "
+        "rocking periods long); or give period.",
+        ge=1e-3,
+        le=1000,
     )
     record: str | None = Field(
         None,
-        description="Record file (PEER .AT2 in g, or two columns "
+        min_length=1,
+        description="Record file (PEER .AT2, its units from its header, or two columns "
         "t (s), a (m/s^2)), relative to the study file; pulse = record.",
     )
-    scale: float | None = quantity("-", "Factor on the record's acceleration (default 1).")
+    scale: float | None = quantity(
+        "-",
+        "Factor on the record's acceleration (default 1), at most 1000 in size.",
+        ge=-1000,
+        le=1000,
+    )
     time_scale: float | None = quantity(
-        "-", "Plays the record this many times as fast (default 1).", gt=0
+        "-",
+        "Plays the record this many times as fast (default 1), 0.001 to 1000.",
+        ge=1e-3,
+        le=1000,
     )
     vertical_amplitude: float | None = quantity(
         "m/s^2",
@@ -212,15 +385,26 @@ class Ground(Table):
         gt=-G,
         lt=G,
     )
-    vertical_period: float | None = quantity("s", "Period T of the vertical harmonic.", gt=0)
+    vertical_period: float | None = quantity(
+        "s",
+        "Period T of the vertical harmonic, at most 1000 s.",
+        None,
+        (0.02, 30.0, "s", "a ground motion"),
+        gt=0,
+        le=1000,
+    )
     vertical_phase: float | None = quantity("rad", "Phase of the vertical harmonic (default 0).")
     vertical_duration: float | None = quantity(
         "s",
-        "How long the vertical harmonic lasts (default: as long as the horizontal motion).",
+        "How long the vertical harmonic lasts (default: as long as the horizontal motion), "
+        "at most an hour (as run.duration).",
         gt=0,
+        le=LONGEST,
     )
     vertical_record: str | None = Field(
-        None, description="Vertical record file (as record), instead of the harmonic."
+        None,
+        min_length=1,
+        description="Vertical record file (as record), instead of the harmonic.",
     )
     vertical_scale: float | None = quantity(
         "-", "Factor on the vertical record (default 1); its peak times this factor below g."
@@ -301,9 +485,20 @@ class Contact(Table):
     friction also in the multibody model."""
 
     friction: float = quantity("-", "Coulomb friction coefficient (base and crack).", 0.7, ge=0)
-    penalty_factor: float = quantity("-", "Factor on the default penalty.", 1.0, gt=0)
+    penalty_factor: float = quantity(
+        "-",
+        "Factor on the default penalty, 0.001 to 1000 (softer, the faces sink into each "
+        "other; stiffer, the stable step shrinks with its square root).",
+        1.0,
+        ge=1e-3,
+        le=1e3,
+    )
     penalty: float | None = quantity(
-        "N/m^3", "Penalty per unit contact area; overrides penalty_factor.", gt=0
+        "N/m^3",
+        "Penalty per unit contact area; overrides penalty_factor; 1e6 to 1e18 N/m^3 (the "
+        "default E / h is about 1e12 for stone).",
+        ge=1e6,
+        le=1e18,
     )
     damping: float = quantity(
         "-", "Fraction of critical damping of each contact spring.", 0.05, ge=0, lt=1
@@ -311,9 +506,11 @@ class Contact(Table):
     friction_filter: float = quantity(
         "s",
         "Time constant of the low-pass filter on the normal "
-        "force that sets the friction cone (0: none).",
+        "force that sets the friction cone (0: none), at most 1 s (longer than a rocking "
+        "swing: the cone would never follow the contact).",
         1e-3,
         ge=0,
+        le=1,
     )
 
 
@@ -342,6 +539,7 @@ class Mesh(Table):
     )
     file: str | None = Field(
         None,
+        min_length=1,
         description="A quadrilateral mesh made elsewhere (e.g. "
         "gmsh .msh), relative to the study file, instead of size/grading.",
     )
@@ -369,13 +567,20 @@ class Run(Table):
     """[run]: the explicit time integration."""
 
     duration: float | None = quantity(
-        "s", "Simulated time; default the end of the ground motion + 1.5 s.", gt=0
+        "s",
+        "Simulated time; default the end of the ground motion + 1.5 s; at most an hour (the "
+        "longest records last a few minutes; the work is bounded too: see --long).",
+        gt=0,
+        le=LONGEST,
     )
     output_interval: float | None = quantity(
         "s", "Time between history rows; default duration / 400.", gt=0
     )
     dt: float | None = quantity(
-        "s", "Time step; default the stable step (a larger one is an error).", gt=0
+        "s",
+        "Time step; default the stable step (a larger one is an error); at least 1e-9 s "
+        "(below, a second of motion is a billion steps).",
+        ge=1e-9,
     )
     safety: float = quantity("-", "Fraction of the stable step used.", 0.9, gt=0, le=1)
     initial_tilt: float = quantity(
@@ -386,7 +591,12 @@ class Run(Table):
         lt=math.pi / 4,
     )
     initial_angular_velocity: float = quantity(
-        "rad/s", "Initial angular velocity about that toe.", 0.0
+        "rad/s",
+        "Initial angular velocity about that toe, at most 10 rad/s in size (at 5 rad/s even "
+        "a 0.3 m block overturns at once; faster, the first landing blows the FEM up).",
+        0.0,
+        ge=-10,
+        le=10,
     )
     replicas: int = quantity(
         "-",
@@ -434,6 +644,12 @@ class StudyInfo(Table):
     kind: Literal[STUDY_KINDS] = Field(  # type: ignore[valid-type]
         "cross-check", description="Which study to run."
     )
+    intended: list[str] = Field(
+        [],
+        description="Keys whose values outside their plausible range are meant, as table.key "
+        '(collar.t: every collar\'s), e.g. ["stone.E"] for a stiff-limit study; without it '
+        "such a value is an error naming the likely unit slip.",
+    )
 
 
 def pair(default, description: str, unit: str = "-") -> Any:
@@ -450,17 +666,21 @@ def pair(default, description: str, unit: str = "-") -> Any:
 class Grid(Table):
     """[grid] (spectrum-crosscheck): the pulses of the grid, each a [start, stop] range."""
 
-    omega_ratios: list[Annotated[float, Field(gt=0)]] | None = pair(
-        None, "Omega / p range, inclusive (pulses; default [1, 8])."
+    omega_ratios: list[Annotated[float, Field(ge=1e-3, le=1000)]] | None = pair(
+        None, "Omega / p range, inclusive (pulses; default [1, 8]); as ground.omega_ratio."
     )
-    amplitude_ratios: list[Annotated[float, Field(ge=1)]] = pair(
-        [1.2, 6.0], "a_p / (g tan alpha) range, inclusive."
+    amplitude_ratios: list[Annotated[float, Field(ge=1, le=1000)]] = pair(
+        [1.2, 6.0], "a_p / (g tan alpha) range, inclusive; as ground.amplitude_ratio."
     )
-    time_scales: list[Annotated[float, Field(gt=0)]] | None = pair(
-        None, "Record time-scale range (records, in place of omega_ratios; default [0.5, 2])."
+    time_scales: list[Annotated[float, Field(ge=1e-3, le=1000)]] | None = pair(
+        None,
+        "Record time-scale range (records, in place of omega_ratios; default [0.5, 2]); as "
+        "ground.time_scale.",
     )
-    points: list[Annotated[int, Field(ge=1)]] = pair(
-        [6, 5], "Number of points along the first axis x number of amplitude ratios."
+    points: list[Annotated[int, Field(ge=1, le=10000)]] = pair(
+        [6, 5],
+        "Number of points along the first axis x number of amplitude ratios, each at most "
+        "10000 (the FEM work of the grid is bounded too: see --long).",
     )
 
     @staticmethod
@@ -555,8 +775,16 @@ class StudyFile(Table):
 
     @staticmethod
     def across(s: dict, given: set) -> list[tuple[str, tuple]]:
-        """The tables against each other: a column and a ground motion given, the collars
-        within the column height, the mesh within the width of a half."""
+        """The tables against each other (:meth:`_tables`), then every value against its
+        plausible range, but those of the keys in [study] intended (:func:`implausible`)."""
+        info = s["study"]
+        intended = info["intended"] if isinstance(info, dict) else FAILED
+        return StudyFile._tables(s, given) + implausible(StudyFile, s, intended, "[study] intended")
+
+    @staticmethod
+    def _tables(s: dict, given: set) -> list[tuple[str, tuple]]:
+        """A column and a ground motion given, the collars within the column height, the mesh
+        within the width of a half, no table of another kind's."""
         kind = s["study"]["kind"] if isinstance(s["study"], dict) else FAILED
         c, ground = s["column"], s["ground"]
         found: list[tuple[str, tuple]] = []
@@ -610,7 +838,7 @@ class StudyFile(Table):
                 found.append(
                     (
                         f"collar[{i}].y = {collar['y']:.10g} m is outside the allowed range "
-                        f"(0, {c['height']:.10g}] m (the column height)",
+                        f"[{COLLAR_LOWEST:g}, {c['height']:.10g}] m (the column height)",
                         (),
                     )
                 )
@@ -660,9 +888,102 @@ def parse(data: dict, source: str = "study") -> StudyFile:
 
 
 class CollarFile(Table):
-    """A collar file: [[collar]] tables only, as in a study file."""
+    """A collar file: [[collar]] tables, as in a study file, and the keys whose implausible
+    values are meant (``intended = ["collar.fy"]``, before the tables)."""
 
+    intended: list[str] = []
     collar: list[Collar] = []
+
+    @staticmethod
+    def across(s: dict, given: set) -> list[tuple[str, tuple]]:
+        """Every value against its plausible range, but those of the keys in intended."""
+        return implausible(CollarFile, s, s["intended"], "intended")
+
+
+def plausible_keys(model: type[Table] | None = None) -> dict[str, dict]:
+    """The keys with a plausible range ('stone.E' -> its range, the unit it is shown in, of
+    what, and its SI unit), of a study file (or of the file ``model``)."""
+    found: dict[str, dict] = {}
+    for table, field in (model or StudyFile).model_fields.items():
+        inner = _find_model(field.annotation)
+        for key, sub in (inner.model_fields if inner is not None else {}).items():
+            extra = sub.json_schema_extra
+            plausible = extra.get("plausible") if isinstance(extra, dict) else None
+            if isinstance(extra, dict) and isinstance(plausible, dict):
+                found[f"{table}.{key}"] = {**plausible, "unit": extra["unit"]}
+    return found
+
+
+def implausible(model: type[Table], s: dict, intended, where: str) -> list[tuple[str, tuple]]:
+    """The values of the file's view ``s`` outside their plausible ranges, each with the unit
+    slip that would bring it inside (a number written in MPa where Pa is read), but those of
+    the keys in ``intended``; and a key of ``intended`` that has no plausible range."""
+    keys = plausible_keys(model)
+    found: list[tuple[str, tuple]] = []
+    if not isinstance(intended, list):  # (it failed its own check)
+        intended = []
+    for name in intended:
+        if name not in keys:
+            found.append(
+                (
+                    f"{where}: {name!r} is not a key with a plausible range (those are: "
+                    + ", ".join(keys)
+                    + ")",
+                    (),
+                )
+            )
+    for name, p in keys.items():
+        table, key = name.split(".")
+        rows = s.get(table)
+        if name in intended or not isinstance(rows, (dict, list)):
+            continue
+        for i, row in enumerate(rows if isinstance(rows, list) else [rows], start=1):
+            value = row.get(key) if isinstance(row, dict) else None
+            if isinstance(value, (int, float)) and not isinstance(value, bool):
+                path = f"{table}[{i}].{key}" if isinstance(rows, list) else name
+                line = _implausible_line(path, name, float(value), p, where)
+                if line is not None:
+                    found.append((line, ()))
+    return found
+
+
+def _implausible_line(path: str, name: str, value: float, p: dict, where: str) -> str | None:
+    """The error of a value outside its plausible range ``p`` (:func:`plausible_keys`), or
+    None; it says how to mean it: list the key in ``where``."""
+    (low, high), unit = p["range"], p["unit"]
+    if low <= (abs(value) if low == 0.0 else value) <= high:
+        return None
+    words = _range_words(low, high, p["shown_in"])
+    text = (
+        f"{path} = {_number(value)} {unit} is beyond the plausible {words} for {p['of']}"
+        if low == 0.0
+        else f"{path} = {_number(value)} {unit} is outside the plausible range {words} for "
+        f"{p['of']}"
+    )
+    slip = _slip(value, p)
+    if slip is not None:
+        text += f": {slip} If {_number(value)} {unit} is meant"
+    else:
+        text += ": if it is meant"
+    return text + f', list "{name}" in {where}'
+
+
+def _slip(value: float, p: dict) -> str | None:
+    """'did you mean 275 MPa (2.75e8 Pa)?': the unit of :data:`UNIT_SLIPS` in which ``value``
+    lands in its plausible range ``p`` (:func:`plausible_keys`; the one nearest the middle of
+    the range), or None."""
+    (low, high), unit = p["range"], p["unit"]
+    size = low == 0.0  # a signed key: its size
+    middle = math.sqrt(low * high) if low > 0.0 else 0.1 * high
+    slips = [
+        (abs(math.log(abs(value) * factor / middle)), other, factor)
+        for other, factor in UNIT_SLIPS.get(unit, ())
+        if value != 0.0 and (size or value > 0.0) and low <= abs(value) * factor <= high
+    ]
+    if not slips:
+        return None
+    _, other, factor = min(slips)
+    return f"did you mean {_number(value)} {other} ({_number(value * factor)} {unit})?"
 
 
 def read_collars(path) -> tuple[rigid_collars.Collar, ...]:
@@ -799,7 +1120,19 @@ def _one_line(error: dict) -> str:
     allowed = describe(field) if field is not None else error["msg"].lower()
     if kind == "missing":
         return f"{_path(loc)} is required: {allowed}"
-    return f"{_path(loc)} = {error['input']!r} is not allowed: {allowed}"
+    text = f"{_path(loc)} = {error['input']!r} is not allowed: {allowed}"
+    value, extra = error["input"], field.json_schema_extra if field is not None else None
+    plausible = extra.get("plausible") if isinstance(extra, dict) else None
+    if (
+        isinstance(extra, dict)
+        and isinstance(plausible, dict)
+        and isinstance(value, (int, float))
+        and not isinstance(value, bool)
+        and math.isfinite(value)
+    ):  # beyond the hard range by a unit slip: 8 (mm) for a collar's t, 50000 (MPa) for E
+        slip = _slip(float(value), {**plausible, "unit": extra["unit"]})
+        text += f"; {slip}" if slip is not None else ""
+    return text
 
 
 def _model_at(loc) -> type[BaseModel] | None:
@@ -886,7 +1219,12 @@ def _type_words(schema: dict) -> str:
         items = schema.get("items", {})
         n = schema.get("minItems"), schema.get("maxItems")
         count = f"{n[0]} " if n[0] == n[1] and n[0] else f"{n[0]} or more " if n[0] else ""
-        inner = _allowed(items).replace("a number", "numbers").replace("an integer", "integers")
+        inner = (
+            _allowed(items)
+            .replace("a number", "numbers")
+            .replace("an integer", "integers")
+            .replace("a text", "texts")
+        )
         return f"a list of {count}{inner}"
     if kind in ("number", "integer") and not range_text(schema):
         return "any finite number" if kind == "number" else "any integer"

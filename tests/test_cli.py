@@ -581,10 +581,10 @@ GROUND = "[ground]\namplitude_ratio = 2.0\nomega_ratio = 3.0"
         (
             {"width": -0.2, "y": 1.5, "contact": "frikshun = 0.5"},
             [
-                "column.width = -0.2 is not allowed: a number in (0, inf), m",
+                "column.width = -0.2 is not allowed: a number in [0.001, 20], m",
                 "unknown key contact.frikshun (allowed in [contact]: friction, penalty_factor, "
                 "penalty, damping, friction_filter)",
-                "collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)",
+                "collar[1].y = 1.5 m is outside the allowed range [0.001, 1] m (the column height)",
             ],
         ),
         # no [ground] hides neither a collar above the column nor a key out of range
@@ -595,21 +595,21 @@ GROUND = "[ground]\namplitude_ratio = 2.0\nomega_ratio = 3.0"
                 "the study has no [ground] table: give ground.pulse and, for a pulse, exactly one "
                 "of ground.amplitude and ground.amplitude_ratio and one of ground.period and "
                 "ground.omega_ratio",
-                "collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)",
+                "collar[1].y = 1.5 m is outside the allowed range [0.001, 1] m (the column height)",
             ],
         ),
         # an error in [study] (which says what to run) hides none in the other tables
         (
             {"study": "kynd = 'cross-check'", "y": 1.5},
             [
-                "unknown key study.kynd (allowed in [study]: name, description, kind)",
-                "collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)",
+                "unknown key study.kynd (allowed in [study]: name, description, kind, intended)",
+                "collar[1].y = 1.5 m is outside the allowed range [0.001, 1] m (the column height)",
             ],
         ),
         # a single error: its one line, as ever
         (
             {"y": 1.5},
-            ["collar[1].y = 1.5 m is outside the allowed range (0, 1] m (the column height)"],
+            ["collar[1].y = 1.5 m is outside the allowed range [0.001, 1] m (the column height)"],
         ),
     ],
 )

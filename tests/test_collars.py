@@ -198,7 +198,7 @@ def test_collar_above_column_top_is_rejected(half_column, tmp_path):
     with pytest.raises(InputError, match="width"):
         read_collars(f)
     f.write_text("[[collar]]\ny = 1.0\nt = -0.01\nh = 0.05\n")
-    with pytest.raises(InputError, match=r"collar\[1\]\.t = -0.01 .* in \(0, inf\), m"):
+    with pytest.raises(InputError, match=r"collar\[1\]\.t = -0.01 .* in \(0, 1\], m"):
         read_collars(f)
 
 

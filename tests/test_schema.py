@@ -45,14 +45,15 @@ def test_json_schema_has_every_key_with_its_unit_and_range(capsys):
         for key, prop in props.items():
             kinds = {prop.get("type")} | {o.get("type") for o in prop.get("anyOf", [])}
             assert prop.get("description"), f"{name}.{key} has no description"
-            if kinds & {"number", "integer", "array"} and key not in ("toe_refinements",):
+            names = prop.get("items", {}).get("type") == "string"  # [study] intended: key names
+            if kinds & {"number", "integer", "array"} and key != "toe_refinements" and not names:
                 assert "unit" in prop, f"{name}.{key} has no unit"
                 numbers += 1
     assert numbers > 50
     # ranges are in the schema itself, e.g. Poisson's ratio [0, 0.5) and the height (0, inf)
     stone = defs["Stone"]["properties"]
     assert stone["nu"]["minimum"] == 0 and stone["nu"]["exclusiveMaximum"] == 0.5
-    assert defs["Column"]["properties"]["height"]["exclusiveMinimum"] == 0
+    assert defs["Column"]["properties"]["height"]["minimum"] == 0.01
     assert defs["Column"]["properties"]["height"]["unit"] == "m"
 
 
@@ -94,8 +95,8 @@ def _with(table, **keys):
 @pytest.mark.parametrize(
     "data, words",
     [
-        (_with("column", height=-1.0), ["column.height = -1.0", "(0, inf), m"]),
-        (_with("column", height=True), ["column.height = True", "(0, inf), m"]),
+        (_with("column", height=-1.0), ["column.height = -1.0", "[0.01, 100], m"]),
+        (_with("column", height=True), ["column.height = True", "[0.01, 100], m"]),
         (_with("column", height="2"), ["column.height = '2'"]),
         (_with("stone", fc=float("inf")), ["stone.fc = inf", "(0, inf), Pa"]),
         (_with("stone", colour=1), ["unknown key stone.colour", "E, nu, density, fc"]),
@@ -107,7 +108,10 @@ def _with(table, **keys):
             },
             ["collar[2].h = -0.05"],
         ),
-        ({**BASE, "collar": [{"y": 3.0, "t": 0.01, "h": 0.05}]}, ["collar[1].y = 3 m", "(0, 2] m"]),
+        (
+            {**BASE, "collar": [{"y": 3.0, "t": 0.01, "h": 0.05}]},
+            ["collar[1].y = 3 m", "[0.001, 2] m"],
+        ),
         ({**BASE, "collar": [{"y": 1.0, "t": 0.01, "h": 0.05, "Eh": 300e9}]}, ["Eh", "below E"]),
         (_with("mesh", size=0.5), ["mesh.size = 0.5 m", "(0, 0.2] m"]),
         (_with("mesh", toe_refinements=[1, 3, 9]), ["mesh.toe_refinements", "[1, 2, 4]"]),
@@ -133,12 +137,12 @@ def _with(table, **keys):
         (_with("ground", pulse="square"), ["ground.pulse = 'square'", "'sine', 'cosine'"]),
         (_with("run", initial_tilt=1.0), ["run.initial_tilt = 1.0", "(-0.785398, 0.785398), rad"]),
         (_with("contact", damping=1.0), ["contact.damping = 1.0", "[0, 1)"]),
-        (_with("grid", points=[3, 0]), ["grid.points[2] = 0", "[1, inf)"]),
+        (_with("grid", points=[3, 0]), ["grid.points[2] = 0", "[1, 10000]"]),
         (_with("grid", amplitude_ratios=[3.0, 2.0]), ["grid.amplitude_ratios", "start <= stop"]),
         (_with("convergence", sizes=[0.1, 0.2, 0.05]), ["convergence.sizes", "decrease"]),
         (  # just past the top: the message must not round it onto the top
             {**BASE, "collar": [{"y": 2.0000001, "t": 0.01, "h": 0.05}]},
-            ["collar[1].y = 2.0000001 m is outside the allowed range (0, 2] m"],
+            ["collar[1].y = 2.0000001 m is outside the allowed range [0.001, 2] m"],
         ),
         (
             # a table of another kind's would be read by nothing
@@ -324,7 +328,7 @@ def test_a_table_checked_on_its_own_lists_its_errors_too():
     with pytest.raises(InputError) as raised:
         schema.parse_table("grid", {"omega_ratios": [8.0, 1.0], "points": [0, 3]}, "s.toml")
     assert str(raised.value).split("\n") == [
-        "s.toml: grid.points[1] = 0 is not allowed: a list of 2 integers in [1, inf)",
+        "s.toml: grid.points[1] = 0 is not allowed: a list of 2 integers in [1, 10000]",
         "s.toml: grid.omega_ratios = [8.0, 1.0] must be [start, stop] with start <= stop",
     ]
 
@@ -349,3 +353,70 @@ def test_a_variant_is_a_checked_copy_never_an_edit():
     assert finer["mesh"] == {"size": 0.01} and finer["collar"] == data["collar"]
     with pytest.raises(InputError, match="mesh.size"):
         schema.variant(data, {"mesh.size": -1.0}, "study.toml")
+
+
+# --- plausible ranges: unit slips stop, intended values pass ------------------------------------
+
+
+def test_plausible_ranges_are_in_the_json_schema_and_the_key_list():
+    """Each plausible range is in the JSON Schema (``plausible``, SI) and in the description
+    that docs/study-file.md lists, in the unit people write it in."""
+    stone = schema.json_schema()["$defs"]["Stone"]["properties"]["E"]
+    assert stone["plausible"] == {"range": [1e9, 200e9], "shown_in": "GPa", "of": "stone"}
+    text = schema.markdown()
+    for words in (
+        "Plausible: 1-200 GPa (stone)",
+        "Plausible: 1000-4000 kg/m^3 (stone)",
+        "Plausible: 1-200 mm (a steel collar's section)",
+        "Plausible: 100-1000 MPa (structural steel)",
+        "Plausible: 150-250 GPa (structural steel)",
+        "Plausible: 0.3-30 m (a stone column)",
+        "Plausible: 0.05-5 m (a stone column)",
+        "Plausible: up to 50 m/s^2 in size",
+    ):
+        assert words in text, words
+
+
+def test_an_implausible_value_is_an_error_unless_intended():
+    """A stiff-limit study (E = 5 TPa) is refused as a unit slip, one line naming the key,
+    until it lists the key in [study] intended; ``collar.t`` covers every collar."""
+    stiff = _with("stone", E=5e12)
+    with pytest.raises(InputError) as raised:
+        schema.parse(stiff, "s.toml")
+    assert str(raised.value) == (
+        "s.toml: stone.E = 5e12 Pa is outside the plausible range 1-200 GPa for stone: "
+        'if it is meant, list "stone.E" in [study] intended'
+    )
+    assert schema.parse({**stiff, "study": {"intended": ["stone.E"]}}).stone.E == 5e12
+    thin = {**BASE, "collar": [{**COLLAR, "t": 5e-4}, {**COLLAR, "y": 1.5, "t": 4e-4}]}
+    with pytest.raises(InputError) as raised:
+        schema.parse(thin, "s.toml")
+    assert [line.split(" is ")[0] for line in str(raised.value).split("\n")] == [
+        "s.toml: collar[1].t = 0.0005 m",
+        "s.toml: collar[2].t = 0.0004 m",
+    ]
+    schema.parse({**thin, "study": {"intended": ["collar.t"]}})
+    # a variant of an intended study keeps it (the sweeps' and grids' variants)
+    schema.variant({**stiff, "study": {"intended": ["stone.E"]}}, {"mesh.size": 0.05})
+
+
+def test_a_collar_file_has_the_plausible_ranges_too(tmp_path):
+    path = tmp_path / "collars.toml"
+    path.write_text("[[collar]]\ny = 1.0\nt = 0.01\nh = 0.05\nfy = 355.0\n")
+    with pytest.raises(InputError, match=r"fy = 355 Pa .* did you mean 355 MPa"):
+        schema.read_collars(path)
+    path.write_text('intended = ["collar.fy"]\n' + path.read_text())
+    assert schema.read_collars(path)[0].fy == 355.0
+
+
+def test_every_error_at_once_includes_the_implausible_values():
+    """The plausibility check runs with the others: beside a key out of its range, one line
+    each."""
+    data = {**_with("stone", E=50e3, fc=110.0), "column": {"height": -1.0, "width": 0.4}}
+    with pytest.raises(InputError) as raised:
+        schema.parse(data, "s.toml")
+    lines = str(raised.value).split("\n")
+    assert len(lines) == 3, lines
+    assert "column.height = -1.0" in lines[0]
+    assert "stone.E = 50000.0" in lines[1] and "did you mean 50000 MPa (5e10 Pa)?" in lines[1]
+    assert "stone.fc = 110 Pa" in lines[2] and "did you mean 110 MPa (1.1e8 Pa)?" in lines[2]

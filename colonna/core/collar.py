@@ -7,12 +7,20 @@ column's full width 4b) is resolved by the model that places the collar.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .constants import STEEL_E, STEEL_EPS_U, STEEL_FY
 from .errors import InputError, require_non_negative, require_positive, require_range
+
+# Hard limits of a collar's numbers, as in the study file's schema (studies.schema.Collar, whose
+# descriptions say why): past them a model's stiffness overflows or its mesh degenerates.
+LOWEST = 1e-3  # m: the lowest collar (a row of nodes at it; nearer, an element of no height)
+THICKEST = 1.0  # m: the largest section thickness t and height h
+SPAN = (1e-3, 100.0)  # m: the shortest and longest span L (E A / L overflows below)
+STIFFEST = 1e14  # Pa: the largest E (100 times diamond's)
 
 
 @dataclass(frozen=True)
@@ -39,14 +47,21 @@ class Collar:
     hinge_length: float | None = None  # m, length of an end hinge's plastic zone; default h
 
     def __post_init__(self):
-        require_positive("collar y (height, m)", self.y)
-        require_positive("collar t (section thickness, m)", self.t)
-        require_positive("collar h (section height, m)", self.h)
+        require_range("collar y (height, m)", self.y, LOWEST, math.inf, closed_low=True)
+        require_range("collar t (section thickness, m)", self.t, 0.0, THICKEST, closed_high=True)
+        require_range("collar h (section height, m)", self.h, 0.0, THICKEST, closed_high=True)
         if self.length is not None:
-            require_positive("collar length (m)", self.length)
-        require_positive("collar E (Pa)", self.E)
+            require_range(
+                "collar length (m)", self.length, *SPAN, closed_low=True, closed_high=True
+            )
+        require_range("collar E (Pa)", self.E, 0.0, STIFFEST, closed_high=True)
         require_positive("collar fy (Pa)", self.fy)
         require_non_negative("collar pretension (N)", self.pretension)
+        if self.pretension > self.fy * self.area:
+            raise InputError(
+                f"collar pretension = {self.pretension:g} N must be at most the yield force "
+                f"fy t h = {self.fy * self.area:.4g} N (past it the band has yielded)"
+            )
         if not isinstance(self.plastic, bool):
             raise InputError(f"collar plastic = {self.plastic!r} must be true or false")
         if self.Eh is not None:
