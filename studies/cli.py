@@ -463,11 +463,12 @@ def resolve_study(name_or_path: str) -> Path:
 
 def _cmd_fem(args) -> dict:
     from ..fem.solver import unreliable_reason
-    from .fem_study import load, run_fem
+    from .fem_study import fem_work, load, require_bounded_work, run_fem
 
     # (no compile notice here: the run's own checks (stable step, mesh, output folder) come
     # inside run_fem, and a notice must not come before an input error)
     study = load(resolve_study(args.study))
+    require_bounded_work(fem_work(study), long=args.long, what=f"{args.study}: this run")
     result = run_fem(study, replicas=1, out_dir=args.out, progress=True)[0]
     why = unreliable_reason([result.summary])  # a blow-up, or a balance past its limit
     if why is not None:
@@ -517,6 +518,7 @@ def _cmd_study(args) -> dict:
             scheduler=args.scheduler,
             force=args.force,
             grid=grid,
+            long=args.long,
         )
     if args.pdf:
         from .pdf import write_pdf
@@ -572,6 +574,17 @@ def _cmd_warmup(args) -> None:
 
 
 # --- parser -------------------------------------------------------------------------------------
+
+
+def _add_long_option(parser) -> None:
+    from .fem_study import WORK_LIMIT_SECONDS
+
+    parser.add_argument(
+        "--long",
+        action="store_true",
+        help=f"run FEM work estimated at more than {WORK_LIMIT_SECONDS / 3600:g} h of CPU "
+        "(refused without it, before anything is written)",
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -646,6 +659,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="write summary.json, history.csv and VTU/XDMF fields here",
     )
     p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+    _add_long_option(p)
     p.set_defaults(func=_cmd_fem)
 
     p = sub.add_parser("study", help="cross-check study: FEM and rigid side by side, report")
@@ -682,6 +696,7 @@ def build_parser() -> argparse.ArgumentParser:
         "file, record or colonna version) instead of refusing to run",
     )
     p.add_argument("--json", action="store_true", help="print summary.json")
+    _add_long_option(p)
     p.set_defaults(func=_cmd_study)
 
     p = sub.add_parser(

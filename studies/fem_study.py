@@ -593,10 +593,7 @@ def require_bounded_work(
 
 def _hours(seconds: float) -> str:
     """A duration for people: '40 min', '14 h', '3.2 days', '2e+03 years'."""
-    for unit, size in (("years", 365 * 86400.0), ("days", 86400.0), ("h", 3600.0)):
-        if seconds >= 2.0 * size:
-            break
-    else:
-        unit, size = "min", 60.0
+    units = (("years", 365 * 86400.0), ("days", 86400.0), ("h", 3600.0), ("min", 60.0))
+    unit, size = next((u for u in units if seconds >= 2.0 * u[1]), units[-1])
     value = seconds / size
     return f"{value:.0f} {unit}" if 10.0 <= value < 1e4 else f"{value:.2g} {unit}"

@@ -6,6 +6,7 @@ leave no result file behind (no summary.json, no history.csv, no ``*.part``)."""
 
 import os
 import sys
+from pathlib import Path
 
 import pytest
 from tiny_study import TINY_STUDY
@@ -458,6 +459,26 @@ CASES = [
         _fem(("y = 0.5", "y = 1e-10")),
         ["collar[1].y = 1e-10", "[0.001, inf), m"],
     ),
+    # --- work bounded before anything runs ----------------------------------------------------
+    (
+        "a FEM run of days",
+        _fem(("size = 0.05", "size = 0.01"), ("duration = 0.05", "duration = 1000.0")),
+        ["this run asks for", "state-steps", "on up to 2,222 nodes", "(limit 2 h)", "--long"],
+    ),
+    (
+        "a study of days",
+        lambda t, o: (
+            ["study"]
+            + [_edits(("size = 0.05", "size = 0.01"), ("duration = 0.05", "duration = 1000.0"))(t)]
+            + ["--out", o]
+        ),
+        ["this study asks for", "days of CPU", "replicas", "--long"],
+    ),
+    (
+        "a grid of a million pulses",
+        lambda t, o: ["study", "spectrum-crosscheck", "--grid", "1000x1000", "--out", o],
+        ["this study asks for", "of CPU", "fewer grid points (--grid)", "--long"],
+    ),
     # --- records --------------------------------------------------------------------------
     (
         "missing record",
@@ -617,3 +638,64 @@ def test_a_run_that_blows_up_stops_and_says_why(tmp_path, capsys):
     assert len(err) == 1 and "unreliable" in err[0] and "numerical blow-up" in err[0]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["energy_reliable"] is False and summary["status"].startswith("numerical")
+
+
+# --- the work of a study, bounded before it runs ---------------------------------------------
+
+ROOT = Path(__file__).resolve().parents[1]
+SHIPPED = sorted((ROOT / "studies").glob("*.toml"))
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=[p.stem for p in SHIPPED])
+def test_every_shipped_study_is_well_within_the_work_limit(path):
+    """The work limit refuses no shipped study: each asks for at most half of it (the largest,
+    mesh-convergence, about 40 min of CPU), and for no more memory than a run may have."""
+    from colonna.studies.driver import fem_work_of, study_kind
+    from colonna.studies.fem_study import WORK_LIMIT_SECONDS, memory_limit
+
+    work = fem_work_of(path, study_kind(path))
+    assert work.seconds <= 0.5 * WORK_LIMIT_SECONDS, (work, path.stem)
+    assert work.memory <= memory_limit()
+    if study_kind(path) != "zhang-makris":  # (no FEM)
+        assert work.node_steps > 0 and work.nodes > 0
+
+
+def test_the_spectrum_grids_on_either_side_of_the_work_limit():
+    """The spectrum cross-check's --grid 16x16 (about 300 s on 2 cores) is well within the
+    limit; 1000x1000 is not, and is found so without building its million points."""
+    from colonna.studies.driver import fem_work_of
+    from colonna.studies.fem_study import WORK_LIMIT_SECONDS
+
+    path = ROOT / "studies" / "spectrum-crosscheck.toml"
+    assert fem_work_of(path, "spectrum-crosscheck", (16, 16)).seconds <= 0.5 * WORK_LIMIT_SECONDS
+    assert fem_work_of(path, "spectrum-crosscheck", (1000, 1000)).seconds > WORK_LIMIT_SECONDS
+
+
+def test_long_lifts_the_work_limit_but_not_the_memory_limit():
+    from colonna.core.errors import InputError
+    from colonna.studies.fem_study import (
+        NODE_STEP_SECONDS,
+        WORK_LIMIT_SECONDS,
+        FemWork,
+        memory_limit,
+        require_bounded_work,
+    )
+
+    days = FemWork(1e9, 2.0 * WORK_LIMIT_SECONDS / NODE_STEP_SECONDS, 1000, 1e6)
+    with pytest.raises(InputError, match="pass --long to run it anyway"):
+        require_bounded_work(days)
+    require_bounded_work(days, long=True)
+    huge = FemWork(1.0, 1.0, 1000, 2.0 * memory_limit())
+    with pytest.raises(InputError, match="GiB of memory"):
+        require_bounded_work(huge, long=True)
+
+
+def test_the_estimate_counts_the_steps_the_run_takes(tmp_path):
+    """fem_work's state-steps are those of the run: its steps (summary) x its replicas."""
+    from colonna.studies.fem_study import fem_work, load, run_fem
+
+    study = load(_study(tmp_path, TINY))
+    result = run_fem(study, replicas=1)[0]
+    work = fem_work(study, 3)
+    assert work.state_steps == 3 * result.summary["steps"]
+    assert work.node_steps == work.state_steps * work.nodes
