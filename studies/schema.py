@@ -332,7 +332,7 @@ class Ground(Table):
         "m/s^2",
         "Pulse amplitude a_p (sign: direction), "
         "|a_p| at least the uplift acceleration and at most 1000 m/s^2 (100 g: no ground "
-        "shakes so, and the FEM blows up past it); or give amplitude_ratio.",
+        "shakes so; 1e308 overflowed the FEM); or give amplitude_ratio.",
         None,
         (0.0, 50.0, "m/s^2", "a ground motion (5 g)"),
         ge=-1000,
@@ -340,8 +340,8 @@ class Ground(Table):
     )
     amplitude_ratio: float | None = quantity(
         "-",
-        "a_p / (g tan alpha (1 + lambda)) of the rocking half, 1 to 1000 (past it the FEM "
-        "blows up); or give amplitude.",
+        "a_p / (g tan alpha (1 + lambda)) of the rocking half, 1 to 1000 (far past any "
+        "ground motion; 1e308 overflowed the FEM); or give amplitude.",
         ge=1,
         le=1000,
     )
@@ -593,7 +593,8 @@ class Run(Table):
     initial_angular_velocity: float = quantity(
         "rad/s",
         "Initial angular velocity about that toe, at most 10 rad/s in size (at 5 rad/s even "
-        "a 0.3 m block overturns at once; faster, the first landing blows the FEM up).",
+        "a 0.3 m block overturns at once; at 30 rad/s the FEM stops as blown up at its first "
+        "check).",
         0.0,
         ge=-10,
         le=10,
