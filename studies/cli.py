@@ -20,6 +20,7 @@ import math
 import signal
 import sys
 import threading
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +28,14 @@ import numpy as np
 from ..core.collar import Collar
 from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_FY
 from ..core.errors import InputError
-from ..core.ground import NO_MOTION, PULSE_KINDS, GroundMotion, read_record
+from ..core.ground import (
+    NO_MOTION,
+    PULSE_KINDS,
+    GroundMotion,
+    RecordNote,
+    read_record,
+    weak_record_note,
+)
 from ..rigid.block import MODELS, Block, pulse_from_ratios
 from .output import write_csv, write_json
 from .schema import read_collars
@@ -301,6 +309,18 @@ def _cmd_rigid(args) -> dict:
     vertical: GroundMotion = NO_MOTION
     if args.vertical_record is not None:
         vertical = read_record(args.vertical_record, g=block.g).scaled(args.vertical_scale)
+    elif args.record is not None:  # a record too weak to rock the block: said, not refused
+        note = weak_record_note(
+            ground,
+            block.uplift_acceleration(sdof_model),
+            what=f"record file {args.record.name}",
+            scale=args.scale,
+            scale_name="--scale",
+            in_m_s2=args.record.suffix.lower() != ".at2",
+            g=block.g,
+        )
+        if note is not None:
+            warnings.warn(note, RecordNote, stacklevel=1)
     multibody = _multibody_options(args)
     if multibody:
         from ..rigid.multibody import history_columns, rock_multibody
@@ -752,6 +772,26 @@ def _interrupted(args, exc: KeyboardInterrupt) -> int:
     return 128 + int(signum)
 
 
+def notes_as_lines() -> None:
+    """Show a :class:`colonna.core.ground.RecordNote` (a record too weak to uplift the
+    column) as one ``colonna: note:`` line, once however many models read the record; other
+    warnings as Python shows them. Inside ``warnings.catch_warnings()``, which undoes it."""
+    from ..core.ground import RecordNote
+
+    python_show = warnings.showwarning
+    said: set[str] = set()  # each note once (each model's reading of the study gives it)
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        if not issubclass(category, RecordNote):
+            python_show(message, category, filename, lineno, file, line)
+        elif str(message) not in said:
+            said.add(str(message))
+            print(f"colonna: note: {message}", file=sys.stderr, flush=True)
+
+    warnings.simplefilter("always", RecordNote)
+    warnings.showwarning = show
+
+
 def main(argv=None) -> int:
     """The command line: one line on stderr and status 2 for bad input; 1 for a study that
     cannot go on (a lost Dask scheduler); 130 (Ctrl-C) or 143 (SIGTERM) for an interrupted
@@ -765,7 +805,9 @@ def main(argv=None) -> int:
         handlers = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
         signal.signal(signal.SIGTERM, _raise_terminated)
     try:
-        summary = args.func(args)
+        with warnings.catch_warnings():
+            notes_as_lines()
+            summary = args.func(args)
     except InputError as exc:
         for line in str(exc).splitlines():  # a study file's errors: one line each
             print(f"colonna: error: {line}", file=sys.stderr)

@@ -379,3 +379,20 @@ def test_a_column_that_lands_after_the_pulse_has_a_restitution(tmp_path):
     ratio_late = restitution_after_motion(study, t[late] - t[late][0], th[late])
     assert ratio_late == pytest.approx(0.9, rel=0.02)
     assert math.isfinite(ratio_late)
+
+
+def test_a_record_too_weak_to_rock_the_block_is_one_note(tmp_path, capsys):
+    """colonna rigid under a two-column record in g read as m/s^2 (peak 0.3): the run is an
+    answer (no uplift), and one note says why, with the scale that would read it in g."""
+    import numpy as np
+
+    t = np.arange(300) * 0.01
+    rows = "".join(f"{x:.2f},{0.3 * np.sin(4 * np.pi * x):.6f}\n" for x in t)
+    (tmp_path / "weak.csv").write_text("t,a\n" + rows)
+    argv = ["rigid", "--b", "0.2", "--h", "2.0", "--record", str(tmp_path / "weak.csv"), "--json"]
+    assert main(argv) == 0
+    out, err = capsys.readouterr()
+    assert json.loads(out)["motion"] == "no uplift"
+    notes = err.strip().splitlines()
+    assert len(notes) == 1 and notes[0].startswith("colonna: note: record file weak.csv")
+    assert "set --scale = 9.81" in notes[0]
