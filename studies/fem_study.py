@@ -240,9 +240,17 @@ def _read_study_record(base: Path, given: str, key: str, source: str, g: float):
     the study's key that names it (``ground.record = 'x.AT2': record file ... cannot be
     read``)."""
     try:
-        return read_record(base / given, g=g)
+        record = read_record(base / given, g=g)
     except InputError as exc:
         raise InputError(f"{source}: {key} = {given!r}: {exc}") from None
+    start, end = float(record.time[0]), float(record.time[-1])
+    if end > schema.LONGEST:  # a clock time or an offset, not a record's own time axis
+        raise InputError(
+            f"{source}: {key} = {given!r}: the record runs from t = {start:g} s to {end:g} s, "
+            f"past the longest motion a study runs ({schema.LONGEST:g} s): its times must "
+            "start near 0 (shift them by the first time)"
+        )
+    return record
 
 
 def _ground(ground: schema.Ground, block: Block, base: Path, source: str = "study"):

@@ -396,3 +396,24 @@ def test_a_record_too_weak_to_rock_the_block_is_one_note(tmp_path, capsys):
     notes = err.strip().splitlines()
     assert len(notes) == 1 and notes[0].startswith("colonna: note: record file weak.csv")
     assert "set --scale = 9.81" in notes[0]
+
+
+def test_a_record_on_a_clock_time_axis_is_named_not_run_for_days(tmp_path, capsys):
+    """A two-column record whose times start at t = 1e6 s (a clock time, or an offset): the
+    study stops in one line naming ground.record and the shift, before any file is written
+    (it had run on, or been refused only by the work bound's 11 days of CPU)."""
+    import numpy as np
+
+    t = 1e6 + np.arange(300) * 0.01
+    rows = "".join(f"{x:.2f},{3.0 * np.sin(4 * np.pi * x):.6f}\n" for x in t)
+    (tmp_path / "late.csv").write_text("t,a\n" + rows)
+    cell = Cell("late-record", "cross-check", "elastic", "record", 1.0)
+    text = cell.text().replace(RECORD.as_posix(), "late.csv")
+    (tmp_path / "late.toml").write_text(text)
+    out = tmp_path / "out"
+    code = main(["study", str(tmp_path / "late.toml"), "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and "Traceback" not in err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "ground.record = 'late.csv'" in lines[0]
+    assert "start near 0" in lines[0] and not out.exists()
