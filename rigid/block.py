@@ -228,7 +228,10 @@ def pulse_from_ratios(
     The amplitude ratio is normalised by g alpha (linear model) or g tan(alpha) (nonlinear).
     """
     check_model(model)
-    require_positive("omega ratio (Omega / p)", omega_ratio)
+    # as a study file's ground.omega_ratio: past these a pulse lasts days or a nanosecond
+    require_range(
+        "omega ratio (Omega / p)", omega_ratio, 1e-3, 1e3, closed_low=True, closed_high=True
+    )
     if kind not in PULSE_KINDS:
         raise InputError(f"pulse = {kind!r} is not one of {', '.join(PULSE_KINDS)}")
     uplift = block.uplift_acceleration(model)

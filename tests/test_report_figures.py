@@ -608,6 +608,8 @@ def _plastic_crosscheck(root, eps_u=None):
         )
         .replace("grading = 0.0\n", "grading = 0.0\ntoe_refinements = []\n")
         .replace("[run]\n", "[run]\nreplicas = 2\n")
+        # a weak steel on purpose (60 MPa), so that the tiny collar yields and breaks
+        .replace('name = "tiny"\n', 'name = "tiny"\nintended = ["collar.fy"]\n')
     )
     (root / "tiny-plastic.toml").write_text(text)
     out = root / "out"

@@ -31,13 +31,13 @@ MAX_HISTORY_ROWS = 10_000_000  # rows of a time history kept in memory (a few GB
 def require_history_rows(duration: float, interval: float) -> int:
     """The rows of a history of ``duration`` (s) sampled every ``interval`` (s), or an
     InputError naming both where they exceed MAX_HISTORY_ROWS."""
-    rows = int(duration / interval) + 2
-    if rows > MAX_HISTORY_ROWS:
+    rows = duration / interval + 2.0  # a float: a tiny interval overflows no int
+    if not rows <= MAX_HISTORY_ROWS:
         raise InputError(
-            f"duration = {duration:g} s at an output interval of {interval:g} s gives {rows:,} "
+            f"duration = {duration:g} s at an output interval of {interval:g} s gives {rows:.3g} "
             f"history rows: at most {MAX_HISTORY_ROWS:,} (shorten the duration)"
         )
-    return rows
+    return int(rows)
 
 
 def require_range(
