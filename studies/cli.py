@@ -27,7 +27,7 @@ import numpy as np
 
 from ..core.collar import Collar
 from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_FY
-from ..core.errors import InputError
+from ..core.errors import InputError, require_range
 from ..core.ground import (
     NO_MOTION,
     PULSE_KINDS,
@@ -106,11 +106,16 @@ def _block_from_args(args) -> Block:
         if args.b is None or args.h is None:
             raise InputError("--b and --h must be given together")
         b, h = args.b, args.h
+        # the study file's hard ranges for a column (width 4b, height 2h; schema.Column)
+        require_range("--b", b, 0.00025, 5.0, closed_low=True, closed_high=True)
+        require_range("--h", h, 0.005, 50.0, closed_low=True, closed_high=True)
     else:
         raise InputError("the block is not given: use --p and --alpha, or --b and --h")
     if args.mass is not None and args.density is not None:
         raise InputError("give either --mass or --density, not both")
     if args.density is not None:
+        # as a study file's stone.density: past it the mass overflows
+        require_range("--density", args.density, 100.0, 30000.0, closed_low=True, closed_high=True)
         thickness = args.thickness if args.thickness is not None else math.pi * b
         block = Block.from_density(
             b, h, args.density, thickness, restitution=args.restitution, g=args.g

@@ -1,3 +1,4 @@
+import os
 import sys
 from pathlib import Path
 
@@ -6,6 +7,18 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 
 from colonna.rigid import Block  # noqa: E402
+
+# generated inputs (tests/test_properties.py): new examples on every local run, to find what
+# no one wrote down; in CI the same examples every time (derandomized), so that a red run is
+# a change of the code, not of the draw
+try:
+    from hypothesis import settings
+
+    settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
+    if os.environ.get("CI"):
+        settings.load_profile("ci")
+except ImportError:  # the test extra not installed: the property tests are not collected
+    pass
 
 
 @pytest.fixture
