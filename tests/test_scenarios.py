@@ -246,8 +246,9 @@ def _params() -> list:
 
 def outcome_class(summary: dict, study_path: Path, out: Path) -> str:
     """What the cross-check's FEM column did, in the matrix's words. It settled during the
-    motion where its rotation over the motion's last 0.25 s stays below the uplift threshold
-    (1e-4 alpha, :func:`colonna.rigid.solve.motion_word`): elastic sway, no rocking."""
+    motion where its rotation over the last 0.25 s of the motion (or of the run, where that
+    ends first) stays below the uplift threshold (1e-4 alpha,
+    :func:`colonna.rigid.solve.motion_word`): elastic sway, no rocking."""
     from colonna.rigid.solve import UPLIFT_THRESHOLD
     from colonna.studies.fem_study import load
     from colonna.studies.output import read_csv
@@ -264,7 +265,8 @@ def outcome_class(summary: dict, study_path: Path, out: Path) -> str:
     if summary["fem"]["bands"]["restitution_after_motion"]["median"] is not None:
         return LANDS_AFTER
     history = read_csv(out / "cases" / "fem" / "history.csv")
-    last = (history["t"] > motion_end - 0.25) & (history["t"] <= motion_end)
+    end = min(motion_end, float(history["t"][-1]))  # a run may stop before its motion
+    last = (history["t"] > end - 0.25) & (history["t"] <= end)
     sway = max(np.max(np.abs(history[k][last])) for k in ("theta_left", "theta_right"))
     return SETTLES if sway < UPLIFT_THRESHOLD * study.rocking_alpha else ROCKS_AT_THE_END
 
