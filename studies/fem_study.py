@@ -413,9 +413,8 @@ def _run_settings(study: FemStudy) -> dict:
     }
 
 
-# what the runs of iter_fem may not differ in: the model and the run settings (they share one
-# model and one stable step); the ground motions and durations may differ
-SHARED_BY_A_BATCH = (
+# the keys of a FemStudy that make its model and time step (build, stable_time_step)
+MODEL_KEYS = (
     "height",
     "width",
     "thickness",
@@ -426,14 +425,20 @@ SHARED_BY_A_BATCH = (
     "mesh_size",
     "grading",
     "mesh_file",
+    "top_load",
+    "safety",
+    "dt",
+)
+
+
+# what the runs of iter_fem may not differ in: the model and the run settings (they share one
+# model and one stable step); the ground motions and durations may differ
+SHARED_BY_A_BATCH = MODEL_KEYS + (
     "edge_length",
     "output_interval",
-    "dt",
-    "safety",
     "initial_tilt",
     "initial_angular_velocity",
     "edge_time",
-    "top_load",
     "stop_when_settled",
 )
 
@@ -488,22 +493,6 @@ WORK_LIMIT_SECONDS = 2 * 3600.0  # the CPU time a study (or colonna fem) may ask
 OUTPUT_BYTES_PER_NODE = 32
 OUTPUT_ROW_BYTES = 8000
 STATE_BYTES_PER_NODE = 400  # a state's own arrays in the kernel (positions, velocities, forces)
-# the keys of a FemStudy that make its model and time step (build, stable_time_step)
-MODEL_KEYS = (
-    "height",
-    "width",
-    "thickness",
-    "cracked",
-    "stone",
-    "collars",
-    "contact",
-    "mesh_size",
-    "grading",
-    "mesh_file",
-    "top_load",
-    "safety",
-    "dt",
-)
 
 
 @dataclass(frozen=True)
