@@ -420,11 +420,34 @@ def _cmd_spectrum(args) -> dict:
 # --- colonna design -----------------------------------------------------------------------------
 
 
+def _check_plausible_collar(args) -> None:
+    """The collar flags of colonna design against a collar file's plausible ranges
+    (:func:`studies.schema.implausible`): a unit slip (--collar-fy 275, meant MPa) is an error
+    naming the flag and the likely unit, unless its key is in --intended."""
+    from . import schema
+
+    flags = {"t": "t", "h": "h", "length": "length", "E": "E", "fy": "fy"}
+    given = {
+        key: getattr(args, f"collar_{flag}")
+        for key, flag in flags.items()
+        if getattr(args, f"collar_{flag}") is not None
+    }
+    lines = [
+        line.replace("collar[1].", "--collar-")
+        for line, _ in schema.implausible(
+            schema.CollarFile, {"collar": [given]}, list(args.intended), "--intended"
+        )
+    ]
+    if lines:
+        raise InputError("\n".join(lines))
+
+
 def _cmd_design(args) -> dict:
     from ..rigid.design import design_chart, design_collars
 
     block = _block_from_args(args)
     block.require_mass("the collar design (give --mass or --density)")
+    _check_plausible_collar(args)
     collar = Collar(
         y=block.h,
         t=args.collar_t,
@@ -671,6 +694,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     g.add_argument("--ag", type=float, help="design peak ground acceleration (m/s^2)")
     g.add_argument("--ag-ratio", type=float, help="design peak ground acceleration / g")
+    g.add_argument(
+        "--intended",
+        nargs="+",
+        default=[],
+        metavar="KEY",
+        help="collar keys (collar.t, collar.fy, ...) whose values outside their plausible "
+        "range are meant",
+    )
     p.add_argument("--out", type=Path, help="write design.json and (with --density) the chart")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_design)

@@ -63,8 +63,25 @@ def _file(name, content, mode="w"):
 
 
 # (label, argv builder(tmp_path, out) -> argv, words the message must contain)
+DESIGN = ["design"] + BLOCK + ["--density", "2700", "--collar-h", "0.05", "--ag-ratio", "0.3"]
+
 CASES = [
     # --- command-line flags ---------------------------------------------------------------
+    (
+        "design collar fy in MPa",
+        lambda t, o: DESIGN + ["--collar-t", "0.01", "--collar-fy", "275"],
+        ["--collar-fy = 275 Pa", "did you mean 275 MPa", "--intended"],
+    ),
+    (
+        "design collar t in mm",
+        lambda t, o: DESIGN + ["--collar-t", "8"],
+        ["--collar-t = 8 m", "did you mean 8 mm"],
+    ),
+    (
+        "design intended key unknown",
+        lambda t, o: DESIGN + ["--collar-t", "0.01", "--intended", "collar.x"],
+        ["--intended", "collar.x", "collar.fy"],
+    ),
     ("non-number b", lambda t, o: ["rigid", "--b", "abc", "--h", "1"] + PULSE, ["--b"]),
     ("nan h", lambda t, o: ["rigid", "--b", "0.2", "--h", "nan"] + PULSE, ["h"]),
     ("inf b", lambda t, o: ["rigid", "--b", "inf", "--h", "1"] + PULSE, ["b"]),
