@@ -449,12 +449,11 @@ def _criteria_one(
     history_error = float(max(errors) / scale) if scale > 0 else math.nan
     impacts_fem = impacts_before(fem_history["t"], theta_fem, study.ground.end_time)
     fem_peak = max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
-    peak_ratio = _peak_ratio(fem_peak, max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]))
-    either_over = bool(fem["overturned"]) or bool(mb["overturned"])
-    alpha = study.rocking_alpha
     mb_peak = max(mb["max_abs_theta_left"], mb["max_abs_theta_right"])
-    fem_motion = motion_word(bool(fem["overturned"]), fem_peak, alpha)
-    mb_motion = motion_word(bool(mb["overturned"]), mb_peak, alpha)
+    peak_ratio = _peak_ratio(fem_peak, mb_peak)
+    either_over = bool(fem["overturned"]) or bool(mb["overturned"])
+    fem_motion = motion_word(bool(fem["overturned"]), fem_peak, study.rocking_alpha)
+    mb_motion = motion_word(bool(mb["overturned"]), mb_peak, study.rocking_alpha)
     # a column that stays at rest in both models: the FEM's rotation is then its elastic
     # sway (1e-7 rad against the rigid model's 1e-13), and its sign changes are vibration,
     # not impacts: the counts of rocking do not apply, the outcomes agree

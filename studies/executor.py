@@ -44,7 +44,7 @@ from typing import Any
 from tqdm import tqdm
 
 from ..core.errors import InputError
-from .output import _atomic_write_bytes, _plain, write_json
+from .output import _atomic_write_bytes, _plain, json_bytes, write_json
 
 # case keys that do not change what a case computes (left out of its inputs): how it reports
 # progress, and where the study file was (the files it names are hashed by their bytes); and
@@ -513,7 +513,7 @@ def save_case(folder: Path, record: dict, result) -> None:
     the SHA-256 of the result's bytes), then result.json. The one place a case is saved (here,
     in a local worker or on a Dask worker). Stopped between the two, the record names a result
     that is not there, or not those bytes: the case is computed again, never taken as done."""
-    data = (json.dumps(_plain(result), indent=2) + "\n").encode()  # as write_json writes it
+    data = json_bytes(result)
     write_json(
         folder / "inputs.json", {**record, "result_sha256": hashlib.sha256(data).hexdigest()}
     )

@@ -7,9 +7,10 @@ A case result holds its FEM runs in one of the shapes the kinds save:
 
 * ``replica_summaries`` (or a lone ``summary``): the FEM summaries of an ensemble
   (:func:`studies.crosscheck.fem_case`);
-* ``fem_runs``: a list of the reliability keys of each run (:func:`reliability`), as the
-  spectrum's grid points and free rocking save them;
-* ``status_fem`` and ``energy_error_fem``: a grid point saved before ``fem_runs`` was kept.
+* ``fem_runs``: a list of the reliability keys of each run (:func:`reliability`), as free
+  rocking saves them (its result keeps one replica's status);
+* ``status_fem`` and ``energy_error_fem``: a spectrum grid point's one run, judged as the
+  solver judges it (a blow-up, or a balance error past ``ENERGY_ERROR_LIMIT``).
 """
 
 from __future__ import annotations

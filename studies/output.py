@@ -24,8 +24,13 @@ def _atomic_write_bytes(path: Path, data: bytes) -> None:
     os.replace(tmp, path)
 
 
+def json_bytes(data) -> bytes:
+    """The bytes :func:`write_json` writes for ``data`` (what a case's result checksum is of)."""
+    return (json.dumps(_plain(data), indent=2) + "\n").encode()
+
+
 def write_json(path, data) -> None:
-    _atomic_write_text(Path(path), json.dumps(_plain(data), indent=2) + "\n")
+    _atomic_write_bytes(Path(path), json_bytes(data))
 
 
 CSV_FORMAT = "%.17g"  # round-trips every double

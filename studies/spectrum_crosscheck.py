@@ -34,7 +34,7 @@ from ..rigid.impacts import half_cycles
 from . import schema
 from .executor import run_cases
 from .fem_study import from_dict, run_multibody, run_sdof
-from .guard import check_fem_results, reliability
+from .guard import check_fem_results
 from .outcome import QUESTIONS, count_answer, grid_outcome, not_assessed, outcome
 from .output import write_json
 
@@ -125,7 +125,6 @@ def _point_result(case: dict, study, fem) -> dict:
         "toe_ratio_fem": s["edge_stress_ratio"],
         "energy_error_fem": s["energy_error_max"],
         "status_fem": s["status"],
-        "fem_runs": [reliability(s)],
         "fem_seconds": s["wall_seconds"],
         "fem_steps": s["steps"],
         # the ground motion this point ran: its peak (m/s^2) and when it ends (s)
