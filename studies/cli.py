@@ -37,6 +37,7 @@ from ..core.ground import (
     weak_record_note,
 )
 from ..rigid.block import MODELS, Block, pulse_from_ratios
+from . import schema
 from .output import write_csv, write_json
 from .schema import read_collars
 
@@ -106,16 +107,19 @@ def _block_from_args(args) -> Block:
         if args.b is None or args.h is None:
             raise InputError("--b and --h must be given together")
         b, h = args.b, args.h
-        # the study file's hard ranges for a column (width 4b, height 2h; schema.Column)
-        require_range("--b", b, 0.00025, 5.0, closed_low=True, closed_high=True)
-        require_range("--h", h, 0.005, 50.0, closed_low=True, closed_high=True)
+        # the study file's hard ranges of a column (width 4b, height 2h)
+        low, high = schema.hard_range(schema.Column, "width")
+        require_range("--b", b, low / 4.0, high / 4.0, closed_low=True, closed_high=True)
+        low, high = schema.hard_range(schema.Column, "height")
+        require_range("--h", h, low / 2.0, high / 2.0, closed_low=True, closed_high=True)
     else:
         raise InputError("the block is not given: use --p and --alpha, or --b and --h")
     if args.mass is not None and args.density is not None:
         raise InputError("give either --mass or --density, not both")
     if args.density is not None:
         # as a study file's stone.density: past it the mass overflows
-        require_range("--density", args.density, 100.0, 30000.0, closed_low=True, closed_high=True)
+        low, high = schema.hard_range(schema.Stone, "density")
+        require_range("--density", args.density, low, high, closed_low=True, closed_high=True)
         thickness = args.thickness if args.thickness is not None else math.pi * b
         block = Block.from_density(
             b, h, args.density, thickness, restitution=args.restitution, g=args.g
@@ -424,13 +428,10 @@ def _check_plausible_collar(args) -> None:
     """The collar flags of colonna design against a collar file's plausible ranges
     (:func:`studies.schema.implausible`): a unit slip (--collar-fy 275, meant MPa) is an error
     naming the flag and the likely unit, unless its key is in --intended."""
-    from . import schema
-
-    flags = {"t": "t", "h": "h", "length": "length", "E": "E", "fy": "fy"}
     given = {
-        key: getattr(args, f"collar_{flag}")
-        for key, flag in flags.items()
-        if getattr(args, f"collar_{flag}") is not None
+        key: getattr(args, f"collar_{key}")
+        for key in ("t", "h", "length", "E", "fy")
+        if getattr(args, f"collar_{key}") is not None
     }
     lines = [
         line.replace("collar[1].", "--collar-")

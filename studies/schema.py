@@ -1198,6 +1198,13 @@ def _allowed(schema: dict) -> str:
     return _type_words(schema) + (f" in {rng}" if rng else "")
 
 
+def hard_range(model: type[BaseModel], key: str) -> tuple[float, float]:
+    """[minimum, maximum] of a closed-range number field of ``model`` (its ``ge`` and ``le``):
+    for a command-line flag that means the same quantity."""
+    schema = _field_schema(model.model_fields[key])
+    return float(schema["minimum"]), float(schema["maximum"])
+
+
 def _field_schema(field) -> dict:
     annotation = field.annotation
     adapter = TypeAdapter(Annotated[annotation, *field.metadata] if field.metadata else annotation)
