@@ -220,6 +220,11 @@ def check_model(model: str) -> str:
     return model
 
 
+# Omega / p of a pulse, ends included (a study file's ground.omega_ratio too): past these a
+# pulse lasts thousands of rocking periods, or a millionth of one
+OMEGA_RATIO_RANGE = (1e-3, 1e3)
+
+
 def pulse_from_ratios(
     block: Block, kind: str, omega_ratio: float, amplitude_ratio: float, model: str = "linear"
 ) -> HarmonicPulse:
@@ -228,9 +233,12 @@ def pulse_from_ratios(
     The amplitude ratio is normalised by g alpha (linear model) or g tan(alpha) (nonlinear).
     """
     check_model(model)
-    # as a study file's ground.omega_ratio: past these a pulse lasts days or a nanosecond
     require_range(
-        "omega ratio (Omega / p)", omega_ratio, 1e-3, 1e3, closed_low=True, closed_high=True
+        "omega ratio (Omega / p)",
+        omega_ratio,
+        *OMEGA_RATIO_RANGE,
+        closed_low=True,
+        closed_high=True,
     )
     if kind not in PULSE_KINDS:
         raise InputError(f"pulse = {kind!r} is not one of {', '.join(PULSE_KINDS)}")

@@ -33,6 +33,7 @@ from ..core.errors import InputError, read_toml
 from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
+from ..rigid.block import OMEGA_RATIO_RANGE
 from .kinds import KIND_TABLES, KINDS
 
 G = STANDARD_GRAVITY  # m/s^2, the gravity of every study
@@ -357,8 +358,8 @@ class Ground(Table):
         "-",
         "Omega / p of the rocking half, 0.001 to 1000 (a smaller one is a pulse thousands of "
         "rocking periods long); or give period.",
-        ge=1e-3,
-        le=1000,
+        ge=OMEGA_RATIO_RANGE[0],
+        le=OMEGA_RATIO_RANGE[1],
     )
     record: str | None = Field(
         None,
@@ -667,9 +668,9 @@ def pair(default, description: str, unit: str = "-") -> Any:
 class Grid(Table):
     """[grid] (spectrum-crosscheck): the pulses of the grid, each a [start, stop] range."""
 
-    omega_ratios: list[Annotated[float, Field(ge=1e-3, le=1000)]] | None = pair(
-        None, "Omega / p range, inclusive (pulses; default [1, 8]); as ground.omega_ratio."
-    )
+    omega_ratios: (
+        list[Annotated[float, Field(ge=OMEGA_RATIO_RANGE[0], le=OMEGA_RATIO_RANGE[1])]] | None
+    ) = pair(None, "Omega / p range, inclusive (pulses; default [1, 8]); as ground.omega_ratio.")
     amplitude_ratios: list[Annotated[float, Field(ge=1, le=1000)]] = pair(
         [1.2, 6.0], "a_p / (g tan alpha) range, inclusive; as ground.amplitude_ratio."
     )
