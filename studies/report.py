@@ -1,6 +1,8 @@
-"""The HTML reports of the studies. Presentation only: every number comes from ``summary.json``
-and every curve from the CSV files of the run directory; the pages are Jinja2 templates
-(``studies/templates``).
+"""What the HTML reports of every study kind share: the number format, the inputs section, the
+figure helpers and the Jinja2 environment. Each kind's report (its figures, its tables and its
+template ``report.html.j2``) is in its package (``studies/<kind>/report.py``); the pages extend
+``studies/templates/base.html.j2``. Presentation only: every number comes from ``summary.json``
+and every curve from the CSV files of the run directory.
 
 Each figure's data is written next to it as CSV. Numbers in the HTML carry a ``data-key``
 attribute naming their place in summary.json (dotted path), so a test can check that the report
@@ -32,10 +34,14 @@ from matplotlib.patches import Patch  # noqa: E402
 from matplotlib.ticker import FuncFormatter  # noqa: E402
 
 from ..core.constants import DUCTILITY_LIMIT  # noqa: E402
+from .kinds import KINDS  # noqa: E402
 from .output import read_csv, write_csv  # noqa: E402
+from .units import DISPLAY_UNITS, input_unit  # noqa: E402
 
+# the shared pieces (base.html.j2, macros.html.j2) in studies/templates; each kind's page in its
+# package, by its path from here ("crosscheck/report.html.j2")
 TEMPLATES = jinja2.Environment(
-    loader=jinja2.FileSystemLoader(Path(__file__).with_name("templates")),
+    loader=jinja2.FileSystemLoader([Path(__file__).with_name("templates"), Path(__file__).parent]),
     autoescape=True,
     undefined=jinja2.StrictUndefined,
     trim_blocks=True,
@@ -59,35 +65,20 @@ def fmt(value, digits: int = 4) -> str:
     return f"{value:.{digits}g}"
 
 
-def _get(summary: dict, dotted: str):
+def get(summary: dict, dotted: str):
     node = summary
     for part in dotted.split("."):
         node = node[int(part)] if isinstance(node, list) else node[part]
     return node
 
 
-# units an engineer reads, from the SI of summary.json: shown value = SI value * factor
-DISPLAY_UNITS = {
-    "MPa": 1e-6,
-    "GPa": 1e-9,
-    "GPa/m": 1e-9,
-    "kN": 1e-3,
-    "kN m": 1e-3,
-    "kN/m": 1e-3,
-    "MN/m": 1e-6,
-    "mm": 1e3,
-    "kJ": 1e-3,
-    "per mille": 1e3,
-}
-
-
-def _num(
+def num(
     summary: dict, dotted: str, digits: int = 4, unit: str = "", show_unit: bool = True
 ) -> Markup:
     """summary.json's value at a dotted key, in a span naming the key, then its unit. A unit of
     DISPLAY_UNITS shows the SI value scaled (MPa from Pa, kN from N, mm from m), the span
     carrying the factor in ``data-scale``."""
-    value = _get(summary, dotted)
+    value = get(summary, dotted)
     number = not isinstance(value, (bool, str)) and value is not None
     scale = DISPLAY_UNITS.get(unit) if number else None
     if scale is not None:
@@ -101,36 +92,9 @@ def _num(
     return shown
 
 
-# the tables of a study file shown in the inputs section, in the file's order; the rest only
-# where the study's kind reads them
+# the tables of a study file shown in the inputs section, in the file's order; then the tables
+# of its kind's own (its registry entry's ``tables``, studies/kinds.py)
 INPUT_TABLES = ("study", "column", "stone", "collar", "ground", "contact", "mesh", "run", "rigid")
-KIND_TABLES = {
-    "spectrum-crosscheck": ("grid",),
-    "mesh-convergence": ("convergence",),
-    "free-rocking": ("free_rocking",),
-}
-# the unit an engineer reads (one of DISPLAY_UNITS) for a schema unit, and per key where it
-# differs
-INPUT_UNITS = {"Pa": "MPa", "N": "kN"}
-INPUT_UNITS_BY_KEY = {
-    ("collar", "t"): "mm",
-    ("collar", "h"): "mm",
-    ("stone", "E"): "GPa",
-    ("collar", "E"): "GPa",
-    ("collar", "Eh"): "GPa",
-    ("contact", "penalty"): "GPa/m",
-}
-
-
-def input_unit(table: str, key: str) -> tuple[str, float]:
-    """(unit shown, factor from the schema's SI unit) of a study-file key in the inputs
-    section: the schema's own unit where no other reads better."""
-    from . import schema
-
-    extra = schema.table_model(table).model_fields[key].json_schema_extra
-    si = str(extra.get("unit", "")) if isinstance(extra, dict) else ""
-    shown = INPUT_UNITS_BY_KEY.get((table, key), INPUT_UNITS.get(si, si))
-    return shown, DISPLAY_UNITS.get(shown, 1.0)
 
 
 def _input_value(value, factor: float) -> str:
@@ -148,9 +112,9 @@ def input_tables(inputs: dict) -> list[dict]:
     left out."""
     from . import schema
 
-    kind = inputs["study"]["kind"]
+    kind = KINDS.get(inputs["study"]["kind"])
     tables = []
-    for name in INPUT_TABLES + KIND_TABLES.get(kind, ()):
+    for name in INPUT_TABLES + (kind.tables if kind is not None else ()):
         if inputs.get(name) in (None, [], {}):
             continue
         model = schema.table_model(name)
@@ -195,9 +159,9 @@ def _ground_figure(out: Path) -> dict | None:
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set_xlabel("t (s)")
     ax.set_ylabel("ground acceleration (m/s$^2$)")
-    _legend_beside(ax)
+    legend_beside(ax)
     fig.tight_layout()
-    return _figure(
+    return figure(
         out,
         "ground_motion",
         fig,
@@ -206,12 +170,12 @@ def _ground_figure(out: Path) -> dict | None:
     )
 
 
-def _render(out: Path, template: str, summary: dict, title: str, **context) -> Path:
+def render_page(out: Path, template: str, summary: dict, title: str, **context) -> Path:
     """Fill a template with the summary (``s``), ``num`` and the figures; write index.html."""
     text = TEMPLATES.get_template(template).render(
         s=summary,
         title=title,
-        num=functools.partial(_num, summary),
+        num=functools.partial(num, summary),
         inputs=_inputs(out),
         ground=_ground_figure(out),
         **context,
@@ -225,7 +189,7 @@ def _legend_entries(fig) -> list[str]:
     return [t.get_text() for legend in legends for t in legend.get_texts()]
 
 
-def _figure(out: Path, name: str, fig, caption: str, data_file: str | None = "") -> dict:
+def figure(out: Path, name: str, fig, caption: str, data_file: str | None = "") -> dict:
     """A matplotlib figure for a template: inline SVG (text kept as text), its legend entries,
     and a PNG copy in figures/ (data: figures/NAME.csv unless told otherwise)."""
     (out / "figures").mkdir(exist_ok=True)
@@ -246,7 +210,7 @@ def _figure(out: Path, name: str, fig, caption: str, data_file: str | None = "")
     }
 
 
-def _image(path: Path, caption: str, name: str | None = None) -> dict:
+def image(path: Path, caption: str, name: str | None = None) -> dict:
     """An image file (PNG or GIF) for a template, embedded as data."""
     path = Path(path)
     mime = "image/gif" if path.suffix == ".gif" else "image/png"
@@ -271,7 +235,7 @@ MARKERS = ("o", "s", "^", "v", "D", "P", "X")
 MARK_EVERY = 0.12  # markers apart, as a fraction of the axes diagonal
 
 
-def _distinct(k: int, n: int) -> dict:
+def distinct(k: int, n: int) -> dict:
     """Plot keywords of curve k of n that may coincide: dashes cycling, the width narrowing
     from the first drawn (underneath) to the last, markers at staggered places."""
     return {
@@ -283,7 +247,7 @@ def _distinct(k: int, n: int) -> dict:
     }
 
 
-def _legend_beside(ax, **kw):
+def legend_beside(ax, **kw):
     """The axes' legend to its right, never over a curve or a limit line (tight_layout makes
     room for it)."""
     return ax.legend(
@@ -380,7 +344,7 @@ def write_crosscheck_report(out: Path) -> Path:
     ax.legend(fontsize=8)
     fig.tight_layout()
     figs.append(
-        _figure(
+        figure(
             out,
             "theta",
             fig,
@@ -406,17 +370,17 @@ def write_crosscheck_report(out: Path) -> Path:
                 t,
                 fem_h[k] / 1e6,
                 color=f"C{j}",
-                **_distinct(j, len(collar_cols)),
+                **distinct(j, len(collar_cols)),
                 label=f"FEM {k.replace('_stress', '')}",
             )
         fy = summary["collar_fy"][0]
         ax.axhline(fy / 1e6, color="k", ls="--", lw=1, label="f_y (yield stress)")
         ax.set_xlabel("t (s)")
         ax.set_ylabel("extreme-fibre stress (MPa)")
-        _legend_beside(ax)
+        legend_beside(ax)
         fig.tight_layout()
         figs.append(
-            _figure(
+            figure(
                 out,
                 "collars",
                 fig,
@@ -439,7 +403,7 @@ def write_crosscheck_report(out: Path) -> Path:
             t,
             fem_h[k] / 1e6,
             color=f"C{j}",
-            **_distinct(j, len(edge_cols)),
+            **distinct(j, len(edge_cols)),
             label=k.replace("edge_stress_", "toe "),
         )
     fc = summary["stone_fc"]
@@ -447,10 +411,10 @@ def write_crosscheck_report(out: Path) -> Path:
     ax.set_yscale("symlog", linthresh=1.0)
     ax.set_xlabel("t (s)")
     ax.set_ylabel(f"toe stress over {1e3 * summary['fem']['edge_length']:.0f} mm (MPa)")
-    _legend_beside(ax)  # the f_c line stays in view
+    legend_beside(ax)  # the f_c line stays in view
     fig.tight_layout()
     figs.append(
-        _figure(
+        figure(
             out,
             "toe_stress",
             fig,
@@ -477,10 +441,10 @@ def write_crosscheck_report(out: Path) -> Path:
     ax.set_ylabel("base contact pressure (MPa)")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    figs.append(_figure(out, "base_pressure", fig, "Base contact pressure"))
+    figs.append(figure(out, "base_pressure", fig, "Base contact pressure"))
 
     renders, renders_error = _renders(out)
-    return _render(
+    return render_page(
         out,
         "crosscheck.html.j2",
         summary,
@@ -488,16 +452,16 @@ def write_crosscheck_report(out: Path) -> Path:
         figs=figs,
         renders=renders,
         renders_error=renders_error,
-        rows=[row for row in CROSSCHECK_NUMBERS if _has(summary, row[1])],
+        rows=[row for row in CROSSCHECK_NUMBERS if has(summary, row[1])],
     )
 
 
-def _has(summary: dict, dotted: str) -> bool:
+def has(summary: dict, dotted: str) -> bool:
     """Whether summary.json has a value (None included) at the dotted key: a row of a Numbers
     table is left out where its key is not there (an SDOF collar note where no collar passed
     f_y, the fibre strains of a column without collars, a summary of an earlier version)."""
     try:
-        _get(summary, dotted)
+        get(summary, dotted)
     except (KeyError, IndexError, TypeError):
         return False
     return True
@@ -615,7 +579,7 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
     ax_m.set_xlabel("end rotation relative to the chord (mrad)")
     ax_m.set_ylabel("end moment (kN m)")
     ax_m.set_title(f"(a) collar {k} (y = {c['y']:g} m): end moment against rotation", fontsize=9)
-    _legend_beside(ax_m)
+    legend_beside(ax_m)
     # (b) the plastic strain along the span at the end of the run, per mille
     eps_y = 1e3 * c["yield_strain"]
     ax_p.plot(1e3 * x, 1e3 * profile, color="C2", lw=2, label="plastic strain at the end")
@@ -637,14 +601,14 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
     ax_p.set_xlabel(f"along the collar (mm), hinges over L_p = {1e3 * c['hinge_length']:.3g} mm")
     ax_p.set_ylabel("extreme-fibre strain (per mille)")
     ax_p.set_title(f"(b) collar {k}: plastic strain along it (lumped hinges)", fontsize=9)
-    _legend_beside(ax_p)
+    legend_beside(ax_p)
     # (c) fibre strain over time, first yield and fracture
     for j, n in enumerate(plastic):
         ax_t.plot(
             t,
             1e3 * fem_h[f"collar_{n}_fibre_strain"],
             color=f"C{j}",
-            **_distinct(j, len(plastic)),
+            **distinct(j, len(plastic)),
             label=f"collar {n}",
         )
     ax_t.axhline(1e3 * c["eps_u"], color="k", ls="--", lw=1, label="eps_u (fracture)")
@@ -658,7 +622,7 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
     ax_t.set_xlabel("t (s)")
     ax_t.set_ylabel("extreme-fibre strain (per mille)")
     ax_t.set_title("(c) the plastic collars' fibre strain over time", fontsize=9)
-    _legend_beside(ax_t)
+    legend_beside(ax_t)
     fig.tight_layout()
     caption = (
         f"Plastic collars, FEM replica 0: collar {k}, the most strained, "
@@ -675,7 +639,7 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
         f"{1e3 * c['hinge_length']:.3g} mm"
     )
     figs.append(
-        _figure(
+        figure(
             out,
             "collar_hinge",
             fig,
@@ -806,7 +770,7 @@ def _renders(out: Path) -> tuple[list, str]:
         images = render_snapshots(out)
     except Exception as exc:  # rendering is a picture, never a reason to lose the report
         return [], str(exc)
-    return [_image(out / "figures" / name, caption) for name, caption in images], ""
+    return [image(out / "figures" / name, caption) for name, caption in images], ""
 
 
 def _magnification(largest: float, height: float) -> float:
@@ -900,7 +864,7 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
     ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     fig.tight_layout()
     figs.append(
-        _figure(
+        figure(
             out,
             "deformed",
             fig,
@@ -989,7 +953,7 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
     )
     ax.set_xlabel(r"$\Omega/p$")
     ax.set_ylabel(r"$a_p/(g\tan\alpha)$")
-    _legend_beside(ax, handles=handles)
+    legend_beside(ax, handles=handles)
     ax.set_title(
         "Rigid overturning spectra: SDOF half block with collars (map)"
         + (", rigid multibody (markers)" if mb is not None else ""),
@@ -1014,7 +978,7 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
             "spectrum this run does not hold; the SDOF map is a simplification of it"
         )
     figs.append(
-        _figure(
+        figure(
             out,
             "spectrum",
             fig,
@@ -1037,7 +1001,7 @@ def write_convergence_report(out: Path) -> Path:
     out = Path(out)
     s = json.loads((out / "summary.json").read_text())
     (out / "figures").mkdir(exist_ok=True)
-    return _render(
+    return render_page(
         out,
         "convergence.html.j2",
         s,
@@ -1052,7 +1016,7 @@ def write_variants_report(out: Path) -> Path:
     out = Path(out)
     s = json.loads((out / "summary.json").read_text())
     (out / "figures").mkdir(exist_ok=True)
-    return _render(
+    return render_page(
         out,
         "variants.html.j2",
         s,
@@ -1100,7 +1064,7 @@ def _convergence_figure(out: Path, s: dict) -> dict:
     fig.legend(handles=list(handles.values()), loc="lower center", ncol=len(handles), fontsize=8)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     write_csv(out / "figures" / "convergence.csv", columns)
-    return _figure(out, "convergence", fig, "FEM numbers against the mesh size")
+    return figure(out, "convergence", fig, "FEM numbers against the mesh size")
 
 
 # (summary key, label, unit) of the solid-vs-cracked table
@@ -1131,16 +1095,16 @@ def _variants_figure(out: Path, s: dict) -> dict:
             },
         )
         # variants that rotate alike stay apart: each curve its width and markers
-        fem_style = dict(_distinct(2 * k, n_curves), ls="-")
+        fem_style = dict(distinct(2 * k, n_curves), ls="-")
         ax.plot(fem["t"], fem["theta_left"], color=f"C{k}", **fem_style, label=f"{n}: FEM")
         m = rig["t"] <= fem["t"][-1]
-        rigid_style = dict(_distinct(2 * k + 1, n_curves), ls="--")
+        rigid_style = dict(distinct(2 * k + 1, n_curves), ls="--")
         ax.plot(rig["t"][m], rig["theta"][m], color=f"C{k}", **rigid_style, label=f"{n}: rigid")
     ax.set_xlabel("t (s)")
     ax.set_ylabel(r"$\theta$ (rad)")
-    _legend_beside(ax)
+    legend_beside(ax)
     fig.tight_layout()
-    return _figure(
+    return figure(
         out,
         "theta_variants",
         fig,
@@ -1171,7 +1135,7 @@ def write_design_report(out: Path) -> Path:
         provided=(s["collars_provided"], s["lateral_stiffness_provided"]),
     )
     fig.tight_layout()
-    chart_fig = _figure(
+    chart_fig = figure(
         out,
         "design_chart",
         fig,
@@ -1194,15 +1158,15 @@ def write_design_report(out: Path) -> Path:
             history["t"],
             history[c],
             color=f"C{j}",
-            **_distinct(j, len(cols)),
+            **distinct(j, len(cols)),
             label=c.replace("_utilisation", ""),
         )
     ax.axhline(1.0, color="k", ls="--", lw=1, label="f_y")
     ax.set_xlabel("t (s)")
     ax.set_ylabel("sigma / f_y (-)")
-    _legend_beside(ax)
+    legend_beside(ax)
     fig.tight_layout()
-    util_fig = _figure(
+    util_fig = figure(
         out,
         "collar_utilisation",
         fig,
@@ -1213,7 +1177,7 @@ def write_design_report(out: Path) -> Path:
     figs = [chart_fig, util_fig]
     if "ductile_design" in s:
         figs.append(_ductile_design_figure(out, s["ductile_design"]))
-    return _render(
+    return render_page(
         out,
         "design.html.j2",
         s,
@@ -1262,9 +1226,9 @@ def _ductile_design_figure(out: Path, design: dict):
     ax.set_yscale("log")
     ax.set_xlabel("band thickness t (mm)")
     ax.set_ylabel("largest over the run (-)")
-    _legend_beside(ax)
+    legend_beside(ax)
     fig.tight_layout()
-    return _figure(
+    return figure(
         out,
         "ductile_design",
         fig,
@@ -1366,7 +1330,7 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     figs.append(
-        _figure(
+        figure(
             out,
             "maps",
             fig,
@@ -1405,7 +1369,7 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
         fontsize=8,
     )
     fig.tight_layout(rect=(0, 0.08, 1, 1))
-    figs.append(_figure(out, "disagreement", fig, "Where the FEM and each rigid model disagree"))
+    figs.append(figure(out, "disagreement", fig, "Where the FEM and each rigid model disagree"))
 
     fig, ax = plt.subplots(figsize=(8.5, 4))
     boundary, never = {}, []
@@ -1414,7 +1378,7 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
         lowest = np.where(over.any(axis=0), a[np.argmax(over, axis=0)], np.nan)
         boundary[f"lowest_overturning_amplitude_{m}"] = lowest
         if np.isfinite(lowest).any():  # the legend lists only what is drawn
-            style = dict(_distinct(j, len(models)), markevery=None, markersize=10 - 3 * j)
+            style = dict(distinct(j, len(models)), markevery=None, markersize=10 - 3 * j)
             ax.plot(w, lowest, color=f"C{j}", **style, label=label)  # equal ones stay apart
         else:
             never.append(label)
@@ -1422,10 +1386,10 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
     ax.set_xlabel(x_label)
     ax.set_ylabel(r"lowest overturning $a_p / (g\,\tan\alpha)$")
     if len(never) < len(models):
-        _legend_beside(ax)
+        legend_beside(ax)
         fig.tight_layout()
         figs.append(
-            _figure(
+            figure(
                 out,
                 "boundaries",
                 fig,
@@ -1442,7 +1406,7 @@ def write_spectrum_crosscheck_report(out: Path) -> Path:
     else:
         plt.close(fig)
 
-    return _render(
+    return render_page(
         out,
         "spectrum_crosscheck.html.j2",
         s,
@@ -1490,7 +1454,7 @@ def write_free_rocking_report(out: Path) -> Path:
                 h["t"],
                 h["theta_left"] / alpha,
                 color=f"C{k - 1}",
-                **dict(_distinct(2 * (k - 1) + j, n_curves), ls=style),
+                **dict(distinct(2 * (k - 1) + j, n_curves), ls=style),
                 label=f"{label}, released at {tilt['tilt_fraction']:g} alpha",
             )
             columns[f"t_{kind}_tilt{k}"] = h["t"]
@@ -1502,10 +1466,10 @@ def write_free_rocking_report(out: Path) -> Path:
     )
     ax.set_xlabel("t (s)")
     ax.set_ylabel(r"$\theta / \alpha$")
-    _legend_beside(ax)
+    legend_beside(ax)
     fig.tight_layout()
     figs.append(
-        _figure(
+        figure(
             out,
             "rotations",
             fig,
@@ -1526,7 +1490,7 @@ def write_free_rocking_report(out: Path) -> Path:
                 ratios,
                 color=f"C{k - 1}",
                 **dict(
-                    _distinct(i, n_curves),
+                    distinct(i, n_curves),
                     ls="-" if kind == "fem" else "--",
                     markevery=None,
                     markersize=8.0 - 4.0 * i / max(n_curves - 1, 1),
@@ -1537,7 +1501,7 @@ def write_free_rocking_report(out: Path) -> Path:
     ax.axhline(s["restitution_housner"], color="k", lw=0.8, ls=":", label="Housner 1 - 1.5 sin²α")
     ax.set_xlabel("impact")
     ax.set_ylabel(r"$\dot\theta_{after} / \dot\theta_{before}$")
-    _legend_beside(ax)
+    legend_beside(ax)
     fig.tight_layout()
     n = max((len(v) for v in ratio_columns.values()), default=0)
     write_csv(
@@ -1551,7 +1515,7 @@ def write_free_rocking_report(out: Path) -> Path:
         },
     )
     figs.append(
-        _figure(
+        figure(
             out,
             "ratios",
             fig,
@@ -1560,7 +1524,9 @@ def write_free_rocking_report(out: Path) -> Path:
         )
     )
 
-    return _render(out, "free_rocking.html.j2", s, f"colonna free rocking: {s['study']}", figs=figs)
+    return render_page(
+        out, "free_rocking.html.j2", s, f"colonna free rocking: {s['study']}", figs=figs
+    )
 
 
 def write_zhang_makris_report(out: Path) -> Path:
@@ -1568,15 +1534,15 @@ def write_zhang_makris_report(out: Path) -> Path:
     out = Path(out)
     summary = json.loads((out / "summary.json").read_text())
     histories = [
-        _image(out / f"history_{x.replace('.', '_')}.png", f"a_p = {x} g alpha, Omega/p = 5")
+        image(out / f"history_{x.replace('.', '_')}.png", f"a_p = {x} g alpha, Omega/p = 5")
         for x in ("3.00", "3.01", "6.32", "6.33")
     ]
     spectra = [
-        _image(out / f"spectrum_{m}_{c}.png", f"{m} model, {c.replace('free', 'free block')}")
+        image(out / f"spectrum_{m}_{c}.png", f"{m} model, {c.replace('free', 'free block')}")
         for m in ("linear", "nonlinear")
         for c in ("free", "collars")
     ]
-    return _render(
+    return render_page(
         out,
         "zhang_makris.html.j2",
         summary,

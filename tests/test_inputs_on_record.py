@@ -336,7 +336,8 @@ def test_report_opens_with_the_outcome_then_lists_the_inputs_of_the_study_file(d
     and plots the ground motion that was applied."""
     import re
 
-    from colonna.studies.report import fmt, input_unit
+    from colonna.studies.report import fmt
+    from colonna.studies.units import input_unit
 
     page = (design_run / "index.html").read_text()
     sections = re.findall(r"<h2>([^<]+)</h2>", page)

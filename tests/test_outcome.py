@@ -25,7 +25,7 @@ from colonna.studies.outcome import (
     not_assessed,
     outcome,
 )
-from colonna.studies.report import TEMPLATES, _num
+from colonna.studies.report import TEMPLATES, num
 
 PAGE = TEMPLATES.from_string(
     '{% from "macros.html.j2" import outcome_section with context %}{{ outcome_section() }}'
@@ -33,7 +33,7 @@ PAGE = TEMPLATES.from_string(
 
 
 def _render(summary: dict) -> str:
-    return PAGE.render(s=summary, num=lambda *a, **k: _num(summary, *a, **k))
+    return PAGE.render(s=summary, num=lambda *a, **k: num(summary, *a, **k))
 
 
 def _cell(page: str, key: str, attribute: str) -> str:

@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from browser import browser, check_report  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
-from colonna.studies.report import TEMPLATES, _figure, _image  # noqa: E402
+from colonna.studies.report import TEMPLATES, figure, image  # noqa: E402
 
 
 def _good(out):
@@ -25,27 +25,27 @@ def _good(out):
     ax.plot([0, 1, 2], [0, 1, 0], color="C0", label="rotation")
     ax.axhline(0.5, color="k", ls="--", label="f_y (yield stress)")
     ax.legend()
-    return _figure(out, "good", fig, "a good figure")
+    return figure(out, "good", fig, "a good figure")
 
 
 def _empty(out):
     fig, ax = plt.subplots()
     ax.set_xlabel("t (s)")
-    return _figure(out, "empty", fig, "nothing drawn")
+    return figure(out, "empty", fig, "nothing drawn")
 
 
 def _proxy(out):
     fig, ax = plt.subplots()
     ax.plot([0, 1], [1, 2], color="C0", label="drawn")
     ax.legend(handles=[*ax.get_lines(), Patch(color="C3", label="never drawn")])
-    return _figure(out, "proxy", fig, "a legend entry for nothing")
+    return figure(out, "proxy", fig, "a legend entry for nothing")
 
 
 def _outside(out):
     fig, ax = plt.subplots()
     ax.plot([0, 1], [1, 2], color="C0", label="off the page")
     ax.legend(loc="upper left", bbox_to_anchor=(1.5, 1.0))  # no tight bbox: cut off
-    return _figure(out, "outside", fig, "legend outside")
+    return figure(out, "outside", fig, "legend outside")
 
 
 def test_the_browser_check_finds_what_is_wrong(tmp_path):
@@ -57,7 +57,7 @@ def test_the_browser_check_finds_what_is_wrong(tmp_path):
         _empty(tmp_path),
         _proxy(tmp_path),
         _outside(tmp_path),
-        _image(broken, "an image that does not decode"),
+        image(broken, "an image that does not decode"),
     ]
     page = TEMPLATES.from_string(
         '{% from "macros.html.j2" import figures with context %}'
@@ -177,7 +177,7 @@ def test_a_run_that_ends_at_its_peak_rotation_is_drawn_once(tmp_path):
 
 # --- the figures of the reports: the design point, a marker per computed pulse, curves that
 # coincide, legends beside the data. Each report is written from made-up run files, its
-# figures kept as _figure receives them; the pages themselves (templates) are not drawn.
+# figures kept as figure receives them; the pages themselves (templates) are not drawn.
 
 
 def _history(t, **columns):
@@ -321,7 +321,7 @@ def _made_up_runs(out):
 
 @pytest.fixture(scope="module")
 def drawn(tmp_path_factory):
-    """Every figure the report writers make from _made_up_runs: name -> (figure, what _figure
+    """Every figure the report writers make from _made_up_runs: name -> (figure, what figure
     gave the template)."""
     from colonna.studies import report
     from colonna.studies.output import read_csv
@@ -329,15 +329,15 @@ def drawn(tmp_path_factory):
     out = tmp_path_factory.mktemp("reports")
     runs = _made_up_runs(out)
     figures = {}
-    keep = report._figure
+    keep = report.figure
 
-    def figure(where, name, fig, caption, data_file=""):
+    def capture(where, name, fig, caption, data_file=""):
         figures[name] = (fig, keep(where, name, fig, caption, data_file))
         return figures[name][1]
 
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(report, "_figure", figure)
-        mp.setattr(report, "_render", lambda out, *a, **k: out / "index.html")
+        mp.setattr(report, "figure", capture)
+        mp.setattr(report, "render_page", lambda out, *a, **k: out / "index.html")
         mp.setattr(report, "_renders", lambda out: ([], ""))
         mp.setattr(report, "_deformed_figure", lambda *a: None)
         report.write_crosscheck_report(runs["crosscheck"])
