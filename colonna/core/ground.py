@@ -11,16 +11,22 @@ Records are read from a two-column text/CSV file (time in s, acceleration in m/s
 ``UNITS OF ...`` phrase). A record file must be sampled uniformly at :data:`MAX_RECORD_STEP` or
 finer; one that never reaches a column's uplift acceleration is legitimate but worth a note
 (:func:`weak_record_note`).
+
+Every motion gives what the solvers and the studies need through :class:`GroundMotion`, so
+that none of them asks which class a motion is: a new kind of motion is its class alone,
+registered for JSON with :func:`motion_type`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from decimal import Decimal, InvalidOperation
 from pathlib import Path
-from typing import Protocol, runtime_checkable
+from typing import Any, NamedTuple, Protocol, TypeVar, runtime_checkable
 
 import numpy as np
 
@@ -30,10 +36,36 @@ from .errors import InputError, require_positive
 PULSE_KINDS = ("sine", "cosine")
 
 
+class SineForm(NamedTuple):
+    """A motion that is one harmonic, ``amplitude sin(omega t + phase)`` for
+    ``0 <= t <= duration`` and zero outside, in the form the rigid kernels compute exactly
+    (instead of reading a table of it)."""
+
+    amplitude: float  # m/s^2
+    omega: float  # rad/s
+    phase: float  # rad
+    duration: float  # s
+
+
 @runtime_checkable
 class GroundMotion(Protocol):
     """What every ground motion gives (a pulse, a record, or :class:`NoMotion`: ``None`` never
-    stands for "no motion")."""
+    stands for "no motion"). The solvers read a motion only through these members:
+
+    * ``acceleration(t)``: m/s^2 at times t (s, array or scalar), zero outside the motion;
+    * ``end_time``: s, when the motion ends; ``peak_acceleration``: m/s^2, largest |acceleration|;
+    * ``moves``: False only for no motion;
+    * ``pulse_shape``: "sine" or "cosine" for a harmonic pulse that can be placed on the rigid
+      overturning spectrum (it then has ``amplitude`` and ``omega``), None otherwise;
+    * ``sine_form``: the motion as one exact harmonic (:class:`SineForm`) where it is one, for
+      the kernels that compute it in closed form; None: they read ``acceleration_table``;
+    * ``sample_times(samples_per_period=200)``: times on [0, end_time] fine enough to draw it
+      (empty for no motion);
+    * ``acceleration_table(samples_per_period=400)``: (times, accelerations) of the motion as
+      a piecewise-linear table, zero outside it (None for no motion);
+    * ``to_json()``: a plain JSON dict with a ``"type"`` key, read back by
+      :func:`motion_from_json` (register the class with :func:`motion_type`).
+    """
 
     def acceleration(self, t): ...  # m/s^2 at times t (s), zero outside the motion
 
@@ -43,12 +75,120 @@ class GroundMotion(Protocol):
     @property
     def peak_acceleration(self) -> float: ...  # m/s^2, largest |acceleration|
 
+    @property
+    def moves(self) -> bool: ...  # False only for no motion
 
+    @property
+    def pulse_shape(self) -> str | None: ...  # "sine"/"cosine" for a spectrum pulse, else None
+
+    @property
+    def sine_form(self) -> SineForm | None: ...  # the exact harmonic, None: read the table
+
+    def sample_times(self, samples_per_period: int = 200) -> np.ndarray: ...
+
+    def acceleration_table(
+        self, samples_per_period: int = 400
+    ) -> tuple[np.ndarray, np.ndarray] | None: ...
+
+    def to_json(self) -> dict[str, Any]: ...
+
+
+# --- the JSON registry of motion types ---------------------------------------------------------
+
+_MOTION_TYPES: dict[str, Any] = {}
+_Motion = TypeVar("_Motion", bound=type)
+
+
+def motion_type(name: str) -> Callable[[_Motion], _Motion]:
+    """Class decorator: register a ground-motion class under the JSON ``"type"`` ``name``, so
+    that :func:`motion_from_json` reads back what its ``to_json`` writes. A dataclass that
+    defines neither gets both: its fields as JSON values (arrays as lists, read back as float
+    arrays). Put it above ``@dataclass``."""
+
+    def register(cls: _Motion) -> _Motion:
+        target: Any = cls  # gets the JSON methods it lacks
+        known = _MOTION_TYPES.get(name)
+        if known is not None and (known.__module__, known.__qualname__) != (
+            cls.__module__,
+            cls.__qualname__,
+        ):
+            raise ValueError(f"ground-motion type {name!r} is already {known.__qualname__}")
+        generic = getattr(cls, "to_json", None) is None or getattr(cls, "from_json", None) is None
+        if generic and not dataclasses.is_dataclass(cls):
+            raise TypeError(
+                f"{cls.__qualname__}: a ground-motion type that is not a dataclass must define "
+                "to_json and the classmethod from_json"
+            )
+        if getattr(cls, "to_json", None) is None:
+            target.to_json = _fields_to_json
+        if getattr(cls, "from_json", None) is None:
+            target.from_json = classmethod(_fields_from_json)
+        target.json_type = name
+        _MOTION_TYPES[name] = cls
+        return cls
+
+    return register
+
+
+def _plain(value):
+    """A field's value as JSON: arrays as lists, numpy scalars as Python numbers."""
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def _fields_to_json(self) -> dict[str, Any]:
+    """The JSON of a registered dataclass: its ``"type"`` and its fields."""
+    data = {"type": type(self).json_type}
+    data.update((f.name, _plain(getattr(self, f.name))) for f in dataclasses.fields(self))
+    return data
+
+
+def _fields_from_json(cls, data: dict[str, Any]):
+    """A registered dataclass from its JSON: its fields, lists as float arrays."""
+    names = {f.name for f in dataclasses.fields(cls)}
+    values = {k: v for k, v in data.items() if k != "type"}
+    unknown = sorted(set(values) - names)
+    if unknown:
+        raise InputError(
+            f"ground motion {data['type']!r}: unknown keys {', '.join(map(repr, unknown))} "
+            f"(known: {', '.join(sorted(names))})"
+        )
+    values = {
+        k: np.asarray(v, dtype=float) if isinstance(v, list) else v for k, v in values.items()
+    }
+    try:
+        return cls(**values)
+    except TypeError as exc:  # a field missing
+        raise InputError(f"ground motion {data['type']!r}: {exc}") from None
+
+
+def motion_from_json(data: dict[str, Any]) -> GroundMotion:
+    """The ground motion a ``to_json`` dict describes (its ``"type"`` names a class registered
+    with :func:`motion_type`); bit for bit the motion written."""
+    if not isinstance(data, dict) or not isinstance(data.get("type"), str):
+        raise InputError(f"a ground motion's JSON must be an object with a 'type': {data!r:.80}")
+    cls = _MOTION_TYPES.get(data["type"])
+    if cls is None:
+        raise InputError(
+            f"ground motion type {data['type']!r} is not known (known: "
+            f"{', '.join(sorted(_MOTION_TYPES))})"
+        )
+    return require_motion(f"ground motion {data['type']!r}", cls.from_json(data))
+
+
+# --- the motions -----------------------------------------------------------------------------
+
+
+@motion_type("harmonic_pulse")
 @dataclass(frozen=True)
 class HarmonicPulse:
     """``ug''(t) = amplitude * sin(omega t + phase)`` for 0 <= t <= duration, zero otherwise.
 
-    amplitude in m/s^2 (sign gives the direction of the first push), omega in rad/s.
+    amplitude in m/s^2 (sign gives the direction of the first push), omega in rad/s; kind:
+    "sine" or "cosine" (the pulse's shape, :attr:`pulse_shape`).
     """
 
     kind: str
@@ -71,7 +211,50 @@ class HarmonicPulse:
     def peak_acceleration(self) -> float:
         return abs(self.amplitude)
 
+    @property
+    def moves(self) -> bool:
+        return True
 
+    @property
+    def pulse_shape(self) -> str | None:
+        return self.kind
+
+    @property
+    def sine_form(self) -> SineForm:
+        return SineForm(self.amplitude, self.omega, self.phase, self.duration)
+
+    def sample_times(self, samples_per_period: int = 200) -> np.ndarray:
+        """``ceil(samples_per_period * duration * omega / 2 pi)`` intervals (at least 2) over
+        [0, duration]."""
+        n = math.ceil(samples_per_period * self.end_time * self.omega / (2 * math.pi))
+        return np.linspace(0.0, self.end_time, max(n, 2) + 1)
+
+    def acceleration_table(self, samples_per_period: int = 400) -> tuple[np.ndarray, np.ndarray]:
+        """Sampled ``samples_per_period`` times per period over its duration (linear
+        interpolation of the sine is then exact to 3e-5 of its amplitude)."""
+        n = max(
+            2,
+            int(math.ceil(samples_per_period * self.duration * self.omega / (2.0 * math.pi))) + 1,
+        )
+        t = np.linspace(0.0, self.duration, n)
+        return t, self.acceleration(t)
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "type": "harmonic_pulse",
+            "kind": str(self.kind),
+            "amplitude": float(self.amplitude),
+            "omega": float(self.omega),
+            "phase": float(self.phase),
+            "duration": float(self.duration),
+        }
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> HarmonicPulse:
+        return _fields_from_json(cls, data)
+
+
+@motion_type("record")
 @dataclass(frozen=True)
 class Record:
     """A recorded ground acceleration, linearly interpolated, zero outside its time span."""
@@ -106,7 +289,36 @@ class Record:
     def peak_acceleration(self) -> float:
         return float(np.max(np.abs(self.acceleration_values)))
 
+    @property
+    def moves(self) -> bool:
+        return True
 
+    @property
+    def pulse_shape(self) -> None:
+        return None
+
+    @property
+    def sine_form(self) -> None:
+        return None
+
+    def sample_times(self, samples_per_period: int = 200) -> np.ndarray:
+        """The record's own sample times (``samples_per_period`` is a pulse's)."""
+        return self.time.copy()
+
+    def acceleration_table(self, samples_per_period: int = 400) -> tuple[np.ndarray, np.ndarray]:
+        """The record as it is (``samples_per_period`` is a pulse's)."""
+        return self.time.copy(), self.acceleration_values.copy()
+
+    def to_json(self) -> dict[str, Any]:
+        """Its samples inline: ``time`` and ``acceleration_values`` as lists, and its name."""
+        return _fields_to_json(self)
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> Record:
+        return _fields_from_json(cls, data)
+
+
+@motion_type("none")
 @dataclass(frozen=True)
 class NoMotion:
     """No ground motion: free rocking from the initial conditions of a run."""
@@ -123,6 +335,32 @@ class NoMotion:
     @property
     def peak_acceleration(self) -> float:
         return 0.0
+
+    @property
+    def moves(self) -> bool:
+        return False
+
+    @property
+    def pulse_shape(self) -> None:
+        return None
+
+    @property
+    def sine_form(self) -> None:
+        return None
+
+    def sample_times(self, samples_per_period: int = 200) -> np.ndarray:
+        """No times: there is nothing to draw."""
+        return np.zeros(0)
+
+    def acceleration_table(self, samples_per_period: int = 400) -> None:
+        return None
+
+    def to_json(self) -> dict[str, Any]:
+        return _fields_to_json(self)
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> NoMotion:
+        return _fields_from_json(cls, data)
 
 
 NO_MOTION = NoMotion()  # the default of every optional motion (the vertical one)
@@ -407,35 +645,33 @@ def _read_text(path: Path) -> str:
 
 def acceleration_table(motion, samples_per_period: int = 400):
     """(time (s), acceleration (m/s^2)) of a ground motion as a piecewise-linear table, zero
-    outside it: a record as it is, a harmonic pulse sampled ``samples_per_period`` times per
-    period over its duration (linear interpolation of the sine is then exact to 3e-5 of its
-    amplitude). NoMotion: None."""
-    if isinstance(motion, NoMotion):
-        return None
-    if isinstance(motion, Record):
-        return motion.time.copy(), motion.acceleration_values.copy()
-    if isinstance(motion, HarmonicPulse):
-        n = max(
-            2,
-            int(math.ceil(samples_per_period * motion.duration * motion.omega / (2.0 * math.pi)))
-            + 1,
-        )
-        t = np.linspace(0.0, motion.duration, n)
-        return t, motion.acceleration(t)
-    raise InputError(f"ground motion of type {type(motion).__name__} is not supported")
+    outside it (the motion's own ``acceleration_table``): a record as it is, a harmonic pulse
+    sampled ``samples_per_period`` times per period over its duration (linear interpolation of
+    the sine is then exact to 3e-5 of its amplitude). NoMotion: None."""
+    if not isinstance(motion, GroundMotion):
+        raise InputError(f"ground motion of type {type(motion).__name__} is not supported")
+    return motion.acceleration_table(samples_per_period)
 
 
 def kernel_tables(
     ground: GroundMotion, vertical: GroundMotion = NO_MOTION, horizontal_scale: float = 1.0
 ):
     """The tables the compiled solvers read the ground from, one pair of arrays: the
-    horizontal record's rows (times ``horizontal_scale``; none for a pulse, which the kernels
-    compute) followed by the vertical motion's table (:func:`acceleration_table`), m/s^2.
-    Returns (times, accelerations, rows of the horizontal record, whether vertical rows
-    follow); never empty arrays (numba wants one element)."""
+    horizontal motion's table (times ``horizontal_scale``; none for a motion with a
+    ``sine_form``, which the kernels compute, or for no motion) followed by the vertical
+    motion's table (:func:`acceleration_table`), m/s^2. Returns (times, accelerations, rows of
+    the horizontal table, whether vertical rows follow); never empty arrays (numba wants one
+    element)."""
     times = values = np.zeros(0)
-    if isinstance(ground, Record):
-        times, values = ground.time, horizontal_scale * ground.acceleration_values
+    if ground.sine_form is None:
+        horizontal = acceleration_table(ground)
+        if horizontal is not None:
+            times, values = horizontal[0], horizontal_scale * horizontal[1]
+        elif ground.moves:
+            raise InputError(
+                f"ground motion of type {type(ground).__name__} moves but gives neither a "
+                "sine_form nor an acceleration_table"
+            )
     n_horizontal = times.size
     table = acceleration_table(vertical)
     if table is not None:
@@ -453,6 +689,6 @@ def kernel_tables(
 def peak_acceleration(motion) -> float:
     """Peak |acceleration| (m/s^2) of a pulse (its amplitude) or a record (its largest
     sample); an InputError for no motion."""
-    if isinstance(motion, (HarmonicPulse, Record)):
+    if isinstance(motion, GroundMotion) and motion.moves:
         return motion.peak_acceleration
     raise InputError("the study needs a ground motion (a pulse or a record) here, not 'none'")
