@@ -44,15 +44,7 @@ from ..core.errors import (
     require_positive,
     require_range,
 )
-from ..core.ground import (
-    NO_MOTION,
-    GroundMotion,
-    HarmonicPulse,
-    NoMotion,
-    Record,
-    kernel_tables,
-    require_motion,
-)
+from ..core.ground import NO_MOTION, GroundMotion, kernel_tables, require_motion
 from . import _multibody as K
 from .block import Block
 from .collars import validate_collars
@@ -495,15 +487,15 @@ def _ground_arrays(ground: GroundMotion, g: float, vertical: GroundMotion = NO_M
     omega, phase, duration, rows of the horizontal record, 1 if vertical motion follows)."""
     gpar = np.zeros(6)
     require_motion("vertical", vertical)
-    if isinstance(require_motion("ground", ground), NoMotion):
-        kind, end = K.GROUND_NONE, 0.0
-    elif isinstance(ground, HarmonicPulse):
-        gpar[:4] = (ground.amplitude, ground.omega, ground.phase, ground.duration)
-        kind, end = K.GROUND_HARMONIC, ground.duration
-    elif isinstance(ground, Record):
+    # the kernel computes a harmonic motion in closed form and reads any other from its table
+    sine = require_motion("ground", ground).sine_form
+    if sine is not None:
+        gpar[:4] = sine
+        kind, end = K.GROUND_HARMONIC, sine.duration
+    elif ground.moves:
         kind, end = K.GROUND_RECORD, ground.end_time
     else:
-        raise InputError(f"ground motion of type {type(ground).__name__} is not supported")
+        kind, end = K.GROUND_NONE, 0.0
     rec_t, rec_a, gpar[4], has_vertical = kernel_tables(ground, vertical)
     if has_vertical:
         gpar[5] = 1.0
@@ -515,8 +507,9 @@ def default_step(column: MultibodyColumn, ground: GroundMotion = NO_MOTION) -> f
     """(1/p)/1000, at most 1/400 of the pulse period, and a quarter of the collars' stable
     step (their forces are explicit) (s)."""
     h = 1.0 / (column.block.p * STEPS_PER_ROCKING_TIME)
-    if isinstance(ground, HarmonicPulse):
-        h = min(h, 2.0 * math.pi / ground.omega / 400.0)
+    sine = ground.sine_form
+    if sine is not None:
+        h = min(h, 2.0 * math.pi / sine.omega / 400.0)
     return min(h, 0.5 * COLLAR_STEP_SAFETY * column.collar_stable_step())
 
 

@@ -24,15 +24,7 @@ from typing import Any
 import numpy as np
 
 from ..core.errors import InputError, require_history_rows, require_positive, require_range
-from ..core.ground import (
-    NO_MOTION,
-    GroundMotion,
-    HarmonicPulse,
-    NoMotion,
-    Record,
-    kernel_tables,
-    require_motion,
-)
+from ..core.ground import NO_MOTION, GroundMotion, kernel_tables, require_motion
 from . import _kernels as K
 from .block import Block, check_model
 from .collars import Collar, collar_kernel_constants, collar_response, validate_collars
@@ -242,49 +234,28 @@ def kernel_params(
     require_motion("ground", ground)
     g = block.g
     nonlinear = model == "nonlinear"
-    has_vertical = not isinstance(require_motion("vertical", vertical), NoMotion)
+    has_vertical = require_motion("vertical", vertical).moves
     p, alpha, uplift, scale, load = kernel_block_constants(block, model, has_vertical)
     ka, kl = collar_kernel_constants(block, collars)
     rec_t, rec_a, n_horizontal, has_vertical = kernel_tables(ground, vertical, scale)
     rec_a = rec_a / g
-    if isinstance(ground, HarmonicPulse):
-        P = K.make_params(
-            p,
-            alpha,
-            nonlinear,
+    # the kernels compute a harmonic motion in closed form and read any other from its table
+    sine = ground.sine_form
+    if sine is not None:
+        kind, ag, omega, phase, t_end = (
             K.GROUND_HARMONIC,
-            scale * ground.amplitude / g,
-            ground.omega,
-            ground.phase,
-            ground.duration,
-            ka,
-            kl,
-            block.nu,
-            uplift,
-            load,
+            scale * sine.amplitude / g,
+            sine.omega,
+            sine.phase,
+            sine.duration,
         )
-    elif isinstance(ground, Record):
-        P = K.make_params(
-            p,
-            alpha,
-            nonlinear,
-            K.GROUND_RECORD,
-            0.0,
-            0.0,
-            0.0,
-            ground.end_time,
-            ka,
-            kl,
-            block.nu,
-            uplift,
-            load,
-        )
-    elif isinstance(ground, NoMotion):
-        P = K.make_params(
-            p, alpha, nonlinear, K.GROUND_NONE, 0.0, 0.0, 0.0, 0.0, ka, kl, block.nu, uplift, load
-        )
+    elif ground.moves:
+        kind, ag, omega, phase, t_end = K.GROUND_RECORD, 0.0, 0.0, 0.0, ground.end_time
     else:
-        raise InputError(f"ground motion of type {type(ground).__name__} is not supported")
+        kind, ag, omega, phase, t_end = K.GROUND_NONE, 0.0, 0.0, 0.0, 0.0
+    P = K.make_params(
+        p, alpha, nonlinear, kind, ag, omega, phase, t_end, ka, kl, block.nu, uplift, load
+    )
     P[K.P_NHREC] = n_horizontal
     P[K.P_VERT] = 1.0 if has_vertical else 0.0
     require_range(
@@ -321,11 +292,12 @@ def rock(
     max_impacts_stored: int = 20_000,
     vertical: GroundMotion = NO_MOTION,
 ) -> RockingResult:
-    """Rocking response of ``block`` to ``ground`` (a pulse, a record, or NoMotion(): free rocking),
-    starting at rest upright, or released at t = 0 from ``initial_tilt`` (rad) with
-    ``initial_angular_velocity`` (rad/s). ``vertical``: the vertical ground acceleration
-    (upward positive; a pulse or a record), which scales the weight by (g + vg'') / g and the
-    uplift level with it (Eq. 1-2).
+    """Rocking response of ``block`` to ``ground`` (a pulse, a record, or NoMotion(): free rocking;
+    any colonna.core.ground.GroundMotion: a sine_form is solved exactly, any other motion is read
+    from its acceleration_table), starting at rest upright, or released at t = 0 from
+    ``initial_tilt`` (rad) with ``initial_angular_velocity`` (rad/s). ``vertical``: the vertical
+    ground acceleration (upward positive; a pulse or a record), which scales the weight by
+    (g + vg'') / g and the uplift level with it (Eq. 1-2).
 
     duration: end of the computed history, s (default: end of the ground motion + 20 / p).
     dt_out:   output interval, s (default: 1/200 of the shortest of 1/p and 2 pi/Omega).
@@ -337,28 +309,24 @@ def rock(
     )
     p = block.p
     t_ground = max(ground.end_time, vertical.end_time)  # motions checked by kernel_params
-    if isinstance(ground, NoMotion) and initial_tilt == 0.0 and initial_angular_velocity == 0.0:
+    if not ground.moves and initial_tilt == 0.0 and initial_angular_velocity == 0.0:
         raise InputError(
             "no ground motion and no initial tilt or angular velocity: the block stays at rest"
         )
     if duration is None:
         duration = t_ground + 20.0 / p
     require_positive("duration (s)", duration)
+    sine = ground.sine_form
     if dt_out is None:
         scale = 1.0 / p
-        if isinstance(ground, HarmonicPulse):
-            scale = min(scale, 2.0 * math.pi / ground.omega)
+        if sine is not None:
+            scale = min(scale, 2.0 * math.pi / sine.omega)
         dt_out = scale / 200.0
     require_positive("dt_out (s)", dt_out)
     n_max = require_history_rows(duration, dt_out)
     impacts = np.zeros((max_impacts_stored, 3))
 
-    closed_form = (
-        model == "linear"
-        and not collars
-        and isinstance(ground, HarmonicPulse)
-        and P[K.P_VERT] == 0.0
-    )
+    closed_form = model == "linear" and not collars and sine is not None and P[K.P_VERT] == 0.0
     if closed_form:
         segs = np.zeros((max(4 * max_impacts_stored, 1000), 6))
         status, n_imp, max_theta, t_end, n_seg, t_over = K.linear_run(
