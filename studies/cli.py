@@ -8,7 +8,8 @@
     colonna validate  the Zhang & Makris validation block (make demo)
 
 Bad input ends with one line ``colonna: error: ...`` naming the parameter (a study file: one
-line for each of its errors, all at once), exit status 2.
+line for each of its errors, all at once), exit status 2; so do results in --out saved from other
+inputs and a run whose numbers are not an answer (:data:`EXIT_STATUS`).
 """
 
 from __future__ import annotations
@@ -27,7 +28,13 @@ import numpy as np
 
 from ..core.collar import Collar
 from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_FY
-from ..core.errors import InputError, require_range
+from ..core.errors import (
+    ColonnaError,
+    InputError,
+    NumericalFailure,
+    StaleResultsError,
+    require_range,
+)
 from ..core.ground import (
     NO_MOTION,
     PULSE_KINDS,
@@ -521,7 +528,7 @@ def _cmd_fem(args) -> dict:
     result = run_fem(study, replicas=1, out_dir=args.out, progress=True)[0]
     why = unreliable_reason([result.summary])  # a blow-up, or a balance past its limit
     if why is not None:
-        raise InputError(
+        raise NumericalFailure(
             f"the run is unreliable, its numbers are not an answer: {why}; its files are "
             f"kept in {args.out} to be looked at"
         )
@@ -829,14 +836,28 @@ def notes_as_lines() -> None:
     warnings.showwarning = show
 
 
+# The exit status of each kind of error (colonna.core.errors), the first class that matches; every
+# kind ends with one line on stderr per line of its message. 130 and 143: an interrupted command.
+EXIT_STATUS: tuple[tuple[type[ColonnaError], int], ...] = (
+    (InputError, 2),  # bad input: a flag, a study file, a record
+    (StaleResultsError, 2),  # cases in --out saved from other inputs (--force recomputes them)
+    (NumericalFailure, 2),  # a run that blew up or whose energy balance failed
+    (ColonnaError, 1),  # a study that cannot go on (executor.StudyStopped: a lost scheduler)
+)
+
+
+def exit_status(exc: ColonnaError) -> int:
+    """The exit status of an error of colonna's (:data:`EXIT_STATUS`)."""
+    return next(status for kind, status in EXIT_STATUS if isinstance(exc, kind))
+
+
 def main(argv=None) -> int:
-    """The command line: one line on stderr and status 2 for bad input; 1 for a study that
-    cannot go on (a lost Dask scheduler); 130 (Ctrl-C) or 143 (SIGTERM) for an interrupted
-    command, its worker processes ended and the cases saved kept."""
+    """The command line: one line on stderr and status 2 for bad input, results in --out saved
+    from other inputs, or a run whose numbers are not an answer; 1 for a study that cannot go
+    on (a lost Dask scheduler); 130 (Ctrl-C) or 143 (SIGTERM) for an interrupted command, its
+    worker processes ended and the cases saved kept."""
     parser = build_parser()
     args = parser.parse_args(argv)
-    from .executor import StudyStopped
-
     handlers = {}  # the handlers to put back (main is called in-process by tests too)
     if threading.current_thread() is threading.main_thread():  # where signals can be caught
         handlers = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
@@ -845,13 +866,10 @@ def main(argv=None) -> int:
         with warnings.catch_warnings():
             notes_as_lines()
             summary = args.func(args)
-    except InputError as exc:
+    except ColonnaError as exc:
         for line in str(exc).splitlines():  # a study file's errors: one line each
             print(f"colonna: error: {line}", file=sys.stderr)
-        return 2
-    except StudyStopped as exc:
-        print(f"colonna: error: {exc}", file=sys.stderr)
-        return 1
+        return exit_status(exc)
     except OSError as exc:  # an output path that cannot be made or written
         where = exc.filename if exc.filename is not None else ""
         print(f"colonna: error: cannot write {where}: {exc.strerror or exc}", file=sys.stderr)

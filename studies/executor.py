@@ -7,8 +7,9 @@ arrives, with ``inputs.json`` beside it: the hash of what it was computed from (
 the bytes of the files it reads, the colonna version) and those inputs themselves. A rerun loads
 the cases already done from the same inputs and runs only the rest, so an interrupted sweep
 loses nothing and finishes with the same results. A case saved from other inputs (or without a
-record of them) is never reused: the run is refused before any computation, naming the first
-difference, unless ``force`` deletes such cases and computes them again.
+record of them) is never reused: the run is refused before any computation
+(:class:`~colonna.core.errors.StaleResultsError`), naming the first difference, unless ``force``
+deletes such cases and computes them again.
 
 A saved result is checked, not trusted: ``inputs.json`` also holds the SHA-256 of the bytes of
 ``result.json``, and a result that cannot be read or does not match it (damaged, edited by
@@ -43,7 +44,7 @@ from typing import Any
 
 from tqdm import tqdm
 
-from ..core.errors import InputError
+from ..core.errors import ColonnaError, InputError, StaleResultsError
 from .output import _atomic_write_bytes, _plain, json_bytes, write_json
 
 # case keys that do not change what a case computes (left out of its inputs): how it reports
@@ -100,9 +101,10 @@ class StudyInterrupted(KeyboardInterrupt):
         )
 
 
-class StudyStopped(Exception):
+class StudyStopped(ColonnaError):
     """A run that cannot go on for a reason outside its inputs (the Dask scheduler was lost);
-    the message says what, and that the cases saved are kept. One line on the command line."""
+    the message says what, and that the cases saved are kept. One line on the command line,
+    exit status 1."""
 
 
 def case_dir(out: Path, key: str) -> Path:
@@ -319,8 +321,9 @@ def run_cases(
     saves each result as it completes, so an interrupted share loses nothing already computed.
 
     A saved case is reused only when it was computed from the same inputs
-    (:func:`case_inputs`). One saved from other inputs is an :class:`InputError` naming the
-    first difference, before anything runs; ``force``: such cases are deleted and run again.
+    (:func:`case_inputs`). One saved from other inputs is a
+    :class:`~colonna.core.errors.StaleResultsError` naming the first difference, before anything
+    runs; ``force``: such cases are deleted and run again.
 
     Ctrl-C or SIGTERM (any KeyboardInterrupt) ends the local worker processes and is raised
     again as a :class:`StudyInterrupted` counting the cases saved; a lost Dask scheduler is a
@@ -351,7 +354,7 @@ def _run_cases(
         key, why = next(iter(stale.items()))
         n = len(stale) - 1
         more = f" (and {n} more case{'s' if n > 1 else ''})" if n else ""
-        raise InputError(
+        raise StaleResultsError(
             f"{case_dir(out, key)} {why}{more}: pass --force to delete and "
             f"recompute {'them' if n else 'it'}, or choose another --out"
         )

@@ -15,13 +15,13 @@ A case result holds its FEM runs in one of the shapes the kinds save:
 
 from __future__ import annotations
 
-from ..core.errors import InputError
+from ..core.errors import NumericalFailure
 
 # what a run's reliability is read from (keys of a FEM run summary)
 RELIABILITY_KEYS = ("status", "energy_reliable", "energy_error_max", "energy_error_limit")
 
 
-class UnreliableRun(InputError):
+class UnreliableRun(NumericalFailure):
     """A FEM run of a study is not an answer: its energy balance failed, or it blew up."""
 
 

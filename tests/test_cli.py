@@ -628,6 +628,54 @@ def test_every_error_of_a_study_file_one_line_each_nothing_written(
     assert not out.exists()
 
 
+# --- errors by kind: one line each, their exit status --------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "error, status",
+    [
+        ("InputError", 2),
+        ("StaleResultsError", 2),
+        ("NumericalFailure", 2),
+        ("UnreliableRun", 2),
+        ("StudyStopped", 1),
+    ],
+)
+def test_each_kind_of_error_is_one_line_per_line_with_its_status(
+    capsys, monkeypatch, tmp_path, error, status
+):
+    """Bad input, results saved from other inputs and a run that is not an answer end with
+    ``colonna: error:`` lines and status 2 (as when one InputError covered them all); a study
+    that cannot go on (a lost scheduler), status 1."""
+    from colonna.core import errors
+    from colonna.studies import cli, executor, guard
+
+    kind = getattr(errors, error, None) or getattr(guard, error, None) or getattr(executor, error)
+
+    def fail(args):
+        raise kind("first line\nsecond line")
+
+    monkeypatch.setattr(cli, "_cmd_validate", fail)
+    code, out, err = run(capsys, "validate", "--out", str(tmp_path))
+    assert (code, out) == (status, "")
+    assert err.splitlines() == ["colonna: error: first line", "colonna: error: second line"]
+
+
+def test_the_kinds_of_error():
+    """InputError stays a ValueError (callers that catch either keep working); the others are
+    not bad input; an unreliable study run is a numerical failure."""
+    from colonna.core.errors import ColonnaError, InputError, NumericalFailure, StaleResultsError
+    from colonna.studies.executor import StudyStopped
+    from colonna.studies.guard import UnreliableRun
+
+    assert issubclass(InputError, ValueError)
+    for kind in (InputError, StaleResultsError, NumericalFailure, StudyStopped):
+        assert issubclass(kind, ColonnaError)
+    for kind in (StaleResultsError, NumericalFailure, StudyStopped):
+        assert not issubclass(kind, (InputError, ValueError))
+    assert issubclass(UnreliableRun, NumericalFailure)
+
+
 # --- colonna warmup: the kernels compiled once, at install time ---------------------------------
 
 

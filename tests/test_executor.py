@@ -22,6 +22,7 @@ from pathlib import Path
 
 import pytest
 
+from colonna.core.errors import ColonnaError, InputError, StaleResultsError
 from colonna.studies import cli, driver, executor
 from colonna.studies.executor import StudyInterrupted, StudyStopped, load_done, run_cases, save_case
 
@@ -141,7 +142,7 @@ def test_a_record_without_a_result_checksum_is_refused_then_forced(tmp_path):
     record = json.loads(path.read_text())
     del record["result_sha256"]
     path.write_text(json.dumps(record))
-    with pytest.raises(executor.InputError, match="c3 has no checksum of its result on record"):
+    with pytest.raises(StaleResultsError, match="c3 has no checksum of its result on record"):
         run_cases(square, _cases(), out, progress=False)
     assert run_cases(square, _cases(), out, progress=False, force=True)["c3"]["value"] == 9.0
     assert "result_sha256" in json.loads(path.read_text())
@@ -151,8 +152,20 @@ def test_an_unreadable_record_is_refused_not_a_traceback(tmp_path):
     out = tmp_path / "out"
     run_cases(square, _cases(), out, progress=False)
     (out / "cases" / "c0" / "inputs.json").write_text('{"sha256": ["not", "a", "hash"]}')
-    with pytest.raises(executor.InputError, match="c0 has a record of its inputs .* cannot be"):
+    with pytest.raises(StaleResultsError, match="c0 has a record of its inputs .* cannot be"):
         run_cases(square, _cases(), out, progress=False)
+
+
+def test_cases_saved_from_other_inputs_are_stale_results_not_bad_input(tmp_path):
+    """The refusal is its own kind of error (the input is fine, the folder holds other
+    results): a ColonnaError that no ``except InputError`` (or ValueError) takes for bad
+    input."""
+    out = tmp_path / "out"
+    run_cases(square, _cases(), out, progress=False)
+    with pytest.raises(StaleResultsError, match="--force") as raised:
+        run_cases(square, _cases(mode="other"), out, progress=False)
+    assert isinstance(raised.value, ColonnaError)
+    assert not isinstance(raised.value, (InputError, ValueError))
 
 
 # --- 2 and 6. an interrupt keeps what is saved and overwrites nothing --------------------------

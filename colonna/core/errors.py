@@ -1,4 +1,19 @@
-"""Input checks that fail with one line naming the parameter and its allowed range."""
+"""colonna's errors, by kind, and the input checks that fail with one line naming the parameter
+and its allowed range.
+
+Each kind of failure has its class (as meshio separates read, write and corruption errors), all
+under :class:`ColonnaError`, so that a caller catches what it can act on:
+
+* :class:`InputError`: bad input (a value out of range, a file that cannot be read); also a
+  ``ValueError``. Fix the input.
+* :class:`StaleResultsError`: results saved in an output folder from other inputs (another
+  study file, record or colonna version), refused rather than reused. Recompute (``--force``) or
+  choose another folder. A damaged saved result is no error: it is computed again.
+* :class:`NumericalFailure`: a run whose numbers are not an answer (a blow-up, an energy
+  balance past its limit). Its input was accepted; the model or its settings did not hold.
+
+The command line ends each with one line ``colonna: error: ...`` and exit status 2.
+"""
 
 from __future__ import annotations
 
@@ -7,8 +22,22 @@ import tomllib
 from pathlib import Path
 
 
-class InputError(ValueError):
+class ColonnaError(Exception):
+    """Base class of the errors colonna raises on purpose; the message is for people."""
+
+
+class InputError(ColonnaError, ValueError):
     """Bad user input. The message names the parameter and the allowed range."""
+
+
+class StaleResultsError(ColonnaError):
+    """Results in an output folder were saved from other inputs (or without a record of them)
+    and are not reused; the message names the first case and the first difference."""
+
+
+class NumericalFailure(ColonnaError):
+    """A computation whose result is not an answer: it blew up, or its energy balance is off
+    past its limit. The message says which run and why."""
 
 
 def require_positive(name: str, value: float) -> float:
