@@ -24,6 +24,7 @@ process is killed outright (:func:`_worker_start`). A lost Dask scheduler is a
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import ctypes
 import hashlib
 import importlib
@@ -37,7 +38,7 @@ import sys
 import threading
 import time
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import CancelledError, ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
@@ -60,20 +61,24 @@ INPUT_FILES = {
 }
 
 
-# called once before a run computes any case, after its inputs are checked (the command line
-# says here that a first run compiles the kernels); see :func:`before_computing`
-BEFORE_COMPUTING: list[Callable[[], None]] = []
+# what runs before a run computes any case, after its inputs are checked (the command line says
+# there that a first run compiles the kernels), for the callers inside a :func:`before_computing`
+# block: state of the call (its context), not of the module, undone when the block ends
+_BEFORE_COMPUTING: contextvars.ContextVar[tuple[Callable[[], None], ...]] = contextvars.ContextVar(
+    "before_computing", default=()
+)
 
 
 @contextlib.contextmanager
-def before_computing(callback: Callable[[], None]):
-    """Within the block, ``callback()`` runs once before :func:`run_cases` computes any case
-    (not when every case is already done, nor when the study is refused)."""
-    BEFORE_COMPUTING.append(callback)
+def before_computing(callback: Callable[[], None]) -> Iterator[None]:
+    """Within the block, ``callback()`` runs once before each :func:`run_cases` that computes a
+    case (not when every case is already done, nor when the study is refused): the way to reach
+    :func:`run_cases` through callers that do not pass its ``before_computing`` argument on."""
+    token = _BEFORE_COMPUTING.set((*_BEFORE_COMPUTING.get(), callback))
     try:
         yield
     finally:
-        BEFORE_COMPUTING.remove(callback)
+        _BEFORE_COMPUTING.reset(token)
 
 
 class StudyInterrupted(KeyboardInterrupt):
@@ -309,6 +314,7 @@ def run_cases(
     force: bool = False,
     batched: bool = False,
     stage: str = "cases",
+    before_computing: Callable[[], None] | None = None,
 ) -> dict:
     """Results keyed by case key. ``function(case, case_directory)`` runs one case in a worker
     and returns its result; it may write files into its case directory.
@@ -325,13 +331,27 @@ def run_cases(
     :class:`~colonna.core.errors.StaleResultsError` naming the first difference, before anything
     runs; ``force``: such cases are deleted and run again.
 
+    ``before_computing``: called once after the inputs are checked, before the first case is
+    computed (not when every case is already done); without it, the callbacks of the
+    :func:`before_computing` blocks around the call.
+
     Ctrl-C or SIGTERM (any KeyboardInterrupt) ends the local worker processes and is raised
     again as a :class:`StudyInterrupted` counting the cases saved; a lost Dask scheduler is a
     :class:`StudyStopped`. Either way the cases saved are kept for a rerun. ``stage``: what
     the progress bar calls the cases (a study that runs them in stages names each)."""
+    announce = (before_computing,) if before_computing is not None else _BEFORE_COMPUTING.get()
     try:
         return _run_cases(
-            function, cases, Path(out), workers, scheduler, progress, force, batched, stage
+            function,
+            cases,
+            Path(out),
+            workers,
+            scheduler,
+            progress,
+            force,
+            batched,
+            stage,
+            announce,
         )
     except KeyboardInterrupt as exc:
         signum = getattr(exc, "signum", signal.SIGINT)
@@ -341,7 +361,7 @@ def run_cases(
 
 
 def _run_cases(
-    function, cases, out, workers, scheduler, progress, force, batched, stage="cases"
+    function, cases, out, workers, scheduler, progress, force, batched, stage="cases", announce=()
 ) -> dict:
     """:func:`run_cases` without its translation of an interrupt."""
     keys = [c["key"] for c in cases]
@@ -371,8 +391,8 @@ def _run_cases(
     if not todo:
         return results
     client = _connect(scheduler) if scheduler else None  # before any folder is made
-    for announce in BEFORE_COMPUTING:
-        announce()
+    for callback in announce:
+        callback()
     for case in todo:
         case_dir(out, case["key"]).mkdir(parents=True, exist_ok=True)
     # a progress bar on a terminal, nothing in a log (cases already done count as done)

@@ -168,6 +168,52 @@ def test_cases_saved_from_other_inputs_are_stale_results_not_bad_input(tmp_path)
     assert not isinstance(raised.value, (InputError, ValueError))
 
 
+# --- what runs before the first case is computed -----------------------------------------------
+
+
+def test_before_computing_runs_once_per_run_that_computes(tmp_path):
+    """The callback of a ``before_computing`` block runs once before a run computes its cases,
+    not for a run whose cases are all saved; the block's end takes it away, and blocks nest."""
+    said = []
+    out = tmp_path / "out"
+    with executor.before_computing(lambda: said.append("outer")):
+        run_cases(square, _cases(2), out, progress=False)
+        run_cases(square, _cases(2), out, progress=False)  # all saved: nothing computed
+        assert said == ["outer"]
+        with executor.before_computing(lambda: said.append("inner")):
+            run_cases(square, _cases(3), out, progress=False)  # c2 is computed
+        assert said == ["outer", "outer", "inner"]
+    run_cases(square, _cases(4), out, progress=False)  # c3, outside any block
+    assert said == ["outer", "outer", "inner"]
+    assert executor._BEFORE_COMPUTING.get() == ()
+    assert not hasattr(executor, "BEFORE_COMPUTING")  # no module-level list left
+
+
+def test_before_computing_as_an_argument_replaces_the_blocks(tmp_path):
+    said = []
+    out = tmp_path / "out"
+    with executor.before_computing(lambda: said.append("block")):
+        run_cases(
+            square, _cases(2), out, progress=False, before_computing=lambda: said.append("arg")
+        )
+    assert said == ["arg"]
+
+
+def test_before_computing_is_not_called_for_a_refused_run(tmp_path):
+    said = []
+    out = tmp_path / "out"
+    run_cases(square, _cases(2), out, progress=False)
+    with pytest.raises(StaleResultsError):
+        run_cases(
+            square,
+            _cases(3, mode="other"),
+            out,
+            progress=False,
+            before_computing=lambda: said.append("arg"),
+        )
+    assert said == []
+
+
 # --- 2 and 6. an interrupt keeps what is saved and overwrites nothing --------------------------
 
 
