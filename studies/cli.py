@@ -625,7 +625,7 @@ def _cmd_warmup(args) -> None:
     from .warmup import warm
 
     print("colonna: compiling the kernels into numba's cache (once per install)", file=sys.stderr)
-    seconds = warm(say=lambda line: print(line, file=sys.stderr))
+    seconds = warm(main, say=lambda line: print(line, file=sys.stderr))
     print(f"colonna: kernels compiled and cached in {seconds:.0f} s", file=sys.stderr)
 
 

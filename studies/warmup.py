@@ -9,6 +9,9 @@ warm-up runs the README's command-line examples on tiny inputs (a short pulse, a
 coarse mesh) in this process: the kernels get exactly the signatures the commands use. The cache
 is keyed on the source files and the processor; an edited kernel or another machine compiles
 again, on its first call.
+
+The command line is given to :func:`warm` (``colonna warmup`` passes its own ``main``), so that
+this module imports nothing of it: the command line imports this one, not the other way round.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ import contextlib
 import io
 import tempfile
 import time
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 COLLARS = """
@@ -88,10 +92,9 @@ def commands(folder: Path) -> list[tuple[str, list[str]]]:
     ]
 
 
-def warm(say=print) -> float:
-    """Run the tiny command lines (their output discarded); the seconds it took."""
-    from .cli import main
-
+def warm(main: Callable[[Sequence[str]], int], say: Callable[[str], object] = print) -> float:
+    """Run the tiny command lines through ``main`` (the command line's entry: arguments in, exit
+    status out; their output discarded); the seconds it took."""
     start = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)

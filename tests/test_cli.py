@@ -679,6 +679,25 @@ def test_the_kinds_of_error():
 # --- colonna warmup: the kernels compiled once, at install time ---------------------------------
 
 
+def test_warmup_runs_its_command_lines_through_the_main_it_is_given():
+    """warm() takes the command line to run (``colonna warmup`` gives its own main), so that
+    the warm-up imports nothing of the command line; a command that fails stops it, named."""
+    from colonna.studies.warmup import warm
+
+    ran = []
+
+    def fake_main(argv):
+        ran.append(list(argv))
+        return 0
+
+    said = []
+    assert warm(fake_main, say=said.append) >= 0.0
+    assert ran and all(argv[-1] == "--json" for argv in ran)
+    assert {argv[0] for argv in ran} == {"rigid", "spectrum", "fem"} and len(said) == len(ran)
+    with pytest.raises(RuntimeError, match="colonna warmup: rigid, linear failed"):
+        warm(lambda argv: 2, say=said.append)
+
+
 def _readme_examples() -> list[list[str]]:
     """The command lines of the README's command-line block (continuation lines joined)."""
     text = (Path(__file__).parents[1] / "README.md").read_text()
