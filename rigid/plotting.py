@@ -1,17 +1,19 @@
-"""Figures of rigid-block results (matplotlib, Agg). Presentation only: no computation here."""
+"""Figures of rigid-block results (matplotlib). Presentation only: no computation here.
+
+The figures are :class:`matplotlib.figure.Figure` objects made directly, not through pyplot:
+saving one renders it with the canvas of its file's format (Agg for PNG), so no backend is
+chosen for the process (at import or at all) and no figure is left open in pyplot's list.
+"""
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
+from matplotlib.colors import BoundaryNorm, ListedColormap
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.colors import BoundaryNorm, ListedColormap  # noqa: E402
-from matplotlib.lines import Line2D  # noqa: E402
-from matplotlib.patches import Patch  # noqa: E402
-
-from .solve import verdict  # noqa: E402
+from .solve import verdict
 
 MODE_COLOURS = ("#f2f2f2", "#d95f02", "#1b9e77")  # safe, after-impact, without-impact
 MODE_LABELS = ("safe", "overturns after impact(s)", "overturns without impact")
@@ -24,7 +26,8 @@ def plot_history(result, path, title: str | None = None):
     title names the motion and, apart, the collars' state (never "safe" beside a yielded
     collar)."""
     n_rows = 3 if result.collar_histories else 2
-    fig, axes = plt.subplots(n_rows, 1, figsize=(8, 2.6 * n_rows), sharex=True)
+    fig = Figure(figsize=(8, 2.6 * n_rows))
+    axes = fig.subplots(n_rows, 1, sharex=True)
     alpha, p = result.block.alpha, result.block.p
     theta = result.theta.reshape(result.time.size, -1)
     theta_dot = result.theta_dot.reshape(result.time.size, -1)
@@ -55,14 +58,14 @@ def plot_history(result, path, title: str | None = None):
     )
     fig.tight_layout()
     fig.savefig(path, dpi=120)
-    plt.close(fig)
 
 
 def plot_spectrum(spectrum, path, title: str | None = None, ax=None):
     """Mode map over (Omega/p, a_p/a_uplift) in the style of Zhang & Makris (2001)."""
     own = ax is None
     if own:
-        fig, ax = plt.subplots(figsize=(9, 4.5))
+        fig = Figure(figsize=(9, 4.5))
+        ax = fig.subplots()
     cmap = ListedColormap(MODE_COLOURS)
     norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5], cmap.N)
     ax.pcolormesh(
@@ -114,7 +117,6 @@ def plot_spectrum(spectrum, path, title: str | None = None, ax=None):
     if own:
         fig.tight_layout()
         fig.savefig(path, dpi=120)
-        plt.close(fig)
 
 
 def grid_markers(
@@ -182,7 +184,7 @@ def plot_design_chart(
     that stiffness's iso-line (the chart's region its collars cover lies on its low side)."""
     own = ax is None
     if own:
-        fig, ax = plt.subplots(figsize=(7, 5.2))
+        ax = Figure(figsize=(7, 5.2)).subplots()
     fig = ax.figure
     k = np.asarray(stiffness, dtype=float) / 1e3  # kN/m
     mesh = ax.contourf(ratios, alphas, np.where(k > 0.0, k, np.nan), levels=20, cmap="viridis")
@@ -235,4 +237,3 @@ def plot_design_chart(
     if own:
         fig.tight_layout()
         fig.savefig(path, dpi=120)
-        plt.close(fig)

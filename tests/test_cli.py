@@ -343,9 +343,11 @@ def test_rigid_collar_state_is_apart_from_the_rocking_mode(capsys, tmp_path, mon
         str(collars),
     )
     titles = []
-    close = plotting.plt.close
+    save = plotting.Figure.savefig  # the figure's title, read as it is saved
     monkeypatch.setattr(
-        plotting.plt, "close", lambda fig: (titles.append(fig.axes[0].get_title()), close(fig))
+        plotting.Figure,
+        "savefig",
+        lambda fig, *a, **k: (titles.append(fig.axes[0].get_title()), save(fig, *a, **k)),
     )
     code, out, _ = run(capsys, *argv, "--json", "--out", str(tmp_path / "o"))
     assert code == 0
