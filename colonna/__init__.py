@@ -20,6 +20,9 @@ The names below are the public API.
 from __future__ import annotations
 
 import os as _os
+from typing import TYPE_CHECKING
+
+from .core import lazy_exports
 
 # In the source tree the subpackages sit beside this folder (rigid/, fem/, ...); installed, they
 # sit inside it. Let ``colonna.rigid`` resolve in both.
@@ -30,38 +33,44 @@ if not _os.path.isdir(_os.path.join(_here, "rigid")) and _os.path.isfile(
 ):
     __path__.append(_root)  # noqa: F821 (the package's own search path)
 
-from .rigid import (  # noqa: E402
-    Block,
-    Collar,
-    HarmonicPulse,
-    InputError,
-    Record,
-    RockingResult,
-    housner_restitution,
-    pulse_from_ratios,
-    read_record,
-    rock,
-)
-from .rigid.multibody import MultibodyResult, multibody_spectrum, rock_multibody  # noqa: E402
-from .rigid.spectrum import Spectrum, overturning_spectrum  # noqa: E402
-from .studies.schema import read_collars  # noqa: E402
-
-try:
-    from importlib.metadata import PackageNotFoundError, version
-
-    __version__ = version("colonna")
-except PackageNotFoundError:  # running from a source tree that is not installed
-    __version__ = "0+unknown"
+# The public names, each imported from its module on first use (PEP 562), so that ``import
+# colonna`` loads neither numba (and compiles nothing) nor scikit-fem, pydantic, scipy or
+# matplotlib: name -> the module (relative to this package) that defines it.
+_PUBLIC = {
+    "Block": ".rigid.block",
+    "Collar": ".core.collar",
+    "ColonnaError": ".core.errors",
+    "HarmonicPulse": ".core.ground",
+    "InputError": ".core.errors",
+    "MultibodyResult": ".rigid.multibody",
+    "NumericalFailure": ".core.errors",
+    "Record": ".core.ground",
+    "RockingResult": ".rigid.solve",
+    "Spectrum": ".rigid.spectrum",
+    "StaleResultsError": ".core.errors",
+    "housner_restitution": ".rigid.block",
+    "multibody_spectrum": ".rigid.multibody",
+    "overturning_spectrum": ".rigid.spectrum",
+    "pulse_from_ratios": ".rigid.block",
+    "read_collars": ".studies.schema",
+    "read_record": ".core.ground",
+    "rock": ".rigid.solve",
+    "rock_multibody": ".rigid.multibody",
+}
+_SUBPACKAGES = ("core", "fem", "meshes", "rigid", "studies")
 
 __all__ = [
     "Block",
     "Collar",
+    "ColonnaError",
     "HarmonicPulse",
     "InputError",
     "MultibodyResult",
+    "NumericalFailure",
     "Record",
     "RockingResult",
     "Spectrum",
+    "StaleResultsError",
     "__version__",
     "housner_restitution",
     "multibody_spectrum",
@@ -72,3 +81,35 @@ __all__ = [
     "rock",
     "rock_multibody",
 ]
+
+if TYPE_CHECKING:  # what the names are, for type checkers (nothing is imported at run time)
+    from .core.collar import Collar
+    from .core.errors import ColonnaError, InputError, NumericalFailure, StaleResultsError
+    from .core.ground import HarmonicPulse, Record, read_record
+    from .rigid.block import Block, housner_restitution, pulse_from_ratios
+    from .rigid.multibody import MultibodyResult, multibody_spectrum, rock_multibody
+    from .rigid.solve import RockingResult, rock
+    from .rigid.spectrum import Spectrum, overturning_spectrum
+    from .studies.schema import read_collars
+
+    __version__: str
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("colonna")
+    except PackageNotFoundError:  # running from a source tree that is not installed
+        return "0+unknown"
+
+
+_getattr, __dir__ = lazy_exports(globals(), _PUBLIC, _SUBPACKAGES)
+
+
+def __getattr__(name: str) -> object:
+    """A public name (or a subpackage) imported on first use, then kept in the package."""
+    if name == "__version__":
+        globals()[name] = _version()
+        return globals()[name]
+    return _getattr(name)

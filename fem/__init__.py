@@ -6,9 +6,30 @@ stepping from the static gravity state (:mod:`colonna.fem.solver`). Study files 
 (:mod:`colonna.studies.fem_study`).
 """
 
-from .assembly import Stone, assemble
-from .model import ContactSettings, Model, build_model, stable_time_step
-from .solver import FemResult, run, static_state
+from typing import TYPE_CHECKING
+
+from ..core import lazy_exports
+
+# name -> the module that defines it, imported on first use (:func:`colonna.core.lazy_exports`):
+# ``import colonna.fem`` loads neither scikit-fem nor numba until the model is asked for
+_PUBLIC = {
+    "ContactSettings": ".model",
+    "FemResult": ".solver",
+    "Model": ".model",
+    "Stone": ".assembly",
+    "assemble": ".assembly",
+    "build_model": ".model",
+    "run": ".solver",
+    "stable_time_step": ".model",
+    "static_state": ".solver",
+}
+
+if TYPE_CHECKING:  # what the names are, for type checkers (nothing is imported at run time)
+    from .assembly import Stone, assemble
+    from .model import ContactSettings, Model, build_model, stable_time_step
+    from .solver import FemResult, run, static_state
+
+__getattr__, __dir__ = lazy_exports(globals(), _PUBLIC)
 
 __all__ = [
     "ContactSettings",

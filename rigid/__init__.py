@@ -6,20 +6,47 @@ motions, the collar description and the input errors are the shared core's (:mod
 re-exported here so that a rigid analysis needs one import.
 """
 
-from ..core.collar import Collar
-from ..core.errors import InputError
-from ..core.ground import (
-    HarmonicPulse,
-    NoMotion,
-    Record,
-    cosine_pulse,
-    read_peer_at2,
-    read_record,
-    read_two_column,
-    sine_pulse,
-)
-from .block import Block, housner_restitution, pulse_from_ratios
-from .solve import RockingResult, rock
+from typing import TYPE_CHECKING
+
+from ..core import lazy_exports
+
+# name -> the module that defines it, imported on first use (:func:`colonna.core.lazy_exports`):
+# ``import colonna.rigid`` loads no numba or scipy until a solver is asked for
+_PUBLIC = {
+    "Block": ".block",
+    "Collar": "..core.collar",
+    "HarmonicPulse": "..core.ground",
+    "InputError": "..core.errors",
+    "NoMotion": "..core.ground",
+    "Record": "..core.ground",
+    "RockingResult": ".solve",
+    "cosine_pulse": "..core.ground",
+    "housner_restitution": ".block",
+    "pulse_from_ratios": ".block",
+    "read_peer_at2": "..core.ground",
+    "read_record": "..core.ground",
+    "read_two_column": "..core.ground",
+    "rock": ".solve",
+    "sine_pulse": "..core.ground",
+}
+
+if TYPE_CHECKING:  # what the names are, for type checkers (nothing is imported at run time)
+    from ..core.collar import Collar
+    from ..core.errors import InputError
+    from ..core.ground import (
+        HarmonicPulse,
+        NoMotion,
+        Record,
+        cosine_pulse,
+        read_peer_at2,
+        read_record,
+        read_two_column,
+        sine_pulse,
+    )
+    from .block import Block, housner_restitution, pulse_from_ratios
+    from .solve import RockingResult, rock
+
+__getattr__, __dir__ = lazy_exports(globals(), _PUBLIC)
 
 __all__ = [
     "Block",

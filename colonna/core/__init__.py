@@ -1,6 +1,7 @@
 """The shared core: what the physics packages share and nothing that depends on them.
 
-* :mod:`colonna.core.errors`      input errors and range checks (one line: field and range);
+* :mod:`colonna.core.errors`      the errors by kind (input, stale results, numerical failure)
+  and the range checks (one line: field and range);
 * :mod:`colonna.core.constants`   g and the steel defaults;
 * :mod:`colonna.core.ground`      ground motions (pulses, records, no motion): one protocol,
   ``acceleration(t)``, ``end_time``, ``peak_acceleration``;
@@ -11,3 +12,35 @@
 
 ``rigid``, ``fem``, ``meshes`` and ``studies`` import from here; this package imports none of them.
 """
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+
+
+def lazy_exports(
+    namespace: dict, names: dict[str, str], subpackages: tuple[str, ...] = ()
+) -> tuple[Callable[[str], object], Callable[[], list[str]]]:
+    """The ``__getattr__`` and ``__dir__`` (PEP 562) of a package whose public names are imported
+    on first use, so that importing the package loads none of its modules' dependencies (numba,
+    scikit-fem, ...). ``namespace``: the package's ``globals()``; ``names``: public name -> the
+    module that defines it, relative to the package (``".solve"``, ``"..core.errors"``);
+    ``subpackages``: its subpackages, also imported on first use. A name, once imported, is kept
+    in the package, so its next use does not come here."""
+    package = namespace["__name__"]
+
+    def __getattr__(name: str) -> object:
+        if name in names:
+            value = getattr(importlib.import_module(names[name], package), name)
+        elif name in subpackages:
+            value = importlib.import_module(f".{name}", package)
+        else:
+            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+        namespace[name] = value
+        return value
+
+    def __dir__() -> list[str]:
+        return sorted({*namespace, *names, *subpackages})
+
+    return __getattr__, __dir__
