@@ -19,7 +19,7 @@ from ..rigid.design import (
     design_collars,
     thinnest_passing,
 )
-from .crosscheck import _study_from_case, fem_case
+from .crosscheck.runner import _study_from_case, fem_case
 from .executor import run_cases
 from .fem_study import from_dict, run_multibody
 from .guard import check_fem_results

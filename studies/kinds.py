@@ -30,9 +30,7 @@ KIND_TABLES = ("grid", "convergence", "free_rocking")
 
 
 KINDS = {
-    "cross-check": StudyKind(
-        "crosscheck:run_crosscheck", "report:write_crosscheck_report", ("outcome", "verdict")
-    ),
+    "cross-check": StudyKind("crosscheck:run", "crosscheck:write_report", ("outcome", "verdict")),
     "collar-design": StudyKind(
         "design_study:run_design_study",
         "report:write_design_report",

@@ -19,7 +19,7 @@ from pathlib import Path
 from ..core.errors import read_toml
 from ..fem.convergence import convergence_table
 from . import schema
-from .crosscheck import fem_case, rigid_case
+from .crosscheck.runner import fem_case, rigid_case
 from .executor import run_cases
 from .fem_study import from_dict, rocking_alpha
 from .guard import check_fem_results

@@ -13,7 +13,7 @@ import pytest
 
 from colonna.core.collar import Collar
 from colonna.fem.ensemble import band
-from colonna.studies import crosscheck
+from colonna.studies.crosscheck import runner as crosscheck
 from colonna.studies.outcome import (
     QUESTIONS,
     collars_hold,

@@ -324,6 +324,7 @@ def drawn(tmp_path_factory):
     """Every figure the report writers make from _made_up_runs: name -> (figure, what figure
     gave the template)."""
     from colonna.studies import report
+    from colonna.studies.crosscheck import report as crosscheck
     from colonna.studies.output import read_csv
 
     out = tmp_path_factory.mktemp("reports")
@@ -336,11 +337,12 @@ def drawn(tmp_path_factory):
         return figures[name][1]
 
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(report, "figure", capture)
-        mp.setattr(report, "render_page", lambda out, *a, **k: out / "index.html")
-        mp.setattr(report, "_renders", lambda out: ([], ""))
-        mp.setattr(report, "_deformed_figure", lambda *a: None)
-        report.write_crosscheck_report(runs["crosscheck"])
+        for module in (report, crosscheck):  # each kind's report draws through these
+            mp.setattr(module, "figure", capture)
+            mp.setattr(module, "render_page", lambda out, *a, **k: out / "index.html")
+        mp.setattr(crosscheck, "_renders", lambda out: ([], ""))
+        mp.setattr(crosscheck, "_deformed_figure", lambda *a: None)
+        crosscheck.write_report(runs["crosscheck"])
         report.write_design_report(runs["design"])
         report.write_spectrum_crosscheck_report(runs["grid"])
         report.write_free_rocking_report(runs["free-rocking"])
@@ -523,8 +525,8 @@ def test_the_crosscheck_spectrum_holds_the_multibody_model_through_the_study_pul
 
     from tiny_study import TINY_STUDY
 
-    from colonna.studies.crosscheck import spectrum_case
-    from colonna.studies.report import _spectrum_figure
+    from colonna.studies.crosscheck.report import _spectrum_figure
+    from colonna.studies.crosscheck.runner import spectrum_case
 
     study = tomllib.loads(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6))
     case = {
@@ -591,8 +593,8 @@ def _plastic_crosscheck(root, eps_u=None):
 
     from tiny_study import TINY_STUDY
 
-    from colonna.studies import report
-    from colonna.studies.crosscheck import run_crosscheck
+    from colonna.studies.crosscheck import report
+    from colonna.studies.crosscheck import run as run_crosscheck
     from colonna.studies.fem_study import from_dict
 
     text = TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6)
@@ -616,7 +618,7 @@ def _plastic_crosscheck(root, eps_u=None):
     summary = run_crosscheck(root / "tiny-plastic.toml", out, workers=1, progress=False)
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(report, "_renders", lambda out: ([], "not rendered in this test"))
-        report.write_crosscheck_report(out)
+        report.write_report(out)
     return out, summary
 
 
@@ -631,7 +633,7 @@ def test_the_crosscheck_report_draws_the_hinges_of_plastic_collars(tmp_path, eps
     eps_u = 0.0025, where the band breaks and carries nothing after)."""
     from browser import assert_report_says_what_summary_says, assert_table_numbers_have_units
 
-    from colonna.studies import report
+    from colonna.studies.crosscheck import report
     from colonna.studies.output import read_csv
 
     out, summary = _plastic_crosscheck(tmp_path, eps_u)

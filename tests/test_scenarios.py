@@ -412,7 +412,7 @@ def test_a_column_that_lands_after_the_pulse_has_a_restitution(tmp_path):
     from colonna.core.ground import NoMotion
     from colonna.rigid.block import Block
     from colonna.rigid.solve import rock
-    from colonna.studies.crosscheck import restitution_after_motion
+    from colonna.studies.crosscheck.runner import restitution_after_motion
 
     block = Block(b=0.1, h=1.0, restitution=0.9)
     result = rock(

@@ -82,7 +82,7 @@ def test_verdict_is_judged_against_the_multibody_model(tiny_run):
     )
     assert s["theta_peak_ratio_fem_over_multibody"] == pytest.approx(ratio)
     # each count is made per replica (from each replica's own history) and answered on them
-    from colonna.studies.crosscheck import replica_histories
+    from colonna.studies.crosscheck.runner import replica_histories
 
     replicas = json.loads((root / "out" / "cases" / "fem" / "result.json").read_text())
     histories = replica_histories(root / "out" / "cases" / "fem", fem["replicas"])

@@ -186,3 +186,24 @@ def collar_strain_summary(collars, largest_strains, fracture_times) -> dict:
         "collar_fractured": bool(broken),
         "collar_fracture_time": min(broken) if broken else None,
     }
+
+
+def hinge_strain_profile(
+    span: float, hinge_length: float, h: float, axial: float, hinges: tuple[float, float]
+):
+    """The plastic strain of a collar's extreme fibre along its span under the lumped-hinge
+    model (colonna.core.collar_law): the axial plastic strain |s_p / L| (``axial``) everywhere,
+    plus at each end, over the hinge length L_p, the hinge's plastic rotation (``hinges``: left,
+    right) spread over it, |theta_p| h / (2 L_p) (hinge zones longer than half the span overlap
+    and add). Returns (x, strain), a step profile: each piece's two ends, x from the left
+    attachment (m)."""
+    lp = hinge_length
+    rotation = [abs(r) * h / (2.0 * lp) for r in hinges]
+    edges = np.unique(np.clip([0.0, lp, span - lp, span], 0.0, span))
+    x, strain = [], []
+    for a, b in zip(edges[:-1], edges[1:]):
+        middle = 0.5 * (a + b)
+        value = abs(axial) + rotation[0] * (middle < lp) + rotation[1] * (middle > span - lp)
+        x += [a, b]
+        strain += [value, value]
+    return np.array(x), np.array(strain)

@@ -25,18 +25,18 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.constants import DUCTILITY_LIMIT
-from ..core.errors import InputError, read_toml
-from ..core.ground import HarmonicPulse, NoMotion
-from ..fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide_count
-from ..fem.solver import unreliable_reason
-from ..rigid.impacts import half_cycles, impact_ratios_from_peaks
-from ..rigid.solve import motion_word
-from ..rigid.spectrum import overturning_spectrum
-from .executor import run_cases
-from .fem_study import from_dict, run_multibody, run_sdof
-from .guard import check_fem_results
-from .outcome import (
+from ...core.constants import DUCTILITY_LIMIT
+from ...core.errors import InputError, read_toml
+from ...core.ground import HarmonicPulse, NoMotion
+from ...fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide_count
+from ...fem.solver import unreliable_reason
+from ...rigid.impacts import half_cycles, impact_ratios_from_peaks
+from ...rigid.solve import motion_word
+from ...rigid.spectrum import overturning_spectrum
+from ..executor import run_cases
+from ..fem_study import from_dict, run_multibody, run_sdof
+from ..guard import check_fem_results
+from ..outcome import (
     QUESTIONS,
     collars_hold,
     criteria_answer,
@@ -46,7 +46,7 @@ from .outcome import (
     not_assessed,
     outcome,
 )
-from .output import read_csv, write_csv, write_json
+from ..output import read_csv, write_csv, write_json
 
 NOT_APPLICABLE = "not applicable"
 
@@ -78,8 +78,8 @@ def fem_case(case: dict, directory: str) -> dict:
     the median) as ``toe_start.npz``, and says so under ``toe_start`` (the replica and the
     state's SHA-256, :func:`colonna.fem.toe_stress.start_digest`): the refined windows are
     cases of their own (:func:`toe_case`)."""
-    from ..fem.ensemble import ensemble_summary, median_replica
-    from .fem_study import run_fem
+    from ...fem.ensemble import ensemble_summary, median_replica
+    from ..fem_study import run_fem
 
     study = _study_from_case(case)
     replicas = run_fem(
@@ -101,7 +101,7 @@ def fem_case(case: dict, directory: str) -> dict:
         and study.toe_refinements
         and unreliable_reason(summaries) is None  # no landing to refine in a broken run
     ):
-        from ..fem.toe_stress import (
+        from ...fem.toe_stress import (
             check_refinements,
             refinement_start,
             start_digest,
@@ -121,8 +121,8 @@ def toe_case(case: dict, directory: str) -> dict:
     ``case["refinement"]`` times, restarted from the state the FEM case saved in its folder
     (beside this case's: ``cases/fem``), whose SHA-256 ``case["start"]`` is an input of this
     case, over the impact window (:func:`colonna.fem.toe_stress.refine_window`)."""
-    from ..fem.toe_stress import read_start, refine_window, start_digest
-    from .fem_study import build, toe_mesh
+    from ...fem.toe_stress import read_start, refine_window, start_digest
+    from ..fem_study import build, toe_mesh
 
     study = _study_from_case(case)
     path = Path(directory).parent / "fem" / TOE_START
@@ -144,7 +144,7 @@ def refine_toe_stress(study, base: dict, fem: dict, out: Path, **run_options) ->
     are, each saved as it completes), then :func:`colonna.fem.toe_stress.refinement_summary`
     with the replica's number. None when the FEM case saved no start (a mesh file, or no
     refinements asked for)."""
-    from ..fem.toe_stress import read_start, refinement_summary
+    from ...fem.toe_stress import read_start, refinement_summary
 
     start = fem.get("toe_start")
     if start is None:
@@ -236,7 +236,7 @@ def rigid_case(case: dict, directory: str) -> dict:
 
 def multibody_case(case: dict, directory: str) -> dict:
     """The rigid multibody model of the study, at its default step times ``step_factor``."""
-    from ..rigid.multibody import build_column, default_step, history_columns
+    from ...rigid.multibody import build_column, default_step, history_columns
 
     study = _study_from_case(case)
     dt = None
@@ -262,7 +262,7 @@ def spectrum_case(case: dict, directory: str) -> dict:
     fine grid, and under ``multibody`` the rigid multibody model (the verdict's rigid
     reference) on a coarse grid over the same range (``case["multibody_grid"]``: omega ratios
     x amplitude ratios, default 7 x 6; its nodes nearest the study's pulse moved onto it)."""
-    from ..rigid.multibody import multibody_spectrum
+    from ...rigid.multibody import multibody_spectrum
 
     study = _study_from_case(case)
     block = study.rocking_block
@@ -319,7 +319,7 @@ def _case_runner(case: dict, directory: str) -> dict:
     return spectrum_case(case, directory)
 
 
-def run_crosscheck(
+def run(
     study_path: Path,
     out: Path,
     *,
@@ -749,7 +749,7 @@ def _fem_vs_multibody(fem_case_result: dict, multibody: dict) -> dict:
 def _uncertainty(results: dict) -> dict | None:
     """Observed order, Richardson estimate and fine-mesh relative error of the FEM numbers from
     the runs on 4h, 2h and h (None when the coarse runs were not made)."""
-    from ..fem.convergence import convergence_table
+    from ...fem.convergence import convergence_table
 
     keys = ["fem-mesh-4h", "fem-mesh-2h", "fem"]
     if not all(k in results for k in keys):

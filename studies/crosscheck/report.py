@@ -1,0 +1,734 @@
+"""The cross-check's report: the FEM against the rigid models, figure by figure, with the
+Numbers table (presentation only: the numbers are summary.json's, the curves the run's CSV and
+field files)."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.artist import Artist
+from matplotlib.collections import PolyCollection
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+from matplotlib.ticker import FuncFormatter
+
+from ...core.collar import hinge_strain_profile
+from ...core.constants import DUCTILITY_LIMIT
+from ..output import read_csv, write_csv
+from ..report import LINE_STYLES, distinct, figure, has, image, legend_beside, render_page
+
+SIDES = ("left", "right")  # a collar's ends in the FEM history
+
+
+PLAIN = FuncFormatter(lambda value, _: f"{value:g}")  # tick labels as numbers, not powers
+
+
+def write_report(out: Path) -> Path:
+    """The cross-check's report: the rotations of the FEM and the rigid models, the deformed
+    column, the pulse on the rigid spectrum, the collars and the toe against their limits, the
+    base pressure, the renders and the Numbers table (``out/index.html``)."""
+    out = Path(out)
+    summary = json.loads((out / "summary.json").read_text())
+    fem_h = read_csv(out / "cases" / "fem" / "history.csv")
+    rigid_h = read_csv(out / "cases" / "rigid" / "history.csv")
+    mono_h = read_csv(out / "cases" / "monolith" / "history.csv")
+    mb_h = read_csv(out / "cases" / "multibody" / "history.csv")
+    mb_names = ("left", "right") if "theta_left" in mb_h else ("column", "column")
+    spectrum_file = out / "cases" / "spectrum" / "spectrum.json"  # pulses only
+    spectrum = json.loads(spectrum_file.read_text()) if spectrum_file.exists() else None
+    (out / "figures").mkdir(exist_ok=True)
+    figs = []
+
+    # 1. rotations, FEM vs the rigid models (the CSV on the FEM's times, where all ran)
+    t = fem_h["t"]
+
+    def on_fem_times(h, key):
+        return np.interp(t, h["t"], h[key], right=np.nan)
+
+    write_csv(
+        out / "figures" / "theta.csv",
+        {
+            "t": t,
+            "theta_fem_left": fem_h["theta_left"],
+            "theta_fem_right": fem_h["theta_right"],
+            "theta_multibody_left": on_fem_times(mb_h, f"theta_{mb_names[0]}"),
+            "theta_multibody_right": on_fem_times(mb_h, f"theta_{mb_names[1]}"),
+            "theta_rigid_half_with_collars": on_fem_times(rigid_h, "theta"),
+            "theta_rigid_monolith": on_fem_times(mono_h, "theta"),
+        },
+    )
+    fig, ax = plt.subplots(figsize=(8, 3.6))
+    replicas = _replica_histories(out / "cases" / "fem", summary["fem"].get("replicas", 1))
+    if len(replicas) > 1:  # the band the replicas span (chaotic after the first landing)
+        envelope = [
+            np.vstack([np.interp(t, h["t"], h[key], right=np.nan) for h in replicas])
+            for key in ("theta_left", "theta_right")
+        ]
+        low = np.fmin(*(np.nanmin(e, axis=0) for e in envelope))
+        high = np.fmax(*(np.nanmax(e, axis=0) for e in envelope))
+        ax.fill_between(
+            t,
+            low,
+            high,
+            color="C0",
+            alpha=0.25,
+            lw=0,
+            label=f"FEM, range over {len(replicas)} replicas",
+        )
+    ax.plot(t, fem_h["theta_left"], color="C0", lw=1.6, label="FEM, left half")
+    ax.plot(t, fem_h["theta_right"], "--", color="C0", lw=1.6, label="FEM, right half")
+    m = mb_h["t"] <= t[-1]
+    ax.plot(
+        mb_h["t"][m],
+        mb_h[f"theta_{mb_names[0]}"][m],
+        color="C3",
+        lw=1.0,
+        label="rigid multibody, left half",
+    )
+    ax.plot(
+        mb_h["t"][m],
+        mb_h[f"theta_{mb_names[1]}"][m],
+        "--",
+        color="C3",
+        lw=1.0,
+        label="rigid multibody, right half",
+    )
+    m = rigid_h["t"] <= t[-1]
+    ax.plot(
+        rigid_h["t"][m],
+        rigid_h["theta"][m],
+        color="C1",
+        lw=1.0,
+        label="SDOF, half block + collars (paper)",
+    )
+    m = mono_h["t"] <= t[-1]
+    ax.plot(
+        mono_h["t"][m],
+        mono_h["theta"][m],
+        ":",
+        color="C2",
+        lw=1.2,
+        label="SDOF, whole column (monolith)",
+    )
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(r"$\theta$ (rad)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    figs.append(
+        figure(
+            out,
+            "theta",
+            fig,
+            "Rotation of each half: FEM against the rigid "
+            "multibody model (the rigid reference) and the two SDOF models",
+        )
+    )
+
+    # 1b. the deformed column at peak rotation: crack, collars, toe pressure
+    _deformed_figure(out, fem_h, figs)
+
+    # 2. where the pulse sits on the rigid spectrum (a record has no place on it)
+    if spectrum is not None:
+        _spectrum_figure(out, spectrum, figs)
+
+    # 3. collar stress against f_y
+    collar_cols = sorted(k for k in fem_h if k.startswith("collar_") and k.endswith("_stress"))
+    if collar_cols:
+        write_csv(out / "figures" / "collars.csv", {"t": t, **{k: fem_h[k] for k in collar_cols}})
+        fig, ax = plt.subplots(figsize=(9.5, 3.4))
+        for j, k in enumerate(collar_cols):  # collars of one history stay apart
+            ax.plot(
+                t,
+                fem_h[k] / 1e6,
+                color=f"C{j}",
+                **distinct(j, len(collar_cols)),
+                label=f"FEM {k.replace('_stress', '')}",
+            )
+        fy = summary["collar_fy"][0]
+        ax.axhline(fy / 1e6, color="k", ls="--", lw=1, label="f_y (yield stress)")
+        ax.set_xlabel("t (s)")
+        ax.set_ylabel("extreme-fibre stress (MPa)")
+        legend_beside(ax)
+        fig.tight_layout()
+        figs.append(
+            figure(
+                out,
+                "collars",
+                fig,
+                "Collar stress against the yield stress "
+                "(collars with the same history drawn on top of each other, each "
+                "with its own dashes and markers)",
+            )
+        )
+
+    # 3b. plastic collars: the end hinges of the most strained one, its plastic strain along
+    # the band, and the times of first yield and fracture
+    _collar_hinge_figure(out, summary, fem_h, figs)
+
+    # 4. toe stress against f_c
+    edge_cols = [k for k in fem_h if k.startswith("edge_stress_")]
+    write_csv(out / "figures" / "toe_stress.csv", {"t": t, **{k: fem_h[k] for k in edge_cols}})
+    fig, ax = plt.subplots(figsize=(9.5, 3.4))
+    for j, k in enumerate(edge_cols):
+        ax.plot(
+            t,
+            fem_h[k] / 1e6,
+            color=f"C{j}",
+            **distinct(j, len(edge_cols)),
+            label=k.replace("edge_stress_", "toe "),
+        )
+    fc = summary["stone_fc"]
+    ax.axhline(fc / 1e6, color="k", ls="--", lw=1, label="f_c (stone strength)")
+    ax.set_yscale("symlog", linthresh=1.0)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(f"toe stress over {1e3 * summary['fem']['edge_length']:.0f} mm (MPa)")
+    legend_beside(ax)  # the f_c line stays in view
+    fig.tight_layout()
+    figs.append(
+        figure(
+            out,
+            "toe_stress",
+            fig,
+            "Base-edge compressive stress at the toes against the stone strength",
+        )
+    )
+
+    # 5. base contact pressure at peak rotation
+    pressure = read_csv(out / "cases" / "fem" / "base_pressure.csv")
+    peak = int(np.argmax(np.maximum(np.abs(fem_h["theta_left"]), np.abs(fem_h["theta_right"]))))
+    names = [k for k in pressure if k != "t"]
+    x = np.array([float(n.split("_x=")[1]) for n in names])
+    row = min(peak, pressure["t"].size - 1)
+    p_peak = np.array([pressure[n][row] for n in names])
+    p_rest = np.array([pressure[n][0] for n in names])
+    write_csv(
+        out / "figures" / "base_pressure.csv",
+        {"x": x, "pressure_at_rest": p_rest, "pressure_at_peak_rotation": p_peak},
+    )
+    fig, ax = plt.subplots(figsize=(8, 3.2))
+    ax.plot(x, p_rest / 1e6, "o-", ms=3, label="at rest (gravity)")
+    ax.plot(x, p_peak / 1e6, "s-", ms=3, label=f"at peak rotation, t = {pressure['t'][row]:.3f} s")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("base contact pressure (MPa)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    figs.append(figure(out, "base_pressure", fig, "Base contact pressure"))
+
+    renders, renders_error = _renders(out)
+    return render_page(
+        out,
+        "crosscheck/report.html.j2",
+        summary,
+        f"colonna cross-check: {summary['study']}",
+        figs=figs,
+        renders=renders,
+        renders_error=renders_error,
+        rows=[row for row in CROSSCHECK_NUMBERS if has(summary, row[1])],
+    )
+
+
+def _first_time(t, flags) -> float | None:
+    """The first time at which ``flags`` holds (None where it never does)."""
+    hit = np.flatnonzero(flags)
+    return float(t[hit[0]]) if hit.size else None
+
+
+def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> None:
+    """The plastic collars of the FEM run (replica 0, the unperturbed run, whose history is
+    drawn): (a) the end moment against the end rotation (relative to the chord) at both ends
+    of the most strained collar (the largest extreme-fibre strain), with +-M_y and +-M_p;
+    (b) that collar's plastic strain along its span at the end of the run, from its axial
+    plastic strain and end hinges (:func:`colonna.core.collar.hinge_strain_profile`), with
+    the largest fibre strain it reached and eps_u; (c) the fibre strain of every plastic collar
+    over time, with the most strained one's first yield and fracture. Drawn only for plastic
+    collars."""
+    collars = summary.get("collars") or []
+    plastic = [
+        k
+        for k, c in enumerate(collars, start=1)
+        if c["plastic"] and f"collar_{k}_moment_left" in fem_h
+    ]
+    if not plastic:
+        return
+    t = fem_h["t"]
+    peaks = {k: float(np.max(fem_h[f"collar_{k}_fibre_strain"])) for k in plastic}
+    # a collar that broke reached eps_u, whatever its history sampled before the break
+    k = max(plastic, key=lambda j: (bool(np.any(fem_h[f"collar_{j}_fractured"] > 0.0)), peaks[j]))
+    c = collars[k - 1]
+    # the largest fibre strain over every step (the run's state), where this collar has the
+    # run's largest: the history samples only the output times, and after a fracture it is 0
+    peak = peaks[k]
+    values = summary["fem"].get("bands", {}).get("collar_max_fibre_strain", {}).get("values")
+    every = [float(np.max(fem_h[key])) for key in fem_h if key.endswith("_fibre_strain")]
+    if values and values[0] is not None and peak >= max(every):
+        peak = max(peak, float(values[0]))
+    yielded = _first_time(t, fem_h[f"collar_{k}_utilisation"] >= 1.0)
+    fractured = _first_time(t, fem_h[f"collar_{k}_fractured"] > 0.0)
+    axial = float(fem_h[f"collar_{k}_plastic_strain"][-1])
+    left, right = (float(fem_h[f"collar_{k}_hinge_rotation_{side}"][-1]) for side in SIDES)
+    x, profile = hinge_strain_profile(c["span"], c["hinge_length"], c["h"], axial, (left, right))
+    columns = {"t": t}
+    for j in plastic:
+        columns.update({key: fem_h[key] for key in fem_h if key.startswith(f"collar_{j}_")})
+    write_csv(out / "figures" / "collar_hinge.csv", columns)
+    write_csv(
+        out / "figures" / "collar_hinge_profile.csv",
+        {"x": x, "plastic_fibre_strain": profile},
+    )
+
+    fig, (ax_m, ax_p, ax_t) = plt.subplots(3, 1, figsize=(9.5, 9.0))
+    # (a) moment against rotation at both ends, kN m against mrad, up to a fracture (the
+    # broken band's ends turn on carrying nothing)
+    held = t < fractured if fractured is not None else np.ones(t.size, dtype=bool)
+    ends = [
+        (
+            1e3 * fem_h[f"collar_{k}_rotation_{side}"][held],
+            1e-3 * fem_h[f"collar_{k}_moment_{side}"][held],
+        )
+        for side in SIDES
+    ]
+    for j, (side, (rotation, moment)) in enumerate(zip(SIDES, ends)):
+        ax_m.plot(
+            rotation,
+            moment,
+            color=f"C{j}",
+            ls=LINE_STYLES[j],
+            lw=1.6 - 0.6 * j,
+            label=f"{side} end",
+        )
+    if fractured is not None and held.any():
+        ax_m.plot(
+            [r[-1] for r, _ in ends],
+            [m[-1] for _, m in ends],
+            "X",
+            ls="none",
+            color="C3",
+            ms=8,
+            label="last output before the fracture",
+        )
+    for value, style, name in (
+        (c["plastic_moment"], ("k", "--"), "M_p = f_y t h\u00b2/4 (plastic)"),
+        (c["yield_moment"], ("0.5", ":"), "M_y = f_y t h\u00b2/6 (first yield)"),
+    ):
+        for sign in (1.0, -1.0):
+            ax_m.axhline(
+                sign * 1e-3 * value,
+                color=style[0],
+                ls=style[1],
+                lw=1,
+                label=f"\u00b1{name}" if sign > 0 else None,
+            )
+    ax_m.set_xlabel("end rotation relative to the chord (mrad)")
+    ax_m.set_ylabel("end moment (kN m)")
+    ax_m.set_title(f"(a) collar {k} (y = {c['y']:g} m): end moment against rotation", fontsize=9)
+    legend_beside(ax_m)
+    # (b) the plastic strain along the span at the end of the run, per mille
+    eps_y = 1e3 * c["yield_strain"]
+    ax_p.plot(1e3 * x, 1e3 * profile, color="C2", lw=2, label="plastic strain at the end")
+    ax_p.axhline(
+        1e3 * peak,
+        color="C3",
+        ls="-.",
+        lw=1,
+        label=f"largest fibre strain reached, {1e3 * peak:.3g} per mille",
+    )
+    ax_p.axhline(1e3 * c["eps_u"], color="k", ls="--", lw=1, label="eps_u (fracture)")
+    ax_p.axhline(eps_y, color="0.5", ls=":", lw=1, label="eps_y = f_y / E")
+    for end in (c["hinge_length"], c["span"] - c["hinge_length"]):
+        ax_p.axvline(1e3 * end, color="0.8", lw=0.8)
+    ax_p.set_yscale("symlog", linthresh=eps_y)  # eps_u is often far above the rest
+    ax_p.yaxis.set_major_formatter(PLAIN)
+    top = 1e3 * 1.5 * max(c["eps_u"], peak, float(np.max(profile)))
+    ax_p.set_ylim(0.0, top)
+    ax_p.set_xlabel(f"along the collar (mm), hinges over L_p = {1e3 * c['hinge_length']:.3g} mm")
+    ax_p.set_ylabel("extreme-fibre strain (per mille)")
+    ax_p.set_title(f"(b) collar {k}: plastic strain along it (lumped hinges)", fontsize=9)
+    legend_beside(ax_p)
+    # (c) fibre strain over time, first yield and fracture
+    for j, n in enumerate(plastic):
+        ax_t.plot(
+            t,
+            1e3 * fem_h[f"collar_{n}_fibre_strain"],
+            color=f"C{j}",
+            **distinct(j, len(plastic)),
+            label=f"collar {n}",
+        )
+    ax_t.axhline(1e3 * c["eps_u"], color="k", ls="--", lw=1, label="eps_u (fracture)")
+    ax_t.axhline(eps_y, color="0.5", ls=":", lw=1, label="eps_y = f_y / E")
+    for when, colour, name in ((yielded, "C1", "first yield"), (fractured, "C3", "fracture")):
+        if when is not None:
+            ax_t.axvline(when, color=colour, lw=1.2, label=f"collar {k}: {name}, t = {when:.4g} s")
+    ax_t.set_yscale("symlog", linthresh=eps_y)
+    ax_t.yaxis.set_major_formatter(PLAIN)
+    ax_t.set_ylim(0.0, top)
+    ax_t.set_xlabel("t (s)")
+    ax_t.set_ylabel("extreme-fibre strain (per mille)")
+    ax_t.set_title("(c) the plastic collars' fibre strain over time", fontsize=9)
+    legend_beside(ax_t)
+    fig.tight_layout()
+    caption = (
+        f"Plastic collars, FEM replica 0: collar {k}, the most strained, "
+        + (f"first yields at t = {yielded:.4g} s" if yielded is not None else "does not yield")
+        + (
+            f" and fractures at t = {fractured:.4g} s (its fibre strain reached eps_u)"
+            if fractured is not None
+            else " and does not fracture"
+        )
+        + "; its end hinges' moment-rotation loops against M_y and M_p (the hinges harden "
+        "slightly past M_p, and the moment falls with the axial force on the N-M surface), "
+        "and its residual plastic strain along the band: the axial plastic strain everywhere "
+        "plus each hinge's plastic rotation spread over its length L_p = "
+        f"{1e3 * c['hinge_length']:.3g} mm"
+    )
+    figs.append(
+        figure(
+            out,
+            "collar_hinge",
+            fig,
+            caption,
+            data_file="figures/collar_hinge.csv, figures/collar_hinge_profile.csv",
+        )
+    )
+
+
+# the Numbers table of the cross-check: (label, summary key, unit; "-" a ratio, "" words)
+CROSSCHECK_NUMBERS = [
+    (
+        "FEM largest rotation, left half (where the run stopped if it overturns)",
+        "fem.max_abs_theta_left",
+        "rad",
+    ),
+    (
+        "FEM largest rotation, right half (where the run stopped if it overturns)",
+        "fem.max_abs_theta_right",
+        "rad",
+    ),
+    (
+        "multibody largest rotation, left half (where the run stopped if it overturns)",
+        "rigid_multibody.max_abs_theta_left",
+        "rad",
+    ),
+    (
+        "multibody largest rotation, right half (where the run stopped if it overturns)",
+        "rigid_multibody.max_abs_theta_right",
+        "rad",
+    ),
+    ("multibody mode", "rigid_multibody.mode", ""),
+    ("multibody status", "rigid_multibody.status", ""),
+    ("multibody crack slip max", "rigid_multibody.max_abs_crack_slip", "mm"),
+    (
+        "multibody collar utilisation max, sigma / f_y",
+        "rigid_multibody.collar_max_utilisation",
+        "-",
+    ),
+    (
+        "multibody collar ductility demand, largest fibre strain / (f_y / E) "
+        f"(limit {DUCTILITY_LIMIT:g}: EN 1993-1-1 eps_u >= 15 eps_y)",
+        "rigid_multibody.collar_ductility_demand",
+        "-",
+    ),
+    (
+        "multibody first collar fracture (n/a: the collars hold)",
+        "rigid_multibody.collar_fracture_time",
+        "s",
+    ),
+    ("multibody energy balance error (max, relative)", "rigid_multibody.energy_error_max", "-"),
+    ("multibody wall time", "rigid_multibody.wall_seconds", "s"),
+    ("SDOF peak rotation, half + collars (n/a where it overturns)", "rigid.max_abs_theta", "rad"),
+    ("SDOF overturning mode, half + collars (safe: it does not overturn)", "rigid.mode", ""),
+    (
+        "SDOF collar state, half + collars (elastic collars: yielded means sigma reached f_y)",
+        "rigid.collar_state",
+        "",
+    ),
+    (
+        "SDOF peak rotation, whole column (n/a where it overturns)",
+        "rigid_monolith.max_abs_theta",
+        "rad",
+    ),
+    (
+        "SDOF collars: elastic springs; where one passed f_y, what that leaves out",
+        "rigid.collar_note",
+        "",
+    ),
+    ("halves rock as one block", "verdict.rocks_as_one_block", ""),
+    ("FEM status", "fem.status", ""),
+    ("toe stress max (study mesh, median of the replicas)", "fem.edge_stress_max", "MPa"),
+    ("energy balance error (max, relative)", "fem.energy_error_max", "-"),
+    ("time step", "fem.dt", "s"),
+    ("stable-step reduction by contact", "fem.stable_step_reduction_by_contact", "-"),
+    ("steps", "fem.steps", "-"),
+    ("dofs", "fem.dofs", "-"),
+    ("FEM wall time", "fem.wall_seconds", "s"),
+    ("pulse Omega/p (n/a for a record)", "pulse.omega_ratio", "-"),
+    ("peak ground acceleration", "pulse.amplitude", "m/s^2"),
+    (
+        "pulse a_p / a_uplift (a_uplift = g tan alpha (1 + lambda), lambda = top load / weight "
+        "of the rocking half)",
+        "pulse.amplitude_ratio",
+        "-",
+    ),
+    ("top load on the capital", "fem.top_load", "kN"),
+    ("collar plastic strain max, FEM", "fem.collar_max_plastic_strain", "-"),
+    ("collar plastic work, FEM", "fem.collar_plastic_work", "J"),
+    (
+        "collar extreme-fibre strain max, FEM: axial + bending + hinge rotation over L_p "
+        "(median of the replicas)",
+        "fem.collar_max_fibre_strain",
+        "per mille",
+    ),
+    (
+        "collar ductility demand, FEM: largest fibre strain / (f_y / E) "
+        f"(limit {DUCTILITY_LIMIT:g}: EN 1993-1-1 eps_u >= 15 eps_y)",
+        "fem.collar_ductility_demand",
+        "-",
+    ),
+    (
+        "first collar fracture, FEM (median over the replicas; n/a: the collars hold in half "
+        "of them or more)",
+        "fem.collar_fracture_time",
+        "s",
+    ),
+    ("FEM replicas in which a collar fractured", "fem.collar_fractured_replicas", "-"),
+    ("crack slip left at the end of the run, FEM", "fem.crack_slip_residual", "mm"),
+    ("static base reaction, FEM: weight + top load", "fem.base_reaction_static", "kN"),
+]
+
+
+def _replica_histories(directory: Path, replicas: int) -> list[dict]:
+    """The history.csv of each replica of the FEM ensemble (replica 0 is the run's own)."""
+    paths = [directory / "history.csv"] + [
+        directory / "replicas" / str(r) / "history.csv" for r in range(1, replicas)
+    ]
+    return [read_csv(p) for p in paths if p.is_file()]
+
+
+def _renders(out: Path) -> tuple[list, str]:
+    """pyvista renders of the deformed halves coloured by the minimum principal stress (and
+    why there are none, if rendering failed)."""
+    try:
+        from ..render import render_snapshots
+
+        images = render_snapshots(out)
+    except Exception as exc:  # rendering is a picture, never a reason to lose the report
+        return [], str(exc)
+    return [image(out / "figures" / name, caption) for name, caption in images], ""
+
+
+def _magnification(largest: float, height: float) -> float:
+    """A round factor (1, 2 or 5 x 10^k) that draws the largest elastic displacement at about
+    2 % of the column height."""
+    if largest <= 0.0:
+        return 1.0
+    raw = 0.02 * height / largest
+    k = math.floor(math.log10(raw))
+    return max(1.0, max(f * 10.0**k for f in (1.0, 2.0, 5.0) if f * 10.0**k <= raw))
+
+
+def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
+    """The FEM column at its peak rotation, drawn in the ground frame: each half's rigid motion
+    true to scale, its elastic deformation (the field file's ``elastic_displacement``, split off
+    by the solver) magnified by a stated factor; the collars between their attachment nodes
+    (``collar_end``); the base contact pressure under the toes at that instant."""
+    import meshio
+
+    fem = out / "cases" / "fem"
+    vtu = fem / "fields_peak_rotation.vtu"
+    if not vtu.exists():
+        return
+    m = meshio.read(vtu)
+    X = m.points[:, :2]
+    u = m.point_data["displacement"][:, :2]
+    elastic = m.point_data["elastic_displacement"][:, :2]
+    collar_end = m.point_data["collar_end"].astype(int)
+    quads = np.vstack([c.data for c in m.cells if c.type == "quad"])
+    cell_body = np.concatenate(m.cell_data["body"]).astype(int)
+    height = float(np.ptp(X[:, 1]))
+    factor = _magnification(float(np.abs(elastic).max()), height)
+    drawn = X + u + (factor - 1.0) * elastic
+    k = int(np.argmax(np.maximum(np.abs(fem_h["theta_left"]), np.abs(fem_h["theta_right"]))))
+    t_peak = float(fem_h["t"][k])
+    fig, ax = plt.subplots(figsize=(7.0, 6.4))
+    handles: list[Artist] = []
+    for b in np.unique(cell_body):
+        polys = drawn[quads[cell_body == b]]
+        colour = ("C0", "C1")[min(int(b), 1)]
+        ax.add_collection(
+            PolyCollection(polys, facecolors=colour, edgecolors="w", linewidths=0.2, alpha=0.6)
+        )
+        handles.append(
+            Patch(
+                facecolor=colour,
+                alpha=0.6,
+                label=("left half", "right half")[min(int(b), 1)]
+                if cell_body.max() > 0
+                else "column",
+            )
+        )
+    outline = np.array(
+        [
+            [X[:, 0].min(), 0.0],
+            [X[:, 0].max(), 0.0],
+            [X[:, 0].max(), height],
+            [X[:, 0].min(), height],
+            [X[:, 0].min(), 0.0],
+        ]
+    )
+    handles += ax.plot(outline[:, 0], outline[:, 1], color="0.6", ls=":", lw=1.0, label="at rest")
+    for number in range(1, collar_end.max() + 1):
+        ends = np.flatnonzero(collar_end == number)
+        ax.plot(drawn[ends, 0], drawn[ends, 1], color="C3", lw=2.0)
+    if collar_end.max() > 0:
+        handles.append(Line2D([], [], color="C3", lw=2.0, label="collars"))
+    pressure_file = fem / "base_pressure.csv"
+    if pressure_file.exists():
+        with open(pressure_file) as fh:
+            names = fh.readline().strip().split(",")[1:]
+            rows = np.loadtxt(fh, delimiter=",", ndmin=2)
+        row = rows[int(np.argmin(np.abs(rows[:, 0] - t_peak)))]
+        xs = np.array([float(n.split("=")[1]) for n in names])
+        pressure = row[1:] / 1e6
+        scale = 0.12 * height / max(pressure.max(), 1e-12)
+        order = np.argsort(xs, kind="stable")
+        ax.fill_between(xs[order], 0.0, -scale * pressure[order], color="k", alpha=0.35, step=None)
+        handles.append(
+            Patch(
+                facecolor="k",
+                alpha=0.35,
+                label=f"base contact pressure (max {pressure.max():.2f} MPa)",
+            )
+        )
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(f"FEM at peak rotation, t = {t_peak:.3f} s")
+    ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    fig.tight_layout()
+    figs.append(
+        figure(
+            out,
+            "deformed",
+            fig,
+            "The FEM column at its peak rotation: each "
+            "half's rigid motion true to scale, its elastic deformation magnified "
+            f"x{factor:g}; the crack is the gap between the halves; collars in red; "
+            "under the base, the contact pressure at that instant (not to the "
+            "length scale)",
+        )
+    )
+
+
+def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
+    """The study's pulse on the rigid overturning spectra: the SDOF half block with collars as a
+    map and, where spectrum.json holds it (key ``multibody``), the rigid multibody model, the
+    verdict's rigid reference, as a marker at each pulse of its coarser grid."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    from ...rigid.plotting import MODE_COLOURS, MODE_LABELS, grid_markers
+
+    code = {"safe": 0, "after-impact": 1, "without-impact": 2}
+    codes = np.array([[code[c] for c in row] for row in spectrum["mode"]])
+    w = np.array(spectrum["omega_ratios"])
+    a = np.array(spectrum["amplitude_ratios"])
+    write_csv(
+        out / "figures" / "spectrum.csv",
+        {
+            "omega_ratio": np.tile(w, a.size),
+            "amplitude_ratio": np.repeat(a, w.size),
+            "mode_code": codes.ravel(),
+        },
+    )
+    mb = spectrum.get("multibody")  # none in a spectrum saved before it was computed
+    fig, ax = plt.subplots(figsize=(9.5, 4.4))
+    ax.pcolormesh(
+        w,
+        a,
+        codes,
+        cmap=ListedColormap(MODE_COLOURS),
+        norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3),
+        shading="nearest",
+    )
+    # the legend lists what is drawn: the modes present (a marker per pulse of a coarse grid),
+    # the yield line if any, the multibody outcomes, the pulse
+    handles = grid_markers(ax, w, a, codes, labels=[f"SDOF: {m}" for m in MODE_LABELS], size=12)
+    handles = handles or [
+        Patch(facecolor=MODE_COLOURS[k], edgecolor="0.5", label=f"SDOF: {MODE_LABELS[k]}")
+        for k in range(3)
+        if np.any(codes == k)
+    ]
+    yields = np.array(spectrum.get("collar_yields", [[0]]), dtype=float)
+    if yields.min() < 0.5 < yields.max():
+        ax.contour(w, a, yields, levels=[0.5], colors="k", linewidths=0.8)
+        handles.append(Line2D([], [], color="k", lw=0.8, label="SDOF: a collar reaches f_y above"))
+    if mb is not None:
+        mb_codes = np.array([[code[c] for c in row] for row in mb["mode"]])
+        mb_w, mb_a = np.array(mb["omega_ratios"]), np.array(mb["amplitude_ratios"])
+        columns = {
+            "omega_ratio": np.tile(mb_w, mb_a.size),
+            "amplitude_ratio": np.repeat(mb_a, mb_w.size),
+            "mode_code": mb_codes.ravel(),
+        }
+        if "collar_yields" in mb:
+            columns["collar_yield"] = np.array(mb["collar_yields"], dtype=int).ravel()
+        write_csv(out / "figures" / "spectrum_multibody.csv", columns)
+        handles += grid_markers(
+            ax,
+            mb_w,
+            mb_a,
+            mb_codes,
+            always=True,
+            size=60,
+            labels=[f"rigid multibody: {m}" for m in MODE_LABELS],
+        )
+    handles += ax.plot(
+        spectrum["study_omega_ratio"],
+        spectrum["study_amplitude_ratio"],
+        ls="",
+        marker="*",
+        markersize=22,
+        markerfacecolor="none",
+        markeredgecolor="r",
+        markeredgewidth=1.6,
+        zorder=4,
+        label="this study's pulse",
+    )
+    ax.set_xlabel(r"$\Omega/p$")
+    ax.set_ylabel(r"$a_p/(g\tan\alpha)$")
+    legend_beside(ax, handles=handles)
+    ax.set_title(
+        "Rigid overturning spectra: SDOF half block with collars (map)"
+        + (", rigid multibody (markers)" if mb is not None else ""),
+        fontsize=10,
+    )
+    fig.tight_layout()
+    if mb is not None:
+        caption = (
+            "The study's pulse (red star) on the rigid overturning spectra. The verdict "
+            "relies on the rigid multibody model (two rigid halves, ground and crack "
+            "contact with friction, collars as frames): its outcome at each pulse of a "
+            "coarser grid through the study's pulse is a marker. The map beneath is the "
+            "paper's SDOF half block with collars, a simplification of it, with the line "
+            "above which a collar reaches its yield stress; where the two differ, the "
+            "markers are the rigid reference"
+        )
+    else:
+        caption = (
+            "The study's pulse on the rigid overturning spectrum of the SDOF half block "
+            "with collars: outcome of each pulse (legend), and where a collar reaches its "
+            "yield stress. The verdict relies on the rigid multibody model, whose "
+            "spectrum this run does not hold; the SDOF map is a simplification of it"
+        )
+    figs.append(
+        figure(
+            out,
+            "spectrum",
+            fig,
+            caption,
+            data_file="figures/spectrum*.csv" if mb is not None else "",
+        )
+    )
