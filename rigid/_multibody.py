@@ -26,6 +26,7 @@ impacts and friction dissipate.
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit, prange
@@ -62,30 +63,160 @@ N_BODY_COLS = 6
 # tangential force, then per collar its plastic elongation (m) and accumulated plastic strain
 N_TAIL = 7
 
+# The kernels' arguments travel in bundles (named tuples, which numba compiles as records of
+# arrays and numbers), as the FEM's do (fem._kernels): what describes the column (Bodies,
+# Contacts, Collars), the ground (Ground), the run (Settings), and what a step reads and
+# updates besides the positions and velocities (Scratch, StepState).
+
+Bodies = namedtuple("Bodies", ["mass", "inertia", "minv", "half", "g"])
+"""mass (n_bodies,) kg; inertia (n_bodies,) kg m^2, centroidal; minv (3 n_bodies,): the inverse
+mass of each dof (1/m, 1/m, 1/J per body); half (n_bodies, 3): half width, half height (m) and
+dead load at the top's centre (N); g (m/s^2). Make it with :func:`bodies`."""
+
+Contacts = namedtuple("Contacts", ["a", "b", "pt", "face", "mu", "kind"])
+"""The candidate contacts: point pt[c] (body frame) of body a[c] against the ground (b[c] < 0)
+or against the face face[c] = (local x, outward sign, half length) of body b[c]; friction
+coefficient mu[c]; kind[c]: CONTACT_BASE or CONTACT_CRACK."""
+
+Collars = namedtuple("Collars", ["a", "b", "r", "props", "limits"])
+"""The collar elements (collar_forces' col_a, col_b, col_r, props) and limits[c] = (A, W, f_y,
+H or -1) of each (MultibodyColumn.col_limits)."""
+
+Ground = namedtuple("Ground", ["kind", "params", "times", "values", "end"])
+"""The ground motion: kind (GROUND_NONE, GROUND_HARMONIC, GROUND_RECORD); params = (amplitude,
+omega, phase, duration, rows of the horizontal record, 1 if vertical rows follow); the tables
+(times, values) of colonna.core.ground.kernel_tables; end (s): when the ground is still."""
+
+Settings = namedtuple(
+    "Settings",
+    [
+        "h",
+        "n_steps",
+        "refine",
+        "e_n",
+        "out_every",
+        "free_halves",
+        "barrier",
+        "early_exit",
+        "impact_tol",
+        "energy_scale",
+        "tol",
+        "max_iter",
+    ],
+)
+"""The run (see :func:`simulate`): step h (s), n_steps of it, refine (substeps of a step in which
+a contact closes), Newton's e_n, a history row every out_every steps, free_halves, barrier (J),
+early_exit, impact_tol (rad), energy_scale (J), and the contact solver's tolerance tol and
+max_iter sweeps."""
+
+Scratch = namedtuple(
+    "Scratch",
+    [
+        "qm",
+        "f",
+        "vfree",
+        "vnew",
+        "bvec",
+        "umin",
+        "P",
+        "mu_act",
+        "G",
+        "W",
+        "act",
+        "n_base",
+        "col_out",
+        "col_state",
+    ],
+)
+"""A step's work arrays (:func:`new_scratch`): midpoint positions, forces, free and new
+velocities, the active contacts' free and pre-step velocities, impulses, friction, rows G,
+Delassus matrix W, candidates act and base contacts per body; and the collars' outputs and
+plastic states (col_out, col_state: collar_forces' out and state, kept across steps)."""
+
+StepState = namedtuple(
+    "StepState",
+    ["P_prev", "was_active", "pivot_side", "armed", "tallies", "forces", "impacts"],
+)
+"""What a step reads and updates besides q and v (:func:`new_step_state`): the last impulses of
+each candidate and whether it was active, each body's pivot side and whether an impact is
+armed, tallies = (dissipated energy, external work, impacts, max solver iterations), forces =
+(crack normal, crack tangential, then per body base normal and tangential), and the impacts
+table."""
+
+
+def bodies(mass, inertia, half, g) -> Bodies:
+    """The :class:`Bodies` bundle of bodies of these masses, inertias and half sizes."""
+    mass = np.ascontiguousarray(mass, dtype=float)
+    inertia = np.ascontiguousarray(inertia, dtype=float)
+    minv = np.empty(3 * mass.size)
+    minv[0::3] = 1.0 / mass
+    minv[1::3] = 1.0 / mass
+    minv[2::3] = 1.0 / inertia
+    return Bodies(mass, inertia, minv, np.ascontiguousarray(half, dtype=float), float(g))
+
 
 @njit(cache=True)
-def ground_acceleration(t, kind, gpar, rec_t, rec_a):
-    """Horizontal ground acceleration (m/s^2): harmonic gpar = (amplitude, omega, phase,
-    duration, ...) or a record: the first gpar[4] rows of (rec_t, rec_a), linear
+def new_scratch(n_bodies, n_contacts, n_collars):
+    """The work arrays of a step (:class:`Scratch`), collars' state at rest."""
+    n_dof = 3 * n_bodies
+    return Scratch(
+        np.empty(n_dof),
+        np.empty(n_dof),
+        np.empty(n_dof),
+        np.empty(n_dof),
+        np.zeros(2 * n_contacts),
+        np.zeros(2 * n_contacts),
+        np.zeros(2 * n_contacts),
+        np.zeros(n_contacts),
+        np.zeros((2 * n_contacts, n_dof)),
+        np.zeros((2 * n_contacts, 2 * n_contacts)),
+        np.zeros(n_contacts, dtype=np.int64),
+        np.zeros(n_bodies, dtype=np.int64),
+        np.zeros((n_collars, OUT_SIZE)),
+        np.zeros((n_collars, STATE_SIZE)),
+    )
+
+
+@njit(cache=True)
+def new_step_state(n_bodies, n_contacts, impacts):
+    """The contact state of bodies at rest (:class:`StepState`), no contact active yet, the
+    impacts written to ``impacts`` (rows (t, body, theta' before, theta' after))."""
+    return StepState(
+        np.zeros((n_contacts, 2)),
+        np.zeros(n_contacts, dtype=np.bool_),
+        np.zeros(n_bodies, dtype=np.int64),
+        np.zeros(n_bodies, dtype=np.bool_),
+        np.zeros(4),
+        np.zeros(2 + 2 * n_bodies),
+        impacts,
+    )
+
+
+@njit(cache=True)
+def ground_acceleration(t, ground):
+    """Horizontal ground acceleration (m/s^2): harmonic ground.params = (amplitude, omega,
+    phase, duration, ...) or a record: the first params[4] rows of the tables, linear
     interpolation, zero outside."""
-    if kind == GROUND_HARMONIC:
+    gpar = ground.params
+    if ground.kind == GROUND_HARMONIC:
         if 0.0 <= t <= gpar[3]:
             return gpar[0] * math.sin(gpar[1] * t + gpar[2])
         return 0.0
-    if kind == GROUND_RECORD:
+    if ground.kind == GROUND_RECORD:
         n = int(gpar[4])
-        return table_value(t, rec_t[:n], rec_a[:n])
+        return table_value(t, ground.times[:n], ground.values[:n])
     return 0.0
 
 
 @njit(cache=True)
-def vertical_acceleration(t, gpar, rec_t, rec_a):
-    """Vertical ground acceleration (m/s^2, upward positive): with gpar[5] = 1, the rows of
-    (rec_t, rec_a) after the first gpar[4], linear interpolation, zero outside."""
+def vertical_acceleration(t, ground):
+    """Vertical ground acceleration (m/s^2, upward positive): with params[5] = 1, the rows of
+    the tables after the first params[4], linear interpolation, zero outside."""
+    gpar = ground.params
     if gpar[5] == 0.0:
         return 0.0
     n = int(gpar[4])
-    return table_value(t, rec_t[n:], rec_a[n:])
+    return table_value(t, ground.times[n:], ground.values[n:])
 
 
 @njit(cache=True)
@@ -393,57 +524,29 @@ def _active_set(W, bvec, P, mu, n_act):
 
 
 @njit(cache=True)
-def _step(
-    t,
-    h,
-    q,
-    v,
-    mass,
-    minv,
-    g,
-    half,
-    cand_a,
-    cand_b,
-    cand_pt,
-    cand_face,
-    cand_mu,
-    cand_kind,
-    col_a,
-    col_b,
-    col_r,
-    col_props,
-    ground_kind,
-    gpar,
-    rec_t,
-    rec_a,
-    e_n,
-    tol,
-    max_iter,
-    ws,
-    P_prev,
-    was_active,
-    pivot_side,
-    armed,
-    impact_tol,
-    impacts,
-    tallies,
-    forces,
-):
-    """One Moreau-Jean step of size h from time t; q, v and the contact state updated in place.
+def _step(t, h, q, v, bodies, contacts, collars, ground, settings, scratch, state):
+    """One Moreau-Jean step of size h from time t; q, v and the contact state (``state``, a
+    :class:`StepState`) updated in place; ``settings``: its e_n, impact_tol, tol and max_iter.
 
-    tallies = (dissipated energy, external work, impacts, max solver iterations); forces =
-    (crack normal, crack tangential, then per body base normal and tangential), mean over the
-    step (N). Returns True if a contact closed in this step: open in the last step, closed at
-    this one's midpoint or end, approaching faster than gravity alone makes it in a few steps
-    (4 g h; slower closures are a resting contact settling back after the midpoint scheme's
-    O(h^2) lift of a pivot)."""
+    state.tallies = (dissipated energy, external work, impacts, max solver iterations);
+    state.forces = (crack normal, crack tangential, then per body base normal and tangential),
+    mean over the step (N). Returns True if a contact closed in this step: open in the last
+    step, closed at this one's midpoint or end, approaching faster than gravity alone makes it
+    in a few steps (4 g h; slower closures are a resting contact settling back after the
+    midpoint scheme's O(h^2) lift of a pivot)."""
+    mass, minv, half, g = bodies.mass, bodies.minv, bodies.half, bodies.g
+    cand_a, cand_b, cand_pt, cand_face = contacts.a, contacts.b, contacts.pt, contacts.face
+    cand_mu, cand_kind = contacts.mu, contacts.kind
+    col_a, col_b, col_r, col_props = collars.a, collars.b, collars.r, collars.props
+    e_n, impact_tol = settings.e_n, settings.impact_tol
+    qm, f, vfree, vnew, bvec, umin, P, mu_act, G, W, act, n_base, col_out, col_state = scratch
+    P_prev, was_active, pivot_side, armed, tallies, forces, impacts = state
     nb = mass.size
     n_dof = 3 * nb
     nc = cand_a.size
-    qm, f, vfree, vnew, bvec, umin, P, mu_act, G, W, act, n_base, col_out, col_state = ws
     tm = t + 0.5 * h
-    ag = ground_acceleration(tm, ground_kind, gpar, rec_t, rec_a)
-    av = vertical_acceleration(tm, gpar, rec_t, rec_a)
+    ag = ground_acceleration(tm, ground)
+    av = vertical_acceleration(tm, ground)
     for k in range(n_dof):
         qm[k] = q[k] + 0.5 * h * v[k]
         f[k] = 0.0
@@ -508,9 +611,9 @@ def _step(
             c = act[j]
             P[2 * j] = P_prev[c, 0] if was_active[c] else 0.0
             P[2 * j + 1] = P_prev[c, 1] if was_active[c] else 0.0
-        it = _solve_contacts(W, bvec, P, mu_act, n_act, tol, GS_ITERATIONS)
+        it = _solve_contacts(W, bvec, P, mu_act, n_act, settings.tol, GS_ITERATIONS)
         if it >= GS_ITERATIONS and not _active_set(W, bvec, P, mu_act, n_act):
-            it += _solve_contacts(W, bvec, P, mu_act, n_act, tol, max_iter)
+            it += _solve_contacts(W, bvec, P, mu_act, n_act, settings.tol, settings.max_iter)
         tallies[3] = max(tallies[3], it)
         for k in range(n_dof):
             acc = 0.0
@@ -592,45 +695,11 @@ def _step(
 
 
 @njit(cache=True)
-def simulate(
-    q,
-    v,
-    mass,
-    inertia,
-    half,
-    g,
-    cand_a,
-    cand_b,
-    cand_pt,
-    cand_face,
-    cand_mu,
-    cand_kind,
-    col_a,
-    col_b,
-    col_r,
-    col_props,
-    col_limits,
-    ground_kind,
-    gpar,
-    rec_t,
-    rec_a,
-    t_ground_end,
-    h,
-    n_steps,
-    refine,
-    e_n,
-    out_every,
-    out,
-    impacts,
-    free_halves,
-    barrier,
-    early_exit,
-    impact_tol,
-    energy_scale,
-    tol,
-    max_iter,
-):
-    """Advance the bodies n_steps of size h from t = 0 (q, v updated in place).
+def simulate(q, v, bodies, contacts, collars, ground, settings, out, impacts):
+    """Advance the bodies settings.n_steps of size settings.h from t = 0 (q, v updated in
+    place) under ``ground`` (a :class:`Ground`): the column is ``bodies``, ``contacts`` and
+    ``collars`` (:class:`Bodies`, :class:`Contacts`, :class:`Collars`), the run's settings a
+    :class:`Settings`.
 
     A step in which a contact closes is done again as ``refine`` steps of h / refine: the
     impact then happens within h / refine of its time, on the geometry of that instant
@@ -642,54 +711,33 @@ def simulate(
     |theta| has exceeded impact_tol since the last impact.
     free_halves: judge each half alone for overturning (cracked column without collars).
     barrier: the least mechanical energy (J above rest) any part needs to overturn; with
-    early_exit the run stops as settled once the ground is still, the energy is below it and
-    every body stands within its toes.
-    energy_scale: J, for the blow-up check. col_limits[c] = (A, W, f_y, H or -1) of each collar
-    (MultibodyColumn.col_limits): the largest utilisation (|N|/A + max|M|/W) / f_y, that stress
-    capped at f_y + H alpha for a plastic collar, over the steps' midpoints is returned.
+    early_exit the run stops as settled once the ground is still (after ground.end), the
+    energy is below it and every body stands within its toes.
+    energy_scale: J, for the blow-up check. collars.limits[c] = (A, W, f_y, H or -1) of each
+    collar (MultibodyColumn.col_limits): the largest utilisation (|N|/A + max|M|/W) / f_y, that
+    stress capped at f_y + H alpha for a plastic collar, over the steps' midpoints is returned.
 
     Returns (status, steps done, rows written, impacts, overturn reason, overturn time, peak
     |theta| (rad) of each body as a 2-vector, most solver iterations in a step, largest collar
-    utilisation)."""
+    utilisation, largest collar plastic strain, collar plastic work)."""
+    mass, half = bodies.mass, bodies.half
+    col_limits = collars.limits
+    h, n_steps, refine = settings.h, settings.n_steps, settings.refine
+    early_exit, impact_tol = settings.early_exit, settings.impact_tol
     nb = mass.size
     n_dof = 3 * nb
-    nc = cand_a.size
-    minv = np.empty(n_dof)
-    for i in range(nb):
-        minv[3 * i] = 1.0 / mass[i]
-        minv[3 * i + 1] = 1.0 / mass[i]
-        minv[3 * i + 2] = 1.0 / inertia[i]
-    ws = (
-        np.empty(n_dof),
-        np.empty(n_dof),
-        np.empty(n_dof),
-        np.empty(n_dof),
-        np.zeros(2 * nc),
-        np.zeros(2 * nc),
-        np.zeros(2 * nc),
-        np.zeros(nc),
-        np.zeros((2 * nc, n_dof)),
-        np.zeros((2 * nc, 2 * nc)),
-        np.zeros(nc, dtype=np.int64),
-        np.zeros(nb, dtype=np.int64),
-        np.zeros((col_a.size, OUT_SIZE)),
-        np.zeros((col_a.size, STATE_SIZE)),
-    )
-    col_out = ws[12]
-    col_state = ws[13]
+    scratch = new_scratch(nb, contacts.a.size, collars.a.size)
+    state = new_step_state(nb, contacts.a.size, impacts)
+    col_out = scratch.col_out
+    col_state = scratch.col_state
+    P_prev, was_active, pivot_side, armed, tallies, forces, _ = state
     saved_col = col_state.copy()
     max_plastic = 0.0
     no_force = np.zeros(0)
-    P_prev = np.zeros((nc, 2))
-    was_active = np.zeros(nc, dtype=np.bool_)
-    pivot_side = np.zeros(nb, dtype=np.int64)  # side of the base corner last pivoted on
-    armed = np.zeros(nb, dtype=np.bool_)
     for i in range(nb):
         if abs(q[3 * i + 2]) > impact_tol:  # released tilted: pivoting on the low side
             pivot_side[i] = 1 if q[3 * i + 2] < 0.0 else -1
             armed[i] = True
-    tallies = np.zeros(4)
-    forces = np.zeros(2 + 2 * nb)
     saved = (
         q.copy(),
         v.copy(),
@@ -705,26 +753,7 @@ def simulate(
     status = FINISHED
     reason = OVER_NONE
     t_over = -1.0
-    _write_row(
-        out,
-        n_rows,
-        0.0,
-        q,
-        v,
-        mass,
-        inertia,
-        half,
-        g,
-        col_a,
-        col_b,
-        col_r,
-        col_props,
-        col_out,
-        no_force,
-        tallies,
-        forces,
-        col_state,
-    )
+    _write_row(out, n_rows, 0.0, q, v, bodies, collars, col_out, no_force, state, col_state)
     n_rows += 1
     step = 0
     for step in range(1, n_steps + 1):
@@ -738,89 +767,26 @@ def simulate(
             saved[5][:] = armed
             saved[6][:] = tallies
             saved_col[:] = col_state
-        closed = _step(
-            t,
-            h,
-            q,
-            v,
-            mass,
-            minv,
-            g,
-            half,
-            cand_a,
-            cand_b,
-            cand_pt,
-            cand_face,
-            cand_mu,
-            cand_kind,
-            col_a,
-            col_b,
-            col_r,
-            col_props,
-            ground_kind,
-            gpar,
-            rec_t,
-            rec_a,
-            e_n,
-            tol,
-            max_iter,
-            ws,
-            P_prev,
-            was_active,
-            pivot_side,
-            armed,
-            impact_tol,
-            impacts,
-            tallies,
-            forces,
-        )
-        if closed and refine > 1:
-            q[:] = saved[0]
-            v[:] = saved[1]
-            P_prev[:] = saved[2]
-            was_active[:] = saved[3]
-            pivot_side[:] = saved[4]
-            armed[:] = saved[5]
-            tallies[:] = saved[6]
-            col_state[:] = saved_col
-            hs = h / refine
-            for sub in range(refine):
-                _step(
-                    t + sub * hs,
-                    hs,
-                    q,
-                    v,
-                    mass,
-                    minv,
-                    g,
-                    half,
-                    cand_a,
-                    cand_b,
-                    cand_pt,
-                    cand_face,
-                    cand_mu,
-                    cand_kind,
-                    col_a,
-                    col_b,
-                    col_r,
-                    col_props,
-                    ground_kind,
-                    gpar,
-                    rec_t,
-                    rec_a,
-                    e_n,
-                    tol,
-                    max_iter,
-                    ws,
-                    P_prev,
-                    was_active,
-                    pivot_side,
-                    armed,
-                    impact_tol,
-                    impacts,
-                    tallies,
-                    forces,
-                )
+        # the step whole, or again as refine substeps if a contact closed in it
+        substeps = 1
+        sub = 0
+        while sub < substeps:
+            hs = h / substeps
+            closed = _step(
+                t + sub * hs, hs, q, v, bodies, contacts, collars, ground, settings, scratch, state
+            )
+            sub += 1
+            if closed and substeps == 1 and refine > 1:
+                q[:] = saved[0]
+                v[:] = saved[1]
+                P_prev[:] = saved[2]
+                was_active[:] = saved[3]
+                pivot_side[:] = saved[4]
+                armed[:] = saved[5]
+                tallies[:] = saved[6]
+                col_state[:] = saved_col
+                substeps = refine
+                sub = 0
         t_new = step * h
         for c in range(col_limits.shape[0]):
             stress = (
@@ -846,60 +812,29 @@ def simulate(
         for i in range(nb):
             if abs(q[3 * i + 2]) >= 0.5 * math.pi:
                 reason = OVER_HALF_PI
-        if reason == OVER_NONE and t_new > t_ground_end:
-            reason = _falling(q, v, mass, half, free_halves)
+        if reason == OVER_NONE and t_new > ground.end:
+            reason = _falling(q, v, mass, half, settings.free_halves)
         if reason != OVER_NONE:
             status = OVERTURNED
             t_over = t_new
-        write = status != FINISHED or step % out_every == 0 or step == n_steps
+        write = status != FINISHED or step % settings.out_every == 0 or step == n_steps
         mech = 0.0
         if write or early_exit or step % 64 == 0:
-            mech = _mechanical(
-                q,
-                v,
-                mass,
-                inertia,
-                half,
-                g,
-                col_a,
-                col_b,
-                col_r,
-                col_props,
-                col_out,
-                no_force,
-                col_state,
-            )
-            if not (abs(mech) <= 1e3 * energy_scale + 1e3 * abs(tallies[1])):
+            mech = _mechanical(q, v, bodies, collars, col_out, no_force, col_state)
+            if not (abs(mech) <= 1e3 * settings.energy_scale + 1e3 * abs(tallies[1])):
                 status = UNSTABLE
         if write and n_rows < out.shape[0]:
             _write_row(
-                out,
-                n_rows,
-                t_new,
-                q,
-                v,
-                mass,
-                inertia,
-                half,
-                g,
-                col_a,
-                col_b,
-                col_r,
-                col_props,
-                col_out,
-                no_force,
-                tallies,
-                forces,
-                col_state,
+                out, n_rows, t_new, q, v, bodies, collars, col_out, no_force, state, col_state
             )
             n_rows += 1
         if status != FINISHED:
             break
-        if early_exit and t_new > t_ground_end and mech < barrier and _upright(q, half):
+        if early_exit and t_new > ground.end and mech < settings.barrier and _upright(q, half):
             status = SETTLED
             break
     plastic_work = 0.0
-    for c in range(col_a.size):
+    for c in range(collars.a.size):
         plastic_work += col_state[c, 2]
     return (
         status,
@@ -929,41 +864,27 @@ def _potential(q, mass, half, g, i):
 
 
 @njit(cache=True)
-def _mechanical(
-    q, v, mass, inertia, half, g, col_a, col_b, col_r, col_props, col_out, no_force, col_state
-):
+def _mechanical(q, v, bodies, collars, col_out, no_force, col_state):
     """Kinetic + gravity and top load (above rest) + collar energy (J)."""
+    mass, inertia, half, g = bodies.mass, bodies.inertia, bodies.half, bodies.g
     e = 0.0
     for i in range(mass.size):
         e += 0.5 * mass[i] * (v[3 * i] ** 2 + v[3 * i + 1] ** 2)
         e += 0.5 * inertia[i] * v[3 * i + 2] ** 2
         e += _potential(q, mass, half, g, i)
-    if col_a.size:
-        e += collar_forces(q, col_a, col_b, col_r, col_props, no_force, col_out, col_state, False)
+    if collars.a.size:
+        e += collar_forces(
+            q, collars.a, collars.b, collars.r, collars.props, no_force, col_out, col_state, False
+        )
     return e
 
 
 @njit(cache=True)
-def _write_row(
-    out,
-    row,
-    t,
-    q,
-    v,
-    mass,
-    inertia,
-    half,
-    g,
-    col_a,
-    col_b,
-    col_r,
-    col_props,
-    col_out,
-    no_force,
-    tallies,
-    forces,
-    col_state,
-):
+def _write_row(out, row, t, q, v, bodies, collars, col_out, no_force, state, col_state):
+    """History row ``row`` at time t: the bodies' state, the energies, state's tallies and
+    forces, and the collars' plastic state (the columns of N_BODY_COLS and N_TAIL)."""
+    mass, inertia, half, g = bodies.mass, bodies.inertia, bodies.half, bodies.g
+    tallies, forces = state.tallies, state.forces
     nb = mass.size
     out[row, OUT_T] = t
     kinetic = 0.0
@@ -976,9 +897,9 @@ def _write_row(
         kinetic += 0.5 * inertia[i] * v[3 * i + 2] ** 2
         gravity += _potential(q, mass, half, g, i)
     collar = 0.0
-    if col_a.size:
+    if collars.a.size:
         collar = collar_forces(
-            q, col_a, col_b, col_r, col_props, no_force, col_out, col_state, False
+            q, collars.a, collars.b, collars.r, collars.props, no_force, col_out, col_state, False
         )
     k0 = 1 + N_BODY_COLS * nb
     out[row, k0] = kinetic
@@ -1047,47 +968,22 @@ def _falling(q, v, mass, half, free_halves):
 
 @njit(cache=True, parallel=True)
 def spectrum_modes(
-    q0,
-    mass,
-    inertia,
-    half,
-    g,
-    cand_a,
-    cand_b,
-    cand_pt,
-    cand_face,
-    cand_mu,
-    cand_kind,
-    col_a,
-    col_b,
-    col_r,
-    col_props,
-    col_limits,
-    omegas,
-    amplitudes,
-    uplift,
-    cosine,
-    h_max,
-    refine,
-    free_time,
-    e_n,
-    free_halves,
-    barrier,
-    impact_tol,
-    energy_scale,
-    tol,
-    max_iter,
+    q0, bodies, contacts, collars, omegas, amplitudes, uplift, cosine, free_time, settings
 ):
     """Mode code (0 safe, 1 after impact, 2 without impact), the peak |theta| (rad) and the
     largest collar utilisation of every (amplitude, omega) pair: sine pulses phased to start
     rocking at t = 0 (or cosine pulses), amplitude a_p = amplitudes[i] * uplift (m/s^2),
-    Omega = omegas[j] (rad/s)."""
+    Omega = omegas[j] (rad/s), each run from rest at q0 to free_time (s) after its end.
+
+    settings: those of :func:`simulate`, with h the largest step (a pulse's is at most 1/400 of
+    its period); n_steps and out_every are each pulse's own (no history rows kept)."""
     na = amplitudes.size
     no = omegas.size
     codes = np.zeros((na, no), dtype=np.int8)
     peaks = np.zeros((na, no))
     status_out = np.zeros((na, no), dtype=np.int8)
     utilisation = np.zeros((na, no))
+    nb = bodies.mass.size
     for idx in prange(na * no):
         i = idx // no
         j = idx % no
@@ -1104,51 +1000,29 @@ def spectrum_modes(
             gpar[2] = phase
             gpar[3] = (2.0 * math.pi - phase) / om
         t_end = gpar[3]
-        h = min(h_max, (2.0 * math.pi / om) / 400.0)
+        h = min(settings.h, (2.0 * math.pi / om) / 400.0)
         n_steps = int(math.ceil((t_end + free_time) / h))
-        q = q0.copy()
-        v = np.zeros_like(q0)
-        out = np.zeros(
-            (1, 1 + N_BODY_COLS * mass.size + N_TAIL + 2 * mass.size + N_RECORDED * col_a.size)
-        )
-        impacts = np.zeros((1, 4))
-        status, steps, rows, n_imp, reason, t_over, peak, it, util, _pl, _pw = simulate(
-            q,
-            v,
-            mass,
-            inertia,
-            half,
-            g,
-            cand_a,
-            cand_b,
-            cand_pt,
-            cand_face,
-            cand_mu,
-            cand_kind,
-            col_a,
-            col_b,
-            col_r,
-            col_props,
-            col_limits,
-            GROUND_HARMONIC,
-            gpar,
-            np.zeros(1),
-            np.zeros(1),
-            t_end,
+        run = Settings(
             h,
             n_steps,
-            refine,
-            e_n,
+            settings.refine,
+            settings.e_n,
             n_steps + 1,
-            out,
-            impacts,
-            free_halves,
-            barrier,
-            True,
-            impact_tol,
-            energy_scale,
-            tol,
-            max_iter,
+            settings.free_halves,
+            settings.barrier,
+            settings.early_exit,
+            settings.impact_tol,
+            settings.energy_scale,
+            settings.tol,
+            settings.max_iter,
+        )
+        ground = Ground(GROUND_HARMONIC, gpar, np.zeros(1), np.zeros(1), t_end)
+        q = q0.copy()
+        v = np.zeros_like(q0)
+        out = np.zeros((1, 1 + N_BODY_COLS * nb + N_TAIL + 2 * nb + N_RECORDED * collars.a.size))
+        impacts = np.zeros((1, 4))
+        status, steps, rows, n_imp, reason, t_over, peak, it, util, _pl, _pw = simulate(
+            q, v, bodies, contacts, collars, ground, run, out, impacts
         )
         status_out[i, j] = status
         utilisation[i, j] = util

@@ -118,6 +118,16 @@ class MultibodyColumn:
     def total_mass(self) -> float:
         return float(self.mass.sum())
 
+    def kernel_bundles(self) -> tuple[K.Bodies, K.Contacts, K.Collars]:
+        """The column as the kernels take it: its bodies, contact candidates and collars."""
+        return (
+            K.bodies(self.mass, self.inertia, self.half, self.block.g),
+            K.Contacts(
+                self.cand_a, self.cand_b, self.cand_pt, self.cand_face, self.cand_mu, self.cand_kind
+            ),
+            K.Collars(self.col_a, self.col_b, self.col_r, self.col_props, self.col_limits),
+        )
+
     @property
     def column_width(self) -> float:
         return 2.0 * float(self.half[:, 0].sum())
@@ -482,9 +492,10 @@ def _mean_or_none(values) -> float | None:
     return float(np.mean(values)) if len(values) else None
 
 
-def _ground_arrays(ground: GroundMotion, g: float, vertical: GroundMotion = NO_MOTION):
-    """(kind, gpar, rec_t, rec_a, end of the ground motion) for the kernel: gpar = (amplitude,
-    omega, phase, duration, rows of the horizontal record, 1 if vertical motion follows)."""
+def _ground_arrays(ground: GroundMotion, g: float, vertical: GroundMotion = NO_MOTION) -> K.Ground:
+    """The ground for the kernel (:class:`rigid._multibody.Ground`): kind, params = (amplitude,
+    omega, phase, duration, rows of the horizontal record, 1 if vertical motion follows), the
+    tables, and the end of the ground motion."""
     gpar = np.zeros(6)
     require_motion("vertical", vertical)
     # the kernel computes a harmonic motion in closed form and reads any other from its table
@@ -500,7 +511,7 @@ def _ground_arrays(ground: GroundMotion, g: float, vertical: GroundMotion = NO_M
     if has_vertical:
         gpar[5] = 1.0
         end = max(end, vertical.end_time)
-    return kind, gpar, rec_t, rec_a, end
+    return K.Ground(kind, gpar, rec_t, rec_a, end)
 
 
 def default_step(column: MultibodyColumn, ground: GroundMotion = NO_MOTION) -> float:
@@ -551,9 +562,9 @@ def rock_multibody(
         closed_low=True,
         closed_high=True,
     )
-    kind, gpar, rec_t, rec_a, t_ground = _ground_arrays(ground, block.g, vertical)
+    kernel_ground = _ground_arrays(ground, block.g, vertical)
     if duration is None:
-        duration = t_ground + 20.0 / block.p
+        duration = kernel_ground.end + 20.0 / block.p
     require_positive("duration (s)", duration)
     h_stable = 0.5 * column.collar_stable_step()  # a quarter of 2/omega is the default
     if dt is None:
@@ -581,44 +592,24 @@ def rock_multibody(
     out = np.zeros((n_steps // out_every + 3, n_cols))
     impacts = np.zeros((max_impacts_stored, 4))
     energy_scale = max(column.rocking_energy(), 1e-300)
+    settings = K.Settings(
+        h=float(dt),
+        n_steps=n_steps,
+        refine=_check_refine(refine),
+        e_n=float(restitution_normal),
+        out_every=out_every,
+        free_halves=bool(column.cracked and not column.collars),
+        barrier=float(column.overturning_barrier()),
+        early_exit=False,
+        impact_tol=IMPACT_THRESHOLD * block.alpha,
+        energy_scale=energy_scale,
+        tol=SOLVER_TOLERANCE,
+        max_iter=SOLVER_MAX_ITERATIONS,
+    )
+    bodies, contacts, collar_elements = column.kernel_bundles()
     start = time.perf_counter()
     status, steps, rows, n_imp, reason, t_over, _peak, iters, _util, plastic, work = K.simulate(
-        q,
-        v,
-        column.mass,
-        column.inertia,
-        column.half,
-        block.g,
-        column.cand_a,
-        column.cand_b,
-        column.cand_pt,
-        column.cand_face,
-        column.cand_mu,
-        column.cand_kind,
-        column.col_a,
-        column.col_b,
-        column.col_r,
-        column.col_props,
-        column.col_limits,
-        kind,
-        gpar,
-        rec_t,
-        rec_a,
-        t_ground,
-        dt,
-        n_steps,
-        _check_refine(refine),
-        restitution_normal,
-        out_every,
-        out,
-        impacts,
-        column.cracked and not column.collars,
-        column.overturning_barrier(),
-        False,
-        IMPACT_THRESHOLD * block.alpha,
-        energy_scale,
-        SOLVER_TOLERANCE,
-        SOLVER_MAX_ITERATIONS,
+        q, v, bodies, contacts, collar_elements, kernel_ground, settings, out, impacts
     )
     wall = time.perf_counter() - start
     if status == K.UNSTABLE:
@@ -861,38 +852,33 @@ def multibody_spectrum(
     if free_time is None:
         free_time = 50.0 / block.p
     uplift = block.uplift_acceleration("nonlinear")
+    settings = K.Settings(
+        h=float(h_max),  # each pulse's step: at most 1/400 of its period
+        n_steps=0,  # each pulse's own
+        refine=_check_refine(refine),
+        e_n=float(restitution_normal),
+        out_every=0,  # each pulse's own
+        free_halves=bool(column.cracked and not column.collars),
+        barrier=float(column.overturning_barrier()),
+        early_exit=True,
+        impact_tol=IMPACT_THRESHOLD * block.alpha,
+        energy_scale=max(column.rocking_energy(), 1e-300),
+        tol=SOLVER_TOLERANCE,
+        max_iter=SOLVER_MAX_ITERATIONS,
+    )
+    bodies, contacts, collar_elements = column.kernel_bundles()
     start = time.perf_counter()
     codes, peaks, _status, utilisation = K.spectrum_modes(
         column.q_rest,
-        column.mass,
-        column.inertia,
-        column.half,
-        block.g,
-        column.cand_a,
-        column.cand_b,
-        column.cand_pt,
-        column.cand_face,
-        column.cand_mu,
-        column.cand_kind,
-        column.col_a,
-        column.col_b,
-        column.col_r,
-        column.col_props,
-        column.col_limits,
+        bodies,
+        contacts,
+        collar_elements,
         omega_ratios * block.p,
         amplitude_ratios,
         uplift,
         pulse == "cosine",
-        h_max,
-        _check_refine(refine),
-        free_time,
-        restitution_normal,
-        column.cracked and not column.collars,
-        column.overturning_barrier(),
-        IMPACT_THRESHOLD * block.alpha,
-        max(column.rocking_energy(), 1e-300),
-        SOLVER_TOLERANCE,
-        SOLVER_MAX_ITERATIONS,
+        float(free_time),
+        settings,
     )
     seconds = time.perf_counter() - start
     yields = utilisation >= 1.0 if column.collars else None

@@ -201,71 +201,34 @@ def test_active_set_solves_the_redundant_contact_problem_exactly():
 
     blk, pulse = _cracked_column(from_rest=True)
     column = build_column(blk, cracked=True, friction=0.7)
-    kind, gpar, rec_t, rec_a, _ = _ground_arrays(pulse, blk.g)
+    ground = _ground_arrays(pulse, blk.g)
     q, v = tilted_state(column, 0.0, 0.0)
     nb, nc = 2, column.cand_a.size
-    minv = np.repeat(1.0 / column.mass, 3)
-    minv[2::3] = 1.0 / column.inertia
-    ws = (
-        np.empty(6),
-        np.empty(6),
-        np.empty(6),
-        np.empty(6),
-        np.zeros(2 * nc),
-        np.zeros(2 * nc),
-        np.zeros(2 * nc),
-        np.zeros(nc),
-        np.zeros((2 * nc, 6)),
-        np.zeros((2 * nc, 2 * nc)),
-        np.zeros(nc, dtype=np.int64),
-        np.zeros(nb, dtype=np.int64),
-        np.zeros((0, OUT_SIZE)),
-        np.zeros((0, STATE_SIZE)),
+    bodies, contacts, collars = column.kernel_bundles()
+    settings = K.Settings(
+        h=9e-5,
+        n_steps=0,
+        refine=1,
+        e_n=0.0,
+        out_every=1,
+        free_halves=False,
+        barrier=0.0,
+        early_exit=False,
+        impact_tol=IMPACT_THRESHOLD * blk.alpha,
+        energy_scale=1.0,
+        tol=1e-10,
+        max_iter=500,
     )
-    P_prev, was_active = np.zeros((nc, 2)), np.zeros(nc, dtype=np.bool_)
-    pivot, armed = np.zeros(nb, dtype=np.int64), np.zeros(nb, dtype=np.bool_)
-    h = 9e-5
+    scratch = K.new_scratch(nb, nc, 0)
+    state = K.new_step_state(nb, nc, np.zeros((10, 4)))
+    was_active = state.was_active
+    h = settings.h
     for step in range(int(0.3 / h)):  # to t = 0.3 s: the halves rock together
-        K._step(
-            step * h,
-            h,
-            q,
-            v,
-            column.mass,
-            minv,
-            blk.g,
-            column.half,
-            column.cand_a,
-            column.cand_b,
-            column.cand_pt,
-            column.cand_face,
-            column.cand_mu,
-            column.cand_kind,
-            column.col_a,
-            column.col_b,
-            column.col_r,
-            column.col_props,
-            kind,
-            gpar,
-            rec_t,
-            rec_a,
-            0.0,
-            1e-10,
-            500,
-            ws,
-            P_prev,
-            was_active,
-            pivot,
-            armed,
-            IMPACT_THRESHOLD * blk.alpha,
-            np.zeros((10, 4)),
-            np.zeros(4),
-            np.zeros(2 + 2 * nb),
-        )
+        K._step(step * h, h, q, v, bodies, contacts, collars, ground, settings, scratch, state)
     n = int(was_active.sum())  # the last step's problem
     assert n == 4
-    rows = ws[10][:n]
-    W, b = ws[9][: 2 * n, : 2 * n].copy(), ws[4][: 2 * n].copy()
+    rows = scratch.act[:n]
+    W, b = scratch.W[: 2 * n, : 2 * n].copy(), scratch.bvec[: 2 * n].copy()
     mu = column.cand_mu[rows]
     feasible = []
     for combo in itertools.product(range(4), repeat=n):  # open, stick, slide +, slide -
