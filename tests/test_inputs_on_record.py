@@ -19,7 +19,7 @@ import pytest
 from tiny_study import TINY_STUDY
 
 import colonna
-from colonna.core.errors import InputError
+from colonna.core.errors import InputError, StaleResultsError
 from colonna.fem.toe_stress import REFINEMENTS
 from colonna.studies import executor
 from colonna.studies.cli import main, resolve_study
@@ -99,7 +99,7 @@ def test_unchanged_rerun_reuses_the_saved_case(copied, monkeypatch):
     def must_not_run(case, directory):
         raise AssertionError(f"case {case['key']} recomputed")
 
-    monkeypatch.setattr("colonna.studies.design_study.fem_case", must_not_run)
+    monkeypatch.setattr("colonna.studies.collar_design.runner.fem_case", must_not_run)
     assert main(["study", str(study), "--out", str(out), "--workers", "1"]) == 0
     assert result.stat().st_mtime_ns == mtime and result.read_text() == text
 
@@ -189,7 +189,7 @@ def test_a_changed_input_file_is_named(tmp_path, table, key, what):
         "value": 9.0
     }
     (tmp_path / "input.txt").write_text("0 0\n1 2\n")
-    with pytest.raises(InputError, match=f"{what} input.txt changed") as raised:
+    with pytest.raises(StaleResultsError, match=f"{what} input.txt changed") as raised:
         executor.run_cases(_square, cases, tmp_path / "out", progress=False)
     assert "and 1 more case" in str(raised.value)
 
@@ -214,7 +214,9 @@ def test_what_does_not_change_the_computation_is_not_an_input(tmp_path):
     rescheduled = [dict(c, cost=7.0) for c in _cases(tmp_path, study=renamed)]  # a hint only
     executor.run_cases(counted, rescheduled, tmp_path / "out", progress=False)
     assert calls == ["one", "two"]
-    with pytest.raises(InputError, match='study.study.kind: "cross-check" -> "free-rocking"'):
+    with pytest.raises(
+        StaleResultsError, match='study.study.kind: "cross-check" -> "free-rocking"'
+    ):
         executor.run_cases(
             counted,
             _cases(tmp_path, study={**named, "kind": "free-rocking"}),
@@ -234,7 +236,7 @@ def test_another_version_is_named_and_nothing_runs_before_the_refusal(tmp_path, 
         calls.append(case["key"])
         return _square(case, directory)
 
-    with pytest.raises(InputError) as raised:
+    with pytest.raises(StaleResultsError) as raised:
         executor.run_cases(counted, _cases(tmp_path), out, progress=False)
     message = str(raised.value)
     assert f"colonna version {before} -> 99.0" in message
@@ -251,7 +253,7 @@ def test_a_case_without_a_record_of_its_inputs_is_refused_then_forced(tmp_path):
     executor.run_cases(_square, _cases(tmp_path), out, progress=False)
     (out / "cases" / "one" / "inputs.json").unlink()  # as an older colonna left it
     (out / "cases" / "one" / "old.csv").write_text("stale")
-    with pytest.raises(InputError, match="one has no record of the inputs"):
+    with pytest.raises(StaleResultsError, match="one has no record of the inputs"):
         executor.run_cases(_square, _cases(tmp_path), out, progress=False)
     executor.run_cases(_square, _cases(tmp_path), out, progress=False, force=True)
     assert not (out / "cases" / "one" / "old.csv").exists()  # the stale case was deleted

@@ -324,6 +324,7 @@ def drawn(tmp_path_factory):
     """Every figure the report writers make from _made_up_runs: name -> (figure, what figure
     gave the template)."""
     from colonna.studies import report
+    from colonna.studies.collar_design import report as collar_design
     from colonna.studies.crosscheck import report as crosscheck
     from colonna.studies.output import read_csv
 
@@ -337,13 +338,13 @@ def drawn(tmp_path_factory):
         return figures[name][1]
 
     with pytest.MonkeyPatch.context() as mp:
-        for module in (report, crosscheck):  # each kind's report draws through these
+        for module in (report, crosscheck, collar_design):  # each kind's report draws through these
             mp.setattr(module, "figure", capture)
             mp.setattr(module, "render_page", lambda out, *a, **k: out / "index.html")
         mp.setattr(crosscheck, "_renders", lambda out: ([], ""))
         mp.setattr(crosscheck, "_deformed_figure", lambda *a: None)
         crosscheck.write_report(runs["crosscheck"])
-        report.write_design_report(runs["design"])
+        collar_design.write_report(runs["design"])
         report.write_spectrum_crosscheck_report(runs["grid"])
         report.write_free_rocking_report(runs["free-rocking"])
         summary = {

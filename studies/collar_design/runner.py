@@ -9,28 +9,28 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.constants import DUCTILITY_LIMIT
-from ..core.errors import read_toml
-from ..core.ground import peak_acceleration
-from ..rigid.design import (
+from ...core.constants import DUCTILITY_LIMIT
+from ...core.errors import read_toml
+from ...core.ground import peak_acceleration
+from ...rigid.design import (
     FLAT_BAR_THICKNESSES,
     collar_trial,
     design_chart,
     design_collars,
     thinnest_passing,
 )
-from .crosscheck.runner import _study_from_case, fem_case
-from .executor import run_cases
-from .fem_study import from_dict, run_multibody
-from .guard import check_fem_results
-from .outcome import fem_answers, fem_model, outcome
-from .output import write_csv, write_json
+from ..crosscheck.runner import _study_from_case, fem_case
+from ..executor import run_cases
+from ..fem_study import from_dict, run_multibody
+from ..guard import check_fem_results
+from ..outcome import fem_answers, fem_model, outcome
+from ..output import write_csv, write_json
 
 ALPHAS = np.linspace(0.03, 0.4, 38)
 RATIOS = np.linspace(0.05, 1.0, 39)
 
 
-def run_design_study(
+def run(
     study_path: Path,
     out: Path,
     *,
@@ -43,7 +43,7 @@ def run_design_study(
     data = read_toml(study_path, "study file")
     study = from_dict(data, source=str(study_path), base=study_path.parent)  # fails early
     if not study.collars:
-        from ..core.errors import InputError
+        from ...core.errors import InputError
 
         raise InputError(f"{study_path}: a collar-design study needs at least one [[collar]]")
     out = Path(out)
@@ -132,7 +132,7 @@ def band_case(case: dict, directory: str) -> dict:
     (:func:`colonna.rigid.design.collar_trial`)."""
     from dataclasses import replace
 
-    from ..rigid.multibody import history_columns
+    from ...rigid.multibody import history_columns
 
     study = _study_from_case(case)
     collars = tuple(replace(c, t=case["t"], plastic=True) for c in study.collars)
