@@ -22,7 +22,7 @@ import time
 from pathlib import Path
 
 from colonna.studies.cli import resolve_study
-from colonna.studies.spectrum_crosscheck import run_spectrum_crosscheck
+from colonna.studies.spectrum_crosscheck import run as run_spectrum_crosscheck
 
 
 def timed(study, out, **kwargs) -> tuple[float, dict]:

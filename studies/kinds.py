@@ -37,8 +37,8 @@ KINDS = {
         ("outcome", "design_adequate", "fem_collar_max_utilisation"),
     ),
     "spectrum-crosscheck": StudyKind(
-        "spectrum_crosscheck:run_spectrum_crosscheck",
-        "report:write_spectrum_crosscheck_report",
+        "spectrum_crosscheck:run",
+        "spectrum_crosscheck:write_report",
         ("outcome", "agreement_fem_multibody", "agreement_fem_sdof"),
         ground_motion=False,
         tables=("grid",),

@@ -124,7 +124,7 @@ def no_computation():
         "crosscheck.runner",
         "sweeps",
         "collar_design.runner",
-        "spectrum_crosscheck",
+        "spectrum_crosscheck.runner",
         "free_rocking",
     ]
     modules = [importlib.import_module(f"colonna.studies.{n}") for n in names]

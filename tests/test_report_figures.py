@@ -327,6 +327,7 @@ def drawn(tmp_path_factory):
     from colonna.studies.collar_design import report as collar_design
     from colonna.studies.crosscheck import report as crosscheck
     from colonna.studies.output import read_csv
+    from colonna.studies.spectrum_crosscheck import report as spectrum_crosscheck
 
     out = tmp_path_factory.mktemp("reports")
     runs = _made_up_runs(out)
@@ -338,14 +339,19 @@ def drawn(tmp_path_factory):
         return figures[name][1]
 
     with pytest.MonkeyPatch.context() as mp:
-        for module in (report, crosscheck, collar_design):  # each kind's report draws through these
+        for module in (
+            report,
+            crosscheck,
+            collar_design,
+            spectrum_crosscheck,
+        ):  # each kind's report draws through these
             mp.setattr(module, "figure", capture)
             mp.setattr(module, "render_page", lambda out, *a, **k: out / "index.html")
         mp.setattr(crosscheck, "_renders", lambda out: ([], ""))
         mp.setattr(crosscheck, "_deformed_figure", lambda *a: None)
         crosscheck.write_report(runs["crosscheck"])
         collar_design.write_report(runs["design"])
-        report.write_spectrum_crosscheck_report(runs["grid"])
+        spectrum_crosscheck.write_report(runs["grid"])
         report.write_free_rocking_report(runs["free-rocking"])
         summary = {
             "sizes": [0.1, 0.05, 0.025],

@@ -15,7 +15,7 @@ from browser import (
 )
 
 from colonna.studies.cli import main
-from colonna.studies.spectrum_crosscheck import agreement
+from colonna.studies.spectrum_crosscheck.runner import agreement
 
 GRID_STUDY = """
 [study]
@@ -102,7 +102,7 @@ def test_a_batched_grid_point_is_the_point_run_alone(grid_run):
     through the stiffness, a pulse that ends leaving its slot to the next. Each point's result
     is the one it has run alone, to the last bit: the kernel computes a state the same way
     whatever shares its batch (strict arithmetic), so batching moves no answer."""
-    from colonna.studies.spectrum_crosscheck import grid_point_case
+    from colonna.studies.spectrum_crosscheck.runner import grid_point_case
 
     study, out, _ = grid_run
     folders = sorted((out / "cases").iterdir())
@@ -123,7 +123,7 @@ def test_a_grid_points_rigid_models_start_from_the_studys_tilt(grid_run):
     at least the tilt), not from rest. Taken on the point that rocks least from rest, whose
     peaks are far below the tilt; the rigid models had once been run from rest there."""
     from colonna.studies.fem_study import from_dict
-    from colonna.studies.spectrum_crosscheck import grid_point_case
+    from colonna.studies.spectrum_crosscheck.runner import grid_point_case
 
     study, out, _ = grid_run
     saved = {

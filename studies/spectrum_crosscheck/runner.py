@@ -28,15 +28,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.errors import InputError, read_toml
-from ..fem.ensemble import NO, YES
-from ..rigid.impacts import half_cycles
-from . import schema
-from .executor import run_cases
-from .fem_study import from_dict, run_multibody, run_sdof
-from .guard import check_fem_results
-from .outcome import QUESTIONS, count_answer, grid_outcome, not_assessed, outcome
-from .output import write_json
+from ...core.errors import InputError, read_toml
+from ...fem.ensemble import NO, YES
+from ...rigid.impacts import half_cycles
+from .. import schema
+from ..executor import run_cases
+from ..fem_study import from_dict, run_multibody, run_sdof
+from ..guard import check_fem_results
+from ..outcome import QUESTIONS, count_answer, grid_outcome, not_assessed, outcome
+from ..output import write_json
 
 DEFAULT_X_RANGE = {"omega_ratios": [1.0, 8.0], "time_scales": [0.5, 2.0]}
 MODES = ("safe", "after-impact", "without-impact")
@@ -78,7 +78,7 @@ def grid_of(
 def grid_point_case(case: dict, directory: str) -> dict:
     """One pulse through the FEM, multibody and SDOF models, alone: modes and the FEM's
     safety numbers (what :func:`grid_points_case` gives for the same point in a batch)."""
-    from .fem_study import run_fem
+    from ..fem_study import run_fem
 
     study = _point_study(case)
     return _point_result(case, study, run_fem(study, replicas=1)[0])
@@ -90,7 +90,7 @@ def grid_points_case(cases: list[dict], directories: list[str]):
     a full group of the kernel per pass through the stiffness; a pulse that ends leaves its
     slot to the next). Yields (index in cases, result) as each point completes; a point's
     result is the same as :func:`grid_point_case`'s for it alone."""
-    from .fem_study import iter_fem
+    from ..fem_study import iter_fem
 
     studies = [_point_study(case) for case in cases]
     for index, fem in iter_fem(studies):
@@ -149,7 +149,7 @@ def _mode(overturned: bool, impacts: int) -> str:
     return "after-impact" if impacts > 0 else "without-impact"
 
 
-def run_spectrum_crosscheck(
+def run(
     study_path: Path,
     out: Path,
     *,

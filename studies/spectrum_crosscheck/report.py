@@ -1,0 +1,173 @@
+"""The spectrum cross-check's report: the mode maps of the FEM, multibody and SDOF models side by
+side, where they disagree, and their overturning boundaries (presentation only: the numbers and
+maps are summary.json's)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.artist import Artist
+from matplotlib.patches import Patch
+
+from ..output import write_csv
+from ..report import distinct, figure, legend_beside, render_page
+
+
+def write_report(out: Path) -> Path:
+    """Mode maps of the FEM, multibody and SDOF models side by side, where they disagree, and
+    their overturning boundaries overlaid; every map also as CSV."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    from ...rigid.plotting import MODE_COLOURS, MODE_LABELS, grid_markers
+
+    out = Path(out)
+    s = json.loads((out / "summary.json").read_text())
+    (out / "figures").mkdir(exist_ok=True)
+    w, a = np.array(s["omega_ratios"]), np.array(s["amplitude_ratios"])
+    # a record's grid moves its time scale where a pulse's moves Omega / p
+    x_label = (
+        r"record time scale (2: twice as fast)"
+        if s.get("x_axis") == "time_scale"
+        else r"$\Omega / p$"
+    )
+    code = {"safe": 0, "after-impact": 1, "without-impact": 2}
+    models = (("fem", "FEM"), ("multibody", "rigid multibody"), ("sdof", "SDOF half block"))
+    maps = {m: np.array([[code[c] for c in row] for row in s[f"mode_{m}"]]) for m, _ in models}
+    ww, aa = np.meshgrid(w, a)
+    columns = {"omega_ratio": ww.ravel(), "amplitude_ratio": aa.ravel()}
+    columns.update({f"mode_code_{m}": maps[m].ravel() for m, _ in models})
+    columns["collar_utilisation_fem"] = np.array(s["collar_utilisation_fem"], float).ravel()
+    columns["toe_ratio_fem"] = np.array(s["toe_ratio_fem"], float).ravel()
+    write_csv(out / "figures" / "maps.csv", columns)
+    figs = []
+
+    cmap = ListedColormap(MODE_COLOURS)
+    norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5], cmap.N)
+    fig, axes = plt.subplots(1, 3, figsize=(12, 3.8), sharey=True)
+    yields = np.array(s["collar_yield_fem"], dtype=bool)
+    marked: dict[str, Artist] = {}  # a marker at each computed pulse of a coarse grid
+    for ax, (m, label) in zip(axes, models):
+        ax.pcolormesh(w, a, maps[m], cmap=cmap, norm=norm, shading="nearest")
+        marked.update((h.get_label(), h) for h in grid_markers(ax, w, a, maps[m]))
+        ax.set_title(label)
+        ax.set_xlabel(x_label)
+    if yields.any():
+        axes[0].scatter(ww[yields], aa[yields], marker="x", color="k", s=25, zorder=4)
+    axes[0].set_ylabel(r"$a_p / (g\,\tan\alpha)$")
+    present = {int(k) for m, _ in models for k in np.unique(maps[m])}  # the legend: what is drawn
+    handles = [
+        marked.get(MODE_LABELS[k]) or Patch(color=MODE_COLOURS[k], label=MODE_LABELS[k])
+        for k in sorted(present)
+    ]
+    if yields.any():
+        handles.append(
+            plt.Line2D([], [], marker="x", color="k", ls="", label="FEM: a collar reaches f_y")
+        )
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    figs.append(
+        figure(
+            out,
+            "maps",
+            fig,
+            "Outcome of every pulse of the grid: FEM, rigid "
+            "multibody and SDOF (the paper's half block with collars)"
+            + ("; a marker at each computed pulse" if marked else ""),
+        )
+    )
+
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), sharey=True)
+    shades = ("#f2f2f2", "#7570b3")
+    drawn, marked = set(), {}
+    words = ("same outcome", "different outcome")
+    for ax, m, label in (
+        (axes[0], "multibody", "FEM vs rigid multibody"),
+        (axes[1], "sdof", "FEM vs SDOF half block"),
+    ):
+        differ = (maps["fem"] != maps[m]).astype(float)
+        drawn |= {int(v) for v in np.unique(differ)}
+        ax.pcolormesh(w, a, differ, cmap=ListedColormap(shades), vmin=0, vmax=1, shading="nearest")
+        marked.update(
+            (h.get_label(), h)
+            for h in grid_markers(
+                ax, w, a, differ.astype(int), colours=shades, markers=("o", "X"), labels=words
+            )
+        )
+        ax.set_title(label)
+        ax.set_xlabel(x_label)
+    axes[0].set_ylabel(r"$a_p / (g\,\tan\alpha)$")
+    fig.legend(
+        handles=[
+            marked.get(words[k]) or Patch(color=shades[k], label=words[k]) for k in sorted(drawn)
+        ],
+        loc="lower center",
+        ncol=2,
+        fontsize=8,
+    )
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    figs.append(figure(out, "disagreement", fig, "Where the FEM and each rigid model disagree"))
+
+    fig, ax = plt.subplots(figsize=(8.5, 4))
+    boundary, never = {}, []
+    for j, (m, label) in enumerate(models):
+        over = maps[m] != 0
+        lowest = np.where(over.any(axis=0), a[np.argmax(over, axis=0)], np.nan)
+        boundary[f"lowest_overturning_amplitude_{m}"] = lowest
+        if np.isfinite(lowest).any():  # the legend lists only what is drawn
+            style = dict(distinct(j, len(models)), markevery=None, markersize=10 - 3 * j)
+            ax.plot(w, lowest, color=f"C{j}", **style, label=label)  # equal ones stay apart
+        else:
+            never.append(label)
+    write_csv(out / "figures" / "boundaries.csv", {"omega_ratio": w, **boundary})
+    ax.set_xlabel(x_label)
+    ax.set_ylabel(r"lowest overturning $a_p / (g\,\tan\alpha)$")
+    if len(never) < len(models):
+        legend_beside(ax)
+        fig.tight_layout()
+        figs.append(
+            figure(
+                out,
+                "boundaries",
+                fig,
+                "Overturning boundary of each model: the "
+                "lowest amplitude of the grid that overturns, per frequency (none "
+                "drawn where no amplitude of the grid does)"
+                + (
+                    f"; no pulse of the grid overturns the {' or the '.join(never)} model"
+                    if never
+                    else ""
+                ),
+            )
+        )
+    else:
+        plt.close(fig)
+
+    return render_page(
+        out,
+        "spectrum_crosscheck/report.html.j2",
+        s,
+        f"colonna spectrum cross-check: {s['study']}",
+        figs=figs,
+        rows=SPECTRUM_NUMBERS,
+    )
+
+
+SPECTRUM_NUMBERS = [
+    (
+        "FEM and rigid multibody: same outcome, fraction of the grid points",
+        "agreement_fem_multibody",
+        "-",
+    ),
+    (
+        "FEM and SDOF half block: same outcome, fraction of the grid points",
+        "agreement_fem_sdof",
+        "-",
+    ),
+    ("grid points", "points", "-"),
+    ("FEM energy balance error (max over the grid, relative)", "energy_error_fem_max", "-"),
+    ("FEM wall time per grid point", "fem_seconds_per_point", "s"),
+    ("study wall time", "wall_seconds", "s"),
+]
