@@ -44,8 +44,8 @@ KINDS = {
         tables=("grid",),
     ),
     "free-rocking": StudyKind(
-        "free_rocking:run_free_rocking",
-        "report:write_free_rocking_report",
+        "free_rocking:run",
+        "free_rocking:write_report",
         ("outcome", "fem_ratio_study_stone", "multibody_ratio", "restitution_housner"),
         ground_motion=False,
         tables=("free_rocking",),

@@ -125,7 +125,7 @@ def no_computation():
         "sweeps",
         "collar_design.runner",
         "spectrum_crosscheck.runner",
-        "free_rocking",
+        "free_rocking.runner",
     ]
     modules = [importlib.import_module(f"colonna.studies.{n}") for n in names]
     saved = [(m, "run_cases", m.run_cases) for m in modules if hasattr(m, "run_cases")]

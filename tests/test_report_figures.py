@@ -326,6 +326,7 @@ def drawn(tmp_path_factory):
     from colonna.studies import report
     from colonna.studies.collar_design import report as collar_design
     from colonna.studies.crosscheck import report as crosscheck
+    from colonna.studies.free_rocking import report as free_rocking
     from colonna.studies.output import read_csv
     from colonna.studies.spectrum_crosscheck import report as spectrum_crosscheck
 
@@ -338,13 +339,9 @@ def drawn(tmp_path_factory):
         figures[name] = (fig, keep(where, name, fig, caption, data_file))
         return figures[name][1]
 
+    kinds = (crosscheck, collar_design, spectrum_crosscheck, free_rocking)
     with pytest.MonkeyPatch.context() as mp:
-        for module in (
-            report,
-            crosscheck,
-            collar_design,
-            spectrum_crosscheck,
-        ):  # each kind's report draws through these
+        for module in (report, *kinds):  # each kind's report draws through these
             mp.setattr(module, "figure", capture)
             mp.setattr(module, "render_page", lambda out, *a, **k: out / "index.html")
         mp.setattr(crosscheck, "_renders", lambda out: ([], ""))
@@ -352,7 +349,7 @@ def drawn(tmp_path_factory):
         crosscheck.write_report(runs["crosscheck"])
         collar_design.write_report(runs["design"])
         spectrum_crosscheck.write_report(runs["grid"])
-        report.write_free_rocking_report(runs["free-rocking"])
+        free_rocking.write_report(runs["free-rocking"])
         summary = {
             "sizes": [0.1, 0.05, 0.025],
             "convergence": {

@@ -24,15 +24,15 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from ..core.errors import InputError, read_toml
-from ..rigid.block import Block
-from ..rigid.impacts import impact_ratios_from_peaks
-from . import schema
-from .executor import run_cases
-from .fem_study import from_dict, run_multibody
-from .guard import check_fem_results, reliability
-from .outcome import none_assessed
-from .output import write_csv, write_json
+from ...core.errors import InputError, read_toml
+from ...rigid.block import Block
+from ...rigid.impacts import impact_ratios_from_peaks
+from .. import schema
+from ..executor import run_cases
+from ..fem_study import from_dict, run_multibody
+from ..guard import check_fem_results, reliability
+from ..outcome import none_assessed
+from ..output import write_csv, write_json
 
 
 def with_defaults(data: dict) -> dict:
@@ -59,8 +59,8 @@ def free_rocking_case(case: dict, directory: str) -> dict:
     alpha = case["alpha"]
     tilt = case["tilt_fraction"] * alpha
     if case["kind"] == "fem":
-        from ..fem.ensemble import band
-        from .fem_study import run_fem
+        from ...fem.ensemble import band
+        from ..fem_study import run_fem
 
         replicas = run_fem(replace(study, initial_tilt=tilt))
         result = replicas[0]
@@ -114,7 +114,7 @@ def free_rocking_case(case: dict, directory: str) -> dict:
     }
 
 
-def run_free_rocking(
+def run(
     study_path: Path,
     out: Path,
     *,
