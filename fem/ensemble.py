@@ -17,8 +17,12 @@ straddles the limit (:func:`decide`).
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+
+from ..core.quantities import quantity, to_dict, typed_result
 
 # summary keys of a FEM run that depend on landings, reported as bands over the replicas
 LANDING_DEPENDENT = (
@@ -112,16 +116,24 @@ def ensemble_summary(summaries: list[dict], keys=LANDING_DEPENDENT) -> dict:
         # the median where at least half the replicas have a value (a first-yield time is
         # None where most never yield)
         out[key] = b["median"] if b["missing"] * 2 <= b["n"] else None
+    tally: dict[str, Any] = {}
     for flag in ("overturned", "collar_fractured"):  # yes-or-no outcomes of each replica
         if flag not in summaries[0]:
             continue
         flags = [bool(s[flag]) for s in summaries]
         out[flag] = sum(flags) * 2 > len(flags)
-        out[f"{flag}_replicas"] = int(sum(flags))
-        out[f"{flag}_answer"] = decide_count(flags)
-    out["statuses"] = [s["status"] for s in summaries]
-    out["replicas"] = len(summaries)
-    out["bands"] = bands
+        tally[f"{flag}_replicas"] = int(sum(flags))
+        tally[f"{flag}_answer"] = decide_count(flags)
+    out.update(
+        to_dict(
+            EnsembleTally(
+                **tally,
+                statuses=tuple(s["status"] for s in summaries),
+                replicas=len(summaries),
+                bands=bands,
+            )
+        )
+    )
     return out
 
 
@@ -130,3 +142,29 @@ def median_replica(values) -> int:
     values = np.asarray(values, dtype=float)
     order = np.argsort(values, kind="stable")
     return int(order[(values.size - 1) // 2])
+
+
+@typed_result
+@dataclass(frozen=True, kw_only=True)
+class EnsembleTally:
+    """The keys :func:`ensemble_summary` adds to the FEM run's summary (the units of the others:
+    colonna.fem.solver.FemRunSummary); each yes-or-no outcome's two only where the runs give it."""
+
+    overturned_replicas: int | None = quantity(
+        "", "replicas that overturned", omit_when_none=True, default=None
+    )
+    overturned_answer: str | None = quantity(
+        "",
+        "does it overturn: yes (all replicas), no (none) or undecided",
+        omit_when_none=True,
+        default=None,
+    )
+    collar_fractured_replicas: int | None = quantity(
+        "", "replicas in which a collar broke", omit_when_none=True, default=None
+    )
+    collar_fractured_answer: str | None = quantity(
+        "", "does a collar break: yes, no or undecided", omit_when_none=True, default=None
+    )
+    statuses: tuple[str, ...] = quantity("", "how each replica's run ended")
+    replicas: int = quantity("", "runs in the ensemble")
+    bands: dict = quantity("", "median, min, max and values of each key, in the key's unit")

@@ -37,6 +37,7 @@ from ..core.collar import collar_strain_summary
 from ..core.collar_law import FIBRE_STRAIN, FRACTURED, OUT_SIZE, STATE_SIZE
 from ..core.errors import InputError, require_positive, require_range
 from ..core.ground import NO_MOTION, GroundMotion, require_motion
+from ..core.quantities import quantity, to_dict, typed_result
 from . import _kernels as K
 from .model import Model, coincident_nodes, collar_stiffness, contact_stiffness, stable_time_step
 
@@ -59,12 +60,77 @@ BATCH_SLOTS = K.GROUP
 @dataclass
 class FemResult:
     history: dict = field(repr=False)
-    summary: dict
+    summary: dict  # to_dict(typed_summary)
     displacement_frames: list = field(repr=False)  # (t, u (n_nodes, 2)) at output times
     model: Model = field(repr=False)
     velocity_frames: list = field(default_factory=list, repr=False)  # (t, v (n_nodes, 2))
     # (t, contact state: dict of base_ft, base_fc, crack_ft, crack_fc; see run's initial_contact)
     contact_frames: list = field(default_factory=list, repr=False)
+    # the summary with the unit of every value
+    typed_summary: FemRunSummary | None = field(default=None, repr=False)
+
+
+@typed_result
+@dataclass(frozen=True, kw_only=True)
+class FemRunSummary:
+    """What a FEM run answers, SI units (the history's quantities: see the module); the
+    collars' strain keys only with collars. ``FemResult.summary`` is its dict, in this order."""
+
+    overturned: bool = quantity("", "whether the column overturned")
+    status: str = quantity("", "how the run ended: completed, overturned: ..., or a blow-up")
+    max_abs_theta_left: float = quantity("rad", "largest |theta| of the left half")
+    max_abs_theta_right: float = quantity("rad", "largest |theta| of the right half")
+    collar_max_utilisation: float = quantity("-", "largest utilisation of any collar (0: none)")
+    collar_first_yield_time: float | None = quantity(
+        "s", "first output time any collar reached f_y (None: none did)"
+    )
+    edge_stress_max: float = quantity("Pa", "largest toe stress (compression positive)")
+    edge_stress_ratio: float = quantity("-", "largest toe stress over the stone's f_c")
+    edge_length: float = quantity("m", "length from the outer toe the toe stress averages over")
+    edge_time: float = quantity("s", "time the toe stress averages over")
+    # the base's total normal force at t = 0: the static reaction, weight + top load, when the
+    # run starts from the static state (None for a release or a restart)
+    base_reaction_static: float | None = quantity(
+        "N", "the base's normal force at t = 0 from the static state (None: no static start)"
+    )
+    # plastic collars: the largest |plastic strain| reached, and the work done yielding
+    collar_max_plastic_strain: float = quantity("-", "largest |plastic strain| of any collar")
+    collar_plastic_work: float = quantity("J", "work done yielding the collars")
+    # the largest fibre strain is the state's running maximum over every step; a fracture time
+    # is the first output at which the break is recorded
+    collar_max_fibre_strain: float | None = quantity(
+        "-", "largest extreme-fibre strain of any collar", omit_when_none=True, default=None
+    )
+    collar_ductility_demand: float | None = quantity(
+        "-", "largest fibre strain over f_y / E of any collar", omit_when_none=True, default=None
+    )
+    collar_fractured: bool | None = quantity(
+        "", "whether a collar broke", omit_when_none=True, default=None
+    )
+    collar_fracture_time: float | None = quantity(
+        "s",
+        "first output time a collar is recorded broken (None: none broke)",
+        present_with="collar_fractured",
+        default=None,
+    )
+    crack_slip_residual: float = quantity("m", "crack slip at the end of the run")
+    top_load: float = quantity("N", "dead load on the capital")
+    energy_error_max: float = quantity("-", "largest energy balance error / energy scale")
+    energy_error_limit: float = quantity("-", "the balance error past which a run is unreliable")
+    # a run stopped as blown up is never reliable, whatever its last balance said
+    energy_reliable: bool = quantity("", "balance within its limit and no blow-up")
+    dt: float = quantity("s", "time step")
+    dt_critical: float = quantity("s", "stable time step estimate (contact and collars in)")
+    dt_critical_elastic: float = quantity("s", "stable time step of the stone alone")
+    stable_step_reduction_by_contact: float = quantity(
+        "-", "dt_critical / dt_critical_elastic: how much contact and collars shorten it"
+    )
+    penalty_base_mean: float = quantity("N/m", "mean normal penalty stiffness of a base node")
+    steps: int = quantity("", "time steps taken")
+    dofs: int = quantity("", "degrees of freedom of the mesh")
+    wall_seconds: float = quantity("s", "wall-clock time of the run")
+    t_end: float = quantity("s", "time of the last output")
+    batch_size: int = quantity("", "runs that advanced together in the kernel")
 
 
 def static_state(model: Model):
@@ -465,7 +531,7 @@ def iter_batch(
         state.motion.alive[slot] = False
         recorder = recorders.pop(k)
         history = recorder.close()
-        summary = _summary(
+        typed = _summary(
             model,
             history,
             reasons[k],
@@ -479,8 +545,9 @@ def iter_batch(
             edge_time,
             static_start,
             state.collars.plastic[slot],
+            batch_size=slots,
         )
-        summary["batch_size"] = slots
+        summary = to_dict(typed)
         result = FemResult(
             history,
             summary,
@@ -488,6 +555,7 @@ def iter_batch(
             model,
             recorder.velocity_frames,
             recorder.contact_frames,
+            typed_summary=typed,
         )
         if out_dirs[k] is not None:
             from .output import write_outputs, write_summary
@@ -1127,7 +1195,9 @@ def _summary(
     edge_time,
     static_start,
     collar_state,
-):
+    *,
+    batch_size: int,
+) -> FemRunSummary:
     h = history
     collars = model.collars
     util = [h[f"collar_{i}_utilisation"] for i in range(1, len(collars) + 1)]
@@ -1141,56 +1211,51 @@ def _summary(
     reaction0 = float(sum(h[key][0] for key in bodies))
     edge_keys = [key for key in h if key.startswith("edge_stress_")]
     edge_max = max(float(np.max(h[key])) for key in edge_keys)
-    return {
-        "overturned": bool(overturned),
-        "status": reason,
-        "max_abs_theta_left": float(np.max(np.abs(h["theta_left"]))),
-        "max_abs_theta_right": float(np.max(np.abs(h["theta_right"]))),
-        "collar_max_utilisation": float(max((np.max(u) for u in util), default=0.0)),
-        "collar_first_yield_time": first_yield,
-        "edge_stress_max": edge_max,
-        "edge_stress_ratio": edge_max / model.stone.fc,
-        "edge_length": edge_length,
-        "edge_time": edge_time,
-        # the base's total normal force at t = 0: the static reaction, weight + top load,
-        # when the run starts from the static state (None for a release or a restart)
-        "base_reaction_static": reaction0 if static_start else None,
-        # plastic collars: the largest |plastic strain| reached, and the work done yielding
-        "collar_max_plastic_strain": max(
+    strains = (
+        collar_strain_summary(
+            collars,
+            collar_state[:, FIBRE_STRAIN],
+            [_fracture_time(h, k) for k in range(1, len(collars) + 1)],
+        )
+        if collars
+        else {}
+    )
+    error_max = float(np.max(np.abs(h["energy_error"])))
+    return FemRunSummary(
+        overturned=bool(overturned),
+        status=reason,
+        max_abs_theta_left=float(np.max(np.abs(h["theta_left"]))),
+        max_abs_theta_right=float(np.max(np.abs(h["theta_right"]))),
+        collar_max_utilisation=float(max((np.max(u) for u in util), default=0.0)),
+        collar_first_yield_time=first_yield,
+        edge_stress_max=edge_max,
+        edge_stress_ratio=edge_max / model.stone.fc,
+        edge_length=edge_length,
+        edge_time=edge_time,
+        base_reaction_static=reaction0 if static_start else None,
+        collar_max_plastic_strain=max(
             (float(np.max(np.abs(h[key]))) for key in h if key.endswith("_plastic_strain")),
             default=0.0,
         ),
-        "collar_plastic_work": float(collar_state[:, 2].sum()),
-        # the largest fibre strain is the state's running maximum over every step; a fracture
-        # time is the first output at which the break is recorded
-        **(
-            collar_strain_summary(
-                collars,
-                collar_state[:, FIBRE_STRAIN],
-                [_fracture_time(h, k) for k in range(1, len(collars) + 1)],
-            )
-            if collars
-            else {}
-        ),
+        collar_plastic_work=float(collar_state[:, 2].sum()),
+        **strains,
         # what the run leaves behind: the crack slip at its end (m)
-        "crack_slip_residual": float(h["crack_slip_max"][-1]) if "crack_slip_max" in h else 0.0,
-        "top_load": model.top_load,
-        "energy_error_max": float(np.max(np.abs(h["energy_error"]))),
-        # past this the run is unreliable: a study stops rather than report from it
-        "energy_error_limit": ENERGY_ERROR_LIMIT,
-        # a run stopped as blown up is never reliable, whatever its last balance said
-        "energy_reliable": bool(np.max(np.abs(h["energy_error"])) <= ENERGY_ERROR_LIMIT)
-        and not reason.startswith(BLOW_UP),
-        "dt": dt,
-        "dt_critical": step.critical,
-        "dt_critical_elastic": step.critical_elastic,
-        "stable_step_reduction_by_contact": step.contact_reduction,
-        "penalty_base_mean": float(np.mean(model.base_kn)),
-        "steps": int(k * steps_per_output),
-        "dofs": int(model.n_dofs),
-        "wall_seconds": wall,
-        "t_end": float(h["t"][-1]),
-    }
+        crack_slip_residual=float(h["crack_slip_max"][-1]) if "crack_slip_max" in h else 0.0,
+        top_load=model.top_load,
+        energy_error_max=error_max,
+        energy_error_limit=ENERGY_ERROR_LIMIT,
+        energy_reliable=bool(error_max <= ENERGY_ERROR_LIMIT) and not reason.startswith(BLOW_UP),
+        dt=dt,
+        dt_critical=step.critical,
+        dt_critical_elastic=step.critical_elastic,
+        stable_step_reduction_by_contact=step.contact_reduction,
+        penalty_base_mean=float(np.mean(model.base_kn)),
+        steps=int(k * steps_per_output),
+        dofs=int(model.n_dofs),
+        wall_seconds=wall,
+        t_end=float(h["t"][-1]),
+        batch_size=batch_size,
+    )
 
 
 def _fracture_time(history, k) -> float | None:

@@ -23,8 +23,8 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass, field, replace
+from typing import ClassVar
 
 import numpy as np
 
@@ -45,6 +45,7 @@ from ..core.errors import (
     require_range,
 )
 from ..core.ground import NO_MOTION, GroundMotion, kernel_tables, require_motion
+from ..core.quantities import quantity, to_dict, typed_result
 from . import _multibody as K
 from .block import Block
 from .collars import validate_collars
@@ -382,74 +383,204 @@ class MultibodyResult:
         return np.abs(self.impact_velocity_after[mine] / self.impact_velocity_before[mine])
 
     def summary(self) -> dict:
-        """Plain-data summary (the CLI's ``--json`` object)."""
+        """Plain-data summary (the CLI's ``--json`` object): :meth:`typed_summary` as a dict."""
+        return to_dict(self.typed_summary())
+
+    def typed_summary(self) -> MultibodySummary:
+        """The summary with the unit of every value (:class:`MultibodySummary`)."""
         blk = self.column.block
         left = np.max(np.abs(self.theta[:, 0])) if self.theta.size else 0.0
         right = np.max(np.abs(self.theta[:, -1])) if self.theta.size else 0.0
         e = self.energies
-        out: dict[str, Any] = {
-            "model": "multibody",
-            "overturned": bool(self.overturned),
-            "mode": self.mode,
-            "motion": motion_word(self.overturned, self.max_abs_theta, blk.alpha),
-            "status": self.status,
-            "impacts": int(self.impacts),
-            "max_abs_theta": self.max_abs_theta,
-            "max_abs_theta_over_alpha": self.max_abs_theta_over_alpha,
-            "max_abs_theta_left": float(left),
-            "max_abs_theta_right": float(right),
-            "overturn_time": self.overturn_time,
-            "cracked": self.cracked,
-            "friction": self.column.friction,
-            "crack_friction": self.column.crack_friction,
-            "p": blk.p,
-            "alpha": blk.alpha,
-            "restitution_housner": blk.restitution_housner,
-            "impact_velocity_ratio_mean": _mean_or_none(self.impact_velocity_ratios(0)),
-            "max_uplift": float(np.max(self.uplift)) if self.uplift.size else 0.0,
-            "max_crack_opening": float(np.max(self.crack_opening)) if self.cracked else 0.0,
-            "max_abs_crack_slip": float(np.max(np.abs(self.crack_slip))) if self.cracked else 0.0,
-            "energy_dissipated": float(e["dissipated"][-1]),
-            "energy_external_work": float(e["external_work"][-1]),
-            "energy_error_max": float(np.max(np.abs(e["error"]))),
-            "dt": self.dt,
-            "steps": self.steps,
-            "wall_seconds": self.wall_seconds,
-        }
-        if self.collar_histories:
-            out["collars"] = [
-                {
-                    "y": hist.collar.y,
-                    "max_stress": float(np.max(hist.stress)),
-                    "max_utilisation": hist.max_utilisation,
-                    "first_yield_time": hist.first_yield_time,
-                    "max_fibre_strain": hist.max_fibre_strain,
-                    "ductility_demand": hist.ductility_demand,
-                    "fracture_time": hist.fracture_time,
-                }
-                for hist in self.collar_histories
-            ]
-            out["collar_max_utilisation"] = max(h.max_utilisation for h in self.collar_histories)
-            yields = [
-                h.first_yield_time for h in self.collar_histories if h.first_yield_time is not None
-            ]
-            out["collar_first_yield_time"] = min(yields) if yields else None
-            out["collar_max_plastic_strain"] = self.collar_max_plastic_strain
-            out["collar_plastic_work"] = self.collar_plastic_work
-            hists = self.collar_histories
-            out.update(
-                collar_strain_summary(
-                    [h.collar for h in hists],
-                    [h.max_fibre_strain for h in hists],
-                    [h.fracture_time for h in hists],
+        hists = self.collar_histories
+        collars = None
+        strains = {}
+        if hists:
+            collars = tuple(
+                MultibodyCollarSummary(
+                    y=hist.collar.y,
+                    max_stress=float(np.max(hist.stress)),
+                    max_utilisation=hist.max_utilisation,
+                    first_yield_time=hist.first_yield_time,
+                    max_fibre_strain=hist.max_fibre_strain,
+                    ductility_demand=hist.ductility_demand,
+                    fracture_time=hist.fracture_time,
                 )
+                for hist in hists
             )
-            out["collar_state"] = collar_state(
-                out["collar_max_utilisation"],
-                self.collar_max_plastic_strain,
-                out["collar_fractured"],
+            strains = collar_strain_summary(
+                [h.collar for h in hists],
+                [h.max_fibre_strain for h in hists],
+                [h.fracture_time for h in hists],
             )
-        return {"verdict": verdict(out), **out}  # first: what a person reads first
+        utilisation = max(h.max_utilisation for h in hists) if hists else None
+        yields = [h.first_yield_time for h in hists if h.first_yield_time is not None]
+        summary = MultibodySummary(
+            verdict="",
+            model="multibody",
+            overturned=bool(self.overturned),
+            mode=self.mode,
+            motion=motion_word(self.overturned, self.max_abs_theta, blk.alpha),
+            status=self.status,
+            impacts=int(self.impacts),
+            max_abs_theta=self.max_abs_theta,
+            max_abs_theta_over_alpha=self.max_abs_theta_over_alpha,
+            max_abs_theta_left=float(left),
+            max_abs_theta_right=float(right),
+            overturn_time=self.overturn_time,
+            cracked=self.cracked,
+            friction=self.column.friction,
+            crack_friction=self.column.crack_friction,
+            p=blk.p,
+            alpha=blk.alpha,
+            restitution_housner=blk.restitution_housner,
+            impact_velocity_ratio_mean=_mean_or_none(self.impact_velocity_ratios(0)),
+            max_uplift=float(np.max(self.uplift)) if self.uplift.size else 0.0,
+            max_crack_opening=float(np.max(self.crack_opening)) if self.cracked else 0.0,
+            max_abs_crack_slip=float(np.max(np.abs(self.crack_slip))) if self.cracked else 0.0,
+            energy_dissipated=float(e["dissipated"][-1]),
+            energy_external_work=float(e["external_work"][-1]),
+            energy_error_max=float(np.max(np.abs(e["error"]))),
+            dt=self.dt,
+            steps=self.steps,
+            wall_seconds=self.wall_seconds,
+            collars=collars,
+            collar_max_utilisation=utilisation,
+            collar_first_yield_time=min(yields) if yields else None,
+            collar_max_plastic_strain=self.collar_max_plastic_strain if hists else None,
+            collar_plastic_work=self.collar_plastic_work if hists else None,
+            **strains,
+            collar_state=None
+            if utilisation is None
+            else collar_state(
+                utilisation, self.collar_max_plastic_strain, strains["collar_fractured"]
+            ),
+        )
+        return replace(summary, verdict=verdict(to_dict(summary)))
+
+
+@typed_result
+@dataclass(frozen=True, kw_only=True)
+class MultibodyCollarSummary:
+    """One collar of the multibody model's summary (the FEM's frame element and law)."""
+
+    y: float = quantity("m", "height of the collar above the base")
+    max_stress: float = quantity("Pa", "largest extreme-fibre stress of the collar")
+    max_utilisation: float = quantity("-", "largest extreme-fibre stress over f_y")
+    first_yield_time: float | None = quantity(
+        "s", "first time the stress reached f_y (None: never)"
+    )
+    max_fibre_strain: float | None = quantity("-", "largest extreme-fibre strain reached")
+    ductility_demand: float | None = quantity("-", "largest fibre strain over f_y / E")
+    fracture_time: float | None = quantity("s", "time the collar broke (None: it holds)")
+
+
+@typed_result
+@dataclass(frozen=True, kw_only=True)
+class MultibodySummary:
+    """What a run of the rigid multibody model (:func:`rock_multibody`) answers, SI units; the
+    collar keys only with collars. ``MultibodyResult.summary()`` is its dict, in this order."""
+
+    # the keys the cross-check reports of its rigid reference, in its summary's order
+    SELECTIONS: ClassVar[dict[str, tuple[str, ...]]] = {
+        "crosscheck": (
+            "overturned",
+            "mode",
+            "status",
+            "impacts",
+            "max_abs_theta_left",
+            "max_abs_theta_right",
+            "overturn_time",
+            "max_abs_crack_slip",
+            "max_crack_opening",
+            "max_uplift",
+            "collar_max_utilisation",
+            "collar_first_yield_time",
+            "collar_max_fibre_strain",
+            "collar_ductility_demand",
+            "collar_fractured",
+            "collar_fracture_time",
+            "collar_max_plastic_strain",
+            "collar_plastic_work",
+            "impact_velocity_ratio_mean",
+            "energy_error_max",
+            "friction",
+            "dt",
+            "steps",
+            "wall_seconds",
+        )
+    }
+
+    # first: what a person reads first
+    verdict: str = quantity("", "the motion and, with collars, their state, in words")
+    model: str = quantity("", "the model: multibody")
+    overturned: bool = quantity("", "whether the column overturned")
+    mode: str = quantity("", "safe, after-impact or without-impact (overturning)")
+    motion: str = quantity("", "no uplift, rocking or overturned")
+    status: str = quantity("", "how the run ended, in words")
+    impacts: int = quantity("", "impacts (a body's rotation through zero)")
+    max_abs_theta: float = quantity("rad", "largest |theta| of any body (pi/2: overturned)")
+    max_abs_theta_over_alpha: float = quantity("-", "largest |theta| over alpha")
+    max_abs_theta_left: float = quantity("rad", "largest |theta| of the left half (or column)")
+    max_abs_theta_right: float = quantity("rad", "largest |theta| of the right half (or column)")
+    overturn_time: float | None = quantity("s", "time of overturning (None: it stands)")
+    cracked: bool = quantity("", "two half blocks split by the crack (else one body)")
+    friction: float = quantity("-", "Coulomb friction coefficient at the base")
+    crack_friction: float = quantity("-", "Coulomb friction coefficient between the crack faces")
+    p: float = quantity("rad/s", "frequency parameter p = sqrt(m g R / J0)")
+    alpha: float = quantity("rad", "slenderness angle alpha = atan(b / h)")
+    restitution_housner: float = quantity("-", "Housner's nu = 1 - 1.5 sin^2 alpha")
+    impact_velocity_ratio_mean: float | None = quantity(
+        "-", "mean |theta' after / theta' before| of the left body's impacts (None: none)"
+    )
+    max_uplift: float = quantity("m", "largest height of an outer toe above the ground")
+    max_crack_opening: float = quantity("m", "largest opening of the crack (0 uncracked)")
+    max_abs_crack_slip: float = quantity("m", "largest |slip| along the crack (0 uncracked)")
+    energy_dissipated: float = quantity("J", "energy dissipated by contact, to the end")
+    energy_external_work: float = quantity("J", "work of the ground motion, to the end")
+    energy_error_max: float = quantity("-", "largest energy balance error / energy scale")
+    dt: float = quantity("s", "time step")
+    steps: int = quantity("", "time steps taken")
+    wall_seconds: float = quantity("s", "wall-clock time of the run")
+    collars: tuple[MultibodyCollarSummary, ...] | None = quantity(
+        "",
+        "per collar (MultibodyCollarSummary); only with collars",
+        omit_when_none=True,
+        default=None,
+    )
+    collar_max_utilisation: float | None = quantity(
+        "-", "largest utilisation of any collar", present_with="collars", default=None
+    )
+    collar_first_yield_time: float | None = quantity(
+        "s",
+        "first time any collar reached f_y (None: none did)",
+        present_with="collars",
+        default=None,
+    )
+    collar_max_plastic_strain: float | None = quantity(
+        "-",
+        "largest |plastic strain| of a plastic collar's axial law",
+        present_with="collars",
+        default=None,
+    )
+    collar_plastic_work: float | None = quantity(
+        "J", "work done yielding the collars", present_with="collars", default=None
+    )
+    collar_max_fibre_strain: float | None = quantity(
+        "-", "largest extreme-fibre strain of any collar", present_with="collars", default=None
+    )
+    collar_ductility_demand: float | None = quantity(
+        "-", "largest fibre strain over f_y / E of any collar", present_with="collars", default=None
+    )
+    collar_fractured: bool | None = quantity(
+        "", "whether a collar broke", present_with="collars", default=None
+    )
+    collar_fracture_time: float | None = quantity(
+        "s", "time the first collar broke (None: none did)", present_with="collars", default=None
+    )
+    collar_state: str | None = quantity(
+        "", "elastic, yielded or fractured", present_with="collars", default=None
+    )
 
 
 def history_columns(result: MultibodyResult) -> dict:

@@ -18,13 +18,13 @@ passing its unstable equilibrium moving outward (|theta| > alpha, theta theta' >
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..core.errors import InputError, require_history_rows, require_positive, require_range
 from ..core.ground import NO_MOTION, GroundMotion, kernel_tables, require_motion
+from ..core.quantities import quantity, to_dict, typed_result
 from . import _kernels as K
 from .block import Block, check_model
 from .collars import Collar, collar_kernel_constants, collar_response, validate_collars
@@ -158,47 +158,111 @@ class RockingResult:
         return self.max_abs_theta / self.block.alpha
 
     def summary(self) -> dict:
-        """Plain-data summary (the CLI's ``--json`` object)."""
-        out: dict[str, Any] = {
-            "overturned": bool(self.overturned),
-            "mode": self.mode,
-            "motion": motion_word(self.overturned, self.max_abs_theta, self.block.alpha),
-            "impacts": int(self.impacts),
-            "max_abs_theta": float(self.max_abs_theta),
-            "max_abs_theta_over_alpha": float(self.max_abs_theta_over_alpha),
-            "overturn_time": self.overturn_time,
-            "model": self.model,
-            "solver": self.solver,
-            "p": self.block.p,
-            "alpha": self.block.alpha,
-            "restitution": self.block.nu,
-            "restitution_housner": self.block.restitution_housner,
-            "top_load": self.block.top_load,
-            "critical_angle": self.block.critical_angle(self.model),
-        }
-        if self.collar_histories:
-            out["collars"] = [
-                {
-                    "y": h.collar.y,
-                    "max_stress": float(np.max(h.stress)),
-                    "max_utilisation": h.max_utilisation,
-                    "first_yield_time": h.first_yield_time,
-                    "axial_stiffness": h.collar.axial_stiffness(self.block.b),
-                    "lateral_stiffness": h.collar.lateral_stiffness(self.block.b),
-                }
-                for h in self.collar_histories
-            ]
-            out["collar_max_utilisation"] = max(h.max_utilisation for h in self.collar_histories)
-            out["collar_state"] = collar_state(out["collar_max_utilisation"])
-            yields = [
-                h.first_yield_time for h in self.collar_histories if h.first_yield_time is not None
-            ]
-            out["collar_first_yield_time"] = min(yields) if yields else None
-            out["collar_law"] = "elastic"  # the SDOF springs never yield nor break
-            note = elastic_collar_note(self.collar_histories)
-            if note:
-                out["collar_note"] = note
-        return {"verdict": verdict(out), **out}  # first: what a person reads first
+        """Plain-data summary (the CLI's ``--json`` object): :meth:`typed_summary` as a dict."""
+        return to_dict(self.typed_summary())
+
+    def typed_summary(self) -> RockingSummary:
+        """The summary with the unit of every value (:class:`RockingSummary`)."""
+        hists = self.collar_histories
+        collars = None
+        if hists:
+            b = self.block.b
+            collars = tuple(
+                RockingCollarSummary(
+                    y=h.collar.y,
+                    max_stress=float(np.max(h.stress)),
+                    max_utilisation=h.max_utilisation,
+                    first_yield_time=h.first_yield_time,
+                    axial_stiffness=h.collar.axial_stiffness(b),
+                    lateral_stiffness=h.collar.lateral_stiffness(b),
+                )
+                for h in hists
+            )
+        utilisation = max(h.max_utilisation for h in hists) if hists else None
+        yields = [h.first_yield_time for h in hists if h.first_yield_time is not None]
+        summary = RockingSummary(
+            verdict="",
+            overturned=bool(self.overturned),
+            mode=self.mode,
+            motion=motion_word(self.overturned, self.max_abs_theta, self.block.alpha),
+            impacts=int(self.impacts),
+            max_abs_theta=float(self.max_abs_theta),
+            max_abs_theta_over_alpha=float(self.max_abs_theta_over_alpha),
+            overturn_time=self.overturn_time,
+            model=self.model,
+            solver=self.solver,
+            p=self.block.p,
+            alpha=self.block.alpha,
+            restitution=self.block.nu,
+            restitution_housner=self.block.restitution_housner,
+            top_load=self.block.top_load,
+            critical_angle=self.block.critical_angle(self.model),
+            collars=collars,
+            collar_max_utilisation=utilisation,
+            collar_state=None if utilisation is None else collar_state(utilisation),
+            collar_first_yield_time=min(yields) if yields else None,
+            collar_law="elastic" if hists else None,  # the SDOF springs never yield nor break
+            collar_note=elastic_collar_note(hists),
+        )
+        return replace(summary, verdict=verdict(to_dict(summary)))
+
+
+@typed_result
+@dataclass(frozen=True, kw_only=True)
+class RockingCollarSummary:
+    """One collar of a rocking block's summary (its elastic springs, paper Eq. 14-15)."""
+
+    y: float = quantity("m", "height of the collar above the base")
+    max_stress: float = quantity("Pa", "largest extreme-fibre stress of the collar")
+    max_utilisation: float = quantity("-", "largest extreme-fibre stress over f_y")
+    first_yield_time: float | None = quantity(
+        "s", "first time the stress reached f_y (None: never)"
+    )
+    axial_stiffness: float = quantity("N/m", "axial spring K_a = E A / L (Eq. 14)")
+    lateral_stiffness: float = quantity("N/m", "lateral spring K_l = 12 E I / L^3 (Eq. 15)")
+
+
+@typed_result
+@dataclass(frozen=True, kw_only=True)
+class RockingSummary:
+    """What a rocking-block run (:func:`rock`) answers, SI units; the collar keys only with
+    collars. ``RockingResult.summary()`` is its dict, in this order."""
+
+    # first: what a person reads first
+    verdict: str = quantity("", "the motion and, with collars, their state, in words")
+    overturned: bool = quantity("", "whether the block overturned")
+    mode: str = quantity("", "safe, after-impact or without-impact (overturning)")
+    motion: str = quantity("", "no uplift, rocking or overturned")
+    impacts: int = quantity("", "impacts (theta through zero)")
+    max_abs_theta: float = quantity("rad", "largest |theta| reached")
+    max_abs_theta_over_alpha: float = quantity("-", "largest |theta| over alpha")
+    overturn_time: float | None = quantity("s", "time of overturning (None: it stands)")
+    model: str = quantity("", "linear or nonlinear equation of motion")
+    solver: str = quantity("", "the solver used (closed form or Dormand-Prince)")
+    p: float = quantity("rad/s", "frequency parameter p = sqrt(m g R / J0)")
+    alpha: float = quantity("rad", "slenderness angle alpha = atan(b / h)")
+    restitution: float = quantity("-", "coefficient of restitution nu used at impacts")
+    restitution_housner: float = quantity("-", "Housner's nu = 1 - 1.5 sin^2 alpha")
+    top_load: float = quantity("N", "dead load on the top of the block")
+    critical_angle: float = quantity("rad", "rotation of the free block's unstable equilibrium")
+    collars: tuple[RockingCollarSummary, ...] | None = quantity(
+        "", "per collar (RockingCollarSummary); only with collars", omit_when_none=True
+    )
+    collar_max_utilisation: float | None = quantity(
+        "-", "largest utilisation of any collar", present_with="collars"
+    )
+    collar_state: str | None = quantity(
+        "", "elastic or yielded (any collar's stress reached f_y)", present_with="collars"
+    )
+    collar_first_yield_time: float | None = quantity(
+        "s", "first time any collar reached f_y (None: none did)", present_with="collars"
+    )
+    collar_law: str | None = quantity(
+        "", "the collars' law: elastic (the SDOF springs never yield)", present_with="collars"
+    )
+    collar_note: str | None = quantity(
+        "", "what the elastic answer means where a collar passed f_y", omit_when_none=True
+    )
 
 
 def kernel_block_constants(block: Block, model: str, vertical: bool = False):
