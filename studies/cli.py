@@ -47,6 +47,7 @@ from ..rigid.block import MODELS, Block, pulse_from_ratios
 from . import schema
 from .output import write_csv, write_json
 from .schema import read_collars
+from .units import unit_of
 
 
 class _Parser(argparse.ArgumentParser):
@@ -190,53 +191,13 @@ def _multibody_options(args) -> dict:
     }
 
 
-# The unit a summary value is printed in (its key in SI units: Pa, N, m, s, ...), found from the
-# words of its key (split at "_"): the first row with a word in the key wins. Ratios come first,
-# so that edge_stress_ratio or yield_rotation_over_alpha are plain numbers.
-UNITS = (
-    (
-        {
-            "over",
-            "ratio",
-            "ratios",
-            "utilisation",
-            "error",
-            "restitution",
-            "friction",
-            "strain",
-            "reduction",
-            "agreement",
-        },
-        "",
-        1.0,
-    ),
-    ({"stress"}, "MPa", 1e-6),
-    ({"moment"}, "kN m", 1e-3),
-    ({"force", "load", "reaction"}, "kN", 1e-3),
-    ({"stiffness", "penalty"}, "kN/m", 1e-3),
-    ({"energy", "work"}, "J", 1.0),
-    ({"acceleration"}, "m/s^2", 1.0),
-    ({"mass"}, "kg", 1.0),
-    ({"time", "seconds", "dt", "t"}, "s", 1.0),
-    ({"theta", "rotation", "angle", "alpha"}, "rad", 1.0),
-    ({"p"}, "rad/s", 1.0),
-    ({"b", "h", "uplift", "opening", "slip", "length", "displacement"}, "m", 1.0),
-)
 SIGNIFICANT_DIGITS = 4
-
-
-def unit_of(key: str) -> tuple[str, float]:
-    """(unit, factor from SI) a summary value is printed in; ("", 1) for a plain number."""
-    words = set(key.split("_"))
-    for names, unit, factor in UNITS:
-        if words & names:
-            return unit, factor
-    return "", 1.0
 
 
 def format_value(key: str, value) -> str:
     """A summary value for people: numbers to SIGNIFICANT_DIGITS with their unit (stresses in
-    MPa, forces in kN), counts as integers, words as they are."""
+    MPa, forces in kN: :func:`colonna.studies.units.unit_of`), counts as integers, words as
+    they are."""
     if value is None:
         return "none"
     if isinstance(value, (bool, np.bool_, str)):

@@ -3,9 +3,17 @@ file's inputs) and the command line's printed summaries read them from here.
 
 Every value on disk is in SI units (Pa, N, m, s, J, rad); a unit of :data:`DISPLAY_UNITS` is shown
 as the SI value times its factor (MPa from Pa, kN from N, mm from m), any other unit as it is.
+
+The SI unit of a model run's summary key is declared by its typed result (the frozen dataclasses
+of colonna.rigid.solve, colonna.rigid.multibody, colonna.fem.solver and colonna.fem.ensemble,
+each field a colonna.core.quantities.quantity): :func:`unit_of` reads it there first and shows
+it as :data:`SHOWN_UNITS` says. Only a key that no typed result declares (one a study adds to
+its own summary) has its unit guessed from its words (:data:`KEY_UNITS`).
 """
 
 from __future__ import annotations
+
+from ..core import quantities
 
 # units an engineer reads, from the SI of summary.json: shown value = SI value * factor
 DISPLAY_UNITS = {
@@ -53,10 +61,31 @@ def input_unit(table: str, key: str) -> tuple[str, float]:
     return shown_unit(si) if shown is None else (shown, DISPLAY_UNITS.get(shown, 1.0))
 
 
-# The unit a summary value is printed in on the command line (its key in SI units: Pa, N, m, s,
-# ...), found from the words of its key (split at "_"): the first row with a word in the key
-# wins. Ratios come first, so that edge_stress_ratio or yield_rotation_over_alpha are plain
-# numbers. The factor from SI is the unit's in DISPLAY_UNITS (1 for a unit not there).
+# how a summary value in a declared SI unit is shown: stresses in MPa, forces in kN, ...; a ratio
+# ("-") as a plain number; any other unit (m, s, rad, J, ...) as it is
+SHOWN_UNITS = {"Pa": "MPa", "N": "kN", "N m": "kN m", "N/m": "kN/m", "-": ""}
+
+
+def declared_units() -> dict[str, str]:
+    """Summary key -> SI unit, as the typed results declare them (their modules imported here,
+    on first use: importing this module stays light)."""
+    from ..fem import ensemble, solver  # noqa: F401  (their summaries register their units)
+    from ..rigid import multibody, solve  # noqa: F401
+
+    return quantities.declared_units()
+
+
+def declared_unit(key: str) -> str | None:
+    """The SI unit a typed result declares for a summary key; None where none declares it."""
+    return declared_units().get(key)
+
+
+# The fallback for a key that no typed result declares (:func:`declared_unit` None): a study's
+# own summary keys, e.g. the command line's uplift_acceleration, the design's yield_moment or
+# required_stiffness, a spectrum's counts. The unit is found from the words of the key (split at
+# "_"): the first row with a word in the key wins. Ratios come first, so that
+# yield_rotation_over_alpha is a plain number. The factor from SI is the unit's in
+# DISPLAY_UNITS (1 for a unit not there).
 KEY_UNITS: tuple[tuple[frozenset[str], str], ...] = (
     (
         frozenset(
@@ -90,8 +119,19 @@ KEY_UNITS: tuple[tuple[frozenset[str], str], ...] = (
 
 
 def unit_of(key: str) -> tuple[str, float]:
-    """(unit, factor from SI) a summary value is printed in, from the words of its key
-    (:data:`KEY_UNITS`); ("", 1) for a plain number."""
+    """(unit, factor from SI) a summary value is printed in: its typed result's unit
+    (:func:`declared_unit`) shown as :data:`SHOWN_UNITS` says, else the unit guessed from the
+    words of its key (:func:`guessed_unit`); ("", 1) for a plain number."""
+    si = declared_unit(key)
+    if si is None:
+        return guessed_unit(key)
+    shown = SHOWN_UNITS.get(si, si)
+    return shown, DISPLAY_UNITS.get(shown, 1.0)
+
+
+def guessed_unit(key: str) -> tuple[str, float]:
+    """(unit, factor from SI) from the words of a key (:data:`KEY_UNITS`), for a key that no
+    typed result declares; ("", 1) for a plain number."""
     words = set(key.split("_"))
     for names, unit in KEY_UNITS:
         if words & names:

@@ -446,7 +446,7 @@ def test_motion_and_collar_words():
     ],
 )
 def test_printed_units_follow_the_key(key, unit):
-    from colonna.studies.cli import unit_of
+    from colonna.studies.units import unit_of
 
     assert unit_of(key)[0] == unit
 
@@ -478,7 +478,7 @@ def _significant_digits(number: str) -> int:
 def test_printed_numbers_have_four_digits_and_a_unit_json_keeps_all(capsys, tmp_path, argv):
     """Lines are ``key  value unit``: 4 significant digits in MPa, kN, ...; --json gives the
     same numbers in SI units at full precision."""
-    from colonna.studies.cli import unit_of
+    from colonna.studies.units import unit_of
 
     collars = tmp_path / "collars.toml"
     collars.write_text(COLLARS)
