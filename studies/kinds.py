@@ -60,8 +60,8 @@ KINDS = {
         "sweeps:run_solid_vs_cracked", "report:write_variants_report", ("outcome",)
     ),
     "zhang-makris": StudyKind(
-        "zhang_makris:run_zhang_makris",
-        "report:write_zhang_makris_report",
+        "zhang_makris:run",
+        "zhang_makris:write_report",
         ("outcome", "boundaries"),
         ground_motion=False,
     ),

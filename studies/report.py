@@ -382,26 +382,3 @@ def _variants_figure(out: Path, s: dict) -> dict:
         "collars change; FEM solid, rigid dashed, each curve with its own markers",
         data_file="figures/theta_*.csv",
     )
-
-
-def write_zhang_makris_report(out: Path) -> Path:
-    """The Zhang & Makris validation: figures, boundaries and spectra."""
-    out = Path(out)
-    summary = json.loads((out / "summary.json").read_text())
-    histories = [
-        image(out / f"history_{x.replace('.', '_')}.png", f"a_p = {x} g alpha, Omega/p = 5")
-        for x in ("3.00", "3.01", "6.32", "6.33")
-    ]
-    spectra = [
-        image(out / f"spectrum_{m}_{c}.png", f"{m} model, {c.replace('free', 'free block')}")
-        for m in ("linear", "nonlinear")
-        for c in ("free", "collars")
-    ]
-    return render_page(
-        out,
-        "zhang_makris.html.j2",
-        summary,
-        "colonna validation: Zhang & Makris block",
-        histories=histories,
-        spectra=spectra,
-    )

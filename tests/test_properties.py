@@ -131,7 +131,7 @@ def no_computation():
     saved = [(m, "run_cases", m.run_cases) for m in modules if hasattr(m, "run_cases")]
     # the Zhang & Makris validation runs no cases: its block is fixed, its run is the check
     zhang_makris = importlib.import_module("colonna.studies.zhang_makris")
-    saved.append((zhang_makris, "run_zhang_makris", zhang_makris.run_zhang_makris))
+    saved.append((zhang_makris, "run", zhang_makris.run))
     for module, name, _ in saved:
         setattr(module, name, _refuse_to_run)
     try:

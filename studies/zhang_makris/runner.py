@@ -15,11 +15,12 @@ from typing import Any
 
 import numpy as np
 
-from ..core.collar import Collar
-from ..rigid.block import Block, pulse_from_ratios
-from ..rigid.solve import rock
-from ..rigid.spectrum import overturning_spectrum
-from .output import write_csv, write_json
+from ...core.collar import Collar
+from ...rigid.block import Block, pulse_from_ratios
+from ...rigid.solve import rock
+from ...rigid.spectrum import overturning_spectrum
+from ..output import write_csv, write_json
+from .report import write_markdown
 
 ZHANG_MAKRIS = dict(p=2.14, alpha=0.25, restitution=0.9)
 PAPER_AMPLITUDES = (3.0, 3.01, 6.32, 6.33)  # a_p / (g alpha), paper Fig. 5 a-d
@@ -57,7 +58,7 @@ def mode_boundaries(
 
 
 def zhang_makris_validation(out: Path, progress: bool = True) -> dict:
-    from ..rigid.plotting import plot_history, plot_spectrum
+    from ...rigid.plotting import plot_history, plot_spectrum
 
     def say(msg):
         if progress:
@@ -149,45 +150,14 @@ def zhang_makris_validation(out: Path, progress: bool = True) -> dict:
             say(f"  {name}: {spec.codes.size} pulses in {spec.seconds:.2f} s")
     summary["wall_seconds"] = time.perf_counter() - start
     write_json(out / "summary.json", summary)
-    _write_report(out, summary)
+    write_markdown(out, summary)
     say(f"done in {summary['wall_seconds']:.1f} s: {out / 'report.md'}")
     return summary
 
 
-def _write_report(out: Path, s: dict) -> None:
-    lin, non = s["boundaries"]["linear"], s["boundaries"]["nonlinear"]
-    rows = "\n".join(
-        f"| {x} | {h['mode']} | {h['impacts']} | {h['max_abs_theta_over_alpha']:.4f} |"
-        for x, h in s["histories"].items()
-    )
-    text = f"""# Zhang & Makris block: validation of the rigid solver
-
-Block: p = {s["block"]["p"]:.2f} rad/s, alpha = {s["block"]["alpha"]:.2f} rad, nu = 0.9;
-one-sine pulse, Omega/p = 5, amplitude a_p in units of g alpha (linear model).
-
-| a_p / (g alpha) | mode | impacts | max abs theta / alpha |
-|---|---|---|---|
-{rows}
-
-Mode boundaries at Omega/p = 5 (a_p / a_uplift, bisection to 1e-6):
-
-| boundary | linear | nonlinear | paper Fig. 5 |
-|---|---|---|---|
-| safe -> overturns after impact | {lin[0]:.4f} | {non[0]:.4f} | between 3.00 and 3.01 |
-| overturns after impact -> safe | {lin[1]:.4f} | {non[1]:.4f} | between 6.32 and 6.33 |
-| safe -> overturns without impact | {lin[2]:.4f} | {non[2]:.4f} | - |
-
-![spectrum](spectrum_linear_free.png)
-![spectrum](spectrum_linear_collars.png)
-![spectrum](spectrum_nonlinear_free.png)
-![spectrum](spectrum_nonlinear_collars.png)
-"""
-    (out / "report.md").write_text(text)
-
-
-def run_zhang_makris(study_path: Path, out: Path, *, progress: bool = True, **_) -> dict:
+def run(study_path: Path, out: Path, *, progress: bool = True, **_) -> dict:
     """The validation as a study (its study file has nothing to vary): summary.json, figures."""
-    from .outcome import none_assessed
+    from ..outcome import none_assessed
 
     summary = zhang_makris_validation(Path(out), progress=progress)
     summary["outcome"] = none_assessed(
