@@ -500,13 +500,13 @@ def _cmd_fem(args) -> dict:
 
 
 def _cmd_study(args) -> dict:
-    from .driver import run_study_file, study_kind
+    from .driver import check_study_file, run_study_file
     from .executor import available_cores, default_workers
     from .kinds import KINDS
     from .spectrum_crosscheck import parse_grid_size
 
-    path = resolve_study(args.study)
-    kind = KINDS[study_kind(path)]
+    study = check_study_file(resolve_study(args.study))  # read and validated once, here
+    kind = KINDS[study.kind]
     workers = args.workers if args.workers is not None else default_workers()
     cores = available_cores()
     if not 1 <= workers <= cores:  # more processes than cores only slows every case down
@@ -529,7 +529,7 @@ def _cmd_study(args) -> dict:
 
     with before_computing(announce):
         summary = run_study_file(
-            path,
+            study,
             Path(args.out),
             workers=workers,
             scheduler=args.scheduler,

@@ -249,11 +249,35 @@ def _first_difference(old, new, path: str = "") -> str | None:
     return None
 
 
+def _changed_record(old, new) -> str | None:
+    """A case's study (:meth:`studies.fem_study.FemStudy.to_json`) whose recorded motion has
+    other samples, in words: its samples hold the record file times its scales, so any of
+    them may have changed."""
+    if not (isinstance(old, dict) and isinstance(new, dict)):
+        return None
+    for motion in ("ground", "vertical"):
+        a, b = old.get(motion), new.get(motion)
+        if (
+            isinstance(a, dict)
+            and isinstance(b, dict)
+            and a.get("type") == b.get("type") == "record"
+            and a != b
+        ):
+            return (
+                f"the {motion} motion, record {b.get('name')}, changed: its file, its scale "
+                "or its time scale"
+            )
+    return None
+
+
 def describe_difference(old: dict, new: dict) -> str:
     """The first difference between the saved inputs of a case and the present ones, in
     words: a key path of the case, a changed file, or the colonna version."""
     old_case, new_case = old.get("case"), new["case"]
     old_case = old_case if isinstance(old_case, dict) else {}
+    changed = _changed_record(old_case.get("study"), new_case.get("study"))
+    if changed:
+        return changed
     found = _first_difference(
         old_case.get("study"), new_case.get("study"), "study"
     ) or _first_difference(old_case, new_case)

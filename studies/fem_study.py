@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import os
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 
 from ..core.collar import Collar
@@ -88,6 +88,47 @@ class FemStudy:
         """:func:`rocking_alpha` of this column."""
         return rocking_alpha(self.width, self.height, self.cracked, bool(self.collars))
 
+    def to_json(self) -> dict:
+        """What this study computes from, as plain JSON (what a case carries to its worker and
+        what its inputs hash is of): every field but its ``name`` and ``source`` (they name it,
+        they do not change a result); the ground motions by their own ``to_json``; a mesh file
+        by its path and the SHA-256 of its bytes. :meth:`from_json` is the inverse."""
+        data: dict = {}
+        for f in fields(self):
+            if f.name in IDENTITY:
+                continue
+            value = getattr(self, f.name)
+            if f.name in ("stone", "contact"):
+                value = asdict(value)
+            elif f.name == "collars":
+                value = [asdict(c) for c in value]
+            elif f.name in ("ground", "vertical"):
+                value = value.to_json()
+            elif f.name == "mesh_file" and value is not None:
+                value = {"path": str(value), "sha256": _file_sha256(value)}
+            elif f.name == "toe_refinements":
+                value = list(value)
+            elif f.name == "rigid":
+                value = dict(value)
+            data[f.name] = value
+        return data
+
+    @classmethod
+    def from_json(cls, data: dict, *, name: str = "", source: str = "") -> FemStudy:
+        """The study of :meth:`to_json`, rebuilt without reading or validating a study file."""
+        from ..core.ground import motion_from_json
+
+        values = dict(data)
+        values["stone"] = Stone(**values["stone"])
+        values["contact"] = ContactSettings(**values["contact"])
+        values["collars"] = tuple(Collar(**c) for c in values["collars"])
+        values["ground"] = motion_from_json(values["ground"])
+        values["vertical"] = motion_from_json(values["vertical"])
+        if values["mesh_file"] is not None:
+            values["mesh_file"] = Path(values["mesh_file"]["path"])
+        values["toe_refinements"] = tuple(values["toe_refinements"])
+        return cls(name=name, source=source, **values)
+
     @property
     def column_block(self) -> Block:
         """The whole column as one rigid block (4b wide), with the whole top load."""
@@ -99,6 +140,41 @@ class FemStudy:
             restitution=self.rigid.get("restitution"),
             top_load=self.top_load,
         )
+
+
+IDENTITY = ("name", "source")  # the fields of a FemStudy that name it (left out of its JSON)
+
+
+def _file_sha256(path: Path) -> str | None:
+    """The SHA-256 of a file's bytes (None where it cannot be read)."""
+    import hashlib
+
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
+def case_of(study: FemStudy, **case) -> dict:
+    """A case of a study kind (:func:`studies.executor.run_cases`): ``case``'s own keys, the
+    study as JSON (:meth:`FemStudy.to_json`, what its inputs hash is of) and its source (which
+    names it in messages and is no input). :func:`study_of_case` is the worker's side."""
+    return {**case, "study": study.to_json(), "source": study.source}
+
+
+def study_of_case(case: dict) -> FemStudy:
+    """The study of a case made by :func:`case_of`, rebuilt without a study file."""
+    return FemStudy.from_json(case["study"], source=case.get("source", ""))
+
+
+def mesh_uncertainty_sizes(study: FemStudy) -> tuple[float, ...]:
+    """The mesh sizes (m) of the runs that measure a FEM number's mesh-convergence uncertainty:
+    2h and 4h, where the study's generated mesh leaves 4h within a rocking body's width (none
+    for a mesh file)."""
+    body_width = study.width / (2.0 if study.cracked else 1.0)
+    if study.mesh_file is not None or 4.0 * study.mesh_size > body_width:
+        return ()
+    return (2.0 * study.mesh_size, 4.0 * study.mesh_size)
 
 
 def toe_mesh(study: FemStudy, refinement: int):
@@ -119,6 +195,8 @@ def toe_mesh(study: FemStudy, refinement: int):
 
 
 def load(path) -> FemStudy:
+    """The FEM study of a study file as given (no kind's defaults): for the Python API and
+    ``colonna fem``; a study run by its kind is :func:`colonna.studies.study.load`."""
     path = Path(path)
     return from_dict(read_toml(path, "study file"), source=str(path), base=path.parent)
 
@@ -139,8 +217,15 @@ def default_thickness(width: float) -> float:
 
 
 def from_dict(data: dict, source: str = "study", base: Path = Path(".")) -> FemStudy:
-    """The study of a parsed TOML file: checked against :mod:`studies.schema`, then built."""
-    spec = schema.parse(data, source)
+    """The study of a parsed TOML file: checked against :mod:`studies.schema`, then built
+    (:func:`from_spec`)."""
+    return from_spec(schema.parse(data, source), source, base)
+
+
+def from_spec(spec: schema.StudyFile, source: str = "study", base: Path = Path(".")) -> FemStudy:
+    """The study of a validated study file (:func:`studies.schema.parse`): the defaults that
+    depend on the column filled in, the ground motions built (records read relative to
+    ``base``). Validates nothing again."""
     column = spec.column
     if column is None:
         raise InputError(f"{source}: column.height is required for a FEM study")

@@ -50,40 +50,14 @@ def write_csv(path, columns: dict) -> None:
     _atomic_write_text(Path(path), buffer.getvalue())
 
 
-def record_inputs(out: Path, study_path: Path, options: dict | None = None) -> dict:
-    """The inputs of a study on record beside its results: ``out/study.toml``, the study file
-    byte for byte, and ``out/inputs.json``, the validated study with every default filled in
-    (:mod:`studies.schema`), the colonna version, the SHA-256 of the study file and the command
-    line ``options`` that change what is computed (given ones only). Returns inputs.json."""
-    import hashlib
-    import importlib
-    import tomllib
-
-    from . import schema
-    from .free_rocking import as_run
-
-    raw = Path(study_path).read_bytes()
-    inputs = schema.parse(as_run(tomllib.loads(raw.decode())), str(study_path)).model_dump(
-        mode="json"
-    )
-    column = inputs.get("column")
-    if column is not None:  # the defaults that depend on the column
-        from ..core.collar import Collar
-        from .fem_study import default_thickness
-
-        if column["thickness"] is None:
-            column["thickness"] = default_thickness(column["width"])
-        for entry in inputs["collar"]:
-            if entry["length"] is None:  # between the attachment points: the width
-                entry["length"] = column["width"]
-            entry["Eh"] = Collar(**entry).hardening_modulus
-    inputs.update(
-        study_file=Path(study_path).name,
-        study_sha256=hashlib.sha256(raw).hexdigest(),
-        colonna_version=importlib.import_module("colonna").__version__,
-        options={k: v for k, v in (options or {}).items() if v is not None},
-    )
-    _atomic_write_bytes(Path(out) / "study.toml", raw)
+def record_inputs(out: Path, study) -> dict:
+    """The inputs of a study (:class:`studies.study.Study`) on record beside its results:
+    ``out/study.toml``, the study file byte for byte, and ``out/inputs.json``, the study's
+    :meth:`to_json <studies.study.Study.to_json>` (the validated study with every default
+    filled in, the colonna version, the SHA-256 of the study file and the command-line options
+    that change what is computed). Returns inputs.json."""
+    inputs = study.to_json()
+    _atomic_write_bytes(Path(out) / "study.toml", study.text)
     write_json(Path(out) / "inputs.json", inputs)
     return inputs
 

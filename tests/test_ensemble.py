@@ -3,7 +3,7 @@ stop on a run whose energy balance failed."""
 
 import pytest
 
-from colonna.core.errors import InputError
+from colonna.core.errors import NumericalFailure
 from colonna.fem.ensemble import (
     LANDING_DEPENDENT,
     band,
@@ -91,7 +91,7 @@ def test_a_run_whose_energy_balance_failed_stops_the_study():
         }
     )
     with pytest.raises(
-        InputError,
+        NumericalFailure,
         match=r"FEM case fem-mesh-2h is unreliable \(1 of 2 FEM runs: the energy balance "
         r"is off by 0\.54 ",
     ):
@@ -102,6 +102,6 @@ def test_a_run_whose_energy_balance_failed_stops_the_study():
             }
         )
     with pytest.raises(
-        InputError, match=r"FEM case fem is unreliable \(1 of 2 FEM runs: numerical blow-up"
+        NumericalFailure, match=r"FEM case fem is unreliable \(1 of 2 FEM runs: numerical blow-up"
     ):
         check_energy({"fem": {"summary": good, "replica_summaries": [blown, good]}})

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ...core.constants import DUCTILITY_LIMIT
-from ...core.errors import read_toml
+from ...core.errors import InputError
 from ...core.ground import peak_acceleration
 from ...rigid.design import (
     FLAT_BAR_THICKNESSES,
@@ -19,19 +19,30 @@ from ...rigid.design import (
     design_collars,
     thinnest_passing,
 )
-from ..crosscheck.runner import _study_from_case, fem_case
+from ..crosscheck.runner import fem_case
 from ..executor import run_cases
-from ..fem_study import from_dict, run_multibody
+from ..fem_study import FemWork, case_of, run_multibody, study_of_case
+from ..fem_study import fem_work as estimate_work
 from ..guard import check_fem_results
 from ..outcome import fem_answers, fem_model, outcome
 from ..output import write_csv, write_json
+from ..study import Study
 
 ALPHAS = np.linspace(0.03, 0.4, 38)
 RATIOS = np.linspace(0.05, 1.0, 39)
 
 
+FEWER = ", fewer [run] replicas"  # its way to ask for less FEM work (besides [run], [mesh])
+
+
+def fem_work(study: Study) -> FemWork:
+    """The FEM work of the collar design (:func:`studies.driver.check_work`): the study's run
+    with its replicas (its band trials are rigid multibody runs)."""
+    return estimate_work(study.fem, study.fem.replicas)
+
+
 def run(
-    study_path: Path,
+    given: Study,
     out: Path,
     *,
     workers=None,
@@ -39,26 +50,24 @@ def run(
     progress: bool = True,
     force: bool = False,
 ) -> dict:
-    study_path = Path(study_path)
-    data = read_toml(study_path, "study file")
-    study = from_dict(data, source=str(study_path), base=study_path.parent)  # fails early
+    """Run (or resume) the collar design of a study (:func:`studies.study.load`) into ``out``:
+    the FEM run of the study's collars, the rigid multibody trials of flat bars, the design
+    chart and ``summary.json``."""
+    study = given.fem  # fails early
     if not study.collars:
-        from ...core.errors import InputError
-
-        raise InputError(f"{study_path}: a collar-design study needs at least one [[collar]]")
+        raise InputError(f"{given.source}: a collar-design study needs at least one [[collar]]")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
     # the FEM case first: a case saved from other inputs is refused before anything is written
-    base = {"study": data, "source": str(study_path), "base": str(study_path.parent.resolve())}
     thicknesses = sorted({*FLAT_BAR_THICKNESSES, study.collars[0].t})
     trial_cases = [
-        dict(base, key=f"band_{1e3 * t:g}mm", kind="band", t=t, ductility_limit=DUCTILITY_LIMIT)
+        case_of(study, key=f"band_{1e3 * t:g}mm", kind="band", t=t, ductility_limit=DUCTILITY_LIMIT)
         for t in thicknesses
     ]
     results = run_cases(
         fem_case,
-        [dict(base, key="fem", kind="fem")],
+        [case_of(study, key="fem", kind="fem")],
         out,
         workers=workers,
         scheduler=scheduler,
@@ -95,7 +104,7 @@ def run(
     fem = results["fem"]["summary"]
     summary = {
         "study": study.name,
-        "kind": "collar-design",
+        "kind": given.kind,
         "design": design,
         "design_alpha": block.alpha,
         "design_ag_over_g": a_g / block.g,
@@ -134,7 +143,7 @@ def band_case(case: dict, directory: str) -> dict:
 
     from ...rigid.multibody import history_columns
 
-    study = _study_from_case(case)
+    study = study_of_case(case)
     collars = tuple(replace(c, t=case["t"], plastic=True) for c in study.collars)
     result = run_multibody(replace(study, collars=collars))
     write_csv(Path(directory) / "history.csv", history_columns(result))

@@ -17,7 +17,6 @@ their kinematic assumption, reported beside the verdict.
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from dataclasses import replace
@@ -26,16 +25,25 @@ from pathlib import Path
 import numpy as np
 
 from ...core.constants import DUCTILITY_LIMIT
-from ...core.errors import InputError, read_toml
-from ...core.ground import HarmonicPulse, NoMotion
+from ...core.errors import InputError, StaleResultsError
 from ...fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide_count
 from ...fem.solver import unreliable_reason
 from ...rigid.impacts import half_cycles, impact_ratios_from_peaks
 from ...rigid.solve import motion_word
 from ...rigid.spectrum import overturning_spectrum
 from ..executor import run_cases
-from ..fem_study import from_dict, run_multibody, run_sdof
+from ..fem_study import (
+    FemWork,
+    case_of,
+    from_dict,
+    mesh_uncertainty_sizes,
+    run_multibody,
+    run_sdof,
+    study_of_case,
+)
+from ..fem_study import fem_work as estimate_work
 from ..guard import check_fem_results
+from ..kinds import kind_of_package
 from ..outcome import (
     QUESTIONS,
     collars_hold,
@@ -47,6 +55,7 @@ from ..outcome import (
     outcome,
 )
 from ..output import read_csv, write_csv, write_json
+from ..study import Study
 
 NOT_APPLICABLE = "not applicable"
 
@@ -59,11 +68,15 @@ FINE_STEP = 0.25  # and is rerun at this fraction of that
 
 
 def _study_from_case(case):
-    study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
-    if "ground_study" in case:  # a variant shaken by the original study's ground motion
-        shaking = from_dict(case["ground_study"], source=case["source"], base=Path(case["base"]))
-        study = replace(study, ground=shaking.ground, vertical=shaking.vertical)
-    return study
+    if "column" in case["study"]:  # TRANSITIONAL: a sweep's case, until it carries the study
+        study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
+        if "ground_study" in case:  # a variant shaken by the original study's ground motion
+            shaking = from_dict(
+                case["ground_study"], source=case["source"], base=Path(case["base"])
+            )
+            study = replace(study, ground=shaking.ground, vertical=shaking.vertical)
+        return study
+    return study_of_case(case)
 
 
 TOE_START = "toe_start.npz"  # in the fem case's folder: the state the toe windows restart from
@@ -128,7 +141,7 @@ def toe_case(case: dict, directory: str) -> dict:
     path = Path(directory).parent / "fem" / TOE_START
     start = read_start(path)
     if start_digest(start) != case["start"]:
-        raise InputError(f"{path} is not the state the FEM case saved: run with --force")
+        raise StaleResultsError(f"{path} is not the state the FEM case saved: run with --force")
     return refine_window(
         build(study),
         start,
@@ -138,7 +151,7 @@ def toe_case(case: dict, directory: str) -> dict:
     )
 
 
-def refine_toe_stress(study, base: dict, fem: dict, out: Path, **run_options) -> dict | None:
+def refine_toe_stress(study, fem: dict, out: Path, **run_options) -> dict | None:
     """The toe stress's refinement over the impact of the FEM case's median replica: one case
     per refinement (:func:`toe_case`, the finest first: they run on as many workers as there
     are, each saved as it completes), then :func:`colonna.fem.toe_stress.refinement_summary`
@@ -152,8 +165,8 @@ def refine_toe_stress(study, base: dict, fem: dict, out: Path, **run_options) ->
     path = out / "cases" / "fem" / TOE_START
     refinements = list(study.toe_refinements)
     cases = [
-        dict(
-            base,
+        case_of(
+            study,
             key=f"toe-{r}",
             kind="toe",
             refinement=r,
@@ -320,7 +333,7 @@ def _case_runner(case: dict, directory: str) -> dict:
 
 
 def run(
-    study_path: Path,
+    study: Study,
     out: Path,
     *,
     workers: int | None = None,
@@ -328,62 +341,75 @@ def run(
     progress: bool = True,
     force: bool = False,
 ) -> dict:
-    """Run (or resume) the cross-check of a study file and write its report."""
-    study_path = Path(study_path)
-    data = read_toml(study_path, "study file")
-    study = from_dict(data, source=str(study_path), base=study_path.parent)  # fails early
-    if isinstance(study.ground, NoMotion):
+    """Run (or resume) the cross-check of a study (:func:`studies.study.load`) into ``out``:
+    its cases, the toe stress's refinement, the verdict and ``summary.json``."""
+    fem = study.fem  # fails early
+    if not fem.ground.moves:
         raise InputError(
-            f"{study_path}: the cross-check study needs a ground motion "
+            f"{study.source}: the cross-check study needs a ground motion "
             "(ground.pulse = sine, cosine or record); for free rocking use "
-            '[study] kind = "free-rocking"'
+            f"[study] kind = {kind_of_package('free_rocking')!r}"
         )
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    base = {"study": data, "source": str(study_path), "base": str(study_path.parent.resolve())}
     cases = [
-        dict(base, key="fem", kind="fem", progress=progress and not scheduler, toe_refinement=True),
-        dict(base, key="multibody", kind="multibody", step_factor=REFERENCE_STEP),
-        dict(base, key="multibody-fine", kind="multibody", step_factor=REFERENCE_STEP * FINE_STEP),
-        dict(base, key="rigid", kind="rigid"),
-        dict(base, key="monolith", kind="rigid"),
+        case_of(
+            fem, key="fem", kind="fem", progress=progress and not scheduler, toe_refinement=True
+        ),
+        case_of(fem, key="multibody", kind="multibody", step_factor=REFERENCE_STEP),
+        case_of(
+            fem, key="multibody-fine", kind="multibody", step_factor=REFERENCE_STEP * FINE_STEP
+        ),
+        case_of(fem, key="rigid", kind="rigid"),
+        case_of(fem, key="monolith", kind="rigid"),
     ]
-    if isinstance(study.ground, HarmonicPulse):  # a pulse is placed on the rigid spectrum
-        cases.append(dict(base, key="spectrum", kind="spectrum"))
+    if fem.ground.pulse_shape is not None:  # a pulse is placed on the rigid spectrum
+        cases.append(case_of(fem, key="spectrum", kind="spectrum"))
     # mesh-convergence uncertainty of the FEM numbers: the same run on meshes 2h and 4h
-    body_width = study.width / (2.0 if study.cracked else 1.0)
-    if study.mesh_file is None and 4.0 * study.mesh_size <= body_width:
-        for factor in (2, 4):
-            coarse = json.loads(json.dumps(data))
-            coarse.setdefault("mesh", {})["size"] = factor * study.mesh_size
-            cases.append(dict(base, study=coarse, key=f"fem-mesh-{factor}h", kind="fem"))
+    for factor, size in zip((2, 4), mesh_uncertainty_sizes(fem)):
+        cases.append(case_of(replace(fem, mesh_size=size), key=f"fem-mesh-{factor}h", kind="fem"))
     start = time.perf_counter()
     options: dict = dict(workers=workers, scheduler=scheduler, progress=progress, force=force)
     results = run_cases(_case_runner, cases, out, stage="FEM and rigid models", **options)
     check_fem_results(results, out)
     # then the toe stress's refinement, from the state the FEM case saved
-    refined = refine_toe_stress(study, base, results["fem"], out, **options)
+    refined = refine_toe_stress(fem, results["fem"], out, **options)
     if refined is not None:
         results["fem"] = {**results["fem"], "toe_refinement": refined}
     fem_histories = replica_histories(out / "cases" / "fem", results["fem"]["summary"]["replicas"])
     criteria = verdict_criteria(
-        study, results, fem_histories, read_csv(out / "cases" / "multibody" / "history.csv")
+        fem, results, fem_histories, read_csv(out / "cases" / "multibody" / "history.csv")
     )
     criteria.update(
         step_check(
             criteria,
             verdict_criteria(
-                study,
+                fem,
                 {**results, "multibody": results["multibody-fine"]},
                 fem_histories,
                 read_csv(out / "cases" / "multibody-fine" / "history.csv"),
             ),
         )
     )
-    summary = assemble_summary(study, results, criteria=criteria)
+    summary = assemble_summary(fem, results, criteria=criteria)
     summary["wall_seconds"] = time.perf_counter() - start
     write_json(out / "summary.json", summary)
     return summary
+
+
+FEWER = ", fewer [run] replicas"  # its way to ask for less FEM work (besides [run], [mesh])
+
+
+def fem_work(study: Study) -> FemWork:
+    """The FEM work of the cross-check (:func:`studies.driver.check_work`): the study's run
+    with its replicas, and the same on the meshes of its mesh-convergence uncertainty. Not
+    counted: the toe windows (a few hundredths of a second on refined meshes: a few per cent of
+    its work) and the time that runs stopping early (overturned) save."""
+    fem, models = study.fem, {}
+    work = estimate_work(fem, fem.replicas, models=models)
+    for size in mesh_uncertainty_sizes(fem):
+        work += estimate_work(replace(fem, mesh_size=size), fem.replicas, models=models)
+    return work
 
 
 def replica_histories(directory: Path, replicas: int) -> list[dict]:

@@ -8,6 +8,6 @@ writes ``index.html`` from it; ``grid_of`` and ``parse_grid_size`` give its grid
 """
 
 from .report import write_report
-from .runner import grid_of, parse_grid_size, run
+from .runner import FEWER, fem_work, grid_of, parse_grid_size, run
 
-__all__ = ["grid_of", "parse_grid_size", "run", "write_report"]
+__all__ = ["FEWER", "fem_work", "grid_of", "parse_grid_size", "run", "write_report"]

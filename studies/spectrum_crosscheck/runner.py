@@ -28,15 +28,25 @@ from pathlib import Path
 
 import numpy as np
 
-from ...core.errors import InputError, read_toml
+from ...core.errors import InputError
 from ...fem.ensemble import NO, YES
 from ...rigid.impacts import half_cycles
 from .. import schema
 from ..executor import run_cases
-from ..fem_study import from_dict, run_multibody, run_sdof
+from ..fem_study import (
+    FemStudy,
+    FemWork,
+    case_of,
+    from_spec,
+    run_multibody,
+    run_sdof,
+    study_of_case,
+)
+from ..fem_study import fem_work as estimate_work
 from ..guard import check_fem_results
 from ..outcome import QUESTIONS, count_answer, grid_outcome, not_assessed, outcome
 from ..output import write_json
+from ..study import Study
 
 DEFAULT_X_RANGE = {"omega_ratios": [1.0, 8.0], "time_scales": [0.5, 2.0]}
 MODES = ("safe", "after-impact", "without-impact")
@@ -56,11 +66,13 @@ def parse_grid_size(text: str) -> tuple[int, int]:
 
 
 def grid_of(
-    data: dict, size: tuple[int, int] | None = None, record: bool = False, source: str = "study"
+    grid: schema.Grid,
+    size: tuple[int, int] | None = None,
+    record: bool = False,
+    source: str = "study",
 ):
-    """(omega ratios, or time scales for a record; amplitude ratios) of the study's [grid]
-    (:class:`studies.schema.Grid`), ``size`` overriding the counts."""
-    grid = schema.parse_table("grid", data.get("grid", {}), source)
+    """(omega ratios, or time scales for a record; amplitude ratios) of the study's validated
+    [grid] (:class:`studies.schema.Grid`), ``size`` overriding the counts."""
     x_key = "time_scales" if record else "omega_ratios"
     other = "omega_ratios" if record else "time_scales"
     if getattr(grid, other) is not None:
@@ -99,8 +111,7 @@ def grid_points_case(cases: list[dict], directories: list[str]):
 
 def _point_study(case: dict):
     """A grid point's study; its FEM run stops once the point's outcome is settled."""
-    study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
-    return dataclasses.replace(study, stop_when_settled=True)
+    return dataclasses.replace(study_of_case(case), stop_when_settled=True)
 
 
 def _point_result(case: dict, study, fem) -> dict:
@@ -149,94 +160,131 @@ def _mode(overturned: bool, impacts: int) -> str:
     return "after-impact" if impacts > 0 else "without-impact"
 
 
+class Points:
+    """The grid points of a spectrum cross-check study: each point's FEM study, the study
+    with the point's pulse (or the record scaled and played faster), built from the validated
+    file without validating it again. ``kind``: the pulse's shape, or "record"."""
+
+    def __init__(self, study: Study, output_interval: float | None = None):
+        source = study.source
+        ground = study.spec.ground
+        self.kind = ground.pulse
+        if self.kind not in ("sine", "cosine", "record"):
+            raise InputError(
+                f"{source}: ground.pulse = {self.kind!r}: the spectrum cross-check needs "
+                "'sine', 'cosine' or 'record' (the grid sets its amplitude and "
+                "frequency or time scale)"
+            )
+        self.record_file = ground.record if self.kind == "record" else None
+        if self.kind == "record" and self.record_file is None:
+            raise InputError(f"{source}: ground.record (file) is required with pulse = 'record'")
+        given = sorted(set(study.data.get("ground", {})) - {"pulse", "record"})
+        if given:
+            raise InputError(
+                f"{source}: ground.{given[0]} is set by the grid of a "
+                "spectrum cross-check: leave it out"
+            )
+        self.study = study
+        self.spec = study.spec
+        if output_interval is not None:
+            run = self.spec.run.model_copy(update={"output_interval": output_interval})
+            self.spec = self.spec.model_copy(update={"run": run})
+        self.grid((2, 2))  # its [grid] fits its motion, before a record is read
+        if self.kind == "record":  # the study with the record as it is: its block and peak
+            as_given = self._study({"pulse": "record", "record": self.record_file})
+            self.original = as_given.ground
+            self.uplift = as_given.rocking_block.uplift_acceleration("nonlinear")
+
+    def _study(self, ground: dict) -> FemStudy:
+        spec = self.spec.model_copy(update={"ground": schema.Ground(**ground)})
+        return from_spec(spec, self.study.source, self.study.base)
+
+    def at(self, omega_ratio: float, amplitude_ratio: float) -> FemStudy:
+        """The study of the point (omega_ratio: the time scale for a record)."""
+        if self.kind == "record":
+            return self._study(
+                {
+                    "pulse": "record",
+                    "record": str(self.record_file),
+                    "scale": float(amplitude_ratio * self.uplift / self.original.peak_acceleration),
+                    "time_scale": float(omega_ratio),
+                }
+            )
+        return self._study(
+            {
+                "pulse": self.kind,
+                "amplitude_ratio": float(amplitude_ratio),
+                "omega_ratio": float(omega_ratio),
+            }
+        )
+
+    def grid(self, size: tuple[int, int] | None = None):
+        """(x values, amplitude ratios) of the study's [grid], ``size`` overriding its counts."""
+        return grid_of(self.spec.grid, size, record=self.kind == "record", source=self.study.source)
+
+
+FEWER = ", fewer grid points (--grid)"  # its way to ask for less FEM work (besides [run], [mesh])
+
+
+def fem_work(study: Study) -> FemWork:
+    """The FEM work of a spectrum cross-check (:func:`studies.driver.check_work`): one run per
+    grid point, its duration that of its pulse (the amplitude does not change it). A grid too
+    large even at the shortest point's duration is given as that (a lower bound), without
+    building every column of it."""
+    from ...fem.solver import BATCH_SLOTS
+    from ..fem_study import WORK_LIMIT_SECONDS
+
+    points, models = Points(study), {}
+    size = study.options.get("grid") or tuple(study.spec.grid.points)
+    counts = size[0] * size[1]
+    x_range = points.grid((2, 2))[0]  # [first, last]
+    shortest = points.at(float(max(x_range)), 2.0)  # the fastest pulse: the shortest run
+    bound = estimate_work(shortest, counts, held=BATCH_SLOTS, models=models)
+    if bound.seconds > WORK_LIMIT_SECONDS:
+        return bound
+    work = FemWork()
+    for x in points.grid(size)[0]:
+        work += estimate_work(points.at(float(x), 2.0), size[1], held=BATCH_SLOTS, models=models)
+    return work
+
+
 def run(
-    study_path: Path,
+    study: Study,
     out: Path,
     *,
     workers=None,
     scheduler=None,
-    grid: tuple[int, int] | None = None,
     progress: bool = True,
     force: bool = False,
 ) -> dict:
-    """Run (or resume) the grid of a spectrum cross-check study and write its report."""
-    study_path = Path(study_path)
-    data = read_toml(study_path, "study file")
-    base_data = {k: v for k, v in data.items() if k != "grid"}
-    ground = dict(base_data.get("ground", {}))
-    kind = ground.pop("pulse", "sine")
-    if kind not in ("sine", "cosine", "record"):
-        raise InputError(
-            f"{study_path}: ground.pulse = {kind!r}: the spectrum cross-check needs "
-            "'sine', 'cosine' or 'record' (the grid sets its amplitude and "
-            "frequency or time scale)"
-        )
-    record_file = ground.pop("record", None) if kind == "record" else None
-    if kind == "record" and record_file is None:
-        raise InputError(f"{study_path}: ground.record (file) is required with pulse = 'record'")
-    if ground:
-        raise InputError(
-            f"{study_path}: ground.{sorted(ground)[0]} is set by the grid of a "
-            "spectrum cross-check: leave it out"
-        )
-    omegas, amplitudes = grid_of(data, grid, record=kind == "record", source=str(study_path))
-    if kind == "record":  # the study with the record as it is: its block and peak
-        as_given = from_dict(
-            {**base_data, "ground": {"pulse": "record", "record": record_file}},
-            source=str(study_path),
-            base=study_path.parent,
-        )
-        original = as_given.ground
-        uplift = as_given.rocking_block.uplift_acceleration("nonlinear")
-
-    def with_pulse(omega_ratio, amplitude_ratio):
-        if kind == "record":  # omega_ratio is the time scale here
-            ground = {
-                "pulse": "record",
-                "record": str(record_file),
-                "scale": float(amplitude_ratio * uplift / original.peak_acceleration),
-                "time_scale": float(omega_ratio),
-            }
-        else:
-            ground = {
-                "pulse": kind,
-                "amplitude_ratio": float(amplitude_ratio),
-                "omega_ratio": float(omega_ratio),
-            }
-        return schema.variant(base_data, {"ground": ground}, str(study_path))
-
+    """Run (or resume) the grid of a spectrum cross-check study (:func:`studies.study.load`;
+    its ``grid`` option overriding [grid] points) into ``out``: ``summary.json``."""
+    points = Points(study)
+    omegas, amplitudes = points.grid(study.options.get("grid"))
     # every point's study, before anything runs (fails early); its simulated duration (s)
     # balances the workers' shares
-    points = {
-        (w, a): from_dict(with_pulse(w, a), source=str(study_path), base=study_path.parent)
-        for a in amplitudes
-        for w in omegas
-    }
-    study = points[omegas[0], amplitudes[0]]
-    durations = {key: point.duration for key, point in points.items()}
-    if study.output_interval is None:
+    durations = {(w, a): points.at(w, a).duration for a in amplitudes for w in omegas}
+    if study.spec.run.output_interval is None:
         # one output interval for every point (the runs of a batch share it), as a run's
         # default: 1/400 of the shortest point's duration
-        base_data = schema.variant(
-            base_data, {"run.output_interval": min(durations.values()) / 400.0}, str(study_path)
-        )
+        points = Points(study, output_interval=min(durations.values()) / 400.0)
+    first = points.at(omegas[0], amplitudes[0])
+    kind = points.kind
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     cases = []
     for i, a in enumerate(amplitudes):
         for j, w in enumerate(omegas):
             cases.append(
-                {
-                    "study": with_pulse(w, a),
-                    "cost": durations[w, a],
-                    "source": str(study_path),
-                    "base": str(study_path.parent.resolve()),
-                    "key": f"a{a:.6g}-w{w:.6g}",
-                    "omega_ratio": float(w),
-                    "amplitude_ratio": float(a),
-                    "row": i,
-                    "column": j,
-                }
+                case_of(
+                    points.at(w, a),
+                    cost=durations[w, a],
+                    key=f"a{a:.6g}-w{w:.6g}",
+                    omega_ratio=float(w),
+                    amplitude_ratio=float(a),
+                    row=i,
+                    column=j,
+                )
             )
     start = time.perf_counter()
     results = run_cases(
@@ -250,10 +298,10 @@ def run(
         batched=True,
     )
     check_fem_results(results, out)
-    summary = assemble_summary(study, omegas, amplitudes, cases, results)
+    summary = assemble_summary(first, omegas, amplitudes, cases, results)
     summary["x_axis"] = "time_scale" if kind == "record" else "omega_ratio"
     if kind == "record":
-        summary["record"] = original.name
+        summary["record"] = points.original.name
         summary["time_scales"] = summary["omega_ratios"]
     summary["wall_seconds"] = time.perf_counter() - start
     write_json(out / "summary.json", summary)
