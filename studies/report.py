@@ -27,10 +27,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from markupsafe import Markup, escape  # noqa: E402
-from matplotlib.artist import Artist  # noqa: E402
 
 from .kinds import KINDS  # noqa: E402
-from .output import read_csv, write_csv  # noqa: E402
+from .output import read_csv  # noqa: E402
 from .units import DISPLAY_UNITS, input_unit  # noqa: E402
 
 # the shared pieces (base.html.j2, macros.html.j2) in studies/templates; each kind's page in its
@@ -264,121 +263,3 @@ def _write_page(out: Path, text: str) -> Path:
     tmp.write_text(text)
     tmp.replace(path)
     return path
-
-
-def write_convergence_report(out: Path) -> Path:
-    """The mesh-convergence study: the table of each quantity over the meshes, its figure."""
-    out = Path(out)
-    s = json.loads((out / "summary.json").read_text())
-    (out / "figures").mkdir(exist_ok=True)
-    return render_page(
-        out,
-        "convergence.html.j2",
-        s,
-        f"colonna mesh convergence: {s['study']}",
-        quantities=CONVERGENCE_QUANTITIES,
-        figs=[_convergence_figure(out, s)],
-    )
-
-
-def write_variants_report(out: Path) -> Path:
-    """The solid / cracked / cracked-with-collars study."""
-    out = Path(out)
-    s = json.loads((out / "summary.json").read_text())
-    (out / "figures").mkdir(exist_ok=True)
-    return render_page(
-        out,
-        "variants.html.j2",
-        s,
-        f"colonna solid vs cracked: {s['study']}",
-        fields=VARIANT_FIELDS,
-        figs=[_variants_figure(out, s)],
-    )
-
-
-# (summary key, label, unit) of the mesh-convergence table
-CONVERGENCE_QUANTITIES = [
-    ("peak_rotation", "peak rotation", "rad"),
-    ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
-    ("edge_stress_max", "toe stress", "Pa"),
-]
-
-
-def _convergence_figure(out: Path, s: dict) -> dict:
-    sizes = s["sizes"]
-    columns = {"h": np.array(sizes)}
-    fig, axes = plt.subplots(1, 3, figsize=(10, 3.6))
-    handles: dict[str, Artist] = {}  # one legend for the three panels, below them: what is drawn
-    for ax, (name, label, unit) in zip(axes, CONVERGENCE_QUANTITIES):
-        c = s["convergence"][name]
-        columns[name] = np.array(c["values"], dtype=float)
-        scale, unit = (1e-6, "MPa") if unit == "Pa" else (1.0, unit)  # stresses in MPa
-        values = scale * np.array(c["values"], dtype=float)
-        handles.setdefault("FEM", ax.plot(sizes, values, "o-", color="C0", label="FEM")[0])
-        if c["richardson"] is not None:
-            handles.setdefault(
-                "Richardson",
-                ax.axhline(
-                    scale * c["richardson"],
-                    color="k",
-                    ls="--",
-                    lw=0.8,
-                    label="Richardson extrapolation",
-                ),
-            )
-        ax.set_xscale("log")
-        ax.set_xticks(sizes, [f"{1e3 * h:g}" for h in sizes])
-        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-        ax.set_xlabel("mesh size h (mm)")
-        ax.set_title(f"{label} ({unit})", fontsize=9)
-    fig.legend(handles=list(handles.values()), loc="lower center", ncol=len(handles), fontsize=8)
-    fig.tight_layout(rect=(0, 0.08, 1, 1))
-    write_csv(out / "figures" / "convergence.csv", columns)
-    return figure(out, "convergence", fig, "FEM numbers against the mesh size")
-
-
-# (summary key, label, unit) of the solid-vs-cracked table
-VARIANT_FIELDS = [
-    ("fem_peak_rotation", "FEM peak rotation", "rad"),
-    ("fem_overturned", "FEM overturned", ""),
-    ("rigid_peak_rotation", "rigid peak rotation", "rad"),
-    ("rigid_mode", "rigid mode", ""),
-    ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
-    ("edge_stress_ratio", "toe stress / f_c", "-"),
-    ("status", "FEM status", ""),
-]
-
-
-def _variants_figure(out: Path, s: dict) -> dict:
-    fig, ax = plt.subplots(figsize=(9.5, 3.6))
-    n_curves = 2 * len(s["variants"])
-    for k, n in enumerate(s["variants"]):
-        fem = read_csv(out / "cases" / f"{n}-fem" / "history.csv")
-        rig = read_csv(out / "cases" / f"{n}-rigid" / "history.csv")
-        write_csv(
-            out / "figures" / f"theta_{n}.csv",
-            {
-                "t": fem["t"],
-                "theta_fem_left": fem["theta_left"],
-                "theta_fem_right": fem["theta_right"],
-                "theta_rigid": np.interp(fem["t"], rig["t"], rig["theta"]),
-            },
-        )
-        # variants that rotate alike stay apart: each curve its width and markers
-        fem_style = dict(distinct(2 * k, n_curves), ls="-")
-        ax.plot(fem["t"], fem["theta_left"], color=f"C{k}", **fem_style, label=f"{n}: FEM")
-        m = rig["t"] <= fem["t"][-1]
-        rigid_style = dict(distinct(2 * k + 1, n_curves), ls="--")
-        ax.plot(rig["t"][m], rig["theta"][m], color=f"C{k}", **rigid_style, label=f"{n}: rigid")
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel(r"$\theta$ (rad)")
-    legend_beside(ax)
-    fig.tight_layout()
-    return figure(
-        out,
-        "theta_variants",
-        fig,
-        "Rotation (left half): what the crack and the "
-        "collars change; FEM solid, rigid dashed, each curve with its own markers",
-        data_file="figures/theta_*.csv",
-    )

@@ -122,7 +122,7 @@ def no_computation():
 
     names = [
         "crosscheck.runner",
-        "sweeps",
+        "sweep",
         "collar_design.runner",
         "spectrum_crosscheck.runner",
         "free_rocking.runner",

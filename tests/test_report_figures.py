@@ -327,7 +327,9 @@ def drawn(tmp_path_factory):
     from colonna.studies.collar_design import report as collar_design
     from colonna.studies.crosscheck import report as crosscheck
     from colonna.studies.free_rocking import report as free_rocking
+    from colonna.studies.mesh_convergence import report as mesh_convergence
     from colonna.studies.output import read_csv
+    from colonna.studies.solid_vs_cracked import report as solid_vs_cracked
     from colonna.studies.spectrum_crosscheck import report as spectrum_crosscheck
 
     out = tmp_path_factory.mktemp("reports")
@@ -339,7 +341,14 @@ def drawn(tmp_path_factory):
         figures[name] = (fig, keep(where, name, fig, caption, data_file))
         return figures[name][1]
 
-    kinds = (crosscheck, collar_design, spectrum_crosscheck, free_rocking)
+    kinds = (
+        crosscheck,
+        collar_design,
+        spectrum_crosscheck,
+        free_rocking,
+        mesh_convergence,
+        solid_vs_cracked,
+    )
     with pytest.MonkeyPatch.context() as mp:
         for module in (report, *kinds):  # each kind's report draws through these
             mp.setattr(module, "figure", capture)
@@ -358,8 +367,8 @@ def drawn(tmp_path_factory):
                 "edge_stress_max": {"values": [4e6, 5e6, 5.5e6], "richardson": 6e6},
             },
         }
-        report._convergence_figure(runs["sweep"], summary)
-        report._variants_figure(
+        mesh_convergence._convergence_figure(runs["sweep"], summary)
+        solid_vs_cracked._variants_figure(
             runs["sweep"], {"variants": ["solid", "cracked", "cracked-collars"]}
         )
     assert read_csv(runs["design"] / "figures" / "design_chart.csv")["alpha"].size == 12 * 13

@@ -1,0 +1,72 @@
+"""The mesh-convergence study's report: each quantity over the meshes, its observed order and
+Richardson estimate, and its figure (presentation only: the numbers are summary.json's)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.artist import Artist
+from matplotlib.ticker import NullFormatter
+
+from ..output import write_csv
+from ..report import figure, render_page
+from ..units import shown_unit
+
+
+def write_report(out: Path) -> Path:
+    """The mesh-convergence study: the table of each quantity over the meshes, its figure."""
+    out = Path(out)
+    s = json.loads((out / "summary.json").read_text())
+    (out / "figures").mkdir(exist_ok=True)
+    return render_page(
+        out,
+        "mesh_convergence/report.html.j2",
+        s,
+        f"colonna mesh convergence: {s['study']}",
+        quantities=CONVERGENCE_QUANTITIES,
+        figs=[_convergence_figure(out, s)],
+    )
+
+
+# (summary key, label, unit) of the mesh-convergence table
+CONVERGENCE_QUANTITIES = [
+    ("peak_rotation", "peak rotation", "rad"),
+    ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
+    ("edge_stress_max", "toe stress", "Pa"),
+]
+
+
+def _convergence_figure(out: Path, s: dict) -> dict:
+    sizes = s["sizes"]
+    columns = {"h": np.array(sizes)}
+    fig, axes = plt.subplots(1, 3, figsize=(10, 3.6))
+    handles: dict[str, Artist] = {}  # one legend for the three panels, below them: what is drawn
+    for ax, (name, label, unit) in zip(axes, CONVERGENCE_QUANTITIES):
+        c = s["convergence"][name]
+        columns[name] = np.array(c["values"], dtype=float)
+        unit, scale = shown_unit(unit)  # stresses in MPa
+        values = scale * np.array(c["values"], dtype=float)
+        handles.setdefault("FEM", ax.plot(sizes, values, "o-", color="C0", label="FEM")[0])
+        if c["richardson"] is not None:
+            handles.setdefault(
+                "Richardson",
+                ax.axhline(
+                    scale * c["richardson"],
+                    color="k",
+                    ls="--",
+                    lw=0.8,
+                    label="Richardson extrapolation",
+                ),
+            )
+        ax.set_xscale("log")
+        ax.set_xticks(sizes, [f"{1e3 * h:g}" for h in sizes])
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_xlabel("mesh size h (mm)")
+        ax.set_title(f"{label} ({unit})", fontsize=9)
+    fig.legend(handles=list(handles.values()), loc="lower center", ncol=len(handles), fontsize=8)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    write_csv(out / "figures" / "convergence.csv", columns)
+    return figure(out, "convergence", fig, "FEM numbers against the mesh size")

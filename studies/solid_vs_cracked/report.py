@@ -1,0 +1,75 @@
+"""The solid-vs-cracked study's report: what the crack and the collars change, variant by variant
+(presentation only: the numbers are summary.json's, the curves the run's CSV files)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ..output import read_csv, write_csv
+from ..report import distinct, figure, legend_beside, render_page
+
+
+def write_report(out: Path) -> Path:
+    """The solid / cracked / cracked-with-collars study."""
+    out = Path(out)
+    s = json.loads((out / "summary.json").read_text())
+    (out / "figures").mkdir(exist_ok=True)
+    return render_page(
+        out,
+        "solid_vs_cracked/report.html.j2",
+        s,
+        f"colonna solid vs cracked: {s['study']}",
+        fields=VARIANT_FIELDS,
+        figs=[_variants_figure(out, s)],
+    )
+
+
+# (summary key, label, unit) of the solid-vs-cracked table
+VARIANT_FIELDS = [
+    ("fem_peak_rotation", "FEM peak rotation", "rad"),
+    ("fem_overturned", "FEM overturned", ""),
+    ("rigid_peak_rotation", "rigid peak rotation", "rad"),
+    ("rigid_mode", "rigid mode", ""),
+    ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
+    ("edge_stress_ratio", "toe stress / f_c", "-"),
+    ("status", "FEM status", ""),
+]
+
+
+def _variants_figure(out: Path, s: dict) -> dict:
+    fig, ax = plt.subplots(figsize=(9.5, 3.6))
+    n_curves = 2 * len(s["variants"])
+    for k, n in enumerate(s["variants"]):
+        fem = read_csv(out / "cases" / f"{n}-fem" / "history.csv")
+        rig = read_csv(out / "cases" / f"{n}-rigid" / "history.csv")
+        write_csv(
+            out / "figures" / f"theta_{n}.csv",
+            {
+                "t": fem["t"],
+                "theta_fem_left": fem["theta_left"],
+                "theta_fem_right": fem["theta_right"],
+                "theta_rigid": np.interp(fem["t"], rig["t"], rig["theta"]),
+            },
+        )
+        # variants that rotate alike stay apart: each curve its width and markers
+        fem_style = dict(distinct(2 * k, n_curves), ls="-")
+        ax.plot(fem["t"], fem["theta_left"], color=f"C{k}", **fem_style, label=f"{n}: FEM")
+        m = rig["t"] <= fem["t"][-1]
+        rigid_style = dict(distinct(2 * k + 1, n_curves), ls="--")
+        ax.plot(rig["t"][m], rig["theta"][m], color=f"C{k}", **rigid_style, label=f"{n}: rigid")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(r"$\theta$ (rad)")
+    legend_beside(ax)
+    fig.tight_layout()
+    return figure(
+        out,
+        "theta_variants",
+        fig,
+        "Rotation (left half): what the crack and the "
+        "collars change; FEM solid, rigid dashed, each curve with its own markers",
+        data_file="figures/theta_*.csv",
+    )
