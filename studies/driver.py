@@ -24,15 +24,6 @@ if TYPE_CHECKING:
     from .fem_study import FemStudy
 
 
-def _transitional(spec):  # TRANSITIONAL: until the kinds are packages
-    if not isinstance(spec, str):
-        return spec
-    import importlib
-
-    module, name = spec.split(":")
-    return getattr(importlib.import_module(f"{__package__}.{module}"), name)
-
-
 def study_kind(study_path: Path) -> str:
     """The ``[study] kind`` of a study file, checked whole first (:func:`check_study_file`)."""
     return check_study_file(study_path).kind
@@ -68,32 +59,23 @@ def run_study_file(
         study = replace(study, options={**study.options, **given})
     kind = KINDS[study.kind]
     for option in study.options:
-        if option not in getattr(kind, "options", ("grid",)):  # TRANSITIONAL
+        if option not in kind.options:
             takers = [name for name, k in KINDS.items() if option in k.options]
             raise InputError(
                 f"--{option} applies to studies of kind {' or '.join(takers)}, not {study.kind!r}"
             )
     check_work(study, long=long)
     out = Path(out)
-    runner = _transitional(kind.run)
-    import inspect  # TRANSITIONAL
-
-    first = next(iter(inspect.signature(runner).parameters.values()))
-    summary = runner(
-        study if first.annotation == "Study" else study.path,
-        out,
-        workers=workers,
-        scheduler=scheduler,
-        progress=progress,
-        force=force,
-        **({} if first.annotation == "Study" else study.options),
+    module = kind.module()
+    summary = module.run(
+        study, out, workers=workers, scheduler=scheduler, progress=progress, force=force
     )
     # the inputs on record beside the results they gave, once they are all there (a refused
     # or interrupted run leaves the record of the results in out as it was)
     record_inputs(out, study)
     if kind.ground_motion:
         write_ground_motion(out, study.fem)
-    _transitional(kind.report)(out)
+    module.write_report(out)
     if progress:
         print(f"[study] report: {out / 'index.html'}", file=sys.stderr, flush=True)
     return summary
@@ -108,19 +90,22 @@ def check_work(study: Study, *, long: bool = False) -> None:
     why in its own words."""
     from .fem_study import require_bounded_work
 
-    if not hasattr(KINDS[study.kind], "module"):  # TRANSITIONAL
-        return
-    module = KINDS[study.kind].module()
-    estimate = getattr(module, "fem_work", None)
-    if estimate is None:  # a kind without FEM runs
-        return
     try:
-        work = estimate(study)
+        work = fem_work_of(study)
     except InputError:
         return
-    require_bounded_work(
-        work, long=long, what=f"{study.source}: this study", fewer=getattr(module, "FEWER", "")
-    )
+    fewer = getattr(KINDS[study.kind].module(), "FEWER", "")
+    require_bounded_work(work, long=long, what=f"{study.source}: this study", fewer=fewer)
+
+
+def fem_work_of(study: Study):
+    """The FEM work (:class:`studies.fem_study.FemWork`) of a study: its kind's own estimate
+    (its package's ``fem_work``: every FEM run it makes, as its runner makes them), nothing
+    for a kind without FEM runs."""
+    from .fem_study import FemWork
+
+    estimate = getattr(KINDS[study.kind].module(), "fem_work", None)
+    return FemWork() if estimate is None else estimate(study)
 
 
 def write_ground_motion(out: Path, study: FemStudy, samples_per_period: int = 200) -> None:

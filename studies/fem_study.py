@@ -275,7 +275,7 @@ def from_spec(spec: schema.StudyFile, source: str = "study", base: Path = Path("
         }
     )
     if (
-        isinstance(study.ground, NoMotion)
+        not study.ground.moves
         and study.initial_tilt == 0.0
         and study.initial_angular_velocity == 0.0
     ):

@@ -1,28 +1,51 @@
 """The registry of study kinds: the one table a kind is added to.
 
-Each kind is registered by name, with its runner and its report writer as ``"module:function"``
-strings under ``colonna.studies``, imported only when a study of that kind runs. The study
-file's ``[study] kind`` is checked against these names (:mod:`studies.schema`) and the driver
-(:mod:`studies.driver`) runs them. Adding a kind is one module with a ``run`` function
-(``run(study_path, out, *, workers, scheduler, progress, force, **options) -> summary``) and a
-report writer (``write(out) -> index.html``), and one line here.
+Each kind is registered by name with its package under ``colonna.studies`` (imported only when
+a study of that kind runs) and what the rest of colonna must know of it without importing it:
+the summary keys the command line prints, whether its [ground] is one motion, the tables of
+its own it reads, the command-line options it takes. The study file's ``[study] kind`` is
+checked against these names (:mod:`studies.schema`) and the driver (:mod:`studies.driver`)
+runs them.
+
+A kind's package (as meshio has one per format) provides
+  ``run(study, out, *, workers, scheduler, progress, force) -> summary``
+      its runner: ``study`` is the :class:`studies.study.Study` of the file (read and
+      validated once), ``summary.json`` written into ``out``;
+  ``write_report(out) -> index.html``
+      its report, from what the run left on disk;
+and where it has them, ``defaults(data) -> data`` (its own defaults of the file's tables,
+validated with them), ``fem_work(study) -> FemWork`` with ``FEWER`` (the FEM work it will ask
+for, checked before anything runs, and its ways to ask for less). Adding a kind is that package
+and one line here (docs/contributing.md; tests/test_kinds.py adds one).
 """
 
 from __future__ import annotations
 
+import importlib
 from dataclasses import dataclass
+from types import ModuleType
 
 
 @dataclass(frozen=True)
 class StudyKind:
-    """A study kind: where its runner and its report writer live, and which summary keys the
-    command line prints (``short``)."""
+    """A study kind: its package under ``colonna.studies``, the summary keys the command line
+    prints (``short``), whether its [ground] is one motion (``ground_motion``; not a grid of
+    them, nor none), the tables of its own it reads (``tables``, of :data:`KIND_TABLES`),
+    the command-line options it takes (``options``), whether it needs a [column]
+    (``column``) and whether it sets the pulse's amplitude and frequency itself
+    (``sets_pulse``: a study file gives only its shape)."""
 
-    run: str  # "module:function" under colonna.studies
-    report: str  # "module:function" under colonna.studies
+    package: str
     short: tuple[str, ...] = ()
-    ground_motion: bool = True  # its [ground] is one motion (not a grid of them, nor none)
-    tables: tuple[str, ...] = ()  # the tables of its own it reads (of KIND_TABLES)
+    ground_motion: bool = True
+    tables: tuple[str, ...] = ()
+    options: tuple[str, ...] = ()
+    column: bool = True
+    sets_pulse: bool = False
+
+    def module(self) -> ModuleType:
+        """The kind's package (imported on first use)."""
+        return importlib.import_module(f"{__package__}.{self.package}")
 
 
 # tables that only some kinds read: in a study of another kind they would be read by nothing
@@ -30,48 +53,38 @@ KIND_TABLES = ("grid", "convergence", "free_rocking")
 
 
 KINDS = {
-    "cross-check": StudyKind("crosscheck:run", "crosscheck:write_report", ("outcome", "verdict")),
+    "cross-check": StudyKind("crosscheck", ("outcome", "verdict")),
     "collar-design": StudyKind(
-        "collar_design:run",
-        "collar_design:write_report",
-        ("outcome", "design_adequate", "fem_collar_max_utilisation"),
+        "collar_design", ("outcome", "design_adequate", "fem_collar_max_utilisation")
     ),
     "spectrum-crosscheck": StudyKind(
-        "spectrum_crosscheck:run",
-        "spectrum_crosscheck:write_report",
+        "spectrum_crosscheck",
         ("outcome", "agreement_fem_multibody", "agreement_fem_sdof"),
         ground_motion=False,
         tables=("grid",),
+        options=("grid",),
+        sets_pulse=True,
     ),
     "free-rocking": StudyKind(
-        "free_rocking:run",
-        "free_rocking:write_report",
+        "free_rocking",
         ("outcome", "fem_ratio_study_stone", "multibody_ratio", "restitution_housner"),
         ground_motion=False,
         tables=("free_rocking",),
     ),
-    "mesh-convergence": StudyKind(
-        "sweeps:run_mesh_convergence",
-        "report:write_convergence_report",
-        ("outcome",),
-        tables=("convergence",),
-    ),
-    "solid-vs-cracked": StudyKind(
-        "sweeps:run_solid_vs_cracked", "report:write_variants_report", ("outcome",)
-    ),
+    "mesh-convergence": StudyKind("mesh_convergence", ("outcome",), tables=("convergence",)),
+    "solid-vs-cracked": StudyKind("solid_vs_cracked", ("outcome",)),
     "zhang-makris": StudyKind(
-        "zhang_makris:run",
-        "zhang_makris:write_report",
-        ("outcome", "boundaries"),
-        ground_motion=False,
+        "zhang_makris", ("outcome", "boundaries"), ground_motion=False, column=False
     ),
 }
+
+DEFAULT_KIND = "cross-check"  # a study file without [study] kind
 
 
 def kind_of_package(package: str) -> str:
     """The name of the kind whose package is ``package`` (a kind's message that points to
     another kind finds its name here, so that renaming a kind is one line of this table)."""
     for name, kind in KINDS.items():
-        if getattr(kind, "package", str(kind.run).split(":")[0]) == package:
+        if kind.package == package:
             return name
     raise KeyError(package)

@@ -34,7 +34,7 @@ from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
 from ..rigid.block import OMEGA_RATIO_RANGE
-from .kinds import KIND_TABLES, KINDS
+from .kinds import DEFAULT_KIND, KIND_TABLES, KINDS
 
 G = STANDARD_GRAVITY  # m/s^2, the gravity of every study
 STUDY_KINDS = tuple(KINDS)  # the registered kinds (studies/kinds.py)
@@ -644,7 +644,7 @@ class StudyInfo(Table):
     name: str | None = Field(None, description="Name in reports; default the file name.")
     description: str | None = Field(None, description="Free text.")
     kind: Literal[STUDY_KINDS] = Field(  # type: ignore[valid-type]
-        "cross-check", description="Which study to run."
+        DEFAULT_KIND, description="Which study to run."
     )
     intended: list[str] = Field(
         [],
@@ -763,7 +763,12 @@ class StudyFile(Table):
     model_config = ConfigDict(title="colonna study file")
 
     study: StudyInfo = StudyInfo()
-    column: Column | None = Field(None, description='Required, except for kind = "zhang-makris".')
+    column: Column | None = Field(
+        None,
+        description="Required, except for kind = "
+        + " or ".join(f'"{name}"' for name, kind in KINDS.items() if not kind.column)
+        + ".",
+    )
     stone: Stone = Stone()
     collar: list[Collar] = Field([], description="Zero or more collars, each a [[collar]] table.")
     ground: Ground = Ground.model_construct(pulse="sine")
@@ -802,7 +807,7 @@ class StudyFile(Table):
                     )
                 )
         if c is None:
-            if kind in (FAILED, "zhang-makris"):  # (a failed kind may need no column)
+            if kind is FAILED or not KINDS[kind].column:  # (a failed kind may need none)
                 return []
             found.append(
                 ("column.height is required: the study has no [column] table", ("column",))
@@ -821,7 +826,8 @@ class StudyFile(Table):
         elif (
             isinstance(ground, dict)
             and ground["pulse"] in ("sine", "cosine")
-            and kind not in (FAILED, "spectrum-crosscheck")
+            and kind is not FAILED
+            and not KINDS[kind].sets_pulse
         ):  # (its grid sets them)
             for pair in PULSE_PAIRS:
                 if ground[pair[0]] is None and ground[pair[1]] is None:

@@ -31,7 +31,6 @@ from ..core.errors import InputError
 from . import schema
 
 WHAT = "study file"
-DEFAULT_KIND = schema.StudyInfo.model_fields["kind"].default  # a file without [study] kind
 
 
 @dataclass(frozen=True, eq=False)
@@ -126,16 +125,12 @@ def with_kind_defaults(data: dict) -> dict:
     """A study file's tables with its kind's own defaults (a kind's package may define
     ``defaults(data) -> data``; a free-rocking study has no ground motion and runs 3 s), any
     other as given (a copy either way)."""
-    from .kinds import KINDS
+    from .kinds import DEFAULT_KIND, KINDS
 
     data = copy.deepcopy(data)
     table = data.get("study")
     name = table.get("kind", DEFAULT_KIND) if isinstance(table, dict) else DEFAULT_KIND
     kind = KINDS.get(name) if isinstance(name, str) else None
-    if not hasattr(kind, "module"):  # TRANSITIONAL
-        from .free_rocking import as_run
-
-        return as_run(data)
     defaults = getattr(kind.module(), "defaults", None) if kind is not None else None
     return defaults(data) if defaults is not None else data
 

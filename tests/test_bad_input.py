@@ -667,13 +667,15 @@ SHIPPED = sorted((ROOT / "studies").glob("*.toml"))
 def test_every_shipped_study_is_well_within_the_work_limit(path):
     """The work limit refuses no shipped study: each asks for at most half of it (the largest,
     mesh-convergence, about 40 min of CPU), and for no more memory than a run may have."""
-    from colonna.studies.driver import fem_work_of, study_kind
+    from colonna.studies.driver import fem_work_of
     from colonna.studies.fem_study import WORK_LIMIT_SECONDS, memory_limit
+    from colonna.studies.study import load
 
-    work = fem_work_of(path, study_kind(path))
+    study = load(path)
+    work = fem_work_of(study)
     assert work.seconds <= 0.5 * WORK_LIMIT_SECONDS, (work, path.stem)
     assert work.memory <= memory_limit()
-    if study_kind(path) != "zhang-makris":  # (no FEM)
+    if study.kind != "zhang-makris":  # (no FEM)
         assert work.node_steps > 0 and work.nodes > 0
 
 
@@ -682,10 +684,11 @@ def test_the_spectrum_grids_on_either_side_of_the_work_limit():
     limit; 1000x1000 is not, and is found so without building its million points."""
     from colonna.studies.driver import fem_work_of
     from colonna.studies.fem_study import WORK_LIMIT_SECONDS
+    from colonna.studies.study import load
 
     path = ROOT / "studies" / "spectrum-crosscheck.toml"
-    assert fem_work_of(path, "spectrum-crosscheck", (16, 16)).seconds <= 0.5 * WORK_LIMIT_SECONDS
-    assert fem_work_of(path, "spectrum-crosscheck", (1000, 1000)).seconds > WORK_LIMIT_SECONDS
+    assert fem_work_of(load(path, {"grid": (16, 16)})).seconds <= 0.5 * WORK_LIMIT_SECONDS
+    assert fem_work_of(load(path, {"grid": (1000, 1000)})).seconds > WORK_LIMIT_SECONDS
 
 
 def test_long_lifts_the_work_limit_but_not_the_memory_limit():

@@ -93,7 +93,8 @@ def _importers(module_suffixes: tuple[str, ...], names: set) -> dict:
             found = names & {alias.name for alias in node.names}
             if found:  # the innermost function around the import, or the module
                 inner = [name for name, f in scopes if f.lineno <= node.lineno <= f.end_lineno]
-                where = f"{path.name}:{inner[-1] if inner else '<module>'}"
+                name = path.relative_to(FOLDERS["studies"]).as_posix()
+                where = f"{name}:{inner[-1] if inner else '<module>'}"
                 callers.setdefault(where, set()).update(found)
     return callers
 
@@ -116,18 +117,98 @@ def test_every_rigid_run_of_a_study_goes_through_one_function():
         "fem_study.py:run_sdof",
         "fem_study.py:run_multibody",
         "cli.py:_cmd_rigid",
-        "zhang_makris.py:<module>",
+        "zhang_makris/runner.py:<module>",
     }, callers
 
 
 def test_the_study_kinds_have_one_registry():
-    """Adding a study kind is one module and one line of studies/kinds.py: the study file's
-    allowed [study] kind values are read from that table, and every registered runner and
-    report writer resolves to a function."""
+    """Adding a study kind is its package and one line of studies/kinds.py: the study file's
+    allowed [study] kind values are read from that table, and every registered package has a
+    runner and a report writer."""
     from colonna.studies import driver, kinds, schema
 
     allowed = schema.StudyFile.model_json_schema()["$defs"]["StudyInfo"]["properties"]["kind"]
     assert tuple(allowed["enum"]) == tuple(kinds.KINDS)
     assert driver.KINDS is kinds.KINDS
     for kind in kinds.KINDS.values():
-        assert callable(driver._function(kind.run)) and callable(driver._function(kind.report))
+        module = kind.module()
+        assert callable(module.run) and callable(module.write_report)
+        assert module.__name__ == f"colonna.studies.{kind.package}"
+
+
+# --- extension points: what adding a ground motion or a study kind touches (issue 34) -----------
+
+GROUND = ROOT / "colonna" / "core" / "ground.py"
+
+
+def _all_modules():
+    for folder in FOLDERS.values():
+        yield from sorted(folder.rglob("*.py"))
+
+
+def _motion_classes() -> set[str]:
+    """The concrete ground motions: the classes core/ground.py defines (the protocol aside)."""
+    tree = ast.parse(GROUND.read_text())
+    names = {node.name for node in tree.body if isinstance(node, ast.ClassDef)}
+    return names - {"GroundMotion", "RecordNote"}
+
+
+def test_no_code_outside_core_branches_on_the_type_of_a_ground_motion():
+    """The solvers and the studies use a motion through its protocol (its tables, its sample
+    times, its shape), so that a new motion is its class alone (tests/test_motion_protocol.py
+    adds one)."""
+    motions = _motion_classes()
+    assert {"HarmonicPulse", "Record", "NoMotion"} <= motions
+    found = []
+    for path in _all_modules():
+        if path == GROUND:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "isinstance":
+                named = {n.id for n in ast.walk(node.args[1]) if isinstance(n, ast.Name)}
+                named |= {n.attr for n in ast.walk(node.args[1]) if isinstance(n, ast.Attribute)}
+                if named & motions:
+                    found.append(f"{path.relative_to(ROOT)}:{node.lineno}")
+    assert not found, found
+
+
+def _strings(path: Path) -> list[tuple[int, str]]:
+    """The string constants of a module's code (its docstrings aside: prose may say "the
+    cross-check")."""
+    tree = ast.parse(path.read_text(), str(path))
+    docstrings = set()
+    for node in ast.walk(tree):
+        body = getattr(node, "body", None)
+        if isinstance(body, list) and body and isinstance(body[0], ast.Expr):
+            docstrings.add(id(body[0].value))
+    return [
+        (node.lineno, node.value)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Constant)
+        and isinstance(node.value, str)
+        and id(node) not in docstrings
+    ]
+
+
+def _names_kind(text: str, name: str) -> bool:
+    """A string that is a kind's name, or quotes it (a message: kind = "free-rocking")."""
+    return text == name or f'"{name}"' in text or f"'{name}'" in text
+
+
+def test_a_kind_is_named_only_in_its_package_and_the_registry():
+    """Adding (or renaming) a study kind is its package and one line of studies/kinds.py: no
+    other module names it, not even in a message (a kind that points to another finds it in
+    the registry)."""
+    from colonna.studies.kinds import KINDS
+
+    packages = {name: FOLDERS["studies"] / kind.package for name, kind in KINDS.items()}
+    assert all(folder.is_dir() for folder in packages.values()), packages
+    found = []
+    for path in _all_modules():
+        if path == FOLDERS["studies"] / "kinds.py":
+            continue
+        for lineno, text in _strings(path):
+            for name, folder in packages.items():
+                if _names_kind(text, name) and folder not in path.parents:
+                    found.append(f"{path.relative_to(ROOT)}:{lineno} names {name!r}")
+    assert not found, "\n".join(found)

@@ -26,16 +26,17 @@ import numpy as np
 
 from ...core.constants import DUCTILITY_LIMIT
 from ...core.errors import InputError, StaleResultsError
+from ...core.quantities import selected
 from ...fem.ensemble import LANDING_DEPENDENT, NO, YES, band, decide_count
 from ...fem.solver import unreliable_reason
 from ...rigid.impacts import half_cycles, impact_ratios_from_peaks
+from ...rigid.multibody import MultibodySummary
 from ...rigid.solve import motion_word
 from ...rigid.spectrum import overturning_spectrum
 from ..executor import run_cases
 from ..fem_study import (
     FemWork,
     case_of,
-    from_dict,
     mesh_uncertainty_sizes,
     run_multibody,
     run_sdof,
@@ -67,18 +68,6 @@ REFERENCE_STEP = 0.25  # the multibody reference runs at this fraction of its de
 FINE_STEP = 0.25  # and is rerun at this fraction of that
 
 
-def _study_from_case(case):
-    if "column" in case["study"]:  # TRANSITIONAL: a sweep's case, until it carries the study
-        study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
-        if "ground_study" in case:  # a variant shaken by the original study's ground motion
-            shaking = from_dict(
-                case["ground_study"], source=case["source"], base=Path(case["base"])
-            )
-            study = replace(study, ground=shaking.ground, vertical=shaking.vertical)
-        return study
-    return study_of_case(case)
-
-
 TOE_START = "toe_start.npz"  # in the fem case's folder: the state the toe windows restart from
 
 
@@ -94,7 +83,7 @@ def fem_case(case: dict, directory: str) -> dict:
     from ...fem.ensemble import ensemble_summary, median_replica
     from ..fem_study import run_fem
 
-    study = _study_from_case(case)
+    study = study_of_case(case)
     replicas = run_fem(
         study,
         out_dir=directory,
@@ -137,7 +126,7 @@ def toe_case(case: dict, directory: str) -> dict:
     from ...fem.toe_stress import read_start, refine_window, start_digest
     from ..fem_study import build, toe_mesh
 
-    study = _study_from_case(case)
+    study = study_of_case(case)
     path = Path(directory).parent / "fem" / TOE_START
     start = read_start(path)
     if start_digest(start) != case["start"]:
@@ -236,7 +225,7 @@ def fem_run_summary(study, result) -> dict:
 
 
 def rigid_case(case: dict, directory: str) -> dict:
-    study = _study_from_case(case)
+    study = study_of_case(case)
     result = run_sdof(study, whole_column=case["key"] == "monolith")
     columns = {"t": result.time, "theta": result.theta, "theta_dot": result.theta_dot}
     for k, hist in enumerate(result.collar_histories, start=1):
@@ -251,7 +240,7 @@ def multibody_case(case: dict, directory: str) -> dict:
     """The rigid multibody model of the study, at its default step times ``step_factor``."""
     from ...rigid.multibody import build_column, default_step, history_columns
 
-    study = _study_from_case(case)
+    study = study_of_case(case)
     dt = None
     if case.get("step_factor", 1.0) != 1.0:
         column = build_column(
@@ -277,7 +266,7 @@ def spectrum_case(case: dict, directory: str) -> dict:
     x amplitude ratios, default 7 x 6; its nodes nearest the study's pulse moved onto it)."""
     from ...rigid.multibody import multibody_spectrum
 
-    study = _study_from_case(case)
+    study = study_of_case(case)
     block = study.rocking_block
     omega_ratio = study.ground.omega / block.p
     amplitude_ratio = abs(study.ground.amplitude) / block.uplift_acceleration("nonlinear")
@@ -642,35 +631,8 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "collar_ductility_limit": DUCTILITY_LIMIT,
         "stone_fc": study.stone.fc,  # Pa
         "toe_stress": _toe_stress(study, results),
-        "rigid_multibody": {
-            key: multibody.get(key)
-            for key in (
-                "overturned",
-                "mode",
-                "status",
-                "impacts",
-                "max_abs_theta_left",
-                "max_abs_theta_right",
-                "overturn_time",
-                "max_abs_crack_slip",
-                "max_crack_opening",
-                "max_uplift",
-                "collar_max_utilisation",
-                "collar_first_yield_time",
-                "collar_max_fibre_strain",
-                "collar_ductility_demand",
-                "collar_fractured",
-                "collar_fracture_time",
-                "collar_max_plastic_strain",
-                "collar_plastic_work",
-                "impact_velocity_ratio_mean",
-                "energy_error_max",
-                "friction",
-                "dt",
-                "steps",
-                "wall_seconds",
-            )
-        },
+        # the multibody run's summary, as its typed result selects it for the cross-check
+        "rigid_multibody": selected(multibody, MultibodySummary, "crosscheck"),
         # an overturned block's max_abs_theta is the pi/2 of its stopping rule: not shown
         "rigid": {
             "overturned": rigid["overturned"],

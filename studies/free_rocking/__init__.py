@@ -9,6 +9,6 @@ study file's tables with this kind's own defaults.
 """
 
 from .report import write_report
-from .runner import as_run, run, with_defaults
+from .runner import FEWER, defaults, fem_work, run
 
-__all__ = ["as_run", "run", "with_defaults", "write_report"]
+__all__ = ["FEWER", "defaults", "fem_work", "run", "write_report"]

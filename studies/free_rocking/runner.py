@@ -24,38 +24,30 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from ...core.errors import InputError, read_toml
+from ...core.errors import InputError
 from ...rigid.block import Block
 from ...rigid.impacts import impact_ratios_from_peaks
-from .. import schema
 from ..executor import run_cases
-from ..fem_study import from_dict, run_multibody
+from ..fem_study import FemStudy, FemWork, case_of, from_spec, run_multibody, study_of_case
+from ..fem_study import fem_work as estimate_work
 from ..guard import check_fem_results, reliability
 from ..outcome import none_assessed
 from ..output import write_csv, write_json
+from ..study import Study
 
 
-def with_defaults(data: dict) -> dict:
-    """The study file's tables with this study's own defaults: [ground] pulse = "none" and
-    [run] duration = 3 s (a copy)."""
+def defaults(data: dict) -> dict:
+    """The study file's tables with this kind's own defaults (:func:`studies.study.load`
+    validates a free-rocking study with them): [ground] pulse = "none" and [run] duration =
+    3 s (a copy)."""
     data = copy.deepcopy(data)
     data.setdefault("ground", {"pulse": "none"})
     data.setdefault("run", {}).setdefault("duration", 3.0)
     return data
 
 
-def as_run(data: dict) -> dict:
-    """A study file's tables as its kind runs them: a free-rocking study's with its own
-    defaults (:func:`with_defaults`), any other as given. What is validated before a study
-    runs and what is put on record after it."""
-    study = data.get("study")
-    if isinstance(study, dict) and study.get("kind") == "free-rocking":
-        return with_defaults(data)
-    return data
-
-
 def free_rocking_case(case: dict, directory: str) -> dict:
-    study = from_dict(case["study"], source=case["source"], base=Path(case["base"]))
+    study = study_of_case(case)
     alpha = case["alpha"]
     tilt = case["tilt_fraction"] * alpha
     if case["kind"] == "fem":
@@ -114,8 +106,51 @@ def free_rocking_case(case: dict, directory: str) -> dict:
     }
 
 
+def _base_study(study: Study) -> FemStudy:
+    """The column released from rest: the study's FEM study, its tilt 0.01 rad where the file
+    gives none (each case sets its own)."""
+    spec = study.spec
+    if study.data["ground"] != {"pulse": "none"}:
+        raise InputError(
+            f"{study.source}: a free-rocking study has no ground motion: "
+            "ground.pulse = 'none' (or leave [ground] out)"
+        )
+    if "initial_tilt" not in study.data["run"]:  # replaced per case
+        spec = spec.model_copy(update={"run": spec.run.model_copy(update={"initial_tilt": 0.01})})
+    return from_spec(spec, study.source, study.base)
+
+
+def _mesh_sizes(study: Study, fem: FemStudy) -> list[float]:
+    """The mesh sizes (m) of its mesh variants: [free_rocking] mesh_sizes, default 2h."""
+    body_width = fem.width / (2.0 if fem.cracked else 1.0)
+    sizes = study.spec.free_rocking.mesh_sizes or [min(2.0 * fem.mesh_size, body_width)]
+    if max(sizes) > body_width * (1.0 + 1e-9):
+        raise InputError(
+            f"{study.source}: free_rocking.mesh_sizes = {sizes!r} m: each must be at "
+            f"most {body_width:g} m (the width of one half)"
+        )
+    return sizes
+
+
+FEWER = ", fewer [free_rocking] variants, fewer [run] replicas"  # its ways to ask for less
+
+
+def fem_work(study: Study) -> FemWork:
+    """The FEM work of a free-rocking study (:func:`studies.driver.check_work`): a run per
+    tilt, per damping variant and per mesh variant, each with the study's replicas."""
+    fem, models = _base_study(study), {}
+    table = study.spec.free_rocking
+    work = estimate_work(fem, fem.replicas * len(table.tilt_fractions), models=models)
+    for damping in table.damping:
+        varied = replace(fem, contact=replace(fem.contact, damping=damping))
+        work += estimate_work(varied, fem.replicas, models=models)
+    for size in _mesh_sizes(study, fem):
+        work += estimate_work(replace(fem, mesh_size=size), fem.replicas, models=models)
+    return work
+
+
 def run(
-    study_path: Path,
+    given: Study,
     out: Path,
     *,
     workers=None,
@@ -123,36 +158,23 @@ def run(
     progress: bool = True,
     force: bool = False,
 ) -> dict:
-    study_path = Path(study_path)
-    data = read_toml(study_path, "study file")
-    table = schema.parse_table("free_rocking", data.get("free_rocking", {}), str(study_path))
-    base_data = with_defaults({k: v for k, v in data.items() if k != "free_rocking"})
-    if base_data["ground"] != {"pulse": "none"}:
-        raise InputError(
-            f"{study_path}: a free-rocking study has no ground motion: "
-            "ground.pulse = 'none' (or leave [ground] out)"
-        )
-    base_data["run"].setdefault("initial_tilt", 0.01)  # replaced per case
-    study = from_dict(base_data, source=str(study_path), base=study_path.parent)  # fails early
+    """Run (or resume) a free-rocking study (:func:`studies.study.load`) into ``out``: the
+    column released from each tilt in the FEM and the rigid multibody model, the FEM's damping
+    and mesh variants, and ``summary.json``."""
+    study = _base_study(given)  # fails early
+    table = given.spec.free_rocking
     alpha = study.rocking_alpha
     tilts, dampings = table.tilt_fractions, table.damping
-    body_width = study.width / (2.0 if study.cracked else 1.0)
-    sizes = table.mesh_sizes or [min(2.0 * study.mesh_size, body_width)]
-    if max(sizes) > body_width * (1.0 + 1e-9):
-        raise InputError(
-            f"{study_path}: free_rocking.mesh_sizes = {sizes!r} m: each must be at "
-            f"most {body_width:g} m (the width of one half)"
-        )
+    sizes = _mesh_sizes(given, study)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    common = {"source": str(study_path), "base": str(study_path.parent.resolve()), "alpha": alpha}
     cases = []
     for k, fraction in enumerate(tilts):
         for kind in ("fem", "multibody"):
             cases.append(
-                dict(
-                    common,
-                    study=base_data,
+                case_of(
+                    study,
+                    alpha=alpha,
                     key=f"{kind}-tilt{k + 1}",
                     kind=kind,
                     tilt_fraction=fraction,
@@ -161,11 +183,10 @@ def run(
                 )
             )
     for k, damping in enumerate(dampings):
-        variant = schema.variant(base_data, {"contact.damping": damping}, str(study_path))
         cases.append(
-            dict(
-                common,
-                study=variant,
+            case_of(
+                replace(study, contact=replace(study.contact, damping=damping)),
+                alpha=alpha,
                 key=f"fem-damping{k + 1}",
                 kind="fem",
                 tilt_fraction=tilts[0],
@@ -174,11 +195,10 @@ def run(
             )
         )
     for k, size in enumerate(sizes):
-        variant = schema.variant(base_data, {"mesh.size": size}, str(study_path))
         cases.append(
-            dict(
-                common,
-                study=variant,
+            case_of(
+                replace(study, mesh_size=size),
+                alpha=alpha,
                 key=f"fem-mesh{k + 1}",
                 kind="fem",
                 tilt_fraction=tilts[0],
@@ -201,7 +221,7 @@ def run(
     base_fem = results["fem-tilt1"]
     summary = {
         "study": study.name,
-        "kind": "free-rocking",
+        "kind": given.kind,
         "alpha": alpha,
         "restitution_housner": housner,
         "E": study.stone.E,

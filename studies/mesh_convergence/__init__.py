@@ -7,6 +7,6 @@ writes ``index.html`` from it; ``mesh_sizes`` gives the sizes of a study file's 
 """
 
 from .report import write_report
-from .runner import mesh_sizes, run
+from .runner import FEWER, fem_work, mesh_sizes, run
 
-__all__ = ["mesh_sizes", "run", "write_report"]
+__all__ = ["FEWER", "fem_work", "mesh_sizes", "run", "write_report"]

@@ -4,33 +4,46 @@ rotation, collar stress and toe stress with the observed order and a Richardson 
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 from ...fem.convergence import convergence_table
-from .. import schema
-from ..fem_study import FemStudy
+from ..fem_study import FemStudy, FemWork, case_of
+from ..fem_study import fem_work as estimate_work
 from ..outcome import fem_answers, fem_model, outcome
-from ..sweep import case_base, run_sweep
+from ..study import Study
+from ..sweep import run_sweep
 
 
-def mesh_sizes(data: dict, study) -> list[float]:
-    """The sizes of [convergence] (:class:`studies.schema.Convergence`): given, or levels
+def mesh_sizes(study: Study) -> list[float]:
+    """The sizes (m) of [convergence] (:class:`studies.schema.Convergence`): given, or levels
     from [mesh] size refined by ratio."""
-    conv = schema.parse_table("convergence", data.get("convergence", {}), study.source)
+    conv = study.spec.convergence
     if conv.sizes is not None:
         return list(conv.sizes)
-    return [study.mesh_size * conv.ratio ** (conv.levels - 1 - k) for k in range(conv.levels)]
+    size = study.fem.mesh_size
+    return [size * conv.ratio ** (conv.levels - 1 - k) for k in range(conv.levels)]
 
 
-def cases(data: dict, study: FemStudy, study_path: Path) -> list[dict]:
+def cases(study: Study) -> list[dict]:
     """One FEM case per mesh size, the coarsest first."""
-    found = []
-    for k, size in enumerate(mesh_sizes(data, study)):
-        variant = schema.variant(data, {"mesh.size": size}, str(study_path))
-        found.append(
-            dict(case_base(study_path), study=variant, key=f"mesh-{k + 1}", kind="fem", size=size)
-        )
-    return found
+    return [
+        case_of(replace(study.fem, mesh_size=size), key=f"mesh-{k + 1}", kind="fem", size=size)
+        for k, size in enumerate(mesh_sizes(study))
+    ]
+
+
+FEWER = ", fewer or coarser [convergence] sizes, fewer [run] replicas"  # its ways to ask less
+
+
+def fem_work(study: Study) -> FemWork:
+    """The FEM work of the study (:func:`studies.driver.check_work`): its run with its replicas
+    on every mesh."""
+    work, models = FemWork(), {}
+    for size in mesh_sizes(study):
+        varied = replace(study.fem, mesh_size=size)
+        work += estimate_work(varied, varied.replicas, models=models)
+    return work
 
 
 def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
@@ -71,8 +84,7 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
     }
 
 
-def run(study_path: Path, out: Path, **options) -> dict:
-    """The mesh-convergence study: the FEM on a sequence of meshes."""
-    return run_sweep(
-        study_path, out, kind="mesh-convergence", cases=cases, summarise=summarise, **options
-    )
+def run(study: Study, out: Path, **options) -> dict:
+    """The mesh-convergence study (:func:`studies.study.load`): the FEM on a sequence of
+    meshes."""
+    return run_sweep(study, out, cases=cases, summarise=summarise, **options)

@@ -7,6 +7,6 @@ FEM and the rigid SDOF model under the study's ground motion.
 """
 
 from .report import write_report
-from .runner import run
+from .runner import FEWER, fem_work, run
 
-__all__ = ["run", "write_report"]
+__all__ = ["FEWER", "fem_work", "run", "write_report"]

@@ -4,12 +4,14 @@ study's ground motion (its ratios refer to the half column of the cracked study)
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
-from .. import schema
-from ..fem_study import FemStudy, rocking_alpha
+from ..fem_study import FemStudy, FemWork, case_of, from_spec, rocking_alpha
+from ..fem_study import fem_work as estimate_work
 from ..outcome import fem_answers, fem_model, model_outcome, outcome
-from ..sweep import case_base, run_sweep
+from ..study import Study
+from ..sweep import run_sweep
 
 # each variant: (cracked, with the study's collars)
 VARIANTS = {
@@ -19,27 +21,38 @@ VARIANTS = {
 }
 
 
-def cases(data: dict, study: FemStudy, study_path: Path) -> list[dict]:
+def variant(study: Study, cracked: bool, collars: bool) -> FemStudy:
+    """The study's column cracked or not, with or without its collars, shaken by the study's
+    own ground motion (its ratios refer to the study's rocking body)."""
+    spec = study.spec
+    assert spec.column is not None  # the kind needs a column (studies.kinds)
+    column = spec.column.model_copy(update={"cracked": cracked})
+    changed = spec.model_copy(update={"column": column, "collar": spec.collar if collars else []})
+    varied = from_spec(changed, study.source, study.base)
+    return replace(varied, ground=study.fem.ground, vertical=study.fem.vertical)
+
+
+def cases(study: Study) -> list[dict]:
     """A FEM and a rigid case per variant, each shaken by the study's own ground motion."""
     found = []
     for name, (cracked, collars) in VARIANTS.items():
-        variant = schema.variant(
-            data,
-            {"column.cracked": cracked, **({} if collars else {"collar": schema.REMOVED})},
-            str(study_path),
-        )
+        varied = variant(study, cracked, collars)
         for model in ("fem", "rigid"):
-            found.append(
-                dict(
-                    case_base(study_path),
-                    study=variant,
-                    ground_study=data,
-                    key=f"{name}-{model}",
-                    kind=model,
-                    variant=name,
-                )
-            )
+            found.append(case_of(varied, key=f"{name}-{model}", kind=model, variant=name))
     return found
+
+
+FEWER = ", fewer [run] replicas"  # its way to ask for less FEM work (besides [run], [mesh])
+
+
+def fem_work(study: Study) -> FemWork:
+    """The FEM work of the study (:func:`studies.driver.check_work`): each variant's run with
+    its replicas."""
+    work, models = FemWork(), {}
+    for cracked, collars in VARIANTS.values():
+        varied = variant(study, cracked, collars)
+        work += estimate_work(varied, varied.replicas, models=models)
+    return work
 
 
 def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
@@ -85,8 +98,7 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
     return {"study": study.name, "outcome": outcome(models, answers), "variants": rows}
 
 
-def run(study_path: Path, out: Path, **options) -> dict:
-    """The solid / cracked / cracked-with-collars variants of one column."""
-    return run_sweep(
-        study_path, out, kind="solid-vs-cracked", cases=cases, summarise=summarise, **options
-    )
+def run(study: Study, out: Path, **options) -> dict:
+    """The solid / cracked / cracked-with-collars variants of one column
+    (:func:`studies.study.load`)."""
+    return run_sweep(study, out, cases=cases, summarise=summarise, **options)

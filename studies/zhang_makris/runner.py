@@ -20,6 +20,7 @@ from ...rigid.block import Block, pulse_from_ratios
 from ...rigid.solve import rock
 from ...rigid.spectrum import overturning_spectrum
 from ..output import write_csv, write_json
+from ..study import Study
 from .report import write_markdown
 
 ZHANG_MAKRIS = dict(p=2.14, alpha=0.25, restitution=0.9)
@@ -155,8 +156,9 @@ def zhang_makris_validation(out: Path, progress: bool = True) -> dict:
     return summary
 
 
-def run(study_path: Path, out: Path, *, progress: bool = True, **_) -> dict:
-    """The validation as a study (its study file has nothing to vary): summary.json, figures."""
+def run(study: Study, out: Path, *, progress: bool = True, **_) -> dict:
+    """The validation as a study (:func:`studies.study.load`; its file has nothing to vary):
+    summary.json, figures."""
     from ..outcome import none_assessed
 
     summary = zhang_makris_validation(Path(out), progress=progress)
