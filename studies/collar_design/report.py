@@ -7,8 +7,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from ..output import read_csv, write_csv
 from ..report import distinct, figure, legend_beside, render_page
@@ -28,7 +28,8 @@ def write_report(out: Path) -> Path:
 
     # the chart in kN/m throughout, the study's column and pulse marked with its required
     # stiffness, and the iso-line of the stiffness its collars provide
-    fig, ax = plt.subplots(figsize=(7.5, 5.6))
+    fig = Figure(figsize=(7.5, 5.6))
+    ax = fig.subplots()
     plot_design_chart(
         alphas,
         ratios,
@@ -55,7 +56,8 @@ def write_report(out: Path) -> Path:
         out / "figures" / "collar_utilisation.csv",
         {"t": history["t"], **{c: history[c] for c in cols}},
     )
-    fig, ax = plt.subplots(figsize=(9.5, 3.2))
+    fig = Figure(figsize=(9.5, 3.2))
+    ax = fig.subplots()
     for j, c in enumerate(cols):  # collars of one history stay apart
         ax.plot(
             history["t"],
@@ -110,7 +112,8 @@ def _ductile_design_figure(out: Path, design: dict):
             "overturned": fell.astype(int),
         },
     )
-    fig, ax = plt.subplots(figsize=(8.5, 3.8))
+    fig = Figure(figsize=(8.5, 3.8))
+    ax = fig.subplots()
     ax.plot(t_mm, demand, "o-", color="C0", label="ductility demand eps_max / eps_y")
     ax.plot(t_mm, util, "s--", color="C1", label="utilisation sigma / f_y")
     if broken.any():

@@ -8,10 +8,10 @@ import json
 import math
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.artist import Artist
 from matplotlib.collections import PolyCollection
+from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 from matplotlib.ticker import FuncFormatter
@@ -61,7 +61,8 @@ def write_report(out: Path) -> Path:
             "theta_rigid_monolith": on_fem_times(mono_h, "theta"),
         },
     )
-    fig, ax = plt.subplots(figsize=(8, 3.6))
+    fig = Figure(figsize=(8, 3.6))
+    ax = fig.subplots()
     replicas = _replica_histories(out / "cases" / "fem", summary["fem"].get("replicas", 1))
     if len(replicas) > 1:  # the band the replicas span (chaotic after the first landing)
         envelope = [
@@ -139,7 +140,8 @@ def write_report(out: Path) -> Path:
     collar_cols = sorted(k for k in fem_h if k.startswith("collar_") and k.endswith("_stress"))
     if collar_cols:
         write_csv(out / "figures" / "collars.csv", {"t": t, **{k: fem_h[k] for k in collar_cols}})
-        fig, ax = plt.subplots(figsize=(9.5, 3.4))
+        fig = Figure(figsize=(9.5, 3.4))
+        ax = fig.subplots()
         for j, k in enumerate(collar_cols):  # collars of one history stay apart
             ax.plot(
                 t,
@@ -172,7 +174,8 @@ def write_report(out: Path) -> Path:
     # 4. toe stress against f_c
     edge_cols = [k for k in fem_h if k.startswith("edge_stress_")]
     write_csv(out / "figures" / "toe_stress.csv", {"t": t, **{k: fem_h[k] for k in edge_cols}})
-    fig, ax = plt.subplots(figsize=(9.5, 3.4))
+    fig = Figure(figsize=(9.5, 3.4))
+    ax = fig.subplots()
     for j, k in enumerate(edge_cols):
         ax.plot(
             t,
@@ -209,7 +212,8 @@ def write_report(out: Path) -> Path:
         out / "figures" / "base_pressure.csv",
         {"x": x, "pressure_at_rest": p_rest, "pressure_at_peak_rotation": p_peak},
     )
-    fig, ax = plt.subplots(figsize=(8, 3.2))
+    fig = Figure(figsize=(8, 3.2))
+    ax = fig.subplots()
     ax.plot(x, p_rest / 1e6, "o-", ms=3, label="at rest (gravity)")
     ax.plot(x, p_peak / 1e6, "s-", ms=3, label=f"at peak rotation, t = {pressure['t'][row]:.3f} s")
     ax.set_xlabel("x (m)")
@@ -280,7 +284,8 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
         {"x": x, "plastic_fibre_strain": profile},
     )
 
-    fig, (ax_m, ax_p, ax_t) = plt.subplots(3, 1, figsize=(9.5, 9.0))
+    fig = Figure(figsize=(9.5, 9.0))
+    ax_m, ax_p, ax_t = fig.subplots(3, 1)
     # (a) moment against rotation at both ends, kN m against mrad, up to a fracture (the
     # broken band's ends turn on carrying nothing)
     held = t < fractured if fractured is not None else np.ones(t.size, dtype=bool)
@@ -552,7 +557,8 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
     drawn = X + u + (factor - 1.0) * elastic
     k = int(np.argmax(np.maximum(np.abs(fem_h["theta_left"]), np.abs(fem_h["theta_right"]))))
     t_peak = float(fem_h["t"][k])
-    fig, ax = plt.subplots(figsize=(7.0, 6.4))
+    fig = Figure(figsize=(7.0, 6.4))
+    ax = fig.subplots()
     handles: list[Artist] = []
     for b in np.unique(cell_body):
         polys = drawn[quads[cell_body == b]]
@@ -644,7 +650,8 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
         },
     )
     mb = spectrum.get("multibody")  # none in a spectrum saved before it was computed
-    fig, ax = plt.subplots(figsize=(9.5, 4.4))
+    fig = Figure(figsize=(9.5, 4.4))
+    ax = fig.subplots()
     ax.pcolormesh(
         w,
         a,

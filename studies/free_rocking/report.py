@@ -7,8 +7,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from ..output import read_csv, write_csv
 from ..report import distinct, figure, legend_beside, render_page
@@ -22,7 +22,8 @@ def write_report(out: Path) -> Path:
     (out / "figures").mkdir(exist_ok=True)
     alpha = s["alpha"]
     figs = []
-    fig, ax = plt.subplots(figsize=(9.5, 3.6))
+    fig = Figure(figsize=(9.5, 3.6))
+    ax = fig.subplots()
     columns = {}
     n_curves = 2 * len(s["tilts"])
     for k, tilt in enumerate(s["tilts"], start=1):
@@ -58,7 +59,8 @@ def write_report(out: Path) -> Path:
         )
     )
 
-    fig, ax = plt.subplots(figsize=(9, 3.6))
+    fig = Figure(figsize=(9, 3.6))
+    ax = fig.subplots()
     ratio_columns = {}
     for k, tilt in enumerate(s["tilts"], start=1):
         for j, kind in enumerate(("fem", "multibody")):

@@ -6,9 +6,9 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.artist import Artist
+from matplotlib.figure import Figure
 from matplotlib.ticker import NullFormatter
 
 from ..output import write_csv
@@ -42,7 +42,8 @@ CONVERGENCE_QUANTITIES = [
 def _convergence_figure(out: Path, s: dict) -> dict:
     sizes = s["sizes"]
     columns = {"h": np.array(sizes)}
-    fig, axes = plt.subplots(1, 3, figsize=(10, 3.6))
+    fig = Figure(figsize=(10, 3.6))
+    axes = fig.subplots(1, 3)
     handles: dict[str, Artist] = {}  # one legend for the three panels, below them: what is drawn
     for ax, (name, label, unit) in zip(axes, CONVERGENCE_QUANTITIES):
         c = s["convergence"][name]

@@ -6,8 +6,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from ..output import read_csv, write_csv
 from ..report import distinct, figure, legend_beside, render_page
@@ -41,7 +41,8 @@ VARIANT_FIELDS = [
 
 
 def _variants_figure(out: Path, s: dict) -> dict:
-    fig, ax = plt.subplots(figsize=(9.5, 3.6))
+    fig = Figure(figsize=(9.5, 3.6))
+    ax = fig.subplots()
     n_curves = 2 * len(s["variants"])
     for k, n in enumerate(s["variants"]):
         fem = read_csv(out / "cases" / f"{n}-fem" / "history.csv")

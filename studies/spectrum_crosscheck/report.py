@@ -7,9 +7,10 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.artist import Artist
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from ..output import write_csv
@@ -46,7 +47,8 @@ def write_report(out: Path) -> Path:
 
     cmap = ListedColormap(MODE_COLOURS)
     norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5], cmap.N)
-    fig, axes = plt.subplots(1, 3, figsize=(12, 3.8), sharey=True)
+    fig = Figure(figsize=(12, 3.8))
+    axes = fig.subplots(1, 3, sharey=True)
     yields = np.array(s["collar_yield_fem"], dtype=bool)
     marked: dict[str, Artist] = {}  # a marker at each computed pulse of a coarse grid
     for ax, (m, label) in zip(axes, models):
@@ -64,7 +66,7 @@ def write_report(out: Path) -> Path:
     ]
     if yields.any():
         handles.append(
-            plt.Line2D([], [], marker="x", color="k", ls="", label="FEM: a collar reaches f_y")
+            Line2D([], [], marker="x", color="k", ls="", label="FEM: a collar reaches f_y")
         )
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
@@ -79,7 +81,8 @@ def write_report(out: Path) -> Path:
         )
     )
 
-    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), sharey=True)
+    fig = Figure(figsize=(9, 3.6))
+    axes = fig.subplots(1, 2, sharey=True)
     shades = ("#f2f2f2", "#7570b3")
     drawn, marked = set(), {}
     words = ("same outcome", "different outcome")
@@ -110,7 +113,8 @@ def write_report(out: Path) -> Path:
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     figs.append(figure(out, "disagreement", fig, "Where the FEM and each rigid model disagree"))
 
-    fig, ax = plt.subplots(figsize=(8.5, 4))
+    fig = Figure(figsize=(8.5, 4))
+    ax = fig.subplots()
     boundary, never = {}, []
     for j, (m, label) in enumerate(models):
         over = maps[m] != 0
@@ -142,8 +146,6 @@ def write_report(out: Path) -> Path:
                 ),
             )
         )
-    else:
-        plt.close(fig)
 
     return render_page(
         out,
