@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.errors import InputError
+from .executor import RunOptions
 from .kinds import KINDS
 from .output import record_inputs, write_csv
 from .study import Study, load
@@ -67,9 +68,7 @@ def run_study_file(
     check_work(study, long=long)
     out = Path(out)
     module = kind.module()
-    summary = module.run(
-        study, out, workers=workers, scheduler=scheduler, progress=progress, force=force
-    )
+    summary = module.run(study, out, RunOptions(workers, scheduler, progress, force))
     # the inputs on record beside the results they gave, once they are all there (a refused
     # or interrupted run leaves the record of the results in out as it was)
     record_inputs(out, study)

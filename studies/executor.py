@@ -40,6 +40,7 @@ import time
 import warnings
 from collections.abc import Callable, Iterator
 from concurrent.futures import CancelledError, ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -110,6 +111,27 @@ class StudyStopped(ColonnaError):
     """A run that cannot go on for a reason outside its inputs (the Dask scheduler was lost);
     the message says what, and that the cases saved are kept. One line on the command line,
     exit status 1."""
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """How a study's cases run, whatever its kind (the command line's --workers, --scheduler,
+    --force; progress bars): what the driver gives a kind's runner and the runner gives
+    :func:`run_cases` (``**options.for_cases()``)."""
+
+    workers: int | None = None  # local worker processes (None: one)
+    scheduler: str | None = None  # address of a Dask distributed scheduler
+    progress: bool = True  # progress bars on stderr
+    force: bool = False  # recompute the cases saved from other inputs
+
+    def for_cases(self) -> dict:
+        """The keyword arguments of :func:`run_cases`."""
+        return {
+            "workers": self.workers,
+            "scheduler": self.scheduler,
+            "progress": self.progress,
+            "force": self.force,
+        }
 
 
 def case_dir(out: Path, key: str) -> Path:

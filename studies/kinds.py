@@ -8,9 +8,10 @@ checked against these names (:mod:`studies.schema`) and the driver (:mod:`studie
 runs them.
 
 A kind's package (as meshio has one per format) provides
-  ``run(study, out, *, workers, scheduler, progress, force) -> summary``
+  ``run(study, out, options) -> summary``
       its runner: ``study`` is the :class:`studies.study.Study` of the file (read and
-      validated once), ``summary.json`` written into ``out``;
+      validated once), ``options`` how its cases run
+      (:class:`studies.executor.RunOptions`), ``summary.json`` written into ``out``;
   ``write_report(out) -> index.html``
       its report, from what the run left on disk;
 and where it has them, ``defaults(data) -> data`` (its own defaults of the file's tables,

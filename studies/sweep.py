@@ -13,7 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from .crosscheck.runner import fem_case, rigid_case
-from .executor import run_cases
+from .executor import RunOptions, run_cases
 from .fem_study import FemStudy
 from .guard import check_fem_results
 from .output import write_json
@@ -35,10 +35,7 @@ def run_sweep(
     *,
     cases: Cases,
     summarise: Summarise,
-    workers=None,
-    scheduler=None,
-    progress: bool = True,
-    force: bool = False,
+    options: RunOptions,
 ) -> dict:
     """Run (or resume) a sweep of a study (:func:`studies.study.load`) into ``out``:
     ``cases(study)`` gives its cases (each ``kind`` "fem" or "rigid"), which run, are checked
@@ -53,10 +50,7 @@ def run_sweep(
         _runner,
         variants,
         out,
-        workers=workers,
-        scheduler=scheduler,
-        progress=progress,
-        force=force,
+        **options.for_cases(),
     )
     check_fem_results(results, out)
     summary = summarise(fem, variants, results)

@@ -608,7 +608,9 @@ def _plastic_crosscheck(root, eps_u=None):
 
     from colonna.studies.crosscheck import report
     from colonna.studies.crosscheck import run as run_crosscheck
+    from colonna.studies.executor import RunOptions
     from colonna.studies.fem_study import from_dict
+    from colonna.studies.study import load
 
     text = TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6)
     ground = from_dict(tomllib.loads(text)).ground
@@ -628,7 +630,8 @@ def _plastic_crosscheck(root, eps_u=None):
     )
     (root / "tiny-plastic.toml").write_text(text)
     out = root / "out"
-    summary = run_crosscheck(root / "tiny-plastic.toml", out, workers=1, progress=False)
+    study = load(root / "tiny-plastic.toml")
+    summary = run_crosscheck(study, out, RunOptions(workers=1, progress=False))
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(report, "_renders", lambda out: ([], "not rendered in this test"))
         report.write_report(out)

@@ -20,7 +20,7 @@ from ...rigid.design import (
     thinnest_passing,
 )
 from ..crosscheck.runner import fem_case
-from ..executor import run_cases
+from ..executor import RunOptions, run_cases
 from ..fem_study import FemWork, case_of, run_multibody, study_of_case
 from ..fem_study import fem_work as estimate_work
 from ..guard import check_fem_results
@@ -41,15 +41,7 @@ def fem_work(study: Study) -> FemWork:
     return estimate_work(study.fem, study.fem.replicas)
 
 
-def run(
-    given: Study,
-    out: Path,
-    *,
-    workers=None,
-    scheduler=None,
-    progress: bool = True,
-    force: bool = False,
-) -> dict:
+def run(given: Study, out: Path, options: RunOptions) -> dict:
     """Run (or resume) the collar design of a study (:func:`studies.study.load`) into ``out``:
     the FEM run of the study's collars, the rigid multibody trials of flat bars, the design
     chart and ``summary.json``."""
@@ -69,20 +61,14 @@ def run(
         fem_case,
         [case_of(study, key="fem", kind="fem")],
         out,
-        workers=workers,
-        scheduler=scheduler,
-        progress=progress,
-        force=force,
+        **options.for_cases(),
     )
     check_fem_results(results, out)
     trials = run_cases(
         band_case,
         trial_cases,
         out,
-        workers=workers,
-        scheduler=scheduler,
-        progress=progress,
-        force=force,
+        **options.for_cases(),
     )
     block = study.rocking_block
     collar = study.collars[0]

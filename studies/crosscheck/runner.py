@@ -33,7 +33,7 @@ from ...rigid.impacts import half_cycles, impact_ratios_from_peaks
 from ...rigid.multibody import MultibodySummary
 from ...rigid.solve import motion_word
 from ...rigid.spectrum import overturning_spectrum
-from ..executor import run_cases
+from ..executor import RunOptions, run_cases
 from ..fem_study import (
     FemWork,
     case_of,
@@ -140,7 +140,7 @@ def toe_case(case: dict, directory: str) -> dict:
     )
 
 
-def refine_toe_stress(study, fem: dict, out: Path, **run_options) -> dict | None:
+def refine_toe_stress(study, fem: dict, out: Path, options: RunOptions) -> dict | None:
     """The toe stress's refinement over the impact of the FEM case's median replica: one case
     per refinement (:func:`toe_case`, the finest first: they run on as many workers as there
     are, each saved as it completes), then :func:`colonna.fem.toe_stress.refinement_summary`
@@ -163,7 +163,7 @@ def refine_toe_stress(study, fem: dict, out: Path, **run_options) -> dict | None
         )
         for r in sorted(refinements, reverse=True)  # the finest (the longest) starts first
     ]
-    windows = run_cases(_case_runner, cases, out, stage="toe stress windows", **run_options)
+    windows = run_cases(_case_runner, cases, out, stage="toe stress windows", **options.for_cases())
     refined = refinement_summary(
         read_start(path), refinements, [windows[f"toe-{r}"] for r in refinements]
     )
@@ -321,15 +321,7 @@ def _case_runner(case: dict, directory: str) -> dict:
     return spectrum_case(case, directory)
 
 
-def run(
-    study: Study,
-    out: Path,
-    *,
-    workers: int | None = None,
-    scheduler: str | None = None,
-    progress: bool = True,
-    force: bool = False,
-) -> dict:
+def run(study: Study, out: Path, options: RunOptions) -> dict:
     """Run (or resume) the cross-check of a study (:func:`studies.study.load`) into ``out``:
     its cases, the toe stress's refinement, the verdict and ``summary.json``."""
     fem = study.fem  # fails early
@@ -343,7 +335,11 @@ def run(
     out.mkdir(parents=True, exist_ok=True)
     cases = [
         case_of(
-            fem, key="fem", kind="fem", progress=progress and not scheduler, toe_refinement=True
+            fem,
+            key="fem",
+            kind="fem",
+            progress=options.progress and not options.scheduler,
+            toe_refinement=True,
         ),
         case_of(fem, key="multibody", kind="multibody", step_factor=REFERENCE_STEP),
         case_of(
@@ -358,11 +354,12 @@ def run(
     for factor, size in zip((2, 4), mesh_uncertainty_sizes(fem)):
         cases.append(case_of(replace(fem, mesh_size=size), key=f"fem-mesh-{factor}h", kind="fem"))
     start = time.perf_counter()
-    options: dict = dict(workers=workers, scheduler=scheduler, progress=progress, force=force)
-    results = run_cases(_case_runner, cases, out, stage="FEM and rigid models", **options)
+    results = run_cases(
+        _case_runner, cases, out, stage="FEM and rigid models", **options.for_cases()
+    )
     check_fem_results(results, out)
     # then the toe stress's refinement, from the state the FEM case saved
-    refined = refine_toe_stress(fem, results["fem"], out, **options)
+    refined = refine_toe_stress(fem, results["fem"], out, options)
     if refined is not None:
         results["fem"] = {**results["fem"], "toe_refinement": refined}
     fem_histories = replica_histories(out / "cases" / "fem", results["fem"]["summary"]["replicas"])

@@ -27,7 +27,7 @@ from pathlib import Path
 from ...core.errors import InputError
 from ...rigid.block import Block
 from ...rigid.impacts import impact_ratios_from_peaks
-from ..executor import run_cases
+from ..executor import RunOptions, run_cases
 from ..fem_study import FemStudy, FemWork, case_of, from_spec, run_multibody, study_of_case
 from ..fem_study import fem_work as estimate_work
 from ..guard import check_fem_results, reliability
@@ -149,15 +149,7 @@ def fem_work(study: Study) -> FemWork:
     return work
 
 
-def run(
-    given: Study,
-    out: Path,
-    *,
-    workers=None,
-    scheduler=None,
-    progress: bool = True,
-    force: bool = False,
-) -> dict:
+def run(given: Study, out: Path, options: RunOptions) -> dict:
     """Run (or resume) a free-rocking study (:func:`studies.study.load`) into ``out``: the
     column released from each tilt in the FEM and the rigid multibody model, the FEM's damping
     and mesh variants, and ``summary.json``."""
@@ -211,10 +203,7 @@ def run(
         free_rocking_case,
         cases,
         out,
-        workers=workers,
-        scheduler=scheduler,
-        progress=progress,
-        force=force,
+        **options.for_cases(),
     )
     check_fem_results(results, out)
     housner = Block(b=1.0, h=1.0 / math.tan(alpha)).restitution_housner

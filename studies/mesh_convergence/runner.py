@@ -8,6 +8,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from ...fem.convergence import convergence_table
+from ..executor import RunOptions
 from ..fem_study import FemStudy, FemWork, case_of
 from ..fem_study import fem_work as estimate_work
 from ..outcome import fem_answers, fem_model, outcome
@@ -84,7 +85,7 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
     }
 
 
-def run(study: Study, out: Path, **options) -> dict:
+def run(study: Study, out: Path, options: RunOptions) -> dict:
     """The mesh-convergence study (:func:`studies.study.load`): the FEM on a sequence of
     meshes."""
-    return run_sweep(study, out, cases=cases, summarise=summarise, **options)
+    return run_sweep(study, out, cases=cases, summarise=summarise, options=options)

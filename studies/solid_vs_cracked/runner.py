@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
+from ..executor import RunOptions
 from ..fem_study import FemStudy, FemWork, case_of, from_spec, rocking_alpha
 from ..fem_study import fem_work as estimate_work
 from ..outcome import fem_answers, fem_model, model_outcome, outcome
@@ -98,7 +99,7 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
     return {"study": study.name, "outcome": outcome(models, answers), "variants": rows}
 
 
-def run(study: Study, out: Path, **options) -> dict:
+def run(study: Study, out: Path, options: RunOptions) -> dict:
     """The solid / cracked / cracked-with-collars variants of one column
     (:func:`studies.study.load`)."""
-    return run_sweep(study, out, cases=cases, summarise=summarise, **options)
+    return run_sweep(study, out, cases=cases, summarise=summarise, options=options)

@@ -32,7 +32,7 @@ from ...core.errors import InputError
 from ...fem.ensemble import NO, YES
 from ...rigid.impacts import half_cycles
 from .. import schema
-from ..executor import run_cases
+from ..executor import RunOptions, run_cases
 from ..fem_study import (
     FemStudy,
     FemWork,
@@ -248,15 +248,7 @@ def fem_work(study: Study) -> FemWork:
     return work
 
 
-def run(
-    study: Study,
-    out: Path,
-    *,
-    workers=None,
-    scheduler=None,
-    progress: bool = True,
-    force: bool = False,
-) -> dict:
+def run(study: Study, out: Path, options: RunOptions) -> dict:
     """Run (or resume) the grid of a spectrum cross-check study (:func:`studies.study.load`;
     its ``grid`` option overriding [grid] points) into ``out``: ``summary.json``."""
     points = Points(study)
@@ -291,10 +283,7 @@ def run(
         grid_points_case,
         cases,
         out,
-        workers=workers,
-        scheduler=scheduler,
-        progress=progress,
-        force=force,
+        **options.for_cases(),
         batched=True,
     )
     check_fem_results(results, out)

@@ -19,6 +19,7 @@ from ...core.collar import Collar
 from ...rigid.block import Block, pulse_from_ratios
 from ...rigid.solve import rock
 from ...rigid.spectrum import overturning_spectrum
+from ..executor import RunOptions
 from ..output import write_csv, write_json
 from ..study import Study
 from .report import write_markdown
@@ -156,12 +157,12 @@ def zhang_makris_validation(out: Path, progress: bool = True) -> dict:
     return summary
 
 
-def run(study: Study, out: Path, *, progress: bool = True, **_) -> dict:
+def run(study: Study, out: Path, options: RunOptions) -> dict:
     """The validation as a study (:func:`studies.study.load`; its file has nothing to vary):
     summary.json, figures."""
     from ..outcome import none_assessed
 
-    summary = zhang_makris_validation(Path(out), progress=progress)
+    summary = zhang_makris_validation(Path(out), progress=options.progress)
     summary["outcome"] = none_assessed(
         "this study validates the rigid solver against Zhang & Makris (2001); it assesses no column"
     )

@@ -14,7 +14,7 @@ from colonna.studies.output import write_json
 from colonna.studies.report import render_page
 
 
-def run(study, out: Path, **options) -> dict:
+def run(study, out: Path, options) -> dict:
     """The study's column (the validated :class:`~colonna.studies.study.Study`) rocked by its
     ground motion: summary.json with its peak rotation (rad)."""
     column = study.fem
