@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import base64
 import functools
+import importlib
 import io
 import json
 import math
@@ -22,20 +23,21 @@ from pathlib import Path
 
 import jinja2
 import matplotlib
+import numpy as np
+from markupsafe import Markup, escape
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from markupsafe import Markup, escape  # noqa: E402
-
-from .kinds import KINDS  # noqa: E402
-from .output import read_csv  # noqa: E402
-from .units import DISPLAY_UNITS, input_unit  # noqa: E402
+from .kinds import KINDS
+from .output import read_csv
+from .units import DISPLAY_UNITS, input_unit
 
 # the shared pieces (base.html.j2, macros.html.j2) in studies/templates; each kind's page in its
-# package, by its path from here ("crosscheck/report.html.j2")
+# package, by its path from the folders of colonna.studies ("crosscheck/report.html.j2"), so that
+# a kind's package brings its own template wherever the package is found
 TEMPLATES = jinja2.Environment(
-    loader=jinja2.FileSystemLoader([Path(__file__).with_name("templates"), Path(__file__).parent]),
+    loader=jinja2.FileSystemLoader(
+        [Path(__file__).with_name("templates"), *importlib.import_module(__package__).__path__]
+    ),
     autoescape=True,
     undefined=jinja2.StrictUndefined,
     trim_blocks=True,
@@ -146,7 +148,8 @@ def _ground_figure(out: Path) -> dict | None:
     if not path.is_file():
         return None
     g = read_csv(path)
-    fig, ax = plt.subplots(figsize=(8, 2.6))
+    fig = Figure(figsize=(8, 2.6))
+    ax = fig.subplots()
     ax.plot(g["t"], g["horizontal_acceleration"], color="C0", label="horizontal")
     if np.any(g["vertical_acceleration"] != 0.0):
         ax.plot(g["t"], g["vertical_acceleration"], "--", color="C3", label="vertical (up +)")
@@ -189,10 +192,9 @@ def figure(out: Path, name: str, fig, caption: str, data_file: str | None = "") 
     (out / "figures").mkdir(exist_ok=True)
     fig.savefig(out / "figures" / f"{name}.png", dpi=110)
     buf = io.StringIO()
-    with plt.rc_context({"svg.fonttype": "none", "svg.hashsalt": name}):
+    with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": name}):
         fig.savefig(buf, format="svg")
     legend = _legend_entries(fig)
-    plt.close(fig)
     svg = buf.getvalue()
     svg = svg[svg.index("<svg") :]
     return {

@@ -114,11 +114,6 @@ def _module_level_backend_choices(path: Path) -> list[int]:
     ]
 
 
-# studies/report.py still chooses Agg at import; its owner is moving that to where its figures
-# are made (issue 34). It leaves this list when it does (the test says so).
-BACKEND_AT_IMPORT_ALLOWED = {"studies/report.py"}
-
-
 def test_no_module_chooses_a_matplotlib_backend_at_import():
     found = {}
     for folder in PACKAGES:
@@ -126,12 +121,7 @@ def test_no_module_chooses_a_matplotlib_backend_at_import():
             lines = _module_level_backend_choices(path)
             if lines:
                 found[str(path.relative_to(ROOT))] = lines
-    unexpected = {k: v for k, v in found.items() if k not in BACKEND_AT_IMPORT_ALLOWED}
-    assert not unexpected, (
-        f"matplotlib.use at import (choose it where a figure is made): {unexpected}"
-    )
-    gone = BACKEND_AT_IMPORT_ALLOWED - set(found)
-    assert not gone, f"no longer choose a backend at import, drop from the allow-list: {gone}"
+    assert not found, f"matplotlib.use at import (choose it where a figure is made): {found}"
 
 
 def test_the_rigid_figures_need_no_pyplot():
