@@ -540,16 +540,10 @@ def test_the_crosscheck_spectrum_holds_the_multibody_model_through_the_study_pul
 
     from colonna.studies.crosscheck.report import _spectrum_figure
     from colonna.studies.crosscheck.runner import spectrum_case
+    from colonna.studies.fem_study import case_of, from_dict
 
-    study = tomllib.loads(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6))
-    case = {
-        "study": study,
-        "source": str(tmp_path / "tiny.toml"),
-        "base": str(tmp_path),
-        "key": "spectrum",
-        "kind": "spectrum",
-        "multibody_grid": (3, 2),
-    }
+    study = from_dict(tomllib.loads(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6)))
+    case = case_of(study, key="spectrum", kind="spectrum", multibody_grid=(3, 2))
     result = spectrum_case(case, str(tmp_path))
     data = json.loads((tmp_path / "spectrum.json").read_text())
     assert {
