@@ -391,7 +391,8 @@ def fem_work(study: Study) -> FemWork:
     with its replicas, and the same on the meshes of its mesh-convergence uncertainty. Not
     counted: the toe windows (a few hundredths of a second on refined meshes: a few per cent of
     its work) and the time that runs stopping early (overturned) save."""
-    fem, models = study.fem, {}
+    fem = study.fem
+    models: dict = {}  # the model of each mesh, built once
     work = estimate_work(fem, fem.replicas, models=models)
     for size in mesh_uncertainty_sizes(fem):
         work += estimate_work(replace(fem, mesh_size=size), fem.replicas, models=models)

@@ -138,7 +138,8 @@ FEWER = ", fewer [free_rocking] variants, fewer [run] replicas"  # its ways to a
 def fem_work(study: Study) -> FemWork:
     """The FEM work of a free-rocking study (:func:`studies.driver.check_work`): a run per
     tilt, per damping variant and per mesh variant, each with the study's replicas."""
-    fem, models = _base_study(study), {}
+    fem = _base_study(study)
+    models: dict = {}  # the model of each mesh, built once
     table = study.spec.free_rocking
     work = estimate_work(fem, fem.replicas * len(table.tilt_fractions), models=models)
     for damping in table.damping:

@@ -40,7 +40,8 @@ FEWER = ", fewer or coarser [convergence] sizes, fewer [run] replicas"  # its wa
 def fem_work(study: Study) -> FemWork:
     """The FEM work of the study (:func:`studies.driver.check_work`): its run with its replicas
     on every mesh."""
-    work, models = FemWork(), {}
+    work = FemWork()
+    models: dict = {}  # the model of each mesh, built once
     for size in mesh_sizes(study):
         varied = replace(study.fem, mesh_size=size)
         work += estimate_work(varied, varied.replicas, models=models)

@@ -49,7 +49,8 @@ FEWER = ", fewer [run] replicas"  # its way to ask for less FEM work (besides [r
 def fem_work(study: Study) -> FemWork:
     """The FEM work of the study (:func:`studies.driver.check_work`): each variant's run with
     its replicas."""
-    work, models = FemWork(), {}
+    work = FemWork()
+    models: dict = {}  # the model of each mesh, built once
     for cracked, collars in VARIANTS.values():
         varied = variant(study, cracked, collars)
         work += estimate_work(varied, varied.replicas, models=models)

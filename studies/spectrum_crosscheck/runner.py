@@ -234,7 +234,8 @@ def fem_work(study: Study) -> FemWork:
     from ...fem.solver import BATCH_SLOTS
     from ..fem_study import WORK_LIMIT_SECONDS
 
-    points, models = Points(study), {}
+    points = Points(study)
+    models: dict = {}  # the model of each mesh, built once
     size = study.options.get("grid") or tuple(study.spec.grid.points)
     counts = size[0] * size[1]
     x_range = points.grid((2, 2))[0]  # [first, last]
