@@ -6,7 +6,7 @@ a case with an unreliable FEM run stops the study with one line naming the case 
 A case result holds its FEM runs in one of the shapes the kinds save:
 
 * ``replica_summaries`` (or a lone ``summary``): the FEM summaries of an ensemble
-  (:func:`studies.crosscheck.fem_case`);
+  (:func:`studies.crosscheck.runner.fem_case`);
 * ``fem_runs``: a list of the reliability keys of each run (:func:`reliability`), as free
   rocking saves them (its result keeps one replica's status);
 * ``status_fem`` and ``energy_error_fem``: a spectrum grid point's one run, judged as the

@@ -57,7 +57,9 @@ def test_wheel_holds_only_the_colonna_package(wheel):
     for sub in ("rigid", "fem", "meshes", "studies"):
         assert f"colonna/{sub}/__init__.py" in names
     assert "colonna/studies/default.toml" in names  # the shipped studies
-    assert "colonna/studies/templates/crosscheck.html.j2" in names  # the report templates
+    assert "colonna/studies/templates/base.html.j2" in names  # the shared page
+    for package in ("crosscheck", "collar_design", "free_rocking", "zhang_makris"):
+        assert f"colonna/studies/{package}/report.html.j2" in names  # each kind's own page
 
 
 def test_installed_package_runs_outside_the_source_tree(wheel, tmp_path):
@@ -81,7 +83,7 @@ def test_installed_package_runs_outside_the_source_tree(wheel, tmp_path):
         "import colonna, colonna.studies.cli as cli, colonna.fem, colonna.meshes; "
         "from colonna.studies.report import TEMPLATES; "
         "from colonna.studies.schema import json_schema; "
-        "assert TEMPLATES.get_template('crosscheck.html.j2'); "
+        "assert TEMPLATES.get_template('crosscheck/report.html.j2'); "
         "assert 'column' in json_schema()['properties']; "
         "print(colonna.rigid.__file__); print(cli.resolve_study('default'))"
     )
