@@ -24,7 +24,6 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
-from typing import ClassVar
 
 import numpy as np
 
@@ -482,35 +481,6 @@ class MultibodySummary:
     collar keys only with collars. ``MultibodyResult.summary()`` is its dict, in this order."""
 
     # the keys the cross-check reports of its rigid reference, in its summary's order
-    SELECTIONS: ClassVar[dict[str, tuple[str, ...]]] = {
-        "crosscheck": (
-            "overturned",
-            "mode",
-            "status",
-            "impacts",
-            "max_abs_theta_left",
-            "max_abs_theta_right",
-            "overturn_time",
-            "max_abs_crack_slip",
-            "max_crack_opening",
-            "max_uplift",
-            "collar_max_utilisation",
-            "collar_first_yield_time",
-            "collar_max_fibre_strain",
-            "collar_ductility_demand",
-            "collar_fractured",
-            "collar_fracture_time",
-            "collar_max_plastic_strain",
-            "collar_plastic_work",
-            "impact_velocity_ratio_mean",
-            "energy_error_max",
-            "friction",
-            "dt",
-            "steps",
-            "wall_seconds",
-        )
-    }
-
     # first: what a person reads first
     verdict: str = quantity("", "the motion and, with collars, their state, in words")
     model: str = quantity("", "the model: multibody")

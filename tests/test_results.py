@@ -19,6 +19,7 @@ from colonna.meshes.column import column_mesh
 from colonna.rigid import Block, Collar, NoMotion, pulse_from_ratios, rock
 from colonna.rigid.multibody import MultibodySummary, rock_multibody
 from colonna.rigid.solve import RockingSummary
+from colonna.studies.crosscheck.runner import MULTIBODY_KEYS as CROSSCHECK_KEYS
 from colonna.studies.output import _plain
 from colonna.studies.units import declared_unit, guessed_unit, unit_of
 
@@ -171,16 +172,15 @@ def test_selected_gives_the_crosscheck_keys_in_order_none_where_left_out():
     """The cross-check's rigid_multibody block: its keys from the summary's class, a key the
     run leaves out (a solid column's collars) None, as the hand-copied selection had it."""
     runs = _multibody_runs()
-    keys = MultibodySummary.SELECTIONS["crosscheck"]
+    keys = CROSSCHECK_KEYS
     for result in runs.values():
         summary = result.summary()
         by_hand = {key: summary.get(key) for key in keys}
-        assert selected(summary, MultibodySummary, "crosscheck") == by_hand
-        assert list(selected(result.typed_summary(), MultibodySummary, "crosscheck")) == list(keys)
-    assert (
-        selected(runs["solid"].summary(), MultibodySummary, "crosscheck")["collar_fractured"]
-        is None
-    )
+        assert selected(summary, MultibodySummary, keys) == by_hand
+        assert list(selected(result.typed_summary(), MultibodySummary, keys)) == list(keys)
+    assert selected(runs["solid"].summary(), MultibodySummary, keys)["collar_fractured"] is None
+    with pytest.raises(KeyError, match="max_abs_theta_middle"):
+        selected(runs["solid"].summary(), MultibodySummary, ("max_abs_theta_middle",))
 
 
 # --- the units are right --------------------------------------------------------------------

@@ -73,9 +73,7 @@ def quantity(
 
 def typed_result(cls: _Class) -> _Class:
     """Register the units of ``cls``, a frozen dataclass whose every field is a
-    :func:`quantity` (a key of two registered classes has one unit, or this raises TypeError).
-    ``cls.SELECTIONS`` (optional, a ClassVar): named tuples of keys that :func:`selected`
-    gives, each key a field."""
+    :func:`quantity` (a key of two registered classes has one unit, or this raises TypeError)."""
     if not dataclasses.is_dataclass(cls) or not cls.__dataclass_params__.frozen:  # type: ignore[attr-defined]
         raise TypeError(f"{cls.__name__} is not a frozen dataclass")
     fields = dataclasses.fields(cls)
@@ -86,10 +84,6 @@ def typed_result(cls: _Class) -> _Class:
         other = f.metadata[PRESENT_WITH]
         if other is not None and other not in names:
             raise TypeError(f"{cls.__name__}.{f.name} is present with {other!r}: not a field")
-    for name, keys in getattr(cls, "SELECTIONS", {}).items():
-        unknown = [key for key in keys if key not in names]
-        if unknown:
-            raise TypeError(f"{cls.__name__}.SELECTIONS[{name!r}]: not fields: {unknown}")
     known = declared_units()
     for key, unit in units_of(cls).items():
         if known.get(key, unit) != unit:
@@ -137,11 +131,17 @@ def to_json(obj: Any) -> dict[str, Any]:
     return _written(obj, finite=True)
 
 
-def selected(summary: Any, cls: type, name: str) -> dict[str, Any]:
-    """The keys of ``cls.SELECTIONS[name]``, in that order, from a summary (a typed result or
-    its dict, e.g. read back from disk): a key the summary leaves out is None."""
+def selected(summary: Any, cls: type, keys: tuple[str, ...]) -> dict[str, Any]:
+    """The ``keys`` of a summary (a typed result of ``cls`` or its dict, e.g. read back from
+    disk), in that order, a key the summary leaves out None. Each key must be a quantity of
+    ``cls`` (a KeyError naming the others): a report's selection cannot name a key no run
+    gives."""
+    names = [f.name for f in dataclasses.fields(cls)]
+    unknown = [key for key in keys if key not in names]
+    if unknown:
+        raise KeyError(f"not quantities of {cls.__name__}: {unknown}")
     data = summary if isinstance(summary, Mapping) else to_dict(summary)
-    return {key: data.get(key) for key in cls.SELECTIONS[name]}  # type: ignore[attr-defined]
+    return {key: data.get(key) for key in keys}
 
 
 def _written(obj: Any, finite: bool) -> dict[str, Any]:

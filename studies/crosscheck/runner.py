@@ -630,7 +630,7 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "stone_fc": study.stone.fc,  # Pa
         "toe_stress": _toe_stress(study, results),
         # the multibody run's summary, as its typed result selects it for the cross-check
-        "rigid_multibody": selected(multibody, MultibodySummary, "crosscheck"),
+        "rigid_multibody": selected(multibody, MultibodySummary, MULTIBODY_KEYS),
         # an overturned block's max_abs_theta is the pi/2 of its stopping rule: not shown
         "rigid": {
             "overturned": rigid["overturned"],
@@ -671,6 +671,35 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "peak_tolerance": PEAK_TOLERANCE,
         "convergence": _uncertainty(results),
     }
+
+
+# what the summary keeps of the rigid multibody run (its run summary has more: p, alpha, ...)
+MULTIBODY_KEYS = (
+    "overturned",
+    "mode",
+    "status",
+    "impacts",
+    "max_abs_theta_left",
+    "max_abs_theta_right",
+    "overturn_time",
+    "max_abs_crack_slip",
+    "max_crack_opening",
+    "max_uplift",
+    "collar_max_utilisation",
+    "collar_first_yield_time",
+    "collar_max_fibre_strain",
+    "collar_ductility_demand",
+    "collar_fractured",
+    "collar_fracture_time",
+    "collar_max_plastic_strain",
+    "collar_plastic_work",
+    "impact_velocity_ratio_mean",
+    "energy_error_max",
+    "friction",
+    "dt",
+    "steps",
+    "wall_seconds",
+)
 
 
 def _collar_section(study, collar) -> dict:
