@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import importlib
 import json
 import math
 import signal
@@ -606,6 +607,12 @@ def _add_long_option(parser) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="colonna", description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "--version",
+        action="version",
+        version=f"colonna {importlib.import_module('colonna').__version__}",
+        help="print the version of colonna (the one every report and inputs.json records)",
+    )
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("rigid", help="rocking time history of a rigid block")

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from colonna.studies.cli import main
+from colonna.studies.cli import main, resolve_study
 
 
 def run(capsys, *argv):
@@ -756,3 +756,16 @@ def test_after_warmup_a_readme_example_compiles_nothing(tmp_path):
         )
         assert run.returncode == 0, run.stderr
         assert "data saved to" not in run.stdout + run.stderr, argv
+
+
+def test_version_is_the_one_the_inputs_record(capsys):
+    """colonna --version prints the version every inputs.json and report records."""
+    import colonna
+    from colonna.studies.study import load
+
+    with pytest.raises(SystemExit) as exited:
+        main(["--version"])
+    assert exited.value.code == 0
+    printed = capsys.readouterr().out.strip()
+    recorded = load(resolve_study("default")).to_json()["colonna_version"]
+    assert printed == f"colonna {recorded}" == f"colonna {colonna.__version__}"
