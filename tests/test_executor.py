@@ -320,7 +320,9 @@ def test_a_signalled_study_stops_its_workers_says_so_and_resumes(
     else:
         proc.send_signal(signum)
     try:
-        _, err = proc.communicate(timeout=15)
+        # within the naps (LONG): the pool's stop may itself wait 5 s a worker for a worker
+        # to end (then kills it), longer on a loaded machine
+        _, err = proc.communicate(timeout=0.7 * LONG)
     except subprocess.TimeoutExpired:
         os.killpg(proc.pid, signal.SIGKILL)
         proc.communicate()
