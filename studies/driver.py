@@ -25,11 +25,6 @@ if TYPE_CHECKING:
     from .fem_study import FemStudy
 
 
-def study_kind(study_path: Path) -> str:
-    """The ``[study] kind`` of a study file, checked whole first (:func:`check_study_file`)."""
-    return check_study_file(study_path).kind
-
-
 def check_study_file(study_path: Path) -> Study:
     """The study of a file, validated against :mod:`studies.schema` as its kind runs it (a
     free-rocking study with its own defaults), before anything is run or written: every error

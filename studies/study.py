@@ -21,16 +21,13 @@ from __future__ import annotations
 import copy
 import hashlib
 import importlib
-import tomllib
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 from typing import Any
 
-from ..core.errors import InputError
+from ..core.errors import read_toml_bytes
 from . import schema
-
-WHAT = "study file"
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,21 +103,6 @@ def _option_text(value: Any) -> Any:
     return "x".join(map(str, value)) if isinstance(value, tuple) else value
 
 
-def read_tables(path: Path) -> tuple[bytes, dict]:
-    """The bytes of a study file and its TOML tables; an unreadable or malformed file is an
-    InputError naming it."""
-    try:
-        text = Path(path).read_bytes()
-    except OSError as exc:
-        raise InputError(f"{WHAT} {path} cannot be read: {exc.strerror}") from None
-    try:
-        return text, tomllib.loads(text.decode())
-    except UnicodeDecodeError:
-        raise InputError(f"{WHAT} {path} is not UTF-8 text (a binary file?)") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{WHAT} {path} is not valid TOML: {exc}") from None
-
-
 def with_kind_defaults(data: dict) -> dict:
     """A study file's tables with its kind's own defaults (a kind's package may define
     ``defaults(data) -> data``; a free-rocking study has no ground motion and runs 3 s), any
@@ -139,7 +121,7 @@ def load(path, options: dict | None = None) -> Study:
     """The study of a file, read once and validated once against :mod:`studies.schema` with
     its kind's defaults: every error of the file at once, one line each, in one InputError."""
     path = Path(path)
-    text, data = read_tables(path)
+    text, data = read_toml_bytes(path, "study file")
     data = with_kind_defaults(data)
     spec = schema.parse(data, str(path))
     return Study(path, text, data, spec, dict(options or {}))

@@ -56,7 +56,6 @@ NAPS = [{"key": f"c{i}", "seconds": 0.0 if i < 3 else LONG} for i in range(8)]
 def _fake_study(monkeypatch, run):
     """``colonna study free-rocking`` with its run replaced by ``run(out, workers, scheduler)``
     (the study file is not what these tests are about)."""
-    monkeypatch.setattr(driver, "study_kind", lambda path: "free-rocking")
     monkeypatch.setattr(cli, "_announce_compilation", lambda *args: None)
 
     def run_study_file(path, out, *, workers=None, scheduler=None, force=False, **options):
@@ -474,7 +473,6 @@ def _script(out: str) -> int:
     """``colonna study`` on 8 napping cases with 2 workers, whatever this machine's cores."""
     os.sched_getaffinity = lambda pid: set(range(4))
     cli._announce_compilation = lambda *args: None
-    driver.study_kind = lambda path: "free-rocking"
 
     def run_study_file(path, out, *, workers=None, scheduler=None, force=False, **options):
         run_cases(napping, NAPS, out, workers=workers, progress=False, force=force)

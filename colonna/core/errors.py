@@ -104,11 +104,19 @@ def _as_float(name: str, value) -> float:
 
 def read_toml(path, what: str = "file") -> dict:
     """Parse a TOML file; an unreadable or malformed one is an InputError naming it."""
+    return read_toml_bytes(path, what)[1]
+
+
+def read_toml_bytes(path, what: str = "file") -> tuple[bytes, dict]:
+    """A TOML file's bytes (to put on record or hash) and its tables, from one read; an
+    unreadable or malformed one is an InputError naming it."""
     path = Path(path)
     try:
-        return tomllib.loads(path.read_text())
+        raw = path.read_bytes()
     except OSError as exc:
         raise InputError(f"{what} {path} cannot be read: {exc.strerror}") from None
+    try:
+        return raw, tomllib.loads(raw.decode())
     except UnicodeDecodeError:
         raise InputError(f"{what} {path} is not UTF-8 text (a binary file?)") from None
     except tomllib.TOMLDecodeError as exc:

@@ -165,7 +165,7 @@ class Points:
     with the point's pulse (or the record scaled and played faster), built from the validated
     file without validating it again. ``kind``: the pulse's shape, or "record"."""
 
-    def __init__(self, study: Study, output_interval: float | None = None):
+    def __init__(self, study: Study):
         source = study.source
         ground = study.spec.ground
         self.kind = ground.pulse
@@ -186,9 +186,6 @@ class Points:
             )
         self.study = study
         self.spec = study.spec
-        if output_interval is not None:
-            run = self.spec.run.model_copy(update={"output_interval": output_interval})
-            self.spec = self.spec.model_copy(update={"run": run})
         self.grid((2, 2))  # its [grid] fits its motion, before a record is read
         if self.kind == "record":  # the study with the record as it is: its block and peak
             as_given = self._study({"pulse": "record", "record": self.record_file})
@@ -258,9 +255,12 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
     # balances the workers' shares
     durations = {(w, a): points.at(w, a).duration for a in amplitudes for w in omegas}
     if study.spec.run.output_interval is None:
+        interval = min(durations.values()) / 400.0
         # one output interval for every point (the runs of a batch share it), as a run's
         # default: 1/400 of the shortest point's duration
-        points = Points(study, output_interval=min(durations.values()) / 400.0)
+        points.spec = points.spec.model_copy(
+            update={"run": points.spec.run.model_copy(update={"output_interval": interval})}
+        )
     first = points.at(omegas[0], amplitudes[0])
     kind = points.kind
     out = Path(out)
