@@ -349,7 +349,8 @@ def collar_stiffness(model: Model, h: float = 1e-7) -> sparse.csr_matrix:
 
 
 def max_frequency(stiffness: sparse.spmatrix, mass: np.ndarray) -> float:
-    """Highest circular frequency sqrt(lambda_max(M^-1 K)) with lumped mass (rad/s)."""
+    """Highest circular frequency sqrt(lambda_max(M^-1 K)) with lumped mass (rad/s), rounded up
+    to six significant digits (well inside the step's safety factor)."""
     if stiffness.count_nonzero() == 0:  # no springs of that kind (a solid column, no collars)
         return 0.0
     scale = sparse.diags(1.0 / np.sqrt(mass))
@@ -370,7 +371,18 @@ def max_frequency(stiffness: sparse.spmatrix, mass: np.ndarray) -> float:
             "outside its range (the stone's E or density, the thickness, the contact penalty, a "
             "collar)"
         ) from None
-    return float(math.sqrt(max(lam, 0.0)))
+    # ARPACK's last digits vary from call to call (BLAS kernels follow the arrays' memory
+    # alignment): rounded up to six significant digits, the frequency (so the step, and every
+    # run) is the same each time, and stays an upper bound
+    return _round_up(math.sqrt(max(lam, 0.0)), 6)
+
+
+def _round_up(value: float, digits: int) -> float:
+    """The smallest number of `digits` significant digits at or above a positive value."""
+    if value <= 0.0:
+        return 0.0
+    quantum = 10.0 ** (math.floor(math.log10(value)) - digits + 1)
+    return math.ceil(value / quantum) * quantum
 
 
 @dataclass(frozen=True)
