@@ -8,7 +8,8 @@ block rocks from t = 0 as soon as ``a_p`` exceeds the uplift acceleration. Both 
 
 Records are read from a two-column text/CSV file (time in s, acceleration in m/s^2 unless
 ``units`` says otherwise) or from the PEER NGA ``.AT2`` format (units from its header's
-``UNITS OF ...`` phrase). A record file must be sampled uniformly at :data:`MAX_RECORD_STEP` or
+``UNITS OF ...`` phrase) or from the ESM ASCII format (:mod:`colonna.core.esm`, units from its
+header's ``UNITS``). A record file must be sampled uniformly at :data:`MAX_RECORD_STEP` or
 finer; one that never reaches a column's uplift acceleration is legitimate but worth a note
 (:func:`weak_record_note`).
 
@@ -584,11 +585,108 @@ def read_two_column(path, *, units: str = "m/s2", g: float = STANDARD_GRAVITY) -
     return record
 
 
+ESM_PGA_TOLERANCE = 0.02  # relative: an ESM header's PGA_CM/S^2 against max |sample|
+_ESM_KEY = re.compile(r"^(?P<key>[A-Z][A-Z0-9_/^.\-]*)\s*:(?P<value>.*)$")
+
+
+def _esm_number(path: Path, header: dict[str, str], key: str) -> float:
+    if key not in header:
+        raise InputError(f"ESM file {path}: the header has no {key} line (not an ESM file?)")
+    try:
+        return float(header[key])
+    except ValueError:
+        raise InputError(f"ESM file {path}: {key} = {header[key]!r} is not a number") from None
+
+
+def read_esm_file(path, *, g: float = STANDARD_GRAVITY) -> tuple[Record, dict[str, str]]:
+    """Read an ESM ASCII accelerogram (Engineering Strong-Motion database; the format is
+    described in :mod:`colonna.core.esm`): the record in m/s^2, in the units of the header's
+    ``UNITS``, sampled at ``SAMPLING_INTERVAL_S`` from t = 0, and the header (``KEY: value``
+    lines, the key ending at the first colon). An InputError names the file and the key: no
+    ``SAMPLING_INTERVAL_S``, ``NDATA`` or ``UNITS``; units not known; a ``DATA_TYPE`` other
+    than ACCELERATION; not ``NDATA`` samples; a non-numeric sample; a step coarser than
+    :data:`MAX_RECORD_STEP`; samples whose peak is not the header's ``PGA_CM/S^2`` (within
+    :data:`ESM_PGA_TOLERANCE`: the header's units or the samples are wrong)."""
+    path = Path(path)
+    lines = _read_text(path).splitlines()
+    header: dict[str, str] = {}
+    first = len(lines)  # the first data line
+    for i, line in enumerate(lines):
+        match = _ESM_KEY.match(line.strip())
+        if match is None:
+            first = i
+            break
+        key = match.group("key")
+        if key in header:
+            raise InputError(f"ESM file {path}, line {i + 1}: header key {key} appears twice")
+        header[key] = match.group("value").strip()
+    if not header:
+        raise InputError(f"ESM file {path}: no 'KEY: value' header lines (not an ESM file?)")
+    data_type = header.get("DATA_TYPE", "ACCELERATION").upper()
+    if data_type != "ACCELERATION":
+        raise InputError(
+            f"ESM file {path}: DATA_TYPE = {data_type!r}: only ACCELERATION files are ground "
+            "motions (take the acceleration file of this record)"
+        )
+    dt = _esm_number(path, header, "SAMPLING_INTERVAL_S")
+    ndata = _esm_number(path, header, "NDATA")
+    if not 0.0 < dt < math.inf:
+        raise InputError(f"ESM file {path}: SAMPLING_INTERVAL_S = {dt:g} must be > 0 s")
+    if ndata != int(ndata) or ndata < 2:
+        raise InputError(f"ESM file {path}: NDATA = {header['NDATA']} must be an integer >= 2")
+    if "UNITS" not in header:
+        raise InputError(
+            f"ESM file {path}: the header has no UNITS line, so the acceleration's units are "
+            f"unknown (known: {KNOWN_UNITS})"
+        )
+    unit = _unit_name(header["UNITS"])
+    if unit is None:
+        raise InputError(
+            f"ESM file {path}: UNITS = {header['UNITS']!r} is not known (known: {KNOWN_UNITS})"
+        )
+    values: list[float] = []
+    for lineno, line in enumerate(lines[first:], start=first + 1):
+        try:
+            values.extend(float(x) for x in line.split())
+        except ValueError:
+            raise InputError(
+                f"ESM file {path}, line {lineno}: not numeric: {line.strip()[:40]!r}"
+            ) from None
+    if len(values) != ndata:
+        raise InputError(f"ESM file {path}: NDATA = {int(ndata)} but {len(values)} samples follow")
+    _check_step(path, dt)
+    acceleration = np.array(values) * _to_si(unit, g)
+    if header.get("PGA_CM/S^2"):
+        pga = abs(_esm_number(path, header, "PGA_CM/S^2")) * 0.01  # m/s^2
+        peak = float(np.max(np.abs(acceleration)))
+        if abs(peak - pga) > ESM_PGA_TOLERANCE * max(pga, peak):
+            raise InputError(
+                f"ESM file {path}: PGA_CM/S^2 = {pga * 100:g} in the header, but the samples "
+                f"read in {header['UNITS']} peak at {peak * 100:.6g} cm/s^2: the header's "
+                "units or the samples are wrong"
+            )
+    return Record(np.arange(int(ndata)) * dt, acceleration, name=path.stem), header
+
+
+def is_esm(path) -> bool:
+    """True where a file's first line is an ESM header's first (``EVENT_NAME: ...``)."""
+    try:
+        with open(path, errors="replace") as stream:
+            first = stream.readline()
+    except OSError:
+        return False
+    return first.lstrip().upper().startswith("EVENT_NAME:")
+
+
 def read_record(path, *, g: float = STANDARD_GRAVITY) -> Record:
-    """Read a record by extension: ``.at2`` as PEER NGA, anything else as two columns (m/s^2)."""
+    """Read a record by its format: ``.at2`` as PEER NGA; ``.asc``, or any file whose first
+    line is ``EVENT_NAME: ...``, as ESM ASCII (units from the header); anything else as two
+    columns (m/s^2)."""
     path = Path(path)
     if path.suffix.lower() == ".at2":
         return read_peer_at2(path, g=g)
+    if path.suffix.lower() == ".asc" or is_esm(path):
+        return read_esm_file(path, g=g)[0]
     return read_two_column(path, g=g)
 
 
