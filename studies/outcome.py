@@ -7,7 +7,9 @@ overturning (a stopping convention, named as such: the instant the centre of mas
 toe moving outward after the ground motion, not a collapse time) and, for the FEM ensemble, how
 many replicas overturned.
 
-``answers``: "Is the rigid-body assumption good enough?", "Do the collars yield?", "Does the
+``answers``: "Does the column stay up?" first (:func:`stays_up`: per model, from the
+models' outcomes; the answer word is the model's whose stresses the other answers quote, the
+first), then "Is the rigid-body assumption good enough?", "Do the collars yield?", "Does the
 toe crush?", each yes / no / undecided / not assessed, with the number behind it (median and
 band over the replicas), its limit, the relation between them (``stays below``, ``reaches``,
 ``straddles``) and the figure that shows it. The word and the relation come from one comparison
@@ -15,9 +17,20 @@ band over the replicas), its limit, the relation between them (``stays below``, 
 the collars past f_y also answers "Do the collars hold?" (:func:`collars_hold`: did a plastic
 collar's extreme fibre reach its fracture strain?): the cross-check always, the studies whose
 FEM runs alone (:func:`fem_answers`) where a collar is plastic; the others leave it out.
+
+A stress answer (collars, toe) of a model that overturns holds only up to the overturning:
+its run stops there, and what the stone and the collars would carry as the column falls is not
+computed. :func:`outcome` gives each such answer ``until_overturning`` (the time, and in how
+many replicas or pulses) and a ``qualifier`` sentence, and the report never shows it as a pass.
+
+Each model's ``alpha_block`` says whose slenderness its rotation is compared with: ``column``
+(the whole column, 4b x 2h: collars and crack friction make the halves rock together) or
+``half`` (one half block, 2b x 2h); the report writes alpha_column or alpha_half.
 """
 
 from __future__ import annotations
+
+import numpy as np
 
 from ..fem.ensemble import NO, UNDECIDED, YES, decide
 from ..rigid.solve import collar_state, motion_word
@@ -25,6 +38,7 @@ from ..rigid.solve import collar_state, motion_word
 NOT_ASSESSED = "not assessed"
 
 QUESTIONS = {
+    "stays_up": "Does the column stay up?",
     "rigid_assumption_ok": "Is the rigid-body assumption good enough?",
     "collars_yield": "Do the collars yield?",
     "collars_hold": "Do the collars hold?",
@@ -32,6 +46,18 @@ QUESTIONS = {
 }
 # answered only by the studies that ask them (listed where given, left out otherwise)
 OPTIONAL_QUESTIONS = ("collars_hold",)
+# the answers made from stresses, which hold only up to an overturning
+STRESS_QUESTIONS = ("collars_yield", "collars_hold", "toe_crushes")
+# the blocks whose slenderness alpha (and frequency parameter p) a model's rotation is given in
+BLOCKS = {"column": "the whole column (4b x 2h)", "half": "one half block (2b x 2h)"}
+
+
+def rocking_block(cracked: bool, collared: bool) -> str:
+    """The block whose alpha a rotation history is compared with (as
+    :func:`colonna.studies.fem_study.rocking_alpha`): ``half`` for a cracked column without
+    collars (its halves rock apart), else ``column``."""
+    return "half" if cracked and not collared else "column"
+
 
 # why "Do the collars hold?" has no answer for elastic collars
 ELASTIC_COLLARS_NOT_FOLLOWED = "elastic collars are not followed past f_y (set plastic = true)"
@@ -51,16 +77,24 @@ def model_outcome(
     overturned_replicas: int | None = None,
     collar_utilisation: float | None = None,
     collar_fractured: bool = False,
+    block: str = "column",
+    overturn_time_range: tuple[float, float] | None = None,
 ) -> dict:
     """One model's outcome. ``peak_rotation`` (rad) is the largest |theta| of a rocking half
     (None or the pi/2 convention of an overturned block are not reported as a rotation);
-    ``alpha`` its slenderness (rad); ``collar_utilisation`` the largest sigma / f_y of its
+    ``alpha`` its slenderness (rad), of the ``block`` (a key of BLOCKS: ``column`` or
+    ``half``); ``overturn_time_range`` the replicas' earliest and latest overturning
+    (s); ``collar_utilisation`` the largest sigma / f_y of its
     collars, whose state (elastic / yielded, or fractured where ``collar_fractured``: a
     plastic collar broke) is then said beside the motion."""
+    if block not in BLOCKS:
+        raise ValueError(f"block {block!r}: one of {', '.join(BLOCKS)}")
     motion = motion_word(bool(overturned), 0.0 if peak_rotation is None else peak_rotation, alpha)
     out = {
         "model": model,
         "motion": motion,
+        "alpha": float(alpha),
+        "alpha_block": block,
         "overturn_time": float(overturn_time) if overturned and overturn_time is not None else None,
         "peak_rotation": None if overturned or peak_rotation is None else float(peak_rotation),
         "peak_rotation_over_alpha": None
@@ -69,6 +103,8 @@ def model_outcome(
     }
     if replicas is not None:
         out.update(replicas=int(replicas), overturned_replicas=int(overturned_replicas or 0))
+    if overturn_time_range is not None and None not in overturn_time_range:
+        out["overturn_time_range"] = [float(v) for v in overturn_time_range]
     if collar_utilisation is not None:
         out.update(
             collar_state=collar_state(collar_utilisation, fractured=bool(collar_fractured)),
@@ -155,17 +191,89 @@ def none_assessed(why: str) -> dict:
     )
 
 
+def _model_stays_up(m: dict) -> dict:
+    """Does this model's column stay up? yes / no, or for an ensemble (``replicas``) or a grid
+    of pulses (``points``) undecided where some overturn and others do not; with the count and
+    the overturning time (or the replicas' range of it)."""
+    if "points" in m:  # a grid of pulses (grid_outcome)
+        n, total = m["overturned_points"], m["points"]
+    elif "replicas" in m:
+        n, total = m["overturned_replicas"], m["replicas"]
+    else:
+        n, total = int(m["motion"].startswith("overturned")), 1
+    word = YES if n == 0 else NO if n == total else UNDECIDED
+    out = {"model": m["model"], "answer": word, "overturned": n, "of": total}
+    if m.get("overturn_time") is not None:
+        out["overturn_time"] = m["overturn_time"]
+    if m.get("overturn_time_range"):
+        out["overturn_time_range"] = m["overturn_time_range"]
+    return out
+
+
+def stays_up(models: list[dict], why: str = "no model of the column under a ground motion") -> dict:
+    """Does the column stay up? Per model (:func:`_model_stays_up`), in the models' order; the
+    answer word is the first model's, the one whose stresses the other answers quote (the FEM
+    where the study runs it)."""
+    question = QUESTIONS["stays_up"]
+    if not models:
+        return not_assessed(question, why)
+    per_model = [_model_stays_up(m) for m in models]
+    return {
+        "question": question,
+        "answer": per_model[0]["answer"],
+        "model": per_model[0]["model"],
+        "per_model": per_model,
+    }
+
+
+def _until_overturning(model: dict) -> dict | None:
+    """Where a stress answer of ``model``'s run holds only up to an overturning: the time (the
+    median over the replicas that overturn, with their range) or, for a grid, the pulses; and
+    the qualifier sentence. None where the model overturns in no replica and at no pulse."""
+    up = _model_stays_up(model)
+    if up["overturned"] == 0:
+        return None
+    until: dict = {"model": model["model"], "overturned": up["overturned"], "of": up["of"]}
+    if "points" in model:
+        until["qualifier"] = (
+            f"until overturning, at the {up['overturned']} of {up['of']} pulses where the "
+            "column overturns"
+        )
+        return until
+    t = model.get("overturn_time")
+    until["time"] = t
+    when = "" if t is None else f" at t = {t:.4g} s"
+    span = model.get("overturn_time_range")
+    if span and span[1] > span[0]:
+        when += f" (replicas {span[0]:.4g} to {span[1]:.4g} s)"
+    where = (
+        "" if up["of"] == 1 else f", in the {up['overturned']} of {up['of']} replicas that overturn"
+    )
+    until["qualifier"] = f"until overturning{when}{where}"
+    return until
+
+
 def outcome(models: list[dict], answers: dict[str, dict]) -> dict:
     """summary["outcome"]: the models' outcomes and the answers, in QUESTIONS' order (every
-    question but the OPTIONAL_QUESTIONS, which are listed where ``answers`` has them)."""
-    return {
-        "models": models,
-        "answers": [
-            dict(answers[key], key=key)
-            for key in QUESTIONS
-            if key in answers or key not in OPTIONAL_QUESTIONS
-        ],
-    }
+    question but the OPTIONAL_QUESTIONS, which are listed where ``answers`` has them).
+    "Does the column stay up?" is made here from the models (:func:`stays_up`) unless
+    ``answers`` gives it. A stress answer (STRESS_QUESTIONS) of a study whose first model (the
+    one the stresses are of) overturns carries ``until_overturning`` and its ``qualifier``
+    (:func:`_until_overturning`)."""
+    answers = dict(answers)
+    if "stays_up" not in answers or (models and answers["stays_up"]["answer"] == NOT_ASSESSED):
+        answers["stays_up"] = stays_up(models)
+    until = _until_overturning(models[0]) if models else None
+    listed = []
+    for key in QUESTIONS:
+        if key not in answers and key in OPTIONAL_QUESTIONS:
+            continue
+        a = dict(answers[key], key=key)
+        if until is not None and key in STRESS_QUESTIONS and a["answer"] != NOT_ASSESSED:
+            a["until_overturning"] = until
+            a["qualifier"] = until["qualifier"]
+        listed.append(a)
+    return {"models": models, "answers": listed}
 
 
 def collars_hold(fem: dict, collars, figure: str | None = None) -> dict:
@@ -247,14 +355,30 @@ def fem_answers(fem: dict, why_not_rigid: str, collars=()) -> dict[str, dict]:
     return answers
 
 
-def fem_model(model: str, fem: dict, alpha: float) -> dict:
-    """:func:`model_outcome` of an FEM ensemble summary."""
+def fem_model(model: str, fem: dict, alpha: float, block: str = "column") -> dict:
+    """:func:`model_outcome` of an FEM ensemble summary; its overturning time the median over
+    the replicas that overturn (their run ends, ``t_end``, where they overturn), with their
+    range."""
+    times = _overturn_times(fem)
     return model_outcome(
         model,
         fem["overturned"],
         max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]),
         alpha,
-        fem.get("t_end"),
+        float(np.median(times)) if times else fem.get("t_end"),
         fem.get("replicas", 1),
         fem.get("overturned_replicas", int(bool(fem["overturned"]))),
+        block=block,
+        overturn_time_range=(min(times), max(times)) if times else None,
     )
+
+
+def _overturn_times(fem: dict) -> list[float]:
+    """The run ends (s) of the replicas whose status says they overturned."""
+    statuses = fem.get("statuses") or ()
+    ends = fem.get("bands", {}).get("t_end", {}).get("values") or ()
+    return [
+        float(t)
+        for t, status in zip(ends, statuses)
+        if t is not None and str(status).startswith("overturned")
+    ]

@@ -110,7 +110,8 @@ def assert_report_says_what_summary_says(page_text: str, summary: dict) -> int:
 
 
 def assert_opens_with_the_outcome(page_text: str, summary: dict) -> None:
-    """The report's first section is the outcome, with the three answers (and, in their
+    """The report's first section is the outcome, "Does the column stay up?" first, then the
+    three answers (and, in their
     place, the optional ones the study gives: "Do the collars hold?"), each the word of
     summary.json's outcome (the data-key of the word names it)."""
     from colonna.studies.outcome import OPTIONAL_QUESTIONS, QUESTIONS
@@ -119,6 +120,7 @@ def assert_opens_with_the_outcome(page_text: str, summary: dict) -> None:
     answers = summary["outcome"]["answers"]
     keys = [a["key"] for a in answers]
     assert [k for k in keys if k not in OPTIONAL_QUESTIONS] == [
+        "stays_up",
         "rigid_assumption_ok",
         "collars_yield",
         "toe_crushes",

@@ -24,7 +24,7 @@ from ..executor import RunOptions, run_cases
 from ..fem_study import FemWork, case_of, run_multibody, study_of_case
 from ..fem_study import fem_work as estimate_work
 from ..guard import check_fem_results
-from ..outcome import fem_answers, fem_model, outcome
+from ..outcome import fem_answers, fem_model, outcome, rocking_block
 from ..output import write_csv, write_json
 from ..study import Study
 
@@ -108,7 +108,14 @@ def run(given: Study, out: Path, options: RunOptions) -> dict:
         "ductile_design": ductile_design(study, thicknesses, trial_cases, trials),
         "wall_seconds": time.perf_counter() - start,
         "outcome": outcome(
-            [fem_model("FEM, deformable halves", fem, study.rocking_alpha)],
+            [
+                fem_model(
+                    "FEM, deformable halves",
+                    fem,
+                    study.rocking_alpha,
+                    rocking_block(study.cracked, bool(study.collars)),
+                )
+            ],
             fem_answers(
                 fem,
                 "the collar-design study runs the FEM alone; the "

@@ -54,6 +54,7 @@ from ..outcome import (
     model_outcome,
     not_assessed,
     outcome,
+    rocking_block,
 )
 from ..output import read_csv, write_csv, write_json
 from ..study import Study
@@ -899,8 +900,9 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
     fem = results["fem"]["summary"]
     rigid, monolith, mb = results["rigid"], results["monolith"], results["multibody"]
     alpha = study.rocking_alpha
+    block = rocking_block(study.cracked, bool(study.collars))
     models = [
-        fem_model("FEM, deformable halves", fem, alpha),
+        fem_model("FEM, deformable halves", fem, alpha, block),
         model_outcome(
             "rigid multibody (the rigid reference)",
             mb["overturned"],
@@ -909,6 +911,7 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
             mb.get("overturn_time"),
             collar_utilisation=mb.get("collar_max_utilisation") if study.collars else None,
             collar_fractured=bool(mb.get("collar_fractured")),
+            block=block,
         ),
         model_outcome(
             "SDOF half block with collars (the paper's)",
@@ -917,6 +920,7 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
             rigid["alpha"],
             rigid.get("overturn_time"),
             collar_utilisation=rigid.get("collar_max_utilisation"),
+            block="half" if study.cracked else "column",
         ),
         model_outcome(
             "SDOF whole column, no crack",

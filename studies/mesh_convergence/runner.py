@@ -11,7 +11,7 @@ from ...fem.convergence import convergence_table
 from ..executor import RunOptions
 from ..fem_study import FemStudy, FemWork, case_of
 from ..fem_study import fem_work as estimate_work
-from ..outcome import fem_answers, fem_model, outcome
+from ..outcome import fem_answers, fem_model, outcome, rocking_block
 from ..study import Study
 from ..sweep import run_sweep
 
@@ -66,6 +66,7 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
             f"FEM, mesh size {c['size'] * 1e3:.4g} mm",
             results[c["key"]]["summary"],
             study.rocking_alpha,
+            rocking_block(study.cracked, bool(study.collars)),
         )
         for c in cases
     ]

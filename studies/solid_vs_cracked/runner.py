@@ -10,7 +10,7 @@ from pathlib import Path
 from ..executor import RunOptions
 from ..fem_study import FemStudy, FemWork, case_of, from_spec, rocking_alpha
 from ..fem_study import fem_work as estimate_work
-from ..outcome import fem_answers, fem_model, model_outcome, outcome
+from ..outcome import fem_answers, fem_model, model_outcome, outcome, rocking_block
 from ..study import Study
 from ..sweep import run_sweep
 
@@ -80,7 +80,8 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
         label = name.replace("-", " with ").replace("cracked with collars", "cracked, with collars")
         cracked, collared = variants[name]
         alpha = rocking_alpha(study.width, study.height, cracked, collared and bool(study.collars))
-        models.append(fem_model(f"FEM, {label}", fem, alpha))
+        block = rocking_block(cracked, collared and bool(study.collars))
+        models.append(fem_model(f"FEM, {label}", fem, alpha, block))
         models.append(
             model_outcome(
                 f"SDOF, {label}",
@@ -88,6 +89,7 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
                 rigid["max_abs_theta"],
                 rigid["alpha"],
                 rigid.get("overturn_time"),
+                block="half" if cracked else "column",
             )
         )
     as_built = results[f"{list(variants)[-1]}-fem"]["summary"]  # cracked, with collars

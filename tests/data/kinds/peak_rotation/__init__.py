@@ -28,7 +28,11 @@ def run(study, out: Path, options) -> dict:
         "outcome": outcome(
             [
                 model_outcome(
-                    "SDOF, half column", rocking.overturned, peak, column.rocking_block.alpha
+                    "SDOF, half column",
+                    rocking.overturned,
+                    peak,
+                    column.rocking_block.alpha,
+                    block="half" if column.cracked else "column",
                 )
             ],
             {
