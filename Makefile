@@ -2,13 +2,14 @@
 #   make demo   creates .venv, installs colonna, runs the default study, writes a report
 #   make test   creates .venv, installs colonna with test extras, runs the fast test suite
 #   make lint   ruff and mypy over the code (the same .venv)
+#   make docs   the documentation site (Sphinx), warnings as errors, into docs/_build/html
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 OUT    ?= out
 
-.PHONY: demo validate test test-all lint bench clean browser coverage
+.PHONY: demo validate test test-all lint bench clean browser coverage docs docs-numbers
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -63,6 +64,23 @@ lint: $(STAMP)
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
 
+# The documentation site: Sphinx with MyST Markdown and sphinx-gallery (the docs extra, installed
+# into the same .venv), warnings as errors; the gallery's examples run at every build.
+DOCS_STAMP := $(VENV)/.docs-installed
+
+$(DOCS_STAMP): $(STAMP)
+	PYTHONWARNINGS="ignore::UserWarning" $(BIN)/python -m pip install --quiet -e '.[docs]'
+	touch $(DOCS_STAMP)
+
+docs: $(DOCS_STAMP)
+	MPLBACKEND=Agg $(BIN)/sphinx-build -W --keep-going -q -b html docs docs/_build/html
+	@echo "documentation: docs/_build/html/index.html"
+
+# The default study's numbers the documentation quotes (docs/default-study.json), from a fresh
+# run of the default study; make docs refuses a record made from another study file or version.
+docs-numbers: demo
+	$(BIN)/python docs/default_numbers.py $(OUT)/demo
+
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_spectrum.py
 	$(BIN)/python benchmarks/bench_fem.py
@@ -72,4 +90,4 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_spectrum_crosscheck.py
 
 clean:
-	rm -rf $(VENV) $(OUT) .pytest_cache
+	rm -rf $(VENV) $(OUT) .pytest_cache docs/_build docs/generated docs/gallery
