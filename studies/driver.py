@@ -9,6 +9,7 @@ The kinds are registered in :data:`studies.kinds.KINDS` (the one table the study
 from __future__ import annotations
 
 import sys
+import time
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -63,10 +64,11 @@ def run_study_file(
     check_work(study, long=long)
     out = Path(out)
     module = kind.module()
+    started = time.time()  # the run's date and wall time go on record with its inputs
     summary = module.run(study, out, RunOptions(workers, scheduler, progress, force))
     # the inputs on record beside the results they gave, once they are all there (a refused
     # or interrupted run leaves the record of the results in out as it was)
-    record_inputs(out, study)
+    record_inputs(out, study, started)
     if kind.ground_motion:
         write_ground_motion(out, study.fem)
     module.write_report(out)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import os
 import warnings
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 
 from ..core.collar import Collar
@@ -226,6 +226,31 @@ def from_spec(spec: schema.StudyFile, source: str = "study", base: Path = Path("
     """The study of a validated study file (:func:`studies.schema.parse`): the defaults that
     depend on the column filled in, the ground motions built (records read relative to
     ``base``). Validates nothing again."""
+    column = column_of(spec, source, base)
+    ground = _ground(spec.ground, column.rocking_block, base, source)
+    vertical = _vertical(spec.ground, ground, base, source)
+    end = max(ground.end_time, vertical.end_time)
+    study = replace(
+        column, ground=ground, vertical=vertical, duration=spec.run.duration or end + 1.5
+    )
+    if (
+        not study.ground.moves
+        and study.initial_tilt == 0.0
+        and study.initial_angular_velocity == 0.0
+    ):
+        raise InputError(
+            f"{source}: ground.pulse = 'none' needs run.initial_tilt or "
+            "run.initial_angular_velocity (else the column stays at rest)"
+        )
+    return study
+
+
+def column_of(spec: schema.StudyFile, source: str = "study", base: Path = Path(".")) -> FemStudy:
+    """The column of a validated study file without its ground motion (no motion, the file's
+    run.duration or 0): its collars, mesh and run settings with the defaults that depend on
+    the column filled in (thickness pi w / 4, mesh size w / 16, toe length a tenth of a body's
+    width). What the model and its stable step are built from, for every kind, also one whose
+    cases set their own motion."""
     column = spec.column
     if column is None:
         raise InputError(f"{source}: column.height is required for a FEM study")
@@ -236,7 +261,7 @@ def from_spec(spec: schema.StudyFile, source: str = "study", base: Path = Path("
         mesh_file = (base / mesh.file).resolve()
         if not mesh_file.is_file():
             raise InputError(f"{source}: mesh.file = {mesh.file!r}: no such file")
-    settings = dict(
+    return FemStudy(
         name=spec.study.name or Path(source).stem,
         height=column.height,
         width=column.width,
@@ -250,7 +275,7 @@ def from_spec(spec: schema.StudyFile, source: str = "study", base: Path = Path("
         grading=mesh.grading,
         mesh_file=mesh_file,
         edge_length=mesh.edge_length or 0.1 * body_width,
-        duration=0.0,
+        duration=spec.run.duration or 0.0,
         output_interval=spec.run.output_interval,
         dt=spec.run.dt,
         safety=spec.run.safety,
@@ -263,27 +288,41 @@ def from_spec(spec: schema.StudyFile, source: str = "study", base: Path = Path("
         initial_angular_velocity=spec.run.initial_angular_velocity,
         replicas=spec.run.replicas,
     )
-    ground = _ground(spec.ground, FemStudy(**settings).rocking_block, base, source)
-    vertical = _vertical(spec.ground, ground, base, source)
-    end = max(ground.end_time, vertical.end_time)
-    study = FemStudy(
-        **{
-            **settings,
-            "ground": ground,
-            "vertical": vertical,
-            "duration": spec.run.duration or end + 1.5,
-        }
-    )
-    if (
-        not study.ground.moves
-        and study.initial_tilt == 0.0
-        and study.initial_angular_velocity == 0.0
-    ):
-        raise InputError(
-            f"{source}: ground.pulse = 'none' needs run.initial_tilt or "
-            "run.initial_angular_velocity (else the column stays at rest)"
-        )
-    return study
+
+
+def model_record(study: FemStudy) -> dict:
+    """The FEM model of a study's own mesh as its runs build it (:func:`build`), for the
+    inputs on record: nodes, elements and degrees of freedom; the stable time step
+    (:func:`colonna.fem.model.stable_time_step`: safety x 2 / omega_max x the contact damping's
+    reduction) and the step used (run.dt where given, else the stable one); the row spacing
+    of the histories (a whole number of steps nearest the output interval: duration / 400
+    by default); the base contact's penalty stiffness per node (N/m: penalty_factor x E x t x
+    tributary length / h, or contact.penalty x t x tributary length). Variants of the study
+    (a finer mesh, a toe refinement) build their own."""
+    import numpy as np
+
+    from ..fem.model import stable_time_step
+
+    model = build(study)
+    step = stable_time_step(model, study.safety)
+    dt = study.dt if study.dt is not None else step.dt
+    record = {
+        "nodes": int(model.mesh.n_nodes),
+        "elements": int(model.mesh.cells.shape[1]),
+        "dofs": int(model.n_dofs),
+        "dt_stable": step.dt,
+        "dt_critical": step.critical,
+        "dt_critical_stone": step.critical_elastic,
+        "dt": dt,
+        "penalty_base_mean": float(np.mean(model.base_kn)),
+        "penalty_base_min": float(np.min(model.base_kn)),
+        "penalty_base_max": float(np.max(model.base_kn)),
+    }
+    interval = study.output_interval or (study.duration / 400.0 if study.duration else None)
+    if interval is not None:
+        per_output = max(1, int(round(interval / dt)))
+        record.update(steps_per_output=per_output, output_interval_used=per_output * dt)
+    return record
 
 
 def _vertical(ground: schema.Ground, horizontal, base: Path, source: str = "study"):

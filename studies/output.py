@@ -7,6 +7,9 @@ import io
 import json
 import math
 import os
+import platform
+import time
+from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
@@ -50,16 +53,51 @@ def write_csv(path, columns: dict) -> None:
     _atomic_write_text(Path(path), buffer.getvalue())
 
 
-def record_inputs(out: Path, study) -> dict:
+def record_inputs(out: Path, study, started: float | None = None) -> dict:
     """The inputs of a study (:class:`studies.study.Study`) on record beside its results:
     ``out/study.toml``, the study file byte for byte, and ``out/inputs.json``, the study's
-    :meth:`to_json <studies.study.Study.to_json>` (the validated study with every default
-    filled in, the colonna version, the SHA-256 of the study file and the command-line options
-    that change what is computed). Returns inputs.json."""
+    :meth:`to_json <studies.study.Study.to_json>` (the tables as the run used them, each value
+    the file's, its default or the one resolved for the run, the model as built, the ground
+    motion as applied, the colonna version, the SHA-256 of the study file and the command-line
+    options that change what is computed) with ``run_record``: the run's date and time (UTC, ISO
+    8601), its wall time from ``started`` (a :func:`time.time`) and the machine
+    (:func:`machine`). Returns inputs.json."""
     inputs = study.to_json()
+    finished = time.time()
+    inputs["run_record"] = {
+        "colonna_version": inputs["colonna_version"],
+        "finished_utc": _utc(finished),
+        **(
+            {"started_utc": _utc(started), "wall_seconds": finished - started}
+            if started is not None
+            else {}
+        ),
+        "machine": machine(),
+    }
     _atomic_write_bytes(Path(out) / "study.toml", study.text)
     write_json(Path(out) / "inputs.json", inputs)
     return inputs
+
+
+def machine() -> dict:
+    """The machine a study ran on: its platform, processor, the cores this process may use
+    and the Python and NumPy versions."""
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        cores = os.cpu_count() or 1
+    return {
+        "platform": platform.platform(),
+        "processor": platform.machine(),
+        "cores": cores,
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+    }
+
+
+def _utc(seconds: float) -> str:
+    """A time (seconds since the epoch) as ISO 8601 in UTC, to the second."""
+    return datetime.fromtimestamp(seconds, UTC).isoformat(timespec="seconds")
 
 
 def read_csv(path) -> dict:

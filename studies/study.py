@@ -21,6 +21,7 @@ from __future__ import annotations
 import copy
 import hashlib
 import importlib
+import math
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -72,30 +73,165 @@ class Study:
 
         return from_spec(self.spec, self.source, self.base)
 
+    @cached_property
+    def model(self) -> dict | None:
+        """The FEM model of the study's own mesh as its runs build it
+        (:func:`studies.fem_study.model_record`: nodes, stable step, step used, penalties), built
+        once; None for a kind without a column."""
+        from .fem_study import column_of, model_record
+
+        if self.spec.column is None:
+            return None
+        column = column_of(self.spec, self.source, self.base)
+        if _one_motion(self.kind):
+            column = self.fem
+        return model_record(column)
+
     def to_json(self) -> dict:
-        """The inputs on record (``inputs.json``): the validated study with every default
-        filled in, the defaults that depend on the column resolved (thickness, collar length
-        and hardening modulus), the study file's name and SHA-256, the colonna version and the
-        ``options``."""
-        from ..core.collar import Collar
-        from .fem_study import default_thickness
+        """The inputs on record (``inputs.json``), in three parts.
+
+        The study file's tables as the run used them: each key's value from the file, else
+        its default (:mod:`studies.schema`), else the value colonna resolved for the run (the
+        mesh size, the toe length, the stable step, the duration, a pulse's amplitude and
+        period in SI, a record's scales, the rigid block's restitution: ``resolved`` names
+        each such key with the rule that gave it). A key without a value (not given, not used:
+        a record file of a sine pulse) and the tables of other kinds are left out: no null.
+        A re-run is keyed by the file (study.toml, byte for byte), not by this record.
+
+        ``model``: the FEM model of the study's mesh as built (nodes, elements, stable step,
+        penalties: :func:`studies.fem_study.model_record`); ``ground_motion``: the motion as
+        applied (SI; a record's file by its SHA-256, its peak as read and as applied).
+
+        And the study file's name and SHA-256, the colonna version and the command-line
+        ``options``. The run's date, machine and wall time are added beside the results
+        (:func:`studies.output.record_inputs`)."""
+        from .kinds import KIND_TABLES, KINDS
 
         inputs = self.spec.model_dump(mode="json")
-        column = inputs.get("column")
-        if column is not None:
-            if column["thickness"] is None:
-                column["thickness"] = default_thickness(column["width"])
-            for entry in inputs["collar"]:
-                if entry["length"] is None:  # between the attachment points: the width
-                    entry["length"] = column["width"]
-                entry["Eh"] = Collar(**entry).hardening_modulus
+        resolved: dict[str, str] = {}
+        for name in KIND_TABLES:
+            if name not in KINDS[self.kind].tables:
+                inputs.pop(name, None)
+        if inputs.get("column") is not None:
+            self._resolve_column(inputs, resolved)
+        inputs = _without_nulls(inputs)
+        if self.model is not None:
+            inputs["model"] = dict(self.model)
+        motion = self._motion_record()
+        if motion is not None:
+            inputs["ground_motion"] = motion
         inputs.update(
+            resolved=resolved,
             study_file=self.path.name,
             study_sha256=self.sha256,
             colonna_version=importlib.import_module("colonna").__version__,
             options={k: _option_text(v) for k, v in self.options.items() if v is not None},
         )
         return inputs
+
+    def _resolve_column(self, inputs: dict, resolved: dict) -> None:
+        """Fill in ``inputs``' tables the values resolved for a study with a column (see
+        :meth:`to_json`), naming each in ``resolved`` with its rule."""
+        from ..core.collar import Collar
+        from ..core.errors import InputError
+        from ..core.ground import HarmonicPulse
+        from .fem_study import column_of
+
+        def fill(table: str, key: str, value, rule: str) -> None:
+            if inputs[table].get(key) is None and value is not None:
+                inputs[table][key] = value
+                resolved[f"{table}.{key}"] = rule
+
+        column = column_of(self.spec, self.source, self.base)
+        fill("column", "thickness", column.thickness, "pi width / 4 (a half column's mass)")
+        for i, entry in enumerate(inputs["collar"]):
+            if entry["length"] is None:  # between the attachment points: the width
+                entry["length"] = column.width
+                resolved[f"collar.{i}.length"] = "the column width (between its faces)"
+            if entry["Eh"] is None:
+                entry["Eh"] = Collar(**entry).hardening_modulus
+                resolved[f"collar.{i}.Eh"] = "1 % of E"
+            if entry["hinge_length"] is None:
+                entry["hinge_length"] = entry["h"]
+                resolved[f"collar.{i}.hinge_length"] = "the collar depth h"
+        if column.mesh_file is None:
+            fill("mesh", "size", column.mesh_size, "width / 16")
+        fill("mesh", "edge_length", column.edge_length, "a tenth of a rocking body's width")
+        try:
+            nu = column.rocking_block.nu
+        except InputError:  # a squat block: its SDOF run asks for a restitution
+            nu = None
+        fill("rigid", "restitution", nu, "Housner's 1 - 1.5 sin^2 alpha of the rocking block")
+        model = self.model or {}
+        fill("run", "dt", model.get("dt"), "the stable step (model.dt_stable)")
+        if not _one_motion(self.kind):
+            return
+        fem = self.fem
+        fill("run", "duration", fem.duration, "the end of the ground motion + 1.5 s")
+        fill("run", "output_interval", fem.duration / 400.0, "duration / 400")
+        ground = inputs["ground"]
+        if isinstance(fem.ground, HarmonicPulse):
+            rule = "amplitude_ratio x the rocking half's uplift acceleration"
+            fill("ground", "amplitude", fem.ground.amplitude, rule)
+            period = 2.0 * math.pi / fem.ground.omega
+            fill("ground", "period", period, "2 pi / (omega_ratio x p of the rocking half)")
+        if ground["pulse"] == "record":
+            fill("ground", "scale", 1.0, "1 (the record as read)")
+            fill("ground", "time_scale", 1.0, "1 (the record's own time)")
+        if ground.get("vertical_record") is not None:
+            fill("ground", "vertical_scale", 1.0, "1 (the record as read)")
+
+    def _motion_record(self) -> dict | None:
+        """The ground motion as applied (:meth:`to_json`'s ``ground_motion``), for a kind with
+        one motion; a record's samples are not repeated (its file is named by its SHA-256)."""
+        if self.spec.column is None or not _one_motion(self.kind):
+            return None
+        fem = self.fem
+        record: dict = {}
+        for name, motion, given, scale in (
+            ("horizontal", fem.ground, self.spec.ground.record, self.spec.ground.scale),
+            (
+                "vertical",
+                fem.vertical,
+                self.spec.ground.vertical_record,
+                self.spec.ground.vertical_scale,
+            ),
+        ):
+            if not motion.moves:
+                continue
+            entry = motion.to_json()
+            for samples in ("time", "acceleration_values"):  # the file has them
+                entry.pop(samples, None)
+            entry.update(peak_acceleration=motion.peak_acceleration, end_time=motion.end_time)
+            if given is not None:
+                path = self.base / given
+                factor = 1.0 if scale is None else abs(scale)
+                entry.update(
+                    file=given,
+                    file_sha256=hashlib.sha256(path.read_bytes()).hexdigest(),
+                    file_peak_acceleration=motion.peak_acceleration / factor if factor else None,
+                    samples=int(len(motion.time)),  # type: ignore[attr-defined]
+                )
+            record[name] = entry
+        return record or None
+
+
+def _one_motion(kind: str) -> bool:
+    """Whether a kind runs the study's one ground motion (its registry's ``ground_motion``)."""
+    from .kinds import KINDS
+
+    return KINDS[kind].ground_motion
+
+
+def _without_nulls(data):
+    """``data`` without the keys whose value is None or an empty table (nor such list items),
+    recursively."""
+    if isinstance(data, dict):
+        kept = {k: _without_nulls(v) for k, v in data.items() if v is not None}
+        return {k: v for k, v in kept.items() if v != {}}
+    if isinstance(data, list):
+        return [_without_nulls(v) for v in data if v is not None]
+    return data
 
 
 def _option_text(value: Any) -> Any:
