@@ -17,6 +17,9 @@ MAGNIFY = 1.0  # rocking displacements are large already: drawn true to scale
 WINDOW = (360, 640)  # render window, px (width, height): a column is tall
 MARGIN = 8  # px of background kept around what is drawn
 BACKGROUND = (255, 255, 255)
+# what the renders' colour is: the stone's minimum principal stress per element (not the toe
+# stress of the answers, which is the base contact pressure averaged over the toe window)
+BAR_TITLE = "min principal stress sigma_3 (MPa)"
 
 
 @contextlib.contextmanager
@@ -115,8 +118,10 @@ def render_snapshots(out: Path, n_frames: int = 24) -> list[tuple[str, str]]:
         images.append(
             (
                 png,
-                f"Deformed halves {caption}, coloured by the minimum principal "
-                "stress (compression negative)",
+                f"Deformed halves {caption}, coloured by the stone's minimum principal "
+                "stress sigma_3 per element (MPa, compression negative): a stress in the "
+                "stone, not the toe stress of the answers (the base contact pressure "
+                "averaged over the toe window)",
             )
         )
     images.append(_gif(out, fem, n_frames))
@@ -139,17 +144,20 @@ def _snapshot(m, path: Path) -> None:
         cmap="viridis",
         show_edges=False,
         scalar_bar_args={
-            "title": "min principal stress (MPa)",
+            "title": "",  # drawn below the bar (BAR_TITLE): VTK puts it over its tick labels
             "fmt": "%.2f",
             "n_labels": 3,
             "position_x": 0.2,
-            "position_y": 0.02,
+            "position_y": 0.045,
             "width": 0.6,
-            "height": 0.06,
+            "height": 0.05,
+            "label_font_size": 14,
         },
     )
+    # the bar's tick labels above it, its title below it: apart whatever the numbers' widths
+    p.add_text(BAR_TITLE, position=(0.2 * WINDOW[0], 4), font_size=8, color="k", name="bar_title")
     p.add_mesh(_ground(x0, x1, reach), color="k", line_width=2)
-    _fit(p, (x0 - reach, x1 + reach, min(y0, 0.0), y1), bottom=0.12)
+    _fit(p, (x0 - reach, x1 + reach, min(y0, 0.0), y1), bottom=0.16)
     img = p.screenshot(return_img=True)
     p.close()
     r0, r1, c0, c1 = _drawn_box(img)
