@@ -701,9 +701,10 @@ def test_warmup_runs_its_command_lines_through_the_main_it_is_given():
 
 
 def _readme_examples() -> list[list[str]]:
-    """The command lines of the README's command-line block (continuation lines joined)."""
-    text = (Path(__file__).parents[1] / "README.md").read_text()
-    block = text.split("## Command line", 1)[1].split("```sh", 1)[1].split("```", 1)[0]
+    """The command lines of the manual's command-line block (docs/command-line.md, moved there
+    from the README; continuation lines joined)."""
+    text = (Path(__file__).parents[1] / "docs" / "command-line.md").read_text()
+    block = text.split("# Command line", 1)[1].split("```sh", 1)[1].split("```", 1)[0]
     lines = block.replace("\\\n", " ").splitlines()
     return [line.split()[1:] for line in lines if line.startswith("colonna ")]
 

@@ -1,0 +1,75 @@
+"""Sphinx configuration of colonna's documentation (``make docs``).
+
+The pages are Markdown (MyST). Two reference pages and the default study's numbers are made here,
+at every build, so that none can drift from what it documents:
+
+* ``generated/cli.md``: the command line, from colonna's argparse parser (``cli_reference.py``);
+* the study-file keys are ``study-file.md``, ``colonna schema --markdown`` (``tests/test_schema.py``
+  checks that it is current);
+* ``generated/default-study.md`` and the ``{{ default_... }}`` substitutions: the default study's
+  answers, read from ``default-study.json``, which ``default_numbers.py`` writes from a run of
+  ``make demo``; the build stops if that run was made from another study file or another colonna
+  version (see the page itself).
+
+The examples gallery (``examples/plot_*.py``) is executed by sphinx-gallery at every build.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import cli_reference  # noqa: E402
+import default_numbers  # noqa: E402
+
+import colonna  # noqa: E402
+from colonna.studies.cli import build_parser  # noqa: E402
+
+project = "colonna"
+author = "the colonna authors"
+copyright = "the colonna authors, BSD-3-Clause"
+release = colonna.__version__
+version = release
+
+extensions = ["myst_parser", "sphinx_gallery.gen_gallery"]
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+root_doc = "index"
+exclude_patterns = ["_build", "examples", "Thumbs.db", ".DS_Store"]
+myst_enable_extensions = ["substitution", "colon_fence"]
+myst_heading_anchors = 3
+html_theme = "alabaster"
+html_theme_options = {"description": "cracked stone columns held by steel collars"}
+html_title = f"colonna {release}"
+
+sphinx_gallery_conf = {
+    "examples_dirs": "examples",
+    "gallery_dirs": "gallery",
+    "filename_pattern": r"/plot_",
+    "download_all_examples": False,
+    "within_subsection_order": "FileNameSortKey",
+    "remove_config_comments": True,
+    "show_memory": False,
+    "matplotlib_animations": False,
+}
+
+
+def _generate() -> dict[str, str]:
+    """Write the generated pages; return the default study's substitutions."""
+    out = HERE / "generated"
+    out.mkdir(exist_ok=True)
+    _write(out / "cli.md", cli_reference.markdown(build_parser()))
+    record = default_numbers.load_current(HERE / default_numbers.RECORD)
+    _write(out / "default-study.md", default_numbers.page(record))
+    return default_numbers.substitutions(record)
+
+
+def _write(path: Path, text: str) -> None:
+    """Write only a changed page, so that an unchanged build stays incremental."""
+    if not path.exists() or path.read_text() != text:
+        path.write_text(text)
+
+
+myst_substitutions = _generate()

@@ -1,0 +1,241 @@
+"""The default study's numbers that the documentation quotes, taken from a run, never retyped.
+
+Running the default study takes minutes, too long for every documentation build, so its numbers
+come from a record of one run, committed beside this script: ``default-study.json``. It is
+written by ``make docs-numbers`` (``make demo``, then ``python docs/default_numbers.py out/demo``),
+which reads the run's ``summary.json``, ``inputs.json`` and ``toe_refinement.json``, and holds
+
+* the SHA-256 of the study file the run read (``inputs.json``'s ``study_sha256``) and the colonna
+  version that ran it, with the date, the git commit and the run's wall time;
+* each quoted number (``QUOTED``: a path into the run's files) as the run wrote it, in SI.
+
+``docs/conf.py`` loads it with :func:`load_current`, which refuses a record made from another
+``studies/default.toml`` or by another colonna version: the build stops and says to run
+``make docs-numbers``. The pages quote the numbers through MyST substitutions
+(``{{ default_fem_collar_utilisation }}``) and ``generated/default-study.md`` lists them all with
+where each comes from. What the record cannot know is a change of the solvers that keeps the
+study file and the version: the page states the commit of the run, so that a reader can tell.
+"""
+
+from __future__ import annotations
+
+import datetime
+import hashlib
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+RECORD = "default-study.json"
+STUDY = ROOT / "studies" / "default.toml"
+
+# name -> (file of the run, path of keys in it, what it is); SI values, as the run wrote them
+QUOTED: dict[str, tuple[str, tuple, str]] = {}
+
+
+def _quote(name: str, file: str, path: str, about: str) -> None:
+    QUOTED[name] = (file, tuple(int(k) if k.isdigit() else k for k in path.split(".")), about)
+
+
+for _name, _path, _about in (
+    ("fem_overturned_replicas", "fem.overturned_replicas", "FEM replicas that overturn"),
+    ("fem_replicas", "verdict_criteria.replicas", "FEM replicas"),
+    ("fem_end_time", "fem.bands.end_time.median", "FEM overturning time, median (s)"),
+    ("fem_end_time_min", "fem.bands.end_time.min", "FEM overturning time, earliest replica (s)"),
+    ("fem_end_time_max", "fem.bands.end_time.max", "FEM overturning time, latest replica (s)"),
+    ("mb_end_time", "rigid_multibody.overturn_time", "multibody overturning time (s)"),
+    ("fem_theta", "fem.bands.max_abs_theta_left.median", "FEM peak rotation, median (rad)"),
+    ("fem_theta_min", "fem.bands.max_abs_theta_left.min", "FEM peak rotation, lowest (rad)"),
+    ("fem_theta_max", "fem.bands.max_abs_theta_left.max", "FEM peak rotation, highest (rad)"),
+    ("mb_theta", "rigid_multibody.max_abs_theta_left", "multibody peak rotation (rad)"),
+    ("theta_ratio", "theta_peak_ratio_fem_over_multibody", "peak rotation FEM / multibody"),
+    ("fem_util", "fem.bands.collar_max_utilisation.median", "FEM collar utilisation, median"),
+    ("fem_util_min", "fem.bands.collar_max_utilisation.min", "FEM collar utilisation, lowest"),
+    ("fem_util_max", "fem.bands.collar_max_utilisation.max", "FEM collar utilisation, highest"),
+    ("mb_util", "rigid_multibody.collar_max_utilisation", "multibody collar utilisation"),
+    ("fem_slip", "fem.bands.crack_slip_max.median", "FEM largest crack slip, median (m)"),
+    ("fem_slip_min", "fem.bands.crack_slip_max.min", "FEM largest crack slip, lowest (m)"),
+    ("fem_slip_max", "fem.bands.crack_slip_max.max", "FEM largest crack slip, highest (m)"),
+    ("mb_slip", "rigid_multibody.max_abs_crack_slip", "multibody largest crack slip (m)"),
+    (
+        "history_error",
+        "verdict_criteria.history_error_to_first_impact",
+        "history error to the first impact, median over the replicas",
+    ),
+    (
+        "history_error_min",
+        "verdict_criteria.bands.history_error.min",
+        "history error to the first impact, lowest replica",
+    ),
+    (
+        "history_error_max",
+        "verdict_criteria.bands.history_error.max",
+        "history error to the first impact, highest replica",
+    ),
+    (
+        "history_error_fine",
+        "verdict_criteria.history_error_fine_step",
+        "history error to the first impact, multibody at a quarter of its step",
+    ),
+    ("history_tolerance", "verdict_criteria.tolerances.history", "history error tolerance"),
+    ("rigid_assumption_ok", "verdict.rigid_assumption_ok", "is the rigid assumption good enough?"),
+    ("collars_yield", "verdict.collars_yield", "do the collars yield?"),
+    ("toe_crushes", "verdict.toe_crushes", "does the toe crush?"),
+    ("toe_ratio", "toe_stress.ratio", "toe stress / f_c, refined at the toe"),
+    ("toe_ratio_low", "toe_stress.band_ratio.0", "toe stress / f_c, band, low end"),
+    ("toe_ratio_high", "toe_stress.band_ratio.1", "toe stress / f_c, band, high end"),
+    ("fem_energy_min", "fem.bands.energy_error_max.min", "FEM energy error, lowest replica"),
+    ("fem_energy_max", "fem.bands.energy_error_max.max", "FEM energy error, highest replica"),
+):
+    _quote(_name, "summary.json", _path, _about)
+
+
+def _get(data, path: tuple):
+    for key in path:
+        data = data[key]
+    return data
+
+
+def record_of(run: Path) -> dict:
+    """The record of the run in folder ``run`` (``colonna study default --out run``)."""
+    inputs = json.loads((run / "inputs.json").read_text())
+    files: dict[str, dict] = {}
+    values = {}
+    for name, (file, path, _about) in QUOTED.items():
+        if file not in files:
+            files[file] = json.loads((run / file).read_text())
+        try:
+            values[name] = _get(files[file], path)
+        except (KeyError, IndexError, TypeError) as missing:
+            raise SystemExit(f"{run / file}: no {'.'.join(map(str, path))} ({missing})") from None
+    commit = subprocess.run(
+        ["git", "-C", str(ROOT), "describe", "--always", "--dirty"],
+        capture_output=True,
+        text=True,
+    ).stdout.strip()
+    return {
+        "study_sha256": inputs["study_sha256"],
+        "colonna_version": inputs["colonna_version"],
+        "recorded": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
+        "commit": commit or "unknown",
+        "values": values,
+    }
+
+
+def study_sha256() -> str:
+    return hashlib.sha256(STUDY.read_bytes()).hexdigest()
+
+
+def load_current(path: Path) -> dict:
+    """The record at ``path``, refused (SystemExit, which stops the build) where it was made
+    from another default study file or by another colonna version than this one."""
+    import colonna
+
+    record = json.loads(Path(path).read_text())
+    rerun = "run `make docs-numbers` (make demo, then python docs/default_numbers.py out/demo)"
+    if record["study_sha256"] != study_sha256():
+        raise SystemExit(f"{path}: made from another studies/default.toml: {rerun}")
+    if record["colonna_version"] != colonna.__version__:
+        raise SystemExit(
+            f"{path}: made by colonna {record['colonna_version']}, this is "
+            f"{colonna.__version__}: {rerun}"
+        )
+    if set(record["values"]) != set(QUOTED):
+        raise SystemExit(f"{path}: holds other numbers than default_numbers.py quotes: {rerun}")
+    return record
+
+
+def _band(v: dict, name: str, digits: str, scale: float = 1.0) -> str:
+    return f"{v[name + '_min'] * scale:{digits}} to {v[name + '_max'] * scale:{digits}}"
+
+
+def substitutions(record: dict) -> dict[str, str]:
+    """The MyST substitutions the pages quote: ``default_<name>``, formatted for reading."""
+    v = record["values"]
+    mm = 1e3
+    out = {
+        "fem_overturned": f"{v['fem_overturned_replicas']} of {v['fem_replicas']}",
+        "fem_end_time": f"{v['fem_end_time']:.3f} s",
+        "fem_end_time_band": _band(v, "fem_end_time", ".3f") + " s",
+        "mb_end_time": f"{v['mb_end_time']:.3f} s",
+        "fem_theta": f"{v['fem_theta']:.4f} rad",
+        "fem_theta_band": _band(v, "fem_theta", ".4f") + " rad",
+        "mb_theta": f"{v['mb_theta']:.4f} rad",
+        "theta_ratio": f"{v['theta_ratio']:.3f}",
+        "fem_util": f"{v['fem_util']:.3f}",
+        "fem_util_band": _band(v, "fem_util", ".3f"),
+        "mb_util": f"{v['mb_util']:.3f}",
+        "fem_slip": f"{v['fem_slip'] * mm:.3f} mm",
+        "fem_slip_band": _band(v, "fem_slip", ".3f", mm) + " mm",
+        "mb_slip": f"{v['mb_slip'] * mm:.3f} mm",
+        "history_error": f"{v['history_error']:.0%}",
+        "history_error_band": _band(v, "history_error", ".3f"),
+        "history_error_fine": f"{v['history_error_fine']:.0%}",
+        "history_tolerance": f"{v['history_tolerance']:.0%}",
+        "rigid_assumption_ok": str(v["rigid_assumption_ok"]),
+        "collars_yield": str(v["collars_yield"]),
+        "toe_crushes": str(v["toe_crushes"]),
+        "toe_ratio": f"{v['toe_ratio']:.3f} f_c",
+        "toe_band": f"{v['toe_ratio_low']:.3f} to {v['toe_ratio_high']:.3f} f_c",
+        "fem_energy_band": f"{v['fem_energy_min']:.1e} to {v['fem_energy_max']:.1e}",
+        "recorded": record["recorded"],
+        "commit": record["commit"],
+        "version": record["colonna_version"],
+    }
+    return {f"default_{name}": text for name, text in out.items()}
+
+
+def page(record: dict) -> str:
+    """``generated/default-study.md``: every quoted number, its source and its run."""
+    subs = substitutions(record)
+    lines = [
+        "# The default study's answers",
+        "",
+        "The numbers these pages quote from the default study (`colonna study default`, "
+        "`make demo`: a cracked marble column 4 m tall and 0.45 m across, three 8 x 60 mm "
+        "steel collars, a sine pulse of three times a half's uplift acceleration at "
+        "Omega / p = 3), inserted when the documentation is built from the record of one run, "
+        "`docs/default-study.json`, not typed into the text. The build refuses a record made "
+        "from another `studies/default.toml` or by another colonna version "
+        "(`make docs-numbers` makes a new one).",
+        "",
+        f"Run by colonna {record['colonna_version']} at commit `{record['commit']}`, "
+        f"recorded {record['recorded']}; study file SHA-256 `{record['study_sha256']}`.",
+        "",
+        "| quantity | value | from the run's file |",
+        "|---|---|---|",
+    ]
+    for name, (file, path, about) in QUOTED.items():
+        value = record["values"][name]
+        shown = f"{value:.6g}" if isinstance(value, float) else str(value)
+        lines.append(f"| {about} | {shown} | `{file}`: `{'.'.join(map(str, path))}` |")
+    lines += [
+        "",
+        "As the pages quote them (substitution names, for authors):",
+        "",
+        "| name | quoted as |",
+        "|---|---|",
+        *[f"| `{name}` | {text} |" for name, text in subs.items()],
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def main(argv: list[str]) -> int:
+    if len(argv) != 1:
+        print("usage: python docs/default_numbers.py OUT  (the --out folder of the default study)")
+        return 2
+    run = Path(argv[0])
+    record = record_of(run)
+    if record["study_sha256"] != study_sha256():
+        print(f"{run} was run from another studies/default.toml: run make demo again")
+        return 2
+    (HERE / RECORD).write_text(json.dumps(record, indent=1, sort_keys=False) + "\n")
+    print(f"wrote {HERE / RECORD} from {run} ({len(record['values'])} numbers)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
