@@ -49,7 +49,7 @@ test: $(STAMP) browser
 test-all: $(STAMP) browser
 	$(BIN)/python -m pytest -q -m ""
 
-# branch coverage of studies/ by the default test suite (README, "Testing"): .coverage, a table
+# branch coverage of studies/ by the default test suite (docs/testing.md): .coverage, a table
 coverage: $(STAMP) browser
 	$(BIN)/coverage run --branch --source=studies -m pytest -q
 	$(BIN)/coverage report --skip-covered

@@ -716,22 +716,37 @@ def _flavour(argv: list[str]) -> tuple:
     return (argv[0], model, "--collars" in argv, "--cracked" in argv)
 
 
+def _shown_examples() -> list[list[str]]:
+    """Every colonna command line the README, the command-line page and the tutorial show."""
+    import shlex
+
+    root = Path(__file__).parents[1]
+    lines = list(_readme_examples())
+    for page in (root / "README.md", root / "docs" / "tutorial.md"):
+        for block in page.read_text().split("```sh\n")[1:]:
+            for line in block.split("```", 1)[0].replace("\\\n", " ").splitlines():
+                words = shlex.split(line, comments=True)
+                if words and words[0].endswith("colonna"):
+                    lines.append(words[1:])
+    return lines
+
+
 def test_warmup_runs_every_flavour_of_the_readme_examples():
-    """`make` runs `colonna warmup` after installing so that a fresh install's first run of a
-    README example loads compiled kernels instead of compiling them: the warm-up must run
-    every rigid and spectrum flavour the README shows (a flavour it missed would compile on
-    the user's first run)."""
+    """`make` runs `colonna warmup` after installing so that a fresh install's first run of an
+    example of the README or the manual loads compiled kernels instead of compiling them: the
+    warm-up must run every rigid and spectrum flavour they show (a flavour it missed would
+    compile on the user's first run)."""
     from colonna.studies.warmup import commands
 
     warmed = {_flavour(argv) for _, argv in commands(Path("."))}
-    shown = {_flavour(argv) for argv in _readme_examples() if argv[0] in ("rigid", "spectrum")}
+    shown = {_flavour(argv) for argv in _shown_examples() if argv[0] in ("rigid", "spectrum")}
     assert shown and shown <= warmed, shown - warmed
     assert {"fem"} <= {argv[0] for _, argv in commands(Path("."))}
 
 
 @pytest.mark.slow
 def test_after_warmup_a_readme_example_compiles_nothing(tmp_path):
-    """After `colonna warmup` into an empty numba cache, the README's multibody examples (the
+    """After `colonna warmup` into an empty numba cache, the manual's multibody examples (the
     longest to compile) and a FEM ensemble of another column load every kernel from the cache:
     numba saves nothing new (NUMBA_DEBUG_CACHE reports each save). make test-all."""
     import os

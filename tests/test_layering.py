@@ -1,4 +1,4 @@
-"""The packages' dependencies point one way (README, Layout): read from the source's imports.
+"""The packages' dependencies point one way (docs/layout.md): read from the source's imports.
 
 core <- meshes <- fem;  core <- rigid;  studies -> fem, rigid, meshes, core. The shared core
 (colonna/core) imports none of the physics packages; fem/ and meshes/ import nothing from rigid/
