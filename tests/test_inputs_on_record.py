@@ -10,6 +10,7 @@ SHA-256). And a vertical ground acceleration that lifts the column off the groun
 
 import hashlib
 import json
+import math
 import re
 import shutil
 import tomllib
@@ -21,6 +22,7 @@ from tiny_study import TINY_STUDY
 
 import colonna
 from colonna.core.errors import InputError, StaleResultsError
+from colonna.core.ground import read_record
 from colonna.fem.toe_stress import REFINEMENTS
 from colonna.studies import executor
 from colonna.studies.cli import main, resolve_study
@@ -122,6 +124,17 @@ def test_changed_record_file_is_detected(tmp_path, capsys):
     )
     out = tmp_path / "out"
     assert main(["study", str(study), "--out", str(out), "--workers", "1"]) == 0
+    # the record on record: its file by SHA-256, its peak as read and as applied (scale 2)
+    inputs = json.loads((out / "inputs.json").read_text())
+    applied = inputs["ground_motion"]["horizontal"]
+    assert applied["file"] == "quake.AT2" and applied["samples"] > 2
+    assert applied["file_sha256"] == hashlib.sha256(record.read_bytes()).hexdigest()
+    peak = read_record(record).peak_acceleration
+    assert applied["file_peak_acceleration"] == pytest.approx(peak, rel=1e-15)
+    assert applied["peak_acceleration"] == pytest.approx(2.0 * peak, rel=1e-15)
+    assert inputs["ground"]["scale"] == 2.0 and inputs["ground"]["time_scale"] == 1.0
+    assert "ground.time_scale" in inputs["resolved"] and "ground.scale" not in inputs["resolved"]
+    assert list(_nulls(inputs)) == []
     before = _files(out)
     # the same record, one sample changed: the study file itself is as it was
     lines = record.read_text().splitlines(keepends=True)
@@ -157,6 +170,113 @@ def test_a_shipped_study_is_recorded_as_shipped(tmp_path):
     assert json.loads((tmp_path / "inputs.json").read_text()) == inputs
     assert inputs["ground"]["pulse"] == "none" and inputs["run"]["duration"] == 3.0
     assert inputs["free_rocking"]["tilt_fractions"] == [0.3, 0.6]
+
+
+# --- the values a run used, never a null --------------------------------------------------------
+
+SHIPPED = sorted(p.stem for p in resolve_study("default").parent.glob("*.toml"))
+
+
+def _nulls(data, path=""):
+    """The dotted paths of the nulls in ``data``."""
+    if data is None:
+        yield path
+    elif isinstance(data, dict):
+        for key, value in data.items():
+            yield from _nulls(value, f"{path}.{key}" if path else key)
+    elif isinstance(data, list):
+        for i, value in enumerate(data):
+            yield from _nulls(value, f"{path}.{i}")
+
+
+def _given(data: dict, dotted: str) -> bool:
+    """Whether the study file's tables give the dotted key (collar.0.length: a [[collar]])."""
+    node = data
+    for part in dotted.split("."):
+        if isinstance(node, list):
+            node = node[int(part)] if int(part) < len(node) else None
+        elif isinstance(node, dict):
+            node = node.get(part)
+        if node is None:
+            return False
+    return True
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_every_shipped_study_records_the_values_its_run_uses_and_no_null(name):
+    """inputs.json of each shipped kind, as the driver writes it without its run record (the
+    serialisation of the study's resolved inputs, no case run): no null anywhere; the values
+    resolved for the run against their closed forms (mesh size w / 16, toe length a tenth of
+    a body, Housner's restitution of the rocking half, the pulse's amplitude g tan(alpha) x
+    ratio and period 2 pi / (ratio p), duration = pulse end + 1.5 s, the stable step with
+    its safety and damping factors); each value named in ``resolved`` absent from the file."""
+    import math
+
+    study = load(resolve_study(name))
+    inputs = json.loads(json.dumps(study.to_json()))  # through text, as written
+    assert list(_nulls(inputs)) == []
+    given = tomllib.loads(study.text.decode())
+    for key in inputs["resolved"]:
+        assert not _given(given, key), key
+        assert _given(inputs, key), key
+    if study.spec.column is None:  # the Zhang & Makris validation: its own fixed block
+        assert "model" not in inputs and inputs["resolved"] == {}
+        return
+    column, mesh, run = inputs["column"], inputs["mesh"], inputs["run"]
+    body = column["width"] / (2.0 if column["cracked"] else 1.0)
+    assert mesh["size"] == given.get("mesh", {}).get("size", column["width"] / 16.0)
+    assert mesh["edge_length"] == pytest.approx(0.1 * body, rel=1e-15)
+    b, h = column["width"] / 4.0, column["height"] / 2.0  # the cracked column's half block
+    alpha = math.atan(b / h)
+    assert inputs["rigid"]["restitution"] == pytest.approx(1.0 - 1.5 * math.sin(alpha) ** 2)
+    model = inputs["model"]
+    xi, safety = inputs["contact"]["damping"], run["safety"]
+    assert run["dt"] == model["dt"] == model["dt_stable"]
+    assert model["dt"] == pytest.approx(
+        safety * model["dt_critical"] * (math.sqrt(1.0 + xi * xi) - xi), rel=1e-12
+    )
+    assert model["dt_critical"] < model["dt_critical_stone"]  # contact and collars stiffen
+    assert model["dofs"] == 2 * model["nodes"] and model["elements"] > 0
+    assert model["steps_per_output"] == round(run["output_interval"] / model["dt"])
+    assert 0.0 < model["penalty_base_min"] <= model["penalty_base_mean"]
+    ground = inputs["ground"]
+    if "ground_motion" not in inputs:  # the kind's cases set their own motion
+        assert "duration" not in run or _given(given, "run.duration")
+        return
+    motion = inputs["ground_motion"]["horizontal"]
+    assert run["duration"] == pytest.approx(motion["end_time"] + 1.5, rel=1e-15)
+    if column["top_load"] == 0.0:  # uplift g tan(alpha); p = sqrt(3 g / (4 R))
+        p = math.sqrt(3.0 * 9.81 / (4.0 * math.hypot(b, h)))
+        assert ground["amplitude"] == pytest.approx(ground["amplitude_ratio"] * 9.81 * b / h)
+        assert ground["period"] == pytest.approx(2.0 * math.pi / (ground["omega_ratio"] * p))
+    assert motion["peak_acceleration"] == pytest.approx(ground["amplitude"], rel=1e-15)
+
+
+def test_a_run_records_the_model_it_ran_and_when_and_where(design_run):
+    """The model on record is the one the FEM case ran (its step, degrees of freedom, base
+    penalty and step count, as the solver's own summary has them), and the run's date, wall
+    time and machine are on record."""
+    from datetime import datetime
+
+    path = design_run / "inputs.json"
+    inputs = json.loads(path.read_text())
+    assert list(_nulls(inputs)) == []
+    fem = json.loads((design_run / "cases" / "fem" / "result.json").read_text())["summary"]
+    model = inputs["model"]
+    assert fem["dt"] == model["dt"] == inputs["run"]["dt"]
+    assert fem["dofs"] == model["dofs"]
+    assert fem["penalty_base_mean"] == model["penalty_base_mean"]
+    assert fem["steps"] == model["steps_per_output"] * math.ceil(
+        inputs["run"]["duration"] / model["output_interval_used"]
+    )
+    record = inputs["run_record"]
+    started = datetime.fromisoformat(record["started_utc"])
+    finished = datetime.fromisoformat(record["finished_utc"])
+    assert started.utcoffset().total_seconds() == 0.0
+    assert 0.0 < record["wall_seconds"] <= (finished - started).total_seconds() + 1.0
+    assert finished.timestamp() <= path.stat().st_mtime + 1.0
+    assert record["machine"]["cores"] >= 1 and record["machine"]["platform"]
+    assert record["colonna_version"] == colonna.__version__
 
 
 # --- run_cases on its own: cheap cases ----------------------------------------------------------
