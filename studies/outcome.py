@@ -344,7 +344,8 @@ def fem_answers(fem: dict, why_not_rigid: str, collars=()) -> dict[str, dict]:
         else not_assessed(QUESTIONS["collars_yield"], "the column has no collars"),
         "toe_crushes": limit_answer(
             QUESTIONS["toe_crushes"],
-            "largest toe stress / f_c (study mesh, not refined)",
+            "toe stress (base contact pressure averaged over the toe window) / f_c, "
+            "study-mesh peak (not refined)",
             fem["bands"].get("edge_stress_ratio"),
             1.0,
             "-",

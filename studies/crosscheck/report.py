@@ -14,7 +14,7 @@ from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
-from matplotlib.ticker import FuncFormatter
+from matplotlib.ticker import FuncFormatter, MaxNLocator
 
 from ...core.collar import hinge_strain_profile
 from ...core.constants import DUCTILITY_LIMIT
@@ -25,6 +25,27 @@ SIDES = ("left", "right")  # a collar's ends in the FEM history
 
 
 PLAIN = FuncFormatter(lambda value, _: f"{value:g}")  # tick labels as numbers, not powers
+
+# The toe and base stresses the report shows, each named wherever it appears (issue 35):
+# - the toe stress: the base contact pressure averaged over the toe window (the first
+#   edge_length from each base corner, and edge_time), fem/toe_stress.py; its largest value is
+#   quoted as the REFINED peak (toe windows rerun on refined meshes: the answer's number) or
+#   the STUDY_MESH peak (the study's own mesh, median of the replicas);
+# - the base contact pressure AT_NODES (not averaged: the deformed-shape and base-pressure
+#   figures);
+# - the stone's minimum principal stress sigma_3 per element (the renders, studies/render.py).
+REFINED = "refined toe-window peak"
+STUDY_MESH = "study-mesh peak"
+AT_NODES = "base contact pressure at the nodes"
+
+
+def toe_window(summary: dict) -> str:
+    """What the toe stress is, in words with this run's window."""
+    fem = summary["fem"]
+    text = f"base contact pressure averaged over the first {1e3 * fem['edge_length']:.3g} mm"
+    if fem.get("edge_time"):
+        text += f" from the toe and over {1e3 * fem['edge_time']:.3g} ms"
+    return text
 
 
 def write_report(out: Path) -> Path:
@@ -42,6 +63,7 @@ def write_report(out: Path) -> Path:
     spectrum = json.loads(spectrum_file.read_text()) if spectrum_file.exists() else None
     (out / "figures").mkdir(exist_ok=True)
     figs = []
+    sdof = _sdof_block(summary)
 
     # 1. rotations, FEM vs the rigid models (the CSV on the FEM's times, where all ran)
     t = fem_h["t"]
@@ -134,12 +156,20 @@ def write_report(out: Path) -> Path:
 
     # 2. where the pulse sits on the rigid spectrum (a record has no place on it)
     if spectrum is not None:
-        _spectrum_figure(out, spectrum, figs)
+        _spectrum_figure(out, spectrum, figs, sdof)
 
     # 3. collar stress against f_y
     collar_cols = sorted(k for k in fem_h if k.startswith("collar_") and k.endswith("_stress"))
     if collar_cols:
-        write_csv(out / "figures" / "collars.csv", {"t": t, **{k: fem_h[k] for k in collar_cols}})
+        mb_cols = [k for k in collar_cols if k in mb_h]  # the rigid multibody's, where it ran
+        write_csv(
+            out / "figures" / "collars.csv",
+            {
+                "t": t,
+                **{k: fem_h[k] for k in collar_cols},
+                **{f"multibody_{k}": on_fem_times(mb_h, k) for k in mb_cols},
+            },
+        )
         fig = Figure(figsize=(9.5, 3.4))
         ax = fig.subplots()
         for j, k in enumerate(collar_cols):  # collars of one history stay apart
@@ -148,7 +178,18 @@ def write_report(out: Path) -> Path:
                 fem_h[k] / 1e6,
                 color=f"C{j}",
                 **distinct(j, len(collar_cols)),
-                label=f"FEM {k.replace('_stress', '')}",
+                label=f"FEM {k.replace('_stress', '').replace('_', ' ')}",
+            )
+        m = mb_h["t"] <= t[-1]
+        for j, k in enumerate(mb_cols):  # thin and dark beside the FEM's: the rigid reference
+            ax.plot(
+                mb_h["t"][m],
+                mb_h[k][m] / 1e6,
+                color=f"C{j}",
+                ls=(0, (1, 1.5)),
+                lw=1.0,
+                alpha=0.9,
+                label=f"rigid multibody {k.replace('_stress', '').replace('_', ' ')}",
             )
         fy = summary["collar_fy"][0]
         ax.axhline(fy / 1e6, color="k", ls="--", lw=1, label="f_y (yield stress)")
@@ -161,9 +202,10 @@ def write_report(out: Path) -> Path:
                 out,
                 "collars",
                 fig,
-                "Collar stress against the yield stress "
+                "Collar extreme-fibre stress against the yield stress: the FEM's "
+                "(replica 0) and, dotted, the rigid multibody model's, collar by collar "
                 "(collars with the same history drawn on top of each other, each "
-                "with its own dashes and markers)",
+                "with its own dashes and markers)" + _until_caption(summary),
             )
         )
 
@@ -182,21 +224,51 @@ def write_report(out: Path) -> Path:
             fem_h[k] / 1e6,
             color=f"C{j}",
             **distinct(j, len(edge_cols)),
-            label=k.replace("edge_stress_", "toe "),
+            label=k.replace("edge_stress_", "toe ").replace("_", " "),
         )
     fc = summary["stone_fc"]
     ax.axhline(fc / 1e6, color="k", ls="--", lw=1, label="f_c (stone strength)")
+    study_mesh = summary["fem"].get("edge_stress_max")
+    if study_mesh is not None:
+        ax.axhline(
+            study_mesh / 1e6,
+            color="0.4",
+            ls=":",
+            lw=1.2,
+            label=f"{STUDY_MESH}, median of the replicas: {study_mesh / 1e6:.4g} MPa",
+        )
+    toe = summary.get("toe_stress")
+    if toe:
+        ax.plot(
+            [toe["t_peak"]],
+            [toe["stress"] / 1e6],
+            ls="none",
+            marker="*",
+            ms=14,
+            mfc="none",
+            mec="C3",
+            mew=1.6,
+            label=f"{REFINED} (the answer's): {toe['stress'] / 1e6:.4g} MPa",
+        )
     ax.set_yscale("symlog", linthresh=1.0)
     ax.set_xlabel("t (s)")
-    ax.set_ylabel(f"toe stress over {1e3 * summary['fem']['edge_length']:.0f} mm (MPa)")
+    ax.set_ylabel("toe stress (MPa)")
     legend_beside(ax)  # the f_c line stays in view
     fig.tight_layout()
+    answer = (
+        f'the star is the {REFINED} that "Does the toe crush?" quotes '
+        f"({toe['ratio']:.3g} f_c, toe windows rerun on refined meshes from replica "
+        f"{toe['replica']}), the dotted line the {STUDY_MESH} of the Numbers table"
+        if toe
+        else f'the answer to "Does the toe crush?" is the {STUDY_MESH}, dotted'
+    )
     figs.append(
         figure(
             out,
             "toe_stress",
             fig,
-            "Base-edge compressive stress at the toes against the stone strength",
+            f"Toe stress against the stone strength: the {toe_window(summary)}, at each "
+            f"toe of the study mesh, replica 0; {answer}" + _until_caption(summary),
         )
     )
 
@@ -217,10 +289,18 @@ def write_report(out: Path) -> Path:
     ax.plot(x, p_rest / 1e6, "o-", ms=3, label="at rest (gravity)")
     ax.plot(x, p_peak / 1e6, "s-", ms=3, label=f"at peak rotation, t = {pressure['t'][row]:.3f} s")
     ax.set_xlabel("x (m)")
-    ax.set_ylabel("base contact pressure (MPa)")
+    ax.set_ylabel(f"{AT_NODES} (MPa)")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    figs.append(figure(out, "base_pressure", fig, "Base contact pressure"))
+    figs.append(
+        figure(
+            out,
+            "base_pressure",
+            fig,
+            f"The {AT_NODES} (replica 0), not averaged: the toe stress is its average over "
+            f"the toe window ({toe_window(summary)})",
+        )
+    )
 
     renders, renders_error = _renders(out)
     return render_page(
@@ -231,8 +311,31 @@ def write_report(out: Path) -> Path:
         figs=figs,
         renders=renders,
         renders_error=renders_error,
-        rows=[row for row in CROSSCHECK_NUMBERS if has(summary, row[1])],
+        rows=[
+            (label.replace("_{sdof}", f"_{sdof}"), key, unit)
+            for label, key, unit in CROSSCHECK_NUMBERS
+            if has(summary, key)
+        ],
+        toe={"refined": REFINED, "study_mesh": STUDY_MESH, "window": toe_window(summary)},
     )
+
+
+def _sdof_block(summary: dict) -> str:
+    """The block of the paper's SDOF model (``half`` or ``column``: its alpha and p normalise
+    the pulse), from the outcome's models."""
+    for m in summary.get("outcome", {}).get("models", []):
+        if m["model"].startswith("SDOF half block"):
+            return m.get("alpha_block", "half")
+    return "half"
+
+
+def _until_caption(summary: dict) -> str:
+    """Where the FEM overturns, what a stress figure's curves stop at (the outcome's qualifier,
+    :func:`colonna.studies.outcome.outcome`); empty otherwise."""
+    for a in summary.get("outcome", {}).get("answers", []):
+        if a.get("qualifier"):
+            return f"; the stresses hold {a['qualifier']} (the FEM run stops there)"
+    return ""
 
 
 def _first_time(t, flags) -> float | None:
@@ -462,18 +565,34 @@ CROSSCHECK_NUMBERS = [
     ),
     ("halves rock as one block", "verdict.rocks_as_one_block", ""),
     ("FEM status", "fem.status", ""),
-    ("toe stress max (study mesh, median of the replicas)", "fem.edge_stress_max", "MPa"),
+    (
+        f"toe stress, {REFINED} (the answer's; base contact pressure averaged over the toe window)",
+        "toe_stress.stress",
+        "MPa",
+    ),
+    (
+        f"toe stress, {STUDY_MESH} (base contact pressure averaged over the toe window; median "
+        "of the replicas)",
+        "fem.edge_stress_max",
+        "MPa",
+    ),
+    (
+        "toe window: length from the toe over which the toe stress is averaged",
+        "fem.edge_length",
+        "mm",
+    ),
+    ("toe window: time over which the toe stress is averaged", "fem.edge_time", "s"),
     ("energy balance error (max, relative)", "fem.energy_error_max", "-"),
     ("time step", "fem.dt", "s"),
     ("stable-step reduction by contact", "fem.stable_step_reduction_by_contact", "-"),
     ("steps", "fem.steps", "-"),
     ("dofs", "fem.dofs", "-"),
     ("FEM wall time", "fem.wall_seconds", "s"),
-    ("pulse Omega/p (n/a for a record)", "pulse.omega_ratio", "-"),
+    ("pulse Omega/p_{sdof} (n/a for a record)", "pulse.omega_ratio", "-"),
     ("peak ground acceleration", "pulse.amplitude", "m/s^2"),
     (
-        "pulse a_p / a_uplift (a_uplift = g tan alpha (1 + lambda), lambda = top load / weight "
-        "of the rocking half)",
+        "pulse a_p / a_uplift (a_uplift = g tan alpha_{sdof} (1 + lambda), lambda = top load / "
+        "weight of the SDOF block)",
         "pulse.amplitude_ratio",
         "-",
     ),
@@ -605,11 +724,14 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
             Patch(
                 facecolor="k",
                 alpha=0.35,
-                label=f"base contact pressure (max {pressure.max():.2f} MPa)",
+                label=f"{AT_NODES} (max {pressure.max():.3g} MPa)",
             )
         )
     ax.axhline(0.0, color="k", lw=0.8)
     ax.set_aspect("equal")
+    # a column is narrow: few x ticks, so that their labels never run into each other
+    ax.xaxis.set_major_locator(MaxNLocator(nbins=3, steps=[1, 2, 2.5, 5, 10]))
+    ax.xaxis.set_major_formatter(PLAIN)
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_title(f"FEM at peak rotation, t = {t_peak:.3f} s")
@@ -623,13 +745,13 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
             "The FEM column at its peak rotation: each "
             "half's rigid motion true to scale, its elastic deformation magnified "
             f"x{factor:g}; the crack is the gap between the halves; collars in red; "
-            "under the base, the contact pressure at that instant (not to the "
-            "length scale)",
+            f"under the base, the {AT_NODES} at that instant (not averaged, and not to the "
+            "length scale: the toe stress of the answers is its average over the toe window)",
         )
     )
 
 
-def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
+def _spectrum_figure(out: Path, spectrum: dict, figs: list, block: str = "half") -> None:
     """The study's pulse on the rigid overturning spectra: the SDOF half block with collars as a
     map and, where spectrum.json holds it (key ``multibody``), the rigid multibody model, the
     verdict's rigid reference, as a marker at each pulse of its coarser grid."""
@@ -704,8 +826,8 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list) -> None:
         zorder=4,
         label="this study's pulse",
     )
-    ax.set_xlabel(r"$\Omega/p$")
-    ax.set_ylabel(r"$a_p/(g\tan\alpha)$")
+    ax.set_xlabel(rf"$\Omega/p_\mathrm{{{block}}}$ (-)")
+    ax.set_ylabel(rf"$a_p/(g\tan\alpha_\mathrm{{{block}}})$ (-)")
     legend_beside(ax, handles=handles)
     ax.set_title(
         "Rigid overturning spectra: SDOF half block with collars (map)"
