@@ -275,7 +275,7 @@ def intensity_measures(
     pga = float(np.max(np.abs(_table(record)[1])))
     pgv, pgd = float(np.max(np.abs(v))), float(np.max(np.abs(u)))
     periods = [float(x) for x in np.atleast_1d(np.asarray(periods, dtype=float))]
-    sa = spectral_acceleration(record, periods, damping=damping) if periods else []
+    sa: Any = spectral_acceleration(record, periods, damping=damping) if periods else []
     rocking: dict[str, float] = {}
     if block is not None:
         uplift = block.g * math.tan(block.alpha)
