@@ -516,9 +516,12 @@ def _cmd_study(args) -> dict:
             f"(this machine has {cores} core{'s' if cores > 1 else ''})"
         )
     grid = parse_grid_size(args.grid) if args.grid is not None else None
+    if args.paper is not None and not args.pdf:
+        raise InputError("--paper sets the PDF's paper: give it with --pdf")
     if args.pdf:
-        from .pdf import require_browser
+        from .pdf import require_browser, require_paper
 
+        require_paper(args.paper or "a4")
         require_browser()
     from ..fem import _kernels as fem_kernels
     from .executor import before_computing
@@ -541,7 +544,9 @@ def _cmd_study(args) -> dict:
     if args.pdf:
         from .pdf import write_pdf
 
-        pdf = write_pdf(Path(args.out) / "index.html", Path(args.out) / "report.pdf")
+        pdf = write_pdf(
+            Path(args.out) / "index.html", Path(args.out) / "report.pdf", args.paper or "a4"
+        )
         print(f"[study] PDF: {pdf}", file=sys.stderr, flush=True)
     if args.json:
         return summary
@@ -720,6 +725,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--pdf",
         action="store_true",
         help="also print the report to OUT/report.pdf (headless Chromium)",
+    )
+    p.add_argument(
+        "--paper",
+        choices=("a4", "letter"),
+        help="the PDF's paper with --pdf: a4 (default) or letter",
     )
     p.add_argument(
         "--force",

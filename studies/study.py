@@ -209,9 +209,10 @@ class Study:
                 entry.update(
                     file=given,
                     file_sha256=hashlib.sha256(path.read_bytes()).hexdigest(),
-                    file_peak_acceleration=motion.peak_acceleration / factor if factor else None,
-                    samples=int(len(motion.time)),  # type: ignore[attr-defined]
+                    samples=int(len(motion.acceleration_table()[0])),
                 )
+                if factor > 0.0:  # the peak of the file as read (m/s^2), before ground.scale
+                    entry["file_peak_acceleration"] = motion.peak_acceleration / factor
             record[name] = entry
         return record or None
 

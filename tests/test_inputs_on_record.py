@@ -475,8 +475,18 @@ def test_report_opens_with_the_outcome_then_lists_the_inputs_of_the_study_file(d
         for key in ("rigid_assumption_ok", "collars_yield", "toe_crushes")
     )
     given = tomllib.loads(DESIGN)
-    cells = re.findall(r'<td data-input="([^"]+)" data-index="(\d+)">([^<]*)</td>', page)
-    shown = {(path, int(i)): value for path, i, value in cells}
+    cells = re.findall(
+        r'<td data-input="([^"]+)" data-index="(\d+)">([^<]*)'
+        r'(?:<sup class="resolved" title="[^"]+" data-resolved="([^"]+)">r</sup>)?</td>',
+        page,
+    )
+    shown = {(path, int(i)): value for path, i, value, _ in cells}
+    # a value resolved for the run (not in the file) is marked, a given one is not
+    marked = {(path, int(i)): key for path, i, _, key in cells if key}
+    resolved = json.loads((design_run / "inputs.json").read_text())["resolved"]
+    assert sorted(marked.values()) == sorted(resolved)
+    assert marked[("column.thickness", 0)] == "column.thickness"
+    assert marked[("collar.length", 0)] == "collar.0.length"
     checked = 0
     for table, entries in given.items():
         for i, entry in enumerate(entries if isinstance(entries, list) else [entries]):
