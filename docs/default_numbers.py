@@ -31,21 +31,28 @@ ROOT = HERE.parent
 RECORD = "default-study.json"
 STUDY = ROOT / "studies" / "default.toml"
 
-# name -> (file of the run, path of keys in it, what it is); SI values, as the run wrote them
+# name -> (file of the run, path of keys in it, what it is); SI values, as the run wrote them. A
+# path into a CSV history is (column, time): the column's absolute value interpolated at that time.
 QUOTED: dict[str, tuple[str, tuple, str]] = {}
 
 
 def _quote(name: str, file: str, path: str, about: str) -> None:
-    QUOTED[name] = (file, tuple(int(k) if k.isdigit() else k for k in path.split(".")), about)
+    keys = tuple(int(k) if k.isdigit() else k for k in path.split("."))
+    if file.endswith(".csv"):
+        column, time = path.split("@")
+        keys = (column, float(time))
+    QUOTED[name] = (file, keys, about)
 
 
-for _name, _path, _about in (
+_SUMMARY = (
     ("fem_overturned_replicas", "fem.overturned_replicas", "FEM replicas that overturn"),
     ("fem_replicas", "verdict_criteria.replicas", "FEM replicas"),
-    ("fem_end_time", "fem.bands.end_time.median", "FEM overturning time, median (s)"),
-    ("fem_end_time_min", "fem.bands.end_time.min", "FEM overturning time, earliest replica (s)"),
-    ("fem_end_time_max", "fem.bands.end_time.max", "FEM overturning time, latest replica (s)"),
+    ("fem_end_time", "fem.bands.t_end.median", "FEM end (overturning) time, median (s)"),
+    ("fem_end_time_min", "fem.bands.t_end.min", "FEM end time, earliest replica (s)"),
+    ("fem_end_time_max", "fem.bands.t_end.max", "FEM end time, latest replica (s)"),
     ("mb_end_time", "rigid_multibody.overturn_time", "multibody overturning time (s)"),
+    ("sdof_mode", "rigid.mode", "the paper's SDOF half-block model: outcome"),
+    ("monolith_mode", "rigid_monolith.mode", "whole column as one rigid block: outcome"),
     ("fem_theta", "fem.bands.max_abs_theta_left.median", "FEM peak rotation, median (rad)"),
     ("fem_theta_min", "fem.bands.max_abs_theta_left.min", "FEM peak rotation, lowest (rad)"),
     ("fem_theta_max", "fem.bands.max_abs_theta_left.max", "FEM peak rotation, highest (rad)"),
@@ -83,13 +90,50 @@ for _name, _path, _about in (
     ("rigid_assumption_ok", "verdict.rigid_assumption_ok", "is the rigid assumption good enough?"),
     ("collars_yield", "verdict.collars_yield", "do the collars yield?"),
     ("toe_crushes", "verdict.toe_crushes", "does the toe crush?"),
-    ("toe_ratio", "toe_stress.ratio", "toe stress / f_c, refined at the toe"),
-    ("toe_ratio_low", "toe_stress.band_ratio.0", "toe stress / f_c, band, low end"),
-    ("toe_ratio_high", "toe_stress.band_ratio.1", "toe stress / f_c, band, high end"),
+    ("toe_ratio", "toe_stress.ratio", "toe stress / f_c, refined at the toe (quoted)"),
+    ("toe_ratio_low", "toe_stress.band_ratio.min", "toe stress / f_c, band, low end"),
+    ("toe_ratio_high", "toe_stress.band_ratio.max", "toe stress / f_c, band, high end"),
+    ("toe_unrefined", "toe_stress.unrefined_ratio", "toe stress / f_c on the study mesh"),
+    ("toe_refined_2", "toe_stress.ratios.1", "toe stress / f_c, toe elements split 2 times"),
+    ("toe_refined_4", "toe_stress.ratios.2", "toe stress / f_c, toe elements split 4 times"),
+    ("toe_refined_8", "toe_stress.ratios.3", "toe stress / f_c, toe elements split 8 times"),
+    ("toe_richardson", "toe_stress.richardson_ratio", "toe stress / f_c, Richardson estimate"),
+    ("toe_order", "toe_stress.observed_order", "toe stress, observed order of the refinement"),
+    ("toe_uncertainty", "toe_stress.uncertainty", "toe stress, relative uncertainty"),
+    ("toe_replica_spread", "toe_stress.replica_spread", "toe stress, replicas' relative spread"),
+    ("toe_mesh", "toe_stress.mesh_uncertainty", "toe stress, relative mesh uncertainty"),
+    ("toe_handover", "toe_stress.handover_error", "toe window's hand-over error"),
     ("fem_energy_min", "fem.bands.energy_error_max.min", "FEM energy error, lowest replica"),
     ("fem_energy_max", "fem.bands.energy_error_max.max", "FEM energy error, highest replica"),
-):
+)
+for _name, _path, _about in _SUMMARY:
     _quote(_name, "summary.json", _path, _about)
+_FINE = "cases/multibody-fine/result.json"
+_quote("mb_fine_util", _FINE, "collar_max_utilisation", "multibody at 1/16 step: utilisation")
+_quote("mb_fine_slip", _FINE, "max_abs_crack_slip", "multibody at 1/16 step: crack slip (m)")
+for _time in ("0.1", "0.3", "0.5"):
+    _t = _time.replace(".", "")
+    _quote(
+        f"fem_theta_{_t}",
+        "cases/fem/history.csv",
+        f"theta_left@{_time}",
+        f"FEM rotation at t = {_time} s, plain run (rad)",
+    )
+    _quote(
+        f"mb_theta_{_t}",
+        "cases/multibody/history.csv",
+        f"theta_left@{_time}",
+        f"multibody rotation at t = {_time} s (rad)",
+    )
+
+
+def _csv_value(path: Path, column: str, time: float) -> float:
+    """|column| of a history CSV (header row, first column t) interpolated at ``time``."""
+    import numpy as np
+
+    header = path.open().readline().strip().split(",")
+    data = np.loadtxt(path, delimiter=",", skiprows=1, usecols=(0, header.index(column)))
+    return float(abs(np.interp(time, data[:, 0], data[:, 1])))
 
 
 def _get(data, path: tuple):
@@ -104,11 +148,14 @@ def record_of(run: Path) -> dict:
     files: dict[str, dict] = {}
     values = {}
     for name, (file, path, _about) in QUOTED.items():
-        if file not in files:
-            files[file] = json.loads((run / file).read_text())
         try:
+            if file.endswith(".csv"):
+                values[name] = _csv_value(run / file, *path)
+                continue
+            if file not in files:
+                files[file] = json.loads((run / file).read_text())
             values[name] = _get(files[file], path)
-        except (KeyError, IndexError, TypeError) as missing:
+        except (KeyError, IndexError, TypeError, ValueError) as missing:
             raise SystemExit(f"{run / file}: no {'.'.join(map(str, path))} ({missing})") from None
     commit = subprocess.run(
         ["git", "-C", str(ROOT), "describe", "--always", "--dirty"],
@@ -120,6 +167,7 @@ def record_of(run: Path) -> dict:
         "colonna_version": inputs["colonna_version"],
         "recorded": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "commit": commit or "unknown",
+        "run_wall_seconds": files["summary.json"].get("wall_seconds"),
         "values": values,
     }
 
@@ -151,6 +199,20 @@ def _band(v: dict, name: str, digits: str, scale: float = 1.0) -> str:
     return f"{v[name + '_min'] * scale:{digits}} to {v[name + '_max'] * scale:{digits}}"
 
 
+def _percent(x: float) -> str:
+    return f"{100 * x:.0f} %"
+
+
+def _toe_convergence(v: dict) -> str:
+    """How the refined toe peaks behave, in words, and which value is quoted."""
+    if v["toe_order"] is not None and v["toe_ratio"] == v["toe_richardson"]:
+        return (
+            f"converging monotonically (observed order {v['toe_order']:.1f}): the quoted value "
+            "is the Richardson estimate"
+        )
+    return "without converging monotonically: the quoted value is the largest refined one"
+
+
 def substitutions(record: dict) -> dict[str, str]:
     """The MyST substitutions the pages quote: ``default_<name>``, formatted for reading."""
     v = record["values"]
@@ -160,6 +222,8 @@ def substitutions(record: dict) -> dict[str, str]:
         "fem_end_time": f"{v['fem_end_time']:.3f} s",
         "fem_end_time_band": _band(v, "fem_end_time", ".3f") + " s",
         "mb_end_time": f"{v['mb_end_time']:.3f} s",
+        "sdof_mode": str(v["sdof_mode"]),
+        "monolith_mode": str(v["monolith_mode"]),
         "fem_theta": f"{v['fem_theta']:.4f} rad",
         "fem_theta_band": _band(v, "fem_theta", ".4f") + " rad",
         "mb_theta": f"{v['mb_theta']:.4f} rad",
@@ -167,18 +231,33 @@ def substitutions(record: dict) -> dict[str, str]:
         "fem_util": f"{v['fem_util']:.3f}",
         "fem_util_band": _band(v, "fem_util", ".3f"),
         "mb_util": f"{v['mb_util']:.3f}",
+        "mb_fine_util": f"{v['mb_fine_util']:.3f}",
         "fem_slip": f"{v['fem_slip'] * mm:.3f} mm",
         "fem_slip_band": _band(v, "fem_slip", ".3f", mm) + " mm",
         "mb_slip": f"{v['mb_slip'] * mm:.3f} mm",
-        "history_error": f"{v['history_error']:.0%}",
+        "mb_fine_slip": f"{v['mb_fine_slip'] * mm:.3f} mm",
+        "history_error": _percent(v["history_error"]),
         "history_error_band": _band(v, "history_error", ".3f"),
-        "history_error_fine": f"{v['history_error_fine']:.0%}",
-        "history_tolerance": f"{v['history_tolerance']:.0%}",
+        "history_error_fine": _percent(v["history_error_fine"]),
+        "history_tolerance": _percent(v["history_tolerance"]),
+        "fem_theta_early": ", ".join(f"{v[f'fem_theta_{t}'] * 1e3:.2f}e-3" for t in ("01", "03"))
+        + f" and {v['fem_theta_05'] * 1e3:.2f}e-3 rad",
+        "mb_theta_early": ", ".join(f"{v[f'mb_theta_{t}'] * 1e3:.2f}e-3" for t in ("01", "03"))
+        + f" and {v['mb_theta_05'] * 1e3:.2f}e-3 rad",
         "rigid_assumption_ok": str(v["rigid_assumption_ok"]),
         "collars_yield": str(v["collars_yield"]),
         "toe_crushes": str(v["toe_crushes"]),
         "toe_ratio": f"{v['toe_ratio']:.3f} f_c",
         "toe_band": f"{v['toe_ratio_low']:.3f} to {v['toe_ratio_high']:.3f} f_c",
+        "toe_unrefined": f"{v['toe_unrefined']:.3f} f_c",
+        "toe_refined": f"{v['toe_refined_2']:.3f}, {v['toe_refined_4']:.3f} and "
+        f"{v['toe_refined_8']:.3f} f_c",
+        "toe_convergence": _toe_convergence(v),
+        "toe_uncertainty": _percent(v["toe_uncertainty"]),
+        "toe_replica_spread": _percent(v["toe_replica_spread"]),
+        "toe_mesh": _percent(v["toe_mesh"]),
+        "toe_handover": f"{v['toe_handover']:.1e}",
+        "toe_factor": f"{int(1.0 / v['toe_ratio_high'])}",
         "fem_energy_band": f"{v['fem_energy_min']:.1e} to {v['fem_energy_max']:.1e}",
         "recorded": record["recorded"],
         "commit": record["commit"],
@@ -201,8 +280,10 @@ def page(record: dict) -> str:
         "from another `studies/default.toml` or by another colonna version "
         "(`make docs-numbers` makes a new one).",
         "",
-        f"Run by colonna {record['colonna_version']} at commit `{record['commit']}`, "
-        f"recorded {record['recorded']}; study file SHA-256 `{record['study_sha256']}`.",
+        f"Run by colonna {record['colonna_version']} in {record['run_wall_seconds']:.0f} s; "
+        f"recorded {record['recorded']} with commit `{record['commit']}` checked out "
+        "(`-dirty`: with changes not yet committed); study file SHA-256 "
+        f"`{record['study_sha256']}`.",
         "",
         "| quantity | value | from the run's file |",
         "|---|---|---|",
