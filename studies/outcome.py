@@ -95,7 +95,10 @@ def model_outcome(
         "motion": motion,
         "alpha": float(alpha),
         "alpha_block": block,
-        "overturn_time": float(overturn_time) if overturned and overturn_time is not None else None,
+        # the overturning time of a model that overturns, or of an ensemble's replicas that do
+        "overturn_time": float(overturn_time)
+        if (overturned or overturned_replicas) and overturn_time is not None
+        else None,
         "peak_rotation": None if overturned or peak_rotation is None else float(peak_rotation),
         "peak_rotation_over_alpha": None
         if overturned or peak_rotation is None
