@@ -27,7 +27,9 @@ held = overturning_spectrum(half, omega, amplitude, collars=collars, model="nonl
 
 names = ["safe", "after-impact", "without-impact"]
 fig, axes = plt.subplots(1, 2, figsize=(9, 3.8), layout="constrained", sharey=True)
-for ax, spec, title in zip(axes, (solid, held), ("solid block", "half column with collars")):
+for ax, spec, title in zip(
+    axes, (solid, held), ("solid block", "half column with collars (hatched: a collar yields)")
+):
     image = ax.pcolormesh(omega, amplitude, spec.codes, cmap="viridis", vmin=0, vmax=2)
     ax.set_title(title)
     ax.set_xlabel("Omega / p (-)")
