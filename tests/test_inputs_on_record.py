@@ -506,56 +506,6 @@ def test_report_opens_with_the_outcome_then_lists_the_inputs_of_the_study_file(d
     )
 
 
-def test_pdf_report_starts_with_the_outcome(tmp_path):
-    """``--pdf`` prints the report; its first page (as pdftotext reads it) has the outcome
-    and the three questions, and the renders are not printed."""
-    import shutil
-    import subprocess
-
-    from colonna.studies.pdf import find_browser
-
-    if find_browser() is None or shutil.which("pdftotext") is None:
-        pytest.skip(
-            "needs a Chromium browser and poppler's pdftotext (make test installs them "
-            "where apt is available)"
-        )
-    study = tmp_path / "design.toml"
-    study.write_text(DESIGN)
-    out = tmp_path / "out"
-    assert main(["study", str(study), "--out", str(out), "--workers", "1", "--pdf"]) == 0
-    first = subprocess.run(
-        ["pdftotext", "-f", "1", "-l", "1", str(out / "report.pdf"), "-"],
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout
-    flat = " ".join(first.split())
-    assert "Outcome" in flat
-    for question in (
-        "rigid-body assumption good enough?",
-        "Do the collars yield?",
-        "Does the toe crush?",
-    ):
-        assert question in flat, question
-    if shutil.which("pdftoppm"):  # the first page renders to an image
-        subprocess.run(
-            [
-                "pdftoppm",
-                "-f",
-                "1",
-                "-l",
-                "1",
-                "-png",
-                "-r",
-                "40",
-                str(out / "report.pdf"),
-                str(tmp_path / "page"),
-            ],
-            check=True,
-        )
-        assert list(tmp_path.glob("page*.png"))
-
-
 def test_shares_are_balanced_on_the_cases_cost():
     """Equal costs (or none) deal round-robin; unequal ones go costliest first to the share
     with the least so far, so that no worker ends long after the others (the spectrum's grid
