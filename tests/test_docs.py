@@ -138,3 +138,13 @@ def test_a_stale_record_of_the_default_study_is_refused(tmp_path):
         stale.write_text(json.dumps({**record, **change}))
         with pytest.raises(SystemExit, match="make docs-numbers"):
             default_numbers.load_current(stale)
+
+
+def test_the_readme_python_example_prints_what_it_says():
+    """The README's Python block runs, and its last line gives the value its comment shows."""
+    [example] = _blocks(README.read_text(), "python")
+    *body, last = example.strip().splitlines()
+    expression, shown = (part.strip() for part in last.split("#", 1))
+    namespace: dict = {}
+    exec("\n".join(body), namespace)
+    assert repr(eval(expression, namespace)) == shown
