@@ -729,6 +729,7 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
         )
     ax.axhline(0.0, color="k", lw=0.8)
     ax.set_aspect("equal")
+    ax.set_anchor("W")  # the narrow column to the left, its legend's room to the right
     # a column is narrow: few x ticks, so that their labels never run into each other
     ax.xaxis.set_major_locator(MaxNLocator(nbins=3, steps=[1, 2, 2.5, 5, 10]))
     ax.xaxis.set_major_formatter(PLAIN)
