@@ -18,7 +18,8 @@ does nothing).
   capacity c_i (its IM at the first exceedance on its ladder); ``ln theta = mean ln c_i``,
   ``beta = std ln c_i`` (n - 1 in the denominator). Records that never exceed on their ladder
   are censored at their ladder's top: then the censored maximum likelihood
-  ``sum_uncensored ln phi(.)/(beta c_i) + sum_censored ln(1 - Phi(ln(c_i / theta) / beta))``.
+  ``sum_uncensored ln phi(.)/(beta c_i) + sum_censored ln(1 - Phi(ln(c_i / theta) / beta))``
+  (a Tobit model, concave in Olsen (1978)'s 1 / beta, ln theta / beta: Newton's method).
 * Bootstrap over records (:func:`bootstrap_stripes`, :func:`bootstrap_capacities`): records
   drawn with replacement (seeded, numpy's PCG64), refitted; percentile intervals of theta, beta
   and of the curve at chosen IMs (Efron & Tibshirani 1993, ch. 13).
@@ -292,24 +293,55 @@ def fit_capacities(capacities, *, censored=None, origin: float = 0.0) -> Lognorm
     if not cens.any():
         ll = _capacity_log_likelihood(lc, cens, mu, beta)
         return LognormalFit(math.exp(mu), beta, origin, ll, "capacity moments")
-    from scipy.optimize import minimize
-
-    def negative(params):
-        return -_capacity_log_likelihood(lc, cens, params[0], math.exp(params[1]))
-
-    best = minimize(
-        negative,
-        [mu, math.log(beta)],
-        method="Nelder-Mead",
-        options={"xatol": 1e-12, "fatol": 1e-14},
-    )
+    mu, beta = _tobit_newton(lc, cens, mu, beta)
     return LognormalFit(
-        math.exp(float(best.x[0])),
-        math.exp(float(best.x[1])),
+        math.exp(mu),
+        beta,
         origin,
-        -float(best.fun),
+        _capacity_log_likelihood(lc, cens, mu, beta),
         "censored capacity MLE",
     )
+
+
+def _tobit_newton(y: np.ndarray, censored: np.ndarray, mu: float, beta: float):
+    """(mu, beta) of the normal that maximises the likelihood of ``y`` (``censored``: known only
+    to lie above), by Newton's method in Olsen (1978)'s parameters gamma = 1 / beta,
+    delta = mu / beta, in which the log-likelihood is concave; from (mu, beta)."""
+    from scipy.special import log_ndtr
+
+    exact = ~censored
+    ye, yc = y[exact], y[censored]
+
+    def loglik(g, d):
+        if not g > 0.0:
+            return -math.inf
+        ze, zc = g * ye - d, g * yc - d
+        return float(ye.size * math.log(g) - 0.5 * np.sum(ze**2) + np.sum(log_ndtr(-zc)))
+
+    g, d = 1.0 / beta, mu / beta
+    current = loglik(g, d)
+    for _ in range(100):
+        ze, zc = g * ye - d, g * yc - d
+        m = np.exp(-0.5 * zc**2 - 0.5 * math.log(2.0 * math.pi) - log_ndtr(-zc))  # phi/(1-Phi)
+        w = m * (m - zc)
+        grad = np.array([ye.size / g - np.sum(ze * ye) - np.sum(m * yc), np.sum(ze) + np.sum(m)])
+        hess = np.array(
+            [
+                [-ye.size / g**2 - np.sum(ye**2) - np.sum(w * yc**2), np.sum(ye) + np.sum(w * yc)],
+                [np.sum(ye) + np.sum(w * yc), -ye.size - np.sum(w)],
+            ]
+        )
+        step = np.linalg.solve(hess, -grad)
+        t = 1.0
+        while t > 1e-12:
+            trial = loglik(g + t * step[0], d + t * step[1])
+            if trial >= current - 1e-15 * abs(current):
+                break
+            t *= 0.5
+        g, d, current = g + t * step[0], d + t * step[1], trial
+        if abs(t * step[0]) + abs(t * step[1]) < 1e-13 * (1.0 + abs(g) + abs(d)):
+            break
+    return float(d / g), float(1.0 / g)
 
 
 @dataclass(frozen=True)
