@@ -8,7 +8,12 @@
 * :mod:`colonna.core.collar`      the collar description (section, steel, axial law's data);
 * :mod:`colonna.core.collar_law`  the collars' compiled frame element (local law and axial
   plasticity), used by the FEM's and the multibody model's collars;
-* :mod:`colonna.core.tables`      the compiled evaluation of the ground-motion tables.
+* :mod:`colonna.core.tables`      the compiled evaluation of the ground-motion tables;
+* :mod:`colonna.core.esm`         ESM ASCII records (the Engineering Strong-Motion database);
+* :mod:`colonna.core.suite`       record suites (a folder or a TOML list, scale and SHA-256);
+* :mod:`colonna.core.synthetic`   seeded near-fault records (M&P 2003 pulse, R&DK 2008 noise);
+* :mod:`colonna.core.intensity`   intensity measures (PGA ... Arias, CAV, D5-95, Sa(T), rocking);
+* :mod:`colonna.core.fragility`   lognormal fragility fits (Baker 2015), bootstrap, LR test.
 
 ``rigid``, ``fem``, ``meshes`` and ``studies`` import from here; this package imports none of them.
 """
