@@ -4,8 +4,8 @@ The pages are Markdown (MyST). Two reference pages and the default study's numbe
 at every build, so that none can drift from what it documents:
 
 * ``generated/cli.md``: the command line, from colonna's argparse parser (``cli_reference.py``);
-* the study-file keys are ``study-file.md``, ``colonna schema --markdown`` (``tests/test_schema.py``
-  checks that it is current);
+* the study-file keys are ``study-file.md``, ``colonna schema --markdown``, committed so that it
+  reads on GitHub too: the build stops if it is not the schema's (as ``tests/test_schema.py``);
 * ``generated/default-study.md`` and the ``{{ default_... }}`` substitutions: the default study's
   answers, read from ``default-study.json``, which ``default_numbers.py`` writes from a run of
   ``make demo``; the build stops if that run was made from another study file or another colonna
@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+
+from sphinx.errors import ConfigError
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
@@ -58,10 +60,20 @@ sphinx_gallery_conf = {
 
 def _generate() -> dict[str, str]:
     """Write the generated pages; return the default study's substitutions."""
+    from colonna.studies.schema import markdown
+
+    if (HERE / "study-file.md").read_text() != markdown():
+        raise ConfigError(
+            "docs/study-file.md is not the schema's key list: "
+            "run `.venv/bin/colonna schema --markdown > docs/study-file.md`"
+        )
     out = HERE / "generated"
     out.mkdir(exist_ok=True)
     _write(out / "cli.md", cli_reference.markdown(build_parser()))
-    record = default_numbers.load_current(HERE / default_numbers.RECORD)
+    try:
+        record = default_numbers.load_current(HERE / default_numbers.RECORD)
+    except SystemExit as stale:  # Sphinx would hide the reason of a SystemExit
+        raise ConfigError(str(stale)) from None
     _write(out / "default-study.md", default_numbers.page(record))
     return default_numbers.substitutions(record)
 
