@@ -213,18 +213,22 @@ def _model_stays_up(m: dict) -> dict:
     return out
 
 
-def stays_up(models: list[dict], why: str = "no model of the column under a ground motion") -> dict:
+def stays_up(
+    models: list[dict],
+    why: str = "no model of the column under a ground motion",
+    stress_model: int = 0,
+) -> dict:
     """Does the column stay up? Per model (:func:`_model_stays_up`), in the models' order; the
-    answer word is the first model's, the one whose stresses the other answers quote (the FEM
-    where the study runs it)."""
+    answer word is that of ``models[stress_model]``, the one whose stresses the other answers
+    quote (the FEM where the study runs it)."""
     question = QUESTIONS["stays_up"]
     if not models:
         return not_assessed(question, why)
     per_model = [_model_stays_up(m) for m in models]
     return {
         "question": question,
-        "answer": per_model[0]["answer"],
-        "model": per_model[0]["model"],
+        "answer": per_model[stress_model]["answer"],
+        "model": per_model[stress_model]["model"],
         "per_model": per_model,
     }
 
@@ -249,29 +253,34 @@ def _until_overturning(model: dict) -> dict | None:
     span = model.get("overturn_time_range")
     if span and span[1] > span[0]:
         when += f" (replicas {span[0]:.4g} to {span[1]:.4g} s)"
-    where = (
-        "" if up["of"] == 1 else f", in the {up['overturned']} of {up['of']} replicas that overturn"
-    )
+    if up["of"] == 1:
+        where = ""
+    elif up["overturned"] == up["of"]:
+        where = f", in all {up['of']} replicas"
+    else:
+        where = f", in the {up['overturned']} of {up['of']} replicas that overturn"
     until["qualifier"] = f"until overturning{when}{where}"
     return until
 
 
-def outcome(models: list[dict], answers: dict[str, dict]) -> dict:
+def outcome(models: list[dict], answers: dict[str, dict], stress_model: int = 0) -> dict:
     """summary["outcome"]: the models' outcomes and the answers, in QUESTIONS' order (every
     question but the OPTIONAL_QUESTIONS, which are listed where ``answers`` has them).
     "Does the column stay up?" is made here from the models (:func:`stays_up`) unless
-    ``answers`` gives it. A stress answer (STRESS_QUESTIONS) of a study whose first model (the
-    one the stresses are of) overturns carries ``until_overturning`` and its ``qualifier``
-    (:func:`_until_overturning`)."""
+    ``answers`` gives it. A stress answer (STRESS_QUESTIONS) names the model its stresses are
+    of, ``models[stress_model]``; where that model overturns, it carries
+    ``until_overturning`` and its ``qualifier`` (:func:`_until_overturning`)."""
     answers = dict(answers)
     if "stays_up" not in answers or (models and answers["stays_up"]["answer"] == NOT_ASSESSED):
-        answers["stays_up"] = stays_up(models)
-    until = _until_overturning(models[0]) if models else None
+        answers["stays_up"] = stays_up(models, stress_model=stress_model)
+    until = _until_overturning(models[stress_model]) if models else None
     listed = []
     for key in QUESTIONS:
         if key not in answers and key in OPTIONAL_QUESTIONS:
             continue
         a = dict(answers[key], key=key)
+        if models and key in STRESS_QUESTIONS and a["answer"] != NOT_ASSESSED:
+            a.setdefault("model", models[stress_model]["model"])
         if until is not None and key in STRESS_QUESTIONS and a["answer"] != NOT_ASSESSED:
             a["until_overturning"] = until
             a["qualifier"] = until["qualifier"]

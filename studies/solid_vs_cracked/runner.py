@@ -99,7 +99,13 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
         "cross-check study compares the FEM with the rigid models",
         collars=study.collars,
     )
-    return {"study": study.name, "outcome": outcome(models, answers), "variants": rows}
+    # the answers are the as-built column's: its FEM model, the last variant's first
+    stress_model = len(models) - 2
+    return {
+        "study": study.name,
+        "outcome": outcome(models, answers, stress_model),
+        "variants": rows,
+    }
 
 
 def run(study: Study, out: Path, options: RunOptions) -> dict:
