@@ -77,10 +77,10 @@ class Study:
     def model(self) -> dict | None:
         """The FEM model of the study's own mesh as its runs build it
         (:func:`studies.fem_study.model_record`: nodes, stable step, step used, penalties), built
-        once; None for a kind without a column."""
+        once; None for a kind that runs no FEM (its package has no ``fem_work``)."""
         from .fem_study import column_of, model_record
 
-        if self.spec.column is None:
+        if self.spec.column is None or not _runs_fem(self.kind):
             return None
         column = column_of(self.spec, self.source, self.base)
         if _one_motion(self.kind):
@@ -154,9 +154,10 @@ class Study:
             if entry["hinge_length"] is None:
                 entry["hinge_length"] = entry["h"]
                 resolved[f"collar.{i}.hinge_length"] = "the collar depth h"
-        if column.mesh_file is None:
-            fill("mesh", "size", column.mesh_size, "width / 16")
-        fill("mesh", "edge_length", column.edge_length, "a tenth of a rocking body's width")
+        if _runs_fem(self.kind):  # the mesh a kind without FEM runs does not use
+            if column.mesh_file is None:
+                fill("mesh", "size", column.mesh_size, "width / 16")
+            fill("mesh", "edge_length", column.edge_length, "a tenth of a rocking body's width")
         try:
             nu = column.rocking_block.nu
         except InputError:  # a squat block: its SDOF run asks for a restitution
@@ -215,6 +216,14 @@ class Study:
                     entry["file_peak_acceleration"] = motion.peak_acceleration / factor
             record[name] = entry
         return record or None
+
+
+def _runs_fem(kind: str) -> bool:
+    """Whether a kind runs the FEM: its package estimates the FEM work it asks for
+    (``fem_work``, :mod:`studies.kinds`)."""
+    from .kinds import KINDS
+
+    return getattr(KINDS[kind].module(), "fem_work", None) is not None
 
 
 def _one_motion(kind: str) -> bool:
