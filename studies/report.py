@@ -167,14 +167,35 @@ def _ground_figure(out: Path) -> dict | None:
     )
 
 
+def blocks_of(out: Path) -> dict[str, str]:
+    """Whose alpha and p a report's numbers are in, from inputs.json (``column``: the whole
+    column, ``half``: one half block; studies.outcome.BLOCKS): ``sdof``, the paper's SDOF
+    block (the half of a cracked column: it normalises the pulse and the spectra), and
+    ``rocking``, the body whose rotation the FEM and multibody histories are compared with
+    (the whole column where collars or no crack hold the halves together). Without inputs on
+    record, those of a cracked column with collars."""
+    from .outcome import rocking_block
+
+    path = Path(out) / "inputs.json"
+    inputs = json.loads(path.read_text()) if path.is_file() else {}
+    cracked = bool((inputs.get("column") or {}).get("cracked", True))
+    collared = bool(inputs.get("collar", True))
+    return {
+        "sdof": "half" if cracked else "column",
+        "rocking": rocking_block(cracked, collared),
+    }
+
+
 def render_page(out: Path, template: str, summary: dict, title: str, **context) -> Path:
-    """Fill a template with the summary (``s``), ``num`` and the figures; write index.html."""
+    """Fill a template with the summary (``s``), ``num``, the blocks of its alphas
+    (:func:`blocks_of`) and the figures; write index.html."""
     text = TEMPLATES.get_template(template).render(
         s=summary,
         title=title,
         num=functools.partial(num, summary),
         inputs=_inputs(out),
         ground=_ground_figure(out),
+        blocks=blocks_of(out),
         **context,
     )
     return _write_page(out, text)

@@ -11,7 +11,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ..output import read_csv, write_csv
-from ..report import distinct, figure, legend_beside, render_page
+from ..report import blocks_of, distinct, figure, legend_beside, render_page
 
 
 def write_report(out: Path) -> Path:
@@ -21,6 +21,7 @@ def write_report(out: Path) -> Path:
     s = json.loads((out / "summary.json").read_text())
     (out / "figures").mkdir(exist_ok=True)
     alpha = s["alpha"]
+    block = blocks_of(out)["rocking"]  # the body that rocks: its alpha
     figs = []
     fig = Figure(figsize=(9.5, 3.6))
     ax = fig.subplots()
@@ -36,7 +37,7 @@ def write_report(out: Path) -> Path:
                 h["theta_left"] / alpha,
                 color=f"C{k - 1}",
                 **dict(distinct(2 * (k - 1) + j, n_curves), ls=style),
-                label=f"{label}, released at {tilt['tilt_fraction']:g} alpha",
+                label=f"{label}, released at {tilt['tilt_fraction']:g} alpha_{block}",
             )
             columns[f"t_{kind}_tilt{k}"] = h["t"]
             columns[f"theta_over_alpha_{kind}_tilt{k}"] = h["theta_left"] / alpha
@@ -46,7 +47,7 @@ def write_report(out: Path) -> Path:
         {k: np.pad(v, (0, n - len(v)), constant_values=np.nan) for k, v in columns.items()},
     )
     ax.set_xlabel("t (s)")
-    ax.set_ylabel(r"$\theta / \alpha$")
+    ax.set_ylabel(rf"$\theta / \alpha_\mathrm{{{block}}}$ (-)")
     legend_beside(ax)
     fig.tight_layout()
     figs.append(
@@ -77,12 +78,14 @@ def write_report(out: Path) -> Path:
                     markevery=None,
                     markersize=8.0 - 4.0 * i / max(n_curves - 1, 1),
                 ),
-                label=f"{label}, released at {tilt['tilt_fraction']:g} alpha",
+                label=f"{label}, released at {tilt['tilt_fraction']:g} alpha_{block}",
             )
             ratio_columns[f"ratio_{kind}_tilt{k}"] = ratios
-    ax.axhline(s["restitution_housner"], color="k", lw=0.8, ls=":", label="Housner 1 - 1.5 sin²α")
-    ax.set_xlabel("impact")
-    ax.set_ylabel(r"$\dot\theta_{after} / \dot\theta_{before}$")
+    ax.axhline(
+        s["restitution_housner"], color="k", lw=0.8, ls=":", label=f"Housner 1 - 1.5 sin²α_{block}"
+    )
+    ax.set_xlabel("impact (count)")
+    ax.set_ylabel(r"$\dot\theta_{after} / \dot\theta_{before}$ (-)")
     legend_beside(ax)
     fig.tight_layout()
     n = max((len(v) for v in ratio_columns.values()), default=0)

@@ -35,7 +35,11 @@ def write_report(out: Path) -> Path:
 CONVERGENCE_QUANTITIES = [
     ("peak_rotation", "peak rotation", "rad"),
     ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
-    ("edge_stress_max", "toe stress", "Pa"),
+    (
+        "edge_stress_max",
+        "toe stress, study-mesh peak (base contact pressure averaged over the toe window)",
+        "Pa",
+    ),
 ]
 
 

@@ -35,7 +35,11 @@ VARIANT_FIELDS = [
     ("rigid_peak_rotation", "rigid peak rotation", "rad"),
     ("rigid_mode", "rigid mode", ""),
     ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
-    ("edge_stress_ratio", "toe stress / f_c", "-"),
+    (
+        "edge_stress_ratio",
+        "toe stress / f_c, study-mesh peak (base contact pressure averaged over the toe window)",
+        "-",
+    ),
     ("status", "FEM status", ""),
 ]
 

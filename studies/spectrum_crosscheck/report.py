@@ -14,7 +14,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from ..output import write_csv
-from ..report import distinct, figure, legend_beside, render_page
+from ..report import blocks_of, distinct, figure, legend_beside, render_page
 
 
 def write_report(out: Path) -> Path:
@@ -27,12 +27,14 @@ def write_report(out: Path) -> Path:
     out = Path(out)
     s = json.loads((out / "summary.json").read_text())
     (out / "figures").mkdir(exist_ok=True)
+    block = blocks_of(out)["sdof"]  # the pulses are normalised by the SDOF block's alpha, p
+    amplitude = rf"$a_p / (g\,\tan\alpha_\mathrm{{{block}}})$ (-)"
     w, a = np.array(s["omega_ratios"]), np.array(s["amplitude_ratios"])
     # a record's grid moves its time scale where a pulse's moves Omega / p
     x_label = (
         r"record time scale (2: twice as fast)"
         if s.get("x_axis") == "time_scale"
-        else r"$\Omega / p$"
+        else rf"$\Omega / p_\mathrm{{{block}}}$ (-)"
     )
     code = {"safe": 0, "after-impact": 1, "without-impact": 2}
     models = (("fem", "FEM"), ("multibody", "rigid multibody"), ("sdof", "SDOF half block"))
@@ -58,7 +60,7 @@ def write_report(out: Path) -> Path:
         ax.set_xlabel(x_label)
     if yields.any():
         axes[0].scatter(ww[yields], aa[yields], marker="x", color="k", s=25, zorder=4)
-    axes[0].set_ylabel(r"$a_p / (g\,\tan\alpha)$")
+    axes[0].set_ylabel(amplitude)
     present = {int(k) for m, _ in models for k in np.unique(maps[m])}  # the legend: what is drawn
     handles = [
         marked.get(MODE_LABELS[k]) or Patch(color=MODE_COLOURS[k], label=MODE_LABELS[k])
@@ -101,7 +103,7 @@ def write_report(out: Path) -> Path:
         )
         ax.set_title(label)
         ax.set_xlabel(x_label)
-    axes[0].set_ylabel(r"$a_p / (g\,\tan\alpha)$")
+    axes[0].set_ylabel(amplitude)
     fig.legend(
         handles=[
             marked.get(words[k]) or Patch(color=shades[k], label=words[k]) for k in sorted(drawn)
@@ -127,7 +129,7 @@ def write_report(out: Path) -> Path:
             never.append(label)
     write_csv(out / "figures" / "boundaries.csv", {"omega_ratio": w, **boundary})
     ax.set_xlabel(x_label)
-    ax.set_ylabel(r"lowest overturning $a_p / (g\,\tan\alpha)$")
+    ax.set_ylabel("lowest overturning " + amplitude)
     if len(never) < len(models):
         legend_beside(ax)
         fig.tight_layout()
