@@ -50,7 +50,7 @@ class StudyKind:
 
 
 # tables that only some kinds read: in a study of another kind they would be read by nothing
-KIND_TABLES = ("grid", "convergence", "free_rocking")
+KIND_TABLES = ("grid", "convergence", "free_rocking", "fragility")
 
 
 KINDS = {
@@ -77,6 +77,7 @@ KINDS = {
     "zhang-makris": StudyKind(
         "zhang_makris", ("outcome", "boundaries"), ground_motion=False, column=False
     ),
+    "fragility": StudyKind("fragility", ("design",), ground_motion=False, tables=("fragility",)),
 }
 
 DEFAULT_KIND = "cross-check"  # a study file without [study] kind

@@ -757,6 +757,114 @@ class FreeRocking(Table):
     )
 
 
+INTENSITY_MEASURES = {  # [fragility] intensity: the IMs a record is scaled by, and their units
+    "pga": "m/s^2",
+    "pgv": "m/s",
+    "sa": "m/s^2",
+    "pga_rocking": "-",
+    "pgv_rocking": "-",
+}
+FRAGILITY_MODELS = ("sdof", "multibody", "fem")
+
+
+class Fragility(Table):
+    """[fragility] (fragility): a record suite scaled over intensity levels through the models:
+    IDA (a ladder of levels, each record's capacity at its first exceedance) or multiple-stripe
+    analysis (given levels); lognormal fits with bootstrap bands."""
+
+    suite: str = Field(
+        min_length=1,
+        description="Record suite: a folder of records or a TOML list of them ([[record]] "
+        "file, scale, units), relative to the study file.",
+    )
+    intensity: Literal[tuple(INTENSITY_MEASURES)] = Field(  # type: ignore[valid-type]
+        "pga_rocking",
+        description="Intensity measure the records are scaled by and the curves are drawn "
+        "against: pga (m/s^2), pgv (m/s), sa (5 %-damped Sa(period), m/s^2), pga_rocking "
+        "(PGA / (g tan alpha)), pgv_rocking (PGV p / (g tan alpha)) of the rocking block.",
+    )
+    period: float | None = quantity(
+        "s", "Period of Sa (intensity = sa only), 0.01 to 20 s.", ge=0.01, le=20
+    )
+    analysis: Literal["ida", "msa"] = Field(
+        "ida",
+        description="ida: every record over the ladder (capacity at the first exceedance); "
+        "msa: every record at the given levels (stripes).",
+    )
+    ladder: list[Annotated[float, Field(gt=0, le=1e4)]] | None = pair(
+        None, "[start, stop] of the IDA ladder, inclusive, in the intensity's unit.", "IM"
+    )
+    steps: int = quantity("-", "Levels of the IDA ladder, 2 to 1000.", 20, ge=2, le=1000)
+    levels: list[Annotated[float, Field(gt=0, le=1e4)]] | None = Field(
+        None,
+        min_length=2,
+        max_length=1000,
+        description="The MSA stripes, increasing, in the intensity's unit.",
+        json_schema_extra={"unit": "IM"},
+    )
+    models: list[Literal[FRAGILITY_MODELS]] = Field(  # type: ignore[valid-type]
+        ["sdof", "multibody"],
+        min_length=1,
+        description="Models to run: sdof (the paper's half block with collar springs), "
+        "multibody (rigid bodies with the FEM's contacts), fem (the study's mesh, one run per "
+        "record and level, stopped once settled).",
+    )
+    theta_ratio: float = quantity(
+        "-", "Threshold of the rotation limit state |theta| / alpha, (0, 100].", 0.5, gt=0, le=100
+    )
+    design_intensity: float = Field(
+        description="The site's design intensity, in the intensity's unit: the report opens "
+        "with each limit state's probability there.",
+        json_schema_extra={"unit": "IM"},
+        gt=0,
+        le=1e4,
+    )
+    bootstrap: int = quantity(
+        "-",
+        "Bootstrap resamples of the records for the bands, 10 to 100000.",
+        500,
+        ge=10,
+        le=100000,
+    )
+    confidence: float = quantity(
+        "-", "Two-sided level of the bootstrap intervals, (0, 1).", 0.9, gt=0, lt=1
+    )
+    seed: int = quantity("-", "Seed of the bootstrap (numpy PCG64).", 0, ge=0)
+    sdof_rtol: float = quantity(
+        "-",
+        "Relative tolerance of the SDOF runs, 1e-12 to 1e-3 (the single SDOF run's is 1e-10).",
+        1e-6,
+        ge=1e-12,
+        le=1e-3,
+    )
+
+    @staticmethod
+    def across(f: dict, given: set) -> list[tuple[str, tuple]]:
+        """The ladder with IDA, the levels with MSA, the period with Sa."""
+        found: list[tuple[str, tuple]] = []
+        if f["analysis"] == "ida":
+            if f["ladder"] is None:
+                found.append(
+                    ("fragility.ladder = [start, stop] is required with analysis = 'ida'", ())
+                )
+            elif _known(f["ladder"]) and not f["ladder"][0] <= f["ladder"][1]:
+                found.append((f"fragility.ladder = {f['ladder']!r} must have start <= stop", ()))
+            if f["levels"] is not None:
+                found.append(("fragility.levels goes with analysis = 'msa' (use ladder)", ()))
+        elif f["analysis"] == "msa":
+            if f["levels"] is None:
+                found.append(("fragility.levels is required with analysis = 'msa'", ()))
+            elif _known(f["levels"]) and any(b <= a for a, b in zip(f["levels"], f["levels"][1:])):
+                found.append((f"fragility.levels = {f['levels']!r} must increase", ()))
+            if f["ladder"] is not None or "steps" in given:
+                found.append(("fragility.ladder and steps go with analysis = 'ida'", ()))
+        if f["intensity"] == "sa" and f["period"] is None:
+            found.append(("fragility.period is required with intensity = 'sa'", ()))
+        if f["intensity"] not in ("sa", FAILED) and f["period"] is not None:
+            found.append(("fragility.period goes with intensity = 'sa' only", ()))
+        return found
+
+
 class StudyFile(Table):
     """A colonna study file (TOML). SI units throughout."""
 
@@ -779,6 +887,7 @@ class StudyFile(Table):
     grid: Grid = Grid()
     convergence: Convergence = Convergence()
     free_rocking: FreeRocking = FreeRocking()
+    fragility: Fragility | None = None
 
     @staticmethod
     def across(s: dict, given: set) -> list[tuple[str, tuple]]:

@@ -1,0 +1,236 @@
+"""Fragility from the runs of a record suite: limit states, IDA capacities, stripes and fits.
+
+Every record i of the suite is scaled to every intensity level x_j of the study (its IM times
+x_j / IM_i: the IMs offered scale linearly with the record), and each model ran it once. What a
+run gives (:data:`RUN_KEYS`) becomes, per limit state, a records x levels table of booleans
+(:func:`exceedances`):
+
+* ``uplift``: the column left the ground (|theta| above :data:`UPLIFT_RATIO` alpha; the SDOF's
+  exact event: any rotation at all);
+* ``rotation``: |theta| / alpha reached the study's threshold, or the column overturned;
+* ``overturning``: the column overturned;
+* ``collar_yield``: a collar's extreme fibre reached f_y (with collars);
+* ``collar_fracture``: a plastic collar reached its fracture strain (multibody and FEM with
+  plastic collars: the SDOF's springs stay elastic);
+* ``toe_crushing``: the FEM's toe stress reached the stone's f_c.
+
+Incremental dynamic analysis (Vamvatsikos & Cornell 2002): a record's capacity is the level of
+its FIRST exceedance on the ladder (:func:`first_exceedance`), as the rocking IDA literature
+defines it (Lachanas, Vamvatsikos & Dimitrakopoulos): a rocking block can overturn at one scale
+and survive a higher one, and the capacity is the first. A record that never exceeds on its
+ladder is censored at the ladder's top. Multiple-stripe analysis (Baker 2015): the fraction of
+records in the limit state at each level, fitted by binomial maximum likelihood. Both fits and
+their bootstrap bands over records are :mod:`colonna.core.fragility`'s.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...core import fragility as fits
+from ...core.errors import InputError
+
+# the limit states, in the order a report lists them, with their words
+LIMIT_STATES = {
+    "uplift": "uplift",
+    "rotation": "|theta| / alpha above the threshold",
+    "overturning": "overturning",
+    "collar_yield": "collar yield",
+    "collar_fracture": "collar fracture",
+    "toe_crushing": "toe crushing",
+}
+# what a run of any model gives (None where the model does not compute it)
+RUN_KEYS = (
+    "overturned",
+    "peak_ratio",  # largest |theta| / alpha (pi / 2 / alpha once overturned)
+    "uplift",
+    "collar_utilisation",
+    "collar_fractured",
+    "toe_ratio",
+)
+UPLIFT_RATIO = 1e-4  # |theta| / alpha above this is uplift (the multibody's and FEM's compliance)
+
+
+def ladder(start: float, stop: float, steps: int) -> np.ndarray:
+    """``steps`` intensity levels evenly spaced from ``start`` to ``stop`` (inclusive)."""
+    if not (0.0 < start <= stop and math.isfinite(stop)) or steps < 1:
+        raise InputError(
+            f"fragility ladder [{start:g}, {stop:g}] with {steps} steps: need "
+            "0 < start <= stop and steps >= 1"
+        )
+    return np.linspace(start, stop, steps) if steps > 1 else np.array([float(start)])
+
+
+def scales_for(levels, record_im: float, name: str = "record") -> np.ndarray:
+    """The factors that scale a record of intensity ``record_im`` to each of ``levels``."""
+    if not (record_im > 0.0 and math.isfinite(record_im)):
+        raise InputError(
+            f"record {name!r}: its intensity measure is {record_im:g}: it cannot be scaled "
+            "to an intensity level (a record of zero motion?)"
+        )
+    return np.asarray(levels, dtype=float) / record_im
+
+
+def table(runs: list[list[dict]], key: str) -> np.ndarray:
+    """The records x levels table of one run key (float; NaN where a run gives None)."""
+    return np.array(
+        [[np.nan if r.get(key) is None else float(r[key]) for r in row] for row in runs],
+        dtype=float,
+    )
+
+
+def exceedances(runs: list[list[dict]], theta_ratio: float) -> dict[str, np.ndarray]:
+    """Per limit state that the runs assess, the records x levels table of exceedances (bool).
+    ``runs[i][j]``: the run of record i at level j (:data:`RUN_KEYS`). A limit state none of
+    whose runs gives a number (collars without a collar, toe crushing without the FEM) is left
+    out."""
+    overturned = table(runs, "overturned") > 0.5
+    peak = table(runs, "peak_ratio")
+    found = {
+        "uplift": table(runs, "uplift") > 0.5,
+        "rotation": overturned | (peak >= theta_ratio),
+        "overturning": overturned,
+    }
+    utilisation = table(runs, "collar_utilisation")
+    if np.isfinite(utilisation).all():
+        found["collar_yield"] = utilisation >= 1.0
+    fractured = table(runs, "collar_fractured")
+    if np.isfinite(fractured).all():
+        found["collar_fracture"] = fractured > 0.5
+    toe = table(runs, "toe_ratio")
+    if np.isfinite(toe).all():
+        found["toe_crushing"] = toe >= 1.0
+    return found
+
+
+def first_exceedance(exceeded, levels) -> tuple[np.ndarray, np.ndarray]:
+    """(capacity, censored) per record: the level of its FIRST exceedance on the ladder (a
+    record that exceeds at one level and not at a higher one keeps the first), and, for one
+    that never exceeds, the ladder's top with ``censored`` True."""
+    exceeded = np.asarray(exceeded, dtype=bool)
+    levels = np.asarray(levels, dtype=float)
+    ever = exceeded.any(axis=1)
+    first = np.argmax(exceeded, axis=1)
+    capacity = np.where(ever, levels[first], levels[-1])
+    return capacity, ~ever
+
+
+def fit_limit_state(
+    exceeded,
+    levels,
+    design: float,
+    *,
+    draws: int,
+    seed: int,
+    level: float,
+    ida: bool,
+) -> dict:
+    """The fits of one limit state's exceedances (records x levels): the multiple-stripe
+    binomial MLE with its bootstrap band (always), and with ``ida`` the IDA capacities' fit
+    (first exceedance, censored at the top) and its band; each with P at the ``design``
+    intensity and its interval. A limit state no run reached (or every run did) has no
+    curve: its fractions are given and its fit is None, with the reason."""
+    exceeded = np.asarray(exceeded, dtype=bool)
+    levels = np.asarray(levels, dtype=float)
+    counts = exceeded.sum(axis=0)
+    n = exceeded.shape[0]
+    entry: dict = {
+        "fractions": (counts / n).tolist(),
+        "fraction_intervals": clopper_pearson(counts, n, level).tolist(),
+        "counts": counts.astype(int).tolist(),
+        "records": n,
+    }
+    if counts.sum() == 0:
+        entry.update(stripes=None, ida=None, why="no run reached it")
+        return entry
+    if levels.size < 2:
+        entry.update(stripes=None, ida=None, why="one intensity level: no curve")
+        return entry
+    at = np.concatenate([[design], curve_grid(levels, design)])
+    entry["stripes"] = _band_entry(
+        lambda: fits.bootstrap_stripes(
+            levels, exceeded.astype(float), draws=draws, seed=seed, level=level, at=at
+        )
+    )
+    if ida:
+        capacity, censored = first_exceedance(exceeded, levels)
+        entry["capacities"] = capacity.tolist()
+        entry["censored"] = censored.tolist()
+        entry["ida"] = (
+            None
+            if censored.all()
+            else _band_entry(
+                lambda: fits.bootstrap_capacities(
+                    capacity, censored=censored, draws=draws, seed=seed, level=level, at=at
+                )
+            )
+        )
+    return entry
+
+
+def clopper_pearson(k, n: int, level: float) -> np.ndarray:
+    """The exact two-sided ``level`` interval of a binomial fraction k / n (Clopper & Pearson
+    1934), per k: rows (low, high)."""
+    from scipy.stats import beta
+
+    k = np.asarray(k, dtype=float)
+    tail = 0.5 * (1.0 - level)
+    low = np.where(k > 0, beta.ppf(tail, k, n - k + 1), 0.0)
+    high = np.where(k < n, beta.ppf(1.0 - tail, k + 1, n - k), 1.0)
+    return np.column_stack([low, high])
+
+
+def curve_grid(levels, design: float, points: int = 60) -> np.ndarray:
+    """The intensities a fitted curve and its band are drawn at: from 0 (excluded) to past the
+    highest level and the design intensity."""
+    top = 1.1 * max(float(np.max(levels)), design)
+    return np.linspace(0.0, top, points + 1)[1:]
+
+
+def _band_entry(make) -> dict | None:
+    """A fit with its bootstrap band as plain data: the fit, its intervals, P at the design
+    intensity (the band's first IM) with its interval, and the curve and band at the rest
+    (:func:`curve_grid`); ``fit`` None where the data hold no curve."""
+    try:
+        band = make()
+    except InputError as exc:
+        return {"fit": None, "why": str(exc)}
+    fit = band.fit
+    return {
+        "fit": fit.to_dict(),
+        "median_interval": list(band.median_interval),
+        "beta_interval": list(band.beta_interval),
+        "probability": float(fit.probability(band.im[0])),
+        "probability_interval": [float(band.low[0]), float(band.high[0])],
+        "curve": {
+            "im": band.im[1:].tolist(),
+            "probability": np.asarray(fit.probability(band.im[1:])).tolist(),
+            "low": band.low[1:].tolist(),
+            "high": band.high[1:].tolist(),
+        },
+        "level": band.level,
+        "draws": band.draws,
+        "failed": band.failed,
+        "seed": band.seed,
+    }
+
+
+def same_curve(first, second, levels) -> dict | None:
+    """The likelihood-ratio test (:func:`colonna.core.fragility.likelihood_ratio_test`) whether
+    two models' stripes of one limit state fit one curve; None where it does not apply (a step,
+    or no exceedance), with the reason."""
+    try:
+        a = fits.stripes_of(levels, np.asarray(first, dtype=float))
+        b = fits.stripes_of(levels, np.asarray(second, dtype=float))
+        test = fits.likelihood_ratio_test(a, b)
+    except InputError as exc:
+        return {"p_value": None, "why": str(exc)}
+    return {
+        "statistic": test.statistic,
+        "dof": test.dof,
+        "p_value": test.p_value,
+        "one_curve": not test.rejects(0.05),
+        "joint": test.joint.to_dict(),
+    }

@@ -1,0 +1,124 @@
+"""The runs of a fragility study: one record at the levels of its ladder through each model.
+
+What each run gives is :data:`studies.fragility.analysis.RUN_KEYS`, the same for every model:
+
+* SDOF (:func:`sdof_runs`): the paper's half block with its collar springs, nonlinear, from
+  rest, as :func:`studies.fem_study.run_sdof` runs it (:func:`colonna.rigid.solve.rock`'s
+  kernel, the same parameters from :func:`colonna.rigid.solve.kernel_params`), without the
+  history: a fragility needs a run's outcome, its largest |theta| and the collars' largest
+  stress, and the springs' stress grows with |theta| (:func:`colonna.rigid.collars.
+  collar_yield_rotation`), so the largest stress is the stress at the largest |theta|. Each run
+  lasts the record plus 20 / p (rock's default) and is never cut short: the largest |theta|
+  after the motion is the swing in progress when it ends (each later swing starts from an
+  impact with less energy), which the integration reaches. ``rtol`` is the study's
+  (:data:`SDOF_RTOL`, recorded; rock's 1e-10 is available).
+* multibody (:func:`multibody_runs`): :func:`studies.fem_study.run_multibody` of the study with
+  the scaled record, its duration the record plus 20 / p.
+* FEM (:func:`fem_point`): :func:`studies.fem_study.iter_fem` on the study's mesh, settled-stop
+  (a run ends once it can no longer overturn), one run per record and level, the runs of one
+  model batched on one kernel.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ...core.ground import Record
+from .analysis import UPLIFT_RATIO
+
+SDOF_RTOL = 1e-6  # the SDOF runs' relative tolerance (measured against 1e-10: docs/fragility.md)
+SDOF_ATOL = 1e-12  # rad, as rock's
+FREE_TIME_P = 20.0  # s x p: how long the rigid runs follow free rocking after the record
+
+
+def sdof_runs(study, record: Record, scales, *, rtol: float = SDOF_RTOL) -> list[dict]:
+    """The SDOF runs of ``record`` times each of ``scales`` (:mod:`module notes <.models>`)."""
+    from ...rigid import _kernels as K
+    from ...rigid.collars import collar_response
+    from ...rigid.solve import kernel_params
+
+    block = study.rocking_block
+    collars = study.collars
+    alpha = block.alpha
+    duration = record.end_time + FREE_TIME_P / block.p
+    out = np.zeros((1, 3))
+    impacts = np.zeros((1, 3))
+    runs = []
+    for scale in scales:
+        P, rec_t, rec_a = kernel_params(block, record.scaled(float(scale)), collars, "nonlinear")
+        status, n_imp, max_theta, _, _, _ = K.rk_run(
+            P, rec_t, rec_a, duration, rtol, SDOF_ATOL, False, 0.0, out, impacts
+        )
+        overturned = status == K.OVERTURNED
+        peak = 0.5 * math.pi if overturned else float(max_theta)
+        utilisation = None
+        if collars:
+            utilisation = max(
+                float(collar_response(np.array([peak]), block.b, c)["utilisation"][0])
+                for c in collars
+            )
+        runs.append(
+            {
+                "overturned": bool(overturned),
+                "peak_ratio": peak / alpha,
+                "uplift": bool(overturned or peak > 0.0 or n_imp > 0),
+                "collar_utilisation": utilisation,
+                "collar_fractured": None,
+                "toe_ratio": None,
+                "impacts": int(n_imp),
+            }
+        )
+    return runs
+
+
+def multibody_runs(study, record: Record, scales) -> list[dict]:
+    """The multibody runs of ``record`` times each of ``scales``."""
+    from ..fem_study import run_multibody
+
+    block = study.rocking_block
+    duration = record.end_time + FREE_TIME_P / block.p
+    runs = []
+    for scale in scales:
+        variant = dataclasses.replace(study, ground=record.scaled(float(scale)), duration=duration)
+        s = run_multibody(variant).summary()
+        alpha = s["alpha"]
+        plastic = any(c.plastic for c in study.collars)
+        runs.append(
+            {
+                "overturned": bool(s["overturned"]),
+                "peak_ratio": 0.5 * math.pi / alpha
+                if s["overturned"]
+                else s["max_abs_theta"] / alpha,
+                "uplift": bool(s["overturned"] or s["max_abs_theta"] > UPLIFT_RATIO * alpha),
+                "collar_utilisation": s.get("collar_max_utilisation") if study.collars else None,
+                "collar_fractured": bool(s.get("collar_fractured")) if plastic else None,
+                "toe_ratio": None,
+                "impacts": int(s["impacts"]),
+            }
+        )
+    return runs
+
+
+def fem_point(study, fem) -> dict:
+    """A FEM run (:class:`colonna.fem.solver.FemResult`) of one record and level as a run of
+    the fragility (its rotation over the alpha of the block that rocks)."""
+    s = fem.summary
+    alpha = study.rocking_alpha
+    peak = max(s["max_abs_theta_left"], s["max_abs_theta_right"])
+    plastic = any(c.plastic for c in study.collars)
+    return {
+        "overturned": bool(s["overturned"]),
+        "peak_ratio": 0.5 * math.pi / alpha if s["overturned"] else peak / alpha,
+        "uplift": bool(s["overturned"] or peak > UPLIFT_RATIO * alpha),
+        "collar_utilisation": s["collar_max_utilisation"] if study.collars else None,
+        "collar_fractured": bool(s.get("collar_fractured")) if plastic else None,
+        "toe_ratio": s["edge_stress_ratio"],
+        # what the guard reads (studies.guard.fem_runs): a run that is not an answer stops
+        "status_fem": s["status"],
+        "energy_error_fem": s["energy_error_max"],
+        "fem_seconds": s["wall_seconds"],
+        "fem_steps": s["steps"],
+    }

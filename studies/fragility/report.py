@@ -1,0 +1,305 @@
+"""The fragility study's report: the probability of each limit state at the design intensity per
+model first, then the fragility curves with their bootstrap bands and the stripe fractions with
+their confidence bars, the IDA curves, the suite's spectra and IM table, and the likelihood-ratio
+tests of the rigid models against the FEM (presentation only: every number is summary.json's)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from ..output import write_csv
+from ..report import figure, legend_beside, render_page
+from .analysis import LIMIT_STATES
+
+MODEL_NAMES = {
+    "sdof": "SDOF half block",
+    "multibody": "rigid multibody",
+    "fem": "FEM",
+}
+FIT_NAMES = {"ida": "IDA", "stripes": "stripes"}
+INTENSITY_LABELS = {
+    "pga": "PGA (m/s$^2$)",
+    "pgv": "PGV (m/s)",
+    "sa": "Sa(T) (m/s$^2$)",
+    "pga_rocking": r"PGA / (g tan$\alpha$)",
+    "pgv_rocking": r"PGV p / (g tan$\alpha$)",
+}
+
+
+def write_report(out: Path) -> Path:
+    """index.html of a fragility study from its summary.json."""
+    out = Path(out)
+    s = json.loads((out / "summary.json").read_text())
+    (out / "figures").mkdir(exist_ok=True)
+    label = INTENSITY_LABELS[s["intensity"]]
+    if s["intensity"] == "sa":
+        label = label.replace("T", f"T = {s['period']:g} s")
+    figs = [
+        _curves(out, s, label),
+        _ida(out, s, label),
+        _spectra(out, s),
+    ]
+    return render_page(
+        out,
+        "fragility/report.html.j2",
+        s,
+        f"colonna fragility: {s['study']}",
+        figs=[f for f in figs if f is not None],
+        design_rows=design_rows(s),
+        fit_rows=fit_rows(s),
+        im_rows=im_rows(s),
+        tests=test_rows(s),
+        names=MODEL_NAMES,
+        states=LIMIT_STATES,
+    )
+
+
+def _answer(entry: dict) -> tuple[str, dict | None]:
+    """(which fit, the fit) a limit state's probability is read from (as the runner's
+    ``design``): the IDA capacities' where there is one, else the stripes'."""
+    for name in ("ida", "stripes"):
+        fit = entry.get(name)
+        if fit is not None and fit.get("fit") is not None:
+            return name, fit
+    return "", None
+
+
+def design_rows(s: dict) -> list[dict]:
+    """Per limit state, per model: P at the design intensity with its interval (or why
+    none), and the stripe fraction at the design intensity where it is one of the levels."""
+    rows = []
+    for state, words in LIMIT_STATES.items():
+        cells = []
+        for model in s["models"]:
+            entry = s["limit_states"][model].get(state)
+            if entry is None:
+                cells.append({"text": "not assessed", "key": None})
+                continue
+            which, fit = _answer(entry)
+            if fit is None:
+                cells.append({"text": entry.get("why", "no curve"), "key": None})
+                continue
+            low, high = fit["probability_interval"]
+            cells.append(
+                {
+                    "text": f"{fit['probability']:.3g} [{low:.3g}, {high:.3g}]",
+                    "key": f"design.P({state})_{model}",
+                    "fit": which,
+                }
+            )
+        if any(c["key"] is not None or c["text"] != "not assessed" for c in cells):
+            rows.append({"state": words, "cells": cells})
+    return rows
+
+
+def fit_rows(s: dict) -> list[dict]:
+    """Per model and limit state: each fit's median and dispersion with their intervals."""
+    rows = []
+    for model in s["models"]:
+        for state, entry in s["limit_states"][model].items():
+            for which in ("ida", "stripes"):
+                fit = entry.get(which)
+                if fit is None:
+                    continue
+                row = {
+                    "model": MODEL_NAMES[model],
+                    "state": LIMIT_STATES[state],
+                    "fit": "IDA capacities" if which == "ida" else "stripes (binomial MLE)",
+                }
+                if fit.get("fit") is None:
+                    row["text"] = fit.get("why", "no fit")
+                else:
+                    f = fit["fit"]
+                    m, b = fit["median_interval"], fit["beta_interval"]
+                    row.update(
+                        median=f"{f['median']:.4g} [{m[0]:.3g}, {m[1]:.3g}]",
+                        beta=f"{f['beta']:.3g} [{b[0]:.3g}, {b[1]:.3g}]",
+                        method=f["method"]
+                        + (" (a step: the data separate)" if f["separated"] else ""),
+                    )
+                rows.append(row)
+    return rows
+
+
+def im_rows(s: dict) -> list[dict]:
+    """The suite's records: their IMs (as in the suite, times its scale)."""
+    return [
+        {
+            "name": r["name"],
+            "file": r["file"],
+            "scale": r["suite_scale"],
+            "duration": r["duration"],
+            "intensity": r["intensity"],
+            **r["ims"],
+        }
+        for r in s["records"]
+    ]
+
+
+def test_rows(s: dict) -> list[dict]:
+    """The likelihood-ratio tests: per limit state, each rigid model against the FEM."""
+    rows = []
+    for state, tests in s.get("same_curve", {}).items():
+        for pair, test in tests.items():
+            model = pair.removesuffix("_fem")
+            rows.append(
+                {
+                    "state": LIMIT_STATES[state],
+                    "pair": f"{MODEL_NAMES[model]} vs FEM",
+                    "p_value": test.get("p_value"),
+                    "statistic": test.get("statistic"),
+                    "one_curve": test.get("one_curve"),
+                    "why": test.get("why"),
+                }
+            )
+    return rows
+
+
+def _curves(out: Path, s: dict, label: str) -> dict | None:
+    """The fragility curves: per limit state, each model's fit with its band and its stripe
+    fractions with their confidence bars; the design intensity marked."""
+    states = [st for st in LIMIT_STATES if any(st in s["limit_states"][m] for m in s["models"])]
+    if not states:
+        return None
+    columns = min(3, len(states))
+    rows = (len(states) + columns - 1) // columns
+    fig = Figure(figsize=(4.2 * columns + 1.8, 3.3 * rows))
+    axes = np.atleast_1d(fig.subplots(rows, columns, squeeze=False)).ravel()
+    levels = np.array(s["levels"])
+    data: dict = {"im": levels}
+    for ax, state in zip(axes, states):
+        for k, model in enumerate(s["models"]):
+            entry = s["limit_states"][model].get(state)
+            if entry is None:
+                continue
+            colour = f"C{k}"
+            fractions = np.array(entry["fractions"])
+            bars = np.array(entry["fraction_intervals"])
+            ax.errorbar(
+                levels * (1.0 + 0.01 * (k - 1)),  # models' bars side by side
+                fractions,
+                yerr=[fractions - bars[:, 0], bars[:, 1] - fractions],
+                fmt="o",
+                ms=3.5,
+                color=colour,
+                capsize=2,
+                lw=0.8,
+                label=f"{MODEL_NAMES[model]}: fraction of records",
+            )
+            data[f"{state}_{model}_fraction"] = fractions
+            which, fit = _answer(entry)
+            if fit is not None:
+                curve = fit["curve"]
+                im = np.array(curve["im"])
+                ax.fill_between(im, curve["low"], curve["high"], color=colour, alpha=0.18, lw=0)
+                ax.plot(
+                    im,
+                    curve["probability"],
+                    color=colour,
+                    label=f"{MODEL_NAMES[model]}: lognormal fit ({FIT_NAMES[which]}) and band",
+                )
+        ax.axvline(s["design_intensity"], color="k", ls=":", lw=1.0, label="design intensity")
+        ax.set_title(LIMIT_STATES[state], fontsize=10)
+        ax.set_ylim(-0.03, 1.03)
+        ax.set_xlabel(label)
+        ax.set_ylabel("P[limit state | IM]")
+    for ax in axes[len(states) :]:
+        ax.set_visible(False)
+    handles, labels = axes[0].get_legend_handles_labels()
+    seen = dict(zip(labels, handles))
+    for ax in axes[1 : len(states)]:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            seen.setdefault(lab, h)
+    fig.legend(list(seen.values()), list(seen), loc="lower center", ncol=2, fontsize=8)
+    fig.tight_layout(rect=(0, 0.06 + 0.03 * len(seen) / 2 / rows, 1, 1))
+    write_csv(out / "figures" / "curves.csv", data)
+    level = s["limit_states"][s["models"][0]][states[0]]
+    band = (level.get("ida") or level.get("stripes") or {}).get("level")
+    return figure(
+        out,
+        "curves",
+        fig,
+        "Fragility curves: per limit state, each model's lognormal fit with its bootstrap band "
+        + (f"({100 * band:.0f} %, over records) " if band else "")
+        + "and the fraction of records in the limit state at each level with its exact "
+        "binomial interval; the dotted line is the design intensity",
+    )
+
+
+def _ida(out: Path, s: dict, label: str) -> dict | None:
+    """The IDA curves: each record's largest |theta| / alpha over the levels, per model; an
+    overturning drawn at the right edge, the first one of each record marked."""
+    models = s["models"]
+    levels = np.array(s["levels"])
+    cap = max(2.0, 2.0 * s["theta_ratio"])
+    fig = Figure(figsize=(4.0 * len(models) + 1.8, 3.6))
+    axes = np.atleast_1d(fig.subplots(1, len(models), sharey=True, squeeze=False)).ravel()
+    data: dict = {"im": levels}
+    for ax, model in zip(axes, models):
+        peak = np.array(s["runs"][model]["peak_ratio"], dtype=float)
+        over = np.array(s["runs"][model]["overturned"], dtype=bool)
+        shown = np.where(over, cap, np.minimum(peak, cap))
+        for i in range(shown.shape[0]):
+            ax.plot(shown[i], levels, color="0.55", lw=0.8)
+            data[f"{model}_record{i}"] = shown[i]
+            if over[i].any():
+                j = int(np.argmax(over[i]))
+                ax.plot([cap], [levels[j]], "x", color="C3", ms=7, label="first overturning")
+        ax.axvline(s["theta_ratio"], color="C1", ls="--", lw=1.0, label="rotation threshold")
+        ax.axhline(s["design_intensity"], color="k", ls=":", lw=1.0, label="design intensity")
+        ax.set_xlim(0.0, cap * 1.05)
+        ax.set_title(MODEL_NAMES[model], fontsize=10)
+        ax.set_xlabel(r"largest $|\theta| / \alpha$ (right edge: overturned)")
+    axes[0].set_ylabel(label)
+    handles, labels = axes[-1].get_legend_handles_labels()
+    for ax in axes:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    unique = dict(zip(labels, handles))
+    legend_beside(axes[-1], handles=list(unique.values()), labels=list(unique))
+    fig.tight_layout()
+    write_csv(out / "figures" / "ida.csv", data)
+    return figure(
+        out,
+        "ida",
+        fig,
+        "IDA curves: each record's largest |theta| / alpha (alpha of "
+        + "the rocking block) at each level; an overturning is drawn at the right edge, a record's "
+        "capacity is its first overturning (x), even where it survives a higher level",
+    )
+
+
+def _spectra(out: Path, s: dict) -> dict | None:
+    """The suite's 5 %-damped pseudo-spectral accelerations and their median."""
+    spectra = s.get("spectra")
+    if not spectra:
+        return None
+    periods = np.array(spectra["periods"])
+    sa = np.array(spectra["sa"], dtype=float)
+    fig = Figure(figsize=(7.5, 3.6))
+    ax = fig.subplots()
+    for row in sa:
+        ax.loglog(periods, row, color="0.65", lw=0.8)
+    ax.loglog(periods, np.median(sa, axis=0), color="C0", lw=2.2, label="median of the suite")
+    ax.plot([], [], color="0.65", lw=0.8, label="each record")
+    ax.set_xlabel("period T (s)")
+    ax.set_ylabel(r"Sa(T, 5 %) (m/s$^2$)")
+    legend_beside(ax)
+    fig.tight_layout()
+    write_csv(
+        out / "figures" / "spectra.csv",
+        {"period": periods, **{f"record{i}": row for i, row in enumerate(sa)}},
+    )
+    return figure(
+        out,
+        "spectra",
+        fig,
+        "The suite's 5 %-damped pseudo-spectral accelerations (each record times its suite "
+        "scale, before the study scales it to a level)",
+    )

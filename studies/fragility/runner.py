@@ -1,0 +1,365 @@
+"""The fragility study (kind ``fragility``): how likely is each limit state at a given intensity?
+
+The study file is a column file (column, stone, collars, contact, mesh, run, rigid) without a
+ground motion of its own ([ground] pulse = "none": the suite's records are the motions) and a
+[fragility] table (:class:`studies.schema.Fragility`):
+
+    [fragility]
+    suite = "suites/synthetic"      # a folder of records, or a TOML list (colonna.core.suite)
+    intensity = "pgv_rocking"       # pga, pgv, sa (with period), pga_rocking, pgv_rocking
+    analysis = "ida"                # ladder = [start, stop], steps; or "msa" with levels
+    ladder = [0.5, 6.0]
+    steps = 20
+    models = ["sdof", "multibody"]  # and "fem"
+    design_intensity = 2.0          # the report opens with the probabilities here
+
+Every record (times its suite scale) is scaled to every level: its factor is level / its own
+IM (the IMs offered scale linearly with the record). Each model runs each record at each level
+once (:mod:`.models`); the cases go through :func:`studies.executor.run_cases` (saved as they
+complete, resumable, local workers or Dask): one case per model and record for the rigid models
+(its ladder in one worker), one per record and level for the FEM (batched on one kernel, as the
+spectrum's grid points). ``summary.json`` holds the runs' tables (records x levels), each
+limit state's fits (:mod:`.analysis`) and the likelihood-ratio tests of the rigid models against
+the FEM (the cross-check in fragility terms).
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import re
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ...core.errors import InputError
+from .. import schema
+from ..executor import RunOptions, run_cases
+from ..fem_study import FemStudy, FemWork, case_of, column_of, study_of_case
+from ..guard import check_fem_results
+from ..output import write_json
+from ..study import Study
+from . import analysis
+from .models import FREE_TIME_P, fem_point, multibody_runs, sdof_runs
+
+FEM_TAIL = 1.5  # s of free motion the FEM follows after a record (as a study's default)
+FEWER = ", fewer records, levels (fragility.steps, levels) or models (fragility.models)"
+
+
+def defaults(data: dict) -> dict:
+    """The study file's tables with this kind's defaults: [ground] pulse = "none" (the suite's
+    records are the motions; a copy)."""
+    data = copy.deepcopy(data)
+    data.setdefault("ground", {"pulse": "none"})
+    return data
+
+
+@dataclasses.dataclass(frozen=True)
+class Setup:
+    """What a fragility study runs, read once from the validated study: its [fragility]
+    table, the column without a motion (:func:`studies.fem_study.column_of`), the suite's
+    records (each times its suite scale), every record's IMs and the one it is scaled by, and
+    the intensity levels."""
+
+    spec: schema.Fragility
+    column: FemStudy
+    suite: tuple
+    records: tuple
+    ims: tuple
+    intensity: np.ndarray
+    levels: np.ndarray
+
+
+def setup(study: Study) -> Setup:
+    """The :class:`Setup` of a fragility study (an InputError naming the key where it cannot
+    be run)."""
+    from ...core.intensity import intensity_measures
+    from ...core.suite import load_suite
+
+    source = study.source
+    spec = study.spec.fragility
+    if spec is None:
+        raise InputError(
+            f"{source}: a fragility study needs a [fragility] table (suite, ladder or levels, "
+            "design_intensity)"
+        )
+    ground = study.data.get("ground", {})
+    if set(ground) - {"pulse"} or ground.get("pulse", "none") != "none":
+        raise InputError(
+            f"{source}: [ground] of a fragility study is the suite's records "
+            "(fragility.suite): leave [ground] out or set pulse = 'none'"
+        )
+    column = column_of(study.spec, source, study.base)
+    try:
+        suite = load_suite(study.base / spec.suite)
+    except InputError as exc:
+        raise InputError(f"{source}: fragility.suite = {spec.suite!r}: {exc}") from None
+    if len(suite) < 2:
+        raise InputError(
+            f"{source}: fragility.suite = {spec.suite!r} holds {len(suite)} record: a "
+            "fragility needs two or more"
+        )
+    records = tuple(entry.scaled for entry in suite)
+    periods = [spec.period] if spec.intensity == "sa" else []
+    block = column.rocking_block
+    ims = tuple(intensity_measures(r, periods=periods, block=block) for r in records)
+    intensity = np.array([intensity_of(im, spec.intensity, spec.period) for im in ims])
+    if spec.analysis == "ida":
+        assert spec.ladder is not None  # the schema asks for it with analysis = "ida"
+        levels = analysis.ladder(spec.ladder[0], spec.ladder[1], spec.steps)
+    else:
+        levels = np.array(spec.levels, dtype=float)
+    for entry, value in zip(suite, intensity):
+        analysis.scales_for(levels, value, entry.name)  # a record without motion: refused
+    return Setup(spec, column, tuple(suite), records, ims, intensity, levels)
+
+
+def intensity_of(ims, name: str, period: float | None = None) -> float:
+    """The IM ``name`` of a record's :class:`colonna.core.intensity.IntensityMeasures`."""
+    if name == "sa":
+        return float(ims.sa[period])
+    return float(getattr(ims, name))
+
+
+def _slug(name: str) -> str:
+    """A record's name as a folder name."""
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", name)[:40] or "record"
+
+
+def rigid_case(case: dict, directory: str) -> dict:
+    """One rigid model (sdof or multibody) through one record's ladder."""
+    study = study_of_case(case)
+    record = study.ground
+    scales = case["scales"]
+    start = time.perf_counter()
+    if case["model"] == "sdof":
+        runs = sdof_runs(study, record, scales, rtol=case["rtol"])
+    else:
+        runs = multibody_runs(study, record, scales)
+    return {"runs": runs, "seconds": time.perf_counter() - start}
+
+
+def fem_cases(cases: list[dict], directories: list[str]):
+    """FEM runs of records at levels (one each), those of one model batched on one kernel
+    (:func:`studies.fem_study.iter_fem`, settled-stop). Yields (index in cases, result)."""
+    from ..fem_study import iter_fem
+
+    studies = [study_of_case(case) for case in cases]
+    for index, fem in iter_fem(studies):
+        yield index, fem_point(studies[index], fem)
+
+
+def _fem_study(column: FemStudy, record, scale: float, interval: float) -> FemStudy:
+    """The FEM run of ``record`` times ``scale``: to its end + FEM_TAIL, settled-stop."""
+    return dataclasses.replace(
+        column,
+        ground=record.scaled(float(scale)),
+        duration=column.duration or record.end_time + FEM_TAIL,
+        output_interval=interval,
+        stop_when_settled=True,
+        replicas=1,
+    )
+
+
+def _interval(column: FemStudy, records) -> float:
+    """One output interval for every FEM run (a batch shares it): the study's, else 1/400 of
+    the shortest run."""
+    if column.output_interval is not None:
+        return column.output_interval
+    return min(column.duration or r.end_time + FEM_TAIL for r in records) / 400.0
+
+
+def fem_work(study: Study) -> FemWork:
+    """The FEM work of a fragility study (:func:`studies.driver.check_work`): one run per
+    record and level, each the record's duration (a settled-stop run costs less)."""
+    from ...fem.solver import BATCH_SLOTS
+    from ..fem_study import fem_work as estimate_work
+
+    s = setup(study)
+    if "fem" not in s.spec.models:
+        return FemWork()
+    interval = _interval(s.column, s.records)
+    models: dict = {}
+    work = FemWork()
+    for record in s.records:
+        one = _fem_study(s.column, record, 1.0, interval)
+        work += estimate_work(one, s.levels.size, held=BATCH_SLOTS, models=models)
+    return work
+
+
+def run(study: Study, out: Path, options: RunOptions) -> dict:
+    """Run (or resume) a fragility study into ``out``: ``summary.json``."""
+    s = setup(study)
+    spec = s.spec
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    start = time.perf_counter()
+    scales = [analysis.scales_for(s.levels, im).tolist() for im in s.intensity]
+    names = [_slug(entry.name) for entry in s.suite]
+    rigid = [m for m in spec.models if m != "fem"]
+    cases = []
+    for model in rigid:
+        for i, record in enumerate(s.records):
+            duration = record.end_time + FREE_TIME_P / s.column.rocking_block.p
+            one = dataclasses.replace(s.column, ground=record, duration=duration)
+            cases.append(
+                case_of(
+                    one,
+                    key=f"{model}-{i:03d}-{names[i]}",
+                    model=model,
+                    record=i,
+                    scales=scales[i],
+                    rtol=spec.sdof_rtol if model == "sdof" else None,
+                )
+            )
+    runs: dict[str, list] = {}
+    seconds: dict[str, float] = {}
+    if cases:
+        results = run_cases(rigid_case, cases, out, **options.for_cases(), stage="rigid runs")
+        for model in rigid:
+            mine = [c for c in cases if c["model"] == model]
+            runs[model] = [results[c["key"]]["runs"] for c in mine]
+            seconds[model] = float(sum(results[c["key"]]["seconds"] for c in mine))
+    if "fem" in spec.models:
+        interval = _interval(s.column, s.records)
+        fem = []
+        for i, record in enumerate(s.records):
+            for j, scale in enumerate(scales[i]):
+                one = _fem_study(s.column, record, scale, interval)
+                fem.append(
+                    case_of(
+                        one,
+                        cost=one.duration,
+                        key=f"fem-{i:03d}-{j:03d}-{names[i]}",
+                        record=i,
+                        level=j,
+                    )
+                )
+        results = run_cases(
+            fem_cases, fem, out, **options.for_cases(), batched=True, stage="FEM runs"
+        )
+        check_fem_results(results, out)
+        table: list[list[dict]] = [[{} for _ in s.levels] for _ in s.records]
+        for c in fem:
+            table[c["record"]][c["level"]] = results[c["key"]]
+        runs["fem"] = table
+        seconds["fem"] = float(sum(results[c["key"]]["fem_seconds"] for c in fem))
+    summary = assemble(study, s, runs, seconds)
+    summary["wall_seconds"] = time.perf_counter() - start
+    write_json(out / "summary.json", summary)
+    return summary
+
+
+RUN_TABLES = ("overturned", "peak_ratio", "uplift", "collar_utilisation", "toe_ratio")
+
+
+def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
+    """summary.json from the runs: per model the records x levels tables, per model and limit
+    state the fits and P at the design intensity, and the likelihood-ratio tests."""
+    spec = s.spec
+    block = s.column.rocking_block
+    design = spec.design_intensity
+    states: dict[str, dict] = {}
+    exceeded: dict[str, dict] = {}
+    for model, table in runs.items():
+        exceeded[model] = analysis.exceedances(table, spec.theta_ratio)
+        states[model] = {
+            name: analysis.fit_limit_state(
+                value,
+                s.levels,
+                design,
+                draws=spec.bootstrap,
+                seed=spec.seed,
+                level=spec.confidence,
+                ida=spec.analysis == "ida",
+            )
+            for name, value in exceeded[model].items()
+        }
+    tests: dict[str, dict] = {}
+    if "fem" in exceeded:
+        for model in exceeded:
+            if model == "fem":
+                continue
+            for name, value in exceeded[model].items():
+                if name in exceeded["fem"]:
+                    tests.setdefault(name, {})[f"{model}_fem"] = analysis.same_curve(
+                        value, exceeded["fem"][name], s.levels
+                    )
+    probability: dict[str, float | None] = {}
+    for model, fitted in states.items():
+        for name, entry in fitted.items():
+            best = _answer_fit(entry)
+            probability[f"P({name})_{model}"] = None if best is None else best["probability"]
+    return {
+        "study": s.column.name,
+        "kind": study.kind,
+        "intensity": spec.intensity,
+        "intensity_unit": _unit(spec.intensity),
+        "period": spec.period,
+        "analysis": spec.analysis,
+        "levels": s.levels.tolist(),
+        "design_intensity": design,
+        "theta_ratio": spec.theta_ratio,
+        "confidence": spec.confidence,
+        "bootstrap": spec.bootstrap,
+        "models": list(runs),
+        "block": {
+            "alpha": block.alpha,
+            "p": block.p,
+            "uplift_acceleration": block.uplift_acceleration("nonlinear"),
+        },
+        "records": [
+            {
+                "name": entry.name,
+                "file": str(entry.path.name),
+                "sha256": entry.sha256,
+                "suite_scale": entry.scale,
+                "intensity": float(value),
+                "duration": float(record.end_time),
+                "ims": ims.to_dict(),
+            }
+            for entry, record, ims, value in zip(s.suite, s.records, s.ims, s.intensity)
+        ],
+        "spectra": suite_spectra(s.records),
+        "runs": {
+            model: {key: analysis.table(table, key).tolist() for key in RUN_TABLES}
+            for model, table in runs.items()
+        },
+        "limit_states": states,
+        "design": probability,
+        "same_curve": tests,
+        "sdof_rtol": spec.sdof_rtol if "sdof" in runs else None,
+        "model_seconds": seconds,
+        "layout": "runs[model][key][i][j]: i indexes records, j indexes levels",
+    }
+
+
+SPECTRUM_PERIODS = np.geomspace(0.05, 5.0, 30)  # s, the suite's spectra in the report
+
+
+def suite_spectra(records) -> dict:
+    """The 5 %-damped pseudo-spectral acceleration (m/s^2) of every record of the suite (times
+    its suite scale) at :data:`SPECTRUM_PERIODS`."""
+    from ...core.intensity import spectral_acceleration
+
+    return {
+        "periods": SPECTRUM_PERIODS.tolist(),
+        "sa": [spectral_acceleration(r, SPECTRUM_PERIODS).tolist() for r in records],
+    }
+
+
+def _answer_fit(entry: dict) -> dict | None:
+    """The fit a limit state's probability at the design intensity is read from: the IDA
+    capacities' where the study ran IDA and it has one, else the stripes'."""
+    for name in ("ida", "stripes"):
+        fit = entry.get(name)
+        if fit is not None and fit.get("fit") is not None:
+            return fit
+    return None
+
+
+def _unit(intensity: str) -> str:
+    from ..schema import INTENSITY_MEASURES
+
+    return INTENSITY_MEASURES[intensity]
