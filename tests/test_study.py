@@ -177,6 +177,21 @@ def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
     )
 
 
+def test_report_names_each_toe_stress_and_every_alpha_its_block(tiny_run):
+    """Issue 35 on the tiny cross-check: every toe or base stress label names its quantity and
+    the places that show one quantity show one number; every alpha names its block
+    (tests/test_report_answers.py)."""
+    from test_report_answers import (
+        assert_every_alpha_names_its_block,
+        assert_toe_stresses_named_and_agreeing,
+    )
+
+    root, _, _ = tiny_run
+    assert_toe_stresses_named_and_agreeing(root / "out")
+    page = (root / "out" / "index.html").read_text()
+    assert assert_every_alpha_names_its_block(re.sub(r"<svg.*?</svg>", "", page, flags=re.S)) >= 1
+
+
 def test_study_with_a_typo_fails_before_any_work(tmp_path, capsys):
     study = tmp_path / "typo.toml"
     study.write_text(TINY.replace("[ground]", "[grund]"))
