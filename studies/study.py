@@ -134,7 +134,6 @@ class Study:
         :meth:`to_json`), naming each in ``resolved`` with its rule."""
         from ..core.collar import Collar
         from ..core.errors import InputError
-        from ..core.ground import HarmonicPulse
         from .fem_study import column_of
 
         def fill(table: str, key: str, value, rule: str) -> None:
@@ -171,10 +170,11 @@ class Study:
         fill("run", "duration", fem.duration, "the end of the ground motion + 1.5 s")
         fill("run", "output_interval", fem.duration / 400.0, "duration / 400")
         ground = inputs["ground"]
-        if isinstance(fem.ground, HarmonicPulse):
+        sine = fem.ground.sine_form  # a pulse: its amplitude and frequency in SI
+        if sine is not None:
             rule = "amplitude_ratio x the rocking half's uplift acceleration"
-            fill("ground", "amplitude", fem.ground.amplitude, rule)
-            period = 2.0 * math.pi / fem.ground.omega
+            fill("ground", "amplitude", sine.amplitude, rule)
+            period = 2.0 * math.pi / sine.omega
             fill("ground", "period", period, "2 pi / (omega_ratio x p of the rocking half)")
         if ground["pulse"] == "record":
             fill("ground", "scale", 1.0, "1 (the record as read)")
