@@ -161,6 +161,25 @@ def test_renders_are_cropped_to_the_column_and_show_peak_and_end(tmp_path, capfd
         <= MARGIN + 1
     )
     assert "bad X server" not in capfd.readouterr().err
+    for name in ("render_initial.png", "render_peak_rotation.png"):
+        _assert_bar_title_apart_from_its_ticks(pictures[name])
+
+
+def _assert_bar_title_apart_from_its_ticks(img):
+    """The colour bar (the lowest band of coloured rows) has its tick labels just above it and
+    its title below it: dark text on both sides, each apart from the bar by blank rows, so
+    that the title cannot overprint the numbers (as VTK's own title did)."""
+    chroma = img.max(axis=2) - img.min(axis=2)
+    coloured = np.flatnonzero((chroma > 60).sum(axis=1) > 0.3 * img.shape[1])
+    assert coloured.size, "no colour bar"
+    bottom = coloured[-1]
+    top = bottom
+    while top - 1 in set(coloured):
+        top -= 1
+    dark = (img.max(axis=2) < 110).sum(axis=1) > 0
+    above, below = dark[max(top - 30, 0) : top], dark[bottom + 1 :]
+    assert above.any() and below.any(), (above.any(), below.any())  # ticks above, title below
+    assert not below[:1].any() and not above[-1:].any()  # a blank row each side of the bar
 
 
 def test_a_run_that_ends_at_its_peak_rotation_is_drawn_once(tmp_path):
