@@ -168,6 +168,9 @@ def record_of(run: Path) -> dict:
         "recorded": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "commit": commit or "unknown",
         "run_wall_seconds": files["summary.json"].get("wall_seconds"),
+        "run_finished": datetime.datetime.fromtimestamp(
+            (run / "summary.json").stat().st_mtime, datetime.UTC
+        ).strftime("%Y-%m-%d %H:%M UTC"),
         "values": values,
     }
 
@@ -280,10 +283,11 @@ def page(record: dict) -> str:
         "from another `studies/default.toml` or by another colonna version "
         "(`make docs-numbers` makes a new one).",
         "",
-        f"Run by colonna {record['colonna_version']} in {record['run_wall_seconds']:.0f} s; "
-        f"recorded {record['recorded']} with commit `{record['commit']}` checked out "
-        "(`-dirty`: with changes not yet committed); study file SHA-256 "
-        f"`{record['study_sha256']}`.",
+        f"Run by colonna {record['colonna_version']} in {record['run_wall_seconds']:.0f} s, "
+        f"finished {record['run_finished']} (its summary.json written); recorded "
+        f"{record['recorded']} with commit `{record['commit']}` checked out (`-dirty`: with "
+        "changes not yet committed; `make docs-numbers` runs the study and records it on one "
+        f"commit); study file SHA-256 `{record['study_sha256']}`.",
         "",
         "| quantity | value | from the run's file |",
         "|---|---|---|",
