@@ -163,6 +163,24 @@ def test_an_fem_only_study_qualifies_its_answers_the_same_way():
     assert "study-mesh peak" in toe["measure"] and "averaged over" in toe["measure"]
 
 
+def test_the_answers_follow_the_model_whose_stresses_they_quote():
+    """A study with several FEM models (solid vs cracked) quotes the as-built column's: its
+    stays-up word and its qualifier are that model's, whatever the others do."""
+    solid = fem_model("FEM, solid", _fem(0), 0.1, "column")
+    built = fem_model("FEM, cracked, with collars", _fem(4), 0.1, "column")
+    fem = _fem(4)
+    o = outcome([solid, built], fem_answers(fem, "elsewhere"), stress_model=1)
+    answers = {a["key"]: a for a in o["answers"]}
+    assert answers["stays_up"]["answer"] == "no"
+    assert answers["stays_up"]["model"] == "FEM, cracked, with collars"
+    assert answers["toe_crushes"]["model"] == "FEM, cracked, with collars"
+    assert answers["toe_crushes"]["qualifier"] == (
+        "until overturning at t = 1.24 s (replicas 1.2 to 1.26 s), in all 4 replicas"
+    )
+    o = outcome([built, solid], fem_answers(_fem(0), "elsewhere"), stress_model=1)
+    assert all("qualifier" not in a for a in o["answers"])
+
+
 def test_no_stress_answer_of_an_overturning_column_is_green_in_the_browser(tmp_path):
     """Chromium's computed colours: with the FEM overturning in every replica, the stress
     answers' words are not green (the pass colour), "Does the column stay up?" is not green
