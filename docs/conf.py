@@ -70,12 +70,36 @@ def _generate() -> dict[str, str]:
     out = HERE / "generated"
     out.mkdir(exist_ok=True)
     _write(out / "cli.md", cli_reference.markdown(build_parser()))
+    _write(out / "kinds-toc.md", _kinds_toctree())
     try:
         record = default_numbers.load_current(HERE / default_numbers.RECORD)
     except SystemExit as stale:  # Sphinx would hide the reason of a SystemExit
         raise ConfigError(str(stale)) from None
     _write(out / "default-study.md", default_numbers.page(record))
     return default_numbers.substitutions(record)
+
+
+# Pages of study kinds that are written beside their kind (docs/<page>.md): each one present is
+# listed under "Using colonna" (index.md includes generated/kinds-toc.md), so that a kind's page
+# lands in the site with the kind, and a missing one is no broken link.
+KIND_PAGES = ("fragility",)
+
+
+def _kinds_toctree() -> str:
+    pages = [page for page in KIND_PAGES if (HERE / f"{page}.md").exists()]
+    if not pages:
+        return ""
+    return "\n".join(
+        [
+            "```{toctree}",
+            ":caption: Study kinds",
+            ":maxdepth: 2",
+            "",
+            *[f"/{page}" for page in pages],
+            "```",
+            "",
+        ]
+    )
 
 
 def _write(path: Path, text: str) -> None:
