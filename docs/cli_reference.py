@@ -10,6 +10,8 @@ subcommand and every option.
 from __future__ import annotations
 
 import argparse
+import os
+import re
 
 
 def subcommands(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
@@ -29,7 +31,9 @@ def _helps(parser: argparse.ArgumentParser) -> dict[str, str]:
 
 
 def _cell(text: str) -> str:
-    return " ".join(str(text).split()).replace("|", "\\|")
+    """A table cell: one line, its option names as code (Markdown would make -- a dash)."""
+    text = " ".join(str(text).split()).replace("|", "\\|")
+    return re.sub(r"(?<![\w`])(--[a-z][a-z-]*)", r"`\1`", text)
 
 
 def _value(action: argparse.Action) -> str:
@@ -62,7 +66,7 @@ def _options_table(parser: argparse.ArgumentParser) -> list[str]:
         if not actions:
             continue
         if group.title not in ("options", "optional arguments"):
-            lines += [f"*{group.title[0].upper()}{group.title[1:]}:*", ""]
+            lines += [f"{_cell(group.title[0].upper() + group.title[1:])}:", ""]
         lines += ["| option | takes | default | meaning |", "|---|---|---|---|"]
         for action in actions:
             names = ", ".join(f"`{name}`" for name in action.option_strings) or f"`{action.dest}`"
@@ -74,7 +78,20 @@ def _options_table(parser: argparse.ArgumentParser) -> list[str]:
 
 
 def markdown(parser: argparse.ArgumentParser) -> str:
-    """The reference page of ``parser`` (``colonna``) as MyST Markdown."""
+    """The reference page of ``parser`` (``colonna``) as MyST Markdown, its usage lines wrapped
+    at 72 columns (argparse reads the width from COLUMNS) to fit the page."""
+    columns = os.environ.get("COLUMNS")
+    os.environ["COLUMNS"] = "72"
+    try:
+        return _markdown(parser)
+    finally:
+        if columns is None:
+            del os.environ["COLUMNS"]
+        else:
+            os.environ["COLUMNS"] = columns
+
+
+def _markdown(parser: argparse.ArgumentParser) -> str:
     helps = _helps(parser)
     lines = [
         "# Command-line reference",
