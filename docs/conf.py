@@ -43,7 +43,10 @@ exclude_patterns = ["_build", "examples", "Thumbs.db", ".DS_Store"]
 myst_enable_extensions = ["substitution", "colon_fence"]
 myst_heading_anchors = 3
 html_theme = "alabaster"
-html_theme_options = {"description": "cracked stone columns held by steel collars"}
+html_theme_options = {
+    "description": "cracked stone columns held by steel collars",
+    "page_width": "1160px",
+}
 html_title = f"colonna {release}"
 
 sphinx_gallery_conf = {
