@@ -90,4 +90,4 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_spectrum_crosscheck.py
 
 clean:
-	rm -rf $(VENV) $(OUT) .pytest_cache docs/_build docs/generated docs/gallery
+	rm -rf $(VENV) $(OUT) .pytest_cache docs/_build docs/generated docs/gallery docs/sg_execution_times.rst
