@@ -375,6 +375,7 @@ def test_cross_check_of_a_recorded_motion(tmp_path):
     )
     text = text.replace("[mesh]", "[mesh]\ntoe_refinements = []")
     text = text.replace("duration = 0.6", "duration = 2.5")  # the record peaks at 1.5 s
+    text = text.replace("[run]\n", "[run]\nreplicas = 2\n")  # no band is asked of it
     study.write_text(text)
     summary = run_study_file(study, tmp_path / "out", workers=1, progress=False)
     from colonna.core.ground import read_record

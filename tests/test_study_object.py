@@ -71,7 +71,9 @@ def test_a_cross_check_reads_its_file_once_and_validates_it_once(tmp_path):
     """The whole cross-check (its FEM, rigid, spectrum and toe cases, the record of its
     inputs, the ground motion and the report) from one read and one validation."""
     study = tmp_path / "tiny.toml"
-    study.write_text(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.3))
+    # two replicas: the ensemble's path is taken, and each replica reads no more than one
+    text = TINY_STUDY.format(amplitude_ratio=2.5, duration=0.3)
+    study.write_text(text.replace("[run]\n", "[run]\nreplicas = 2\n"))
     counts = _count(study, tmp_path / "out")
     assert counts == {"opens": 1, "validations": ["StudyFile"]}
 
