@@ -762,6 +762,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, default=Path("out/validation"))
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_validate)
+
+    from .kinds import KINDS
+
+    for name, kind in KINDS.items():  # a kind's own command (studies/kinds.py, its package)
+        if kind.command:
+            p = sub.add_parser(name, help=kind.command)
+            command = importlib.import_module(f"{kind.module().__name__}.command")
+            command.add_arguments(p)
+            p.set_defaults(func=command.run_command)
     return parser
 
 

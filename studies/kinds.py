@@ -34,7 +34,9 @@ class StudyKind:
     them, nor none), the tables of its own it reads (``tables``, of :data:`KIND_TABLES`),
     the command-line options it takes (``options``), whether it needs a [column]
     (``column``) and whether it sets the pulse's amplitude and frequency itself
-    (``sets_pulse``: a study file gives only its shape)."""
+    (``sets_pulse``: a study file gives only its shape); ``command``: the help line of a
+    command of its own, ``colonna <kind>``, whose options its package's ``add_arguments(parser)``
+    adds and whose ``run_command(args)`` runs it."""
 
     package: str
     short: tuple[str, ...] = ()
@@ -43,6 +45,7 @@ class StudyKind:
     options: tuple[str, ...] = ()
     column: bool = True
     sets_pulse: bool = False
+    command: str = ""  # the help of a fast command of its own (colonna <kind>), if it has one
 
     def module(self) -> ModuleType:
         """The kind's package (imported on first use)."""
@@ -77,7 +80,13 @@ KINDS = {
     "zhang-makris": StudyKind(
         "zhang_makris", ("outcome", "boundaries"), ground_motion=False, column=False
     ),
-    "fragility": StudyKind("fragility", ("design",), ground_motion=False, tables=("fragility",)),
+    "fragility": StudyKind(
+        "fragility",
+        ("design",),
+        ground_motion=False,
+        tables=("fragility",),
+        command="fragility of the SDOF alone over a record suite (IDA or stripes), fast: the fits",
+    ),
 }
 
 DEFAULT_KIND = "cross-check"  # a study file without [study] kind

@@ -675,7 +675,8 @@ def test_every_shipped_study_is_well_within_the_work_limit(path):
     work = fem_work_of(study)
     assert work.seconds <= 0.5 * WORK_LIMIT_SECONDS, (work, path.stem)
     assert work.memory <= memory_limit()
-    if study.kind != "zhang-makris":  # (no FEM)
+    # (no FEM: the Zhang & Makris validation; the fragility study's FEM is an option)
+    if study.kind not in ("zhang-makris", "fragility"):
         assert work.node_steps > 0 and work.nodes > 0
 
 

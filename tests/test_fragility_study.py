@@ -268,3 +268,30 @@ def test_a_fragility_study_refuses_a_ground_motion_of_its_own(tmp_path, capsys):
     code = main(["study", str(tmp_path / "study.toml"), "--out", str(tmp_path / "out")])
     err = capsys.readouterr().err
     assert code == 2 and "[ground] of a fragility study is the suite's records" in err
+
+
+def test_colonna_fragility_gives_the_study_s_sdof_fits_from_flags(tiny, capsys):
+    """The fast command (the SDOF alone, no executor nor report) from flags describing the
+    tiny study's block, suite and ladder gives the study's fits and probabilities."""
+    out, s = tiny
+    suite = out.parent / "suite.toml"
+    args = ["fragility", "--suite", str(suite), "--b", "0.3", "--h", "2.0"]
+    args += ["--ladder", "1.1:8:24", "--design", "3", "--bootstrap", "40", "--json"]
+    assert main(args) == 0
+    fast = json.loads(capsys.readouterr().out)
+    for state in ("uplift", "overturning", "rotation"):
+        assert fast["limit_states"][state] == s["limit_states"]["sdof"][state], state
+    assert main(["fragility", str(out.parent / "study.toml")]) == 0
+    printed = capsys.readouterr().out
+    p = s["design"]["P(overturning)_sdof"]
+    assert re.search(rf"^overturning\s+{re.escape(f'{p:.3g}')} ", printed, re.M), printed
+
+
+def test_a_record_that_only_touches_the_uplift_level_does_not_rock_the_block():
+    """PGA / (g tan alpha) = 1 exactly: no uplift (rocking needs the ground to exceed it)."""
+    t = np.linspace(0.0, 1.0, 101)
+    record = Record(t, np.sin(math.pi * t))
+    runs = sdof_runs(
+        _free(BLOCK), record, [BLOCK.uplift_acceleration(), 1.001 * BLOCK.uplift_acceleration()]
+    )
+    assert [r["uplift"] for r in runs] == [False, True]

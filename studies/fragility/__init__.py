@@ -5,10 +5,18 @@ multibody model and the FEM, lognormal fits with bootstrap bands, and the likeli
 whether the rigid and FEM data are one curve.
 
 ``run`` (:mod:`.runner`) runs the suite into ``summary.json``; ``write_report`` (:mod:`.report`)
-writes ``index.html`` from it.
+writes ``index.html`` from it; ``colonna fragility`` (:mod:`.command`) runs the SDOF alone.
 """
 
-from .report import write_report
 from .runner import FEWER, defaults, fem_work, run
+
+
+def write_report(out):
+    """index.html of a fragility study (:func:`.report.write_report`; matplotlib is imported
+    only here, so that the command line's parser, which reads this package, stays light)."""
+    from .report import write_report as write
+
+    return write(out)
+
 
 __all__ = ["FEWER", "defaults", "fem_work", "run", "write_report"]

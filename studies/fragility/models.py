@@ -11,7 +11,9 @@ What each run gives is :data:`studies.fragility.analysis.RUN_KEYS`, the same for
   lasts the record plus 20 / p (rock's default) and is never cut short: the largest |theta|
   after the motion is the swing in progress when it ends (each later swing starts from an
   impact with less energy), which the integration reaches. ``rtol`` is the study's
-  (:data:`SDOF_RTOL`, recorded; rock's 1e-10 is available).
+  (:data:`SDOF_RTOL`, recorded; rock's 1e-10 is available). A record whose peak only reaches
+  the uplift level (a level of PGA / (g tan alpha) = 1) does not rock the block: rocking
+  needs the ground to exceed it.
 * multibody (:func:`multibody_runs`): :func:`studies.fem_study.run_multibody` of the study with
   the scaled record, its duration the record plus 20 / p.
 * FEM (:func:`fem_point`): :func:`studies.fem_study.iter_fem` on the study's mesh, settled-stop
@@ -49,9 +51,14 @@ def sdof_runs(study, record: Record, scales, *, rtol: float = SDOF_RTOL) -> list
     runs = []
     for scale in scales:
         P, rec_t, rec_a = kernel_params(block, record.scaled(float(scale)), collars, "nonlinear")
-        status, n_imp, max_theta, _, _, _ = K.rk_run(
-            P, rec_t, rec_a, duration, rtol, SDOF_ATOL, False, 0.0, out, impacts
-        )
+        if np.max(np.abs(rec_a)) <= P[K.P_UPLIFT] * (1.0 + 1e-12):
+            # the ground touches the uplift level at most: no rocking (as the kernel rules for
+            # a pulse; its record branch would start and stop a rocking at each touch forever)
+            status, n_imp, max_theta = K.AT_REST, 0, 0.0
+        else:
+            status, n_imp, max_theta, _, _, _ = K.rk_run(
+                P, rec_t, rec_a, duration, rtol, SDOF_ATOL, False, 0.0, out, impacts
+            )
         overturned = status == K.OVERTURNED
         peak = 0.5 * math.pi if overturned else float(max_theta)
         utilisation = None

@@ -14,6 +14,7 @@ from matplotlib.figure import Figure
 from ..output import write_csv
 from ..report import figure, legend_beside, render_page
 from .analysis import LIMIT_STATES
+from .runner import answer_fit
 
 MODEL_NAMES = {
     "sdof": "SDOF half block",
@@ -59,13 +60,12 @@ def write_report(out: Path) -> Path:
 
 
 def _answer(entry: dict) -> tuple[str, dict | None]:
-    """(which fit, the fit) a limit state's probability is read from (as the runner's
-    ``design``): the IDA capacities' where there is one, else the stripes'."""
-    for name in ("ida", "stripes"):
-        fit = entry.get(name)
-        if fit is not None and fit.get("fit") is not None:
-            return name, fit
-    return "", None
+    """(which fit, the fit) a limit state's probability is read from (the runner's
+    :func:`answer_fit`: the IDA capacities' where there is one, else the stripes')."""
+    fit = answer_fit(entry)
+    if fit is None:
+        return "", None
+    return ("ida" if fit is entry.get("ida") else "stripes"), fit
 
 
 def design_rows(s: dict) -> list[dict]:

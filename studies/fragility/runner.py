@@ -264,18 +264,7 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
     exceeded: dict[str, dict] = {}
     for model, table in runs.items():
         exceeded[model] = analysis.exceedances(table, spec.theta_ratio)
-        states[model] = {
-            name: analysis.fit_limit_state(
-                value,
-                s.levels,
-                design,
-                draws=spec.bootstrap,
-                seed=spec.seed,
-                level=spec.confidence,
-                ida=spec.analysis == "ida",
-            )
-            for name, value in exceeded[model].items()
-        }
+        states[model] = limit_state_fits(exceeded[model], s.levels, spec)
     tests: dict[str, dict] = {}
     if "fem" in exceeded:
         for model in exceeded:
@@ -289,7 +278,7 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
     probability: dict[str, float | None] = {}
     for model, fitted in states.items():
         for name, entry in fitted.items():
-            best = _answer_fit(entry)
+            best = answer_fit(entry)
             probability[f"P({name})_{model}"] = None if best is None else best["probability"]
     return {
         "study": s.column.name,
@@ -349,7 +338,24 @@ def suite_spectra(records) -> dict:
     }
 
 
-def _answer_fit(entry: dict) -> dict | None:
+def limit_state_fits(exceeded: dict, levels, spec: schema.Fragility) -> dict:
+    """Per limit state, its fits (:func:`.analysis.fit_limit_state`) with the [fragility]
+    table's design intensity, bootstrap and analysis."""
+    return {
+        name: analysis.fit_limit_state(
+            value,
+            levels,
+            spec.design_intensity,
+            draws=spec.bootstrap,
+            seed=spec.seed,
+            level=spec.confidence,
+            ida=spec.analysis == "ida",
+        )
+        for name, value in exceeded.items()
+    }
+
+
+def answer_fit(entry: dict) -> dict | None:
     """The fit a limit state's probability at the design intensity is read from: the IDA
     capacities' where the study ran IDA and it has one, else the stripes'."""
     for name in ("ida", "stripes"):
