@@ -46,6 +46,12 @@ class StudyKind:
     column: bool = True
     sets_pulse: bool = False
     command: str = ""  # the help of a fast command of its own (colonna <kind>), if it has one
+    per_case: tuple[tuple[str, str], ...] = ()  # inputs its cases set: (table.key, the rule)
+
+    def per_case_rules(self) -> dict[str, str]:
+        """The ``table.key`` inputs the kind's cases set themselves, each with its rule: the
+        record of the inputs gives the rule, not the file's value that no case used."""
+        return dict(self.per_case)
 
     def module(self) -> ModuleType:
         """The kind's package (imported on first use)."""
@@ -74,6 +80,7 @@ KINDS = {
         ("outcome", "fem_ratio_study_stone", "multibody_ratio", "restitution_housner"),
         ground_motion=False,
         tables=("free_rocking",),
+        per_case=(("run.initial_tilt", "free_rocking.tilt_fractions x alpha, one per case"),),
     ),
     "mesh-convergence": StudyKind("mesh_convergence", ("outcome",), tables=("convergence",)),
     "solid-vs-cracked": StudyKind("solid_vs_cracked", ("outcome",)),

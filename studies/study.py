@@ -114,6 +114,10 @@ class Study:
                 inputs.pop(name, None)
         if inputs.get("column") is not None:
             self._resolve_column(inputs, resolved)
+        for key, rule in KINDS[self.kind].per_case_rules().items():
+            table, name = key.split(".")
+            inputs[table].pop(name, None)
+            resolved[key] = rule
         inputs = _without_nulls(inputs)
         if self.model is not None:
             inputs["model"] = dict(self.model)

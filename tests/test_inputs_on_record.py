@@ -27,6 +27,7 @@ from colonna.fem.toe_stress import REFINEMENTS
 from colonna.studies import executor
 from colonna.studies.cli import main, resolve_study
 from colonna.studies.fem_study import from_dict
+from colonna.studies.kinds import KINDS
 from colonna.studies.output import record_inputs
 from colonna.studies.study import load
 
@@ -216,9 +217,11 @@ def test_every_shipped_study_records_the_values_its_run_uses_and_no_null(name):
     inputs = json.loads(json.dumps(study.to_json()))  # through text, as written
     assert list(_nulls(inputs)) == []
     given = tomllib.loads(study.text.decode())
+    per_case = KINDS[study.kind].per_case_rules()  # set by each case: a rule, no value
     for key in inputs["resolved"]:
         assert not _given(given, key), key
-        assert _given(inputs, key), key
+        assert _given(inputs, key) != (key in per_case), key
+    assert set(per_case) <= set(inputs["resolved"])
     if study.spec.column is None:  # the Zhang & Makris validation: its own fixed block
         assert "model" not in inputs and inputs["resolved"] == {}
         return
