@@ -6,10 +6,10 @@ at every build, so that none can drift from what it documents:
 * ``generated/cli.md``: the command line, from colonna's argparse parser (``cli_reference.py``);
 * the study-file keys are ``study-file.md``, ``colonna schema --markdown``, committed so that it
   reads on GitHub too: the build stops if it is not the schema's (as ``tests/test_schema.py``);
-* ``generated/default-study.md`` and the ``{{ default_... }}`` substitutions: the default study's
-  answers, read from ``default-study.json``, which ``default_numbers.py`` writes from a run of
-  ``make demo``; the build stops if that run was made from another study file or another colonna
-  version (see the page itself).
+* ``generated/runs.md`` and the ``{{ default_... }}``, ``{{ free_rocking_... }}`` substitutions:
+  the numbers quoted from the shipped studies, read from ``runs/STUDY.json``, which
+  ``run_numbers.py`` writes from each study's run (``make docs-numbers``); the build stops if a
+  record was made from another study file or another colonna version (see the page itself).
 
 The examples gallery (``examples/plot_*.py``) is executed by sphinx-gallery at every build.
 """
@@ -25,7 +25,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import cli_reference  # noqa: E402
-import default_numbers  # noqa: E402
+import run_numbers  # noqa: E402
 
 import colonna  # noqa: E402
 from colonna.studies.cli import build_parser  # noqa: E402
@@ -62,7 +62,7 @@ sphinx_gallery_conf = {
 
 
 def _generate() -> dict[str, str]:
-    """Write the generated pages; return the default study's substitutions."""
+    """Write the generated pages; return the substitutions of the numbers quoted from runs."""
     from colonna.studies.schema import markdown
 
     if (HERE / "study-file.md").read_text() != markdown():
@@ -75,11 +75,13 @@ def _generate() -> dict[str, str]:
     _write(out / "cli.md", cli_reference.markdown(build_parser()))
     _write(out / "kinds-toc.md", _kinds_toctree())
     try:
-        record = default_numbers.load_current(HERE / default_numbers.RECORD)
+        records = {study: run_numbers.load_current(study) for study in run_numbers.STUDIES}
     except SystemExit as stale:  # Sphinx would hide the reason of a SystemExit
         raise ConfigError(str(stale)) from None
-    _write(out / "default-study.md", default_numbers.page(record))
-    return default_numbers.substitutions(record)
+    _write(out / "runs.md", run_numbers.page(records))
+    for stale in set(out.glob("*.md")) - {out / "cli.md", out / "kinds-toc.md", out / "runs.md"}:
+        stale.unlink()  # a page this build no longer makes (renamed) would warn, not in a toctree
+    return run_numbers.substitutions(records)
 
 
 # Pages of study kinds that are written beside their kind (docs/<page>.md): each one present is

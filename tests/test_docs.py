@@ -24,7 +24,7 @@ README = ROOT / "README.md"
 sys.path.insert(0, str(DOCS))
 
 import cli_reference  # noqa: E402
-import default_numbers  # noqa: E402
+import run_numbers  # noqa: E402
 
 
 def _blocks(text: str, language: str) -> list[str]:
@@ -117,27 +117,30 @@ def test_the_study_file_reference_lists_every_key():
             assert f"| `{key}` |" in section, f"{header} {key}"
 
 
-def test_the_default_study_numbers_come_from_a_run_of_the_current_study():
-    """The numbers the pages quote from the default study are read from docs/default-study.json,
-    the record of a run, refused where the run read another studies/default.toml or was made by
-    another colonna version (run ``make docs-numbers``); every substitution a page uses exists."""
-    record = default_numbers.load_current(DOCS / default_numbers.RECORD)
-    names = default_numbers.substitutions(record)
+def test_the_numbers_quoted_from_runs_come_from_runs_of_the_current_studies():
+    """The numbers the pages quote from the shipped studies are read from docs/runs/STUDY.json,
+    the record of a run, refused where the run read another study file or was made by another
+    colonna version (run ``make docs-numbers``); every substitution a page uses exists, and
+    each study's record is quoted somewhere."""
+    records = {study: run_numbers.load_current(study) for study in run_numbers.STUDIES}
+    names = run_numbers.substitutions(records)
     used = set()
     for page in DOCS.glob("*.md"):
-        used |= set(re.findall(r"\{\{\s*(default_\w+)\s*\}\}", page.read_text()))
-    assert used, "no page quotes the default study"
+        used |= set(re.findall(r"\{\{\s*(\w+)\s*\}\}", page.read_text()))
     assert used <= set(names), used - set(names)
+    for study in run_numbers.STUDIES:
+        assert any(name.startswith(study.replace("-", "_") + "_") for name in used), study
     assert all(text and "nan" not in text for text in names.values())
 
 
-def test_a_stale_record_of_the_default_study_is_refused(tmp_path):
-    record = json.loads((DOCS / default_numbers.RECORD).read_text())
+@pytest.mark.parametrize("study", run_numbers.STUDIES)
+def test_a_stale_record_of_a_run_is_refused(tmp_path, study):
+    record = json.loads(run_numbers.record_path(study).read_text())
     for change in ({"study_sha256": "0" * 64}, {"colonna_version": "0.0.1"}):
         stale = tmp_path / "record.json"
         stale.write_text(json.dumps({**record, **change}))
         with pytest.raises(SystemExit, match="make docs-numbers"):
-            default_numbers.load_current(stale)
+            run_numbers.load_current(study, stale)
 
 
 def test_the_readme_python_example_prints_what_it_says():

@@ -1,20 +1,20 @@
-"""The default study's numbers that the documentation quotes, taken from a run, never retyped.
+"""Numbers the documentation quotes from runs of the shipped studies, never retyped.
 
-Running the default study takes minutes, too long for every documentation build, so its numbers
-come from a record of one run, committed beside this script: ``default-study.json``. It is
-written by ``make docs-numbers`` (``make demo``, then ``python docs/default_numbers.py out/demo``),
-which reads the run's ``summary.json``, ``inputs.json`` and ``toe_refinement.json``, and holds
+Running a study takes minutes, too long for every documentation build, so the numbers come from
+a record of one run per study, committed under ``docs/runs/``: ``default.json`` (``colonna study
+default``, ``make demo``) and ``free-rocking.json``. ``make docs-numbers`` runs the studies and
+writes them (``python docs/run_numbers.py STUDY OUT`` for one); a record holds
 
 * the SHA-256 of the study file the run read (``inputs.json``'s ``study_sha256``) and the colonna
-  version that ran it, with the date, the git commit and the run's wall time;
-* each quoted number (``QUOTED``: a path into the run's files) as the run wrote it, in SI.
+  version that ran it, when the run finished, its wall time and the git commit recorded with it;
+* each quoted number (``QUOTED[study]``: a path into the run's files) as the run wrote it, in SI.
 
-``docs/conf.py`` loads it with :func:`load_current`, which refuses a record made from another
-``studies/default.toml`` or by another colonna version: the build stops and says to run
-``make docs-numbers``. The pages quote the numbers through MyST substitutions
-(``{{ default_fem_collar_utilisation }}``) and ``generated/default-study.md`` lists them all with
-where each comes from. What the record cannot know is a change of the solvers that keeps the
-study file and the version: the page states the commit of the run, so that a reader can tell.
+``docs/conf.py`` loads each with :func:`load_current`, which refuses a record made from another
+study file or by another colonna version: the build stops and says to run ``make
+docs-numbers``. The pages quote the numbers through MyST substitutions (``{{ default_fem_util
+}}``, ``{{ free_rocking_fem_ratio }}``) and ``generated/runs.md`` lists them all with where each
+comes from. What a record cannot know is a change of the solvers that keeps the study file and
+the version: the page states the commit, so that a reader can tell.
 """
 
 from __future__ import annotations
@@ -28,20 +28,20 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-RECORD = "default-study.json"
-STUDY = ROOT / "studies" / "default.toml"
+RUNS = HERE / "runs"
 
-# name -> (file of the run, path of keys in it, what it is); SI values, as the run wrote them. A
-# path into a CSV history is (column, time): the column's absolute value interpolated at that time.
-QUOTED: dict[str, tuple[str, tuple, str]] = {}
+# study -> name -> (file of the run, path of keys in it, what it is); SI values, as the run wrote
+# them. A path into a CSV history is (column, time): the column's absolute value at that time.
+QUOTED: dict[str, dict[str, tuple[str, tuple, str]]] = {"default": {}, "free-rocking": {}}
+STUDIES = tuple(QUOTED)
 
 
-def _quote(name: str, file: str, path: str, about: str) -> None:
+def _quote(study: str, name: str, file: str, path: str, about: str) -> None:
     keys = tuple(int(k) if k.isdigit() else k for k in path.split("."))
     if file.endswith(".csv"):
         column, time = path.split("@")
         keys = (column, float(time))
-    QUOTED[name] = (file, keys, about)
+    QUOTED[study][name] = (file, keys, about)
 
 
 _SUMMARY = (
@@ -107,24 +107,55 @@ _SUMMARY = (
     ("fem_energy_max", "fem.bands.energy_error_max.max", "FEM energy error, highest replica"),
 )
 for _name, _path, _about in _SUMMARY:
-    _quote(_name, "summary.json", _path, _about)
+    _quote("default", _name, "summary.json", _path, _about)
 _FINE = "cases/multibody-fine/result.json"
-_quote("mb_fine_util", _FINE, "collar_max_utilisation", "multibody at 1/16 step: utilisation")
-_quote("mb_fine_slip", _FINE, "max_abs_crack_slip", "multibody at 1/16 step: crack slip (m)")
+_quote(
+    "default",
+    "mb_fine_util",
+    _FINE,
+    "collar_max_utilisation",
+    "multibody at 1/16 step: utilisation",
+)
+_quote(
+    "default", "mb_fine_slip", _FINE, "max_abs_crack_slip", "multibody at 1/16 step: crack slip (m)"
+)
 for _time in ("0.1", "0.3", "0.5"):
     _t = _time.replace(".", "")
     _quote(
+        "default",
         f"fem_theta_{_t}",
         "cases/fem/history.csv",
         f"theta_left@{_time}",
         f"FEM rotation at t = {_time} s, plain run (rad)",
     )
     _quote(
+        "default",
         f"mb_theta_{_t}",
         "cases/multibody/history.csv",
         f"theta_left@{_time}",
         f"multibody rotation at t = {_time} s (rad)",
     )
+
+for _name, _path, _about in (
+    ("alpha", "alpha", "alpha of the whole column (rad)"),
+    ("tilt_1", "tilts.0.tilt_fraction", "first release tilt, fraction of alpha"),
+    ("tilt_2", "tilts.1.tilt_fraction", "second release tilt, fraction of alpha"),
+    ("housner", "restitution_housner", "Housner's ratio of the whole column"),
+    ("mb_ratio", "multibody_ratio", "multibody velocity ratio, first impact"),
+    ("mb_half_impulse", "tilts.0.multibody.impulse_ratios.0", "multibody: a half's impulse ratio"),
+    ("fem_ratio", "fem_ratio_study_stone", "FEM velocity ratio, first impact, median"),
+    ("fem_ratio_min", "fem_ratio_study_stone_band.min", "FEM velocity ratio, lowest replica"),
+    ("fem_ratio_max", "fem_ratio_study_stone_band.max", "FEM velocity ratio, highest replica"),
+    ("damping", "damping", "the study's contact damping (of critical)"),
+    ("damping_1", "damping_variants.0.damping", "first damping variant (of critical)"),
+    ("fem_ratio_damping_1", "damping_variants.0.ratio_first", "FEM ratio, first damping variant"),
+    ("damping_2", "damping_variants.1.damping", "second damping variant (of critical)"),
+    ("fem_ratio_damping_2", "damping_variants.1.ratio_first", "FEM ratio, second damping variant"),
+    ("mesh_size", "mesh_size", "the study's mesh size (m)"),
+    ("mesh_size_1", "mesh_variants.0.mesh_size", "mesh variant's size (m)"),
+    ("fem_ratio_mesh_1", "mesh_variants.0.ratio_first", "FEM ratio on the mesh variant"),
+):
+    _quote("free-rocking", _name, "summary.json", _path, _about)
 
 
 def _csv_value(path: Path, column: str, time: float) -> float:
@@ -142,12 +173,12 @@ def _get(data, path: tuple):
     return data
 
 
-def record_of(run: Path) -> dict:
-    """The record of the run in folder ``run`` (``colonna study default --out run``)."""
+def record_of(study: str, run: Path) -> dict:
+    """The record of the run of ``study`` in folder ``run`` (``colonna study STUDY --out run``)."""
     inputs = json.loads((run / "inputs.json").read_text())
     files: dict[str, dict] = {}
     values = {}
-    for name, (file, path, _about) in QUOTED.items():
+    for name, (file, path, _about) in QUOTED[study].items():
         try:
             if file.endswith(".csv"):
                 values[name] = _csv_value(run / file, *path)
@@ -162,7 +193,9 @@ def record_of(run: Path) -> dict:
         capture_output=True,
         text=True,
     ).stdout.strip()
+    files.setdefault("summary.json", json.loads((run / "summary.json").read_text()))
     return {
+        "study": study,
         "study_sha256": inputs["study_sha256"],
         "colonna_version": inputs["colonna_version"],
         "recorded": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
@@ -175,26 +208,31 @@ def record_of(run: Path) -> dict:
     }
 
 
-def study_sha256() -> str:
-    return hashlib.sha256(STUDY.read_bytes()).hexdigest()
+def record_path(study: str) -> Path:
+    return RUNS / f"{study}.json"
 
 
-def load_current(path: Path) -> dict:
-    """The record at ``path``, refused (SystemExit, which stops the build) where it was made
-    from another default study file or by another colonna version than this one."""
+def study_sha256(study: str) -> str:
+    return hashlib.sha256((ROOT / "studies" / f"{study}.toml").read_bytes()).hexdigest()
+
+
+def load_current(study: str, path: Path | None = None) -> dict:
+    """The record of ``study`` (at ``path``, default docs/runs/STUDY.json), refused (SystemExit)
+    where it was made from another study file or by another colonna version than this one."""
     import colonna
 
-    record = json.loads(Path(path).read_text())
-    rerun = "run `make docs-numbers` (make demo, then python docs/default_numbers.py out/demo)"
-    if record["study_sha256"] != study_sha256():
-        raise SystemExit(f"{path}: made from another studies/default.toml: {rerun}")
+    path = Path(path or record_path(study))
+    record = json.loads(path.read_text())
+    rerun = f"run `make docs-numbers` (or python docs/run_numbers.py {study} OUT after a run)"
+    if record["study_sha256"] != study_sha256(study):
+        raise SystemExit(f"{path}: made from another studies/{study}.toml: {rerun}")
     if record["colonna_version"] != colonna.__version__:
         raise SystemExit(
             f"{path}: made by colonna {record['colonna_version']}, this is "
             f"{colonna.__version__}: {rerun}"
         )
-    if set(record["values"]) != set(QUOTED):
-        raise SystemExit(f"{path}: holds other numbers than default_numbers.py quotes: {rerun}")
+    if set(record["values"]) != set(QUOTED[study]):
+        raise SystemExit(f"{path}: holds other numbers than run_numbers.py quotes: {rerun}")
     return record
 
 
@@ -216,8 +254,8 @@ def _toe_convergence(v: dict) -> str:
     return "without converging monotonically: the quoted value is the largest refined one"
 
 
-def substitutions(record: dict) -> dict[str, str]:
-    """The MyST substitutions the pages quote: ``default_<name>``, formatted for reading."""
+def _default_substitutions(record: dict) -> dict[str, str]:
+    """The default study's quotes, formatted for reading."""
     v = record["values"]
     mm = 1e3
     out = {
@@ -266,41 +304,87 @@ def substitutions(record: dict) -> dict[str, str]:
         "commit": record["commit"],
         "version": record["colonna_version"],
     }
-    return {f"default_{name}": text for name, text in out.items()}
+    return out
 
 
-def page(record: dict) -> str:
-    """``generated/default-study.md``: every quoted number, its source and its run."""
-    subs = substitutions(record)
+def _free_rocking_substitutions(record: dict) -> dict[str, str]:
+    """The free-rocking study's quotes, formatted for reading."""
+    v = record["values"]
+    return {
+        "alpha": f"{v['alpha']:.3f}",
+        "tilts": f"{v['tilt_1']:g} and {v['tilt_2']:g}",
+        "housner": f"{v['housner']:.3f}",
+        "mb_ratio": f"{v['mb_ratio']:.3f}",
+        "mb_half_impulse": f"{v['mb_half_impulse']:.3f}",
+        "fem_ratio": f"{v['fem_ratio']:.3f}",
+        "fem_ratio_band": f"{v['fem_ratio_min']:.3f} to {v['fem_ratio_max']:.3f}",
+        "damping": f"{v['damping']:g}",
+        "damping_1": f"{v['damping_1']:g}",
+        "fem_ratio_damping_1": f"{v['fem_ratio_damping_1']:.3f}",
+        "damping_2": f"{v['damping_2']:g}",
+        "fem_ratio_damping_2": f"{v['fem_ratio_damping_2']:.3f}",
+        "mesh_ratio": f"{v['mesh_size_1'] / v['mesh_size']:g}",
+        "fem_ratio_mesh_1": f"{v['fem_ratio_mesh_1']:.3f}",
+        "wall_minutes": f"{record['run_wall_seconds'] / 60:.0f}",
+    }
+
+
+_SUBSTITUTIONS = {"default": _default_substitutions, "free-rocking": _free_rocking_substitutions}
+
+
+def substitutions(records: dict[str, dict]) -> dict[str, str]:
+    """The MyST substitutions the pages quote, ``<study>_<name>`` (``default_fem_util``,
+    ``free_rocking_fem_ratio``), from each study's record."""
+    out = {}
+    for study, record in records.items():
+        prefix = study.replace("-", "_")
+        out |= {f"{prefix}_{name}": text for name, text in _SUBSTITUTIONS[study](record).items()}
+    return out
+
+
+ABOUT = {
+    "default": "`colonna study default`, `make demo`: a cracked marble column 4 m tall and "
+    "0.45 m across, three 8 x 60 mm steel collars, a sine pulse of three times a half's uplift "
+    "acceleration at Omega / p = 3",
+    "free-rocking": "`colonna study free-rocking`: the default column released from rest at "
+    "two tilts, the FEM with other contact dampings and a coarser mesh",
+}
+
+
+def page(records: dict[str, dict]) -> str:
+    """``generated/runs.md``: every quoted number, its source and its run."""
+    subs = substitutions(records)
     lines = [
-        "# The default study's answers",
+        "# Numbers quoted from runs",
         "",
-        "The numbers these pages quote from the default study (`colonna study default`, "
-        "`make demo`: a cracked marble column 4 m tall and 0.45 m across, three 8 x 60 mm "
-        "steel collars, a sine pulse of three times a half's uplift acceleration at "
-        "Omega / p = 3), inserted when the documentation is built from the record of one run, "
-        "`docs/default-study.json`, not typed into the text. The build refuses a record made "
-        "from another `studies/default.toml` or by another colonna version "
-        "(`make docs-numbers` makes a new one).",
+        "The numbers these pages quote from the shipped studies are inserted when the "
+        "documentation is built from the record of one run of each, `docs/runs/STUDY.json`, "
+        "not typed into the text. The build refuses a record made from another study file or "
+        "by another colonna version (`make docs-numbers` runs the studies and makes new ones).",
         "",
-        f"Run by colonna {record['colonna_version']} in {record['run_wall_seconds']:.0f} s, "
-        f"finished {record['run_finished']} (its summary.json written); recorded "
-        f"{record['recorded']} with commit `{record['commit']}` checked out (`-dirty`: with "
-        "changes not yet committed; `make docs-numbers` runs the study and records it on one "
-        f"commit); study file SHA-256 `{record['study_sha256']}`.",
-        "",
-        "| quantity | value | from the run's file |",
-        "|---|---|---|",
     ]
-    for name, (file, path, about) in QUOTED.items():
-        value = record["values"][name]
-        shown = f"{value:.6g}" if isinstance(value, float) else str(value)
-        lines.append(f"| {about} | {shown} | `{file}`: `{'.'.join(map(str, path))}` |")
+    for study, record in records.items():
+        lines += [
+            f"## {study}",
+            "",
+            f"{ABOUT[study]}. Run by colonna {record['colonna_version']} in "
+            f"{record['run_wall_seconds']:.0f} s, finished {record['run_finished']} (its "
+            f"summary.json written); recorded {record['recorded']} with commit "
+            f"`{record['commit']}` checked out (`-dirty`: with changes not yet committed); "
+            f"study file SHA-256 `{record['study_sha256']}`.",
+            "",
+            "| quantity | value | from the run's file |",
+            "|---|---|---|",
+        ]
+        for name, (file, path, about) in QUOTED[study].items():
+            value = record["values"][name]
+            shown = f"{value:.6g}" if isinstance(value, float) else str(value)
+            lines.append(f"| {about} | {shown} | `{file}`: `{'.'.join(map(str, path))}` |")
+        lines.append("")
     lines += [
+        "## As the pages quote them",
         "",
-        "As the pages quote them (substitution names, for authors):",
-        "",
-        "| name | quoted as |",
+        "| substitution (for authors) | quoted as |",
         "|---|---|",
         *[f"| `{name}` | {text} |" for name, text in subs.items()],
         "",
@@ -309,16 +393,18 @@ def page(record: dict) -> str:
 
 
 def main(argv: list[str]) -> int:
-    if len(argv) != 1:
-        print("usage: python docs/default_numbers.py OUT  (the --out folder of the default study)")
+    if len(argv) != 2 or argv[0] not in QUOTED:
+        print(f"usage: python docs/run_numbers.py STUDY OUT  (STUDY one of {', '.join(QUOTED)};")
+        print("       OUT the --out folder of its run)")
         return 2
-    run = Path(argv[0])
-    record = record_of(run)
-    if record["study_sha256"] != study_sha256():
-        print(f"{run} was run from another studies/default.toml: run make demo again")
+    study, run = argv[0], Path(argv[1])
+    record = record_of(study, run)
+    if record["study_sha256"] != study_sha256(study):
+        print(f"{run} was run from another studies/{study}.toml: run the study again")
         return 2
-    (HERE / RECORD).write_text(json.dumps(record, indent=1, sort_keys=False) + "\n")
-    print(f"wrote {HERE / RECORD} from {run} ({len(record['values'])} numbers)")
+    RUNS.mkdir(exist_ok=True)
+    record_path(study).write_text(json.dumps(record, indent=1) + "\n")
+    print(f"wrote {record_path(study)} from {run} ({len(record['values'])} numbers)")
     return 0
 
 
