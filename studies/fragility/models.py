@@ -91,7 +91,7 @@ def multibody_runs(study, record: Record, scales) -> list[dict]:
     for scale in scales:
         variant = dataclasses.replace(study, ground=record.scaled(float(scale)), duration=duration)
         s = run_multibody(variant).summary()
-        alpha = s["alpha"]
+        alpha = block.alpha  # the SDOF's block's, as every model's here
         plastic = any(c.plastic for c in study.collars)
         runs.append(
             {
@@ -111,9 +111,11 @@ def multibody_runs(study, record: Record, scales) -> list[dict]:
 
 def fem_point(study, fem) -> dict:
     """A FEM run (:class:`colonna.fem.solver.FemResult`) of one record and level as a run of
-    the fragility (its rotation over the alpha of the block that rocks)."""
+    the fragility: its rotation over the alpha of the SDOF's block (a half of a cracked
+    column), as the SDOF's and the multibody's are, so that one threshold means one rotation
+    in every model."""
     s = fem.summary
-    alpha = study.rocking_alpha
+    alpha = study.rocking_block.alpha
     peak = max(s["max_abs_theta_left"], s["max_abs_theta_right"])
     plastic = any(c.plastic for c in study.collars)
     return {

@@ -1,0 +1,183 @@
+"""Cost of the fragility study (issue 37's targets, 2 cores): the SDOF over 100 records x 40
+levels (target 30 s), the rigid multibody model over 20 records x 20 levels (target 60 s), and
+a smaller measured FEM run on the spectrum cross-check's coarse mesh (the cost per state-step
+and per second of motion, from which the issue's 10 records of 20 s x 8 stripes is
+extrapolated; it says so).
+
+The suite is colonna's synthetic near-fault generator (colonna.core.synthetic, the shipped
+suite's maker) with another seed: 100 records of 20 s at 100 Hz, written into a temporary
+folder. Each model runs as the study runs it (colonna study: the executor's local worker
+processes, one per core, the fits and the report included), on the default column (cracked,
+three elastic collars; default.toml) and, for the SDOF, also on the free half block (the same
+column without collars), whose runs end at overturning. The SDOF's tolerance is the study's
+default (sdof_rtol 1e-6); the fraction of runs whose outcome (overturned or not, each limit
+state) differs from rock()'s 1e-10 is measured over 20 records x 40 levels.
+
+Run: .venv/bin/python benchmarks/bench_fragility.py [--fem] (a few minutes; --fem adds the FEM
+run, several more).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+COLUMN = """
+[column]
+height = 4.0
+width = 0.45
+cracked = true
+
+[stone]
+E = 50e9
+nu = 0.2
+density = 2700.0
+fc = 110e6
+
+[contact]
+friction = 0.7
+damping = 0.05
+
+[mesh]
+size = 0.075
+grading = 0.5
+
+[run]
+output_interval = 0.01
+"""
+COLLARS = "".join(f"\n[[collar]]\ny = {y}\nt = 0.008\nh = 0.06\n" for y in (0.5, 2.0, 3.5))
+
+
+def write_suite(folder: Path, count: int, seed: int = 2037) -> None:
+    from colonna.studies.suites.make_synthetic_suite import suite_files
+
+    folder.mkdir(parents=True)
+    for name, text in suite_files(count, seed).items():
+        (folder / name).write_text(text)
+
+
+def study_text(suite: Path, models, steps: int, ladder=(0.5, 8.0), collars=True) -> str:
+    return (
+        '[study]\nname = "bench"\nkind = "fragility"\n'
+        + COLUMN
+        + (COLLARS if collars else "")
+        + '\n[ground]\npulse = "none"\n\n[fragility]\n'
+        + f'suite = "{suite}"\nintensity = "pgv_rocking"\nladder = [{ladder[0]}, {ladder[1]}]\n'
+        + f"steps = {steps}\nmodels = {json.dumps(list(models))}\ndesign_intensity = 2.0\n"
+        + "bootstrap = 200\n"
+    )
+
+
+def run_study(folder: Path, name: str, text: str, cores: int) -> tuple[float, dict]:
+    from colonna.studies.driver import run_study_file
+
+    path = folder / f"{name}.toml"
+    path.write_text(text)
+    start = time.perf_counter()
+    summary = run_study_file(path, folder / name, workers=cores, progress=False)
+    return time.perf_counter() - start, summary
+
+
+def tolerance_check(suite: Path, records: int = 20, steps: int = 40) -> str:
+    """How many SDOF outcomes change from rtol 1e-6 (the study's) to 1e-10 (rock's)."""
+    from colonna.core.intensity import intensity_measures
+    from colonna.core.suite import load_suite
+    from colonna.studies.fem_study import column_of
+    from colonna.studies.fragility import analysis
+    from colonna.studies.fragility.models import sdof_runs
+    from colonna.studies.study import load
+
+    study = load(suite.parent / "sdof.toml")
+    column = column_of(study.spec, study.source, study.base)
+    block = column.rocking_block
+    levels = analysis.ladder(0.5, 8.0, steps)
+    entries = [e.scaled for e in load_suite(suite)][:records]
+    outcomes = {}
+    for rtol in (1e-6, 1e-10):
+        runs = [
+            sdof_runs(
+                column,
+                r,
+                analysis.scales_for(levels, intensity_measures(r, block=block).pgv_rocking),
+                rtol=rtol,
+            )
+            for r in entries
+        ]
+        outcomes[rtol] = analysis.exceedances(runs, 0.5)
+    lines = []
+    for state, table in outcomes[1e-6].items():
+        differ = int(np.sum(table != outcomes[1e-10][state]))
+        lines.append(f"{state} {differ} of {table.size}")
+    return "; ".join(lines)
+
+
+def main() -> None:
+    print(f"load average before: {os.getloadavg()[0]:.1f} (other work on the machine slows it)")
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    cores = cores or 1
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        write_suite(folder / "suite", 100)
+        # numba caches and imports: a tiny run first
+        run_study(folder, "warm", study_text(folder / "suite", ["sdof"], 2), 1)
+        print(f"cores: {cores}; suite: 100 synthetic near-fault records of 20 s at 100 Hz")
+
+        wall, s = run_study(folder, "sdof", study_text(folder / "suite", ["sdof"], 40), cores)
+        runs = 100 * 40
+        cpu = s["model_seconds"]["sdof"]
+        print(
+            f"SDOF, default column (three elastic collars), 100 records x 40 levels: {wall:.1f} s "
+            f"wall on {cores} cores (target 30 s; runs and fits {s['wall_seconds']:.1f} s, the "
+            f"rest the report), {cpu / runs * 1e3:.1f} ms of CPU a run"
+        )
+        wall, s = run_study(
+            folder, "free", study_text(folder / "suite", ["sdof"], 40, collars=False), cores
+        )
+        cpu = s["model_seconds"]["sdof"]
+        print(
+            f"SDOF, free half block (no collars), 100 records x 40 levels: {wall:.1f} s wall "
+            f"on {cores} cores (runs and fits {s['wall_seconds']:.1f} s), "
+            f"{cpu / runs * 1e3:.1f} ms of CPU a run"
+        )
+        print("SDOF outcomes at rtol 1e-6 that differ at 1e-10 (20 records x 40 levels): ")
+        print("  " + tolerance_check(folder / "suite"))
+
+        twenty = folder / "suite20"
+        write_suite(twenty, 20)
+        wall, s = run_study(folder, "multibody", study_text(twenty, ["multibody"], 20), cores)
+        cpu = s["model_seconds"]["multibody"]
+        print(
+            f"multibody, default column, 20 records x 20 levels: {wall:.1f} s wall on {cores} "
+            f"cores (target 60 s; runs and fits {s['wall_seconds']:.1f} s), {cpu / 400:.2f} s "
+            "of CPU a run"
+        )
+
+        if "--fem" in sys.argv:
+            two = folder / "suite2"
+            write_suite(two, 2)
+            wall, s = run_study(
+                folder, "fem", study_text(two, ["fem"], 2, ladder=(1.0, 3.0)), cores
+            )
+            results = [
+                json.loads(p.read_text()) for p in (folder / "fem" / "cases").glob("*/result.json")
+            ]
+            steps = sum(r["fem_steps"] for r in results)
+            cpu = sum(r["fem_seconds"] for r in results)
+            motion = 20.0 * len(results)
+            print(
+                f"FEM, spectrum mesh, 2 records x 2 levels (measured, not the issue's 10 x 8): "
+                f"{wall:.0f} s wall on {cores} cores; {cpu / steps * 1e6:.1f} us of CPU a "
+                f"state-step, {cpu / motion:.1f} s of CPU per second of record (a settled "
+                f"run stops early); 10 records x 8 levels of 20 s would take about "
+                f"{cpu / len(results) * 80 / cores / 60:.0f} min on {cores} cores"
+            )
+
+
+if __name__ == "__main__":
+    main()
