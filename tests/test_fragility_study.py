@@ -295,3 +295,69 @@ def test_a_record_that_only_touches_the_uplift_level_does_not_rock_the_block():
         _free(BLOCK), record, [BLOCK.uplift_acceleration(), 1.001 * BLOCK.uplift_acceleration()]
     )
     assert [r["uplift"] for r in runs] == [False, True]
+
+
+# --- slow: the shipped study, the FEM and Dask --------------------------------------------------
+
+
+@pytest.mark.slow
+def test_the_shipped_fragility_study_runs_and_its_report_opens_with_the_probabilities(tmp_path):
+    """studies/fragility.toml (SDOF and multibody over the shipped suite): every limit state of
+    each model has its fractions and P at the design intensity, the report's first section is
+    the design table with summary.json's values, every figure drawn."""
+    from browser import assert_every_figure_drawn
+
+    out = tmp_path / "out"
+    assert main(["study", "fragility", "--out", str(out), "--workers", "2"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["models"] == ["sdof", "multibody"] and len(s["records"]) == 10
+    for model in s["models"]:
+        for state in ("uplift", "rotation", "overturning", "collar_yield"):
+            entry = s["limit_states"][model][state]
+            assert len(entry["fractions"]) == len(s["levels"])
+    page = (out / "index.html").read_text()
+    assert re.findall(r"<h2>([^<]+)</h2>", page)[0].startswith("Probability of each limit state")
+    for key, value in s["design"].items():
+        if value is not None:
+            cell = re.search(rf'data-key="design\.{re.escape(key)}">([^<]+)<', page)
+            assert cell and cell.group(1).startswith(f"{value:.3g}"), key
+    assert_every_figure_drawn(out / "index.html", tmp_path, at_least=3)
+
+
+FEM_TINY = (
+    TINY.replace('models = ["sdof"]', 'models = ["sdof", "multibody", "fem"]')
+    .replace("steps = 24", "steps = 2")
+    .replace("ladder = [1.1, 8.0]", "ladder = [1.5, 3.0]")
+    + "[mesh]\nsize = 0.15\n"
+)
+
+
+@pytest.mark.slow
+def test_a_fem_fragility_runs_every_record_and_level_and_dask_gives_the_local_runs(tmp_path):
+    """With the FEM among the models: one settled-stop FEM run per record and level, its
+    limit states beside the rigid ones (toe crushing its own), the likelihood-ratio tests of
+    the rigid models against it; the same study on a local Dask cluster gives the same runs
+    and fits as local processes."""
+    root = tmp_path
+    entries = []
+    for i, (shape, ratio) in enumerate((("cos", 2.5), ("sin", 3.5))):
+        np.savetxt(root / f"p{i}.txt", _pulse(shape, ratio))
+        entries.append(f'[[record]]\nfile = "p{i}.txt"\nunits = "m/s2"\n')
+    (root / "suite.toml").write_text("\n".join(entries))
+    (root / "study.toml").write_text(FEM_TINY)
+    assert main(["study", str(root / "study.toml"), "--out", str(root / "local")]) == 0
+    local = json.loads((root / "local" / "summary.json").read_text())
+    assert len(list((root / "local" / "cases").glob("fem-*"))) == 2 * 2
+    assert "toe_crushing" in local["limit_states"]["fem"]
+    assert "overturning" in local["same_curve"]
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True) as cluster:
+        code = main(
+            ["study", str(root / "study.toml"), "--out", str(root / "dask")]
+            + ["--scheduler", cluster.scheduler_address]
+        )
+    assert code == 0
+    dask = json.loads((root / "dask" / "summary.json").read_text())
+    assert dask["runs"] == local["runs"]
+    assert dask["limit_states"] == local["limit_states"]

@@ -176,9 +176,10 @@ def fem_work(study: Study) -> FemWork:
     from ...fem.solver import BATCH_SLOTS
     from ..fem_study import fem_work as estimate_work
 
+    spec = study.spec.fragility
+    if spec is not None and "fem" not in spec.models:
+        return FemWork()  # (the suite is read when the study runs)
     s = setup(study)
-    if "fem" not in s.spec.models:
-        return FemWork()
     interval = _interval(s.column, s.records)
     models: dict = {}
     work = FemWork()
