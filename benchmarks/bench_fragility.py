@@ -13,8 +13,8 @@ column without collars), whose runs end at overturning. The SDOF's tolerance is 
 default (sdof_rtol 1e-6); the fraction of runs whose outcome (overturned or not, each limit
 state) differs from rock()'s 1e-10 is measured over 20 records x 40 levels.
 
-Run: .venv/bin/python benchmarks/bench_fragility.py [--fem] (a few minutes; --fem adds the FEM
-run, several more).
+Run: .venv/bin/python benchmarks/bench_fragility.py [--fem] [--sdof-only] (about 12 minutes on
+2 cores, the multibody part most of it; --fem adds the FEM run, several more).
 """
 
 from __future__ import annotations
@@ -148,6 +148,8 @@ def main() -> None:
         print("SDOF outcomes at rtol 1e-6 that differ at 1e-10 (20 records x 40 levels): ")
         print("  " + tolerance_check(folder / "suite"))
 
+        if "--sdof-only" in sys.argv:
+            return
         twenty = folder / "suite20"
         write_suite(twenty, 20)
         wall, s = run_study(folder, "multibody", study_text(twenty, ["multibody"], 20), cores)
