@@ -374,15 +374,18 @@ def next_uplift(t, P, rec_t, rec_a):
         n = int(P[P_NHREC])
         if t > rec_t[n - 1]:
             return -1.0, 0.0
+        # as for a pulse, the ground must exceed the level: a record that only touches it
+        # would start a rocking that ends at once, at that same instant, again and again
+        exceeds = thr * (1.0 + 1e-12)
         ug = ground_over_g(t, P, rec_t, rec_a)
-        if abs(ug) >= thr:
+        if abs(ug) > exceeds:
             return t, 1.0 if ug > 0.0 else -1.0
         i0 = np.searchsorted(rec_t, t)
         prev_t = t
         prev_a = ug
         for i in range(i0, n):
             ai = rec_a[i]
-            if abs(ai) >= thr:
+            if abs(ai) > exceeds:
                 level = thr if ai > 0.0 else -thr
                 if ai == prev_a:
                     return rec_t[i], 1.0 if ai > 0.0 else -1.0

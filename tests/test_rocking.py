@@ -243,3 +243,24 @@ def test_no_ground_motion_and_no_initial_state_is_an_error():
     blk = Block.from_dimensionless(p=2.0, alpha=0.2)
     with pytest.raises(InputError, match="stays at rest"):
         rock(blk, NoMotion(), model="nonlinear")
+
+
+def test_a_record_that_only_touches_the_uplift_level_leaves_the_block_at_rest(zm_block):
+    """Rocking needs the ground to exceed g tan(alpha), as for a pulse: a record whose peak
+    sample is the uplift level exactly leaves the block at rest (it used to start a rocking
+    that ended at once, at the same instant, for 50 million steps); 1 % above, it rocks."""
+    t = np.linspace(0.0, 1.0, 201)
+    shape = np.sin(np.pi * t)  # its peak sample is 1.0 exactly (t = 0.5)
+    assert shape.max() == 1.0
+    P, rec_t, rec_a = kernel_params(zm_block, Record(t, 9.81 * shape, "touch"), (), "nonlinear")
+    n = int(P[K.P_NHREC])
+    out, impacts = np.zeros((1, 3)), np.zeros((10, 3))
+    peaks = {}
+    for factor in (1.0, 1.01):
+        rec_a[:n] = factor * P[K.P_UPLIFT] * shape
+        status, n_imp, peak, *_ = K.rk_run(
+            P, rec_t, rec_a, 2.0, 1e-10, 1e-12, False, 0.0, out, impacts
+        )
+        peaks[factor] = (status, peak)
+    assert peaks[1.0] == (K.AT_REST, 0.0)
+    assert peaks[1.01][1] > 0.0

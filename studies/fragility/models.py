@@ -54,14 +54,9 @@ def sdof_runs(study, record: Record, scales, *, rtol: float = SDOF_RTOL) -> list
     runs = []
     for scale in scales:
         P, rec_t, rec_a = kernel_params(block, record.scaled(float(scale)), collars, "nonlinear")
-        if np.max(np.abs(rec_a)) <= P[K.P_UPLIFT] * (1.0 + 1e-12):
-            # the ground touches the uplift level at most: no rocking (as the kernel rules for
-            # a pulse; its record branch would start and stop a rocking at each touch forever)
-            status, n_imp, max_theta = K.AT_REST, 0, 0.0
-        else:
-            status, n_imp, max_theta, _, _, _ = K.rk_run(
-                P, rec_t, rec_a, duration, rtol, SDOF_ATOL, bool(collars), 0.0, out, impacts
-            )
+        status, n_imp, max_theta, _, _, _ = K.rk_run(
+            P, rec_t, rec_a, duration, rtol, SDOF_ATOL, bool(collars), 0.0, out, impacts
+        )
         overturned = status == K.OVERTURNED
         peak = 0.5 * math.pi if overturned else float(max_theta)
         utilisation = None
