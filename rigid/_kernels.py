@@ -701,13 +701,16 @@ def rk_run(P, rec_t, rec_a, t_stop, rtol, atol, early_exit, dt_out, out, impacts
                 t_over = t
                 max_theta = HALF_PI
                 break
-            # trapped in the well: inside |theta| < alpha without the energy to reach alpha
+            # trapped in the well: inside |theta| < alpha without the energy to reach alpha;
+            # a swing still going out peaks at its turning point (no loss before it)
             if (
                 early_exit
                 and not has_collars
                 and abs(th) < theta_c
                 and mechanical_energy(th, om, P) < barrier
             ):
+                if th * om > 0.0:
+                    max_theta = max(max_theta, turning_point(th, mechanical_energy(th, om, P), P))
                 status = AT_REST
                 break
             # with collars: swinging out below the largest potential on the way to pi/2; the
