@@ -156,25 +156,39 @@ def run_command(args) -> dict | None:
         write_json(Path(args.out) / "fragility.json", summary)
     if args.json:
         return summary
+    from ..schema import INTENSITY_MEASURES
+
+    unit = INTENSITY_MEASURES[spec.intensity]
+    unit = "" if unit == "-" else f" {unit}"
     print(
-        f"SDOF, {len(records)} records x {levels.size} levels of {spec.intensity} "
+        f"SDOF, {len(records)} records x {levels.size} levels of {spec.intensity}{unit} "
         f"({summary['runs']} runs in {seconds:.2f} s); P at the design intensity "
-        f"{spec.design_intensity:g}, {100 * spec.confidence:.0f} % bootstrap intervals:"
+        f"{spec.design_intensity:g}{unit}, medians in{unit or ' ' + spec.intensity}, "
+        f"{100 * spec.confidence:.0f} % bootstrap intervals:"
     )
+    names = {
+        name: f"|theta| / alpha > {spec.theta_ratio:g}" if name == "rotation" else text
+        for name, text in analysis.LIMIT_STATES.items()
+    }
     print(f"{'limit state':24s} {'P(design)':>22s} {'median':>22s} {'beta':>20s}  fit")
     for name, entry in fits.items():
         best = answer_fit(entry)
         if best is None:
-            print(f"{analysis.LIMIT_STATES[name]:24s} {entry.get('why', 'no curve')}")
+            print(f"{names[name]:24s} {entry.get('why', 'no curve')}")
             continue
         f, (pl, ph) = best["fit"], best["probability_interval"]
         (ml, mh), (bl, bh) = best["median_interval"], best["beta_interval"]
         print(
-            f"{analysis.LIMIT_STATES[name][:24]:24s} "
-            f"{best['probability']:8.3g} [{pl:.3g}, {ph:.3g}]".ljust(48)
+            f"{names[name]:24s} {best['probability']:8.3g} [{pl:.3g}, {ph:.3g}]".ljust(48)
             + f"{f['median']:8.4g} [{ml:.3g}, {mh:.3g}]".rjust(22)
             + f"{f['beta']:7.3g} [{bl:.3g}, {bh:.3g}]".rjust(21)
             + f"  {f['method']}"
+            + (
+                " (a step: the data separate, the median is the geometric mean of the two "
+                "levels it lies between)"
+                if f["separated"]
+                else ""
+            )
         )
     return None
 
