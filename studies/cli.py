@@ -630,7 +630,12 @@ def build_parser() -> argparse.ArgumentParser:
         type=float,
         help="a_p / a_uplift (uplift: g tan(alpha) nonlinear, g alpha linear), >= 1",
     )
-    g.add_argument("--record", type=Path, help="accelerogram: PEER .AT2, or two columns t, a")
+    g.add_argument(
+        "--record",
+        type=Path,
+        help="accelerogram: PEER .AT2 or ESM ASCII (units from its header), or two columns "
+        "t (s), a (m/s^2)",
+    )
     g.add_argument("--scale", type=float, default=1.0, help="scale factor on the record")
     g.add_argument(
         "--vertical-record", type=Path, help="vertical accelerogram (upward positive), as --record"
