@@ -364,8 +364,8 @@ class Ground(Table):
     record: str | None = Field(
         None,
         min_length=1,
-        description="Record file (PEER .AT2, its units from its header, or two columns "
-        "t (s), a (m/s^2)), relative to the study file; pulse = record.",
+        description="Record file (PEER .AT2 or ESM ASCII, its units from its header, or two "
+        "columns t (s), a (m/s^2)), relative to the study file; pulse = record.",
     )
     scale: float | None = quantity(
         "-",
