@@ -53,14 +53,16 @@ def _penalty_contact(gap, vn, vt, kn, kt, cn, mu, dt, ft, fc, blend):
     cone. ft: the tangential force of the last step; fc: the normal force low-pass filtered for
     the cone (exponential, blend = dt / tau; 0: the contact was open, and the filter starts at
     the force itself, so an impact gets its full friction at once). Returns (normal force,
-    tangential force, filtered normal force, elastic energy, dissipated power)."""
+    tangential force, filtered normal force, elastic energy, dissipated power, and of it the
+    friction's and the damping's (with the clipped tensile part) power)."""
     fn_el = -kn * gap
     fn = max(fn_el - cn * vn, 0.0)
     cone = fn if fc == 0.0 else fc + blend * (fn - fc)
-    trial, power = _coulomb(ft, kt, vt, dt, mu * cone)
-    power += (fn - fn_el) * (-vn)  # damping, or the clipped tensile part
+    trial, friction = _coulomb(ft, kt, vt, dt, mu * cone)
+    damping = (fn - fn_el) * (-vn)  # damping, or the clipped tensile part
+    power = friction + damping
     energy = 0.5 * kn * gap * gap + 0.5 * trial * trial / kt
-    return fn, trial, cone, energy, power
+    return fn, trial, cone, energy, power, friction, damping
 
 
 @njit(cache=True, inline="always")
@@ -81,12 +83,15 @@ def base_contact(
     states[j] if running[j]. ft, normal_force, fn_filtered (states, nodes): tangential force,
     normal force, and the normal force low-pass filtered for the friction cone (blend = dt /
     tau, 1 for no filter). out[0, j], out[1, j]: the elastic contact energy and dissipated
-    power of column j. Node by node with the columns innermost, so that a node's rows are read
-    once for the group (a state's sums still run over the nodes in order: the same bits alone
-    or in a group)."""
+    power of column j; out[2, j], out[3, j]: of that power the friction's and the damping's
+    (diagnostics only: nothing reads them back into the motion). Node by node with the
+    columns innermost, so that a node's rows are read once for the group (a state's sums
+    still run over the nodes in order: the same bits alone or in a group)."""
     for j in range(states.size):
         out[0, j] = 0.0
         out[1, j] = 0.0
+        out[2, j] = 0.0
+        out[3, j] = 0.0
     for k in range(nodes.size):
         i = nodes[k]
         for j in range(states.size):
@@ -97,7 +102,7 @@ def base_contact(
             if gap >= 0.0:
                 _release(ft, normal_force, fn_filtered, r, k)
                 continue
-            fn, trial, cone, e, p = _penalty_contact(
+            fn, trial, cone, e, p, p_friction, p_damping = _penalty_contact(
                 gap,
                 v[2 * i + 1, j],
                 v[2 * i, j],
@@ -117,6 +122,8 @@ def base_contact(
             f[2 * i + 1, j] += fn
             out[0, j] += e
             out[1, j] += p
+            out[2, j] += p_friction
+            out[3, j] += p_damping
 
 
 @njit(cache=True, inline="always")
@@ -205,6 +212,8 @@ def crack_contact(
     for j in range(states.size):
         out[0, j] = 0.0
         out[1, j] = 0.0
+        out[2, j] = 0.0
+        out[3, j] = 0.0
     for k in range(slaves.size):
         s = node * slaves[k]
         for j in range(states.size):
@@ -247,7 +256,7 @@ def crack_contact(
             sj = s + j
             rvx = grid[sj + v0] - ((1.0 - xi) * grid[a + v0] + xi * grid[b + v0])
             rvy = grid[sj + v0 + dof] - ((1.0 - xi) * grid[a + v0 + dof] + xi * grid[b + v0 + dof])
-            fn, trial, cone, e, p = _penalty_contact(
+            fn, trial, cone, e, p, p_friction, p_damping = _penalty_contact(
                 gap,
                 rvx * nx + rvy * ny,
                 rvx * tx + rvy * ty,
@@ -265,6 +274,8 @@ def crack_contact(
             fn_filtered[r, k] = cone
             out[0, j] += e
             out[1, j] += p
+            out[2, j] += p_friction
+            out[3, j] += p_damping
             fx = fn * nx + trial * tx
             fy = fn * ny + trial * ty
             grid[sj + f0] += fx
@@ -403,7 +414,8 @@ running sums (B, n_edges) and the peak of the average since the last record (B, 
 
 Motion = namedtuple("Motion", ["x", "v", "frames", "tallies", "energies", "alive", "done"])
 """Per state: positions and velocities (B, n_dofs), body frames (B, n_bodies, 3: centroid x,
-y and rotation), tallies (B, 2: dissipated energy, external work), energies (B, 6: strain,
+y and rotation), tallies (B, 5: dissipated energy, external work, and of the dissipated the
+base's friction work, the crack's friction work, the contact damping work), energies (B, 6: strain,
 base contact, crack contact, collar, gravity, kinetic), alive (B,: False stops a state) and
 done (B,: steps done by the last call)."""
 
@@ -664,7 +676,8 @@ def advance(
 
     ground_acc[r, k], ground_vacc[r, k]: horizontal and vertical (upward) ground acceleration
     (m/s^2) of state r during step k, applied as the body forces -m ug'' in x and -m vg'' in y
-    (ground frame). motion.tallies += (dissipated energy, external work); motion.energies gets
+    (ground frame). motion.tallies += (dissipated energy, external work, base friction work,
+    crack friction work, contact damping work); motion.energies gets
     (strain, base contact, crack contact, collar, gravity, kinetic) of the last step, all at
     time n (kinetic as m v(n-1/2) . v(n+1/2) / 2, the energy central differences conserve).
     cracks: two contact passes (empty ones for a solid column). The toe resultants are averaged
@@ -846,8 +859,8 @@ def _advance_group(
     frame = carray(_stack_rows(4), (4, GROUP))
     totals = carray(_stack_rows(5), (5, GROUP))
     ground = carray(_stack_rows(4), (4, GROUP))
-    results = carray(_stack_rows(4), (4, GROUP))
-    contact = carray(_stack_rows(6), (6, GROUP))
+    results = carray(_stack_rows(7), (7, GROUP))
+    contact = carray(_stack_rows(12), (12, GROUP))
     positions = columns[:, POSITION, :]
     velocities = columns[:, VELOCITY, :]
     forces = columns[:, FORCE, :]
@@ -939,13 +952,12 @@ def _advance_group(
             base_state.fn,
             base_state.fc,
             blend,
-            contact[0:2],
+            contact[0:4],
         )
         for p in range(2):
             crack = cracks[p]
             if crack.nodes.size == 0:
-                contact[2 + 2 * p, :] = 0.0
-                contact[3 + 2 * p, :] = 0.0
+                contact[4 + 4 * p : 8 + 4 * p, :] = 0.0
                 continue
             state = crack_states[p]
             crack_contact(
@@ -966,7 +978,7 @@ def _advance_group(
                 state.fn,
                 state.fc,
                 blend,
-                contact[2 + 2 * p : 4 + 2 * p],
+                contact[4 + 4 * p : 8 + 4 * p],
             )
         for j in range(width):
             if not running[j]:
@@ -990,13 +1002,20 @@ def _advance_group(
             )
             e_crack = 0.0
             p_crack = 0.0
+            friction_crack = 0.0
+            damping = contact[3, j]
             for p in range(2):
-                e_crack += contact[2 + 2 * p, j]
-                p_crack += contact[3 + 2 * p, j]
+                e_crack += contact[4 + 4 * p, j]
+                p_crack += contact[5 + 4 * p, j]
+                friction_crack += contact[6 + 4 * p, j]
+                damping += contact[7 + 4 * p, j]
             results[0, j] = contact[0, j]
             results[1, j] = e_crack
             results[2, j] = e_collar
             results[3, j] = (contact[1, j] + p_crack) * dt + w_plastic
+            results[4, j] = contact[2, j] * dt
+            results[5, j] = friction_crack * dt
+            results[6, j] = damping * dt
         # fused, body by body: elastic forces back to the ground frame, update, next step's
         # loads; per state the sums of strain, gravity and kinetic energy, external work, |v|^2
         # and the next step's frame sums (of the new positions)
@@ -1060,6 +1079,9 @@ def _advance_group(
             r = states[j]
             motion.tallies[r, 0] += results[3, j]
             motion.tallies[r, 1] += totals[3, j]
+            motion.tallies[r, 2] += results[4, j]
+            motion.tallies[r, 3] += results[5, j]
+            motion.tallies[r, 4] += results[6, j]
             energies = motion.energies[r]
             energies[0] = totals[0, j]
             energies[1] = results[0, j]

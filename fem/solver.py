@@ -114,6 +114,56 @@ class FemRunSummary:
         default=None,
     )
     crack_slip_residual: float = quantity("m", "crack slip at the end of the run")
+    # contact diagnostics (issue 38): whether an interface chatters or is resolved. The crack's
+    # normal force is sampled at the output times (a chattering force jumps between 0 and
+    # several kN); None for a solid column
+    crack_normal_force_mean: float | None = quantity(
+        "N", "crack's normal force, mean over the output samples", omit_when_none=True, default=None
+    )
+    crack_normal_force_mean_closed: float | None = quantity(
+        "N",
+        "crack's normal force, mean over the samples with the halves in contact (0: never)",
+        present_with="crack_normal_force_mean",
+        default=None,
+    )
+    crack_normal_force_max: float | None = quantity(
+        "N",
+        "crack's largest sampled normal force",
+        present_with="crack_normal_force_mean",
+        default=None,
+    )
+    crack_closed_fraction: float | None = quantity(
+        "-",
+        "fraction of the output samples with the halves in contact",
+        present_with="crack_normal_force_mean",
+        default=None,
+    )
+    # work tallied every step: of the dissipated energy, friction at the base and along the
+    # crack and the contact damping (with the clipped tensile part); the penalty springs'
+    # stored (elastic) energy at its largest
+    friction_work_base: float = quantity(
+        "J", "work dissipated by friction at the base", default=0.0
+    )
+    friction_work_crack: float = quantity(
+        "J", "work dissipated by friction along the crack", default=0.0
+    )
+    contact_damping_work: float = quantity(
+        "J", "work dissipated by the contact damping (base and crack)", default=0.0
+    )
+    contact_penalty_energy_max: float = quantity(
+        "J", "largest elastic energy stored in the contact penalty springs", default=0.0
+    )
+    # the toe's contact at the output sample with the largest toe resultant (over the toe
+    # window; samples at the output times, as the contact is, not the peak over every step
+    # that edge_stress_max is): the extent of the base nodes in contact from that toe inward
+    # (the sum of their tributary lengths), and how many. One node: the zone is unresolved
+    toe_contact_length: float = quantity(
+        "m", "contact length at the toe, at the sample of the largest toe force", default=0.0
+    )
+    toe_contact_nodes: int = quantity(
+        "", "base nodes in contact from the toe, at the sample of the largest toe force", default=0
+    )
+    toe_node_spacing: float = quantity("m", "base node spacing at the toe", default=0.0)
     top_load: float = quantity("N", "dead load on the capital")
     energy_error_max: float = quantity("-", "largest energy balance error / energy scale")
     energy_error_limit: float = quantity("-", "the balance error past which a run is unreliable")
@@ -765,7 +815,7 @@ class _BatchState:
             np.zeros((batch, n)),
             np.zeros((batch, n)),
             np.zeros((batch, model.mesh.n_bodies, 3)),
-            np.zeros((batch, 2)),
+            np.zeros((batch, 5)),
             np.zeros((batch, 6)),
             np.zeros(batch, dtype=np.bool_),
             np.zeros(batch, dtype=np.int64),
@@ -971,6 +1021,18 @@ class _Recorder:
             )
         self.header = None
         self.base_area = model.base_tributary * model.thickness
+        # per toe, the base nodes of its body (positions in the base arrays) from the toe
+        # inward, and their tributary lengths (m): the contact length at the toe
+        lo, hi = _tributary_intervals(mesh)
+        xb = mesh.points[0, model.base_nodes]
+        body_of_base = mesh.node_body[model.base_nodes]
+        self.toe_runs: dict = {}
+        for name in edge_names:
+            body = 0 if name in ("left", "inner_left") else mesh.n_bodies - 1
+            mine = np.nonzero(body_of_base == body)[0]
+            inward = name in ("left", "inner_right")  # the toe is the body's smallest x
+            run = mine[np.argsort(xb[mine] if inward else -xb[mine], kind="stable")]
+            self.toe_runs[name] = (run, (hi - lo)[run])
 
     @staticmethod
     def start_edge_average(state, r: int):
@@ -1034,6 +1096,15 @@ class _Recorder:
             peak = float(edge.peak[r, e]) if self.rows else float(edge.weights[e] @ base_fn)
             row[f"edge_stress_{name}"] = peak / self.edge_area
         edge.peak[r] = 0.0
+        for e, name in enumerate(self.edge_names):
+            # sampled at t: the toe's resultant over its window (N), and the nodes in contact
+            # from the toe inward, up to the first open one
+            run, lengths = self.toe_runs[name]
+            row[f"toe_force_{name}"] = float(edge.weights[e] @ base_fn)
+            touching = base_fn[run] > 0.0
+            n = int(np.argmin(touching)) if not touching.all() else touching.size
+            row[f"toe_contact_nodes_{name}"] = n
+            row[f"toe_contact_length_{name}"] = float(lengths[:n].sum())
         body_of_base = mesh.node_body[model.base_nodes]
         for b in range(mesh.n_bodies):
             row[f"base_normal_force_{b + 1}"] = float(base_fn[body_of_base == b].sum())
@@ -1072,6 +1143,11 @@ class _Recorder:
             energy_collar=energies[3],
             energy_dissipated=tallies[0],
             energy_external_work=tallies[1],
+            # of the dissipated energy: friction at the base and along the crack, and the
+            # contact damping (with the clipped tensile part); the rest is the collars' yielding
+            energy_friction_base=tallies[2],
+            energy_friction_crack=tallies[3],
+            energy_contact_damping=tallies[4],
         )
         row["energy_total"] = (
             kinetic + energies[0] + gravity + energies[1] + energies[2] + energies[3]
@@ -1221,6 +1297,11 @@ def _summary(
         else {}
     )
     error_max = float(np.max(np.abs(h["energy_error"])))
+    toe = max(
+        (key for key in h if key.startswith("toe_force_")), key=lambda key: float(np.max(h[key]))
+    )
+    name = toe.removeprefix("toe_force_")
+    at_peak = int(np.argmax(h[toe]))
     return FemRunSummary(
         overturned=bool(overturned),
         status=reason,
@@ -1241,6 +1322,14 @@ def _summary(
         **strains,
         # what the run leaves behind: the crack slip at its end (m)
         crack_slip_residual=float(h["crack_slip_max"][-1]) if "crack_slip_max" in h else 0.0,
+        **_crack_force_summary(h),
+        friction_work_base=float(h["energy_friction_base"][-1]),
+        friction_work_crack=float(h["energy_friction_crack"][-1]),
+        contact_damping_work=float(h["energy_contact_damping"][-1]),
+        contact_penalty_energy_max=float(np.max(h["energy_contact"])),
+        toe_contact_length=float(h[f"toe_contact_length_{name}"][at_peak]),
+        toe_contact_nodes=int(h[f"toe_contact_nodes_{name}"][at_peak]),
+        toe_node_spacing=_toe_spacing(model),
         top_load=model.top_load,
         energy_error_max=error_max,
         energy_error_limit=ENERGY_ERROR_LIMIT,
@@ -1256,6 +1345,27 @@ def _summary(
         t_end=float(h["t"][-1]),
         batch_size=batch_size,
     )
+
+
+def _crack_force_summary(history) -> dict:
+    """The crack's sampled normal force (N): mean over the run and over the samples in
+    contact, largest, and the fraction of samples in contact; nothing for a solid column."""
+    if "crack_normal_force" not in history:
+        return {}
+    force = history["crack_normal_force"]
+    closed = force > 0.0
+    return {
+        "crack_normal_force_mean": float(force.mean()),
+        "crack_normal_force_mean_closed": float(force[closed].mean()) if closed.any() else 0.0,
+        "crack_normal_force_max": float(force.max()),
+        "crack_closed_fraction": float(closed.mean()),
+    }
+
+
+def _toe_spacing(model) -> float:
+    """The spacing of the base nodes at the outer left toe (m)."""
+    xs = model.mesh.points[0, model.mesh.base_nodes[0]]
+    return float(abs(xs[1] - xs[0]))
 
 
 def _fracture_time(history, k) -> float | None:

@@ -120,7 +120,7 @@ def test_the_crack_contact_kernel_is_the_node_to_segment_law_to_the_bit(sign):
     work = np.zeros(K.COMPONENTS * n_dofs)
     state = {"seg": -np.ones(n, np.int64), "ft": np.zeros(n), "fn": np.zeros(n), "fc": np.zeros(n)}
     seg, ft, fn, fc = (state[key].reshape(1, n).copy() for key in ("seg", "ft", "fn", "fc"))
-    out = np.zeros((2, 1))
+    out = np.zeros((4, 1))  # energy, power, and of it the friction and damping power
     decided_open = decided_closed = 0
     for step in range(25):  # contact history: friction, filtered cone, segment memory
         moved = x + rng.normal(scale=1e-9, size=n_dofs) * step
@@ -157,6 +157,7 @@ def test_the_crack_contact_kernel_is_the_node_to_segment_law_to_the_bit(sign):
         for kernel, reference in ((ft, "ft"), (fn, "fn"), (fc, "fc")):
             np.testing.assert_array_equal(kernel[0], state[reference])
         assert (out[0, 0], out[1, 0]) == (energy, power)
+        assert out[2, 0] + out[3, 0] == pytest.approx(power, rel=1e-12, abs=1e-300)
         decided_closed += int((state["fn"] > 0.0).sum())
         decided_open += int(((state["fn"] == 0.0) & (state["seg"] >= 0)).sum())
     # the cases exercised: slaves found open and slaves pressed, over the steps

@@ -52,6 +52,8 @@ FEM_KEYS = (
     "overturned status max_abs_theta_left max_abs_theta_right collar_max_utilisation "
     "collar_first_yield_time edge_stress_max edge_stress_ratio edge_length edge_time "
     "base_reaction_static collar_max_plastic_strain collar_plastic_work crack_slip_residual "
+    "friction_work_base friction_work_crack contact_damping_work contact_penalty_energy_max "
+    "toe_contact_length toe_contact_nodes toe_node_spacing "
     "top_load energy_error_max energy_error_limit energy_reliable dt dt_critical "
     "dt_critical_elastic stable_step_reduction_by_contact penalty_base_mean steps dofs "
     "wall_seconds t_end batch_size"
@@ -59,6 +61,11 @@ FEM_KEYS = (
 FEM_COLLAR_KEYS = (
     "collar_max_fibre_strain collar_ductility_demand collar_fractured collar_fracture_time".split()
 )
+# a cracked column's, after crack_slip_residual
+FEM_CRACK_KEYS = (
+    "crack_normal_force_mean crack_normal_force_mean_closed crack_normal_force_max "
+    "crack_closed_fraction"
+).split()
 
 
 def _rock_runs():
@@ -156,14 +163,21 @@ def test_fem_summary_is_its_typed_object_and_every_key_has_a_unit(fem_runs):
             assert json.dumps(to_json(typed)) == json.dumps(_plain(result.summary))
             assert not [key for key in result.summary if declared_unit(key) is None]
             collar_keys = FEM_COLLAR_KEYS if "collar" in name else []
+            crack_keys = FEM_CRACK_KEYS if "cracked" in name else []
             position = FEM_KEYS.index("crack_slip_residual")
-            assert list(result.summary) == FEM_KEYS[:position] + collar_keys + FEM_KEYS[position:]
+            assert list(result.summary) == (
+                FEM_KEYS[:position]
+                + collar_keys
+                + FEM_KEYS[position : position + 1]
+                + crack_keys
+                + FEM_KEYS[position + 1 :]
+            )
 
 
 def test_ensemble_summary_keys_have_units(fem_runs):
     summary = ensemble_summary([r.summary for r in fem_runs["cracked, collar"]])
     assert not [key for key in summary if declared_unit(key) is None]
-    added = [key for key in summary if key not in FEM_KEYS + FEM_COLLAR_KEYS]
+    added = [key for key in summary if key not in FEM_KEYS + FEM_COLLAR_KEYS + FEM_CRACK_KEYS]
     assert added == list(units_of(EnsembleTally))  # the tally's keys, in its order
     assert summary["statuses"] == ["completed", "completed"]
 

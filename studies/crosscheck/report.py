@@ -620,6 +620,45 @@ CROSSCHECK_NUMBERS = [
     ("FEM replicas in which a collar fractured", "fem.collar_fractured_replicas", "-"),
     ("crack slip left at the end of the run, FEM", "fem.crack_slip_residual", "mm"),
     ("static base reaction, FEM: weight + top load", "fem.base_reaction_static", "kN"),
+    # contact diagnostics (the run's own, replica 0): a chattering crack or an unresolved toe
+    # is seen here, not guessed (n/a: a solid column has no crack)
+    (
+        "crack normal force, FEM: mean over the output samples (chatter: far below the rigid "
+        "model's)",
+        "fem.crack_normal_force_mean",
+        "kN",
+    ),
+    (
+        "crack normal force, FEM: mean over the samples with the halves in contact",
+        "fem.crack_normal_force_mean_closed",
+        "kN",
+    ),
+    ("crack normal force, FEM: largest sample", "fem.crack_normal_force_max", "kN"),
+    (
+        "fraction of the output samples with the crack faces in contact, FEM",
+        "fem.crack_closed_fraction",
+        "-",
+    ),
+    ("friction work along the crack, FEM", "fem.friction_work_crack", "J"),
+    ("friction work at the base, FEM", "fem.friction_work_base", "J"),
+    ("contact damping work (base and crack), FEM", "fem.contact_damping_work", "J"),
+    (
+        "largest elastic energy in the contact penalty springs, FEM",
+        "fem.contact_penalty_energy_max",
+        "J",
+    ),
+    (
+        "toe contact length at the largest toe stress, FEM: base nodes in contact from the toe "
+        "(their tributary lengths; one node: unresolved)",
+        "fem.toe_contact_length",
+        "mm",
+    ),
+    (
+        "base nodes in contact from the toe at the largest toe stress, FEM",
+        "fem.toe_contact_nodes",
+        "-",
+    ),
+    ("base node spacing at the toe, FEM", "fem.toe_node_spacing", "mm"),
 ]
 
 
