@@ -623,8 +623,7 @@ CROSSCHECK_NUMBERS = [
     # contact diagnostics (the run's own, replica 0): a chattering crack or an unresolved toe
     # is seen here, not guessed (n/a: a solid column has no crack)
     (
-        "crack normal force, FEM: mean over the output samples (chatter: far below the rigid "
-        "model's)",
+        "crack normal force, FEM: mean over the output samples",
         "fem.crack_normal_force_mean",
         "kN",
     ),
@@ -648,13 +647,13 @@ CROSSCHECK_NUMBERS = [
         "J",
     ),
     (
-        "toe contact length at the largest toe stress, FEM: base nodes in contact from the toe "
-        "(their tributary lengths; one node: unresolved)",
+        "toe contact length, FEM, at the output sample of the largest toe force: the base nodes "
+        "in contact from the toe, their tributary lengths (one node: the zone is not resolved)",
         "fem.toe_contact_length",
         "mm",
     ),
     (
-        "base nodes in contact from the toe at the largest toe stress, FEM",
+        "base nodes in contact from the toe, FEM, at the output sample of the largest toe force",
         "fem.toe_contact_nodes",
         "-",
     ),
