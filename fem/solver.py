@@ -13,7 +13,11 @@ Outputs per output time (``history``):
   its peak over every time step of the output interval ending at t, so that a short impact is
   not missed; edge_stress_inner_* at the crack toes);
   base and crack contact forces; crack slip and opening; collar_k_axial_force, _moment, _stress,
-  _utilisation; energies (kinetic, strain, gravity, contact, collar, dissipated, external_work)
+  _utilisation; energies (kinetic, strain, gravity, contact, collar, dissipated, external_work;
+  of the dissipated: friction_base, friction_crack, contact_damping, tallied every step);
+  toe_force_<toe> (N, the toe's resultant over its window, sampled at t) and
+  toe_contact_nodes_<toe>, toe_contact_length_<toe> (m: the base nodes in contact from that toe
+  inward, up to the first open one, and their tributary lengths)
   (base_pressure.csv: the contact pressure at every base node, one row per output time)
   and energy_error = (energy now + dissipated - external work - energy at start) / scale, scale =
   the largest of the kinetic energy and |external work| seen so far, and at least the rocking
