@@ -166,7 +166,7 @@ def run_command(args) -> dict | None:
         f"{spec.design_intensity:g}{unit}, medians in{unit or ' ' + spec.intensity}, "
         f"{100 * spec.confidence:.0f} % bootstrap intervals:"
     )
-    names = {
+    state_names = {
         name: f"|theta| / alpha > {spec.theta_ratio:g}" if name == "rotation" else text
         for name, text in analysis.LIMIT_STATES.items()
     }
@@ -174,12 +174,12 @@ def run_command(args) -> dict | None:
     for name, entry in fits.items():
         best = answer_fit(entry)
         if best is None:
-            print(f"{names[name]:24s} {entry.get('why', 'no curve')}")
+            print(f"{state_names[name]:24s} {entry.get('why', 'no curve')}")
             continue
         f, (pl, ph) = best["fit"], best["probability_interval"]
         (ml, mh), (bl, bh) = best["median_interval"], best["beta_interval"]
         print(
-            f"{names[name]:24s} {best['probability']:8.3g} [{pl:.3g}, {ph:.3g}]".ljust(48)
+            f"{state_names[name]:24s} {best['probability']:8.3g} [{pl:.3g}, {ph:.3g}]".ljust(48)
             + f"{f['median']:8.4g} [{ml:.3g}, {mh:.3g}]".rjust(22)
             + f"{f['beta']:7.3g} [{bl:.3g}, {bh:.3g}]".rjust(21)
             + f"  {f['method']}"
