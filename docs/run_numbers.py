@@ -188,11 +188,7 @@ def record_of(study: str, run: Path) -> dict:
             values[name] = _get(files[file], path)
         except (KeyError, IndexError, TypeError, ValueError) as missing:
             raise SystemExit(f"{run / file}: no {'.'.join(map(str, path))} ({missing})") from None
-    commit = subprocess.run(
-        ["git", "-C", str(ROOT), "describe", "--always", "--dirty"],
-        capture_output=True,
-        text=True,
-    ).stdout.strip()
+    commit = _commit()
     files.setdefault("summary.json", json.loads((run / "summary.json").read_text()))
     return {
         "study": study,
@@ -234,6 +230,18 @@ def load_current(study: str, path: Path | None = None) -> dict:
     if set(record["values"]) != set(QUOTED[study]):
         raise SystemExit(f"{path}: holds other numbers than run_numbers.py quotes: {rerun}")
     return record
+
+
+def _commit() -> str:
+    """The commit checked out, '-dirty' where files other than these records (which make
+    docs-numbers writes one after the other) have changes not yet committed."""
+
+    def git(*args: str) -> str:
+        done = subprocess.run(["git", "-C", str(ROOT), *args], capture_output=True, text=True)
+        return done.stdout.strip()
+
+    changed = git("status", "--porcelain", "--untracked-files=no", "--", ".", ":!docs/runs")
+    return git("rev-parse", "--short", "HEAD") + ("-dirty" if changed else "")
 
 
 def _band(v: dict, name: str, digits: str, scale: float = 1.0) -> str:
