@@ -550,8 +550,17 @@ def _cmd_study(args) -> dict:
         print(f"[study] PDF: {pdf}", file=sys.stderr, flush=True)
     if args.json:
         return summary
-    short = {"report": str(Path(args.out) / "index.html")}
-    for key in kind.short:
+    return short_summary(kind.short, summary, Path(args.out) / "index.html")
+
+
+def short_summary(keys, summary: dict, report: Path) -> dict:
+    """What ``colonna study`` prints of a kind's summary: its ``keys``; an outcome in the
+    report's words (each model's motion, then each answer with its qualifier, so that a stress
+    answer of a column that overturns reads 'no (until overturning at t = ...)', never a bare
+    'no'); a verdict's words that the answers do not already give."""
+    short: dict = {"report": str(report)}
+    answered: set[str] = set()
+    for key in keys:
         value = summary.get(key)
         if key == "outcome" and value:  # the report's opening, in words
             for m in value["models"]:
@@ -559,8 +568,14 @@ def _cmd_study(args) -> dict:
                 short[m["model"]] = m["motion"] + (
                     f" (run stops at t = {time:.3f} s)" if time is not None else ""
                 )
+            for answer in value.get("answers", ()):
+                qualifier = answer.get("qualifier") or answer.get("why")
+                short[answer["question"]] = answer["answer"] + (
+                    f" ({qualifier})" if qualifier else ""
+                )
+                answered.add(answer.get("key", ""))
         elif isinstance(value, dict):
-            short.update(value)
+            short.update({k: v for k, v in value.items() if k not in answered})
         elif value is not None:
             short[key] = value
     return short

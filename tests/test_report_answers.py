@@ -398,3 +398,23 @@ def assert_figures_read_cleanly(out: Path) -> None:
                     assert not a.overlaps(b), (name, axis.axis_name)
     legend = [t.get_text() for t in drawn["collars"].axes[0].get_legend().get_texts()]
     assert "FEM collar 1" in legend and "rigid multibody collar 1" in legend
+
+
+@pytest.mark.parametrize("overturned", [4, 0], ids=["all", "none"])
+def test_the_command_line_prints_the_answers_as_the_report_gives_them(overturned):
+    """``colonna study`` prints the outcome's answers, "Does the column stay up?" first, each
+    stress answer with its qualifier where the FEM overturns (never a bare "no"), and no bare
+    verdict word for a question the answers give."""
+    from colonna.studies.cli import short_summary
+    from colonna.studies.kinds import DEFAULT_KIND, KINDS
+
+    summary = _crosscheck_outcome(overturned)
+    summary["verdict"] = {a["key"]: a["answer"] for a in summary["outcome"]["answers"]}
+    printed = short_summary(KINDS[DEFAULT_KIND].short, summary, Path("out/index.html"))
+    questions = [a["question"] for a in summary["outcome"]["answers"]]
+    assert [k for k in printed if k in questions] == questions
+    assert questions[0] == "Does the column stay up?"
+    for a in summary["outcome"]["answers"]:
+        assert a["key"] not in printed  # the answer's words, not the bare verdict
+        if a["key"] in STRESS_QUESTIONS and a["answer"] != "not assessed":
+            assert ("until overturning at t = " in printed[a["question"]]) == bool(overturned)
