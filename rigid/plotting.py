@@ -227,10 +227,10 @@ def plot_design_chart(
             markersize=15,
             markerfacecolor="r",
             markeredgecolor="k",
-            label=f"design point: a_g/g = {ratio:.3g}, alpha = {alpha:.3g} rad, {needed}",
+            label=f"design point: a_g/g = {ratio:.3g}, alpha_half = {alpha:.3g} rad, {needed}",
         )
     ax.set_xlabel(r"$a_g / g$")
-    ax.set_ylabel(r"$\alpha$ (rad)")
+    ax.set_ylabel(r"$\alpha_{half}$ (rad), of the rocking half block")
     ax.set_title(title or "Collar design chart (corrected Eq. 22-24); white: k = 0")
     if handles:  # below the chart, never over it
         ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14))

@@ -419,8 +419,8 @@ def _texts(fig) -> list[str]:
 
 def test_the_design_chart_marks_the_design_point_in_kN_per_m(drawn):
     """The design chart is an inline figure with the study's own column and pulse marked at
-    (a_g/g, alpha), its required stiffness and the provided one in the legend, and every
-    stiffness on it in kN/m (none in N/m)."""
+    (a_g/g, alpha of the half block), its required stiffness and the provided one in the
+    legend, and every stiffness on it in kN/m (none in N/m)."""
     fig, entry = drawn["design_chart"]
     assert "<svg" in entry["svg"] and entry["data_file"] == "figures/design_chart.csv"
     ax = fig.axes[0]
@@ -430,6 +430,9 @@ def test_the_design_chart_marks_the_design_point_in_kN_per_m(drawn):
     assert x == pytest.approx(0.3) and 0.03 < y < 0.4
     legend = [t.get_text() for t in ax.get_legend().get_texts()]
     assert any(t.startswith("design point") and "kN/m" in t for t in legend), legend
+    # alpha is the rocking half block's (Eq. 22-24), and says so, as everywhere in the reports
+    assert any("alpha_half = " in t for t in legend), legend
+    assert "alpha_{half}" in ax.get_ylabel()
     assert any(t.startswith("k provided by the 3 collar(s)") for t in legend), legend
     text = " ".join(_texts(fig))
     assert "kN/m" in text and not re.search(r"(?<![kM])N/m", text), text
