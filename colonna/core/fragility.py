@@ -235,29 +235,47 @@ def _probit_newton(z: np.ndarray, n: np.ndarray, k: np.ndarray) -> tuple[float, 
     def mills(eta):  # phi(eta) / Phi(eta), stable in both tails
         return np.exp(-0.5 * eta**2 - 0.5 * math.log(2.0 * math.pi) - log_ndtr(eta))
 
-    a, b = 0.0, 0.0  # P = 1/2 everywhere: a start inside the concave region's basin
-    current = loglik(a, b)
-    for _ in range(100):
+    def derivatives(a, b):
         eta = a + b * z
         up, down = mills(eta), mills(-eta)
         g = k * up - (n - k) * down  # d loglik / d eta
         h = -k * up * (eta + up) - (n - k) * down * (down - eta)  # d2 loglik / d eta2 (< 0)
         grad = np.array([g.sum(), (g * z).sum()])
         hess = np.array([[h.sum(), (h * z).sum()], [(h * z).sum(), (h * z * z).sum()]])
+        return grad, hess
+
+    # P = 1/2 everywhere: a start inside the concave region's basin
+    a, b = _newton_ascent(
+        loglik, derivatives, (0.0, 0.0), "stripes: the likelihood has no unique maximum"
+    )
+    return float(a), float(b)
+
+
+def _newton_ascent(loglik, derivatives, start, singular: str | None = None):
+    """The maximum of a concave two-parameter ``loglik`` by Newton's method, each step halved
+    until the likelihood does not fall; ``derivatives(x0, x1)`` gives (gradient, Hessian).
+    ``singular``: the InputError's message where a Hessian cannot be solved (None: numpy's
+    error as it is)."""
+    x0, x1 = start
+    current = loglik(x0, x1)
+    for _ in range(100):
+        grad, hess = derivatives(x0, x1)
         try:
             step = np.linalg.solve(hess, -grad)
         except np.linalg.LinAlgError:
-            raise InputError("stripes: the likelihood has no unique maximum") from None
+            if singular is None:
+                raise
+            raise InputError(singular) from None
         t = 1.0
         while t > 1e-12:
-            trial = loglik(a + t * step[0], b + t * step[1])
+            trial = loglik(x0 + t * step[0], x1 + t * step[1])
             if trial >= current - 1e-15 * abs(current):
                 break
             t *= 0.5
-        a, b, current = a + t * step[0], b + t * step[1], trial
-        if abs(t * step[0]) + abs(t * step[1]) < 1e-13 * (1.0 + abs(a) + abs(b)):
+        x0, x1, current = x0 + t * step[0], x1 + t * step[1], trial
+        if abs(t * step[0]) + abs(t * step[1]) < 1e-13 * (1.0 + abs(x0) + abs(x1)):
             break
-    return float(a), float(b)
+    return x0, x1
 
 
 def _capacity_log_likelihood(lc, censored, mu: float, beta: float) -> float:
@@ -318,9 +336,7 @@ def _tobit_newton(y: np.ndarray, censored: np.ndarray, mu: float, beta: float):
         ze, zc = g * ye - d, g * yc - d
         return float(ye.size * math.log(g) - 0.5 * np.sum(ze**2) + np.sum(log_ndtr(-zc)))
 
-    g, d = 1.0 / beta, mu / beta
-    current = loglik(g, d)
-    for _ in range(100):
+    def derivatives(g, d):
         ze, zc = g * ye - d, g * yc - d
         m = np.exp(-0.5 * zc**2 - 0.5 * math.log(2.0 * math.pi) - log_ndtr(-zc))  # phi/(1-Phi)
         w = m * (m - zc)
@@ -331,16 +347,9 @@ def _tobit_newton(y: np.ndarray, censored: np.ndarray, mu: float, beta: float):
                 [np.sum(ye) + np.sum(w * yc), -ye.size - np.sum(w)],
             ]
         )
-        step = np.linalg.solve(hess, -grad)
-        t = 1.0
-        while t > 1e-12:
-            trial = loglik(g + t * step[0], d + t * step[1])
-            if trial >= current - 1e-15 * abs(current):
-                break
-            t *= 0.5
-        g, d, current = g + t * step[0], d + t * step[1], trial
-        if abs(t * step[0]) + abs(t * step[1]) < 1e-13 * (1.0 + abs(g) + abs(d)):
-            break
+        return grad, hess
+
+    g, d = _newton_ascent(loglik, derivatives, (1.0 / beta, mu / beta))
     return float(d / g), float(1.0 / g)
 
 
