@@ -142,6 +142,15 @@ def _inputs(out: Path) -> dict | None:
     return dict(inputs, tables=input_tables(inputs))
 
 
+def _run_duration(out: Path) -> float | None:
+    """The run's duration (s) as inputs.json records it (None without a record or a number)."""
+    path = Path(out) / "inputs.json"
+    if not path.is_file():
+        return None
+    duration = (json.loads(path.read_text()).get("run") or {}).get("duration")
+    return float(duration) if isinstance(duration, (int, float)) else None
+
+
 def _ground_figure(out: Path) -> dict | None:
     """The ground motion the study applied (ground_motion.csv), horizontal and vertical."""
     path = Path(out) / "ground_motion.csv"
@@ -154,6 +163,11 @@ def _ground_figure(out: Path) -> dict | None:
     if np.any(g["vertical_acceleration"] != 0.0):
         ax.plot(g["t"], g["vertical_acceleration"], "--", color="C3", label="vertical (up +)")
     ax.axhline(0.0, color="0.6", lw=0.6)
+    run_end = _run_duration(out)
+    if run_end is not None and run_end < float(g["t"][-1]):
+        # a record longer than the run: what follows the run's end was never applied
+        ax.axvspan(run_end, float(g["t"][-1]), color="0.85", zorder=0, label="after the run's end")
+        ax.axvline(run_end, color="0.3", lw=0.8, ls=":")
     ax.set_xlabel("t (s)")
     ax.set_ylabel("ground acceleration (m/s$^2$)")
     legend_beside(ax)
@@ -162,7 +176,12 @@ def _ground_figure(out: Path) -> dict | None:
         out,
         "ground_motion",
         fig,
-        "The ground motion applied: horizontal and vertical accelerations",
+        "The ground motion applied: horizontal and vertical accelerations"
+        + (
+            f"; the record after the run's end (t > {run_end:g} s, shaded) was not applied"
+            if run_end is not None and run_end < float(g["t"][-1])
+            else ""
+        ),
         data_file="ground_motion.csv",
     )
 
