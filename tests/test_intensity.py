@@ -151,3 +151,17 @@ def test_bad_requests_are_input_errors():
         spectral_acceleration(Record(np.array([0.0, 0.01, 0.03]), np.ones(3)), [0.5])
     with pytest.raises(InputError, match="zero everywhere"):
         significant_duration(Record(np.array([0.0, 0.01]), np.zeros(2)))
+
+
+def test_a_top_load_enters_the_rocking_normalisation_as_it_enters_the_uplift():
+    """With a top load P (lambda = P / (m g)) the block uplifts at g tan(alpha) (1 + lambda)
+    (Eq. 2 with P): a record whose PGA is that acceleration has PGA / a_up = 1, and the rocking
+    scale of PGV uses the same a_up."""
+    mass = 500.0
+    block = Block(b=0.2, h=2.0, mass=mass, top_load=0.5 * mass * G)  # lambda = 0.5
+    uplift = G * math.tan(block.alpha) * 1.5
+    period = 0.8
+    ims = intensity_measures(one_cycle_cosine(uplift, period), block=block)
+    assert ims.pga_rocking == pytest.approx(1.0, rel=1e-12)
+    w = 2 * math.pi / period
+    assert ims.pgv_rocking == pytest.approx(uplift / w * block.p / uplift, rel=1e-6)

@@ -26,8 +26,9 @@ integral below is exact for that line (no further discretisation error):
   :class:`~colonna.core.ground.Record` has it) for one longest period, so that a peak after the
   record's end is kept. ``kind="pseudo"`` (default):
   ``PSa = w^2 max |x|``; ``"absolute"``: ``max |x'' + a|``.
-* Rocking-normalised: PGA / (g tan alpha) (1 is the uplift of a free block) and
-  PGV p / (g tan alpha) (Dimitrakopoulos & DeJong 2012's velocity scale), for any object with
+* Rocking-normalised: PGA / a_up (1 is the uplift of a free block) and PGV p / a_up
+  (Dimitrakopoulos & DeJong 2012's velocity scale), a_up the block's uplift acceleration
+  g tan(alpha) (1 + lambda), lambda = P / (m g) its top load (0 without one), for any object with
   ``alpha`` (rad), ``p`` (rad/s) and ``g`` (m/s^2) (a :class:`colonna.rigid.Block`).
 
 numpy and scipy here, not a library such as eqsig (MIT): these are a few exact formulas, tested
@@ -259,6 +260,14 @@ class IntensityMeasures:
         return data
 
 
+def _uplift_acceleration(block) -> float:
+    """The ground acceleration that uplifts ``block`` (m/s^2): g tan(alpha) (1 + lambda) with a
+    top load lambda = P / (m g) (:meth:`colonna.rigid.Block.uplift_acceleration`), g tan(alpha)
+    for a bare (alpha, p, g)."""
+    uplift = getattr(block, "uplift_acceleration", None)
+    return float(uplift()) if callable(uplift) else block.g * math.tan(block.alpha)
+
+
 def intensity_measures(
     record,
     *,
@@ -278,7 +287,7 @@ def intensity_measures(
     sa: Any = spectral_acceleration(record, periods, damping=damping) if periods else []
     rocking: dict[str, float] = {}
     if block is not None:
-        uplift = block.g * math.tan(block.alpha)
+        uplift = _uplift_acceleration(block)
         rocking = {"pga_rocking": pga / uplift, "pgv_rocking": pgv * block.p / uplift}
     return IntensityMeasures(
         pga=pga,
