@@ -868,6 +868,7 @@ class _BatchState:
             self.collars,
             self.edge,
             self.scratch,
+            self.model.contact.enforcement == "lagrange",
         )
 
     def reset(self, slot: int, start: dict, offset=None) -> None:
@@ -934,6 +935,7 @@ class _BatchState:
             collars,
             edge,
             self.scratch,
+            self.model.contact.enforcement == "lagrange",
         )
         self.motion.frames[slot] = motion.frames[slot]
         self.motion.energies[slot] = motion.energies[slot]

@@ -513,6 +513,13 @@ class Contact(Table):
         ge=0,
         le=1,
     )
+    enforcement: Literal["penalty", "lagrange"] = Field(
+        "penalty",
+        description="How the crack's contact is enforced: penalty springs (penalty, damping "
+        "and friction_filter above), or lagrange: exact, forward-increment Lagrange "
+        "multipliers with Coulomb friction (Carpenter, Taylor & Katona 1991), no penalty, "
+        "damping nor filter (the base stays penalty).",
+    )
 
 
 class Mesh(Table):
