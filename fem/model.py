@@ -5,7 +5,10 @@ of the adjacent element over the node's tributary length l_trib, h being that el
 to the surface. With the default factor 1 the contact springs are as stiff as the stone next to
 them, so they neither dominate the stable step nor let the faces sink visibly (penetration ~ strain
 x h). The tangential penalty equals the normal one. Contact damping is a fraction ``damping`` of the
-critical damping of each contact spring with its node's mass.
+critical damping of each contact spring: at the base with its node's mass against the rigid ground,
+2 zeta sqrt(k m); along the crack with the two faces' node masses in series, 2 zeta sqrt(k m1 m2 /
+(m1 + m2)) (the pair's critical value, as LS-DYNA's contact damping). The crack may instead be
+enforced exactly (``ContactSettings.enforcement = "lagrange"``: no penalty, damping nor filter).
 """
 
 from __future__ import annotations
@@ -24,6 +27,9 @@ from ..meshes.column import ColumnMesh
 from . import _kernels as K
 from .assembly import Stone, assemble
 
+# how the crack's contact is enforced (ContactSettings.enforcement)
+ENFORCEMENTS = ("penalty", "lagrange")
+
 
 @dataclass(frozen=True)
 class ContactSettings:
@@ -33,13 +39,20 @@ class ContactSettings:
     friction_filter: time constant (s) of the low-pass filter on the normal force that sets
     the friction cone (0: none). Without it, penalty contact with friction flutters near the
     slip limit (the contact's vibration modulates the cone); 1 ms is long against that
-    vibration and short against the rocking; a closing contact starts at its full force."""
+    vibration and short against the rocking; a closing contact starts at its full force;
+    enforcement: the crack's contact, "lagrange" (the default: exact, forward-increment
+    Lagrange multipliers with Coulomb friction, no penalty, damping nor filter;
+    fem._kernels.crack_lagrange) or "penalty" (springs, the settings above). The base is
+    penalty either way. The penalty along the crack does not converge within 3 % over its own
+    settings on the uncollared column (docs/validation.md), the exact contact does, at the same
+    cost per simulated second (docs/layout.md)."""
 
     friction: float = 0.7
     penalty_factor: float = 1.0
     penalty: float | None = None
     damping: float = 0.05
     friction_filter: float = 1e-3
+    enforcement: str = "lagrange"
 
     def __post_init__(self):
         # hard limits as in the study file's schema (studies.schema.Contact says why)
@@ -70,6 +83,11 @@ class ContactSettings:
                 closed_high=True,
             )
         require_range("contact damping", self.damping, 0.0, 1.0, closed_low=True)
+        if self.enforcement not in ENFORCEMENTS:
+            raise InputError(
+                f"contact enforcement = {self.enforcement!r} must be one of "
+                + ", ".join(repr(e) for e in ENFORCEMENTS)
+            )
 
 
 @dataclass
@@ -108,6 +126,16 @@ def _tributary(coords: np.ndarray) -> np.ndarray:
     """Tributary lengths of sorted points on a line."""
     mid = 0.5 * (coords[1:] + coords[:-1])
     return np.diff(np.concatenate(([coords[0]], mid, [coords[-1]])))
+
+
+def pair_damping(k, m1, m2, zeta):
+    """Contact damping (N s/m): the fraction zeta of the critical damping of a spring k between
+    two masses in series, c = 2 zeta sqrt(k m1 m2 / (m1 + m2)) (m2 = inf, a rigid ground: 2
+    zeta sqrt(k m1))."""
+    m1 = np.asarray(m1, dtype=float)
+    m2 = np.asarray(m2, dtype=float)
+    reduced = np.where(np.isinf(m2), m1, m1 * m2 / (m1 + np.where(np.isinf(m2), 0.0, m2)))
+    return 2.0 * zeta * np.sqrt(k * reduced)
 
 
 def _penalty(stone, thickness, contact, tributary, h):
@@ -164,7 +192,8 @@ def build_model(
     base_kn = np.concatenate(kn)
     base_cn = 2.0 * contact.damping * np.sqrt(base_kn * node_mass[base_nodes])
 
-    # crack: node-to-segment both ways, half the penalty each
+    # crack: node-to-segment both ways, half the penalty each; the damping a fraction of the
+    # pair's critical value, the two faces' node masses in series
     passes = []
     if mesh.cracked:
         left, right = mesh.crack_nodes
@@ -172,7 +201,12 @@ def build_model(
             trib = _tributary(p[1, slaves])
             h = np.abs(p[0, _node_beside(mesh, slaves)] - p[0, slaves])
             k = 0.5 * _penalty(stone, thickness, contact, trib, h)
-            c = 2.0 * contact.damping * np.sqrt(k * node_mass[slaves])
+            c = pair_damping(
+                k,
+                node_mass[slaves],
+                node_mass[coincident_nodes(mesh, slaves, masters)],
+                contact.damping,
+            )
             passes.append((slaves.astype(np.int64), masters.astype(np.int64), sign, k, k.copy(), c))
 
     collar_nodes, collar_props = _collar_elements(mesh, collars)
@@ -419,7 +453,10 @@ def stable_time_step(model: Model, safety: float = 0.9) -> StableStep:
     exceed it. (With kn != kt the base joins the crack and collars in the second term.)"""
     require_range("run safety (time-step safety factor)", safety, 0.0, 1.0, closed_high=True)
     w_el = max_frequency(model.stiffness, model.mass)
-    between = crack_stiffness(model) + collar_stiffness(model)
+    # exact crack contact has no springs, and no step limit of its own
+    between = collar_stiffness(model)
+    if model.contact.enforcement == "penalty":
+        between = between + crack_stiffness(model)
     if np.array_equal(model.base_kn, model.base_kt):
         bodies = model.stiffness + base_stiffness(model)
     else:

@@ -143,7 +143,8 @@ class FemRunSummary:
         default=None,
     )
     # work tallied every step: of the dissipated energy, friction at the base and along the
-    # crack and the contact damping (with the clipped tensile part); the penalty springs'
+    # crack and the contact damping (with the clipped tensile part; with exact crack contact
+    # the work of its normal multipliers, the impacts' loss, too); the penalty springs'
     # stored (elastic) energy at its largest
     friction_work_base: float = quantity(
         "J", "work dissipated by friction at the base", default=0.0
@@ -152,7 +153,10 @@ class FemRunSummary:
         "J", "work dissipated by friction along the crack", default=0.0
     )
     contact_damping_work: float = quantity(
-        "J", "work dissipated by the contact damping (base and crack)", default=0.0
+        "J",
+        "work dissipated by the contact damping (base, penalty crack) and the exact crack's "
+        "impacts",
+        default=0.0,
     )
     contact_penalty_energy_max: float = quantity(
         "J", "largest elastic energy stored in the contact penalty springs", default=0.0
@@ -868,6 +872,7 @@ class _BatchState:
             self.collars,
             self.edge,
             self.scratch,
+            self.model.contact.enforcement == "lagrange",
         )
 
     def reset(self, slot: int, start: dict, offset=None) -> None:
@@ -934,6 +939,7 @@ class _BatchState:
             collars,
             edge,
             self.scratch,
+            self.model.contact.enforcement == "lagrange",
         )
         self.motion.frames[slot] = motion.frames[slot]
         self.motion.energies[slot] = motion.energies[slot]

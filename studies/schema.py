@@ -482,8 +482,8 @@ def _known(*values) -> bool:
 
 
 class Contact(Table):
-    """[contact]: penalty frictional contact at the base and along the crack (FEM); the
-    friction also in the multibody model."""
+    """[contact]: frictional contact at the base (penalty) and along the crack (exact, or
+    penalty: enforcement) in the FEM; the friction also in the multibody model."""
 
     friction: float = quantity("-", "Coulomb friction coefficient (base and crack).", 0.7, ge=0)
     penalty_factor: float = quantity(
@@ -512,6 +512,13 @@ class Contact(Table):
         1e-3,
         ge=0,
         le=1,
+    )
+    enforcement: Literal["penalty", "lagrange"] = Field(
+        "lagrange",
+        description="How the crack's contact is enforced: lagrange, exact (forward-increment "
+        "Lagrange multipliers with Coulomb friction, Carpenter, Taylor & Katona 1991; no "
+        "penalty, damping nor filter), or penalty springs (penalty_factor, penalty, damping "
+        "and friction_filter, which otherwise set the base's contact only).",
     )
 
 

@@ -585,7 +585,7 @@ GROUND = "[ground]\namplitude_ratio = 2.0\nomega_ratio = 3.0"
             [
                 "column.width = -0.2 is not allowed: a number in [0.001, 20], m",
                 "unknown key contact.frikshun (allowed in [contact]: friction, penalty_factor, "
-                "penalty, damping, friction_filter)",
+                "penalty, damping, friction_filter, enforcement)",
                 "collar[1].y = 1.5 m is outside the allowed range [0.001, 1] m (the column height)",
             ],
         ),

@@ -63,7 +63,8 @@ def test_the_closed_cracks_force_is_the_statics_of_a_half(load_ratio):
     assert s["crack_normal_force_mean_closed"] == s["crack_normal_force_mean"]
     assert h["crack_normal_force"].min() > 0.0
     assert s["crack_normal_force_max"] == h["crack_normal_force"].max()
-    assert s["friction_work_crack"] == 0.0
+    # nothing slips: no friction work but the exact contact's round-off (1e-19 J)
+    assert s["friction_work_crack"] < 1e-12 * WEIGHT * HEIGHT
 
 
 @pytest.fixture(scope="module")

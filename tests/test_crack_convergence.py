@@ -1,0 +1,227 @@
+"""The crack contact against statics and closed forms, penalty and exact (issue 38): the
+closed crack's normal force where a known force presses the halves together, Coulomb slip
+onset and friction work of a block sliding on the base and of a half sliding down the crack,
+and the uncollared default column's first swing along the contact's convergence path (slow).
+
+Closed forms (Coulomb friction mu, gravity g, a constant or ramped ground acceleration):
+- a block on the ground under a(t) = A t / T (0 <= t <= T, zero after) slips once a = mu g,
+  at t_s = mu g T / A; its slip by T is (A / T) (T - t_s)^3 / 6, and it then slides on at the
+  deceleration mu g: v_T^2 / (2 mu g) more, v_T = (A / T) (T - t_s)^2 / 2. Friction work: mu m
+  g times the whole slip.
+- a half held off the ground beside the other, under a constant ground acceleration a toward
+  the other: the crack presses on it with N = m a (its horizontal balance), and it slides down
+  the crack with g - mu a: s = (g - mu a) t^2 / 2, friction work mu N s.
+"""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from colonna.core.ground import NoMotion, Record
+from colonna.fem.assembly import Stone
+from colonna.fem.model import ContactSettings, build_model
+from colonna.fem.solver import ENERGY_ERROR_LIMIT, run
+from colonna.meshes import column_mesh
+
+G = 9.81
+STONE = Stone()
+ENFORCEMENTS = ["penalty", "lagrange"]
+
+
+@pytest.mark.parametrize("enforcement", ENFORCEMENTS)
+def test_the_closed_cracks_force_is_the_statics_of_a_half(enforcement):
+    """A cracked column at rest under a top load of twice its weight: the only horizontal
+    forces on the left half are the base's friction and the crack's normal force (its friction
+    is vertical), so their means agree (2 %); the crack never opens, no sample is below zero."""
+    width, height, thickness = 0.4, 2.0, 0.3
+    weight = STONE.density * width * height * thickness * G
+    mesh = column_mesh(width, height, 0.1, cracked=True, grading=0.3)
+    contact = ContactSettings(enforcement=enforcement)
+    model = build_model(mesh, STONE, thickness, contact=contact, top_load=2.0 * weight)
+    r = run(model, NoMotion(), 0.02, output_interval=1e-3, progress=False)
+    s, h = r.summary, r.history
+    left = mesh.node_body[model.base_nodes] == 0
+    base_friction = np.mean([frame["base_ft"][left].sum() for _, frame in r.contact_frames])
+    assert base_friction > 50.0  # N: the Poisson spread presses the halves together
+    assert s["crack_normal_force_mean"] == pytest.approx(base_friction, rel=0.02)
+    assert s["crack_closed_fraction"] == 1.0
+    assert h["crack_normal_force"].min() > 0.0
+    assert s["energy_error_max"] < ENERGY_ERROR_LIMIT
+
+
+def _sliding_block(mu):
+    """A squat solid block (1 m x 0.25 m, 0.3 m thick) under the ramp A t / T, A = 2 mu g."""
+    mesh = column_mesh(1.0, 0.25, 0.125, cracked=False, grading=0.0)
+    model = build_model(mesh, STONE, 0.3, contact=ContactSettings(friction=mu))
+    ramp_time, peak = 0.05, 2.0 * mu * G
+    ramp = Record(np.array([0.0, ramp_time]), np.array([0.0, peak]), name="ramp")
+    return model, ramp, ramp_time, peak
+
+
+def test_a_block_slips_on_the_base_when_the_ground_exceeds_mu_g():
+    """Coulomb slip onset and friction work at the base against the closed form (module doc):
+    no slip before t_s (below a thousandth of the final slip), then the slip by T and the
+    final slip within 1 %, and the base's friction work mu m g s within 1 %."""
+    mu = 0.3
+    model, ramp, T, A = _sliding_block(mu)
+    r = run(model, ramp, 0.08, output_interval=5e-4, progress=False)
+    h, s = r.history, r.summary
+    t_slip = mu * G * T / A
+    slip_T = A / T * (T - t_slip) ** 3 / 6.0
+    v_T = A / T * (T - t_slip) ** 2 / 2.0
+    total = slip_T + v_T**2 / (2.0 * mu * G)
+    slip = -h["translation_x_1"]  # the ground force pushes the block toward -x
+    assert np.all(np.abs(slip[h["t"] < 0.95 * t_slip]) < 1e-3 * total)
+    assert np.interp(T, h["t"], slip) == pytest.approx(slip_T, rel=0.01)
+    assert slip[-1] == pytest.approx(total, rel=0.01)
+    mass = model.mass[0::2].sum()
+    assert s["friction_work_base"] == pytest.approx(mu * mass * G * total, rel=0.01)
+    assert s["energy_error_max"] < ENERGY_ERROR_LIMIT
+
+
+def _half_sliding_down_the_crack(enforcement):
+    """The right half (1 m x 1 m, 0.3 m thick, friction 0.3) held 20 mm above the ground beside
+    the left one, pressed on the crack by a ground acceleration a(t) = a min(t / tau, 1), a =
+    0.1 g, tau = 10 ms (the left half's base friction holds both: 0.2 m g < 0.3 (m g + 0.3 m
+    a)); 60 ms. Returns (run, its half's mass, mu, the ramp's (tau, a), duration)."""
+    mu, a, tau, duration = 0.3, 0.1 * G, 0.01, 0.06
+    mesh = column_mesh(2.0, 1.0, 0.125, cracked=True, grading=0.0)
+    contact = ContactSettings(friction=mu, enforcement=enforcement)
+    model = build_model(mesh, STONE, 0.3, contact=contact)
+    x = model.X.copy()
+    right = np.flatnonzero(mesh.node_body == 1)
+    x[2 * right + 1] += 0.02
+    push = Record(np.array([0.0, tau, 1.0]), np.array([0.0, a, a]), name="ramp")
+    r = run(
+        model,
+        push,
+        duration,
+        output_interval=2.5e-4,
+        initial_state=(x, np.zeros_like(x)),
+        progress=False,
+    )
+    return r, model.mass[2 * right].sum(), mu, (tau, a), duration
+
+
+def _sliding_closed_form(mass, mu, tau, a, duration):
+    """Slip of the half down the crack (m) and the crack's friction work (J) by ``duration``:
+    s'' = g - mu a(t), work mu m a(t) s' integrated (fine trapezoids of the closed-form
+    integrands)."""
+    t = np.linspace(0.0, duration, 200_001)
+    acc = a * np.minimum(t / tau, 1.0)
+    dt = t[1] - t[0]
+    pressed = np.concatenate(([0.0], np.cumsum(0.5 * (acc[1:] + acc[:-1]) * dt)))
+    speed = G * t - mu * pressed
+    slip = np.sum(0.5 * (speed[1:] + speed[:-1]) * dt)
+    work = mu * mass * np.sum(0.5 * (acc[1:] * speed[1:] + acc[:-1] * speed[:-1]) * dt)
+    return slip, work
+
+
+@pytest.mark.parametrize("enforcement", ENFORCEMENTS)
+def test_a_half_slides_down_the_crack_at_the_coulomb_rate(enforcement):
+    """The half pressed on the crack by m a(t) (module doc, _half_sliding_down_the_crack): the
+    crack's normal force is m a in the mean once the ramp is past (2 %; the half rings about
+    it) and never below zero, and the half slides down as s'' = g - mu a(t) (1 %)."""
+    r, mass, mu, (tau, a), duration = _half_sliding_down_the_crack(enforcement)
+    h = r.history
+    force = h["crack_normal_force"][h["t"] > 2.0 * tau]
+    assert force.mean() == pytest.approx(mass * a, rel=0.02)
+    assert force.min() >= 0.0
+    slip = -(h["translation_y_2"] - h["translation_y_1"])
+    slip_expected, _ = _sliding_closed_form(mass, mu, tau, a, duration)
+    assert slip[-1] - slip[0] == pytest.approx(slip_expected, rel=0.01)
+    assert r.summary["energy_error_max"] < ENERGY_ERROR_LIMIT
+
+
+@pytest.mark.parametrize(
+    "enforcement",
+    [
+        pytest.param(
+            "penalty",
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="penalty crack friction does about 10 % too little work: a node that "
+                "parts and closes again restarts its stick spring from zero (issue 38)",
+            ),
+        ),
+        "lagrange",
+    ],
+)
+def test_the_crack_friction_work_is_coulombs(enforcement):
+    """The crack's friction work on the sliding half is mu m a(t) s' integrated (1 %): with
+    exact contact; the penalty contact's is about 10 % short (measured 0.90)."""
+    r, mass, mu, (tau, a), duration = _half_sliding_down_the_crack(enforcement)
+    _, work = _sliding_closed_form(mass, mu, tau, a, duration)
+    assert r.summary["friction_work_crack"] == pytest.approx(work, rel=0.01)
+
+
+def _first_swing_medians(size, replicas=8, safety=0.9, **contact):
+    """Median over ``replicas`` round-off replicas of the uncollared default column's first
+    peak of |theta| (rad) under the default pulse, and the replicas' (min, max)."""
+    from colonna.fem.solver import run_ensemble
+    from colonna.studies.fem_study import load
+
+    study = load("studies/default.toml")
+    mesh = column_mesh(study.width, study.height, size, cracked=True, grading=study.grading)
+    settings = dataclasses.replace(study.contact, **contact)
+    model = build_model(mesh, study.stone, study.thickness, (), settings)
+    runs = run_ensemble(
+        model, study.ground, 0.9, replicas, output_interval=1e-3, safety=safety, progress=False
+    )
+    peaks = []
+    for r in runs:
+        theta = np.maximum(np.abs(r.history["theta_left"]), np.abs(r.history["theta_right"]))
+        rising = (theta[1:-1] > 1e-3) & (theta[1:-1] >= theta[:-2]) & (theta[1:-1] > theta[2:])
+        peaks.append(theta[1 + np.flatnonzero(rising)[0]])
+    return float(np.median(peaks)), (min(peaks), max(peaks))
+
+
+@pytest.mark.slow
+@pytest.mark.landing
+def test_the_uncollared_first_swing_converges_with_exact_crack_contact():
+    """The uncollared default column's first swing (module doc of benchmarks/crack_convergence.py)
+    with the default, exact crack contact. The crack's ringing makes it chaotic at round-off
+    level, so it is judged by 8 replicas: at the stable step, at half of it and on a mesh twice
+    as fine their bands overlap (measured 47.9-50.0, 46.8-49.1 and 47.6-49.1 mrad) and the
+    medians agree within 3.5 % (measured 49.9, 48.2 and 48.4 mrad: 3.3 % apart at most, the
+    replicas' own spread). The penalty crack at its own default settings sits apart, below every
+    band (43.8 mrad; docs/validation.md)."""
+    default, band = _first_swing_medians(0.225)
+    half_step, half_band = _first_swing_medians(0.225, safety=0.45)
+    finer, finer_band = _first_swing_medians(0.1125)
+    assert max(band[0], half_band[0], finer_band[0]) < min(band[1], half_band[1], finer_band[1])
+    assert half_step == pytest.approx(default, rel=0.035)
+    assert finer == pytest.approx(default, rel=0.035)
+    assert band[1] - band[0] < 0.06 * default
+    penalty, _ = _first_swing_medians(0.225, replicas=2, enforcement="penalty")
+    assert penalty < 0.95 * min(band[0], half_band[0], finer_band[0])
+
+
+def test_the_exact_crack_contact_is_action_and_reaction():
+    """Two halves in flight (2 mm above the ground), the right one thrown at the left at 0.5
+    m/s across a 1 mm gap: the multipliers act on both faces equal and opposite, so the
+    horizontal momentum is the same to round-off through the impact, the vertical one changes
+    by gravity's impulse alone; the impact dissipates (plastic, node by node) and the energy
+    balance closes."""
+    mesh = column_mesh(2.0, 1.0, 0.125, cracked=True, grading=0.0)
+    model = build_model(mesh, STONE, 0.3, contact=ContactSettings(friction=0.5))
+    x = model.X.copy()
+    right = np.flatnonzero(mesh.node_body == 1)
+    x[2 * right] += 1e-3
+    x[1::2] += 2e-3
+    v = np.zeros_like(x)
+    v[2 * right] = -0.5
+    v[2 * right + 1] = -0.1
+    duration = 0.008  # the halves meet at 2 ms, land at 20 ms
+    r = run(model, NoMotion(), duration, output_interval=1e-4, initial_state=(x, v), progress=False)
+    h, s = r.history, r.summary
+    mass = model.mass[0::2]
+    momentum = np.array([(mass @ u[:, 0], mass @ u[:, 1]) for _, u in r.velocity_frames])
+    assert h["crack_normal_force"].max() > 0.0  # they met
+    assert h["base_normal_force_1"].max() == h["base_normal_force_2"].max() == 0.0
+    np.testing.assert_allclose(momentum[:, 0], momentum[0, 0], rtol=1e-12)
+    impulse = -G * mass.sum() * h["t"]  # gravity's, over n steps of dt
+    np.testing.assert_allclose(momentum[1:, 1] - momentum[0, 1], impulse[1:], rtol=1e-9)
+    assert s["contact_damping_work"] > 0.01 * 0.5 * mass[right].sum() * 0.5**2
+    assert s["energy_error_max"] < 1e-4
