@@ -72,6 +72,20 @@ def test_pgv_and_pgd_of_a_one_cycle_cosine():
     assert ims.pgd == pytest.approx(2 * a / omega**2, rel=1e-6)
 
 
+def test_pgv_and_pgd_are_those_of_the_motion_as_applied():
+    """a = A sin(w t) for one cycle, then rest: v = A (1 - cos(w t)) / w peaks at 2 A / w, and
+    the ground ends displaced by u = 2 pi A / w^2 (a pulse's fling, which the solvers apply): no
+    baseline correction unless asked for (it would halve this PGV)."""
+    a, period = 3.0, 0.8
+    omega = 2 * math.pi / period
+    t = np.linspace(0.0, 2.0 * period, 4001)
+    pulse = Record(t, np.where(t <= period, a * np.sin(omega * t), 0.0), "sine")
+    ims = intensity_measures(pulse)
+    assert ims.pgv == pytest.approx(2 * a / omega, rel=1e-5)
+    assert ims.pgd == pytest.approx(2 * math.pi * a / omega**2, rel=1e-5)  # v >= 0: u grows
+    assert intensity_measures(pulse, baseline=True).pgv < 0.75 * ims.pgv
+
+
 def test_the_baseline_correction_removes_an_offset_and_a_drift_exactly():
     """An offset 0.05 + 0.02 t m/s^2 added to the cosine drifts the raw displacement by meters;
     the corrected one is the clean cosine's."""

@@ -275,10 +275,17 @@ def intensity_measures(
     block=None,
     damping: float = SA_DAMPING,
     g: float | None = None,
-    baseline: bool = True,
+    baseline: bool = False,
 ) -> IntensityMeasures:
     """Every IM of ``record``; Sa at ``periods`` (s); the rocking-normalised PGA and PGV for
-    ``block`` (alpha, p, g). ``g``: for Arias (default the block's, else 9.81 m/s^2)."""
+    ``block`` (alpha, p, g). ``g``: for Arias (default the block's, else 9.81 m/s^2).
+
+    PGV and PGD are those of the motion as the solvers apply it (``baseline=False``): a
+    one-sine acceleration pulse A sin(w t) has PGV = 2 A / w and keeps its residual
+    displacement. ``baseline=True`` takes them from the baseline-corrected record instead
+    (:func:`ground_velocity_displacement`), for a raw record whose integration drifts; correct
+    such a record before it is applied (as the shipped suite's script does), so that the IMs
+    describe the motion the column feels."""
     g = g if g is not None else (block.g if block is not None else STANDARD_GRAVITY)
     _, a, v, u = ground_velocity_displacement(record, baseline=baseline)
     pga = float(np.max(np.abs(_table(record)[1])))
