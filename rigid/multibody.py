@@ -773,15 +773,19 @@ def multibody_outcome(
     friction: float = DEFAULT_FRICTION,
     duration: float | None = None,
     dt: float | None = None,
-    skip_rest: bool = True,
+    fast: bool = True,
 ) -> MultibodyOutcome:
     """The outcome of :func:`rock_multibody`'s run from rest (same column, step, contact solver
     and impact refinement) without its histories: what a fragility needs of a run. The peak
     |theta| and the collars' utilisation are the kernel's running maxima over every step (the
-    history's are over its rows). With ``skip_rest`` the steps at which the column is at rest
-    under a ground acceleration at which it has already stayed at rest are skipped
-    (:func:`rigid._multibody.simulate`): the column at rest stays at rest there. Elastic
-    collars only (a plastic collar's fracture is read from its history: rock_multibody)."""
+    history's are over its rows). With ``fast`` (the kernel's outcome_only,
+    :func:`rigid._multibody.simulate`) the steps at which the column is at rest under a ground
+    acceleration at which it has already stayed at rest are skipped (it stays at rest there),
+    and each step's contact problem, where 20 Gauss-Seidel sweeps do not settle it, is solved
+    exactly by Gaussian elimination: the same model to the contact solver's tolerance, whose
+    own scatter (the start of rocking amplifies it) is what the answers move by (tests/
+    test_fragility_speed.py); without it, rock_multibody's steps exactly. Elastic collars only
+    (a plastic collar's fracture is read from its history: rock_multibody)."""
     if any(c.plastic for c in collars):
         raise InputError("multibody_outcome: plastic collars need rock_multibody's history")
     column = build_column(block, cracked=cracked, collars=collars, friction=friction)
@@ -818,7 +822,7 @@ def multibody_outcome(
         energy_scale=max(column.rocking_energy(), 1e-300),
         tol=SOLVER_TOLERANCE,
         max_iter=SOLVER_MAX_ITERATIONS,
-        skip_rest=bool(skip_rest),
+        outcome_only=bool(fast),
     )
     bodies, contacts, collar_elements = column.kernel_bundles()
     start = time.perf_counter()

@@ -1,10 +1,12 @@
 """The fragility study's speed-ups give the answers of the full runs (issue 37).
 
-Pinned: the multibody model's outcome path (no histories, the steps of a column at rest skipped)
-gives the full run's outcome, peak |theta| / alpha and collar utilisation on records that hold
-the column at rest, rock it and let it settle; a column at rest under a motion below the uplift
-acceleration stays at rest; the shifted lognormal's origin is the suite's uplift intensity, its
-curve is 0 up to it and the report names it.
+Pinned: the multibody model's outcome path (no histories) without its speed-ups is the full
+run's steps; with them (the steps of a column at rest skipped, the contact problem's exact
+solve by Gaussian elimination) it gives the full run's outcome, and its peak |theta| / alpha and
+collar utilisation within the scatter of the contact solver's own tolerance, on records that
+hold the column at rest, rock it and let it settle; a column at rest under a motion below the
+uplift acceleration stays at rest; the shifted lognormal's origin is the suite's uplift
+intensity, its curve is 0 up to it and the report names it.
 """
 
 import json
@@ -39,7 +41,7 @@ def _record(parts, dt: float = 0.005) -> Record:
 
 def test_a_column_at_rest_under_a_motion_below_uplift_stays_at_rest():
     """Below g tan(alpha) of the half no part lifts (the whole column needs twice that): the
-    full run and the skipping one both leave the column at rest (|theta| at the contact
+    full run and the fast one both leave the column at rest (|theta| at the contact
     solver's round-off, far below the uplift threshold 1e-4 alpha), collars unstrained."""
     record = _record([(2.0, 0.8, 0.4)])
     full = rock_multibody(HALF, record, COLLARS, cracked=True, duration=2.5).summary()
@@ -56,13 +58,13 @@ SETTLES = [(0.5, 0.6, 0.25), (0.6, 2.2, 0.6), (2.0, 0.3, 0.2)]  # rocks, then se
 
 
 def test_the_outcome_path_is_rock_multibody_s_run_without_its_history():
-    """Without skipping, the outcome path runs rock_multibody's steps: the same impacts and
+    """Without its speed-ups, the outcome path runs rock_multibody's steps: the same impacts and
     overturning, the peak |theta| (its every step against the history's rows every 1/200 p:
     at least as large, the same to 1e-5) and the collars' utilisation (at the steps'
     midpoints against the rows: to 1e-3)."""
     record = _record(ROCKS)
     full = rock_multibody(HALF, record, COLLARS, cracked=True, duration=4.0).summary()
-    path = multibody_outcome(HALF, record, COLLARS, cracked=True, duration=4.0, skip_rest=False)
+    path = multibody_outcome(HALF, record, COLLARS, cracked=True, duration=4.0, fast=False)
     assert full["max_abs_theta"] > 0.5 * HALF.alpha  # it rocked
     assert path.overturned == full["overturned"]
     assert path.impacts == full["impacts"]
@@ -72,11 +74,11 @@ def test_the_outcome_path_is_rock_multibody_s_run_without_its_history():
 
 
 @pytest.mark.parametrize("parts", [ROCKS, SETTLES], ids=["rocks", "settles"])
-def test_skipping_the_steps_at_rest_stays_within_the_solver_s_own_scatter(parts, monkeypatch):
+def test_the_fast_path_stays_within_the_contact_solver_s_own_scatter(parts, monkeypatch):
     """The column's start of rocking amplifies the contact solver's round-off (its velocities
     at rest, 1e-11 m/s): rerun at the solver's tolerances 1e-9, 1e-10 (the model's) and
-    1e-11, the peak |theta| and the collars' utilisation move by up to 0.5 % (measured). The
-    skipping path (at the model's tolerance) lies within that spread of the three runs, and
+    1e-11, the peak |theta| and the collars' utilisation move by up to 1 % (measured). The
+    fast path (at the model's tolerance) lies within that spread of the three runs, and
     every outcome (overturning, impacts) is theirs."""
     import colonna.rigid.multibody as multibody
 
@@ -85,7 +87,7 @@ def test_skipping_the_steps_at_rest_stays_within_the_solver_s_own_scatter(parts,
     for tol in (1e-9, 1e-10, 1e-11):
         monkeypatch.setattr(multibody, "SOLVER_TOLERANCE", tol)
         runs.append(
-            multibody_outcome(HALF, record, COLLARS, cracked=True, duration=4.0, skip_rest=False)
+            multibody_outcome(HALF, record, COLLARS, cracked=True, duration=4.0, fast=False)
         )
     monkeypatch.setattr(multibody, "SOLVER_TOLERANCE", 1e-10)
     fast = multibody_outcome(HALF, record, COLLARS, cracked=True, duration=4.0)
