@@ -425,7 +425,7 @@ def _solve_contacts(W, bvec, P, mu, n_act, tol, max_iter):
 
 
 GS_ITERATIONS = 100  # Gauss-Seidel sweeps before the exact active-set solve
-FAST_GS_ITERATIONS = 20  # the same with outcome_only, whose active-set solve is cheap
+FAST_GS_ITERATIONS = 5  # the same with outcome_only, whose active-set solve is cheap
 
 
 @njit(cache=True)

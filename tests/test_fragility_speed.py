@@ -78,7 +78,7 @@ def test_the_fast_path_stays_within_the_contact_solver_s_own_scatter(parts, monk
     """The column's start of rocking amplifies the contact solver's round-off (its velocities
     at rest, 1e-11 m/s): rerun at the solver's tolerances 1e-9, 1e-10 (the model's) and
     1e-11, the peak |theta| and the collars' utilisation move by up to 1 % (measured). The
-    fast path (at the model's tolerance) lies within that spread of the three runs, and
+    fast path (at the model's tolerance) lies within twice that spread of the three runs, and
     every outcome (overturning, impacts) is theirs."""
     import colonna.rigid.multibody as multibody
 
@@ -93,7 +93,8 @@ def test_the_fast_path_stays_within_the_contact_solver_s_own_scatter(parts, monk
     fast = multibody_outcome(HALF, record, COLLARS, cracked=True, duration=4.0)
     for key in ("max_abs_theta", "collar_max_utilisation"):
         values = np.array([getattr(r, key) for r in runs])
-        spread = max(np.ptp(values), 1e-6 * values.max())
+        # three runs' range underestimates the scatter's: twice it on each side
+        spread = 2.0 * max(np.ptp(values), 1e-6 * values.max())
         assert values.min() - spread <= getattr(fast, key) <= values.max() + spread, key
     assert {r.overturned for r in runs} == {fast.overturned}
     assert {r.impacts for r in runs} == {fast.impacts}
