@@ -17,8 +17,12 @@ What each run gives is :data:`studies.fragility.analysis.RUN_KEYS`, the same for
   (:data:`SDOF_RTOL`, recorded; rock's 1e-10 is available). A record whose peak only reaches
   the uplift level (a level of PGA / (g tan alpha) = 1) does not rock the block: rocking
   needs the ground to exceed it.
-* multibody (:func:`multibody_runs`): :func:`studies.fem_study.run_multibody` of the study with
-  the scaled record, its duration the record plus 20 / p.
+* multibody (:func:`multibody_runs`): the study's column under the scaled record from rest, its
+  duration the record plus 20 / p, through :func:`colonna.rigid.multibody.multibody_outcome`
+  (rock_multibody's model and step without histories, the steps at rest skipped, the contact
+  problem's exact solve by Gaussian elimination: the answers within the contact solver's own
+  scatter, docs/fragility.md); with plastic collars, vertical motion or an initial tilt,
+  :func:`studies.fem_study.run_multibody` itself.
 * FEM (:func:`fem_point`): :func:`studies.fem_study.iter_fem` on the study's mesh, settled-stop
   (a run ends once it can no longer overturn), one run per record and level, the runs of one
   model batched on one kernel.
