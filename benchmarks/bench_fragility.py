@@ -13,8 +13,13 @@ column without collars), whose runs end at overturning. The SDOF's tolerance is 
 default (sdof_rtol 1e-6); the fraction of runs whose outcome (overturned or not, each limit
 state) differs from rock()'s 1e-10 is measured over 20 records x 40 levels.
 
-Run: .venv/bin/python benchmarks/bench_fragility.py [--fem] [--sdof-only] (about 12 minutes on
-2 cores, the multibody part most of it; --fem adds the FEM run, several more).
+The multibody runs take the fragility's path (colonna.rigid.multibody.multibody_outcome: no
+histories, the steps of a column at rest skipped, the contact problem's active set solved by
+Gaussian elimination); the same 20 levels of two records are also run as rock_multibody runs
+them (the path before issue 37's speed-ups) for its cost a run and how many outcomes differ.
+
+Run: .venv/bin/python benchmarks/bench_fragility.py [--fem] [--sdof-only] [--multibody-only]
+(about 5 minutes on 2 cores; --fem adds the FEM run, several more).
 """
 
 from __future__ import annotations
@@ -117,6 +122,73 @@ def tolerance_check(suite: Path, records: int = 20, steps: int = 40) -> str:
     return "; ".join(lines)
 
 
+def multibody_check(suite: Path, records: int = 2, steps: int = 20) -> str:
+    """CPU a run of rock_multibody (the full run with its histories: the path before the
+    speed-ups) and of the fragility's path, over ``records`` x ``steps`` levels, and how many
+    limit-state outcomes differ between them."""
+    from colonna.studies.fragility import analysis
+    from colonna.studies.fragility.models import multibody_point, outcome_run
+    from colonna.studies.fragility.runner import setup
+    from colonna.studies.study import load
+
+    s = setup(load(suite.parent / "multibody.toml"))
+    column = s.column
+    full_runs, fast_runs = [], []
+    cpu = {"full": 0.0, "fast": 0.0}
+    for i in range(records):
+        record = s.records[i]
+        scales = analysis.scales_for(s.levels, s.intensity[i])
+        duration = record.end_time + 20.0 / column.rocking_block.p
+        start = time.process_time()
+        full_runs.append(_full_runs(column, record, scales, duration))
+        cpu["full"] += time.process_time() - start
+        start = time.process_time()
+        fast_runs.append(
+            [multibody_point(column, outcome_run(column, record, x, duration)) for x in scales]
+        )
+        cpu["fast"] += time.process_time() - start
+    full = analysis.exceedances(full_runs, 0.5)
+    fast = analysis.exceedances(fast_runs, 0.5)
+    peaks = np.abs(
+        analysis.table(fast_runs, "peak_ratio") - analysis.table(full_runs, "peak_ratio")
+    )
+    runs = records * steps
+    lines = [
+        f"CPU a run: rock_multibody {cpu['full'] / runs:.2f} s, the fragility's path "
+        f"{cpu['fast'] / runs:.2f} s ({cpu['full'] / cpu['fast']:.1f} x)",
+        "outcomes that differ: "
+        + "; ".join(f"{k} {int(np.sum(full[k] != fast[k]))} of {runs}" for k in full),
+        f"|peak ratio| difference: median {np.median(peaks):.2g}, largest {np.max(peaks):.2g}",
+    ]
+    return "\n  ".join(lines)
+
+
+def _full_runs(column, record, scales, duration) -> list[dict]:
+    """rock_multibody's runs of ``record`` times each of ``scales`` as fragility runs."""
+    import dataclasses
+    import math
+
+    from colonna.studies.fem_study import run_multibody
+
+    alpha = column.rocking_block.alpha
+    runs = []
+    for x in scales:
+        variant = dataclasses.replace(column, ground=record.scaled(float(x)), duration=duration)
+        r = run_multibody(variant).summary()
+        peak = 0.5 * math.pi if r["overturned"] else r["max_abs_theta"]
+        runs.append(
+            {
+                "overturned": r["overturned"],
+                "peak_ratio": peak / alpha,
+                "uplift": bool(r["overturned"] or peak > 1e-4 * alpha),
+                "collar_utilisation": r["collar_max_utilisation"],
+                "collar_fractured": None,
+                "toe_ratio": None,
+            }
+        )
+    return runs
+
+
 def main() -> None:
     print(f"load average before: {os.getloadavg()[0]:.1f} (other work on the machine slows it)")
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
@@ -127,6 +199,9 @@ def main() -> None:
         # numba caches and imports: a tiny run first
         run_study(folder, "warm", study_text(folder / "suite", ["sdof"], 2), 1)
         print(f"cores: {cores}; suite: 100 synthetic near-fault records of 20 s at 100 Hz")
+        if "--multibody-only" in sys.argv:
+            multibody(folder, cores)
+            return
 
         wall, s = run_study(folder, "sdof", study_text(folder / "suite", ["sdof"], 40), cores)
         runs = 100 * 40
@@ -150,15 +225,7 @@ def main() -> None:
 
         if "--sdof-only" in sys.argv:
             return
-        twenty = folder / "suite20"
-        write_suite(twenty, 20)
-        wall, s = run_study(folder, "multibody", study_text(twenty, ["multibody"], 20), cores)
-        cpu = s["model_seconds"]["multibody"]
-        print(
-            f"multibody, default column, 20 records x 20 levels: {wall:.1f} s wall on {cores} "
-            f"cores (target 60 s; runs and fits {s['wall_seconds']:.1f} s), {cpu / 400:.2f} s "
-            "of CPU a run"
-        )
+        multibody(folder, cores)
 
         if "--fem" in sys.argv:
             two = folder / "suite2"
@@ -179,6 +246,32 @@ def main() -> None:
                 f"run stops early); 10 records x 8 levels of 20 s would take about "
                 f"{cpu / len(results) * 80 / cores / 60:.0f} min on {cores} cores"
             )
+
+
+def multibody(folder: Path, cores: int) -> None:
+    """The multibody model over 20 records x 20 levels as the study runs it, then the check
+    against rock_multibody's runs."""
+    twenty = folder / "suite20"
+    write_suite(twenty, 20)
+    print(f"load average before the multibody run: {os.getloadavg()[0]:.1f}")
+    cpu_start = _children_cpu()
+    wall, s = run_study(folder, "multibody", study_text(twenty, ["multibody"], 20), cores)
+    cpu = _children_cpu() - cpu_start
+    print(
+        f"multibody, default column, 20 records x 20 levels: {wall:.1f} s wall on {cores} "
+        f"cores (target 60 s; runs and fits {s['wall_seconds']:.1f} s); the workers' CPU "
+        f"{cpu:.0f} s, {cpu / 400:.2f} s a run; load average after "
+        f"{os.getloadavg()[0]:.1f}"
+    )
+    print("  " + multibody_check(twenty))
+
+
+def _children_cpu() -> float:
+    """CPU seconds (user + system) of the finished worker processes."""
+    import resource
+
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
 
 
 if __name__ == "__main__":

@@ -749,6 +749,105 @@ def rock_multibody(
     return result
 
 
+@dataclass(frozen=True)
+class MultibodyOutcome:
+    """What a run of :func:`multibody_outcome` answers (no histories): whether it overturned,
+    the largest |theta| of any body over every step (rad; pi/2 once overturned), the column's
+    impacts (the most of any body), the largest collar utilisation over every step's midpoint
+    (None without collars), the steps taken and skipped at rest, and the kernel's wall time."""
+
+    overturned: bool
+    max_abs_theta: float
+    impacts: int
+    collar_max_utilisation: float | None
+    steps: int
+    wall_seconds: float
+
+
+def multibody_outcome(
+    block: Block,
+    ground: GroundMotion,
+    collars=(),
+    *,
+    cracked: bool = False,
+    friction: float = DEFAULT_FRICTION,
+    duration: float | None = None,
+    dt: float | None = None,
+    fast: bool = True,
+) -> MultibodyOutcome:
+    """The outcome of :func:`rock_multibody`'s run from rest (same column, step, contact solver
+    and impact refinement) without its histories: what a fragility needs of a run. The peak
+    |theta| and the collars' utilisation are the kernel's running maxima over every step (the
+    history's are over its rows). With ``fast`` (the kernel's outcome_only,
+    :func:`rigid._multibody.simulate`) the steps at which the column is at rest under a ground
+    acceleration at which it has already stayed at rest are skipped (it stays at rest there),
+    and each step's contact problem, where 20 Gauss-Seidel sweeps do not settle it, is solved
+    exactly by Gaussian elimination: the same model to the contact solver's tolerance, whose
+    own scatter (the start of rocking amplifies it) is what the answers move by (tests/
+    test_fragility_speed.py); without it, rock_multibody's steps exactly. Elastic collars only
+    (a plastic collar's fracture is read from its history: rock_multibody)."""
+    if any(c.plastic for c in collars):
+        raise InputError("multibody_outcome: plastic collars need rock_multibody's history")
+    column = build_column(block, cracked=cracked, collars=collars, friction=friction)
+    kernel_ground = _ground_arrays(ground, block.g)
+    if duration is None:
+        duration = kernel_ground.end + 20.0 / block.p
+    require_positive("duration (s)", duration)
+    if dt is None:
+        dt = default_step(column, ground)
+    require_positive("dt (s)", dt)
+    if dt > 0.5 * column.collar_stable_step():
+        raise InputError(f"dt = {dt:g} s is above the collars' stable step: lower dt")
+    n_steps = int(math.ceil(duration / dt))
+    q, v = column.q_rest.copy(), np.zeros_like(column.q_rest)
+    n_cols = (
+        1
+        + K.N_BODY_COLS * column.n_bodies
+        + K.N_TAIL
+        + 2 * column.n_bodies
+        + K.N_RECORDED * column.col_a.size
+    )
+    out = np.zeros((1, n_cols))  # the initial row only
+    impacts = np.zeros((10_000, 4))
+    settings = K.Settings(
+        h=float(dt),
+        n_steps=n_steps,
+        refine=IMPACT_REFINEMENT,
+        e_n=0.0,
+        out_every=n_steps + 1,
+        free_halves=bool(column.cracked and not column.collars),
+        barrier=float(column.overturning_barrier()),
+        early_exit=False,
+        impact_tol=IMPACT_THRESHOLD * block.alpha,
+        energy_scale=max(column.rocking_energy(), 1e-300),
+        tol=SOLVER_TOLERANCE,
+        max_iter=SOLVER_MAX_ITERATIONS,
+        outcome_only=bool(fast),
+    )
+    bodies, contacts, collar_elements = column.kernel_bundles()
+    start = time.perf_counter()
+    status, steps, _rows, n_imp, _reason, _t, peak, _it, util, _pl, _w = K.simulate(
+        q, v, bodies, contacts, collar_elements, kernel_ground, settings, out, impacts
+    )
+    wall = time.perf_counter() - start
+    if status == K.UNSTABLE:
+        raise InputError(
+            f"the multibody run went unstable at t = {steps * dt:.4g} s (dt = {dt:g} s): lower dt"
+        )
+    overturned = status == K.OVERTURNED
+    if n_imp <= impacts.shape[0]:  # the column's impacts, as rock_multibody counts them
+        table = impacts[:n_imp]
+        n_imp = max((int(np.sum(table[:, 1] == b)) for b in range(column.n_bodies)), default=0)
+    return MultibodyOutcome(
+        overturned=bool(overturned),
+        max_abs_theta=0.5 * math.pi if overturned else float(max(peak[0], peak[1])),
+        impacts=int(n_imp),
+        collar_max_utilisation=float(util) if column.collars else None,
+        steps=int(steps),
+        wall_seconds=wall,
+    )
+
+
 def _check_refine(refine) -> int:
     if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or refine < 1:
         raise InputError(

@@ -819,6 +819,12 @@ class Fragility(Table):
     theta_ratio: float = quantity(
         "-", "Threshold of the rotation limit state |theta| / alpha, (0, 100].", 0.5, gt=0, le=100
     )
+    fit: Literal["lognormal", "shifted"] = Field(
+        "lognormal",
+        description="The fitted curve: lognormal, or shifted (a lognormal of IM - x0, 0 up to "
+        "the origin x0 at the uplift intensity: the least level at which a record of the suite "
+        "lifts the rocking block, PGA = g tan alpha).",
+    )
     design_intensity: float = Field(
         description="The site's design intensity, in the intensity's unit: the report opens "
         "with each limit state's probability there.",

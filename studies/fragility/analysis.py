@@ -126,12 +126,14 @@ def fit_limit_state(
     seed: int,
     level: float,
     ida: bool,
+    origin: float = 0.0,
 ) -> dict:
     """The fits of one limit state's exceedances (records x levels): the multiple-stripe
     binomial MLE with its bootstrap band (always), and with ``ida`` the IDA capacities' fit
     (first exceedance, censored at the top) and its band; each with P at the ``design``
     intensity and its interval. A limit state no run reached (or every run did) has no
-    curve: its fractions are given and its fit is None, with the reason."""
+    curve: its fractions are given and its fit is None, with the reason. ``origin`` > 0: both
+    fits are the shifted lognormal of IM - origin (0 up to the origin)."""
     exceeded = np.asarray(exceeded, dtype=bool)
     levels = np.asarray(levels, dtype=float)
     counts = exceeded.sum(axis=0)
@@ -151,7 +153,13 @@ def fit_limit_state(
     at = np.concatenate([[design], curve_grid(levels, design)])
     entry["stripes"] = _band_entry(
         lambda: fits.bootstrap_stripes(
-            levels, exceeded.astype(float), draws=draws, seed=seed, level=level, at=at
+            levels,
+            exceeded.astype(float),
+            draws=draws,
+            seed=seed,
+            level=level,
+            origin=origin,
+            at=at,
         )
     )
     if ida:
@@ -163,7 +171,13 @@ def fit_limit_state(
             if censored.all()
             else _band_entry(
                 lambda: fits.bootstrap_capacities(
-                    capacity, censored=censored, draws=draws, seed=seed, level=level, at=at
+                    capacity,
+                    censored=censored,
+                    draws=draws,
+                    seed=seed,
+                    level=level,
+                    origin=origin,
+                    at=at,
                 )
             )
         )
@@ -217,14 +231,14 @@ def _band_entry(make) -> dict | None:
     }
 
 
-def same_curve(first, second, levels) -> dict | None:
+def same_curve(first, second, levels, *, origin: float = 0.0) -> dict | None:
     """The likelihood-ratio test (:func:`colonna.core.fragility.likelihood_ratio_test`) whether
     two models' stripes of one limit state fit one curve; None where it does not apply (a step,
     or no exceedance), with the reason."""
     try:
         a = fits.stripes_of(levels, np.asarray(first, dtype=float))
         b = fits.stripes_of(levels, np.asarray(second, dtype=float))
-        test = fits.likelihood_ratio_test(a, b)
+        test = fits.likelihood_ratio_test(a, b, origin=origin)
     except InputError as exc:
         return {"p_value": None, "why": str(exc)}
     return {

@@ -17,8 +17,12 @@ What each run gives is :data:`studies.fragility.analysis.RUN_KEYS`, the same for
   (:data:`SDOF_RTOL`, recorded; rock's 1e-10 is available). A record whose peak only reaches
   the uplift level (a level of PGA / (g tan alpha) = 1) does not rock the block: rocking
   needs the ground to exceed it.
-* multibody (:func:`multibody_runs`): :func:`studies.fem_study.run_multibody` of the study with
-  the scaled record, its duration the record plus 20 / p.
+* multibody (:func:`multibody_runs`): the study's column under the scaled record from rest, its
+  duration the record plus 20 / p, through :func:`colonna.rigid.multibody.multibody_outcome`
+  (rock_multibody's model and step without histories, the steps at rest skipped, the contact
+  problem's exact solve by Gaussian elimination: the answers within the contact solver's own
+  scatter, docs/fragility.md); with plastic collars, vertical motion or an initial tilt,
+  :func:`studies.fem_study.run_multibody` itself.
 * FEM (:func:`fem_point`): :func:`studies.fem_study.iter_fem` on the study's mesh, settled-stop
   (a run ends once it can no longer overturn), one run per record and level, the runs of one
   model batched on one kernel.
@@ -80,17 +84,23 @@ def sdof_runs(study, record: Record, scales, *, rtol: float = SDOF_RTOL) -> list
 
 
 def multibody_runs(study, record: Record, scales) -> list[dict]:
-    """The multibody runs of ``record`` times each of ``scales``."""
+    """The multibody runs of ``record`` times each of ``scales``: with elastic collars (or
+    none) :func:`colonna.rigid.multibody.multibody_outcome` (no histories, the steps at rest
+    skipped), else :func:`studies.fem_study.run_multibody`'s full run (a plastic collar's
+    fracture is read from its history)."""
     from ..fem_study import run_multibody
 
     block = study.rocking_block
     duration = record.end_time + FREE_TIME_P / block.p
+    plastic = any(c.plastic for c in study.collars)
+    from_rest = study.initial_tilt == 0.0 and study.initial_angular_velocity == 0.0
+    if not plastic and not study.vertical.moves and from_rest:
+        return [multibody_point(study, outcome_run(study, record, s, duration)) for s in scales]
     runs = []
     for scale in scales:
         variant = dataclasses.replace(study, ground=record.scaled(float(scale)), duration=duration)
         s = run_multibody(variant).summary()
         alpha = block.alpha  # the SDOF's block's, as every model's here
-        plastic = any(c.plastic for c in study.collars)
         runs.append(
             {
                 "overturned": bool(s["overturned"]),
@@ -105,6 +115,35 @@ def multibody_runs(study, record: Record, scales) -> list[dict]:
             }
         )
     return runs
+
+
+def outcome_run(study, record: Record, scale: float, duration: float):
+    """:func:`colonna.rigid.multibody.multibody_outcome` of the study's column under ``record``
+    times ``scale`` from rest (the settings of :func:`studies.fem_study.run_multibody`)."""
+    from ...rigid.multibody import multibody_outcome
+
+    return multibody_outcome(
+        study.rocking_block,
+        record.scaled(float(scale)),
+        study.collars,
+        cracked=study.cracked,
+        friction=study.contact.friction,
+        duration=duration,
+    )
+
+
+def multibody_point(study, outcome) -> dict:
+    """A :class:`colonna.rigid.multibody.MultibodyOutcome` as a run of the fragility."""
+    alpha = study.rocking_block.alpha
+    return {
+        "overturned": outcome.overturned,
+        "peak_ratio": outcome.max_abs_theta / alpha,
+        "uplift": bool(outcome.overturned or outcome.max_abs_theta > UPLIFT_RATIO * alpha),
+        "collar_utilisation": outcome.collar_max_utilisation if study.collars else None,
+        "collar_fractured": None,
+        "toe_ratio": None,
+        "impacts": outcome.impacts,
+    }
 
 
 def fem_point(study, fem) -> dict:

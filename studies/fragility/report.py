@@ -119,7 +119,12 @@ def fit_rows(s: dict) -> list[dict]:
                         median=f"{f['median']:.4g} [{m[0]:.3g}, {m[1]:.3g}]",
                         beta=f"{f['beta']:.3g} [{b[0]:.3g}, {b[1]:.3g}]",
                         method=f["method"]
-                        + (" (a step: the data separate)" if f["separated"] else ""),
+                        + (" (a step: the data separate)" if f["separated"] else "")
+                        + (
+                            f", shifted lognormal of IM - {f['origin']:.4g} (the uplift intensity)"
+                            if f.get("origin", 0.0) > 0.0
+                            else ""
+                        ),
                     )
                 rows.append(row)
     return rows

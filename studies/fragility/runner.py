@@ -69,6 +69,7 @@ class Setup:
     ims: tuple
     intensity: np.ndarray
     levels: np.ndarray
+    origin: float = 0.0  # the fits' origin x0 (IM unit): the uplift intensity with fit = "shifted"
 
 
 def setup(study: Study) -> Setup:
@@ -112,7 +113,21 @@ def setup(study: Study) -> Setup:
         levels = np.array(spec.levels, dtype=float)
     for entry, value in zip(suite, intensity):
         analysis.scales_for(levels, value, entry.name)  # a record without motion: refused
-    return Setup(spec, column, tuple(suite), records, ims, intensity, levels)
+    origin = 0.0
+    if spec.fit == "shifted":
+        pga = np.array([im.pga for im in ims])
+        origin = uplift_intensity(spec.intensity, intensity, pga, block.uplift_acceleration())
+    return Setup(spec, column, tuple(suite), records, ims, intensity, levels, origin)
+
+
+def uplift_intensity(name: str, intensity, pga, uplift: float) -> float:
+    """The shifted fits' origin: the least level of IM ``name`` at which a record of the suite
+    lifts the rocking block (its scaled PGA reaches the uplift acceleration ``uplift``, g tan
+    alpha, m/s^2): min_i IM_i uplift / PGA_i; below it no record rocks the block. For
+    pga_rocking (PGA / (g tan alpha)) it is 1."""
+    if name == "pga_rocking":
+        return 1.0
+    return float(np.min(np.asarray(intensity) * uplift / np.asarray(pga)))
 
 
 def intensity_of(ims, name: str, period: float | None = None) -> float:
@@ -265,7 +280,7 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
     exceeded: dict[str, dict] = {}
     for model, table in runs.items():
         exceeded[model] = analysis.exceedances(table, spec.theta_ratio)
-        states[model] = limit_state_fits(exceeded[model], s.levels, spec)
+        states[model] = limit_state_fits(exceeded[model], s.levels, spec, s.origin)
     tests: dict[str, dict] = {}
     if "fem" in exceeded:
         for model in exceeded:
@@ -274,7 +289,7 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
             for name, value in exceeded[model].items():
                 if name in exceeded["fem"]:
                     tests.setdefault(name, {})[f"{model}_fem"] = analysis.same_curve(
-                        value, exceeded["fem"][name], s.levels
+                        value, exceeded["fem"][name], s.levels, origin=s.origin
                     )
     probability: dict[str, float | None] = {}
     for model, fitted in states.items():
@@ -291,6 +306,8 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
         "levels": s.levels.tolist(),
         "design_intensity": design,
         "theta_ratio": spec.theta_ratio,
+        "fit": spec.fit,
+        "origin": s.origin,
         "confidence": spec.confidence,
         "bootstrap": spec.bootstrap,
         "models": list(runs),
@@ -339,9 +356,10 @@ def suite_spectra(records) -> dict:
     }
 
 
-def limit_state_fits(exceeded: dict, levels, spec: schema.Fragility) -> dict:
+def limit_state_fits(exceeded: dict, levels, spec: schema.Fragility, origin: float = 0.0) -> dict:
     """Per limit state, its fits (:func:`.analysis.fit_limit_state`) with the [fragility]
-    table's design intensity, bootstrap and analysis."""
+    table's design intensity, bootstrap and analysis, shifted by ``origin`` (IM unit) where
+    > 0."""
     return {
         name: analysis.fit_limit_state(
             value,
@@ -351,6 +369,7 @@ def limit_state_fits(exceeded: dict, levels, spec: schema.Fragility) -> dict:
             seed=spec.seed,
             level=spec.confidence,
             ida=spec.analysis == "ida",
+            origin=origin,
         )
         for name, value in exceeded.items()
     }
