@@ -26,8 +26,9 @@ INTENSITY_LABELS = {
     "pga": "PGA (m/s$^2$)",
     "pgv": "PGV (m/s)",
     "sa": "Sa(T) (m/s$^2$)",
-    "pga_rocking": r"PGA / (g tan$\alpha$)",
-    "pgv_rocking": r"PGV p / (g tan$\alpha$)",
+    # a_up = g tan(alpha) (1 + lambda): the rocking block's uplift (lambda: its top load / weight)
+    "pga_rocking": r"PGA / (g tan$\alpha$ (1 + $\lambda$))",
+    "pgv_rocking": r"PGV p / (g tan$\alpha$ (1 + $\lambda$))",
 }
 
 

@@ -123,8 +123,8 @@ def setup(study: Study) -> Setup:
 def uplift_intensity(name: str, intensity, pga, uplift: float) -> float:
     """The shifted fits' origin: the least level of IM ``name`` at which a record of the suite
     lifts the rocking block (its scaled PGA reaches the uplift acceleration ``uplift``, g tan
-    alpha, m/s^2): min_i IM_i uplift / PGA_i; below it no record rocks the block. For
-    pga_rocking (PGA / (g tan alpha)) it is 1."""
+    alpha (1 + lambda), m/s^2): min_i IM_i uplift / PGA_i; below it no record rocks the block.
+    For pga_rocking (PGA / uplift) it is 1."""
     if name == "pga_rocking":
         return 1.0
     return float(np.min(np.asarray(intensity) * uplift / np.asarray(pga)))
