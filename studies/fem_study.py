@@ -29,6 +29,8 @@ from ..core.ground import (
     weak_record_note,
 )
 from ..fem.assembly import Stone
+from ..fem.bed import DEFAULT as DEFAULT_BED
+from ..fem.bed import Bed, bed_of
 from ..fem.model import ContactSettings
 from ..fem.solver import EDGE_TIME
 from ..fem.toe_stress import REFINEMENTS
@@ -69,6 +71,7 @@ class FemStudy:
     replicas: int = 1  # FEM runs as an ensemble of this many replicas
     # stop a run once it can no longer overturn (fem.solver.iter_batch): for maps of outcomes
     stop_when_settled: bool = False
+    bed: Bed = DEFAULT_BED  # the base's stiffness per unit area ([base])
 
     @property
     def rocking_block(self) -> Block:
@@ -98,7 +101,7 @@ class FemStudy:
             if f.name in IDENTITY:
                 continue
             value = getattr(self, f.name)
-            if f.name in ("stone", "contact"):
+            if f.name in ("stone", "contact", "bed"):
                 value = asdict(value)
             elif f.name == "collars":
                 value = [asdict(c) for c in value]
@@ -121,6 +124,8 @@ class FemStudy:
         values = dict(data)
         values["stone"] = Stone(**values["stone"])
         values["contact"] = ContactSettings(**values["contact"])
+        if "bed" in values:
+            values["bed"] = Bed(**values["bed"])
         values["collars"] = tuple(Collar(**c) for c in values["collars"])
         values["ground"] = motion_from_json(values["ground"])
         values["vertical"] = motion_from_json(values["vertical"])
@@ -271,6 +276,9 @@ def column_of(spec: schema.StudyFile, source: str = "study", base: Path = Path("
         collars=tuple(Collar(**c.model_dump()) for c in spec.collar),
         ground=NoMotion(),
         contact=ContactSettings(**spec.contact.model_dump()),
+        bed=bed_of(
+            spec.base.bed, spec.base.stiffness, *(spec.base.stiffness_range or (None, None))
+        ),
         mesh_size=mesh.size or column.width / 16.0,
         grading=mesh.grading,
         mesh_file=mesh_file,
@@ -296,8 +304,8 @@ def model_record(study: FemStudy) -> dict:
     (:func:`colonna.fem.model.stable_time_step`: safety x 2 / omega_max x the contact damping's
     reduction) and the step used (run.dt where given, else the stable one); the row spacing
     of the histories (a whole number of steps nearest the output interval: duration / 400
-    by default); the base contact's penalty stiffness per node (N/m: penalty_factor x E x t x
-    tributary length / h, or contact.penalty x t x tributary length). Variants of the study
+    by default); the base contact's stiffness per node (N/m: the bed's k x t x tributary
+    length, [base]) and the bed's k (N/m^3), its range and source. Variants of the study
     (a finer mesh, a toe refinement) build their own."""
     import numpy as np
 
@@ -317,6 +325,10 @@ def model_record(study: FemStudy) -> dict:
         "penalty_base_mean": float(np.mean(model.base_kn)),
         "penalty_base_min": float(np.min(model.base_kn)),
         "penalty_base_max": float(np.max(model.base_kn)),
+        "bed_stiffness": study.bed.stiffness,
+        "bed_stiffness_low": study.bed.low,
+        "bed_stiffness_high": study.bed.high,
+        "bed_source": study.bed.source,
     }
     interval = study.output_interval or (study.duration / 400.0 if study.duration else None)
     if interval is not None:
@@ -449,7 +461,13 @@ def build(study: FemStudy):
     else:
         mesh = toe_mesh(study, 1)
     return build_model(
-        mesh, study.stone, study.thickness, study.collars, study.contact, top_load=study.top_load
+        mesh,
+        study.stone,
+        study.thickness,
+        study.collars,
+        study.contact,
+        top_load=study.top_load,
+        bed=study.bed,
     )
 
 
@@ -546,6 +564,7 @@ MODEL_KEYS = (
     "stone",
     "collars",
     "contact",
+    "bed",
     "mesh_size",
     "grading",
     "mesh_file",

@@ -30,6 +30,7 @@ from pydantic import (
 from ..core.collar import LOWEST as COLLAR_LOWEST
 from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_EPS_U, STEEL_FY
 from ..core.errors import InputError, read_toml
+from ..fem.bed import BED_PRESETS, DEFAULT_BED, STIFFNESS_RANGE
 from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
@@ -515,6 +516,55 @@ class Contact(Table):
     )
 
 
+class Base(Table):
+    """[base]: the bed the column stands on (FEM): its stiffness per unit area, k = E_bed /
+    t_bed, held fixed when the mesh is refined; the range's ends give the toe answer's spread
+    (colonna.fem.bed says where each preset's numbers come from)."""
+
+    bed: Literal[tuple(BED_PRESETS)] = Field(  # type: ignore[valid-type]
+        DEFAULT_BED,
+        description="The bed: "
+        + "; ".join(
+            f"{name}, k {p.stiffness_range[0]:.2g}-{p.stiffness_range[1]:.2g} N/m^3 "
+            f"(nominal {p.stiffness:.2g})"
+            for name, p in BED_PRESETS.items()
+        )
+        + ". A given stiffness overrides it.",
+    )
+    stiffness: float | None = quantity(
+        "N/m^3",
+        "Bed stiffness per unit area, E_bed / t_bed; overrides the preset; 1e6 to 1e18 N/m^3.",
+        ge=STIFFNESS_RANGE[0],
+        le=STIFFNESS_RANGE[1],
+    )
+    stiffness_range: list[float] | None = Field(
+        None,
+        min_length=2,
+        max_length=2,
+        description="[low, high] (N/m^3): the uncertainty range of a given stiffness, "
+        "around it; default the stiffness alone.",
+    )
+
+    @staticmethod
+    def across(b: dict, given: set) -> list[tuple[str, tuple]]:
+        """A range goes with a given stiffness and lies around it, within 1e6-1e18 N/m^3."""
+        value, k = b["stiffness_range"], b["stiffness"]
+        if not _known(value, k) or value is None:
+            return []
+        if k is None:
+            return [("base.stiffness_range goes with a given base.stiffness", ())]
+        low, high = value
+        if not (STIFFNESS_RANGE[0] <= low <= k <= high <= STIFFNESS_RANGE[1]):
+            return [
+                (
+                    f"base.stiffness_range = {value!r} must hold base.stiffness = {k:g} "
+                    f"within [1e6, 1e18] N/m^3",
+                    (),
+                )
+            ]
+        return []
+
+
 class Mesh(Table):
     """[mesh]: the FEM mesh, generated (size, grading) or read from a file."""
 
@@ -881,6 +931,7 @@ class StudyFile(Table):
     collar: list[Collar] = Field([], description="Zero or more collars, each a [[collar]] table.")
     ground: Ground = Ground.model_construct(pulse="sine")
     contact: Contact = Contact()
+    base: Base = Base()
     mesh: Mesh = Mesh()
     run: Run = Run()
     rigid: Rigid = Rigid()

@@ -40,6 +40,7 @@ INPUT_UNITS_BY_KEY = {
     ("collar", "E"): "GPa",
     ("collar", "Eh"): "GPa",
     ("contact", "penalty"): "GPa/m",
+    ("base", "stiffness"): "GPa/m",
 }
 
 
