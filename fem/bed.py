@@ -139,6 +139,20 @@ def winkler_peak_pressure(weight: float, stiffness: float, thickness: float, the
     return math.sqrt(2.0 * weight * stiffness * abs(theta) / thickness)
 
 
+def winkler_toe_pressure(force, theta, stiffness: float, thickness: float, width: float):
+    """The toe pressure (Pa) of a rigid base of width w (m) pressed on the bed by a normal force
+    N (N) at tilt theta (rad), arrays alike: while c = sqrt(2 N / (k t |theta|)) <= w the
+    partial contact's k |theta| c, else the full contact's N / (t w) + k |theta| w / 2 (the
+    two agree at c = w); 0 where N <= 0."""
+    force = np.maximum(np.asarray(force, dtype=float), 0.0)
+    tilt = np.abs(np.asarray(theta, dtype=float))
+    k, t, w = stiffness, thickness, width
+    partial = 2.0 * force * k * tilt / t  # (k theta c)^2
+    full = force / (t * w) + 0.5 * k * tilt * w
+    inside = 2.0 * force <= k * t * tilt * w * w  # c <= w
+    return np.where(inside, np.sqrt(partial), full)
+
+
 ELEMENTS_ACROSS = 4  # elements across the contact zone that resolve it (the toe grading rule)
 
 

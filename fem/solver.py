@@ -183,6 +183,11 @@ class FemRunSummary:
     toe_resultant_offset: float = quantity(
         "m", "distance of that force's point of application from the toe", default=0.0
     )
+    # the pivot on the bed in closed form (colonna.fem.bed.winkler_toe_pressure): each body's
+    # base force and tilt at the output samples give its toe pressure on a rigid base
+    toe_pressure_winkler: float = quantity(
+        "Pa", "largest Winkler toe pressure of a body's sampled base force and tilt", default=0.0
+    )
     bed_stiffness: float = quantity("N/m^3", "the base's bed stiffness per unit area", default=0.0)
     top_load: float = quantity("N", "dead load on the capital")
     energy_error_max: float = quantity("-", "largest energy balance error / energy scale")
@@ -1366,6 +1371,7 @@ def _summary(
         toe_pressure_max=max(float(np.max(h[k])) for k in h if k.startswith("toe_pressure_")),
         toe_resultant=float(h[f"toe_resultant_{name}"][at_peak]),
         toe_resultant_offset=float(h[f"toe_resultant_offset_{name}"][at_peak]),
+        toe_pressure_winkler=_winkler_pressure(model, h),
         bed_stiffness=model.bed.stiffness,
         top_load=model.top_load,
         energy_error_max=error_max,
@@ -1397,6 +1403,30 @@ def _crack_force_summary(history) -> dict:
         "crack_normal_force_max": float(force.max()),
         "crack_closed_fraction": float(closed.mean()),
     }
+
+
+def _winkler_pressure(model, history) -> float:
+    """The largest toe pressure of a rigid base on the bed (Pa) over the output samples and the
+    bodies, from each body's base normal force and rigid tilt
+    (:func:`colonna.fem.bed.winkler_toe_pressure`)."""
+    from .bed import winkler_toe_pressure
+
+    mesh = model.mesh
+    tilts = ["theta_left", "theta_right"][: mesh.n_bodies]
+    return max(
+        float(
+            np.max(
+                winkler_toe_pressure(
+                    history[f"base_normal_force_{b + 1}"],
+                    history[tilt],
+                    model.bed.stiffness,
+                    model.thickness,
+                    mesh.width / mesh.n_bodies,
+                )
+            )
+        )
+        for b, tilt in enumerate(tilts)
+    )
 
 
 def _toe_spacing(model) -> float:

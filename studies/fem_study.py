@@ -182,9 +182,42 @@ def mesh_uncertainty_sizes(study: FemStudy) -> tuple[float, ...]:
     return (2.0 * study.mesh_size, 4.0 * study.mesh_size)
 
 
+def toe_resolution(study: FemStudy) -> dict:
+    """The toe grading rule (issue 38): the weight W (N) on the pivoting toe (the rocking
+    body's, with its share of the top load), the representative tilt theta = alpha / 2 of the
+    rocking body, the Winkler contact length c = sqrt(2 W / (k t theta)) on the study's bed
+    (m), the toe element size c / 4 that resolves it (m) and the fine zone 2 c (m; at most half
+    a body's width) over which the toe's elements keep that size
+    (:func:`colonna.fem.bed.resolving_toe_size`); the Winkler peak pressure 2 W / (t c) at the
+    bed's stiffness and at its range's ends (Pa): the closed form's answer over the range."""
+    from ..fem.bed import ELEMENTS_ACROSS, winkler_contact_length, winkler_peak_pressure
+
+    half = study.cracked and not study.collars
+    block = study.rocking_block if half else study.column_block
+    weight = block.mass * block.g + (0.5 if half else 1.0) * study.top_load
+    theta = 0.5 * study.rocking_alpha
+    k, t = study.bed.stiffness, study.thickness
+    contact = winkler_contact_length(weight, k, t, theta)
+    body_width = study.width / (2.0 if study.cracked else 1.0)
+    return {
+        "weight": weight,
+        "theta": theta,
+        "contact_length": contact,
+        "toe_size": contact / ELEMENTS_ACROSS,
+        "elements_across": ELEMENTS_ACROSS,
+        "zone": min(2.0 * contact, 0.5 * body_width),
+        "pressure": winkler_peak_pressure(weight, k, t, theta),
+        "pressure_low": winkler_peak_pressure(weight, study.bed.low, t, theta),
+        "pressure_high": winkler_peak_pressure(weight, study.bed.high, t, theta),
+    }
+
+
 def toe_mesh(study: FemStudy, refinement: int):
     """The study's generated mesh with its toe zones (edge_length from each base corner)
-    refined ``refinement`` times."""
+    refined ``refinement`` times. The bed's stiffness per unit area is held: the refinement
+    refines the mesh only. (A mesh graded to the rule of :func:`toe_resolution` costs a step
+    of about 1e-7 s on the default column: too many steps for a window; the static pivot of
+    tests/test_bed.py resolves the zone.)"""
     from ..meshes.column import column_mesh
 
     return column_mesh(

@@ -484,12 +484,13 @@ def _known(*values) -> bool:
 
 class Contact(Table):
     """[contact]: penalty frictional contact at the base and along the crack (FEM); the
-    friction also in the multibody model."""
+    friction also in the multibody model. The base's normal stiffness is the bed's ([base]);
+    the penalty keys set the crack's."""
 
     friction: float = quantity("-", "Coulomb friction coefficient (base and crack).", 0.7, ge=0)
     penalty_factor: float = quantity(
         "-",
-        "Factor on the default penalty, 0.001 to 1000 (softer, the faces sink into each "
+        "Factor on the crack's default penalty, 0.001 to 1000 (softer, the faces sink into each "
         "other; stiffer, the stable step shrinks with its square root).",
         1.0,
         ge=1e-3,
@@ -497,7 +498,7 @@ class Contact(Table):
     )
     penalty: float | None = quantity(
         "N/m^3",
-        "Penalty per unit contact area; overrides penalty_factor; 1e6 to 1e18 N/m^3 (the "
+        "Crack penalty per unit contact area; overrides penalty_factor; 1e6 to 1e18 N/m^3 (the "
         "default E / h is about 1e12 for stone).",
         ge=1e6,
         le=1e18,

@@ -17,6 +17,7 @@ from colonna.fem.bed import (
     static_on_bed,
     winkler_contact_length,
     winkler_peak_pressure,
+    winkler_toe_pressure,
 )
 from colonna.fem.model import ContactSettings, build_model
 from colonna.fem.solver import run
@@ -133,6 +134,26 @@ def test_a_column_at_rest_on_its_bed_presses_it_evenly():
     assert s["toe_resultant"] == pytest.approx(weight, rel=1e-6)
     assert s["toe_resultant_offset"] == pytest.approx(0.5 * WIDTH, rel=1e-6)
     assert s["bed_stiffness"] == bed_of("mortar").stiffness
+    # upright: the rigid base on its bed presses it evenly (the tilt is the elastic sag's)
+    assert s["toe_pressure_winkler"] == pytest.approx(mean, rel=1e-3)
+
+
+def test_the_winkler_toe_pressure_of_a_force_and_a_tilt():
+    """Partial contact: the pivot's closed form; full contact: N / (t w) + k theta w / 2 (the
+    trapezoid's larger end), equal to it where c = w; none without a force."""
+    W, k, t, w = 3e3, 1e11, 0.3, 0.4
+    theta = np.array([1e-3, 1e-4])
+    p = winkler_toe_pressure(W, theta, k, t, w)
+    assert p[0] == pytest.approx(winkler_peak_pressure(W, k, t, 1e-3), rel=1e-12)
+    assert winkler_contact_length(W, k, t, 1e-4) < w
+    at_w = 2 * W / (k * t * w * w)  # the tilt at which c = w
+    both = winkler_toe_pressure(W, [at_w * (1 - 1e-9), at_w * (1 + 1e-9), 0.0], k, t, w)
+    assert both[0] == pytest.approx(both[1], rel=1e-6)
+    assert both[2] == pytest.approx(W / (t * w), rel=1e-12)
+    theta_full = 0.5 * at_w
+    expected = W / (t * w) + 0.5 * k * theta_full * w
+    assert winkler_toe_pressure(W, theta_full, k, t, w) == pytest.approx(expected, rel=1e-12)
+    assert winkler_toe_pressure(-1.0, 1e-3, k, t, w) == 0.0
 
 
 @pytest.mark.parametrize("name", list(BED_PRESETS))
