@@ -2,9 +2,9 @@
 
 The base is the column's bed (:mod:`colonna.fem.bed`): each base node's normal and tangential
 spring is ``k_bed * t * l_trib`` (k_bed in N/m^3, thickness t, tributary length l_trib), a
-physical stiffness held fixed when the mesh is refined (issue 38).
+physical stiffness held fixed when the mesh is refined (issue 38). What follows is the crack's.
 
-Crack penalty stiffness (per contact node, N/m) is ``penalty_factor * E * t * l_trib / h``: the stiffness
+Penalty stiffness (per contact node, N/m) is ``penalty_factor * E * t * l_trib / h``: the stiffness
 of the adjacent element over the node's tributary length l_trib, h being that element's size normal
 to the surface. With the default factor 1 the contact springs are as stiff as the stone next to
 them, so they neither dominate the stable step nor let the faces sink visibly (penetration ~ strain

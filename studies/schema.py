@@ -538,12 +538,12 @@ class Base(Table):
         ge=STIFFNESS_RANGE[0],
         le=STIFFNESS_RANGE[1],
     )
-    stiffness_range: list[float] | None = Field(
-        None,
+    stiffness_range: list[float] | None = quantity(
+        "N/m^3",
+        "[low, high]: the uncertainty range of a given stiffness, around it; default the "
+        "stiffness alone.",
         min_length=2,
         max_length=2,
-        description="[low, high] (N/m^3): the uncertainty range of a given stiffness, "
-        "around it; default the stiffness alone.",
     )
 
     @staticmethod

@@ -41,6 +41,7 @@ INPUT_UNITS_BY_KEY = {
     ("collar", "Eh"): "GPa",
     ("contact", "penalty"): "GPa/m",
     ("base", "stiffness"): "GPa/m",
+    ("base", "stiffness_range"): "GPa/m",
 }
 
 

@@ -630,6 +630,7 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "collar_ductility_limit": DUCTILITY_LIMIT,
         "stone_fc": study.stone.fc,  # Pa
         "toe_stress": _toe_stress(study, results),
+        "bed": _bed(study),
         # the multibody run's summary, as its typed result selects it for the cross-check
         "rigid_multibody": selected(multibody, MultibodySummary, MULTIBODY_KEYS),
         # an overturned block's max_abs_theta is the pi/2 of its stopping rule: not shown
@@ -951,6 +952,40 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
             "toe_crushes": toe_crushes(study, results),
         },
     )
+
+
+def _bed(study) -> dict:
+    """The bed under the column (SI): its stiffness per unit area, range and source; the toe
+    grading rule's contact length, element size and Winkler toe pressure at alpha / 2 over the
+    bed's range (:func:`studies.fem_study.toe_resolution`); the toe element size of the study
+    mesh and of the finest toe window, and how many of each lie across that contact length."""
+    import numpy as np
+
+    from ..fem_study import toe_mesh, toe_resolution
+
+    rule = toe_resolution(study)
+
+    def toe_size(refinement: int) -> float:
+        mesh = toe_mesh(study, refinement)
+        xs = np.unique(mesh.points[0])
+        return float(min(xs[1] - xs[0], xs[-1] - xs[-2]))
+
+    finest = max(study.toe_refinements, default=1)
+    sizes = {"study_mesh_toe_size": toe_size(1), "finest_toe_size": toe_size(finest)}
+    return {
+        "stiffness": study.bed.stiffness,
+        "low": study.bed.low,
+        "high": study.bed.high,
+        "source": study.bed.source,
+        **rule,
+        **sizes,
+        "finest_refinement": finest,
+        "across_study_mesh": rule["contact_length"] / sizes["study_mesh_toe_size"],
+        "across_finest": rule["contact_length"] / sizes["finest_toe_size"],
+        "pressure_ratio": rule["pressure"] / study.stone.fc,
+        "pressure_low_ratio": rule["pressure_low"] / study.stone.fc,
+        "pressure_high_ratio": rule["pressure_high"] / study.stone.fc,
+    }
 
 
 def _static_mean_pressure(study, results: dict) -> float:
