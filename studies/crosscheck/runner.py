@@ -1032,6 +1032,13 @@ def _bed(study, results: dict) -> dict:
         "pressure_low_ratio": rule["pressure_low"] / study.stone.fc,
         "pressure_high_ratio": rule["pressure_high"] / study.stone.fc,
         "range_runs": runs or None,
+        # the largest Winkler toe pressure the runs themselves gave (their base force and tilt),
+        # nominal bed and the range's ends, over f_c
+        "winkler_run_ratio_max": max(
+            [results["fem"]["summary"]["toe_pressure_winkler"]]
+            + [r["toe_pressure_winkler"] for r in runs.values()]
+        )
+        / study.stone.fc,
     }
 
 
