@@ -38,17 +38,13 @@ STIFFNESS_RANGE = (1e6, 1e18)  # N/m^3: the range a bed stiffness may take (as c
 
 @dataclass(frozen=True)
 class BedPreset:
-    """A named bed: its layer's modulus and thickness ranges (Pa, m) and where they come from."""
+    """A named bed: its stiffness range (N/m^3), where the numbers come from, and for a layer
+    its modulus and thickness ranges ((Pa, Pa), (m, m)), whose ratio gives the range."""
 
     name: str
-    modulus: tuple[float, float]
-    thickness: tuple[float, float]
+    stiffness_range: tuple[float, float]
     source: str
-
-    @property
-    def stiffness_range(self) -> tuple[float, float]:
-        """(softest, stiffest) k = E_bed / t_bed (N/m^3)."""
-        return self.modulus[0] / self.thickness[1], self.modulus[1] / self.thickness[0]
+    layer: tuple[tuple[float, float], tuple[float, float]] | None = None
 
     @property
     def stiffness(self) -> float:
@@ -57,24 +53,30 @@ class BedPreset:
         return math.sqrt(low * high)
 
 
+def _layer(modulus: tuple[float, float], thickness: tuple[float, float]) -> dict:
+    """A layer's stiffness range k = E / t, softest (E low, t high) to stiffest, and itself."""
+    return {
+        "stiffness_range": (modulus[0] / thickness[1], modulus[1] / thickness[0]),
+        "layer": (modulus, thickness),
+    }
+
+
 BED_PRESETS = {
     "mortar": BedPreset(
         "mortar",
-        (1e9, 10e9),
-        (0.010, 0.020),
-        "mortar bed: E 1-10 GPa over 10-20 mm (joint stiffness E_m / t_m, Lourenco & Rots 1997)",
+        source="mortar bed: E 1-10 GPa over 10-20 mm (joint stiffness E_m / t_m, Lourenco & Rots "
+        "1997)",
+        **_layer((1e9, 10e9), (0.010, 0.020)),
     ),
     "lead": BedPreset(
         "lead",
-        (16e9, 16e9),
-        (1.32e-3, 3.55e-3),
-        "lead sheet: E 16 GPa (ASM Handbook Vol. 2) over 1.32-3.55 mm (EN 12588 codes 3-8); "
-        "elastic, lead yields at a few MPa",
+        source="lead sheet: E 16 GPa (ASM Handbook Vol. 2) over 1.32-3.55 mm (EN 12588 codes "
+        "3-8); elastic, lead yields at a few MPa",
+        **_layer((16e9, 16e9), (1.32e-3, 3.55e-3)),
     ),
     "stone": BedPreset(
         "stone",
         (1e10, 1e12),
-        (1.0, 1.0),
         "stone on stone, dry: k 1e10-1e12 N/m^3, dry-joint normal stiffnesses of stone "
         "masonry in discrete-element models (Lemos 2007)",
     ),
@@ -104,7 +106,12 @@ class Bed:
             )
 
 
-def bed_of(preset: str | None = DEFAULT_BED, stiffness: float | None = None, low=None, high=None):
+def bed_of(
+    preset: str | None = DEFAULT_BED,
+    stiffness: float | None = None,
+    low: float | None = None,
+    high: float | None = None,
+) -> Bed:
     """The bed of a preset name (:data:`BED_PRESETS`), or of a given ``stiffness`` (N/m^3, with
     an optional range ``low``-``high``; it overrides the preset, which then only names it)."""
     if stiffness is not None:

@@ -158,15 +158,20 @@ def test_the_winkler_toe_pressure_of_a_force_and_a_tilt():
 
 @pytest.mark.parametrize("name", list(BED_PRESETS))
 def test_each_preset_is_its_layers_modulus_over_its_thickness(name):
-    """A preset's range is (softest E / thickest layer, stiffest E / thinnest), its nominal
-    the geometric mean; the bed of it carries them and names its source."""
+    """A layer's range is (softest E / thickest layer, stiffest E / thinnest); every preset's
+    nominal is the geometric mean of its range's ends; the bed of it carries them and names
+    its source."""
     p = BED_PRESETS[name]
-    low, high = p.modulus[0] / p.thickness[1], p.modulus[1] / p.thickness[0]
+    low, high = p.stiffness_range
+    if p.layer is not None:
+        (e_low, e_high), (t_low, t_high) = p.layer
+        assert (low, high) == pytest.approx((e_low / t_high, e_high / t_low), rel=1e-12)
     bed = bed_of(name)
-    assert (bed.low, bed.high) == pytest.approx((low, high), rel=1e-12)
+    assert (bed.low, bed.high) == (low, high)
     assert bed.stiffness == pytest.approx(np.sqrt(low * high), rel=1e-12)
     assert bed.source == p.source
     assert BED_PRESETS["mortar"].stiffness_range == pytest.approx((5e10, 1e12))
+    assert BED_PRESETS["lead"].stiffness_range == pytest.approx((16e9 / 3.55e-3, 16e9 / 1.32e-3))
 
 
 def test_the_toe_grading_rule_puts_its_elements_across_the_contact():
