@@ -130,6 +130,16 @@ def bed_of(
 DEFAULT = bed_of()
 
 
+def stone_bed(mesh, modulus: float) -> Bed:
+    """A bed as stiff as the stone's base row: k = E / h, h the height of the mesh's lowest
+    element row (m) and E the stone's modulus (Pa), the base penalty colonna used before the
+    bed was data. For the stiff limit (a stone made ever stiffer on a base that stiffens with
+    it, toward a rigid block on a rigid base); not a physical bed."""
+    y = np.unique(mesh.points[1])
+    k = modulus / float(y[1] - y[0])
+    return Bed(k, k, k, f"as stiff as the stone's base row: E / h = {k:.3g} N/m^3")
+
+
 # ------------------------------------------------------------------------------------------
 # the rigid block pivoting on a Winkler bed
 # ------------------------------------------------------------------------------------------
