@@ -15,6 +15,7 @@ from colonna.fem.bed import (
     bed_of,
     resolving_toe_size,
     static_on_bed,
+    stone_bed,
     winkler_contact_length,
     winkler_peak_pressure,
     winkler_toe_pressure,
@@ -154,6 +155,17 @@ def test_the_winkler_toe_pressure_of_a_force_and_a_tilt():
     expected = W / (t * w) + 0.5 * k * theta_full * w
     assert winkler_toe_pressure(W, theta_full, k, t, w) == pytest.approx(expected, rel=1e-12)
     assert winkler_toe_pressure(-1.0, 1e-3, k, t, w) == 0.0
+
+
+def test_the_stone_bed_is_the_base_rows_stiffness():
+    """stone_bed (the stiff limit's base): each base node's spring is E t l_trib / h with h the
+    base row's height, the element penalty of old, and it stiffens with the stone."""
+    mesh = column_mesh(WIDTH, 2.0, 0.1, grading=0.3)
+    h = np.unique(mesh.points[1])[1]
+    for E in (50e9, 5000e9):
+        model = build_model(mesh, Stone(E=E), THICKNESS, bed=stone_bed(mesh, E))
+        expected = E * THICKNESS * model.base_tributary / h
+        np.testing.assert_allclose(model.base_kn, expected, rtol=1e-12)
 
 
 @pytest.mark.parametrize("name", list(BED_PRESETS))
