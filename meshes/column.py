@@ -200,6 +200,12 @@ def column_mesh(
         zone = max(toe_zone, toe_size)
         ys = _grade_ends(ys, zone, toe_size, low=True, high=False)
         xs = _grade_ends(xs, zone, toe_size, low=True, high=True)
+        for y_pin in pinned_heights:  # a collar's row must stay a row of nodes
+            if not np.any(np.abs(ys - y_pin) <= 1e-12 * height):
+                raise InputError(
+                    f"mesh toe_size = {toe_size:g} m with toe_zone = {toe_zone:g} m grades the "
+                    f"rows past the pinned (collar) height {y_pin:g} m: use a smaller toe_zone"
+                )
         _require_node_count(n_bodies * xs.size * ys.size, size, n_bodies * body_width * height)
     if toe_refinement > 1:
         require_positive("mesh toe_zone (m)", toe_zone)

@@ -196,6 +196,11 @@ def test_the_toe_grading_rule_puts_its_elements_across_the_contact():
     ys = np.unique(mesh.points[1])
     assert np.diff(xs)[0] <= size * (1 + 1e-9) and np.diff(ys)[0] <= size * (1 + 1e-9)
     assert np.sum(xs < xs[0] + 4 * size * (1 + 1e-9)) >= 5  # 4 elements over c at alpha / 2
+    # the graded zone keeps a collar's row, and says so where it would not
+    pinned = column_mesh(0.45, 4.0, 0.0375, pinned_heights=[0.5], toe_zone=0.01, toe_size=size)
+    assert np.any(np.abs(pinned.points[1] - 0.5) < 1e-12)
+    with pytest.raises(InputError, match="pinned"):
+        column_mesh(0.45, 4.0, 0.0375, pinned_heights=[0.02], toe_zone=0.03, toe_size=size)
 
 
 def test_a_bad_bed_is_an_input_error_naming_the_key():
