@@ -72,6 +72,7 @@ class FemStudy:
     # stop a run once it can no longer overturn (fem.solver.iter_batch): for maps of outcomes
     stop_when_settled: bool = False
     bed: Bed = DEFAULT_BED  # the base's stiffness per unit area ([base])
+    toe_size: float | None = None  # m: the element size at the base corners ([mesh] toe_size)
 
     @property
     def rocking_block(self) -> Block:
@@ -213,8 +214,9 @@ def toe_resolution(study: FemStudy) -> dict:
 
 
 def toe_mesh(study: FemStudy, refinement: int):
-    """The study's generated mesh with its toe zones (edge_length from each base corner)
-    refined ``refinement`` times. The bed's stiffness per unit area is held: the refinement
+    """The study's generated mesh (graded to ``toe_size`` at the base corners over edge_length
+    where the study sets it) with its toe zones (edge_length from each base corner) refined
+    ``refinement`` times. The bed's stiffness per unit area is held: the refinement
     refines the mesh only. (A mesh graded to the rule of :func:`toe_resolution` costs a step
     of about 1e-7 s on the default column: too many steps for a window; the static pivot of
     tests/test_bed.py resolves the zone.)"""
@@ -229,6 +231,7 @@ def toe_mesh(study: FemStudy, refinement: int):
         pinned_heights=[c.y for c in study.collars],
         toe_refinement=refinement,
         toe_zone=study.edge_length,
+        toe_size=study.toe_size,
     )
 
 
@@ -323,6 +326,7 @@ def column_of(spec: schema.StudyFile, source: str = "study", base: Path = Path("
         rigid=spec.rigid.model_dump(exclude_none=True),
         source=source,
         edge_time=mesh.edge_time,
+        toe_size=mesh.toe_size,
         toe_refinements=tuple(mesh.toe_refinements),
         top_load=column.top_load,
         initial_tilt=spec.run.initial_tilt,
@@ -599,6 +603,7 @@ MODEL_KEYS = (
     "contact",
     "bed",
     "mesh_size",
+    "toe_size",
     "grading",
     "mesh_file",
     "top_load",

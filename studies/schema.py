@@ -583,6 +583,13 @@ class Mesh(Table):
     edge_time: float = quantity(
         "s", "Time over which the toe stress is averaged.", EDGE_TIME, ge=0, le=0.01
     )
+    toe_size: float | None = quantity(
+        "m",
+        "Element size at the base corners, graded over the toe window (edge_length) and "
+        "beyond; default none. The report gives the size that resolves the bed's contact "
+        "zone (a quarter of its length at half the slenderness); the time step shrinks with it.",
+        gt=0,
+    )
     toe_refinements: list[int] = Field(
         list(REFINEMENTS),
         description="The impact that gives "

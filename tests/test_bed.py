@@ -251,3 +251,26 @@ def test_a_block_dropping_onto_its_toe_presses_the_bed_as_the_closed_form_says()
         assert nodal == pytest.approx(closed, rel=0.02)
         peaks.append(nodal)
     assert peaks[1] == pytest.approx(peaks[0], rel=0.03)
+
+
+def test_a_study_can_grade_its_mesh_to_the_toe():
+    """[mesh] toe_size grades the study's own mesh at the base corners (its runs then resolve
+    the toe, at a shorter step); the bed's springs still add up to k t width; the toe element
+    can be no larger than the toe window."""
+    from colonna.studies.fem_study import build, from_dict
+
+    data = {
+        "column": {"height": 1.0, "width": 0.2},
+        "ground": {"pulse": "none"},
+        "run": {"initial_tilt": 0.01},
+        "mesh": {"size": 0.05, "toe_size": 0.002, "edge_length": 0.01},
+    }
+    study = from_dict(data)
+    model = build(study)
+    xs = np.unique(model.mesh.points[0])
+    ys = np.unique(model.mesh.points[1])
+    assert xs[1] - xs[0] <= 0.002 + 1e-12 and ys[1] - ys[0] <= 0.002 + 1e-12
+    k, t = study.bed.stiffness, study.thickness
+    assert model.base_kn.sum() == pytest.approx(k * t * 0.2, rel=1e-12)
+    with pytest.raises(InputError, match="toe_size"):
+        build(from_dict({**data, "mesh": {"size": 0.05, "toe_size": 0.02, "edge_length": 0.01}}))
