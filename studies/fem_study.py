@@ -201,6 +201,7 @@ def toe_resolution(study: FemStudy) -> dict:
     contact = winkler_contact_length(weight, k, t, theta)
     body_width = study.width / (2.0 if study.cracked else 1.0)
     return {
+        "block": "half" if half else "column",  # whose slenderness alpha is
         "weight": weight,
         "theta": theta,
         "contact_length": contact,

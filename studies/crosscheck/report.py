@@ -664,12 +664,17 @@ CROSSCHECK_NUMBERS = [
     ("bed stiffness, stiffest of its range", "bed.high", "GPa/m"),
     ("bed: where its stiffness comes from", "bed.source", ""),
     (
-        "Winkler contact length at tilt alpha / 2, c = sqrt(2 W / (k t theta))",
+        "Winkler contact length at half the rocking body's slenderness, "
+        "c = sqrt(2 W / (k t theta))",
         "bed.contact_length",
         "mm",
     ),
     ("toe element size that resolves it (c / 4)", "bed.toe_size", "mm"),
-    ("Winkler toe pressure at tilt alpha / 2, 2 W / (t c)", "bed.pressure", "MPa"),
+    (
+        "Winkler toe pressure at half the rocking body's slenderness, 2 W / (t c)",
+        "bed.pressure",
+        "MPa",
+    ),
     ("the same, softest bed of the range", "bed.pressure_low", "MPa"),
     ("the same, stiffest bed of the range", "bed.pressure_high", "MPa"),
     (
