@@ -1,5 +1,9 @@
 """The finite-element model of a (cracked) column: bodies, contact, collars, and its stable step.
 
+The base is the column's bed (:mod:`colonna.fem.bed`): each base node's normal and tangential
+spring is ``k_bed * t * l_trib`` (k_bed in N/m^3, thickness t, tributary length l_trib), a
+physical stiffness held fixed when the mesh is refined (issue 38). What follows is the crack's.
+
 Penalty stiffness (per contact node, N/m) is ``penalty_factor * E * t * l_trib / h``: the stiffness
 of the adjacent element over the node's tributary length l_trib, h being that element's size normal
 to the surface. With the default factor 1 the contact springs are as stiff as the stone next to
@@ -26,6 +30,8 @@ from ..core.errors import InputError, require_non_negative, require_range
 from ..meshes.column import ColumnMesh
 from . import _kernels as K
 from .assembly import Stone, assemble
+from .bed import DEFAULT as DEFAULT_BED
+from .bed import Bed
 
 # how the crack's contact is enforced (ContactSettings.enforcement)
 ENFORCEMENTS = ("penalty", "lagrange")
@@ -112,6 +118,7 @@ class Model:
     collar_nodes: np.ndarray = field(repr=False)  # (n_collars, 6) int
     collar_props: np.ndarray = field(repr=False)  # (n_collars, 10), see _kernels
     top_load: float = 0.0  # N, on the capital (see build_model)
+    bed: Bed = DEFAULT_BED  # the base's stiffness per unit area (see build_model)
 
     @property
     def n_dofs(self) -> int:
@@ -152,8 +159,13 @@ def build_model(
     contact: ContactSettings = ContactSettings(),
     g: float = STANDARD_GRAVITY,
     top_load: float = 0.0,
+    bed: Bed = DEFAULT_BED,
 ) -> Model:
     """Assemble bodies, contact pairs and collar elements.
+
+    ``bed``: the base's stiffness per unit area (:class:`colonna.fem.bed.Bed`); each base
+    node's spring is bed.stiffness x thickness x its tributary length, whatever the mesh
+    (``contact``'s penalty settings are the crack's).
 
     ``top_load`` (N): a vertical dead load on the capital, spread as a uniform pressure
     top_load / (width x thickness) over the top faces and lumped to the top nodes by their
@@ -181,12 +193,9 @@ def build_model(
     # base: every body's base against the ground
     base_lists, kn, trib_all = [], [], []
     for nodes in mesh.base_nodes:
-        xs = p[0, nodes]
-        trib = _tributary(xs)
-        above = _node_above(mesh, nodes)
-        h = p[1, above] - p[1, nodes]
+        trib = _tributary(p[0, nodes])
         base_lists.append(nodes)
-        kn.append(_penalty(stone, thickness, contact, trib, h))
+        kn.append(bed.stiffness * thickness * trib)
         trib_all.append(trib)
     base_nodes = np.concatenate(base_lists)
     base_kn = np.concatenate(kn)
@@ -239,6 +248,7 @@ def build_model(
         collar_nodes,
         collar_props,
         float(top_load),
+        bed,
     )
 
 

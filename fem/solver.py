@@ -172,6 +172,27 @@ class FemRunSummary:
         "", "base nodes in contact from the toe, at the sample of the largest toe force", default=0
     )
     toe_node_spacing: float = quantity("m", "base node spacing at the toe", default=0.0)
+    # the resolved toe answers (issue 38), sampled at the output times: the largest nodal
+    # pressure of any toe's body (the peak of the contact pressure where the zone is
+    # resolved), and at the sample of the largest toe force the base's resultant force of that
+    # toe's body and its distance from the toe
+    toe_pressure_max: float = quantity(
+        "Pa", "largest sampled nodal base pressure (the resolved peak pressure)", default=0.0
+    )
+    toe_resultant: float = quantity(
+        "N",
+        "base normal force of the toe's body, at the sample of the largest toe force",
+        default=0.0,
+    )
+    toe_resultant_offset: float = quantity(
+        "m", "distance of that force's point of application from the toe", default=0.0
+    )
+    # the pivot on the bed in closed form (colonna.fem.bed.winkler_toe_pressure): each body's
+    # base force and tilt at the output samples give its toe pressure on a rigid base
+    toe_pressure_winkler: float = quantity(
+        "Pa", "largest Winkler toe pressure of a body's sampled base force and tilt", default=0.0
+    )
+    bed_stiffness: float = quantity("N/m^3", "the base's bed stiffness per unit area", default=0.0)
     top_load: float = quantity("N", "dead load on the capital")
     energy_error_max: float = quantity("-", "largest energy balance error / energy scale")
     energy_error_limit: float = quantity("-", "the balance error past which a run is unreliable")
@@ -1043,6 +1064,10 @@ class _Recorder:
             inward = name in ("left", "inner_right")  # the toe is the body's smallest x
             run = mine[np.argsort(xb[mine] if inward else -xb[mine], kind="stable")]
             self.toe_runs[name] = (run, (hi - lo)[run])
+        # per toe, each of its run's nodes' distance from it (reference positions, m)
+        self.toe_distance = {
+            name: np.abs(xb[run] - xb[run[0]]) for name, (run, _) in self.toe_runs.items()
+        }
 
     @staticmethod
     def start_edge_average(state, r: int):
@@ -1115,6 +1140,15 @@ class _Recorder:
             n = int(np.argmin(touching)) if not touching.all() else touching.size
             row[f"toe_contact_nodes_{name}"] = n
             row[f"toe_contact_length_{name}"] = float(lengths[:n].sum())
+            # the resolved pressure: the largest nodal pressure of the toe's body (Pa), and
+            # its base's resultant (N) and the resultant's distance from the toe (m)
+            pressure = base_fn[run] / self.base_area[run]
+            force = float(base_fn[run].sum())
+            row[f"toe_pressure_{name}"] = float(pressure.max())
+            row[f"toe_resultant_{name}"] = force
+            row[f"toe_resultant_offset_{name}"] = (
+                float(base_fn[run] @ self.toe_distance[name]) / force if force > 0.0 else 0.0
+            )
         body_of_base = mesh.node_body[model.base_nodes]
         for b in range(mesh.n_bodies):
             row[f"base_normal_force_{b + 1}"] = float(base_fn[body_of_base == b].sum())
@@ -1340,6 +1374,11 @@ def _summary(
         toe_contact_length=float(h[f"toe_contact_length_{name}"][at_peak]),
         toe_contact_nodes=int(h[f"toe_contact_nodes_{name}"][at_peak]),
         toe_node_spacing=_toe_spacing(model),
+        toe_pressure_max=max(float(np.max(h[k])) for k in h if k.startswith("toe_pressure_")),
+        toe_resultant=float(h[f"toe_resultant_{name}"][at_peak]),
+        toe_resultant_offset=float(h[f"toe_resultant_offset_{name}"][at_peak]),
+        toe_pressure_winkler=_winkler_pressure(model, h),
+        bed_stiffness=model.bed.stiffness,
         top_load=model.top_load,
         energy_error_max=error_max,
         energy_error_limit=ENERGY_ERROR_LIMIT,
@@ -1370,6 +1409,30 @@ def _crack_force_summary(history) -> dict:
         "crack_normal_force_max": float(force.max()),
         "crack_closed_fraction": float(closed.mean()),
     }
+
+
+def _winkler_pressure(model, history) -> float:
+    """The largest toe pressure of a rigid base on the bed (Pa) over the output samples and the
+    bodies, from each body's base normal force and rigid tilt
+    (:func:`colonna.fem.bed.winkler_toe_pressure`)."""
+    from .bed import winkler_toe_pressure
+
+    mesh = model.mesh
+    tilts = ["theta_left", "theta_right"][: mesh.n_bodies]
+    return max(
+        float(
+            np.max(
+                winkler_toe_pressure(
+                    history[f"base_normal_force_{b + 1}"],
+                    history[tilt],
+                    model.bed.stiffness,
+                    model.thickness,
+                    mesh.width / mesh.n_bodies,
+                )
+            )
+        )
+        for b, tilt in enumerate(tilts)
+    )
 
 
 def _toe_spacing(model) -> float:

@@ -201,6 +201,7 @@ def refine_window(
         model.contact,
         model.g,
         model.top_load,
+        model.bed,
     )
     t_start, t_end = start["t_start"], start["t_end"]
     window = run(

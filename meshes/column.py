@@ -13,6 +13,14 @@ Toe refinement: the element columns within ``toe_zone`` of a body's vertical edg
 within ``toe_zone`` of the base are each split into ``toe_refinement`` equal parts, so that the
 base corners (the rocking toes, outer and at the crack) are refined that many times in both
 directions while the rest of the column keeps its size: a local h-refinement for the toe stress.
+
+Toe grading: with ``toe_size`` the intervals within ``toe_zone`` of a base corner are first
+replaced by equal ones of about ``toe_size``, then by a geometric progression growing by
+``TOE_GROWTH`` per element until it meets the column's own size (in x toward both vertical
+edges, in y from the base): the contact zone of a toe pivoting on its bed, a few millimetres
+long, is then crossed by several elements (:func:`colonna.fem.bed.resolving_toe_size` gives
+the size that resolves it).
+``toe_refinement`` then splits the graded intervals as before.
 """
 
 from __future__ import annotations
@@ -85,6 +93,41 @@ def _split(coords: np.ndarray, near, parts: int) -> np.ndarray:
     return np.concatenate(out)
 
 
+TOE_GROWTH = 1.3  # largest ratio of neighbouring element sizes in a graded toe zone
+
+
+def _grade_ends(coords: np.ndarray, zone: float, size: float, low: bool, high: bool):
+    """``coords`` (sorted) with the intervals within ``zone`` of the low (and high) end replaced
+    by intervals of about ``size``, then a geometric progression growing by ``TOE_GROWTH`` per
+    interval, carried on until it meets an original interval within ``TOE_GROWTH`` of its last
+    one; the progression is stretched evenly to end on that original node."""
+
+    def graded(c: np.ndarray) -> np.ndarray:  # from the low end of c
+        fine = c[0] + np.linspace(0.0, zone, max(1, math.ceil(zone / size - 1e-9)) + 1)
+        steps: list[float] = []
+        k = int(np.searchsorted(c, fine[-1], side="right"))  # first original node past it
+        while k < c.size:
+            step = (steps[-1] if steps else fine[-1] - fine[-2]) * TOE_GROWTH
+            reach = fine[-1] + sum(steps)
+            while k < c.size and c[k] <= reach + step:
+                k += 1
+            if k >= c.size or c[k] - c[k - 1] <= step * TOE_GROWTH:
+                break
+            steps.append(step)
+        end = c[k - 1]
+        if steps:
+            grown = fine[-1] + np.cumsum(steps)
+            grown = fine[-1] + (grown - fine[-1]) * (end - fine[-1]) / (grown[-1] - fine[-1])
+            return np.concatenate((fine, grown[:-1], c[k - 1 :]))
+        return np.concatenate((fine[:-1], c[k - 1 :])) if end > fine[-1] else fine
+
+    if low:
+        coords = graded(coords)
+    if high:
+        coords = -graded(-coords[::-1])[::-1]
+    return coords
+
+
 MAX_NODES = 200_000  # an explicit run on more would take days (the step shrinks with the size)
 
 
@@ -108,13 +151,15 @@ def column_mesh(
     pinned_heights=(),
     toe_refinement: int = 1,
     toe_zone: float = 0.0,
+    toe_size: float | None = None,
 ) -> ColumnMesh:
     """Structured, graded quadrilateral mesh of the column.
 
     size: target element size (m), at most the width of one body; grading in [0, 1);
     pinned_heights: heights (m) at which a row of nodes is placed exactly (collar positions);
     toe_refinement: how many times the elements within toe_zone (m) of a base corner are
-    split in x and in y (1: none).
+    split in x and in y (1: none); toe_size (m): the element size at the base corners, graded
+    geometrically within toe_zone (None: no toe grading; see the module).
     """
     require_positive("column width (m)", width)
     require_positive("column height (m)", height)
@@ -149,6 +194,19 @@ def column_mesh(
         or not 1 <= toe_refinement <= 64
     ):
         raise InputError(f"mesh toe_refinement = {toe_refinement!r} must be an integer in [1, 64]")
+    if toe_size is not None:
+        require_positive("mesh toe_zone (m)", toe_zone)
+        require_range("mesh toe_size (m)", toe_size, 0.0, toe_zone, closed_high=True)
+        zone = max(toe_zone, toe_size)
+        ys = _grade_ends(ys, zone, toe_size, low=True, high=False)
+        xs = _grade_ends(xs, zone, toe_size, low=True, high=True)
+        for y_pin in pinned_heights:  # a collar's row must stay a row of nodes
+            if not np.any(np.abs(ys - y_pin) <= 1e-12 * height):
+                raise InputError(
+                    f"mesh toe_size = {toe_size:g} m with toe_zone = {toe_zone:g} m grades the "
+                    f"rows past the pinned (collar) height {y_pin:g} m: use a smaller toe_zone"
+                )
+        _require_node_count(n_bodies * xs.size * ys.size, size, n_bodies * body_width * height)
     if toe_refinement > 1:
         require_positive("mesh toe_zone (m)", toe_zone)
         ys = _split(ys, lambda lo, hi: lo < toe_zone, toe_refinement)

@@ -29,6 +29,8 @@ from ..core.ground import (
     weak_record_note,
 )
 from ..fem.assembly import Stone
+from ..fem.bed import DEFAULT as DEFAULT_BED
+from ..fem.bed import Bed, bed_of
 from ..fem.model import ContactSettings
 from ..fem.solver import EDGE_TIME
 from ..fem.toe_stress import REFINEMENTS
@@ -69,6 +71,8 @@ class FemStudy:
     replicas: int = 1  # FEM runs as an ensemble of this many replicas
     # stop a run once it can no longer overturn (fem.solver.iter_batch): for maps of outcomes
     stop_when_settled: bool = False
+    bed: Bed = DEFAULT_BED  # the base's stiffness per unit area ([base])
+    toe_size: float | None = None  # m: the element size at the base corners ([mesh] toe_size)
 
     @property
     def rocking_block(self) -> Block:
@@ -98,7 +102,7 @@ class FemStudy:
             if f.name in IDENTITY:
                 continue
             value = getattr(self, f.name)
-            if f.name in ("stone", "contact"):
+            if f.name in ("stone", "contact", "bed"):
                 value = asdict(value)
             elif f.name == "collars":
                 value = [asdict(c) for c in value]
@@ -121,6 +125,8 @@ class FemStudy:
         values = dict(data)
         values["stone"] = Stone(**values["stone"])
         values["contact"] = ContactSettings(**values["contact"])
+        if "bed" in values:
+            values["bed"] = Bed(**values["bed"])
         values["collars"] = tuple(Collar(**c) for c in values["collars"])
         values["ground"] = motion_from_json(values["ground"])
         values["vertical"] = motion_from_json(values["vertical"])
@@ -177,9 +183,44 @@ def mesh_uncertainty_sizes(study: FemStudy) -> tuple[float, ...]:
     return (2.0 * study.mesh_size, 4.0 * study.mesh_size)
 
 
+def toe_resolution(study: FemStudy) -> dict:
+    """The toe grading rule (issue 38): the weight W (N) on the pivoting toe (the rocking
+    body's, with its share of the top load), the representative tilt theta = alpha / 2 of the
+    rocking body, the Winkler contact length c = sqrt(2 W / (k t theta)) on the study's bed
+    (m), the toe element size c / 4 that resolves it (m) and the fine zone 2 c (m; at most half
+    a body's width) over which the toe's elements keep that size
+    (:func:`colonna.fem.bed.resolving_toe_size`); the Winkler peak pressure 2 W / (t c) at the
+    bed's stiffness and at its range's ends (Pa): the closed form's answer over the range."""
+    from ..fem.bed import ELEMENTS_ACROSS, winkler_contact_length, winkler_peak_pressure
+
+    half = study.cracked and not study.collars
+    block = study.rocking_block if half else study.column_block
+    weight = block.mass * block.g + (0.5 if half else 1.0) * study.top_load
+    theta = 0.5 * study.rocking_alpha
+    k, t = study.bed.stiffness, study.thickness
+    contact = winkler_contact_length(weight, k, t, theta)
+    body_width = study.width / (2.0 if study.cracked else 1.0)
+    return {
+        "block": "half" if half else "column",  # whose slenderness alpha is
+        "weight": weight,
+        "theta": theta,
+        "contact_length": contact,
+        "toe_size": contact / ELEMENTS_ACROSS,
+        "elements_across": ELEMENTS_ACROSS,
+        "zone": min(2.0 * contact, 0.5 * body_width),
+        "pressure": winkler_peak_pressure(weight, k, t, theta),
+        "pressure_low": winkler_peak_pressure(weight, study.bed.low, t, theta),
+        "pressure_high": winkler_peak_pressure(weight, study.bed.high, t, theta),
+    }
+
+
 def toe_mesh(study: FemStudy, refinement: int):
-    """The study's generated mesh with its toe zones (edge_length from each base corner)
-    refined ``refinement`` times."""
+    """The study's generated mesh (graded to ``toe_size`` at the base corners over edge_length
+    where the study sets it) with its toe zones (edge_length from each base corner) refined
+    ``refinement`` times. The bed's stiffness per unit area is held: the refinement
+    refines the mesh only. (A mesh graded to the rule of :func:`toe_resolution` costs a step
+    of about 1e-7 s on the default column: too many steps for a window; the static pivot of
+    tests/test_bed.py resolves the zone.)"""
     from ..meshes.column import column_mesh
 
     return column_mesh(
@@ -191,6 +232,7 @@ def toe_mesh(study: FemStudy, refinement: int):
         pinned_heights=[c.y for c in study.collars],
         toe_refinement=refinement,
         toe_zone=study.edge_length,
+        toe_size=study.toe_size,
     )
 
 
@@ -271,6 +313,9 @@ def column_of(spec: schema.StudyFile, source: str = "study", base: Path = Path("
         collars=tuple(Collar(**c.model_dump()) for c in spec.collar),
         ground=NoMotion(),
         contact=ContactSettings(**spec.contact.model_dump()),
+        bed=bed_of(
+            spec.base.bed, spec.base.stiffness, *(spec.base.stiffness_range or (None, None))
+        ),
         mesh_size=mesh.size or column.width / 16.0,
         grading=mesh.grading,
         mesh_file=mesh_file,
@@ -282,6 +327,7 @@ def column_of(spec: schema.StudyFile, source: str = "study", base: Path = Path("
         rigid=spec.rigid.model_dump(exclude_none=True),
         source=source,
         edge_time=mesh.edge_time,
+        toe_size=mesh.toe_size,
         toe_refinements=tuple(mesh.toe_refinements),
         top_load=column.top_load,
         initial_tilt=spec.run.initial_tilt,
@@ -296,8 +342,8 @@ def model_record(study: FemStudy) -> dict:
     (:func:`colonna.fem.model.stable_time_step`: safety x 2 / omega_max x the contact damping's
     reduction) and the step used (run.dt where given, else the stable one); the row spacing
     of the histories (a whole number of steps nearest the output interval: duration / 400
-    by default); the base contact's penalty stiffness per node (N/m: penalty_factor x E x t x
-    tributary length / h, or contact.penalty x t x tributary length). Variants of the study
+    by default); the base contact's stiffness per node (N/m: the bed's k x t x tributary
+    length, [base]) and the bed's k (N/m^3), its range and source. Variants of the study
     (a finer mesh, a toe refinement) build their own."""
     import numpy as np
 
@@ -317,6 +363,10 @@ def model_record(study: FemStudy) -> dict:
         "penalty_base_mean": float(np.mean(model.base_kn)),
         "penalty_base_min": float(np.min(model.base_kn)),
         "penalty_base_max": float(np.max(model.base_kn)),
+        "bed_stiffness": study.bed.stiffness,
+        "bed_stiffness_low": study.bed.low,
+        "bed_stiffness_high": study.bed.high,
+        "bed_source": study.bed.source,
     }
     interval = study.output_interval or (study.duration / 400.0 if study.duration else None)
     if interval is not None:
@@ -449,7 +499,13 @@ def build(study: FemStudy):
     else:
         mesh = toe_mesh(study, 1)
     return build_model(
-        mesh, study.stone, study.thickness, study.collars, study.contact, top_load=study.top_load
+        mesh,
+        study.stone,
+        study.thickness,
+        study.collars,
+        study.contact,
+        top_load=study.top_load,
+        bed=study.bed,
     )
 
 
@@ -546,7 +602,9 @@ MODEL_KEYS = (
     "stone",
     "collars",
     "contact",
+    "bed",
     "mesh_size",
+    "toe_size",
     "grading",
     "mesh_file",
     "top_load",

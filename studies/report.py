@@ -90,7 +90,18 @@ def num(
 
 # the tables of a study file shown in the inputs section, in the file's order; then the tables
 # of its kind's own (its registry entry's ``tables``, studies/kinds.py)
-INPUT_TABLES = ("study", "column", "stone", "collar", "ground", "contact", "mesh", "run", "rigid")
+INPUT_TABLES = (
+    "study",
+    "column",
+    "stone",
+    "collar",
+    "ground",
+    "contact",
+    "base",
+    "mesh",
+    "run",
+    "rigid",
+)
 
 
 def _input_value(value, factor: float) -> str:

@@ -30,6 +30,7 @@ from pydantic import (
 from ..core.collar import LOWEST as COLLAR_LOWEST
 from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_EPS_U, STEEL_FY
 from ..core.errors import InputError, read_toml
+from ..fem.bed import BED_PRESETS, DEFAULT_BED, STIFFNESS_RANGE
 from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
@@ -482,13 +483,15 @@ def _known(*values) -> bool:
 
 
 class Contact(Table):
-    """[contact]: frictional contact at the base (penalty) and along the crack (exact, or
-    penalty: enforcement) in the FEM; the friction also in the multibody model."""
+    """[contact]: frictional contact at the base (penalty springs on the bed, [base]) and along
+    the crack (exact, or penalty: enforcement) in the FEM; the friction also in the multibody
+    model. The base's normal stiffness is the bed's ([base]); the penalty keys set the crack's
+    (with enforcement = "penalty")."""
 
     friction: float = quantity("-", "Coulomb friction coefficient (base and crack).", 0.7, ge=0)
     penalty_factor: float = quantity(
         "-",
-        "Factor on the default penalty, 0.001 to 1000 (softer, the faces sink into each "
+        "Factor on the crack's default penalty, 0.001 to 1000 (softer, the faces sink into each "
         "other; stiffer, the stable step shrinks with its square root).",
         1.0,
         ge=1e-3,
@@ -496,7 +499,7 @@ class Contact(Table):
     )
     penalty: float | None = quantity(
         "N/m^3",
-        "Penalty per unit contact area; overrides penalty_factor; 1e6 to 1e18 N/m^3 (the "
+        "Crack penalty per unit contact area; overrides penalty_factor; 1e6 to 1e18 N/m^3 (the "
         "default E / h is about 1e12 for stone).",
         ge=1e6,
         le=1e18,
@@ -517,9 +520,59 @@ class Contact(Table):
         "lagrange",
         description="How the crack's contact is enforced: lagrange, exact (forward-increment "
         "Lagrange multipliers with Coulomb friction, Carpenter, Taylor & Katona 1991; no "
-        "penalty, damping nor filter), or penalty springs (penalty_factor, penalty, damping "
-        "and friction_filter, which otherwise set the base's contact only).",
+        "penalty, damping nor filter at the crack), or penalty springs (penalty_factor or "
+        "penalty, damping, friction_filter). damping and friction_filter set the base's "
+        "contact too, whose stiffness is the bed's ([base]).",
     )
+
+
+class Base(Table):
+    """[base]: the bed the column stands on (FEM): its stiffness per unit area, k = E_bed /
+    t_bed, held fixed when the mesh is refined; the range's ends give the toe answer's spread
+    (colonna.fem.bed says where each preset's numbers come from)."""
+
+    bed: Literal[tuple(BED_PRESETS)] = Field(  # type: ignore[valid-type]
+        DEFAULT_BED,
+        description="The bed: "
+        + "; ".join(
+            f"{name}, k {p.stiffness_range[0]:.2g}-{p.stiffness_range[1]:.2g} N/m^3 "
+            f"(nominal {p.stiffness:.2g})"
+            for name, p in BED_PRESETS.items()
+        )
+        + ". A given stiffness overrides it.",
+    )
+    stiffness: float | None = quantity(
+        "N/m^3",
+        "Bed stiffness per unit area, E_bed / t_bed; overrides the preset; 1e6 to 1e18 N/m^3.",
+        ge=STIFFNESS_RANGE[0],
+        le=STIFFNESS_RANGE[1],
+    )
+    stiffness_range: list[float] | None = quantity(
+        "N/m^3",
+        "[low, high]: the uncertainty range of a given stiffness, around it; default the "
+        "stiffness alone.",
+        min_length=2,
+        max_length=2,
+    )
+
+    @staticmethod
+    def across(b: dict, given: set) -> list[tuple[str, tuple]]:
+        """A range goes with a given stiffness and lies around it, within 1e6-1e18 N/m^3."""
+        value, k = b["stiffness_range"], b["stiffness"]
+        if not _known(value, k) or value is None:
+            return []
+        if k is None:
+            return [("base.stiffness_range goes with a given base.stiffness", ())]
+        low, high = value
+        if not (STIFFNESS_RANGE[0] <= low <= k <= high <= STIFFNESS_RANGE[1]):
+            return [
+                (
+                    f"base.stiffness_range = {value!r} must hold base.stiffness = {k:g} "
+                    f"within [1e6, 1e18] N/m^3",
+                    (),
+                )
+            ]
+        return []
 
 
 class Mesh(Table):
@@ -538,6 +591,13 @@ class Mesh(Table):
     )
     edge_time: float = quantity(
         "s", "Time over which the toe stress is averaged.", EDGE_TIME, ge=0, le=0.01
+    )
+    toe_size: float | None = quantity(
+        "m",
+        "Element size at the base corners, graded over the toe window (edge_length) and "
+        "beyond; default none. The report gives the size that resolves the bed's contact "
+        "zone (a quarter of its length at half the slenderness); the time step shrinks with it.",
+        gt=0,
     )
     toe_refinements: list[int] = Field(
         list(REFINEMENTS),
@@ -894,6 +954,7 @@ class StudyFile(Table):
     collar: list[Collar] = Field([], description="Zero or more collars, each a [[collar]] table.")
     ground: Ground = Ground.model_construct(pulse="sine")
     contact: Contact = Contact()
+    base: Base = Base()
     mesh: Mesh = Mesh()
     run: Run = Run()
     rigid: Rigid = Rigid()

@@ -161,6 +161,11 @@ class Study:
             if column.mesh_file is None:
                 fill("mesh", "size", column.mesh_size, "width / 16")
             fill("mesh", "edge_length", column.edge_length, "a tenth of a rocking body's width")
+            bed = column.bed
+            fill(
+                "base", "stiffness", bed.stiffness, f"the {inputs['base']['bed']} preset's nominal"
+            )
+            fill("base", "stiffness_range", [bed.low, bed.high], bed.source)
         try:
             nu = column.rocking_block.nu
         except InputError:  # a squat block: its SDOF run asks for a restitution

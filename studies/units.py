@@ -40,6 +40,8 @@ INPUT_UNITS_BY_KEY = {
     ("collar", "E"): "GPa",
     ("collar", "Eh"): "GPa",
     ("contact", "penalty"): "GPa/m",
+    ("base", "stiffness"): "GPa/m",
+    ("base", "stiffness_range"): "GPa/m",
 }
 
 
@@ -63,7 +65,7 @@ def input_unit(table: str, key: str) -> tuple[str, float]:
 
 # how a summary value in a declared SI unit is shown: stresses in MPa, forces in kN, ...; a ratio
 # ("-") as a plain number; any other unit (m, s, rad, J, ...) as it is
-SHOWN_UNITS = {"Pa": "MPa", "N": "kN", "N m": "kN m", "N/m": "kN/m", "-": ""}
+SHOWN_UNITS = {"Pa": "MPa", "N": "kN", "N m": "kN m", "N/m": "kN/m", "N/m^3": "GPa/m", "-": ""}
 
 
 def declared_units() -> dict[str, str]:

@@ -8,6 +8,7 @@ import pytest
 from colonna.core.collar_law import OUT_SIZE, STATE_SIZE
 from colonna.fem import _kernels as K
 from colonna.fem.assembly import Stone
+from colonna.fem.bed import stone_bed
 from colonna.fem.model import ContactSettings, build_model, stable_time_step
 from colonna.fem.solver import run
 from colonna.meshes.column import column_mesh
@@ -286,11 +287,13 @@ def test_stiff_solid_column_follows_rigid_solution(E, tolerance):
     pulse = pulse_from_ratios(blk, "sine", 3.0, 3.0, "nonlinear")
     rigid = rock(blk, pulse, model="nonlinear", dt_out=1e-3)
     t_impact = rigid.impact_times[0]
+    mesh = column_mesh(W, H, 0.1, cracked=False, grading=0.3)
     model = build_model(
-        column_mesh(W, H, 0.1, cracked=False, grading=0.3),
+        mesh,
         Stone(E=E),
         0.3,
         contact=ContactSettings(friction=1.0, damping=0.0),
+        bed=stone_bed(mesh, E),  # the base stiffens with the stone
     )
     r = run(model, pulse, t_impact, progress=False, output_interval=1e-3)
     h = r.history
@@ -396,7 +399,11 @@ def release_bands():
     def bands(base: str, E: float) -> dict:
         if (base, E) not in computed:
             model = build_model(
-                meshes[base], Stone(E=E), 0.3, contact=ContactSettings(friction=1.0)
+                meshes[base],
+                Stone(E=E),
+                0.3,
+                contact=ContactSettings(friction=1.0),
+                bed=stone_bed(meshes[base], E),  # the base stiffens with the stone
             )
             computed[base, E] = _first_impact_ratios(model, blk, 0.5 * blk.alpha)
         return computed[base, E]

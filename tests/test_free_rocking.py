@@ -21,6 +21,11 @@ width = 0.2
 cracked = false
 [ground]
 pulse = "none"
+[base]
+# a base as stiff as the stone's base row (E / h = 50 GPa / 0.05 m), the element penalty the
+# claims below were measured with; on the default mortar bed (224 GPa/m) the FEM's first-impact
+# ratio is Housner's itself (0.9425 against 0.9423) and the undamped variant's 0.940 below it
+stiffness = 1e12
 [mesh]
 size = 0.05
 grading = 0.0

@@ -384,6 +384,7 @@ def drawn(tmp_path_factory):
                 "peak_rotation": {"values": [0.02, 0.021, 0.0212], "richardson": 0.0213},
                 "collar_max_utilisation": {"values": [0.7, 0.72, 0.73], "richardson": None},
                 "edge_stress_max": {"values": [4e6, 5e6, 5.5e6], "richardson": 6e6},
+                "toe_pressure_winkler": {"values": [30e6, 31e6, 31.5e6], "richardson": None},
             },
         }
         mesh_convergence._convergence_figure(runs["sweep"], summary)

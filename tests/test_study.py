@@ -414,3 +414,37 @@ def test_collar_design_from_a_recorded_motion(tmp_path, capsys):
     assert s["design_ag_over_g"] == pytest.approx(
         2.0 * read_record(record).peak_acceleration / 9.81
     )
+
+
+def test_the_report_states_the_bed_and_the_toe_answer_over_its_range(tiny_run):
+    """The tiny column on the default mortar bed (issue 38): summary.json and inputs.json carry
+    the bed's k (the preset's nominal, the geometric mean of its range), the report states it
+    with its source and what the f_c check compares; the closed form's toe pressure grows as
+    sqrt(k) over the range, and one unperturbed run at each end of the range is tabulated."""
+    from colonna.fem.bed import BED_PRESETS
+
+    root, _, s = tiny_run
+    out = root / "out"
+    mortar = BED_PRESETS["mortar"]
+    bed = s["bed"]
+    assert bed["stiffness"] == pytest.approx(mortar.stiffness, rel=1e-12)
+    assert (bed["low"], bed["high"]) == mortar.stiffness_range
+    assert s["fem"]["bed_stiffness"] == bed["stiffness"]
+    assert bed["pressure_high"] / bed["pressure_low"] == pytest.approx(
+        np.sqrt(bed["high"] / bed["low"]), rel=1e-12
+    )
+    runs = bed["range_runs"]
+    assert [runs[e]["stiffness"] for e in ("low", "nominal", "high")] == [
+        bed["low"],
+        bed["stiffness"],
+        bed["high"],
+    ]
+    assert all(r["edge_stress_max"] > 0.0 for r in runs.values())
+    inputs = json.loads((out / "inputs.json").read_text())
+    assert inputs["base"]["bed"] == "mortar"
+    assert inputs["base"]["stiffness"] == bed["stiffness"]
+    assert inputs["model"]["bed_stiffness"] == bed["stiffness"]
+    page = (out / "index.html").read_text()
+    assert "The bed and the toe" in page and "What the f_c check compares" in page
+    assert "Lourenco &amp; Rots 1997" in page
+    assert 'data-key="bed.range_runs.high.edge_stress_max"' in page

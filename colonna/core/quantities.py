@@ -38,7 +38,7 @@ import numpy as np
 
 # the units a field may declare: SI symbols, "-" a plain ratio, "" counts, yes/no and words
 SI_UNITS = frozenset(
-    {"", "-", "rad", "rad/s", "m", "s", "Pa", "N", "N m", "N/m", "J", "kg", "m/s^2"}
+    {"", "-", "rad", "rad/s", "m", "s", "Pa", "N", "N m", "N/m", "N/m^3", "J", "kg", "m/s^2"}
 )
 
 UNIT = "unit"

@@ -658,6 +658,41 @@ CROSSCHECK_NUMBERS = [
         "-",
     ),
     ("base node spacing at the toe, FEM", "fem.toe_node_spacing", "mm"),
+    # the bed and the resolved toe (issue 38)
+    ("bed stiffness per unit area k (held on every mesh)", "bed.stiffness", "GPa/m"),
+    ("bed stiffness, softest of its range", "bed.low", "GPa/m"),
+    ("bed stiffness, stiffest of its range", "bed.high", "GPa/m"),
+    ("bed: where its stiffness comes from", "bed.source", ""),
+    (
+        "Winkler contact length at half the rocking body's slenderness, "
+        "c = sqrt(2 W / (k t theta))",
+        "bed.contact_length",
+        "mm",
+    ),
+    ("toe element size that resolves it (c / 4)", "bed.toe_size", "mm"),
+    (
+        "Winkler toe pressure at half the rocking body's slenderness, 2 W / (t c)",
+        "bed.pressure",
+        "MPa",
+    ),
+    ("the same, softest bed of the range", "bed.pressure_low", "MPa"),
+    ("the same, stiffest bed of the range", "bed.pressure_high", "MPa"),
+    (
+        "largest sampled nodal base pressure, FEM (resolved only with several nodes across c)",
+        "fem.toe_pressure_max",
+        "MPa",
+    ),
+    (
+        "Winkler toe pressure of the FEM's sampled base force and tilt",
+        "fem.toe_pressure_winkler",
+        "MPa",
+    ),
+    (
+        "base force of the toe's body at the output sample of the largest toe force, FEM",
+        "fem.toe_resultant",
+        "kN",
+    ),
+    ("its point of application: distance from the toe, FEM", "fem.toe_resultant_offset", "mm"),
 ]
 
 

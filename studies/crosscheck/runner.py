@@ -354,6 +354,7 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
     # mesh-convergence uncertainty of the FEM numbers: the same run on meshes 2h and 4h
     for factor, size in zip((2, 4), mesh_uncertainty_sizes(fem)):
         cases.append(case_of(replace(fem, mesh_size=size), key=f"fem-mesh-{factor}h", kind="fem"))
+    cases += bed_range_cases(fem)
     start = time.perf_counter()
     results = run_cases(
         _case_runner, cases, out, stage="FEM and rigid models", **options.for_cases()
@@ -397,7 +398,34 @@ def fem_work(study: Study) -> FemWork:
     work = estimate_work(fem, fem.replicas, models=models)
     for size in mesh_uncertainty_sizes(fem):
         work += estimate_work(replace(fem, mesh_size=size), fem.replicas, models=models)
+    for end in bed_range_studies(fem).values():
+        work += estimate_work(end, 1, models=models)
     return work
+
+
+def bed_range_studies(fem) -> dict:
+    """The study on the softest and the stiffest bed of its range (one unperturbed run each, at
+    its own stable step: a step set by hand for the nominal bed may be too long for the
+    stiffest), where the bed's stiffness has a range: the toe answer at the range's ends."""
+    from ...fem.bed import Bed
+
+    bed = fem.bed
+    if not bed.low < bed.high:
+        return {}
+    return {
+        end: replace(
+            fem, bed=Bed(k, k, k, f"{bed.source}: the range's {end} end"), replicas=1, dt=None
+        )
+        for end, k in (("low", bed.low), ("high", bed.high))
+    }
+
+
+def bed_range_cases(fem) -> list[dict]:
+    """The cases of :func:`bed_range_studies`, keys fem-bed-low and fem-bed-high."""
+    return [
+        case_of(study, key=f"fem-bed-{end}", kind="fem")
+        for end, study in bed_range_studies(fem).items()
+    ]
 
 
 def replica_histories(directory: Path, replicas: int) -> list[dict]:
@@ -630,6 +658,7 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "collar_ductility_limit": DUCTILITY_LIMIT,
         "stone_fc": study.stone.fc,  # Pa
         "toe_stress": _toe_stress(study, results),
+        "bed": _bed(study, results),
         # the multibody run's summary, as its typed result selects it for the cross-check
         "rigid_multibody": selected(multibody, MultibodySummary, MULTIBODY_KEYS),
         # an overturned block's max_abs_theta is the pi/2 of its stopping rule: not shown
@@ -951,6 +980,69 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
             "toe_crushes": toe_crushes(study, results),
         },
     )
+
+
+def _bed(study, results: dict) -> dict:
+    """The bed under the column (SI): its stiffness per unit area, range and source; the toe
+    grading rule's contact length, element size and Winkler toe pressure at alpha / 2 over the
+    bed's range (:func:`studies.fem_study.toe_resolution`); the toe element size of the study
+    mesh and of the finest toe window, and how many of each lie across that contact length;
+    where the bed has a range, ``range_runs``: the unperturbed FEM run (study mesh) on the
+    softest, the nominal and the stiffest bed, each one's toe stress, Winkler toe pressure,
+    peak rotation and whether it overturned."""
+    import numpy as np
+
+    from ..fem_study import toe_mesh, toe_resolution
+
+    rule = toe_resolution(study)
+
+    def toe_size(refinement: int) -> float:
+        mesh = toe_mesh(study, refinement)
+        xs = np.unique(mesh.points[0])
+        return float(min(xs[1] - xs[0], xs[-1] - xs[-2]))
+
+    runs = {}
+    if "fem-bed-low" in results and "fem-bed-high" in results:
+        nominal = results["fem"].get("replica_summaries", [results["fem"]["summary"]])[0]
+        for end, summary in (
+            ("low", results["fem-bed-low"]["summary"]),
+            ("nominal", nominal),
+            ("high", results["fem-bed-high"]["summary"]),
+        ):
+            runs[end] = {
+                "stiffness": {"low": study.bed.low, "nominal": study.bed.stiffness}.get(
+                    end, study.bed.high
+                ),
+                "edge_stress_max": summary["edge_stress_max"],
+                "edge_stress_ratio": summary["edge_stress_max"] / study.stone.fc,
+                "toe_pressure_winkler": summary["toe_pressure_winkler"],
+                "peak_rotation": max(summary["max_abs_theta_left"], summary["max_abs_theta_right"]),
+                "overturned": bool(summary["overturned"]),
+            }
+    finest = max(study.toe_refinements, default=1)
+    sizes = {"study_mesh_toe_size": toe_size(1), "finest_toe_size": toe_size(finest)}
+    return {
+        "stiffness": study.bed.stiffness,
+        "low": study.bed.low,
+        "high": study.bed.high,
+        "source": study.bed.source,
+        **rule,
+        **sizes,
+        "finest_refinement": finest,
+        "across_study_mesh": rule["contact_length"] / sizes["study_mesh_toe_size"],
+        "across_finest": rule["contact_length"] / sizes["finest_toe_size"],
+        "pressure_ratio": rule["pressure"] / study.stone.fc,
+        "pressure_low_ratio": rule["pressure_low"] / study.stone.fc,
+        "pressure_high_ratio": rule["pressure_high"] / study.stone.fc,
+        "range_runs": runs or None,
+        # the largest Winkler toe pressure the runs themselves gave (their base force and tilt),
+        # nominal bed and the range's ends, over f_c
+        "winkler_run_ratio_max": max(
+            [results["fem"]["summary"]["toe_pressure_winkler"]]
+            + [r["toe_pressure_winkler"] for r in runs.values()]
+        )
+        / study.stone.fc,
+    }
 
 
 def _static_mean_pressure(study, results: dict) -> float:

@@ -40,14 +40,19 @@ CONVERGENCE_QUANTITIES = [
         "toe stress, study-mesh peak (base contact pressure averaged over the toe window)",
         "Pa",
     ),
+    (
+        "toe_pressure_winkler",
+        "Winkler toe pressure of the sampled base force and tilt, on the bed's fixed k",
+        "Pa",
+    ),
 ]
 
 
 def _convergence_figure(out: Path, s: dict) -> dict:
     sizes = s["sizes"]
     columns = {"h": np.array(sizes)}
-    fig = Figure(figsize=(10, 3.6))
-    axes = fig.subplots(1, 3)
+    fig = Figure(figsize=(13, 3.6))
+    axes = fig.subplots(1, len(CONVERGENCE_QUANTITIES))
     handles: dict[str, Artist] = {}  # one legend for the three panels, below them: what is drawn
     for ax, (name, label, unit) in zip(axes, CONVERGENCE_QUANTITIES):
         c = s["convergence"][name]

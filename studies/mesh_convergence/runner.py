@@ -53,6 +53,7 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
         "peak_rotation": lambda s: max(s["max_abs_theta_left"], s["max_abs_theta_right"]),
         "collar_max_utilisation": lambda s: s["collar_max_utilisation"],
         "edge_stress_max": lambda s: s["edge_stress_max"],
+        "toe_pressure_winkler": lambda s: s["toe_pressure_winkler"],
     }
     sizes = [c["size"] for c in cases]
     ratio = sizes[0] / sizes[1]
@@ -83,6 +84,8 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
         "ratio": ratio,
         "convergence": table,
         "dofs": [results[c["key"]]["summary"]["dofs"] for c in cases],
+        # the bed: its stiffness per unit area the same on every mesh (issue 38)
+        "bed": {"stiffness": study.bed.stiffness, "source": study.bed.source},
         "fem": {c["key"]: results[c["key"]]["summary"] for c in cases},
     }
 
