@@ -12,8 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .collar_law import FIBRE, LAW_SIZE, RESULTANT, law_state_size
 from .constants import STEEL_E, STEEL_EPS_U, STEEL_FY
 from .errors import InputError, require_non_negative, require_positive, require_range
+from .fibre import MAX_SECTIONS
 
 # Hard limits of a collar's numbers, as in the study file's schema (studies.schema.Collar, whose
 # descriptions say why): past them a model's stiffness overflows or its mesh degenerates.
@@ -21,6 +23,17 @@ LOWEST = 1e-3  # m: the lowest collar (a row of nodes at it; nearer, an element 
 THICKEST = 1.0  # m: the largest section thickness t and height h
 SPAN = (1e-3, 100.0)  # m: the shortest and longest span L (E A / L overflows below)
 STIFFEST = 1e14  # Pa: the largest E (100 times diamond's)
+MAX_FIBRES = 200  # layers of a fibre section (past it the cost grows, not the accuracy)
+STEELS = ("bilinear",)  # the fibres' uniaxial laws (colonna.core.fibre)
+
+
+def _require_count(name: str, value, low: int, high: int) -> int:
+    """An integer in [low, high], or an InputError naming the field and the range."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"{name} = {value!r} must be an integer in [{low}, {high}]")
+    if not low <= value <= high:
+        raise InputError(f"{name} = {value} is not allowed: it must be in [{low}, {high}]")
+    return int(value)
 
 
 @dataclass(frozen=True)
@@ -45,6 +58,12 @@ class Collar:
     Eh: float | None = None  # Pa, hardening (tangent) modulus past f_y; default 1 % of E
     eps_u: float = STEEL_EPS_U  # fracture strain of a plastic collar's extreme fibre
     hinge_length: float | None = None  # m, length of an end hinge's plastic zone; default h
+    # the plastic collar's local law: "fibre" (default: colonna.core.fibre) or "resultant"
+    section: str | None = None
+    n_fibres: int = 20  # layers across the depth h (fibre section), 2 .. MAX_FIBRES
+    n_sections: int = 5  # Gauss-Lobatto sections along the span (fibre section), 2 .. 10
+    steel: str = "bilinear"  # the fibres' law: bilinear (E, fy, Eh)
+    isotropic: float = 0.0  # share of the hardening that is isotropic (0: kinematic, 1)
 
     def __post_init__(self):
         require_range("collar y (height, m)", self.y, LOWEST, math.inf, closed_low=True)
@@ -81,6 +100,35 @@ class Collar:
             )
         if self.hinge_length is not None:
             require_positive("collar hinge_length (m)", self.hinge_length)
+        if self.section not in (None, "fibre", "resultant"):
+            raise InputError(f"collar section = {self.section!r} must be 'fibre' or 'resultant'")
+        if self.section == "fibre" and not self.plastic:
+            raise InputError(
+                "collar section = 'fibre' needs plastic = true (an elastic collar's resultant "
+                "law is exact)"
+            )
+        _require_count("collar n_fibres", self.n_fibres, 2, MAX_FIBRES)
+        _require_count("collar n_sections", self.n_sections, 2, MAX_SECTIONS)
+        if self.steel not in STEELS:
+            raise InputError(
+                f"collar steel = {self.steel!r} must be one of {', '.join(map(repr, STEELS))}"
+            )
+        require_range(
+            "collar isotropic (share of isotropic hardening)",
+            self.isotropic,
+            0.0,
+            1.0,
+            closed_low=True,
+            closed_high=True,
+        )
+
+    @property
+    def local_law(self) -> str:
+        """The law the models step: "fibre" (a plastic collar's default), or "resultant"
+        (an elastic collar's, exact; a plastic one's where ``section = "resultant"``)."""
+        if not self.plastic:
+            return "resultant"
+        return "fibre" if self.section is None else self.section
 
     @property
     def hardening_modulus(self) -> float:
@@ -138,7 +186,7 @@ class Collar:
         an elastic collar (it never yields nor breaks: its stress past f_y is reported as
         such)."""
         plastic = self.plastic
-        return (
+        resultant = (
             self.fy * self.area if plastic else 0.0,
             self.E * self.area,
             self.plastic_modulus * self.area,
@@ -147,6 +195,26 @@ class Collar:
             self.h / (2.0 * self.plastic_hinge_length),
             self.eps_u if plastic else 0.0,
         )
+        if self.local_law != "fibre":
+            return resultant + (float(RESULTANT),) + (0.0,) * (LAW_SIZE - len(resultant) - 1)
+        h = self.plastic_modulus
+        fibre = (
+            float(FIBRE),
+            float(self.n_sections),
+            float(self.n_fibres),
+            self.E,
+            self.fy,
+            (1.0 - self.isotropic) * h,
+            self.isotropic * h,
+            self.h,
+            self.t,
+            float(STEELS.index(self.steel)),
+        )
+        return resultant + fibre + (0.0,) * (LAW_SIZE - len(resultant) - len(fibre))
+
+    def state_size(self) -> int:
+        """Numbers in this collar's state row (colonna.core.collar_law.law_state_size)."""
+        return law_state_size(self.law())
 
     @property
     def yield_moment(self) -> float:

@@ -1,0 +1,371 @@
+"""The collar as a fibre-section, force-based frame element (numba): the local law the FEM's and
+the multibody model's co-rotational collars step when ``Collar.section == "fibre"``.
+
+Element (Spacone, Filippou & Taucer 1996, "Fibre beam-column model for non-linear analysis of R/C
+frames", Earthquake Eng. Struct. Dyn. 25; Neuenhofer & Filippou 1997, J. Struct. Eng. 123; as
+OpenSees's forceBeamColumn): basic deformations v = (stretch, th1, th2) relative to the chord,
+basic forces q = (N, M1, M2). The section forces follow from q by equilibrium, exactly:
+N(x) = N, M(x) = (x/L - 1) M1 + (x/L) M2, i.e. s(x) = b(x) q; compatibility is
+v = int_0^L b(x)^T e(x) dx with e = (axis strain, curvature), integrated at ``n_sections``
+Gauss-Lobatto sections (the ends included: the end sections, where the moment is largest, are
+integration points). The state determination iterates from the committed state each call
+(element flexibility F = int b^T f_s b dx, residual deformations r = f_s (b q - s_R) carried, as
+Spacone et al.) to a relative tolerance of 1e-12; the trial never touches the committed state
+unless ``commit``. Where the plain iteration does not converge in ``MAX_ITERATIONS`` the step is
+cut in 2, 4, ... 64 sub-steps.
+
+Section: the band's depth h cut into ``n_fibres`` equal layers (width t); plane sections,
+fibre strain eps = eps_0 + e_axis + y kappa (eps_0 = P / (E A): the pretension an initial
+strain). The layers sit at their mid-depths scaled by 1 / sqrt(1 - 1/n^2), which makes the
+layered section's second moment exactly t h^3 / 12 (the elastic collar is exact, as the
+resultant law); the plastic moment of an even layer count is then f_y t h^2 / 4 times
+1 / sqrt(1 - 1/n^2) (+0.13 % at 20 layers). The extreme-fibre strain reported (and checked
+against eps_u) is the plane-section strain at the band's surface y = +-h/2.
+
+Fibre: bilinear steel (E, f_y, E_h) with linear kinematic (H_kin, the Bauschinger effect: a
+reversal yields 2 f_y below the shifted centre) and isotropic (H_iso) hardening, H_kin + H_iso
+= E E_h / (E - E_h); backward-Euler return mapping, algorithmic tangent E_h past yield.
+
+Energy: U = sum over the fibres of sigma^2 / (2 E) dV less the pretension's initial
+P^2 L / (2 E A) (the elastic energy; the kinematic hardening's stored energy counts as plastic
+work). On commit the plastic work grows by the trapezoid of q over dv less dU,
+W_p += (q + q_n) / 2 . (v - v_n) - (U - U_n), so that q . dv = dU + dW_p closes step by step.
+
+Fracture, and why it is objective: the collar fractures (carries nothing from that step on; its
+elastic energy is released into the plastic work) when the surface strain of any section reaches
+eps_u. The section forces are exact (equilibrium, whatever the number of sections) and the end
+section's strain is a function of its own forces and history, so with positive hardening the
+slip at which the end section's surface reaches eps_u converges as the sections are refined
+(tested; docs/collars.md gives the table). Dropping the broken fibre one at a time and following
+the section's softening is not done: a force-based element localises that softening into one
+integration point, whose length L w_1 depends on the number of sections (Coleman & Spacone 2001,
+J. Struct. Eng. 127), so the slip at which the last fibre breaks is not objective without a
+fracture-energy regularisation; the band tearing from the edge fibre on is also the
+conservative reading for "do the collars hold?".
+
+The element's length L is the collar's span (E A / (E A / L)); its rotations are those of the
+chord L0 (the model's attachment points) scaled by rho = sqrt(EI' L / (E I)) = L0 / L, the
+moments by 1 / rho, as the resultant law's bending stiffness EI' = E I (L0 / L)^3 does (same
+lateral stiffness 12 E I / L^3, same work).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+MAX_SECTIONS = 10  # Gauss-Lobatto sections per element: 2 .. MAX_SECTIONS
+MAX_ITERATIONS = 60
+TOLERANCE = 1e-12
+
+# state row of a fibre collar (the first 7 entries mean what the resultant law's do)
+S_P, ALPHA, WORK, HINGE1, HINGE2, FIBRE_STRAIN, FRACTURED = range(7)
+V_COMMITTED = 7  # committed basic deformations (stretch m, th1, th2 rad): 7, 8, 9
+Q_COMMITTED = 10  # committed basic forces (N - pretension, M1, M2: N, N m): 10, 11, 12
+U_COMMITTED = 13  # committed elastic energy (J)
+STRESS = 14  # the largest |fibre stress| of the committed state (Pa)
+SURFACE = 15  # the largest surface strain |eps| of the committed state
+HEADER = 16  # then 2 per section (axis strain, curvature), then PER_FIBRE per fibre
+PER_FIBRE = 3  # plastic strain, back stress (Pa), accumulated plastic strain
+
+
+def fibre_state_size(n_sections: int, n_fibres: int) -> int:
+    """Numbers in the state row of a fibre collar of n_sections sections of n_fibres fibres."""
+    return HEADER + 2 * n_sections + PER_FIBRE * n_sections * n_fibres
+
+
+def _lobatto_tables():
+    """Gauss-Lobatto points and weights on [0, 1] for 2 .. MAX_SECTIONS points: the ends and
+    the roots of P'_{n-1}; weights 2 / (n (n-1) P_{n-1}(x)^2) on [-1, 1], halved."""
+    points = np.zeros((MAX_SECTIONS + 1, MAX_SECTIONS))
+    weights = np.zeros((MAX_SECTIONS + 1, MAX_SECTIONS))
+    legendre = np.polynomial.legendre.Legendre
+    for n in range(2, MAX_SECTIONS + 1):
+        p = legendre.basis(n - 1)
+        inner = np.sort(p.deriv().roots().real) if n > 2 else np.zeros(0)
+        x = np.concatenate(([-1.0], inner, [1.0]))
+        w = 2.0 / (n * (n - 1) * p(x) ** 2)
+        points[n, :n] = 0.5 * (x + 1.0)
+        weights[n, :n] = 0.5 * w
+    return points, weights
+
+
+LOBATTO_POINTS, LOBATTO_WEIGHTS = _lobatto_tables()
+
+
+@njit(cache=True)
+def bilinear_stress(eps, eps_p, back, alpha, E, fy, h_kin, h_iso):
+    """Bilinear steel with linear kinematic and isotropic hardening, backward Euler from the
+    committed (eps_p, back stress, accumulated plastic strain alpha) to the total strain eps:
+    the trial sigma = E (eps - eps_p) is returned to |sigma - back| <= f_y + H_iso alpha.
+    Returns (sigma (Pa), tangent (Pa), eps_p, back, alpha) of the trial."""
+    trial = E * (eps - eps_p)
+    xi = trial - back
+    excess = abs(xi) - (fy + h_iso * alpha)
+    if excess <= 0.0:
+        return trial, E, eps_p, back, alpha
+    sign = 1.0 if xi > 0.0 else -1.0
+    h = h_kin + h_iso
+    dg = excess / (E + h)
+    return (
+        trial - E * sign * dg,
+        E * h / (E + h),
+        eps_p + sign * dg,
+        back + h_kin * sign * dg,
+        (alpha + dg),
+    )
+
+
+@njit(cache=True)
+def _section(i, e_axis, kappa, eps0, ys, area, base, E, fy, h_kin, h_iso, floor, result, write):
+    """Section i at deformation (e_axis, kappa) from the fibre histories in base: result =
+    (N, M, flexibility f11, f12, f22 (of the tangent k, its fibre moduli floored at ``floor``),
+    energy per length sum sigma^2 A / (2E), largest |sigma|, mean plastic strain, plastic
+    curvature, largest accumulated plastic strain). With write the fibres' new histories go
+    into write (same layout as base; pass an empty array not to write)."""
+    n_f = ys.size
+    N = M = k11 = k12 = k22 = energy = smax = mean_p = curv_p = amax = 0.0
+    yy = 0.0
+    for j in range(n_f):
+        y = ys[j]
+        k = (i * n_f + j) * PER_FIBRE
+        sig, tangent, ep, bk, al = bilinear_stress(
+            eps0 + e_axis + y * kappa, base[k], base[k + 1], base[k + 2], E, fy, h_kin, h_iso
+        )
+        if write.size:
+            write[k] = ep
+            write[k + 1] = bk
+            write[k + 2] = al
+        tangent = max(tangent, floor)
+        N += sig * area
+        M += sig * y * area
+        k11 += tangent * area
+        k12 += tangent * y * area
+        k22 += tangent * y * y * area
+        energy += sig * sig * area
+        smax = max(smax, abs(sig))
+        mean_p += ep
+        curv_p += ep * y
+        yy += y * y
+        amax = max(amax, al)
+    det = k11 * k22 - k12 * k12
+    result[0] = N
+    result[1] = M
+    result[2] = k22 / det
+    result[3] = -k12 / det
+    result[4] = k11 / det
+    result[5] = energy / (2.0 * E)
+    result[6] = smax
+    result[7] = mean_p / n_f
+    result[8] = curv_p / yy
+    result[9] = amax
+
+
+@njit(cache=True)
+def _solve(v, q, e, base, xs, ws, span, eps0, ys, area, E, fy, h_kin, h_iso, floor):
+    """Iterate the element from (q, e) (updated in place) to compatibility with the basic
+    deformations v, fibres from their histories base. Returns True when converged."""
+    n_s = xs.size
+    section = np.empty(10)
+    residual = np.empty((n_s, 2))
+    flex = np.empty((n_s, 3))
+    scale = fy / E + abs(v[0]) / span + abs(v[1]) + abs(v[2])
+    for _ in range(MAX_ITERATIONS):
+        F00 = F01 = F02 = F11 = F12 = F22 = 0.0
+        vr0 = vr1 = vr2 = 0.0
+        worst = 0.0
+        for i in range(n_s):
+            x = xs[i]
+            w = ws[i] * span
+            _section(i, e[i, 0], e[i, 1], eps0, ys, area, base, E, fy, h_kin, h_iso, floor,
+                     section, base[:0])  # fmt: skip
+            f11, f12, f22 = section[2], section[3], section[4]
+            sN = q[0] - section[0]
+            sM = (x - 1.0) * q[1] + x * q[2] - section[1]
+            r0 = f11 * sN + f12 * sM
+            r1 = f12 * sN + f22 * sM
+            residual[i, 0] = r0
+            residual[i, 1] = r1
+            flex[i, 0] = f11
+            flex[i, 1] = f12
+            flex[i, 2] = f22
+            worst = max(worst, abs(r0), abs(r1) * span)
+            a = e[i, 0] + r0
+            kap = e[i, 1] + r1
+            vr0 += w * a
+            vr1 += w * (x - 1.0) * kap
+            vr2 += w * x * kap
+            # F += w b^T f b, b = [[1, 0, 0], [0, x - 1, x]]
+            F00 += w * f11
+            F01 += w * f12 * (x - 1.0)
+            F02 += w * f12 * x
+            F11 += w * f22 * (x - 1.0) * (x - 1.0)
+            F12 += w * f22 * (x - 1.0) * x
+            F22 += w * f22 * x * x
+        d0 = v[0] - vr0
+        d1 = v[1] - vr1
+        d2 = v[2] - vr2
+        if max(abs(d0) / span, abs(d1), abs(d2), worst / span) <= TOLERANCE * scale:
+            return True
+        # dq = F^-1 dv (3 x 3 symmetric, by cofactors)
+        c00 = F11 * F22 - F12 * F12
+        c01 = F02 * F12 - F01 * F22
+        c02 = F01 * F12 - F02 * F11
+        c11 = F00 * F22 - F02 * F02
+        c12 = F01 * F02 - F00 * F12
+        c22 = F00 * F11 - F01 * F01
+        det = F00 * c00 + F01 * c01 + F02 * c02
+        if not abs(det) > 0.0:
+            return False
+        dq0 = (c00 * d0 + c01 * d1 + c02 * d2) / det
+        dq1 = (c01 * d0 + c11 * d1 + c12 * d2) / det
+        dq2 = (c02 * d0 + c12 * d1 + c22 * d2) / det
+        q[0] += dq0
+        q[1] += dq1
+        q[2] += dq2
+        for i in range(n_s):
+            x = xs[i]
+            dM = (x - 1.0) * dq1 + x * dq2
+            e[i, 0] += residual[i, 0] + flex[i, 0] * dq0 + flex[i, 1] * dM
+            e[i, 1] += residual[i, 1] + flex[i, 1] * dq0 + flex[i, 2] * dM
+    return False
+
+
+@njit(cache=True)
+def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, commit):
+    """The collar's fibre-section frame element in its local frame (the module's docstring):
+    the same call and returns as colonna.core.collar_law.resultant_local_law.
+
+    stretch = chord length - L0 (m), th1, th2 = end rotations relative to the chord (rad);
+    ea_l = E A / L, ei_l = E I' / L0, pretension P (N); law = the collar's law row
+    (colonna.core.collar_law: fibre entries from LAW_KIND on); state[c] = this collar's state
+    (fibre_state_size numbers; zeros: unstressed but for P), updated only with commit.
+    Returns (N, M1, M2, elastic energy U (J), axial plastic strain (the mean over the section
+    and the span), largest surface strain of the sections)."""
+    span = law[1] / ea_l
+    if state[c, FRACTURED] != 0.0:
+        return 0.0, 0.0, 0.0, 0.0, state[c, S_P] / span, 0.0
+    if (
+        stretch == state[c, V_COMMITTED]
+        and th1 == state[c, V_COMMITTED + 1]
+        and th2 == state[c, V_COMMITTED + 2]
+    ):  # the committed state itself (a history's replay records only the header)
+        return (
+            state[c, Q_COMMITTED] + pretension,
+            state[c, Q_COMMITTED + 1],
+            state[c, Q_COMMITTED + 2],
+            state[c, U_COMMITTED],
+            state[c, S_P] / span,
+            state[c, SURFACE],
+        )
+    n_s = int(law[8])
+    n_f = int(law[9])
+    E, fy, h_kin, h_iso, depth, width = law[10], law[11], law[12], law[13], law[14], law[15]
+    eps_u = law[6]
+    rho = math.sqrt(ei_l * span / (E * width * depth**3 / 12.0))
+    eps0 = pretension / law[1]
+    area = width * depth / n_f
+    stretch_scale = 1.0 / math.sqrt(1.0 - 1.0 / (n_f * n_f))
+    ys = np.empty(n_f)
+    for j in range(n_f):
+        ys[j] = (-0.5 * depth + (j + 0.5) * depth / n_f) * stretch_scale
+    xs = LOBATTO_POINTS[n_s, :n_s]
+    ws = LOBATTO_WEIGHTS[n_s, :n_s]
+    floor = 1e-6 * E
+    start = HEADER + 2 * n_s
+    size = PER_FIBRE * n_s * n_f
+    if state.shape[1] < start + size:
+        raise ValueError("a fibre collar's state row is short: size it with state_size(laws)")
+    base = state[c, start : start + size].copy()
+    e0 = state[c, HEADER:start].copy().reshape((n_s, 2))
+    q0 = np.empty(3)
+    q0[0] = state[c, Q_COMMITTED] + pretension
+    q0[1] = state[c, Q_COMMITTED + 1] / rho
+    q0[2] = state[c, Q_COMMITTED + 2] / rho
+    v_n = np.empty(3)
+    v_n[0] = state[c, V_COMMITTED]
+    v_n[1] = rho * state[c, V_COMMITTED + 1]
+    v_n[2] = rho * state[c, V_COMMITTED + 2]
+    v = np.empty(3)
+    v[0] = stretch
+    v[1] = rho * th1
+    v[2] = rho * th2
+    q = q0.copy()
+    e = e0.copy()
+    converged = _solve(v, q, e, base, xs, ws, span, eps0, ys, area, E, fy, h_kin, h_iso, floor)
+    steps = 1
+    while not converged and steps < 64:  # cut the step: sub-steps along the straight path
+        steps *= 2
+        q[:] = q0
+        e[:] = e0
+        base = state[c, start : start + size].copy()
+        converged = True
+        for k in range(1, steps + 1):
+            target = v_n + (v - v_n) * (k / steps)
+            if not _solve(target, q, e, base, xs, ws, span, eps0, ys, area, E, fy, h_kin,
+                          h_iso, floor):  # fmt: skip
+                converged = False
+                break
+            if k < steps:
+                updated = base.copy()
+                section = np.empty(10)
+                for i in range(n_s):
+                    _section(i, e[i, 0], e[i, 1], eps0, ys, area, base, E, fy, h_kin, h_iso,
+                             floor, section, updated)  # fmt: skip
+                base = updated
+    # the converged (or last) state: energies, stresses, surface strains, new histories
+    updated = np.empty(size)
+    section = np.empty(10)
+    energy = smax = surface = mean_p = hinge1 = hinge2 = amax = 0.0
+    for i in range(n_s):
+        x = xs[i]
+        w = ws[i] * span
+        _section(i, e[i, 0], e[i, 1], eps0, ys, area, base, E, fy, h_kin, h_iso, floor, section,
+                 updated)  # fmt: skip
+        energy += w * section[5]
+        smax = max(smax, section[6])
+        mean_p += ws[i] * section[7]
+        hinge1 += w * (x - 1.0) * section[8]
+        hinge2 += w * x * section[8]
+        amax = max(amax, section[9])
+        half = 0.5 * depth * e[i, 1]
+        surface = max(surface, abs(eps0 + e[i, 0] + half), abs(eps0 + e[i, 0] - half))
+    energy -= 0.5 * pretension * eps0 * span
+    N = q[0]
+    M1 = q[1] * rho
+    M2 = q[2] * rho
+    if commit:
+        dv0 = stretch - state[c, V_COMMITTED]
+        dv1 = th1 - state[c, V_COMMITTED + 1]
+        dv2 = th2 - state[c, V_COMMITTED + 2]
+        work = (
+            0.5 * (N + state[c, Q_COMMITTED] + pretension) * dv0
+            + 0.5 * (M1 + state[c, Q_COMMITTED + 1]) * dv1
+            + 0.5 * (M2 + state[c, Q_COMMITTED + 2]) * dv2
+            - (energy - state[c, U_COMMITTED])
+        )
+        state[c, WORK] += work
+        state[c, S_P] = mean_p * span
+        state[c, ALPHA] = amax
+        state[c, HINGE1] = hinge1 / rho
+        state[c, HINGE2] = hinge2 / rho
+        state[c, V_COMMITTED] = stretch
+        state[c, V_COMMITTED + 1] = th1
+        state[c, V_COMMITTED + 2] = th2
+        state[c, Q_COMMITTED] = N - pretension
+        state[c, Q_COMMITTED + 1] = M1
+        state[c, Q_COMMITTED + 2] = M2
+        state[c, U_COMMITTED] = energy
+        state[c, STRESS] = smax
+        state[c, SURFACE] = surface
+        state[c, HEADER:start] = e.ravel()
+        state[c, start : start + size] = updated
+        if surface > state[c, FIBRE_STRAIN]:
+            state[c, FIBRE_STRAIN] = surface
+        if eps_u > 0.0 and surface >= eps_u:
+            state[c, FRACTURED] = 1.0
+            state[c, WORK] += energy  # released: the broken band's ends spring back
+            return 0.0, 0.0, 0.0, 0.0, mean_p, surface
+    return N, M1, M2, energy, mean_p, surface
