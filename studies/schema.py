@@ -28,8 +28,10 @@ from pydantic import (
 )
 
 from ..core.collar import LOWEST as COLLAR_LOWEST
+from ..core.collar import MAX_FIBRES, STEELS
 from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_EPS_U, STEEL_FY
 from ..core.errors import InputError, read_toml
+from ..core.fibre import MAX_SECTIONS
 from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
@@ -275,6 +277,43 @@ class Collar(Table):
         (1e-3, 1.0, "mm", "a collar's hinge"),
         gt=0,
     )
+    section: Literal["fibre", "resultant"] | None = Field(
+        None,
+        description="Local law of a plastic collar: 'fibre' (the default) a fibre-section "
+        "frame element (the depth h cut into n_fibres layers of uniaxial steel, n_sections "
+        "Gauss-Lobatto sections along the span: yield spreads, hinges lengthen, fracture where "
+        "a section's surface strain reaches eps_u); 'resultant' the faster lumped law (end "
+        "hinges on the N-M surface: exact to first yield, past it its membrane force, moments "
+        "and fracture slip are off, docs/collars.md). An elastic collar is exact with either.",
+    )
+    n_fibres: int = quantity(
+        "-",
+        f"Layers of a fibre section across the depth h, 2 to {MAX_FIBRES}.",
+        20,
+        ge=2,
+        le=MAX_FIBRES,
+    )
+    n_sections: int = quantity(
+        "-",
+        f"Integration sections of a fibre collar along its span (Gauss-Lobatto, the two ends "
+        f"included), 2 to {MAX_SECTIONS}.",
+        5,
+        ge=2,
+        le=MAX_SECTIONS,
+    )
+    steel: Literal[STEELS] = Field(  # type: ignore[valid-type]
+        "bilinear",
+        description="Uniaxial law of a fibre collar's steel: 'bilinear' (E, fy, Eh).",
+    )
+    isotropic: float = quantity(
+        "-",
+        "Share of a fibre collar's hardening (Eh) that is isotropic, 0 to 1; the rest is "
+        "kinematic (0, the default: the Bauschinger effect, a reversal yields 2 fy below the "
+        "shifted centre).",
+        0.0,
+        ge=0,
+        le=1,
+    )
 
     @staticmethod
     def across(c: dict, given: set) -> list[tuple[str, tuple]]:
@@ -292,6 +331,14 @@ class Collar(Table):
             )
         if c["Eh"] is not None and _known(c["Eh"], c["E"]) and c["Eh"] >= c["E"]:
             found.append((f"Eh = {c['Eh']:g} Pa must be below E = {c['E']:g} Pa", ()))
+        if c["section"] == "fibre" and c["plastic"] is False:
+            found.append(
+                (
+                    "section = 'fibre' needs plastic = true (an elastic collar's resultant "
+                    "law is exact)",
+                    (),
+                )
+            )
         if (
             c["plastic"] is True
             and _known(c["eps_u"], c["fy"], c["E"])
