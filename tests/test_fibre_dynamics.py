@@ -166,8 +166,8 @@ def test_fem_restart_carries_a_fibre_collars_state():
     mesh = column_mesh(0.4, 2.0, 0.1, cracked=True, grading=0.0, pinned_heights=[1.0])
     model = build_model(mesh, Stone(), 0.3, (collar,), ContactSettings(friction=0.0, damping=0.0))
     options = dict(progress=False, stop_on_overturn=False, dt=2e-6, output_interval=1e-3)
-    whole = run(model, NoMotion(), 0.004, initial_velocity=_up(mesh), **options)
-    first = run(model, NoMotion(), 0.002, initial_velocity=_up(mesh), **options)
+    whole = run(model, NoMotion(), 0.012, initial_velocity=_up(mesh), **options)
+    first = run(model, NoMotion(), 0.006, initial_velocity=_up(mesh), **options)
     t, contact = first.contact_frames[-1]
     assert contact["collar_state"].shape == (1, model.collar_state_size)
     assert contact["collar_state"][0, FIBRE_STRAIN] > collar.yield_strain
@@ -178,7 +178,7 @@ def test_fem_restart_carries_a_fibre_collars_state():
     second = run(
         model,
         NoMotion(),
-        0.002,
+        0.006,
         start_time=t,
         initial_state=state,
         initial_contact=contact,
