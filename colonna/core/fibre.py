@@ -20,7 +20,10 @@ strain). The layers sit at their mid-depths scaled by 1 / sqrt(1 - 1/n^2), which
 layered section's second moment exactly t h^3 / 12 (the elastic collar is exact, as the
 resultant law); the plastic moment of an even layer count is then f_y t h^2 / 4 times
 1 / sqrt(1 - 1/n^2) (+0.13 % at 20 layers). The extreme-fibre strain reported (and checked
-against eps_u) is the plane-section strain at the band's surface y = +-h/2.
+against eps_u) is the plane-section strain at the band's surface y = +-h/2, and the stress
+reported there that of the surface strain from the outer layer's history (exact while elastic:
+the surface yields at M_y = f_y t h^2 / 6; the outer layer's mid-depth, where the first plastic
+work is done, at M_y (h / 2) / y_1, 5 % later with 20 layers).
 
 Fibre: bilinear steel (E, f_y, E_h) with linear kinematic (H_kin, the Bauschinger effect: a
 reversal yields 2 f_y below the shifted centre) and isotropic (H_iso) hardening, H_kin + H_iso
@@ -56,7 +59,8 @@ import math
 import numpy as np
 from numba import njit
 
-MAX_SECTIONS = 10  # Gauss-Lobatto sections per element: 2 .. MAX_SECTIONS
+from .collar import MAX_SECTIONS  # Gauss-Lobatto sections per element: 2 .. MAX_SECTIONS
+
 MAX_ITERATIONS = 60
 TOLERANCE = 1e-12
 
@@ -65,7 +69,7 @@ S_P, ALPHA, WORK, HINGE1, HINGE2, FIBRE_STRAIN, FRACTURED = range(7)
 V_COMMITTED = 7  # committed basic deformations (stretch m, th1, th2 rad): 7, 8, 9
 Q_COMMITTED = 10  # committed basic forces (N - pretension, M1, M2: N, N m): 10, 11, 12
 U_COMMITTED = 13  # committed elastic energy (J)
-STRESS = 14  # the largest |fibre stress| of the committed state (Pa)
+STRESS = 14  # the largest |stress| at the sections' surfaces, committed (Pa)
 SURFACE = 15  # the largest surface strain |eps| of the committed state
 HEADER = 16  # then 2 per section (axis strain, curvature), then PER_FIBRE per fibre
 PER_FIBRE = 3  # plastic strain, back stress (Pa), accumulated plastic strain
@@ -325,13 +329,17 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
         _section(i, e[i, 0], e[i, 1], eps0, ys, area, base, E, fy, h_kin, h_iso, floor, section,
                  updated)  # fmt: skip
         energy += w * section[5]
-        smax = max(smax, section[6])
         mean_p += ws[i] * section[7]
         hinge1 += w * (x - 1.0) * section[8]
         hinge2 += w * x * section[8]
         amax = max(amax, section[9])
         half = 0.5 * depth * e[i, 1]
-        surface = max(surface, abs(eps0 + e[i, 0] + half), abs(eps0 + e[i, 0] - half))
+        for side in range(2):  # the surfaces y = -h/2, +h/2, with their outer fibres' history
+            eps = eps0 + e[i, 0] + (2 * side - 1) * half
+            surface = max(surface, abs(eps))
+            k = (i * n_f + side * (n_f - 1)) * PER_FIBRE
+            sig = bilinear_stress(eps, base[k], base[k + 1], base[k + 2], E, fy, h_kin, h_iso)[0]
+            smax = max(smax, abs(sig))
     energy -= 0.5 * pretension * eps0 * span
     N = q[0]
     M1 = q[1] * rho
