@@ -370,3 +370,31 @@ def test_fibre_section_needs_a_plastic_collar_and_the_bench_a_span():
         response(Collar(**{**BAND, "length": None}), np.zeros((1, 6)))
     with pytest.raises(InputError, match="6 numbers"):
         response(Collar(**BAND), np.zeros((3, 5)))
+
+
+def test_collar_command_writes_the_response_and_names_bad_input(tmp_path, capsys):
+    from colonna.studies.cli import main
+
+    collar = Collar(**BAND)
+    rows = _slip(collar, [3.0, -3.0], steps_per_yield=5)
+    history = tmp_path / "history.csv"
+    # columns in another order than the bench's: read by the header's names
+    np.savetxt(history, rows[:, [4, 0, 1, 2, 3, 5]], delimiter=",", comments="",
+               header="v2,u1,v1,r1,u2,r2")  # fmt: skip
+    out = tmp_path / "response.csv"
+    flags = ["--t", "0.008", "--h", "0.06", "--length", str(L), "--fy", "235e6"]
+    assert main(["collar", *flags, str(history), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    table = np.genfromtxt(out, delimiter=",", names=True)
+    expected = response(collar, rows)
+    assert np.allclose(table["M1"], expected["M1"], rtol=1e-12, atol=1e-9)
+    assert np.allclose(table["v2"], rows[:, 4], rtol=1e-15)
+    peak = np.abs(expected["N"]).max() / 1e3
+    assert f"peak axial force                     {peak:.4g} kN" in printed
+    assert "fractured                            no" in printed
+    bad = tmp_path / "bad.csv"
+    bad.write_text("u1,v1,r1,u2\n0,0,0,0\n")
+    assert main(["collar", *flags, str(bad)]) == 2
+    assert "lacks column(s) v2, r2" in capsys.readouterr().err
+    assert main(["collar", *flags, "--n-sections", "40", str(history)]) == 2
+    assert "n_sections = 40" in capsys.readouterr().err
