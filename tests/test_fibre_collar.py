@@ -87,10 +87,9 @@ def test_surface_yields_at_My_and_the_first_plastic_work_at_the_outer_layer():
     rows[:, 2] = rows[:, 5] = np.linspace(0.0, 1.2 * theta_y, 2401)  # double curvature, N = 0
     r = response(collar, rows)
     moment = r["M1"]
-    at_yield = np.argmax(r["fibre_stress"] >= collar.fy)
-    assert moment[at_yield - 1] < collar.yield_moment <= moment[at_yield] * (1 + 1e-9)
+    at_yield = np.argmax(r["fibre_stress"] >= collar.fy * (1 - 1e-12))
     step = moment[at_yield] - moment[at_yield - 1]
-    assert moment[at_yield] - collar.yield_moment <= 1.01 * step
+    assert moment[at_yield - 1] < collar.yield_moment < moment[at_yield] + 1e-9 * step
     n = collar.n_fibres
     y1 = (0.5 * collar.h - 0.5 * collar.h / n) / math.sqrt(1 - 1 / n**2)
     first = np.argmax(r["plastic_work"] > 1e-9 * r["elastic_energy"])
@@ -127,7 +126,7 @@ def test_fully_plastic_ends_lie_on_the_rectangles_interaction_surface(ratio):
     n = r["N"][-1] / (collar.fy * collar.area)
     m = abs(r["M1"][-1]) / collar.plastic_moment
     print(ratio, n, m, m + n**2)
-    assert 0.1 < n < 0.95 and not r["fractured"][-1]
+    assert 0.05 < n < 0.95 and not r["fractured"][-1]
     assert m + n**2 == pytest.approx(1.0, abs=0.01)
 
 
