@@ -6,7 +6,8 @@ driven by colonna.core.collar.response.
 Prints, per (n_sections, n_fibres), the end moment and membrane force at 5 and 20 times the
 first-yield slip d_y = M_y L^2 / (6 E I) and the slip at fracture (the largest surface strain
 reaching eps_u, interpolated between steps), and their differences from the finest
-discretisation; ``--markdown`` prints the table of docs/collars.md.
+discretisation, and the resultant law's (``section = "resultant"``) against the same;
+``--markdown`` prints the table of docs/collars.md.
 
     .venv/bin/python benchmarks/collar_convergence.py [--markdown]
 """
@@ -68,18 +69,19 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--markdown", action="store_true")
     args = parser.parse_args()
-    rows = {}
+    rows: dict[tuple, dict] = {}
     for n_s, n_f in GRID + [FINEST]:
         start = time.perf_counter()
         rows[n_s, n_f] = measures(Collar(**DEFAULT, n_sections=n_s, n_fibres=n_f))
         rows[n_s, n_f]["seconds"] = time.perf_counter() - start
+    rows["resultant", "-"] = measures(Collar(**DEFAULT, section="resultant"))
     ref = rows[FINEST]
     print(
         "| sections | fibres | M(5 d_y) kN m | N(5 d_y) kN | M(20 d_y) kN m | N(20 d_y) kN "
         "| slip at fracture mm (d_y) |"
     )
     print("|" + "---|" * 7)
-    for key in GRID + [FINEST]:
+    for key in GRID + [FINEST, ("resultant", "-")]:
         r = rows[key]
 
         def cell(name, scale, digits, r=r):
