@@ -12,10 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .collar_law import FIBRE, LAW_SIZE, RESULTANT, law_state_size
 from .constants import STEEL_E, STEEL_EPS_U, STEEL_FY
 from .errors import InputError, require_non_negative, require_positive, require_range
-from .fibre import MAX_SECTIONS
 
 # Hard limits of a collar's numbers, as in the study file's schema (studies.schema.Collar, whose
 # descriptions say why): past them a model's stiffness overflows or its mesh degenerates.
@@ -25,6 +23,7 @@ SPAN = (1e-3, 100.0)  # m: the shortest and longest span L (E A / L overflows be
 STIFFEST = 1e14  # Pa: the largest E (100 times diamond's)
 MAX_FIBRES = 200  # layers of a fibre section (past it the cost grows, not the accuracy)
 STEELS = ("bilinear",)  # the fibres' uniaxial laws (colonna.core.fibre)
+MAX_SECTIONS = 30  # Gauss-Lobatto sections of a fibre collar (colonna.core.fibre's tables)
 
 
 def _require_count(name: str, value, low: int, high: int) -> int:
@@ -61,7 +60,7 @@ class Collar:
     # the plastic collar's local law: "fibre" (default: colonna.core.fibre) or "resultant"
     section: str | None = None
     n_fibres: int = 20  # layers across the depth h (fibre section), 2 .. MAX_FIBRES
-    n_sections: int = 5  # Gauss-Lobatto sections along the span (fibre section), 2 .. 10
+    n_sections: int = 10  # Gauss-Lobatto sections along the span (fibre section), 2 .. 30
     steel: str = "bilinear"  # the fibres' law: bilinear (E, fy, Eh)
     isotropic: float = 0.0  # share of the hardening that is isotropic (0: kinematic, 1)
 
@@ -185,6 +184,8 @@ class Collar:
         E A, H A, M_p, 1 / (E W), h / (2 L_p), eps_u; the yield and fracture entries are 0 for
         an elastic collar (it never yields nor breaks: its stress past f_y is reported as
         such)."""
+        from .collar_law import FIBRE, LAW_SIZE, RESULTANT  # numba: on first use
+
         plastic = self.plastic
         resultant = (
             self.fy * self.area if plastic else 0.0,
@@ -214,6 +215,8 @@ class Collar:
 
     def state_size(self) -> int:
         """Numbers in this collar's state row (colonna.core.collar_law.law_state_size)."""
+        from .collar_law import law_state_size
+
         return law_state_size(self.law())
 
     @property
@@ -275,3 +278,67 @@ def hinge_strain_profile(
         x += [a, b]
         strain += [value, value]
     return np.array(x), np.array(strain)
+
+
+RESPONSE_FIELDS = (
+    "F1x",
+    "F1y",
+    "M1",
+    "F2x",
+    "F2y",
+    "M2",
+    "N",
+    "fibre_strain",
+    "fibre_stress",
+    "plastic_work",
+    "fractured",
+    "elastic_energy",
+    "plastic_strain",
+    "largest_fibre_strain",
+    "alpha",
+)
+"""The arrays of :func:`response`: end forces (N) and moments (N m) holding the ends, in the
+collar's initial axes; the axial force N (N, tension +); the largest surface strain now and its
+largest reached; the largest fibre stress now (Pa); the plastic work (J); fractured (bool); the
+elastic energy (J); the axial plastic strain; the accumulated plastic strain (the resultant
+law's, the fibre law's largest fibre's)."""
+
+
+def response(collar: Collar, history) -> dict:
+    """A collar driven through imposed end displacements and rotations, as the models step it.
+
+    ``history``: rows (u1, v1, r1, u2, v2, r2), the ends' displacements (m) and rotations (rad)
+    in the collar's initial axes (end 1 at the origin, end 2 at (L, 0), L = ``collar.length``),
+    from the unstressed (but pretensioned) collar, each row committed in turn. The co-rotational
+    kinematics and local law are the models'
+    (:func:`colonna.core.collar_law.history_response`). Returns a dict of arrays, one value
+    per row (RESPONSE_FIELDS); the resultant law's fibre stress is the elastic |N|/A + |M|/W
+    capped at f_y + H alpha (:meth:`Collar.fibre_stress`)."""
+    from .collar_law import history_response, state_size
+
+    if collar.length is None:
+        raise InputError("collar length is not set: the test bench needs the span L (m)")
+    rows = np.asarray(history, dtype=float)
+    if rows.ndim != 2 or rows.shape[1] != 6:
+        raise InputError(
+            f"collar history has shape {rows.shape}: it must be rows of 6 numbers "
+            "(u1, v1, r1, u2, v2, r2)"
+        )
+    if not np.isfinite(rows).all():
+        raise InputError("collar history has a value that is not a finite number")
+    span = collar.length
+    law = np.array(collar.law())
+    state = np.zeros((1, state_size(law)))
+    out = np.zeros((rows.shape[0], len(RESPONSE_FIELDS)))
+    ea_l = collar.E * collar.area / span
+    ei_l = collar.E * collar.second_moment / span
+    history_response(rows, span, ea_l, ei_l, collar.pretension, law, state, out)
+    result: dict[str, np.ndarray] = {
+        name: out[:, k].copy() for k, name in enumerate(RESPONSE_FIELDS)
+    }
+    result["fractured"] = out[:, RESPONSE_FIELDS.index("fractured")] > 0.0
+    if collar.local_law != "fibre":
+        moment = np.maximum(np.abs(result["M1"]), np.abs(result["M2"]))
+        stress = collar.fibre_stress(result["N"], moment, result["alpha"])
+        result["fibre_stress"] = np.where(result["fractured"], 0.0, stress)
+    return result

@@ -19,6 +19,8 @@ the fibre law's section deformations and fibre histories (colonna.core.fibre).""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -213,3 +215,61 @@ def resultant_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c
             state[c, 2] += energy  # released: the broken band's ends spring back
             return 0.0, 0.0, 0.0, 0.0, plastic_strain, fibre
     return N, M1, M2, energy, plastic_strain, fibre
+
+
+RESPONSE_SIZE = 15
+"""Columns of :func:`history_response`'s output, per step: the end forces and moments that hold
+the collar's ends, in its initial axes (F1x, F1y, M1, F2x, F2y, M2: N, N m), the axial force N,
+the largest surface strain now, the largest fibre stress now (Pa; 0 from the resultant law,
+whose caller estimates it), the plastic work (J), fractured (0 or 1), the elastic energy (J),
+the axial plastic strain, the largest surface strain reached so far and the accumulated
+plastic strain alpha (state entry 1)."""
+
+
+@njit(cache=True)
+def history_response(history, span, ea_l, ei_l, pretension, law, state, out):
+    """Step one collar through imposed end displacements and rotations, committing each row: a
+    test bench with the models' own kinematics (fem._kernels.collar_forces', replicated).
+
+    history[k] = (u1, v1, r1, u2, v2, r2) in the collar's initial axes (end 1 at the origin,
+    end 2 at (span, 0): m, rad); the chord's stretch and the end rotations relative to it go to
+    :func:`frame_local_law` (state row 0 of ``state``); out[k] gets RESPONSE_SIZE numbers. End 1
+    is held by -N e + V n and the moment M1, end 2 by N e - V n and M2, with e the chord's unit
+    vector, n its normal and V = (M1 + M2) / chord (the element's internal forces, as
+    collar_forces subtracts them from the nodes' forces)."""
+    for k in range(history.shape[0]):
+        u1, v1, r1, u2, v2, r2 = (
+            history[k, 0],
+            history[k, 1],
+            history[k, 2],
+            history[k, 3],
+            history[k, 4],
+            history[k, 5],
+        )
+        dx = span + u2 - u1
+        dy = v2 - v1
+        length = math.sqrt(dx * dx + dy * dy)
+        beta = math.atan2(dy, dx)
+        th1 = r1 - beta
+        th2 = r2 - beta
+        N, M1, M2, energy, plastic_strain, fibre = frame_local_law(
+            length - span, th1, th2, ea_l, ei_l, pretension, law, state, 0, True
+        )
+        ex = dx / length
+        ey = dy / length
+        shear = (M1 + M2) / length
+        out[k, 0] = -N * ex - shear * ey
+        out[k, 1] = -N * ey + shear * ex
+        out[k, 2] = M1
+        out[k, 3] = N * ex + shear * ey
+        out[k, 4] = N * ey - shear * ex
+        out[k, 5] = M2
+        out[k, 6] = N
+        out[k, 7] = fibre
+        out[k, 8] = state[0, 14] if law[LAW_KIND] == FIBRE and state[0, FRACTURED] == 0.0 else 0.0
+        out[k, 9] = state[0, 2]
+        out[k, 10] = state[0, FRACTURED]
+        out[k, 11] = energy
+        out[k, 12] = plastic_strain
+        out[k, 13] = state[0, FIBRE_STRAIN]
+        out[k, 14] = state[0, 1]

@@ -20,7 +20,10 @@ strain). The layers sit at their mid-depths scaled by 1 / sqrt(1 - 1/n^2), which
 layered section's second moment exactly t h^3 / 12 (the elastic collar is exact, as the
 resultant law); the plastic moment of an even layer count is then f_y t h^2 / 4 times
 1 / sqrt(1 - 1/n^2) (+0.13 % at 20 layers). The extreme-fibre strain reported (and checked
-against eps_u) is the plane-section strain at the band's surface y = +-h/2.
+against eps_u) is the plane-section strain at the band's surface y = +-h/2, and the stress
+reported there that of the surface strain from the outer layer's history (exact while elastic:
+the surface yields at M_y = f_y t h^2 / 6; the outer layer's mid-depth, where the first plastic
+work is done, at M_y (h / 2) / y_1, 5 % later with 20 layers).
 
 Fibre: bilinear steel (E, f_y, E_h) with linear kinematic (H_kin, the Bauschinger effect: a
 reversal yields 2 f_y below the shifted centre) and isotropic (H_iso) hardening, H_kin + H_iso
@@ -56,7 +59,8 @@ import math
 import numpy as np
 from numba import njit
 
-MAX_SECTIONS = 10  # Gauss-Lobatto sections per element: 2 .. MAX_SECTIONS
+from .collar import MAX_SECTIONS  # Gauss-Lobatto sections per element: 2 .. MAX_SECTIONS
+
 MAX_ITERATIONS = 60
 TOLERANCE = 1e-12
 
@@ -65,15 +69,19 @@ S_P, ALPHA, WORK, HINGE1, HINGE2, FIBRE_STRAIN, FRACTURED = range(7)
 V_COMMITTED = 7  # committed basic deformations (stretch m, th1, th2 rad): 7, 8, 9
 Q_COMMITTED = 10  # committed basic forces (N - pretension, M1, M2: N, N m): 10, 11, 12
 U_COMMITTED = 13  # committed elastic energy (J)
-STRESS = 14  # the largest |fibre stress| of the committed state (Pa)
+STRESS = 14  # the largest |stress| at the sections' surfaces, committed (Pa)
 SURFACE = 15  # the largest surface strain |eps| of the committed state
-HEADER = 16  # then 2 per section (axis strain, curvature), then PER_FIBRE per fibre
+FLEXIBILITY = 16  # the committed element flexibility F00, F01, F02, F11, F12, F22: 16 .. 21
+HEADER = 22  # then SECTION_SIZE per section, then PER_FIBRE per fibre
+SECTION_SIZE = 6  # axis strain, curvature, flexibility f11, f12, f22, yielded (0 or 1)
 PER_FIBRE = 3  # plastic strain, back stress (Pa), accumulated plastic strain
+TOTALS = 7  # _solve's totals: energy, mean plastic strain, plastic rotations 1, 2 (element
+# axes), largest accumulated plastic strain, largest surface strain, largest surface stress
 
 
 def fibre_state_size(n_sections: int, n_fibres: int) -> int:
     """Numbers in the state row of a fibre collar of n_sections sections of n_fibres fibres."""
-    return HEADER + 2 * n_sections + PER_FIBRE * n_sections * n_fibres
+    return HEADER + SECTION_SIZE * n_sections + PER_FIBRE * n_sections * n_fibres
 
 
 def _lobatto_tables():
@@ -120,24 +128,21 @@ def bilinear_stress(eps, eps_p, back, alpha, E, fy, h_kin, h_iso):
 
 @njit(cache=True)
 def _section(i, e_axis, kappa, eps0, ys, area, base, E, fy, h_kin, h_iso, floor, result, write):
-    """Section i at deformation (e_axis, kappa) from the fibre histories in base: result =
-    (N, M, flexibility f11, f12, f22 (of the tangent k, its fibre moduli floored at ``floor``),
-    energy per length sum sigma^2 A / (2E), largest |sigma|, mean plastic strain, plastic
-    curvature, largest accumulated plastic strain). With write the fibres' new histories go
-    into write (same layout as base; pass an empty array not to write)."""
+    """Section i at deformation (e_axis, kappa), its fibres from their histories in base (their
+    new ones written into write): result = (N, M, flexibility f11, f12, f22 of the tangent, its
+    fibre moduli floored at ``floor``, energy per length sum sigma^2 A / (2E), 0, mean plastic
+    strain, plastic curvature, largest accumulated plastic strain)."""
     n_f = ys.size
-    N = M = k11 = k12 = k22 = energy = smax = mean_p = curv_p = amax = 0.0
-    yy = 0.0
+    N = M = k11 = k12 = k22 = energy = mean_p = curv_p = amax = yy = 0.0
     for j in range(n_f):
         y = ys[j]
         k = (i * n_f + j) * PER_FIBRE
         sig, tangent, ep, bk, al = bilinear_stress(
             eps0 + e_axis + y * kappa, base[k], base[k + 1], base[k + 2], E, fy, h_kin, h_iso
         )
-        if write.size:
-            write[k] = ep
-            write[k + 1] = bk
-            write[k + 2] = al
+        write[k] = ep
+        write[k + 1] = bk
+        write[k + 2] = al
         tangent = max(tangent, floor)
         N += sig * area
         M += sig * y * area
@@ -145,7 +150,6 @@ def _section(i, e_axis, kappa, eps0, ys, area, base, E, fy, h_kin, h_iso, floor,
         k12 += tangent * y * area
         k22 += tangent * y * y * area
         energy += sig * sig * area
-        smax = max(smax, abs(sig))
         mean_p += ep
         curv_p += ep * y
         yy += y * y
@@ -157,40 +161,61 @@ def _section(i, e_axis, kappa, eps0, ys, area, base, E, fy, h_kin, h_iso, floor,
     result[3] = -k12 / det
     result[4] = k11 / det
     result[5] = energy / (2.0 * E)
-    result[6] = smax
+    result[6] = 0.0
     result[7] = mean_p / n_f
     result[8] = curv_p / yy
     result[9] = amax
 
 
 @njit(cache=True)
-def _solve(v, q, e, base, xs, ws, span, eps0, ys, area, E, fy, h_kin, h_iso, floor):
-    """Iterate the element from (q, e) (updated in place) to compatibility with the basic
-    deformations v, fibres from their histories base. Returns True when converged."""
+def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E, fy, h_kin,
+           h_iso, floor, depth, F, totals, section, residual):  # fmt: skip
+    """Iterate the element from (q, e) (updated in place; flex: the sections' flexibilities
+    for the updates, refreshed by each pass) to compatibility with the basic deformations v,
+    the fibres from their histories in base (their trial histories into write). A section
+    that never yielded (yielded[i] == 0) and stays elastic is done in closed form (its layers'
+    sums: A, 0, I). The converged pass leaves its element flexibility in F (F00, F01, F02, F11,
+    F12, F22), yielded set where a section's fibres have yielded, and the TOTALS in totals.
+    section (10) and residual (n_s, 2): work arrays. Returns True when converged."""
     n_s = xs.size
-    section = np.empty(10)
-    residual = np.empty((n_s, 2))
-    flex = np.empty((n_s, 3))
+    n_f = ys.size
+    ea = area * n_f * E
+    ei = E * depth**3 * area * n_f / (12.0 * depth)
+    y1 = ys[n_f - 1]
     scale = fy / E + abs(v[0]) / span + abs(v[1]) + abs(v[2])
     for _ in range(MAX_ITERATIONS):
         F00 = F01 = F02 = F11 = F12 = F22 = 0.0
         vr0 = vr1 = vr2 = 0.0
-        worst = 0.0
+        worst = energy = mean_p = hinge1 = hinge2 = amax = surface = smax = 0.0
         for i in range(n_s):
             x = xs[i]
             w = ws[i] * span
-            _section(i, e[i, 0], e[i, 1], eps0, ys, area, base, E, fy, h_kin, h_iso, floor,
-                     section, base[:0])  # fmt: skip
+            axis = eps0 + e[i, 0]
+            elastic = yielded[i] == 0.0 and E * (abs(axis) + y1 * abs(e[i, 1])) <= fy
+            if elastic:  # closed form; its fibres' histories stay zero
+                section[0] = ea * axis
+                section[1] = ei * e[i, 1]
+                section[2] = 1.0 / ea
+                section[3] = 0.0
+                section[4] = 1.0 / ei
+                section[5] = 0.5 * (ea * axis * axis + ei * e[i, 1] * e[i, 1])
+                section[7] = section[8] = section[9] = 0.0
+                start = i * n_f * PER_FIBRE
+                for k in range(start, start + n_f * PER_FIBRE):  # an earlier pass's trial
+                    write[k] = base[k]
+            else:
+                _section(i, e[i, 0], e[i, 1], eps0, ys, area, base, E, fy, h_kin, h_iso,
+                         floor, section, write)  # fmt: skip
             f11, f12, f22 = section[2], section[3], section[4]
+            flex[i, 0] = f11
+            flex[i, 1] = f12
+            flex[i, 2] = f22
             sN = q[0] - section[0]
             sM = (x - 1.0) * q[1] + x * q[2] - section[1]
             r0 = f11 * sN + f12 * sM
             r1 = f12 * sN + f22 * sM
             residual[i, 0] = r0
             residual[i, 1] = r1
-            flex[i, 0] = f11
-            flex[i, 1] = f12
-            flex[i, 2] = f22
             worst = max(worst, abs(r0), abs(r1) * span)
             a = e[i, 0] + r0
             kap = e[i, 1] + r1
@@ -204,24 +229,47 @@ def _solve(v, q, e, base, xs, ws, span, eps0, ys, area, E, fy, h_kin, h_iso, flo
             F11 += w * f22 * (x - 1.0) * (x - 1.0)
             F12 += w * f22 * (x - 1.0) * x
             F22 += w * f22 * x * x
+            # the section's share of the totals (used from the converged pass)
+            energy += w * section[5]
+            mean_p += ws[i] * section[7]
+            hinge1 += w * (x - 1.0) * section[8]
+            hinge2 += w * x * section[8]
+            amax = max(amax, section[9])
+            half = 0.5 * depth * e[i, 1]
+            for side in range(2):  # surfaces y = -h/2, +h/2 with their outer layers' history
+                eps = axis + (2 * side - 1) * half
+                surface = max(surface, abs(eps))
+                if elastic:
+                    smax = max(smax, E * abs(eps))
+                else:
+                    k = (i * n_f + side * (n_f - 1)) * PER_FIBRE
+                    sig = bilinear_stress(
+                        eps, base[k], base[k + 1], base[k + 2], E, fy, h_kin, h_iso
+                    )[0]
+                    smax = max(smax, abs(sig))
         d0 = v[0] - vr0
         d1 = v[1] - vr1
         d2 = v[2] - vr2
         if max(abs(d0) / span, abs(d1), abs(d2), worst / span) <= TOLERANCE * scale:
+            F[0], F[1], F[2], F[3], F[4], F[5] = F00, F01, F02, F11, F12, F22
+            totals[0] = energy
+            totals[1] = mean_p
+            totals[2] = hinge1
+            totals[3] = hinge2
+            totals[4] = amax
+            totals[5] = surface
+            totals[6] = smax
+            for i in range(n_s):
+                if yielded[i] == 0.0:
+                    first = i * n_f * PER_FIBRE
+                    for k in range(n_f):
+                        if write[first + k * PER_FIBRE + 2] > 0.0:
+                            yielded[i] = 1.0
+                            break
             return True
-        # dq = F^-1 dv (3 x 3 symmetric, by cofactors)
-        c00 = F11 * F22 - F12 * F12
-        c01 = F02 * F12 - F01 * F22
-        c02 = F01 * F12 - F02 * F11
-        c11 = F00 * F22 - F02 * F02
-        c12 = F01 * F02 - F00 * F12
-        c22 = F00 * F11 - F01 * F01
-        det = F00 * c00 + F01 * c01 + F02 * c02
-        if not abs(det) > 0.0:
+        dq0, dq1, dq2 = _solve3(F00, F01, F02, F11, F12, F22, d0, d1, d2)
+        if not (abs(dq0) < np.inf and abs(dq1) < np.inf and abs(dq2) < np.inf):
             return False
-        dq0 = (c00 * d0 + c01 * d1 + c02 * d2) / det
-        dq1 = (c01 * d0 + c11 * d1 + c12 * d2) / det
-        dq2 = (c02 * d0 + c12 * d1 + c22 * d2) / det
         q[0] += dq0
         q[1] += dq1
         q[2] += dq2
@@ -231,6 +279,42 @@ def _solve(v, q, e, base, xs, ws, span, eps0, ys, area, E, fy, h_kin, h_iso, flo
             e[i, 0] += residual[i, 0] + flex[i, 0] * dq0 + flex[i, 1] * dM
             e[i, 1] += residual[i, 1] + flex[i, 1] * dq0 + flex[i, 2] * dM
     return False
+
+
+@njit(cache=True)
+def _solve3(F00, F01, F02, F11, F12, F22, d0, d1, d2):
+    """x = F^-1 d for a symmetric 3 x 3 F (cofactors); nan where F is singular."""
+    c00 = F11 * F22 - F12 * F12
+    c01 = F02 * F12 - F01 * F22
+    c02 = F01 * F12 - F02 * F11
+    c11 = F00 * F22 - F02 * F02
+    c12 = F01 * F02 - F00 * F12
+    c22 = F00 * F11 - F01 * F01
+    det = F00 * c00 + F01 * c01 + F02 * c02
+    if not abs(det) > 0.0:
+        return np.nan, np.nan, np.nan
+    return (
+        (c00 * d0 + c01 * d1 + c02 * d2) / det,
+        (c01 * d0 + c11 * d1 + c12 * d2) / det,
+        (c02 * d0 + c12 * d1 + c22 * d2) / det,
+    )
+
+
+@njit(cache=True)
+def _predict(v, v_n, q, e, flex, xs, F):
+    """The tangent predictor from the committed state: q += F^-1 (v - v_n), each section's
+    e += f_s b dq (F, f_s: the committed element's and sections' flexibilities)."""
+    dq0, dq1, dq2 = _solve3(F[0], F[1], F[2], F[3], F[4], F[5], v[0] - v_n[0], v[1] - v_n[1],
+                            v[2] - v_n[2])  # fmt: skip
+    if not (abs(dq0) < np.inf and abs(dq1) < np.inf and abs(dq2) < np.inf):
+        return
+    q[0] += dq0
+    q[1] += dq1
+    q[2] += dq2
+    for i in range(xs.size):
+        dM = (xs[i] - 1.0) * dq1 + xs[i] * dq2
+        e[i, 0] += flex[i, 0] * dq0 + flex[i, 1] * dM
+        e[i, 1] += flex[i, 1] * dq0 + flex[i, 2] * dM
 
 
 @njit(cache=True)
@@ -264,93 +348,124 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
     n_f = int(law[9])
     E, fy, h_kin, h_iso, depth, width = law[10], law[11], law[12], law[13], law[14], law[15]
     eps_u = law[6]
-    rho = math.sqrt(ei_l * span / (E * width * depth**3 / 12.0))
+    inertia = width * depth**3 / 12.0
+    rho = math.sqrt(ei_l * span / (E * inertia))
     eps0 = pretension / law[1]
     area = width * depth / n_f
-    stretch_scale = 1.0 / math.sqrt(1.0 - 1.0 / (n_f * n_f))
-    ys = np.empty(n_f)
-    for j in range(n_f):
-        ys[j] = (-0.5 * depth + (j + 0.5) * depth / n_f) * stretch_scale
+    spread = 1.0 / math.sqrt(1.0 - 1.0 / (n_f * n_f))
     xs = LOBATTO_POINTS[n_s, :n_s]
     ws = LOBATTO_WEIGHTS[n_s, :n_s]
     floor = 1e-6 * E
-    start = HEADER + 2 * n_s
+    sections = HEADER + SECTION_SIZE * n_s
     size = PER_FIBRE * n_s * n_f
-    if state.shape[1] < start + size:
+    if state.shape[1] < sections + size:
         raise ValueError("a fibre collar's state row is short: size it with state_size(laws)")
-    base = state[c, start : start + size].copy()
-    e0 = state[c, HEADER:start].copy().reshape((n_s, 2))
-    q0 = np.empty(3)
+    # one work array (an allocation costs as much as a section), cut into the trial's arrays
+    work = np.empty(n_f + 37 + TOTALS + 13 * n_s + size)
+    ys = work[:n_f]
+    o = n_f
+    F0, F, q0, q, v_n, v, last = (
+        work[o : o + 6],
+        work[o + 6 : o + 12],
+        work[o + 12 : o + 15],
+        work[o + 15 : o + 18],
+        work[o + 18 : o + 21],
+        work[o + 21 : o + 24],
+        work[o + 24 : o + 27],
+    )
+    o += 27
+    section = work[o : o + 10]
+    o += 10
+    totals = work[o : o + TOTALS]
+    o += TOTALS
+    e0 = work[o : o + 2 * n_s].reshape((n_s, 2))
+    e = work[o + 2 * n_s : o + 4 * n_s].reshape((n_s, 2))
+    residual = work[o + 4 * n_s : o + 6 * n_s].reshape((n_s, 2))
+    o += 6 * n_s
+    flex0 = work[o : o + 3 * n_s].reshape((n_s, 3))
+    flex = work[o + 3 * n_s : o + 6 * n_s].reshape((n_s, 3))
+    o += 6 * n_s
+    yielded = work[o : o + n_s]
+    o += n_s
+    write = work[o : o + size]
+    for j in range(n_f):
+        ys[j] = (-0.5 * depth + (j + 0.5) * depth / n_f) * spread
+    committed = state[c, HEADER:sections].reshape((n_s, SECTION_SIZE))
+    base = state[c, sections : sections + size]
+    F0[:] = state[c, FLEXIBILITY : FLEXIBILITY + 6]
+    for i in range(n_s):
+        e0[i, 0] = committed[i, 0]
+        e0[i, 1] = committed[i, 1]
+        flex0[i, 0] = committed[i, 2]
+        flex0[i, 1] = committed[i, 3]
+        flex0[i, 2] = committed[i, 4]
+        yielded[i] = committed[i, 5]
+    if F0[0] == 0.0:  # the unstressed collar: elastic
+        F0[0] = span / (E * width * depth)
+        F0[1] = F0[2] = 0.0
+        F0[3] = span / (3.0 * E * inertia)
+        F0[4] = -span / (6.0 * E * inertia)
+        F0[5] = F0[3]
+        for i in range(n_s):
+            flex0[i, 0] = 1.0 / (E * width * depth)
+            flex0[i, 1] = 0.0
+            flex0[i, 2] = 1.0 / (E * inertia)
     q0[0] = state[c, Q_COMMITTED] + pretension
     q0[1] = state[c, Q_COMMITTED + 1] / rho
     q0[2] = state[c, Q_COMMITTED + 2] / rho
-    v_n = np.empty(3)
     v_n[0] = state[c, V_COMMITTED]
     v_n[1] = rho * state[c, V_COMMITTED + 1]
     v_n[2] = rho * state[c, V_COMMITTED + 2]
-    v = np.empty(3)
     v[0] = stretch
     v[1] = rho * th1
     v[2] = rho * th2
-    q = q0.copy()
-    e = e0.copy()
-    converged = _solve(v, q, e, base, xs, ws, span, eps0, ys, area, E, fy, h_kin, h_iso, floor)
+    q[:] = q0
+    e[:] = e0
+    flex[:] = flex0
+    _predict(v, v_n, q, e, flex, xs, F0)
+    converged = _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
+                       fy, h_kin, h_iso, floor, depth, F, totals, section, residual)  # fmt: skip
     steps = 1
     while not converged and steps < 64:  # cut the step: sub-steps along the straight path
         steps *= 2
         q[:] = q0
         e[:] = e0
-        base = state[c, start : start + size].copy()
+        flex[:] = flex0
+        for i in range(n_s):
+            yielded[i] = committed[i, 5]
+        F[:] = F0
+        base = state[c, sections : sections + size].copy()  # sub-steps advance it
+        last[:] = v_n
         converged = True
         for k in range(1, steps + 1):
             target = v_n + (v - v_n) * (k / steps)
-            if not _solve(target, q, e, base, xs, ws, span, eps0, ys, area, E, fy, h_kin,
-                          h_iso, floor):  # fmt: skip
+            _predict(target, last, q, e, flex, xs, F)
+            if not _solve(target, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys,
+                          area, E, fy, h_kin, h_iso, floor, depth, F, totals, section,
+                          residual):  # fmt: skip
                 converged = False
                 break
+            last[:] = target
             if k < steps:
-                updated = base.copy()
-                section = np.empty(10)
-                for i in range(n_s):
-                    _section(i, e[i, 0], e[i, 1], eps0, ys, area, base, E, fy, h_kin, h_iso,
-                             floor, section, updated)  # fmt: skip
-                base = updated
-    # the converged (or last) state: energies, stresses, surface strains, new histories
-    updated = np.empty(size)
-    section = np.empty(10)
-    energy = smax = surface = mean_p = hinge1 = hinge2 = amax = 0.0
-    for i in range(n_s):
-        x = xs[i]
-        w = ws[i] * span
-        _section(i, e[i, 0], e[i, 1], eps0, ys, area, base, E, fy, h_kin, h_iso, floor, section,
-                 updated)  # fmt: skip
-        energy += w * section[5]
-        smax = max(smax, section[6])
-        mean_p += ws[i] * section[7]
-        hinge1 += w * (x - 1.0) * section[8]
-        hinge2 += w * x * section[8]
-        amax = max(amax, section[9])
-        half = 0.5 * depth * e[i, 1]
-        surface = max(surface, abs(eps0 + e[i, 0] + half), abs(eps0 + e[i, 0] - half))
-    energy -= 0.5 * pretension * eps0 * span
+                base[:] = write
+    energy = totals[0] - 0.5 * pretension * eps0 * span
+    mean_p = totals[1]
+    surface = totals[5]
     N = q[0]
     M1 = q[1] * rho
     M2 = q[2] * rho
     if commit:
-        dv0 = stretch - state[c, V_COMMITTED]
-        dv1 = th1 - state[c, V_COMMITTED + 1]
-        dv2 = th2 - state[c, V_COMMITTED + 2]
         work = (
-            0.5 * (N + state[c, Q_COMMITTED] + pretension) * dv0
-            + 0.5 * (M1 + state[c, Q_COMMITTED + 1]) * dv1
-            + 0.5 * (M2 + state[c, Q_COMMITTED + 2]) * dv2
+            0.5 * (N + state[c, Q_COMMITTED] + pretension) * (stretch - state[c, V_COMMITTED])
+            + 0.5 * (M1 + state[c, Q_COMMITTED + 1]) * (th1 - state[c, V_COMMITTED + 1])
+            + 0.5 * (M2 + state[c, Q_COMMITTED + 2]) * (th2 - state[c, V_COMMITTED + 2])
             - (energy - state[c, U_COMMITTED])
         )
         state[c, WORK] += work
         state[c, S_P] = mean_p * span
-        state[c, ALPHA] = amax
-        state[c, HINGE1] = hinge1 / rho
-        state[c, HINGE2] = hinge2 / rho
+        state[c, ALPHA] = totals[4]
+        state[c, HINGE1] = totals[2] / rho
+        state[c, HINGE2] = totals[3] / rho
         state[c, V_COMMITTED] = stretch
         state[c, V_COMMITTED + 1] = th1
         state[c, V_COMMITTED + 2] = th2
@@ -358,10 +473,17 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
         state[c, Q_COMMITTED + 1] = M1
         state[c, Q_COMMITTED + 2] = M2
         state[c, U_COMMITTED] = energy
-        state[c, STRESS] = smax
+        state[c, STRESS] = totals[6]
         state[c, SURFACE] = surface
-        state[c, HEADER:start] = e.ravel()
-        state[c, start : start + size] = updated
+        state[c, FLEXIBILITY : FLEXIBILITY + 6] = F
+        for i in range(n_s):
+            committed[i, 0] = e[i, 0]
+            committed[i, 1] = e[i, 1]
+            committed[i, 2] = flex[i, 0]
+            committed[i, 3] = flex[i, 1]
+            committed[i, 4] = flex[i, 2]
+            committed[i, 5] = yielded[i]
+        state[c, sections : sections + size] = write
         if surface > state[c, FIBRE_STRAIN]:
             state[c, FIBRE_STRAIN] = surface
         if eps_u > 0.0 and surface >= eps_u:
