@@ -28,10 +28,10 @@ from pydantic import (
 )
 
 from ..core.collar import LOWEST as COLLAR_LOWEST
-from ..core.collar import MAX_FIBRES, STEELS
+from ..core.collar import MAX_FIBRES, MAX_SECTIONS, STEELS
+from ..core.collar import Collar as CollarLaw
 from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_EPS_U, STEEL_FY
 from ..core.errors import InputError, read_toml
-from ..core.fibre import MAX_SECTIONS
 from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
@@ -289,7 +289,7 @@ class Collar(Table):
     n_fibres: int = quantity(
         "-",
         f"Layers of a fibre section across the depth h, 2 to {MAX_FIBRES}.",
-        20,
+        CollarLaw.n_fibres,
         ge=2,
         le=MAX_FIBRES,
     )
@@ -297,7 +297,7 @@ class Collar(Table):
         "-",
         f"Integration sections of a fibre collar along its span (Gauss-Lobatto, the two ends "
         f"included), 2 to {MAX_SECTIONS}.",
-        5,
+        CollarLaw.n_sections,
         ge=2,
         le=MAX_SECTIONS,
     )

@@ -679,7 +679,7 @@ def test_the_crosscheck_report_of_a_fibre_collar(tmp_path):
     assert moments.max() > 0.9 * collar["plastic_moment"]
     assert 'data-figure="collar_hinge"' in page
     assert not (out / "figures" / "collar_hinge_profile.csv").exists()
-    assert "fibre section of 20 layers at 5 sections" in page
+    assert f"fibre section of 20 layers at {collar['n_sections']} sections" in page
     assert summary["rigid_multibody"]["collar_ductility_demand"] > 1.0
     assert assert_report_says_what_summary_says(page, summary) >= 40
 
