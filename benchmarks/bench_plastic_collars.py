@@ -3,7 +3,9 @@ colonna.core.fibre) and the resultant law (axial law and N-M end hinges).
 
 1. FEM: one explicit step of the default column (three collars) with elastic collars, plastic
    collars with the resultant law and with the fibre section (20 fibres, 5 sections), medians
-   of five interleaved runs of the first 5000 steps.
+   of five interleaved runs of the first 5000 steps (the collars stay elastic in them).
+   Then a step of a small column whose one collar is bent far past yield through the whole run
+   (the right half flung up along the crack, as tests/test_fibre_dynamics.py), each law.
 2. The frame element alone, per collar and call, FEM and multibody kernels: elastic; plastic
    inside the surface; plastic on the surface (a hinge returning every call), each law.
 Run: make bench
@@ -19,9 +21,10 @@ import numpy as np
 
 from colonna.core.collar import Collar
 from colonna.core.collar_law import OUT_SIZE, state_size
+from colonna.core.ground import NoMotion
 from colonna.fem import _kernels as FK
 from colonna.fem.assembly import Stone
-from colonna.fem.model import build_model, stable_time_step
+from colonna.fem.model import ContactSettings, build_model, stable_time_step
 from colonna.fem.solver import run
 from colonna.meshes import column_mesh
 from colonna.rigid import _multibody as MK
@@ -45,6 +48,25 @@ def _per_step(study, law: str, steps: int) -> float:
     model = build(dataclasses.replace(study, collars=collars))
     dt = stable_time_step(model, study.safety).dt
     result = run(model, study.ground, steps * dt, progress=False, output_interval=steps * dt)
+    return result.summary["wall_seconds"] / result.summary["steps"]
+
+
+def _bent_per_step(law: str) -> float:
+    """Seconds per step of a 0.4 x 2 m column whose collar yields through the run."""
+    collar = Collar(y=1.0, t=0.004, h=0.03, **LAWS[law])
+    mesh = column_mesh(0.4, 2.0, 0.1, cracked=True, grading=0.0, pinned_heights=[1.0])
+    model = build_model(mesh, Stone(), 0.3, (collar,), ContactSettings(friction=0.0, damping=0.0))
+    v0 = np.zeros((mesh.n_nodes, 2))
+    v0[mesh.node_body == 1, 1] = 1.0
+    result = run(
+        model,
+        NoMotion(),
+        0.03,
+        output_interval=0.03,
+        initial_velocity=v0,
+        progress=False,
+        stop_on_overturn=False,
+    )
     return result.summary["wall_seconds"] / result.summary["steps"]
 
 
@@ -92,6 +114,22 @@ def main() -> None:
             f"  plastic collars, {law:9s} law {step[law] * 1e6:7.1f} us "
             f"({step[law] / elastic:.2f} x; the collars' share "
             f"{(step[law] - elastic) / 3 * 1e6:+.1f} us per collar over elastic)"
+        )
+    bent: dict[str, list[float]] = {law: [] for law in LAWS}
+    for law in LAWS:
+        _bent_per_step(law)  # compilation
+    for _ in range(5):
+        for law in LAWS:
+            bent[law].append(_bent_per_step(law))
+    small = {law: float(np.median(bent[law])) for law in LAWS}
+    print(
+        "FEM step, small column, one collar bent past yield: elastic "
+        f"{small['elastic'] * 1e6:.1f} us"
+    )
+    for law in ("resultant", "fibre"):
+        print(
+            f"  {law:9s} law {small[law] * 1e6:7.1f} us (the collar's share "
+            f"{(small[law] - small['elastic']) * 1e6:+.1f} us over elastic)"
         )
     print("frame element, per call (python call overhead included)   FEM      multibody")
     d_y = Collar(y=1.0, t=0.004, h=0.03).yield_displacement(0.1)
