@@ -1128,8 +1128,9 @@ class _Recorder:
         for k, collar in enumerate(model.collars, start=1):
             N, M1, M2 = collar_out[k - 1, :3]
             moment = max(abs(M1), abs(M2))
-            if collar.local_law == "fibre":  # its largest fibre stress, from the fibres
-                stress = collar_state[k - 1, FIBRE_STRESS]
+            if collar.local_law == "fibre":  # its largest fibre stress (0 once broken)
+                broken = collar_state[k - 1, FRACTURED] != 0.0
+                stress = 0.0 if broken else collar_state[k - 1, FIBRE_STRESS]
             else:
                 stress = collar.fibre_stress(N, moment, collar_state[k - 1, 1])
             row[f"collar_{k}_axial_force"] = N

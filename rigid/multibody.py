@@ -887,8 +887,9 @@ def collar_histories(
         moment = np.maximum(np.abs(forces[:, c, 1]), np.abs(forces[:, c, 2]))
         shear = (forces[:, c, 1] + forces[:, c, 2]) / collar.span(column.block.b)
         recorded = plastic[:, c] if plastic is not None else np.zeros((n, K.N_RECORDED))
-        if collar.local_law == "fibre":  # its largest fibre stress, from the fibres
+        if collar.local_law == "fibre":  # its largest fibre stress (0 once broken)
             stress = recorded[:, RECORDED.index(FIBRE_STRESS)].copy()
+            stress[recorded[:, RECORDED.index(FRACTURED)] > 0.0] = 0.0
         else:
             stress = collar.fibre_stress(axial, moment, recorded[:, RECORDED.index(1)])
         util = stress / collar.fy

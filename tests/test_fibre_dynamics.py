@@ -129,6 +129,7 @@ def test_fem_fibre_collar_breaks_when_its_surface_strain_reaches_eps_u():
     assert 0 < after.sum() < after.size
     assert np.all(h["collar_1_axial_force"][after] == 0.0)
     assert np.all(h["collar_1_moment"][after] == 0.0)
+    assert np.all(h["collar_1_stress"][after] == 0.0) and h["collar_1_stress"].max() > collar.fy
     assert np.all(h["collar_1_fibre_strain"][~after] < collar.eps_u)
     assert s["collar_max_fibre_strain"] >= collar.eps_u
     assert s["energy_error_max"] < 0.01
@@ -172,6 +173,7 @@ def test_multibody_fibre_collar_breaks_and_reports_it():
     after = result.time >= s["collar_fracture_time"]
     assert 0 < after.sum() < after.size
     assert np.all(hist.axial_force[after] == 0.0) and np.all(hist.end_moment[after] == 0.0)
+    assert np.all(hist.stress[after] == 0.0) and hist.stress.max() > collar.fy
     assert s["collar_max_fibre_strain"] >= 0.003
     assert s["energy_error_max"] < 1e-2
 
