@@ -74,14 +74,19 @@ SURFACE = 15  # the largest surface strain |eps| of the committed state
 FLEXIBILITY = 16  # the committed element flexibility F00, F01, F02, F11, F12, F22: 16 .. 21
 HEADER = 22  # then SECTION_SIZE per section, then PER_FIBRE per fibre
 SECTION_SIZE = 6  # axis strain, curvature, flexibility f11, f12, f22, yielded (0 or 1)
-PER_FIBRE = 3  # plastic strain, back stress (Pa), accumulated plastic strain
+PER_FIBRE = 3  # bilinear: plastic strain, back stress (Pa), accumulated plastic strain
+PER_FIBRE_MP = 10  # Menegotto-Pinto: Steel02's history (eps_min, eps_max, eps_pl, eps_0,
+# sigma_0, eps_r, sigma_r, kon) and the committed strain and stress
+BILINEAR, MENEGOTTO_PINTO = 0, 1  # the law row's steel
 TOTALS = 7  # _solve's totals: energy, mean plastic strain, plastic rotations 1, 2 (element
 # axes), largest accumulated plastic strain, largest surface strain, largest surface stress
 
 
-def fibre_state_size(n_sections: int, n_fibres: int) -> int:
-    """Numbers in the state row of a fibre collar of n_sections sections of n_fibres fibres."""
-    return HEADER + SECTION_SIZE * n_sections + PER_FIBRE * n_sections * n_fibres
+def fibre_state_size(n_sections: int, n_fibres: int, steel: int = BILINEAR) -> int:
+    """Numbers in the state row of a fibre collar of n_sections sections of n_fibres fibres of
+    the steel law ``steel`` (BILINEAR or MENEGOTTO_PINTO)."""
+    per = PER_FIBRE if steel == BILINEAR else PER_FIBRE_MP
+    return HEADER + SECTION_SIZE * n_sections + per * n_sections * n_fibres
 
 
 def _lobatto_tables():
@@ -127,22 +132,116 @@ def bilinear_stress(eps, eps_p, back, alpha, E, fy, h_kin, h_iso):
 
 
 @njit(cache=True)
-def _section(i, e_axis, kappa, eps0, ys, area, base, E, fy, h_kin, h_iso, floor, result, write):
+def menegotto_pinto_stress(eps, base, k, E0, fy, b, R0, cR1, cR2, a1, a2, a3, a4):
+    """Menegotto-Pinto steel with Filippou's isotropic hardening, as OpenSees's Steel02 (the
+    FEDEAS Steel_2 of Mohd Yassin 1993; Filippou, Popov & Bertero 1983): from the committed
+    history base[k : k + 10] (zeros: virgin) to the total strain eps. Between reversals
+    sigma* = b eps* + (1 - b) eps* / (1 + |eps*|^R)^(1/R), eps* and sigma* normalised between
+    the last reversal (eps_r, sigma_r) and the intersection (eps_0, sigma_0) of the elastic
+    and hardening (slope b E0) asymptotes; R = R0 (1 - cR1 xi / (cR2 + xi)), xi the plastic
+    excursion in yield strains; a reversal shifts the hardening asymptote by a1 (a3) times f_y
+    times (the strain range / (2 a2 (a4) eps_y))^0.8. Returns (sigma, tangent, and the new
+    history: eps_min, eps_max, eps_pl, eps_0, sigma_0, eps_r, sigma_r, kon, eps, sigma)."""
+    epsmin, epsmax, epspl = base[k], base[k + 1], base[k + 2]
+    epss0, sigs0, epsr, sigr = base[k + 3], base[k + 4], base[k + 5], base[k + 6]
+    kon, eps_n, sig_n = base[k + 7], base[k + 8], base[k + 9]
+    esh = b * E0
+    epsy = fy / E0
+    deps = eps - eps_n
+    if kon == 0.0:
+        if abs(deps) < 10.0 * 2.220446049250313e-16:
+            sig = sig_n + E0 * deps
+            return sig, E0, epsmin, epsmax, epspl, epss0, sigs0, epsr, sigr, kon, eps, sig
+        epsmax = epsy
+        epsmin = -epsy
+        if deps < 0.0:
+            kon = 2.0
+            epss0 = epsmin
+            sigs0 = -fy
+            epspl = epsmin
+        else:
+            kon = 1.0
+            epss0 = epsmax
+            sigs0 = fy
+            epspl = epsmax
+    if kon == 2.0 and deps > 0.0:  # reversal to loading: tension side
+        kon = 1.0
+        epsr = eps_n
+        sigr = sig_n
+        epsmin = min(epsmin, eps_n)
+        shift = 1.0 + a3 * ((epsmax - epsmin) / (2.0 * a4 * epsy)) ** 0.8
+        epss0 = (fy * shift - esh * epsy * shift - sigr + E0 * epsr) / (E0 - esh)
+        sigs0 = fy * shift + esh * (epss0 - epsy * shift)
+        epspl = epsmax
+    elif kon == 1.0 and deps < 0.0:  # reversal to unloading: compression side
+        kon = 2.0
+        epsr = eps_n
+        sigr = sig_n
+        epsmax = max(epsmax, eps_n)
+        shift = 1.0 + a1 * ((epsmax - epsmin) / (2.0 * a2 * epsy)) ** 0.8
+        epss0 = (-fy * shift + esh * epsy * shift - sigr + E0 * epsr) / (E0 - esh)
+        sigs0 = -fy * shift + esh * (epss0 + epsy * shift)
+        epspl = epsmin
+    xi = abs((epspl - epss0) / epsy)
+    R = R0 * (1.0 - cR1 * xi / (cR2 + xi))
+    ratio = (eps - epsr) / (epss0 - epsr)
+    dum1 = 1.0 + abs(ratio) ** R
+    dum2 = dum1 ** (1.0 / R)
+    sig = (b * ratio + (1.0 - b) * ratio / dum2) * (sigs0 - sigr) + sigr
+    tangent = (b + (1.0 - b) / (dum1 * dum2)) * (sigs0 - sigr) / (epss0 - epsr)
+    return sig, tangent, epsmin, epsmax, epspl, epss0, sigs0, epsr, sigr, kon, eps, sig
+
+
+@njit(cache=True)
+def _fibre(mat, eps, base, k, write, keep):
+    """A fibre of the steel of mat (the law row from its E: E, f_y, H_kin or E_h, H_iso, h, t,
+    steel, R0, cR1, cR2, a1 .. a4) at the total strain eps from its history base[k:]; with
+    keep its new history goes into write[k:]. Returns (sigma, tangent, plastic strain,
+    accumulated plastic strain (Menegotto-Pinto: |sigma / E - eps|))."""
+    E = mat[0]
+    if mat[6] == BILINEAR:
+        sig, tangent, ep, bk, al = bilinear_stress(
+            eps, base[k], base[k + 1], base[k + 2], E, mat[1], mat[2], mat[3]
+        )
+        if keep:
+            write[k] = ep
+            write[k + 1] = bk
+            write[k + 2] = al
+        return sig, tangent, ep, al
+    r = menegotto_pinto_stress(
+        eps, base, k, E, mat[1], mat[2] / E, mat[7], mat[8], mat[9], mat[10], mat[11],
+        mat[12], mat[13]
+    )  # fmt: skip
+    if keep:
+        for m in range(PER_FIBRE_MP):
+            write[k + m] = r[2 + m]
+    ep = eps - r[0] / E
+    return r[0], r[1], ep, abs(ep)
+
+
+@njit(cache=True)
+def _section(i, e_axis, kappa, eps0, ys, area, base, mat, per, floor, result, write):
     """Section i at deformation (e_axis, kappa), its fibres from their histories in base (their
     new ones written into write): result = (N, M, flexibility f11, f12, f22 of the tangent, its
     fibre moduli floored at ``floor``, energy per length sum sigma^2 A / (2E), 0, mean plastic
     strain, plastic curvature, largest accumulated plastic strain)."""
     n_f = ys.size
+    E, fy, h_kin, h_iso = mat[0], mat[1], mat[2], mat[3]
+    bilinear = mat[6] == BILINEAR
     N = M = k11 = k12 = k22 = energy = mean_p = curv_p = amax = yy = 0.0
     for j in range(n_f):
         y = ys[j]
-        k = (i * n_f + j) * PER_FIBRE
-        sig, tangent, ep, bk, al = bilinear_stress(
-            eps0 + e_axis + y * kappa, base[k], base[k + 1], base[k + 2], E, fy, h_kin, h_iso
-        )
-        write[k] = ep
-        write[k + 1] = bk
-        write[k + 2] = al
+        eps = eps0 + e_axis + y * kappa
+        k = (i * n_f + j) * per
+        if bilinear:  # inline: the common case
+            sig, tangent, ep, bk, al = bilinear_stress(
+                eps, base[k], base[k + 1], base[k + 2], E, fy, h_kin, h_iso
+            )
+            write[k] = ep
+            write[k + 1] = bk
+            write[k + 2] = al
+        else:
+            sig, tangent, ep, al = _fibre(mat, eps, base, k, write, True)
         tangent = max(tangent, floor)
         N += sig * area
         M += sig * y * area
@@ -168,8 +267,8 @@ def _section(i, e_axis, kappa, eps0, ys, area, base, E, fy, h_kin, h_iso, floor,
 
 
 @njit(cache=True)
-def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E, fy, h_kin,
-           h_iso, floor, depth, F, totals, section, residual):  # fmt: skip
+def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, mat, per, floor,
+           depth, F, totals, section, residual):  # fmt: skip
     """Iterate the element from (q, e) (updated in place; flex: the sections' flexibilities
     for the updates, refreshed by each pass) to compatibility with the basic deformations v,
     the fibres from their histories in base (their trial histories into write). A section
@@ -179,6 +278,8 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
     section (10) and residual (n_s, 2): work arrays. Returns True when converged."""
     n_s = xs.size
     n_f = ys.size
+    E, fy = mat[0], mat[1]
+    bilinear = mat[6] == BILINEAR
     ea = area * n_f * E
     ei = E * depth**3 * area * n_f / (12.0 * depth)
     y1 = ys[n_f - 1]
@@ -191,7 +292,7 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
             x = xs[i]
             w = ws[i] * span
             axis = eps0 + e[i, 0]
-            elastic = yielded[i] == 0.0 and E * (abs(axis) + y1 * abs(e[i, 1])) <= fy
+            elastic = bilinear and yielded[i] == 0.0 and E * (abs(axis) + y1 * abs(e[i, 1])) <= fy
             if elastic:  # closed form; its fibres' histories stay zero
                 section[0] = ea * axis
                 section[1] = ei * e[i, 1]
@@ -200,12 +301,12 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
                 section[4] = 1.0 / ei
                 section[5] = 0.5 * (ea * axis * axis + ei * e[i, 1] * e[i, 1])
                 section[7] = section[8] = section[9] = 0.0
-                start = i * n_f * PER_FIBRE
-                for k in range(start, start + n_f * PER_FIBRE):  # an earlier pass's trial
+                start = i * n_f * per
+                for k in range(start, start + n_f * per):  # an earlier pass's trial
                     write[k] = base[k]
             else:
-                _section(i, e[i, 0], e[i, 1], eps0, ys, area, base, E, fy, h_kin, h_iso,
-                         floor, section, write)  # fmt: skip
+                _section(i, e[i, 0], e[i, 1], eps0, ys, area, base, mat, per, floor, section,
+                         write)  # fmt: skip
             f11, f12, f22 = section[2], section[3], section[4]
             flex[i, 0] = f11
             flex[i, 1] = f12
@@ -242,10 +343,8 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
                 if elastic:
                     smax = max(smax, E * abs(eps))
                 else:
-                    k = (i * n_f + side * (n_f - 1)) * PER_FIBRE
-                    sig = bilinear_stress(
-                        eps, base[k], base[k + 1], base[k + 2], E, fy, h_kin, h_iso
-                    )[0]
+                    k = (i * n_f + side * (n_f - 1)) * per
+                    sig = _fibre(mat, eps, base, k, write, False)[0]
                     smax = max(smax, abs(sig))
         d0 = v[0] - vr0
         d1 = v[1] - vr1
@@ -260,10 +359,10 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
             totals[5] = surface
             totals[6] = smax
             for i in range(n_s):
-                if yielded[i] == 0.0:
-                    first = i * n_f * PER_FIBRE
+                if bilinear and yielded[i] == 0.0:
+                    first = i * n_f * per
                     for k in range(n_f):
-                        if write[first + k * PER_FIBRE + 2] > 0.0:
+                        if write[first + k * per + 2] > 0.0:
                             yielded[i] = 1.0
                             break
             return True
@@ -346,7 +445,7 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
         )
     n_s = int(law[8])
     n_f = int(law[9])
-    E, fy, h_kin, h_iso, depth, width = law[10], law[11], law[12], law[13], law[14], law[15]
+    E, depth, width = law[10], law[14], law[15]
     eps_u = law[6]
     inertia = width * depth**3 / 12.0
     rho = math.sqrt(ei_l * span / (E * inertia))
@@ -357,7 +456,9 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
     ws = LOBATTO_WEIGHTS[n_s, :n_s]
     floor = 1e-6 * E
     sections = HEADER + SECTION_SIZE * n_s
-    size = PER_FIBRE * n_s * n_f
+    mat = law[10:24]
+    per = PER_FIBRE if law[16] == BILINEAR else PER_FIBRE_MP
+    size = per * n_s * n_f
     if state.shape[1] < sections + size:
         raise ValueError("a fibre collar's state row is short: size it with state_size(laws)")
     # one work array (an allocation costs as much as a section), cut into the trial's arrays
@@ -423,8 +524,8 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
     e[:] = e0
     flex[:] = flex0
     _predict(v, v_n, q, e, flex, xs, F0)
-    converged = _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
-                       fy, h_kin, h_iso, floor, depth, F, totals, section, residual)  # fmt: skip
+    converged = _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, mat,
+                       per, floor, depth, F, totals, section, residual)  # fmt: skip
     steps = 1
     while not converged and steps < 64:  # cut the step: sub-steps along the straight path
         steps *= 2
@@ -441,7 +542,7 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
             target = v_n + (v - v_n) * (k / steps)
             _predict(target, last, q, e, flex, xs, F)
             if not _solve(target, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys,
-                          area, E, fy, h_kin, h_iso, floor, depth, F, totals, section,
+                          area, mat, per, floor, depth, F, totals, section,
                           residual):  # fmt: skip
                 converged = False
                 break
