@@ -27,7 +27,8 @@ work is done, at M_y (h / 2) / y_1, 5 % later with 20 layers).
 
 Fibre: bilinear steel (E, f_y, E_h) with linear kinematic (H_kin, the Bauschinger effect: a
 reversal yields 2 f_y below the shifted centre) and isotropic (H_iso) hardening, H_kin + H_iso
-= E E_h / (E - E_h); backward-Euler return mapping, algorithmic tangent E_h past yield.
+= E E_h / (E - E_h); backward-Euler return mapping, algorithmic tangent E_h past yield. Or
+(law steel MENEGOTTO_PINTO) :func:`menegotto_pinto_stress`, OpenSees's Steel02.
 
 Energy: U = sum over the fibres of sigma^2 / (2 E) dV less the pretension's initial
 P^2 L / (2 E A) (the elastic energy; the kinematic hardening's stored energy counts as plastic
