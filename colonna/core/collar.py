@@ -342,9 +342,10 @@ def response(collar: Collar, history) -> dict:
     in the collar's initial axes (end 1 at the origin, end 2 at (L, 0), L = ``collar.length``),
     from the unstressed (but pretensioned) collar, each row committed in turn. The co-rotational
     kinematics and local law are the models'
-    (:func:`colonna.core.collar_law.history_response`). Returns a dict of arrays, one value
-    per row (RESPONSE_FIELDS); the resultant law's fibre stress is the elastic |N|/A + |M|/W
-    capped at f_y + H alpha (:meth:`Collar.fibre_stress`)."""
+    (:func:`colonna.core.collar_law.history_response`); the plastic work is the trapezoid
+    rule's (docs/collars.md): drive it in steps of a fraction of the first-yield slip. Returns
+    a dict of arrays, one value per row (RESPONSE_FIELDS); the resultant law's fibre stress
+    is the elastic |N|/A + |M|/W capped at f_y + H alpha (:meth:`Collar.fibre_stress`)."""
     from .collar_law import history_response, state_size
 
     if collar.length is None:
