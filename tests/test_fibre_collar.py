@@ -435,3 +435,22 @@ def test_collar_command_writes_the_response_and_names_bad_input(tmp_path, capsys
     assert "lacks column(s) v2, r2" in capsys.readouterr().err
     assert main(["collar", *flags, "--n-sections", "40", str(history)]) == 2
     assert "n_sections = 40" in capsys.readouterr().err
+
+
+def test_state_rows_are_sized_by_the_largest_law():
+    """The state array of a set of collars has the row its largest collar needs: the header
+    for resultant collars, the sections' and fibres' histories for fibre collars (3 numbers a
+    bilinear fibre, 10 a Menegotto-Pinto one)."""
+    from colonna.core.collar_law import STATE_SIZE
+    from colonna.core.fibre import HEADER, SECTION_SIZE
+
+    elastic = Collar(**{**BAND, "plastic": False})
+    resultant = Collar(**BAND, section="resultant")
+    bilinear = Collar(**BAND, n_sections=4, n_fibres=6)
+    steel02 = Collar(**BAND, n_sections=3, n_fibres=8, steel="menegotto-pinto")
+    assert elastic.state_size() == resultant.state_size() == STATE_SIZE == HEADER
+    assert bilinear.state_size() == HEADER + 4 * SECTION_SIZE + 3 * 4 * 6
+    assert steel02.state_size() == HEADER + 3 * SECTION_SIZE + 10 * 3 * 8
+    laws = np.array([c.law() for c in (elastic, bilinear, steel02)])
+    assert state_size(laws) == max(bilinear.state_size(), steel02.state_size())
+    assert state_size(np.zeros((0, 24))) == STATE_SIZE
