@@ -12,7 +12,11 @@ integration points). The state determination iterates from the committed state e
 (element flexibility F = int b^T f_s b dx, residual deformations r = f_s (b q - s_R) carried, as
 Spacone et al.) to a relative tolerance of 1e-12; the trial never touches the committed state
 unless ``commit``. Where the plain iteration does not converge in ``MAX_ITERATIONS`` the step is
-cut in 2, 4, ... 64 sub-steps.
+cut in 2, 4, ... 64 sub-steps; an update that increases the error is halved (backtracking),
+and the iterations' fibre moduli are floored at 1e-3 E (the stresses are not: the answer is the
+same), which keeps a perfectly plastic section (E_h = 0) from a singular flexibility. A step that
+still does not converge returns NaN and commits nothing: not an answer, which the solvers'
+checks for non-finite forces report.
 
 Section: the band's depth h cut into ``n_fibres`` equal layers (width t); plane sections,
 fibre strain eps = eps_0 + e_axis + y kappa (eps_0 = P / (E A): the pretension an initial
@@ -276,7 +280,9 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, ma
     that never yielded (yielded[i] == 0) and stays elastic is done in closed form (its layers'
     sums: A, 0, I). The converged pass leaves its element flexibility in F (F00, F01, F02, F11,
     F12, F22), yielded set where a section's fibres have yielded, and the TOTALS in totals.
-    section (10) and residual (n_s, 2): work arrays. Returns True when converged."""
+    section (10) and residual (n_s, 4): work arrays. An update that leaves the compatibility
+    error larger than before it is halved (up to 8 times; a backtracking line search).
+    Returns True when converged."""
     n_s = xs.size
     n_f = ys.size
     E, fy = mat[0], mat[1]
@@ -285,6 +291,9 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, ma
     ei = E * depth**3 * area * n_f / (12.0 * depth)
     y1 = ys[n_f - 1]
     scale = fy / E + abs(v[0]) / span + abs(v[1]) + abs(v[2])
+    previous = np.inf  # the error before the last update, and the halvings of that update
+    cuts = 0
+    dq0 = dq1 = dq2 = 0.0
     for _ in range(MAX_ITERATIONS):
         F00 = F01 = F02 = F11 = F12 = F22 = 0.0
         vr0 = vr1 = vr2 = 0.0
@@ -367,6 +376,23 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, ma
                             yielded[i] = 1.0
                             break
             return True
+        error = max(abs(d0) / span, abs(d1), abs(d2), worst / span)
+        if error > previous and cuts < 8:  # worse than before the last update: halve it
+            cuts += 1
+            dq0 *= 0.5
+            dq1 *= 0.5
+            dq2 *= 0.5
+            q[0] -= dq0
+            q[1] -= dq1
+            q[2] -= dq2
+            for i in range(n_s):
+                residual[i, 2] *= 0.5
+                residual[i, 3] *= 0.5
+                e[i, 0] -= residual[i, 2]
+                e[i, 1] -= residual[i, 3]
+            continue
+        cuts = 0
+        previous = error
         dq0, dq1, dq2 = _solve3(F00, F01, F02, F11, F12, F22, d0, d1, d2)
         if not (abs(dq0) < np.inf and abs(dq1) < np.inf and abs(dq2) < np.inf):
             return False
@@ -376,8 +402,10 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, ma
         for i in range(n_s):
             x = xs[i]
             dM = (x - 1.0) * dq1 + x * dq2
-            e[i, 0] += residual[i, 0] + flex[i, 0] * dq0 + flex[i, 1] * dM
-            e[i, 1] += residual[i, 1] + flex[i, 1] * dq0 + flex[i, 2] * dM
+            residual[i, 2] = residual[i, 0] + flex[i, 0] * dq0 + flex[i, 1] * dM
+            residual[i, 3] = residual[i, 1] + flex[i, 1] * dq0 + flex[i, 2] * dM
+            e[i, 0] += residual[i, 2]
+            e[i, 1] += residual[i, 3]
     return False
 
 
@@ -455,7 +483,7 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
     spread = 1.0 / math.sqrt(1.0 - 1.0 / (n_f * n_f))
     xs = LOBATTO_POINTS[n_s, :n_s]
     ws = LOBATTO_WEIGHTS[n_s, :n_s]
-    floor = 1e-6 * E
+    floor = 1e-3 * E  # the iterations' least fibre modulus (E_h = 0: no singular section)
     sections = HEADER + SECTION_SIZE * n_s
     mat = law[10:24]
     per = PER_FIBRE if law[16] == BILINEAR else PER_FIBRE_MP
@@ -463,7 +491,7 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
     if state.shape[1] < sections + size:
         raise ValueError("a fibre collar's state row is short: size it with state_size(laws)")
     # one work array (an allocation costs as much as a section), cut into the trial's arrays
-    work = np.empty(n_f + 37 + TOTALS + 13 * n_s + size)
+    work = np.empty(n_f + 37 + TOTALS + 15 * n_s + size)
     ys = work[:n_f]
     o = n_f
     F0, F, q0, q, v_n, v, last = (
@@ -482,8 +510,8 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
     o += TOTALS
     e0 = work[o : o + 2 * n_s].reshape((n_s, 2))
     e = work[o + 2 * n_s : o + 4 * n_s].reshape((n_s, 2))
-    residual = work[o + 4 * n_s : o + 6 * n_s].reshape((n_s, 2))
-    o += 6 * n_s
+    residual = work[o + 4 * n_s : o + 8 * n_s].reshape((n_s, 4))
+    o += 8 * n_s
     flex0 = work[o : o + 3 * n_s].reshape((n_s, 3))
     flex = work[o + 3 * n_s : o + 6 * n_s].reshape((n_s, 3))
     o += 6 * n_s
@@ -550,6 +578,8 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
             last[:] = target
             if k < steps:
                 base[:] = write
+    if not converged:  # not an answer: say so (the solvers stop on a non-finite force)
+        return np.nan, np.nan, np.nan, np.nan, np.nan, np.nan
     energy = totals[0] - 0.5 * pretension * eps0 * span
     mean_p = totals[1]
     surface = totals[5]
