@@ -64,8 +64,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .collar import MAX_SECTIONS  # Gauss-Lobatto sections per element: 2 .. MAX_SECTIONS
-
+MAX_SECTIONS = 30  # Gauss-Lobatto sections per element: 2 .. (colonna.core.collar's limit)
 MAX_ITERATIONS = 60
 TOLERANCE = 1e-12
 
