@@ -6,7 +6,8 @@ does before running a column.
     colonna collar --collar band.toml history.csv --out response.csv
 
 The collar: a TOML file with a ``[collar]`` table (the keys of a study file's [[collar]] and
-the fibre law's: section, n_fibres, n_sections, steel, isotropic; SI units), or the flags, which
+the fibre law's: section, n_fibres, n_sections, steel, isotropic, R0, cR1, cR2, a1 .. a4; SI
+units), or the flags, which
 override the file's values. The bench's collar is plastic unless ``plastic = false`` or
 ``--elastic``. The history: a CSV with a header row naming the columns u1, v1, r1, u2, v2, r2
 (m, rad; the ends' displacements and rotations in the collar's initial axes, end 1 at the
@@ -62,7 +63,11 @@ def add_arguments(parser) -> None:
     g.add_argument("--section", choices=("fibre", "resultant"), help="the local law")
     g.add_argument("--n-fibres", dest="n_fibres", type=int, help="layers across h")
     g.add_argument("--n-sections", dest="n_sections", type=int, help="sections along L")
-    g.add_argument("--steel", help="the fibres' law (bilinear)")
+    g.add_argument(
+        "--steel",
+        choices=("bilinear", "menegotto-pinto"),
+        help="the fibres' law (its R0, cR1, cR2, a1-a4 from the collar file)",
+    )
     g.add_argument("--isotropic", type=float, help="isotropic share of the hardening (0-1)")
     g.add_argument("--elastic", action="store_true", help="an elastic collar (plastic = false)")
     parser.add_argument("--out", type=Path, help="CSV of the response, one row per step")

@@ -49,6 +49,9 @@ def _work(force, displacement):
 
 
 def test_lobatto_rules_integrate_polynomials_of_degree_2n_minus_3_exactly():
+    from colonna.core import collar, fibre
+
+    assert collar.MAX_SECTIONS == fibre.MAX_SECTIONS == 30  # the limit is the tables'
     for n in (2, 3, 5, 10, 20, 30):
         x, w = LOBATTO_POINTS[n, :n], LOBATTO_WEIGHTS[n, :n]
         assert x[0] == 0.0 and x[-1] == 1.0
@@ -227,12 +230,13 @@ def test_axial_cycle_loop_area_and_bauschinger_reversal():
     assert r["N"][yielding - 1] > n_max - 2 * n_y > r["N"][yielding] - step
 
 
-def test_cyclic_slip_dissipation_equals_the_lateral_loop_area():
+@pytest.mark.parametrize("steel", ["bilinear", "menegotto-pinto"])
+def test_cyclic_slip_dissipation_equals_the_lateral_loop_area(steel):
     """Two full slip cycles of +-10 d_y: the plastic work the law tallies (trapezoid of the
     basic forces over the basic deformations, less dU) equals the work of the end forces on
     the imposed slip, the loop's area, through the co-rotational transformation (1 %); kinematic
     hardening: the reversal moment is below the peak by less than 2 M_p (Bauschinger)."""
-    collar = Collar(**BAND)
+    collar = Collar(**BAND, steel=steel)
     rows = _slip(collar, [10, -10, 10, -10, 10, 0], steps_per_yield=40)
     r = response(collar, rows)
     v2 = rows[:, 4]
@@ -243,6 +247,41 @@ def test_cyclic_slip_dissipation_equals_the_lateral_loop_area():
     dissipated = r["plastic_work"][k1] - r["plastic_work"][k0]
     dU = r["elastic_energy"][k1] - r["elastic_energy"][k0]
     assert dissipated > 0 and dissipated == pytest.approx(area - dU, rel=0.01)
+
+
+def _menegotto_pinto(eps, eps_r, sig_r, eps_0, sig_0, b, R):
+    """The Menegotto-Pinto curve between a reversal (eps_r, sig_r) and the asymptotes'
+    intersection (eps_0, sig_0): sigma* = b eps* + (1 - b) eps* / (1 + |eps*|^R)^(1/R)."""
+    x = (eps - eps_r) / (eps_0 - eps_r)
+    return sig_r + (sig_0 - sig_r) * (b * x + (1 - b) * x / (1 + np.abs(x) ** R) ** (1 / R))
+
+
+def test_menegotto_pinto_steel_follows_its_curves_and_rounds_the_reversal():
+    """Axial loading to 5 eps_y and back to -5 eps_y with the Menegotto-Pinto steel (OpenSees
+    Steel02, no isotropic hardening): the first branch is the curve from the origin with
+    R = R0, through (eps_y, f_y) asymptotes; the reversal branch starts at the turning point
+    with the new intersection eps_0 = (-f_y + E_h eps_y - sigma_r + E eps_r) / (E - E_h) and
+    R = R0 (1 - cR1 xi / (cR2 + xi)), xi = |eps_min - eps_0| / eps_y (Filippou et al. 1983);
+    it leaves the elastic line well before the bilinear law's 2 f_y (the Bauschinger effect)."""
+    collar = Collar(**BAND, steel="menegotto-pinto")
+    E, fy, ey = collar.E, collar.fy, collar.yield_strain
+    b = collar.hardening_modulus / E
+    rows = _axial(collar, [5 * ey, -5 * ey], steps_per_yield=100)
+    strain = rows[:, 3] / L
+    stress = response(collar, rows)["N"] / collar.area
+    top = int(np.argmax(strain))
+    first = _menegotto_pinto(strain[: top + 1], 0.0, 0.0, ey, fy, b, collar.R0)
+    assert np.abs(stress[: top + 1] - first).max() < 1e-9 * fy
+    eps_r, sig_r = strain[top], stress[top]
+    eps_0 = (-fy + b * E * ey - sig_r + E * eps_r) / (E - b * E)
+    sig_0 = -fy + b * E * (eps_0 + ey)
+    xi = abs(-ey - eps_0) / ey  # from the least strain yet, -eps_y (Steel02's eps_pl)
+    R = collar.R0 * (1 - collar.cR1 * xi / (collar.cR2 + xi))
+    second = _menegotto_pinto(strain[top:], eps_r, sig_r, eps_0, sig_0, b, R)
+    assert np.abs(stress[top:] - second).max() < 1e-9 * fy
+    elastic = sig_r + E * (strain[top:] - eps_r)
+    leaves = np.argmax(stress[top:] - elastic > 0.02 * fy)  # softer than the elastic line
+    assert 0 < sig_r - stress[top + leaves] < 1.5 * fy
 
 
 def test_trial_calls_leave_the_committed_state_alone():
@@ -355,6 +394,8 @@ def test_defaults_within_two_percent_of_the_converged_collar():
         ("section", "beam", "section"),
         ("steel", "steel02", "steel"),
         ("isotropic", 1.5, "isotropic"),
+        ("R0", 0.5, "R0"),
+        ("cR2", 0.0, "cR2"),
     ],
 )
 def test_bad_fibre_fields_name_themselves(field, value, words):
@@ -397,3 +438,41 @@ def test_collar_command_writes_the_response_and_names_bad_input(tmp_path, capsys
     assert "lacks column(s) v2, r2" in capsys.readouterr().err
     assert main(["collar", *flags, "--n-sections", "40", str(history)]) == 2
     assert "n_sections = 40" in capsys.readouterr().err
+
+
+def test_state_rows_are_sized_by_the_largest_law():
+    """The state array of a set of collars has the row its largest collar needs: the header
+    for resultant collars, the sections' and fibres' histories for fibre collars (3 numbers a
+    bilinear fibre, 10 a Menegotto-Pinto one)."""
+    from colonna.core.collar_law import STATE_SIZE
+    from colonna.core.fibre import HEADER, SECTION_SIZE
+
+    elastic = Collar(**{**BAND, "plastic": False})
+    resultant = Collar(**BAND, section="resultant")
+    bilinear = Collar(**BAND, n_sections=4, n_fibres=6)
+    steel02 = Collar(**BAND, n_sections=3, n_fibres=8, steel="menegotto-pinto")
+    assert elastic.state_size() == resultant.state_size() == STATE_SIZE == HEADER
+    assert bilinear.state_size() == HEADER + 4 * SECTION_SIZE + 3 * 4 * 6
+    assert steel02.state_size() == HEADER + 3 * SECTION_SIZE + 10 * 3 * 8
+    laws = np.array([c.law() for c in (elastic, bilinear, steel02)])
+    assert state_size(laws) == max(bilinear.state_size(), steel02.state_size())
+    assert state_size(np.zeros((0, 24))) == STATE_SIZE
+
+
+@pytest.mark.parametrize("Eh", [None, 0.0])
+def test_coarse_random_histories_converge(Eh):
+    """Steps of several first-yield slips and rotations in random directions, with hardening
+    and without (a perfectly plastic section): every step converges (a step that did not would
+    be NaN) and the work of the end forces is the elastic energy plus the plastic work."""
+    collar = Collar(**{**BAND, "eps_u": 1.0}, Eh=Eh, n_sections=5, n_fibres=10)
+    dy = collar.yield_displacement()
+    rng = np.random.default_rng(2)
+    scale = np.array([2e-4, 5 * dy, 0.006, 2e-4, 5 * dy, 0.006])
+    rows = np.cumsum(rng.normal(size=(20, 6)) * scale, axis=0)
+    r = response(collar, np.vstack((np.zeros(6), rows)))
+    assert all(np.isfinite(r[name]).all() for name in ("N", "M1", "M2", "plastic_work"))
+    forces = np.column_stack([r[k] for k in ("F1x", "F1y", "M1", "F2x", "F2y", "M2")])
+    path = np.vstack((np.zeros(6), rows))
+    work = np.sum(0.5 * (forces[1:] + forces[:-1]) * np.diff(path, axis=0))
+    # the co-rotational transformation is exact only in the limit of small steps: 2 %
+    assert work == pytest.approx(r["elastic_energy"][-1] + r["plastic_work"][-1], rel=0.02)

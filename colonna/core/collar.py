@@ -22,7 +22,7 @@ THICKEST = 1.0  # m: the largest section thickness t and height h
 SPAN = (1e-3, 100.0)  # m: the shortest and longest span L (E A / L overflows below)
 STIFFEST = 1e14  # Pa: the largest E (100 times diamond's)
 MAX_FIBRES = 200  # layers of a fibre section (past it the cost grows, not the accuracy)
-STEELS = ("bilinear",)  # the fibres' uniaxial laws (colonna.core.fibre)
+STEELS = ("bilinear", "menegotto-pinto")  # the fibres' uniaxial laws (colonna.core.fibre)
 MAX_SECTIONS = 30  # Gauss-Lobatto sections of a fibre collar (colonna.core.fibre's tables)
 
 
@@ -61,8 +61,17 @@ class Collar:
     section: str | None = None
     n_fibres: int = 20  # layers across the depth h (fibre section), 2 .. MAX_FIBRES
     n_sections: int = 10  # Gauss-Lobatto sections along the span (fibre section), 2 .. 30
-    steel: str = "bilinear"  # the fibres' law: bilinear (E, fy, Eh)
-    isotropic: float = 0.0  # share of the hardening that is isotropic (0: kinematic, 1)
+    steel: str = "bilinear"  # the fibres' law: "bilinear" (E, fy, Eh) or "menegotto-pinto"
+    isotropic: float = 0.0  # bilinear: share of the hardening that is isotropic (0: kinematic)
+    # menegotto-pinto (OpenSees Steel02): the curvature R0 and its decay cR1, cR2; isotropic
+    # hardening a1, a2 (compression), a3, a4 (tension), 0 (none) by default
+    R0: float = 20.0
+    cR1: float = 0.925
+    cR2: float = 0.15
+    a1: float = 0.0
+    a2: float = 1.0
+    a3: float = 0.0
+    a4: float = 1.0
 
     def __post_init__(self):
         require_range("collar y (height, m)", self.y, LOWEST, math.inf, closed_low=True)
@@ -120,6 +129,25 @@ class Collar:
             closed_low=True,
             closed_high=True,
         )
+        if self.steel == "menegotto-pinto":
+            if self.isotropic != 0.0:
+                raise InputError(
+                    "collar isotropic applies to the bilinear steel: the Menegotto-Pinto "
+                    "steel's isotropic hardening is a1 .. a4"
+                )
+            if self.hardening_modulus <= 0.0:
+                raise InputError(
+                    "collar Eh must be > 0 for the Menegotto-Pinto steel (its b = Eh / E)"
+                )
+
+        require_range("collar R0 (Menegotto-Pinto curvature)", self.R0, 1.0, 100.0,
+                      closed_low=True, closed_high=True)  # fmt: skip
+        require_range("collar cR1", self.cR1, 0.0, 1.0, closed_low=True)
+        require_positive("collar cR2", self.cR2)
+        require_non_negative("collar a1", self.a1)
+        require_positive("collar a2", self.a2)
+        require_non_negative("collar a3", self.a3)
+        require_positive("collar a4", self.a4)
 
     @property
     def local_law(self) -> str:
@@ -199,18 +227,21 @@ class Collar:
         if self.local_law != "fibre":
             return resultant + (float(RESULTANT),) + (0.0,) * (LAW_SIZE - len(resultant) - 1)
         h = self.plastic_modulus
-        fibre = (
+        mp = self.steel == "menegotto-pinto"
+        fibre: tuple[float, ...] = (
             float(FIBRE),
             float(self.n_sections),
             float(self.n_fibres),
             self.E,
             self.fy,
-            (1.0 - self.isotropic) * h,
-            self.isotropic * h,
+            self.hardening_modulus if mp else (1.0 - self.isotropic) * h,
+            0.0 if mp else self.isotropic * h,
             self.h,
             self.t,
             float(STEELS.index(self.steel)),
         )
+        if mp:
+            fibre += (self.R0, self.cR1, self.cR2, self.a1, self.a2, self.a3, self.a4)
         return resultant + fibre + (0.0,) * (LAW_SIZE - len(resultant) - len(fibre))
 
     def state_size(self) -> int:
@@ -311,9 +342,10 @@ def response(collar: Collar, history) -> dict:
     in the collar's initial axes (end 1 at the origin, end 2 at (L, 0), L = ``collar.length``),
     from the unstressed (but pretensioned) collar, each row committed in turn. The co-rotational
     kinematics and local law are the models'
-    (:func:`colonna.core.collar_law.history_response`). Returns a dict of arrays, one value
-    per row (RESPONSE_FIELDS); the resultant law's fibre stress is the elastic |N|/A + |M|/W
-    capped at f_y + H alpha (:meth:`Collar.fibre_stress`)."""
+    (:func:`colonna.core.collar_law.history_response`); the plastic work is the trapezoid
+    rule's (docs/collars.md): drive it in steps of a fraction of the first-yield slip. Returns
+    a dict of arrays, one value per row (RESPONSE_FIELDS); the resultant law's fibre stress
+    is the elastic |N|/A + |M|/W capped at f_y + H alpha (:meth:`Collar.fibre_stress`)."""
     from .collar_law import history_response, state_size
 
     if collar.length is None:

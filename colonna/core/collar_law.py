@@ -40,8 +40,9 @@ deformations (entries 7-9), as a history's replay at the recorded positions does
 
 LAW_KIND = 7
 """Place in the law row of the law's kind: RESULTANT (0) or FIBRE (1); then (fibre law) the
-number of sections, of fibres, E (Pa), f_y (Pa), H_kin, H_iso (Pa), the depth h and thickness t
-(m), the steel (0: bilinear), and 7 places kept for a Menegotto-Pinto steel's parameters."""
+number of sections, of fibres, E (Pa), f_y (Pa), H_kin, H_iso (Pa; Menegotto-Pinto: E_h, 0), the
+depth h and thickness t (m), the steel (0: bilinear, 1: Menegotto-Pinto), and the
+Menegotto-Pinto steel's R0, cR1, cR2, a1, a2, a3, a4 (zeros for the bilinear)."""
 RESULTANT, FIBRE = 0, 1
 
 LAW_SIZE = 24
@@ -59,7 +60,7 @@ s_p / L, extreme-fibre strain, end rotations th1, th2 relative to the chord)."""
 def law_state_size(law) -> int:
     """Numbers in the state row of a collar of law row ``law``."""
     if int(law[LAW_KIND]) == FIBRE:
-        return fibre_state_size(int(law[8]), int(law[9]))
+        return fibre_state_size(int(law[8]), int(law[9]), int(law[16]))
     return STATE_SIZE
 
 

@@ -12,7 +12,11 @@ integration points). The state determination iterates from the committed state e
 (element flexibility F = int b^T f_s b dx, residual deformations r = f_s (b q - s_R) carried, as
 Spacone et al.) to a relative tolerance of 1e-12; the trial never touches the committed state
 unless ``commit``. Where the plain iteration does not converge in ``MAX_ITERATIONS`` the step is
-cut in 2, 4, ... 64 sub-steps.
+cut in 2, 4, ... 64 sub-steps; an update that increases the error is halved (backtracking),
+and the iterations' fibre moduli are floored at 1e-3 E (the stresses are not: the answer is the
+same), which keeps a perfectly plastic section (E_h = 0) from a singular flexibility. A step that
+still does not converge returns NaN and commits nothing: not an answer, which the solvers'
+checks for non-finite forces report.
 
 Section: the band's depth h cut into ``n_fibres`` equal layers (width t); plane sections,
 fibre strain eps = eps_0 + e_axis + y kappa (eps_0 = P / (E A): the pretension an initial
@@ -27,7 +31,8 @@ work is done, at M_y (h / 2) / y_1, 5 % later with 20 layers).
 
 Fibre: bilinear steel (E, f_y, E_h) with linear kinematic (H_kin, the Bauschinger effect: a
 reversal yields 2 f_y below the shifted centre) and isotropic (H_iso) hardening, H_kin + H_iso
-= E E_h / (E - E_h); backward-Euler return mapping, algorithmic tangent E_h past yield.
+= E E_h / (E - E_h); backward-Euler return mapping, algorithmic tangent E_h past yield. Or
+(law steel MENEGOTTO_PINTO) :func:`menegotto_pinto_stress`, OpenSees's Steel02.
 
 Energy: U = sum over the fibres of sigma^2 / (2 E) dV less the pretension's initial
 P^2 L / (2 E A) (the elastic energy; the kinematic hardening's stored energy counts as plastic
@@ -59,8 +64,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .collar import MAX_SECTIONS  # Gauss-Lobatto sections per element: 2 .. MAX_SECTIONS
-
+MAX_SECTIONS = 30  # Gauss-Lobatto sections per element: 2 .. (colonna.core.collar's limit)
 MAX_ITERATIONS = 60
 TOLERANCE = 1e-12
 
@@ -74,14 +78,19 @@ SURFACE = 15  # the largest surface strain |eps| of the committed state
 FLEXIBILITY = 16  # the committed element flexibility F00, F01, F02, F11, F12, F22: 16 .. 21
 HEADER = 22  # then SECTION_SIZE per section, then PER_FIBRE per fibre
 SECTION_SIZE = 6  # axis strain, curvature, flexibility f11, f12, f22, yielded (0 or 1)
-PER_FIBRE = 3  # plastic strain, back stress (Pa), accumulated plastic strain
+PER_FIBRE = 3  # bilinear: plastic strain, back stress (Pa), accumulated plastic strain
+PER_FIBRE_MP = 10  # Menegotto-Pinto: Steel02's history (eps_min, eps_max, eps_pl, eps_0,
+# sigma_0, eps_r, sigma_r, kon) and the committed strain and stress
+BILINEAR, MENEGOTTO_PINTO = 0, 1  # the law row's steel
 TOTALS = 7  # _solve's totals: energy, mean plastic strain, plastic rotations 1, 2 (element
 # axes), largest accumulated plastic strain, largest surface strain, largest surface stress
 
 
-def fibre_state_size(n_sections: int, n_fibres: int) -> int:
-    """Numbers in the state row of a fibre collar of n_sections sections of n_fibres fibres."""
-    return HEADER + SECTION_SIZE * n_sections + PER_FIBRE * n_sections * n_fibres
+def fibre_state_size(n_sections: int, n_fibres: int, steel: int = BILINEAR) -> int:
+    """Numbers in the state row of a fibre collar of n_sections sections of n_fibres fibres of
+    the steel law ``steel`` (BILINEAR or MENEGOTTO_PINTO)."""
+    per = PER_FIBRE if steel == BILINEAR else PER_FIBRE_MP
+    return HEADER + SECTION_SIZE * n_sections + per * n_sections * n_fibres
 
 
 def _lobatto_tables():
@@ -127,22 +136,116 @@ def bilinear_stress(eps, eps_p, back, alpha, E, fy, h_kin, h_iso):
 
 
 @njit(cache=True)
-def _section(i, e_axis, kappa, eps0, ys, area, base, E, fy, h_kin, h_iso, floor, result, write):
+def menegotto_pinto_stress(eps, base, k, E0, fy, b, R0, cR1, cR2, a1, a2, a3, a4):
+    """Menegotto-Pinto steel with Filippou's isotropic hardening, as OpenSees's Steel02 (the
+    FEDEAS Steel_2 of Mohd Yassin 1993; Filippou, Popov & Bertero 1983): from the committed
+    history base[k : k + 10] (zeros: virgin) to the total strain eps. Between reversals
+    sigma* = b eps* + (1 - b) eps* / (1 + |eps*|^R)^(1/R), eps* and sigma* normalised between
+    the last reversal (eps_r, sigma_r) and the intersection (eps_0, sigma_0) of the elastic
+    and hardening (slope b E0) asymptotes; R = R0 (1 - cR1 xi / (cR2 + xi)), xi the plastic
+    excursion in yield strains; a reversal shifts the hardening asymptote by a1 (a3) times f_y
+    times (the strain range / (2 a2 (a4) eps_y))^0.8. Returns (sigma, tangent, and the new
+    history: eps_min, eps_max, eps_pl, eps_0, sigma_0, eps_r, sigma_r, kon, eps, sigma)."""
+    epsmin, epsmax, epspl = base[k], base[k + 1], base[k + 2]
+    epss0, sigs0, epsr, sigr = base[k + 3], base[k + 4], base[k + 5], base[k + 6]
+    kon, eps_n, sig_n = base[k + 7], base[k + 8], base[k + 9]
+    esh = b * E0
+    epsy = fy / E0
+    deps = eps - eps_n
+    if kon == 0.0:
+        if abs(deps) < 10.0 * 2.220446049250313e-16:
+            sig = sig_n + E0 * deps
+            return sig, E0, epsmin, epsmax, epspl, epss0, sigs0, epsr, sigr, kon, eps, sig
+        epsmax = epsy
+        epsmin = -epsy
+        if deps < 0.0:
+            kon = 2.0
+            epss0 = epsmin
+            sigs0 = -fy
+            epspl = epsmin
+        else:
+            kon = 1.0
+            epss0 = epsmax
+            sigs0 = fy
+            epspl = epsmax
+    if kon == 2.0 and deps > 0.0:  # reversal to loading: tension side
+        kon = 1.0
+        epsr = eps_n
+        sigr = sig_n
+        epsmin = min(epsmin, eps_n)
+        shift = 1.0 + a3 * ((epsmax - epsmin) / (2.0 * a4 * epsy)) ** 0.8
+        epss0 = (fy * shift - esh * epsy * shift - sigr + E0 * epsr) / (E0 - esh)
+        sigs0 = fy * shift + esh * (epss0 - epsy * shift)
+        epspl = epsmax
+    elif kon == 1.0 and deps < 0.0:  # reversal to unloading: compression side
+        kon = 2.0
+        epsr = eps_n
+        sigr = sig_n
+        epsmax = max(epsmax, eps_n)
+        shift = 1.0 + a1 * ((epsmax - epsmin) / (2.0 * a2 * epsy)) ** 0.8
+        epss0 = (-fy * shift + esh * epsy * shift - sigr + E0 * epsr) / (E0 - esh)
+        sigs0 = -fy * shift + esh * (epss0 + epsy * shift)
+        epspl = epsmin
+    xi = abs((epspl - epss0) / epsy)
+    R = R0 * (1.0 - cR1 * xi / (cR2 + xi))
+    ratio = (eps - epsr) / (epss0 - epsr)
+    dum1 = 1.0 + abs(ratio) ** R
+    dum2 = dum1 ** (1.0 / R)
+    sig = (b * ratio + (1.0 - b) * ratio / dum2) * (sigs0 - sigr) + sigr
+    tangent = (b + (1.0 - b) / (dum1 * dum2)) * (sigs0 - sigr) / (epss0 - epsr)
+    return sig, tangent, epsmin, epsmax, epspl, epss0, sigs0, epsr, sigr, kon, eps, sig
+
+
+@njit(cache=True)
+def _fibre(mat, eps, base, k, write, keep):
+    """A fibre of the steel of mat (the law row from its E: E, f_y, H_kin or E_h, H_iso, h, t,
+    steel, R0, cR1, cR2, a1 .. a4) at the total strain eps from its history base[k:]; with
+    keep its new history goes into write[k:]. Returns (sigma, tangent, plastic strain,
+    accumulated plastic strain (Menegotto-Pinto: |sigma / E - eps|))."""
+    E = mat[0]
+    if mat[6] == BILINEAR:
+        sig, tangent, ep, bk, al = bilinear_stress(
+            eps, base[k], base[k + 1], base[k + 2], E, mat[1], mat[2], mat[3]
+        )
+        if keep:
+            write[k] = ep
+            write[k + 1] = bk
+            write[k + 2] = al
+        return sig, tangent, ep, al
+    r = menegotto_pinto_stress(
+        eps, base, k, E, mat[1], mat[2] / E, mat[7], mat[8], mat[9], mat[10], mat[11],
+        mat[12], mat[13]
+    )  # fmt: skip
+    if keep:
+        for m in range(PER_FIBRE_MP):
+            write[k + m] = r[2 + m]
+    ep = eps - r[0] / E
+    return r[0], r[1], ep, abs(ep)
+
+
+@njit(cache=True)
+def _section(i, e_axis, kappa, eps0, ys, area, base, mat, per, floor, result, write):
     """Section i at deformation (e_axis, kappa), its fibres from their histories in base (their
     new ones written into write): result = (N, M, flexibility f11, f12, f22 of the tangent, its
     fibre moduli floored at ``floor``, energy per length sum sigma^2 A / (2E), 0, mean plastic
     strain, plastic curvature, largest accumulated plastic strain)."""
     n_f = ys.size
+    E, fy, h_kin, h_iso = mat[0], mat[1], mat[2], mat[3]
+    bilinear = mat[6] == BILINEAR
     N = M = k11 = k12 = k22 = energy = mean_p = curv_p = amax = yy = 0.0
     for j in range(n_f):
         y = ys[j]
-        k = (i * n_f + j) * PER_FIBRE
-        sig, tangent, ep, bk, al = bilinear_stress(
-            eps0 + e_axis + y * kappa, base[k], base[k + 1], base[k + 2], E, fy, h_kin, h_iso
-        )
-        write[k] = ep
-        write[k + 1] = bk
-        write[k + 2] = al
+        eps = eps0 + e_axis + y * kappa
+        k = (i * n_f + j) * per
+        if bilinear:  # inline: the common case
+            sig, tangent, ep, bk, al = bilinear_stress(
+                eps, base[k], base[k + 1], base[k + 2], E, fy, h_kin, h_iso
+            )
+            write[k] = ep
+            write[k + 1] = bk
+            write[k + 2] = al
+        else:
+            sig, tangent, ep, al = _fibre(mat, eps, base, k, write, True)
         tangent = max(tangent, floor)
         N += sig * area
         M += sig * y * area
@@ -168,21 +271,28 @@ def _section(i, e_axis, kappa, eps0, ys, area, base, E, fy, h_kin, h_iso, floor,
 
 
 @njit(cache=True)
-def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E, fy, h_kin,
-           h_iso, floor, depth, F, totals, section, residual):  # fmt: skip
+def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, mat, per, floor,
+           depth, F, totals, section, residual):  # fmt: skip
     """Iterate the element from (q, e) (updated in place; flex: the sections' flexibilities
     for the updates, refreshed by each pass) to compatibility with the basic deformations v,
     the fibres from their histories in base (their trial histories into write). A section
     that never yielded (yielded[i] == 0) and stays elastic is done in closed form (its layers'
     sums: A, 0, I). The converged pass leaves its element flexibility in F (F00, F01, F02, F11,
     F12, F22), yielded set where a section's fibres have yielded, and the TOTALS in totals.
-    section (10) and residual (n_s, 2): work arrays. Returns True when converged."""
+    section (10) and residual (n_s, 4): work arrays. An update that leaves the compatibility
+    error larger than before it is halved (up to 8 times; a backtracking line search).
+    Returns True when converged."""
     n_s = xs.size
     n_f = ys.size
+    E, fy = mat[0], mat[1]
+    bilinear = mat[6] == BILINEAR
     ea = area * n_f * E
     ei = E * depth**3 * area * n_f / (12.0 * depth)
     y1 = ys[n_f - 1]
     scale = fy / E + abs(v[0]) / span + abs(v[1]) + abs(v[2])
+    previous = np.inf  # the error before the last update, and the halvings of that update
+    cuts = 0
+    dq0 = dq1 = dq2 = 0.0
     for _ in range(MAX_ITERATIONS):
         F00 = F01 = F02 = F11 = F12 = F22 = 0.0
         vr0 = vr1 = vr2 = 0.0
@@ -191,7 +301,7 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
             x = xs[i]
             w = ws[i] * span
             axis = eps0 + e[i, 0]
-            elastic = yielded[i] == 0.0 and E * (abs(axis) + y1 * abs(e[i, 1])) <= fy
+            elastic = bilinear and yielded[i] == 0.0 and E * (abs(axis) + y1 * abs(e[i, 1])) <= fy
             if elastic:  # closed form; its fibres' histories stay zero
                 section[0] = ea * axis
                 section[1] = ei * e[i, 1]
@@ -200,12 +310,12 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
                 section[4] = 1.0 / ei
                 section[5] = 0.5 * (ea * axis * axis + ei * e[i, 1] * e[i, 1])
                 section[7] = section[8] = section[9] = 0.0
-                start = i * n_f * PER_FIBRE
-                for k in range(start, start + n_f * PER_FIBRE):  # an earlier pass's trial
+                start = i * n_f * per
+                for k in range(start, start + n_f * per):  # an earlier pass's trial
                     write[k] = base[k]
             else:
-                _section(i, e[i, 0], e[i, 1], eps0, ys, area, base, E, fy, h_kin, h_iso,
-                         floor, section, write)  # fmt: skip
+                _section(i, e[i, 0], e[i, 1], eps0, ys, area, base, mat, per, floor, section,
+                         write)  # fmt: skip
             f11, f12, f22 = section[2], section[3], section[4]
             flex[i, 0] = f11
             flex[i, 1] = f12
@@ -242,10 +352,8 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
                 if elastic:
                     smax = max(smax, E * abs(eps))
                 else:
-                    k = (i * n_f + side * (n_f - 1)) * PER_FIBRE
-                    sig = bilinear_stress(
-                        eps, base[k], base[k + 1], base[k + 2], E, fy, h_kin, h_iso
-                    )[0]
+                    k = (i * n_f + side * (n_f - 1)) * per
+                    sig = _fibre(mat, eps, base, k, write, False)[0]
                     smax = max(smax, abs(sig))
         d0 = v[0] - vr0
         d1 = v[1] - vr1
@@ -260,13 +368,30 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
             totals[5] = surface
             totals[6] = smax
             for i in range(n_s):
-                if yielded[i] == 0.0:
-                    first = i * n_f * PER_FIBRE
+                if bilinear and yielded[i] == 0.0:
+                    first = i * n_f * per
                     for k in range(n_f):
-                        if write[first + k * PER_FIBRE + 2] > 0.0:
+                        if write[first + k * per + 2] > 0.0:
                             yielded[i] = 1.0
                             break
             return True
+        error = max(abs(d0) / span, abs(d1), abs(d2), worst / span)
+        if error > previous and cuts < 8:  # worse than before the last update: halve it
+            cuts += 1
+            dq0 *= 0.5
+            dq1 *= 0.5
+            dq2 *= 0.5
+            q[0] -= dq0
+            q[1] -= dq1
+            q[2] -= dq2
+            for i in range(n_s):
+                residual[i, 2] *= 0.5
+                residual[i, 3] *= 0.5
+                e[i, 0] -= residual[i, 2]
+                e[i, 1] -= residual[i, 3]
+            continue
+        cuts = 0
+        previous = error
         dq0, dq1, dq2 = _solve3(F00, F01, F02, F11, F12, F22, d0, d1, d2)
         if not (abs(dq0) < np.inf and abs(dq1) < np.inf and abs(dq2) < np.inf):
             return False
@@ -276,8 +401,10 @@ def _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
         for i in range(n_s):
             x = xs[i]
             dM = (x - 1.0) * dq1 + x * dq2
-            e[i, 0] += residual[i, 0] + flex[i, 0] * dq0 + flex[i, 1] * dM
-            e[i, 1] += residual[i, 1] + flex[i, 1] * dq0 + flex[i, 2] * dM
+            residual[i, 2] = residual[i, 0] + flex[i, 0] * dq0 + flex[i, 1] * dM
+            residual[i, 3] = residual[i, 1] + flex[i, 1] * dq0 + flex[i, 2] * dM
+            e[i, 0] += residual[i, 2]
+            e[i, 1] += residual[i, 3]
     return False
 
 
@@ -346,7 +473,7 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
         )
     n_s = int(law[8])
     n_f = int(law[9])
-    E, fy, h_kin, h_iso, depth, width = law[10], law[11], law[12], law[13], law[14], law[15]
+    E, depth, width = law[10], law[14], law[15]
     eps_u = law[6]
     inertia = width * depth**3 / 12.0
     rho = math.sqrt(ei_l * span / (E * inertia))
@@ -355,13 +482,15 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
     spread = 1.0 / math.sqrt(1.0 - 1.0 / (n_f * n_f))
     xs = LOBATTO_POINTS[n_s, :n_s]
     ws = LOBATTO_WEIGHTS[n_s, :n_s]
-    floor = 1e-6 * E
+    floor = 1e-3 * E  # the iterations' least fibre modulus (E_h = 0: no singular section)
     sections = HEADER + SECTION_SIZE * n_s
-    size = PER_FIBRE * n_s * n_f
+    mat = law[10:24]
+    per = PER_FIBRE if law[16] == BILINEAR else PER_FIBRE_MP
+    size = per * n_s * n_f
     if state.shape[1] < sections + size:
         raise ValueError("a fibre collar's state row is short: size it with state_size(laws)")
     # one work array (an allocation costs as much as a section), cut into the trial's arrays
-    work = np.empty(n_f + 37 + TOTALS + 13 * n_s + size)
+    work = np.empty(n_f + 37 + TOTALS + 15 * n_s + size)
     ys = work[:n_f]
     o = n_f
     F0, F, q0, q, v_n, v, last = (
@@ -380,8 +509,8 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
     o += TOTALS
     e0 = work[o : o + 2 * n_s].reshape((n_s, 2))
     e = work[o + 2 * n_s : o + 4 * n_s].reshape((n_s, 2))
-    residual = work[o + 4 * n_s : o + 6 * n_s].reshape((n_s, 2))
-    o += 6 * n_s
+    residual = work[o + 4 * n_s : o + 8 * n_s].reshape((n_s, 4))
+    o += 8 * n_s
     flex0 = work[o : o + 3 * n_s].reshape((n_s, 3))
     flex = work[o + 3 * n_s : o + 6 * n_s].reshape((n_s, 3))
     o += 6 * n_s
@@ -423,8 +552,8 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
     e[:] = e0
     flex[:] = flex0
     _predict(v, v_n, q, e, flex, xs, F0)
-    converged = _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, E,
-                       fy, h_kin, h_iso, floor, depth, F, totals, section, residual)  # fmt: skip
+    converged = _solve(v, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys, area, mat,
+                       per, floor, depth, F, totals, section, residual)  # fmt: skip
     steps = 1
     while not converged and steps < 64:  # cut the step: sub-steps along the straight path
         steps *= 2
@@ -441,13 +570,15 @@ def fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
             target = v_n + (v - v_n) * (k / steps)
             _predict(target, last, q, e, flex, xs, F)
             if not _solve(target, q, e, flex, yielded, base, write, xs, ws, span, eps0, ys,
-                          area, E, fy, h_kin, h_iso, floor, depth, F, totals, section,
+                          area, mat, per, floor, depth, F, totals, section,
                           residual):  # fmt: skip
                 converged = False
                 break
             last[:] = target
             if k < steps:
                 base[:] = write
+    if not converged:  # not an answer: say so (the solvers stop on a non-finite force)
+        return np.nan, np.nan, np.nan, np.nan, np.nan, np.nan
     energy = totals[0] - 0.5 * pretension * eps0 * span
     mean_p = totals[1]
     surface = totals[5]
