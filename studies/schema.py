@@ -303,7 +303,9 @@ class Collar(Table):
     )
     steel: Literal[STEELS] = Field(  # type: ignore[valid-type]
         "bilinear",
-        description="Uniaxial law of a fibre collar's steel: 'bilinear' (E, fy, Eh).",
+        description="Uniaxial law of a fibre collar's steel: 'bilinear' (E, fy, Eh, with "
+        "kinematic and isotropic hardening) or 'menegotto-pinto' (OpenSees's Steel02: E, fy, "
+        "b = Eh / E, the curvature R0, cR1, cR2 and the isotropic hardening a1 .. a4).",
     )
     isotropic: float = quantity(
         "-",
@@ -313,6 +315,49 @@ class Collar(Table):
         0.0,
         ge=0,
         le=1,
+    )
+    R0: float = quantity(
+        "-",
+        "Menegotto-Pinto steel: the curvature of the transition from elastic to plastic, 1 to "
+        "100 (OpenSees Steel02's R0).",
+        CollarLaw.R0,
+        ge=1,
+        le=100,
+    )
+    cR1: float = quantity(
+        "-",
+        "Menegotto-Pinto steel: R's decay with the plastic excursion xi, R = R0 (1 - cR1 xi / "
+        "(cR2 + xi)), 0 to below 1.",
+        CollarLaw.cR1,
+        ge=0,
+        lt=1,
+    )
+    cR2: float = quantity(
+        "-", "Menegotto-Pinto steel: R's decay constant cR2, above 0.", CollarLaw.cR2, gt=0
+    )
+    a1: float = quantity(
+        "-",
+        "Menegotto-Pinto steel: isotropic hardening in compression, the shift a1 (0: none).",
+        CollarLaw.a1,
+        ge=0,
+    )
+    a2: float = quantity(
+        "-",
+        "Menegotto-Pinto steel: isotropic hardening in compression, the strain scale a2.",
+        CollarLaw.a2,
+        gt=0,
+    )
+    a3: float = quantity(
+        "-",
+        "Menegotto-Pinto steel: isotropic hardening in tension, the shift a3 (0: none).",
+        CollarLaw.a3,
+        ge=0,
+    )
+    a4: float = quantity(
+        "-",
+        "Menegotto-Pinto steel: isotropic hardening in tension, the strain scale a4.",
+        CollarLaw.a4,
+        gt=0,
     )
 
     @staticmethod
