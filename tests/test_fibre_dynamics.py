@@ -208,12 +208,6 @@ def test_fem_restart_carries_a_fibre_collars_state():
         assert second.history[key][-1] == pytest.approx(whole.history[key][-1], rel=1e-6)
 
 
-@pytest.mark.xfail(
-    strict=False,
-    reason="since h36a's 0be1cdb (a fibre step that does not converge gives NaN) the multibody "
-    "run of default-top-load with fibre collars goes unstable at t = 0.70 s (it ran to its "
-    "overturning at 1.034 s before, ductility demand 12.1): the fibre law's convergence",
-)
 def test_multibody_default_top_load_with_fibre_collars_runs_to_its_overturning():
     """The shipped default-top-load column with its three collars plastic (fibre sections,
     the default law): the multibody run reaches its overturning (1.034 s with either law),

@@ -658,12 +658,6 @@ def _plastic_crosscheck(root, eps_u=None, section="resultant"):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=False,
-    reason="since h36a's 0be1cdb (a fibre step that does not converge gives NaN) this tiny "
-    "study's multibody run goes unstable at t = 0.341 s whatever dt (it passed before): the "
-    "fibre law's convergence, to fix in colonna.core.fibre",
-)
 def test_the_crosscheck_report_of_a_fibre_collar(tmp_path):
     """The tiny cross-check's plastic collar with the fibre section (its default law): the
     summary names the law, the collar yields (its stress is its largest fibre's, at least
