@@ -666,7 +666,7 @@ Collars = namedtuple("Collars", ["nodes", "props"])
 
 CollarState = namedtuple("CollarState", ["out", "plastic"])
 """Per state: collar_forces' outputs (B, n_collars, collar_law.OUT_SIZE) and plastic state
-(B, n_collars, collar_law.STATE_SIZE)."""
+(B, n_collars, Model.collar_state_size: the largest row the collars' laws need)."""
 
 EdgeAverage = namedtuple("EdgeAverage", ["weights", "buffer", "position", "sums", "peak"])
 """The toe resultants weights . base_fn (weights (n_edges, n_base), shared) averaged over the

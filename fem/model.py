@@ -24,7 +24,7 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse.linalg import ArpackError, eigsh
 
-from ..core.collar_law import LAW_SIZE, OUT_SIZE, STATE_SIZE
+from ..core.collar_law import LAW_SIZE, OUT_SIZE, state_size
 from ..core.constants import STANDARD_GRAVITY
 from ..core.errors import InputError, require_non_negative, require_range
 from ..meshes.column import ColumnMesh
@@ -116,13 +116,23 @@ class Model:
     base_tributary: np.ndarray = field(repr=False)
     crack_passes: list = field(repr=False)  # [(slaves, masters, sign, kn, kt, cn)]
     collar_nodes: np.ndarray = field(repr=False)  # (n_collars, 6) int
-    collar_props: np.ndarray = field(repr=False)  # (n_collars, 10), see _kernels
+    collar_props: np.ndarray = field(repr=False)  # (n_collars, 7 + LAW_SIZE), see _kernels
     top_load: float = 0.0  # N, on the capital (see build_model)
     bed: Bed = DEFAULT_BED  # the base's stiffness per unit area (see build_model)
 
     @property
     def n_dofs(self) -> int:
         return self.X.size
+
+    @property
+    def collar_state_size(self) -> int:
+        """Numbers per collar in the collars' plastic state (a row as long as the largest
+        their laws need: colonna.core.collar_law)."""
+        return state_size(self.collar_props[:, 7:])
+
+    def collar_rest_state(self) -> np.ndarray:
+        """The collars' plastic state at rest, (n_collars, collar_state_size), zeros."""
+        return np.zeros((self.collar_nodes.shape[0], self.collar_state_size))
 
     @property
     def node_mass(self) -> np.ndarray:
@@ -375,7 +385,7 @@ def collar_stiffness(model: Model, h: float = 1e-7) -> sparse.csr_matrix:
     )
     x = model.X.copy()
     out = np.zeros((model.collar_nodes.shape[0], OUT_SIZE))
-    state = np.zeros((model.collar_nodes.shape[0], STATE_SIZE))
+    state = model.collar_rest_state()
     cols = []
     step = h * model.mesh.width
     for d in dofs:

@@ -38,8 +38,9 @@ from scipy.sparse.linalg import spsolve
 from tqdm import tqdm
 
 from ..core.collar import collar_strain_summary
-from ..core.collar_law import FIBRE_STRAIN, FRACTURED, OUT_SIZE, STATE_SIZE
+from ..core.collar_law import FIBRE_STRAIN, FRACTURED, OUT_SIZE
 from ..core.errors import InputError, require_positive, require_range
+from ..core.fibre import STRESS as FIBRE_STRESS
 from ..core.ground import NO_MOTION, GroundMotion, require_motion
 from ..core.quantities import quantity, to_dict, typed_result
 from . import _kernels as K
@@ -227,7 +228,7 @@ def static_state(model: Model):
         model.collar_props,
         out,
         f,  # pretension
-        np.zeros((model.collar_nodes.shape[0], STATE_SIZE)),
+        model.collar_rest_state(),
         False,
     )
     u = spsolve(total, f)
@@ -728,7 +729,7 @@ def _initial_state(
     contact = {
         "base_fc": np.zeros(model.base_nodes.size),
         "crack_fc": [np.zeros(p[0].size) for p in model.crack_passes],
-        "collar_state": np.zeros((model.collar_nodes.shape[0], STATE_SIZE)),
+        "collar_state": model.collar_rest_state(),
     }
     if initial_state is not None:
         if initial_tilt != 0.0 or initial_angular_velocity != 0.0:
@@ -780,12 +781,13 @@ def _restore_contact(model, state: dict) -> dict:
     out = {"base_ft": base[0], "base_fc": base[1], "crack_ft": passes[0], "crack_fc": passes[1]}
     if "collar_state" in state:  # the plastic state of the collars
         collar_state = np.asarray(state["collar_state"], dtype=float)
-        shape = (model.collar_nodes.shape[0], STATE_SIZE)
+        shape = (model.collar_nodes.shape[0], model.collar_state_size)
         if collar_state.shape != shape:
             raise InputError(
                 f"run initial_contact: collar_state must have shape {shape} (per collar: "
                 f"plastic elongation, accumulated plastic strain, plastic work, two hinge "
-                f"rotations), got {collar_state.shape}"
+                f"rotations, largest fibre strain, fractured, then what its law keeps), "
+                f"got {collar_state.shape}"
             )
         out["collar_state"] = collar_state
     return out
@@ -862,7 +864,8 @@ class _BatchState:
         self.crack_states = tuple(contact_state(crack.nodes.size) for crack in self.cracks)
         n_collars = model.collar_nodes.shape[0]
         self.collars = K.CollarState(
-            np.zeros((batch, n_collars, OUT_SIZE)), np.zeros((batch, n_collars, STATE_SIZE))
+            np.zeros((batch, n_collars, OUT_SIZE)),
+            np.zeros((batch, n_collars, model.collar_state_size)),
         )
         self.collar_model = K.Collars(model.collar_nodes, model.collar_props)
         self.edge = K.EdgeAverage(
@@ -1165,7 +1168,11 @@ class _Recorder:
         for k, collar in enumerate(model.collars, start=1):
             N, M1, M2 = collar_out[k - 1, :3]
             moment = max(abs(M1), abs(M2))
-            stress = collar.fibre_stress(N, moment, collar_state[k - 1, 1])
+            if collar.local_law == "fibre":  # its largest fibre stress (0 once broken)
+                broken = collar_state[k - 1, FRACTURED] != 0.0
+                stress = 0.0 if broken else collar_state[k - 1, FIBRE_STRESS]
+            else:
+                stress = collar.fibre_stress(N, moment, collar_state[k - 1, 1])
             row[f"collar_{k}_axial_force"] = N
             row[f"collar_{k}_moment"] = moment
             row[f"collar_{k}_stress"] = stress

@@ -31,10 +31,14 @@ from collections import namedtuple
 import numpy as np
 from numba import njit, prange
 
-from ..core.collar_law import OUT_SIZE, RECORDED, STATE_SIZE, frame_local_law
+from ..core.collar_law import FIBRE, LAW_KIND, OUT_SIZE, RECORDED, frame_local_law
+from ..core.fibre import STRESS as FIBRE_STRESS
 from ..core.tables import table_value
 
 N_RECORDED = len(RECORDED)  # plastic-state entries per collar in a history row
+N_COLLAR_COLS = OUT_SIZE + N_RECORDED
+"""Columns per collar in a history row: collar_forces' outputs at that time (OUT_SIZE), then
+its plastic state's RECORDED entries."""
 
 GROUND_NONE = 0
 GROUND_HARMONIC = 1
@@ -60,7 +64,7 @@ OUT_T = 0
 N_BODY_COLS = 6
 # after the body columns: kinetic, gravity, collar, dissipated, external work, crack normal
 # force, crack tangential force (N_TAIL columns), then per body its base normal and
-# tangential force, then per collar its plastic elongation (m) and accumulated plastic strain
+# tangential force, then per collar its N_COLLAR_COLS (outputs and recorded plastic state)
 N_TAIL = 7
 
 # The kernels' arguments travel in bundles (named tuples, which numba compiles as records of
@@ -78,9 +82,10 @@ Contacts = namedtuple("Contacts", ["a", "b", "pt", "face", "mu", "kind"])
 or against the face face[c] = (local x, outward sign, half length) of body b[c]; friction
 coefficient mu[c]; kind[c]: CONTACT_BASE or CONTACT_CRACK."""
 
-Collars = namedtuple("Collars", ["a", "b", "r", "props", "limits"])
-"""The collar elements (collar_forces' col_a, col_b, col_r, props) and limits[c] = (A, W, f_y,
-H or -1) of each (MultibodyColumn.col_limits)."""
+Collars = namedtuple("Collars", ["a", "b", "r", "props", "limits", "state_size"])
+"""The collar elements (collar_forces' col_a, col_b, col_r, props), limits[c] = (A, W, f_y,
+H or -1) of each (MultibodyColumn.col_limits) and the numbers per collar in their plastic
+state (MultibodyColumn.collar_state_size: as many as the largest of their laws needs)."""
 
 Ground = namedtuple("Ground", ["kind", "params", "times", "values", "end"])
 """The ground motion: kind (GROUND_NONE, GROUND_HARMONIC, GROUND_RECORD); params = (amplitude,
@@ -163,8 +168,9 @@ def bodies(mass, inertia, half, g) -> Bodies:
 
 
 @njit(cache=True)
-def new_scratch(n_bodies, n_contacts, n_collars):
-    """The work arrays of a step (:class:`Scratch`), collars' state at rest."""
+def new_scratch(n_bodies, n_contacts, n_collars, collar_state_size):
+    """The work arrays of a step (:class:`Scratch`), collars' state at rest (collar_state_size
+    numbers per collar)."""
     n_dof = 3 * n_bodies
     return Scratch(
         np.empty(n_dof),
@@ -180,7 +186,7 @@ def new_scratch(n_bodies, n_contacts, n_collars):
         np.zeros(n_contacts, dtype=np.int64),
         np.zeros(n_bodies, dtype=np.int64),
         np.zeros((n_collars, OUT_SIZE)),
-        np.zeros((n_collars, STATE_SIZE)),
+        np.zeros((n_collars, collar_state_size)),
     )
 
 
@@ -785,7 +791,7 @@ def simulate(q, v, bodies, contacts, collars, ground, settings, out, impacts):
     early_exit, impact_tol = settings.early_exit, settings.impact_tol
     nb = mass.size
     n_dof = 3 * nb
-    scratch = new_scratch(nb, contacts.a.size, collars.a.size)
+    scratch = new_scratch(nb, contacts.a.size, collars.a.size, collars.state_size)
     state = new_step_state(nb, contacts.a.size, impacts)
     col_out = scratch.col_out
     col_state = scratch.col_state
@@ -875,7 +881,9 @@ def simulate(q, v, bodies, contacts, collars, ground, settings, out, impacts):
                 abs(col_out[c, 0]) / col_limits[c, 0]
                 + max(abs(col_out[c, 1]), abs(col_out[c, 2])) / col_limits[c, 1]
             )
-            if col_limits[c, 3] >= 0.0:  # a plastic collar: its fibres on the hardening line
+            if collars.props[c, 5 + LAW_KIND] == FIBRE:  # its largest fibre stress
+                stress = col_state[c, FIBRE_STRESS]
+            elif col_limits[c, 3] >= 0.0:  # a plastic collar: its fibres on the hardening line
                 stress = min(stress, col_limits[c, 2] + col_limits[c, 3] * col_state[c, 1])
             max_util = max(max_util, stress / col_limits[c, 2])
             max_plastic = max(max_plastic, abs(col_out[c, 4]))
@@ -964,7 +972,8 @@ def _mechanical(q, v, bodies, collars, col_out, no_force, col_state):
 @njit(cache=True)
 def _write_row(out, row, t, q, v, bodies, collars, col_out, no_force, state, col_state):
     """History row ``row`` at time t: the bodies' state, the energies, state's tallies and
-    forces, and the collars' plastic state (the columns of N_BODY_COLS and N_TAIL)."""
+    forces, and per collar its outputs and recorded plastic state (the columns of N_BODY_COLS,
+    N_TAIL and N_COLLAR_COLS)."""
     mass, inertia, half, g = bodies.mass, bodies.inertia, bodies.half, bodies.g
     tallies, forces = state.tallies, state.forces
     nb = mass.size
@@ -991,10 +1000,12 @@ def _write_row(out, row, t, q, v, bodies, collars, col_out, no_force, state, col
     out[row, k0 + 4] = tallies[1]
     for k in range(forces.size):
         out[row, k0 + 5 + k] = forces[k]
-    k1 = k0 + 5 + forces.size  # then per collar its plastic state's RECORDED entries
+    k1 = k0 + 5 + forces.size  # then per collar its outputs and its state's RECORDED entries
     for c in range(col_state.shape[0]):
+        for k in range(OUT_SIZE):
+            out[row, k1 + N_COLLAR_COLS * c + k] = col_out[c, k]
         for k in range(N_RECORDED):
-            out[row, k1 + N_RECORDED * c + k] = col_state[c, RECORDED[k]]
+            out[row, k1 + N_COLLAR_COLS * c + OUT_SIZE + k] = col_state[c, RECORDED[k]]
 
 
 @njit(cache=True)
@@ -1119,7 +1130,7 @@ def spectrum_modes(
         ground = Ground(GROUND_HARMONIC, gpar, np.zeros(1), np.zeros(1), t_end)
         q = q0.copy()
         v = np.zeros_like(q0)
-        out = np.zeros((1, 1 + N_BODY_COLS * nb + N_TAIL + 2 * nb + N_RECORDED * collars.a.size))
+        out = np.zeros((1, 1 + N_BODY_COLS * nb + N_TAIL + 2 * nb + N_COLLAR_COLS * collars.a.size))
         impacts = np.zeros((1, 4))
         status, steps, rows, n_imp, reason, t_over, peak, it, util, _pl, _pw = simulate(
             q, v, bodies, contacts, collars, ground, run, out, impacts

@@ -34,7 +34,7 @@ from ..core.collar_law import (
     LAW_SIZE,
     OUT_SIZE,
     RECORDED,
-    STATE_SIZE,
+    state_size,
 )
 from ..core.errors import (
     InputError,
@@ -43,6 +43,7 @@ from ..core.errors import (
     require_positive,
     require_range,
 )
+from ..core.fibre import STRESS as FIBRE_STRESS
 from ..core.ground import NO_MOTION, GroundMotion, kernel_tables, require_motion
 from ..core.quantities import quantity, to_dict, typed_result
 from . import _multibody as K
@@ -111,6 +112,16 @@ class MultibodyColumn:
         ).reshape(-1, 4)
 
     @property
+    def collar_state_size(self) -> int:
+        """Numbers per collar in the collars' plastic state (a row as long as the largest
+        their laws need: colonna.core.collar_law)."""
+        return state_size(self.col_props[:, 5:])
+
+    def collar_rest_state(self) -> np.ndarray:
+        """The collars' plastic state at rest, (n_collars, collar_state_size), zeros."""
+        return np.zeros((self.col_a.size, self.collar_state_size))
+
+    @property
     def n_bodies(self) -> int:
         return self.mass.size
 
@@ -125,7 +136,14 @@ class MultibodyColumn:
             K.Contacts(
                 self.cand_a, self.cand_b, self.cand_pt, self.cand_face, self.cand_mu, self.cand_kind
             ),
-            K.Collars(self.col_a, self.col_b, self.col_r, self.col_props, self.col_limits),
+            K.Collars(
+                self.col_a,
+                self.col_b,
+                self.col_r,
+                self.col_props,
+                self.col_limits,
+                self.collar_state_size,
+            ),
         )
 
     @property
@@ -163,7 +181,7 @@ class MultibodyColumn:
         stiffness = np.zeros((n, n))
         step = 1e-7 * self.column_width
         out = np.zeros((self.col_a.size, OUT_SIZE))
-        state = np.zeros((self.col_a.size, STATE_SIZE))
+        state = self.collar_rest_state()
         for k in range(n):
             q = self.q_rest.copy()
             fp, fm = np.zeros(n), np.zeros(n)
@@ -688,7 +706,7 @@ def rock_multibody(
         + K.N_BODY_COLS * column.n_bodies
         + K.N_TAIL
         + 2 * column.n_bodies
-        + K.N_RECORDED * column.col_a.size
+        + K.N_COLLAR_COLS * column.col_a.size
     )
     out = np.zeros((n_steps // out_every + 3, n_cols))
     impacts = np.zeros((max_impacts_stored, 4))
@@ -907,9 +925,11 @@ def _result(
         solver_iterations_max=int(iters),
     )
     ncol = column.col_a.size
-    recorded = tail[:, K.N_TAIL + 2 * nb : K.N_TAIL + 2 * nb + K.N_RECORDED * ncol]
-    plastic = recorded.reshape(t.size, ncol, K.N_RECORDED)
-    result.collar_histories = collar_histories(column, t, q, plastic)
+    recorded = tail[:, K.N_TAIL + 2 * nb : K.N_TAIL + 2 * nb + K.N_COLLAR_COLS * ncol]
+    recorded = recorded.reshape(t.size, ncol, K.N_COLLAR_COLS)
+    result.collar_histories = collar_histories(
+        column, t, q, recorded[:, :, OUT_SIZE:], recorded[:, :, :OUT_SIZE]
+    )
     return result
 
 
@@ -944,44 +964,33 @@ def _crack_kinematics(column, q):
     return np.maximum(*openings), 0.5 * (slips[0] + slips[1])
 
 
-def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[CollarHistory]:
+def collar_histories(
+    column: MultibodyColumn, t, q, plastic=None, forces=None
+) -> list[CollarHistory]:
     """N (tension +), end moment, extreme-fibre stress |N|/A + max|M|/W, utilisation, fibre
     strain, end moments and rotations of every collar over time, from the frame element (as
     the FEM reports them). ``plastic``: (n_times, n_collars, len(RECORDED)) the collars'
     recorded state at those times (colonna.core.collar_law.RECORDED: plastic elongation,
     accumulated plastic strain, hinge rotations, largest fibre strain, fractured; zero if
-    None)."""
+    None); ``forces``: (n_times, n_collars, OUT_SIZE) the frame element's outputs the run
+    recorded at those times (None: computed from q with the collars at rest, as elastic
+    collars are; a plastic law's state is larger than what a history row keeps)."""
     if not column.collars:
         return []
     n = q.shape[0]
-    ncol = column.col_a.size
-    forces = np.zeros((n, ncol, OUT_SIZE))
-    out = np.zeros((ncol, OUT_SIZE))
-    state = np.zeros((ncol, STATE_SIZE))
-    flat = q.reshape(n, -1)
-    for k in range(n):
-        if plastic is not None:
-            state[:, list(RECORDED)] = plastic[k]
-        K.collar_forces(
-            flat[k],
-            column.col_a,
-            column.col_b,
-            column.col_r,
-            column.col_props,
-            np.zeros(0),
-            out,
-            state,
-            False,
-        )
-        forces[k] = out
+    if forces is None:
+        forces = _collar_outputs_at_rest(column, q)
     histories = []
     for c, collar in enumerate(column.collars):
         axial = forces[:, c, 0]
         moment = np.maximum(np.abs(forces[:, c, 1]), np.abs(forces[:, c, 2]))
         shear = (forces[:, c, 1] + forces[:, c, 2]) / collar.span(column.block.b)
         recorded = plastic[:, c] if plastic is not None else np.zeros((n, K.N_RECORDED))
-        alpha = recorded[:, RECORDED.index(1)]
-        stress = collar.fibre_stress(axial, moment, alpha)
+        if collar.local_law == "fibre":  # its largest fibre stress (0 once broken)
+            stress = recorded[:, RECORDED.index(FIBRE_STRESS)].copy()
+            stress[recorded[:, RECORDED.index(FRACTURED)] > 0.0] = 0.0
+        else:
+            stress = collar.fibre_stress(axial, moment, recorded[:, RECORDED.index(1)])
         util = stress / collar.fy
         hit = np.nonzero(util >= 1.0)[0]
         fibre = forces[:, c, 5]
@@ -1010,6 +1019,31 @@ def collar_histories(column: MultibodyColumn, t, q, plastic=None) -> list[Collar
             )
         )
     return histories
+
+
+def _collar_outputs_at_rest(column: MultibodyColumn, q) -> np.ndarray:
+    """The frame element's outputs (n_times, n_collars, OUT_SIZE) at positions q (n_times,
+    n_bodies, 3) with the collars' plastic state at rest."""
+    n = q.shape[0]
+    ncol = column.col_a.size
+    forces = np.zeros((n, ncol, OUT_SIZE))
+    out = np.zeros((ncol, OUT_SIZE))
+    state = column.collar_rest_state()
+    flat = q.reshape(n, -1)
+    for k in range(n):
+        K.collar_forces(
+            flat[k],
+            column.col_a,
+            column.col_b,
+            column.col_r,
+            column.col_props,
+            np.zeros(0),
+            out,
+            state,
+            False,
+        )
+        forces[k] = out
+    return forces
 
 
 def multibody_spectrum(

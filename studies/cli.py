@@ -3,6 +3,7 @@
     colonna rigid     time history of a rocking block (solid or cracked with collars)
     colonna spectrum  overturning spectrum (mode map) with or without collars
     colonna design    collar design numbers (corrected Eq. 22-24) and the design chart
+    colonna collar    one collar through imposed end displacements (the collar test bench)
     colonna fem       2D finite-element contact model of a study file
     colonna study     cross-check study (FEM and rigid side by side) with an HTML report
     colonna validate  the Zhang & Makris validation block (make demo)
@@ -706,6 +707,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, help="write design.json and (with --density) the chart")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_design)
+
+    p = sub.add_parser("collar", help="one collar through imposed end displacements (bench)")
+    collar_bench = importlib.import_module(f"{__package__}.collar_bench")
+    collar_bench.add_arguments(p)
+    p.set_defaults(func=collar_bench.run_command)
 
     p = sub.add_parser("fem", help="2D finite-element contact run of a study file")
     p.add_argument("study", help="study file (TOML) or the name of a shipped study")

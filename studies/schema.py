@@ -28,6 +28,8 @@ from pydantic import (
 )
 
 from ..core.collar import LOWEST as COLLAR_LOWEST
+from ..core.collar import MAX_FIBRES, MAX_SECTIONS, STEELS
+from ..core.collar import Collar as CollarLaw
 from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_EPS_U, STEEL_FY
 from ..core.errors import InputError, read_toml
 from ..fem.bed import BED_PRESETS, DEFAULT_BED, STIFFNESS_RANGE
@@ -276,6 +278,88 @@ class Collar(Table):
         (1e-3, 1.0, "mm", "a collar's hinge"),
         gt=0,
     )
+    section: Literal["fibre", "resultant"] | None = Field(
+        None,
+        description="Local law of a plastic collar: 'fibre' (the default) a fibre-section "
+        "frame element (the depth h cut into n_fibres layers of uniaxial steel, n_sections "
+        "Gauss-Lobatto sections along the span: yield spreads, hinges lengthen, fracture where "
+        "a section's surface strain reaches eps_u); 'resultant' the faster lumped law (end "
+        "hinges on the N-M surface: exact to first yield, past it its membrane force, moments "
+        "and fracture slip are off, docs/collars.md). An elastic collar is exact with either.",
+    )
+    n_fibres: int = quantity(
+        "-",
+        f"Layers of a fibre section across the depth h, 2 to {MAX_FIBRES}.",
+        CollarLaw.n_fibres,
+        ge=2,
+        le=MAX_FIBRES,
+    )
+    n_sections: int = quantity(
+        "-",
+        f"Integration sections of a fibre collar along its span (Gauss-Lobatto, the two ends "
+        f"included), 2 to {MAX_SECTIONS}.",
+        CollarLaw.n_sections,
+        ge=2,
+        le=MAX_SECTIONS,
+    )
+    steel: Literal[STEELS] = Field(  # type: ignore[valid-type]
+        "bilinear",
+        description="Uniaxial law of a fibre collar's steel: 'bilinear' (E, fy, Eh, with "
+        "kinematic and isotropic hardening) or 'menegotto-pinto' (OpenSees's Steel02: E, fy, "
+        "b = Eh / E, the curvature R0, cR1, cR2 and the isotropic hardening a1 .. a4).",
+    )
+    isotropic: float = quantity(
+        "-",
+        "Share of a fibre collar's hardening (Eh) that is isotropic, 0 to 1; the rest is "
+        "kinematic (0, the default: the Bauschinger effect, a reversal yields 2 fy below the "
+        "shifted centre).",
+        0.0,
+        ge=0,
+        le=1,
+    )
+    R0: float = quantity(
+        "-",
+        "Menegotto-Pinto steel: the curvature of the transition from elastic to plastic, 1 to "
+        "100 (OpenSees Steel02's R0).",
+        CollarLaw.R0,
+        ge=1,
+        le=100,
+    )
+    cR1: float = quantity(
+        "-",
+        "Menegotto-Pinto steel: R's decay with the plastic excursion xi, R = R0 (1 - cR1 xi / "
+        "(cR2 + xi)), 0 to below 1.",
+        CollarLaw.cR1,
+        ge=0,
+        lt=1,
+    )
+    cR2: float = quantity(
+        "-", "Menegotto-Pinto steel: R's decay constant cR2, above 0.", CollarLaw.cR2, gt=0
+    )
+    a1: float = quantity(
+        "-",
+        "Menegotto-Pinto steel: isotropic hardening in compression, the shift a1 (0: none).",
+        CollarLaw.a1,
+        ge=0,
+    )
+    a2: float = quantity(
+        "-",
+        "Menegotto-Pinto steel: isotropic hardening in compression, the strain scale a2.",
+        CollarLaw.a2,
+        gt=0,
+    )
+    a3: float = quantity(
+        "-",
+        "Menegotto-Pinto steel: isotropic hardening in tension, the shift a3 (0: none).",
+        CollarLaw.a3,
+        ge=0,
+    )
+    a4: float = quantity(
+        "-",
+        "Menegotto-Pinto steel: isotropic hardening in tension, the strain scale a4.",
+        CollarLaw.a4,
+        gt=0,
+    )
 
     @staticmethod
     def across(c: dict, given: set) -> list[tuple[str, tuple]]:
@@ -293,6 +377,14 @@ class Collar(Table):
             )
         if c["Eh"] is not None and _known(c["Eh"], c["E"]) and c["Eh"] >= c["E"]:
             found.append((f"Eh = {c['Eh']:g} Pa must be below E = {c['E']:g} Pa", ()))
+        if c["section"] == "fibre" and c["plastic"] is False:
+            found.append(
+                (
+                    "section = 'fibre' needs plastic = true (an elastic collar's resultant "
+                    "law is exact)",
+                    (),
+                )
+            )
         if (
             c["plastic"] is True
             and _known(c["eps_u"], c["fy"], c["E"])

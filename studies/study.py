@@ -157,6 +157,9 @@ class Study:
             if entry["hinge_length"] is None:
                 entry["hinge_length"] = entry["h"]
                 resolved[f"collar.{i}.hinge_length"] = "the collar depth h"
+            if entry.get("section") is None and entry["plastic"]:
+                entry["section"] = "fibre"
+                resolved[f"collar.{i}.section"] = "fibre (a plastic collar's default)"
         if _runs_fem(self.kind):  # the mesh a kind without FEM runs does not use
             if column.mesh_file is None:
                 fill("mesh", "size", column.mesh_size, "width / 16")

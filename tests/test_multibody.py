@@ -219,7 +219,7 @@ def test_active_set_solves_the_redundant_contact_problem_exactly():
         tol=1e-10,
         max_iter=500,
     )
-    scratch = K.new_scratch(nb, nc, 0)
+    scratch = K.new_scratch(nb, nc, 0, 0)
     state = K.new_step_state(nb, nc, np.zeros((10, 4)))
     was_active = state.was_active
     h = settings.h

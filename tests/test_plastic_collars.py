@@ -1,5 +1,7 @@
-"""Elastoplastic collars (``plastic = true``): bilinear axial law with hardening in the FEM frame
-element, the energy balance with the plastic work, and the study keys."""
+"""Elastoplastic collars (``plastic = true``) with the resultant law (``section = "resultant"``;
+the fibre law's are tests/test_fibre_collar.py and tests/test_fibre_dynamics.py): bilinear axial
+law with hardening in the FEM frame element, the energy balance with the plastic work, and the
+study keys."""
 
 import numpy as np
 import pytest
@@ -35,7 +37,7 @@ def _pulled_apart(collar, duration=0.006, speed=0.4):
 
 
 def test_plastic_collar_follows_the_bilinear_law_and_the_energy_balance_closes():
-    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True)
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True, section="resultant")
     r = _pulled_apart(collar)
     h, s = r.history, r.summary
     N, eps_p = h["collar_1_axial_force"], h["collar_1_plastic_strain"]
@@ -62,7 +64,9 @@ def test_elastic_collar_is_the_same_law_without_the_yield():
     elastic = _pulled_apart(Collar(y=1.0, t=0.004, h=0.03))
     assert elastic.history["collar_1_axial_force"].max() > 0.004 * 0.03 * 235e6
     assert elastic.summary["collar_plastic_work"] == 0.0
-    strong = _pulled_apart(Collar(y=1.0, t=0.004, h=0.03, fy=1e10, plastic=True))
+    strong = _pulled_apart(
+        Collar(y=1.0, t=0.004, h=0.03, fy=1e10, plastic=True, section="resultant")
+    )
     np.testing.assert_allclose(
         strong.history["collar_1_axial_force"], elastic.history["collar_1_axial_force"], rtol=1e-12
     )
@@ -92,7 +96,7 @@ def test_multibody_collar_element_is_bilinear_on_a_load_unload_cycle():
     from colonna.rigid.block import Block
     from colonna.rigid.multibody import build_column
 
-    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True)
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True, section="resultant")
     column = build_column(Block(b=0.1, h=1.0, mass=100.0), cracked=True, collars=(collar,))
     span = collar.span(0.1)
     eps_y = collar.fy / collar.E
@@ -143,7 +147,11 @@ def test_multibody_rocking_with_plastic_collars_keeps_its_energy_balance():
     thin = dict(y=2.0, t=0.002, h=0.02)
     runs = {
         plastic: rock_multibody(
-            half, pulse, (Collar(**thin, plastic=plastic),), cracked=True, duration=2.0
+            half,
+            pulse,
+            (Collar(**thin, plastic=plastic, section="resultant" if plastic else None),),
+            cracked=True,
+            duration=2.0,
         )
         for plastic in (False, True)
     }
@@ -160,7 +168,7 @@ def test_fem_collar_element_pulled_quasi_statically_follows_the_bilinear_law():
     on unloading; the work put in = elastic energy + plastic work to 1e-3."""
     from colonna.fem import _kernels as K
 
-    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True)
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True, section="resultant")
     mesh = column_mesh(0.4, 2.0, 0.1, cracked=True, grading=0.0, pinned_heights=[1.0])
     model = build_model(mesh, Stone(), 0.3, (collar,))
     span = collar.span(0.1)
@@ -273,7 +281,7 @@ def test_fixed_fixed_collar_yields_in_bending_to_the_plastic_moment(element):
     elastic, the extreme fibre reaches f_y at M_y (the stress reported), the end moment levels
     off at M_p = f_y t h^2 / 4 (times the hardening factor), unloading is elastic, and a full
     cycle's loop area is the plastic work plus the change of elastic energy (1 %)."""
-    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True)
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True, section="resultant")
     impose, span = element(collar)
     path, beta, d_y, outs, work, state = _offset_cycle(impose, collar, span)
     M = np.abs(outs[:, 1])
@@ -303,7 +311,7 @@ def test_fixed_fixed_collar_yields_in_bending_to_the_plastic_moment(element):
 def test_under_half_the_squash_load_the_hinges_form_at_three_quarters_of_m_p(element):
     """With N = N_p / 2 held, the interaction surface M / M_p + (N / N_p)^2 = 1 gives the
     plateau 0.75 M_p; N itself stays at N_p / 2 (the hinges rotate, the axial law holds N)."""
-    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True)
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True, section="resultant")
     impose, span = element(collar)
     path, beta, d_y, outs, _work, state = _offset_cycle(impose, collar, span, axial_ratio=0.5)
     M = np.abs(outs[:, 1])
@@ -357,7 +365,7 @@ def test_collar_bent_by_sliding_halves_yields_and_the_energy_balance_closes():
     the collar at mid height bends (and stretches), its end hinges yield, the end moments
     reach the plastic moment and never pass it (the hardening is small here), and the initial
     kinetic energy = kinetic + strain + contact + gravity + collar elastic + plastic work (1 %)."""
-    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True)
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True, section="resultant")
     r = _flung_up(collar)
     h, s = r.history, r.summary
     assert s["collar_plastic_work"] > 0.1 * h["energy_kinetic"][0]
@@ -376,7 +384,7 @@ def test_fixed_fixed_collar_fractures_where_its_fibre_strain_reaches_eps_u(eleme
     the extreme fibre's strain is M_p / (E W) + theta_p h / (2 L_p); the collar breaks at the
     offset where that reaches eps_u, then carries nothing, and all the work put into it has
     gone into plastic work and the energy released by the break (1 %)."""
-    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True, eps_u=0.006)
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True, section="resultant", eps_u=0.006)
     impose, span = element(collar)
     path, beta, d_y, outs, work, state = _offset_cycle(impose, collar, span)
     EI, EW = collar.E * collar.second_moment, collar.E * collar.section_modulus
@@ -404,7 +412,7 @@ def test_a_collar_that_breaks_in_a_run_drops_out_and_the_energy_balance_closes()
     breaks, the summary says when, the collar carries nothing after that, the ductility demand
     is the largest fibre strain over the yield strain, and the energy balance (the released
     elastic energy counted as dissipated) still closes to 1 %."""
-    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True, eps_u=0.004)
+    collar = Collar(y=1.0, t=0.004, h=0.03, plastic=True, section="resultant", eps_u=0.004)
     r = _flung_up(collar)
     h, s = r.history, r.summary
     assert s["collar_fractured"] and s["collar_fracture_time"] is not None
@@ -431,7 +439,7 @@ def test_multibody_collar_breaks_and_reports_it():
     half = Block(b=0.1125, h=2.0, mass=858.0)
     a_up = half.uplift_acceleration()
     pulse = sine_pulse(3.0 * a_up, 3.0 * half.p, a_up)
-    thin = dict(y=2.0, t=0.002, h=0.02, plastic=True)
+    thin = dict(y=2.0, t=0.002, h=0.02, plastic=True, section="resultant")
     holds, breaks = (
         rock_multibody(half, pulse, (Collar(**thin, eps_u=eps_u),), cracked=True, duration=2.0)
         for eps_u in (0.15, 0.003)
@@ -462,14 +470,16 @@ def test_the_multibody_history_has_the_fem_histories_collar_columns():
     from colonna.rigid.block import Block
     from colonna.rigid.multibody import history_columns, rock_multibody
 
-    collar = Collar(y=2.0, t=0.002, h=0.02, plastic=True, eps_u=0.003)
+    collar = Collar(y=2.0, t=0.002, h=0.02, plastic=True, section="resultant", eps_u=0.003)
     half = Block(b=0.1125, h=2.0, mass=858.0)
     a_up = half.uplift_acceleration()
     result = rock_multibody(
         half, sine_pulse(3.0 * a_up, 3.0 * half.p, a_up), (collar,), cracked=True, duration=2.0
     )
     columns = history_columns(result)
-    fem = _flung_up(Collar(y=1.0, t=0.004, h=0.03, plastic=True, eps_u=0.004)).history
+    fem = _flung_up(
+        Collar(y=1.0, t=0.004, h=0.03, plastic=True, section="resultant", eps_u=0.004)
+    ).history
     assert {k for k in columns if k.startswith("collar_")} == {
         k for k in fem if k.startswith("collar_")
     }

@@ -613,7 +613,7 @@ def test_the_reports_figures_pass_the_browser_check(drawn, tmp_path):
 # --- plastic collars in the cross-check report ------------------------------------------------
 
 
-def _plastic_crosscheck(root, eps_u=None):
+def _plastic_crosscheck(root, eps_u=None, section="resultant"):
     """The tiny cross-check with its collar plastic, its f_y lowered to 60 MPa so that the
     thin band yields in bending under the study's pulse (ductility demand about 11), and
     ``eps_u`` where given (0.0025 breaks it); 2 FEM replicas, no toe refinement. The pulse
@@ -634,7 +634,10 @@ def _plastic_crosscheck(root, eps_u=None):
     t = np.linspace(0.0, ground.end_time, 201)
     root.mkdir(parents=True, exist_ok=True)
     np.savetxt(root / "pulse.csv", np.c_[t, ground.acceleration(t)], delimiter=",")
-    collar = "h = 0.02\nplastic = true\nfy = 60e6\n" + (f"eps_u = {eps_u}\n" if eps_u else "")
+    # by default the lumped-hinge law, whose hinge profile the figure draws
+    collar = f'h = 0.02\nplastic = true\nsection = "{section}"\nfy = 60e6\n' + (
+        f"eps_u = {eps_u}\n" if eps_u else ""
+    )
     text = (
         text.replace("h = 0.02\n", collar)
         .replace(
@@ -653,6 +656,33 @@ def _plastic_crosscheck(root, eps_u=None):
         mp.setattr(report, "_renders", lambda out: ([], "not rendered in this test"))
         report.write_report(out)
     return out, summary
+
+
+@pytest.mark.slow
+def test_the_crosscheck_report_of_a_fibre_collar(tmp_path):
+    """The tiny cross-check's plastic collar with the fibre section (its default law): the
+    summary names the law, the collar yields (its stress is its largest fibre's, at least
+    f_y), the end moment passes M_y and nears M_p, the hinge figure draws the moment loops
+    and the fibre strain but no lumped-hinge profile, and the report says what the summary
+    says (issue 36)."""
+    from browser import assert_report_says_what_summary_says
+
+    from colonna.studies.output import read_csv
+
+    out, summary = _plastic_crosscheck(tmp_path, section="fibre")
+    page = (out / "index.html").read_text()
+    fem, collar = summary["fem"], summary["collars"][0]
+    assert collar["section"] == "fibre" and collar["n_fibres"] == 20
+    assert fem["collar_max_utilisation"] >= 1.0
+    history = read_csv(out / "cases" / "fem" / "history.csv")
+    moments = np.abs(np.r_[history["collar_1_moment_left"], history["collar_1_moment_right"]])
+    assert collar["yield_moment"] < moments.max()
+    assert moments.max() > 0.9 * collar["plastic_moment"]
+    assert 'data-figure="collar_hinge"' in page
+    assert not (out / "figures" / "collar_hinge_profile.csv").exists()
+    assert f"fibre section of 20 layers at {collar['n_sections']} sections" in page
+    assert summary["rigid_multibody"]["collar_ductility_demand"] > 1.0
+    assert assert_report_says_what_summary_says(page, summary) >= 40
 
 
 @pytest.mark.parametrize("eps_u", [None, 0.0025], ids=["holds", "breaks"])

@@ -21,6 +21,18 @@ LOWEST = 1e-3  # m: the lowest collar (a row of nodes at it; nearer, an element 
 THICKEST = 1.0  # m: the largest section thickness t and height h
 SPAN = (1e-3, 100.0)  # m: the shortest and longest span L (E A / L overflows below)
 STIFFEST = 1e14  # Pa: the largest E (100 times diamond's)
+MAX_FIBRES = 200  # layers of a fibre section (past it the cost grows, not the accuracy)
+STEELS = ("bilinear", "menegotto-pinto")  # the fibres' uniaxial laws (colonna.core.fibre)
+MAX_SECTIONS = 30  # Gauss-Lobatto sections of a fibre collar (colonna.core.fibre's tables)
+
+
+def _require_count(name: str, value, low: int, high: int) -> int:
+    """An integer in [low, high], or an InputError naming the field and the range."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"{name} = {value!r} must be an integer in [{low}, {high}]")
+    if not low <= value <= high:
+        raise InputError(f"{name} = {value} is not allowed: it must be in [{low}, {high}]")
+    return int(value)
 
 
 @dataclass(frozen=True)
@@ -45,6 +57,21 @@ class Collar:
     Eh: float | None = None  # Pa, hardening (tangent) modulus past f_y; default 1 % of E
     eps_u: float = STEEL_EPS_U  # fracture strain of a plastic collar's extreme fibre
     hinge_length: float | None = None  # m, length of an end hinge's plastic zone; default h
+    # the plastic collar's local law: "fibre" (default: colonna.core.fibre) or "resultant"
+    section: str | None = None
+    n_fibres: int = 20  # layers across the depth h (fibre section), 2 .. MAX_FIBRES
+    n_sections: int = 10  # Gauss-Lobatto sections along the span (fibre section), 2 .. 30
+    steel: str = "bilinear"  # the fibres' law: "bilinear" (E, fy, Eh) or "menegotto-pinto"
+    isotropic: float = 0.0  # bilinear: share of the hardening that is isotropic (0: kinematic)
+    # menegotto-pinto (OpenSees Steel02): the curvature R0 and its decay cR1, cR2; isotropic
+    # hardening a1, a2 (compression), a3, a4 (tension), 0 (none) by default
+    R0: float = 20.0
+    cR1: float = 0.925
+    cR2: float = 0.15
+    a1: float = 0.0
+    a2: float = 1.0
+    a3: float = 0.0
+    a4: float = 1.0
 
     def __post_init__(self):
         require_range("collar y (height, m)", self.y, LOWEST, math.inf, closed_low=True)
@@ -81,6 +108,54 @@ class Collar:
             )
         if self.hinge_length is not None:
             require_positive("collar hinge_length (m)", self.hinge_length)
+        if self.section not in (None, "fibre", "resultant"):
+            raise InputError(f"collar section = {self.section!r} must be 'fibre' or 'resultant'")
+        if self.section == "fibre" and not self.plastic:
+            raise InputError(
+                "collar section = 'fibre' needs plastic = true (an elastic collar's resultant "
+                "law is exact)"
+            )
+        _require_count("collar n_fibres", self.n_fibres, 2, MAX_FIBRES)
+        _require_count("collar n_sections", self.n_sections, 2, MAX_SECTIONS)
+        if self.steel not in STEELS:
+            raise InputError(
+                f"collar steel = {self.steel!r} must be one of {', '.join(map(repr, STEELS))}"
+            )
+        require_range(
+            "collar isotropic (share of isotropic hardening)",
+            self.isotropic,
+            0.0,
+            1.0,
+            closed_low=True,
+            closed_high=True,
+        )
+        if self.steel == "menegotto-pinto":
+            if self.isotropic != 0.0:
+                raise InputError(
+                    "collar isotropic applies to the bilinear steel: the Menegotto-Pinto "
+                    "steel's isotropic hardening is a1 .. a4"
+                )
+            if self.hardening_modulus <= 0.0:
+                raise InputError(
+                    "collar Eh must be > 0 for the Menegotto-Pinto steel (its b = Eh / E)"
+                )
+
+        require_range("collar R0 (Menegotto-Pinto curvature)", self.R0, 1.0, 100.0,
+                      closed_low=True, closed_high=True)  # fmt: skip
+        require_range("collar cR1", self.cR1, 0.0, 1.0, closed_low=True)
+        require_positive("collar cR2", self.cR2)
+        require_non_negative("collar a1", self.a1)
+        require_positive("collar a2", self.a2)
+        require_non_negative("collar a3", self.a3)
+        require_positive("collar a4", self.a4)
+
+    @property
+    def local_law(self) -> str:
+        """The law the models step: "fibre" (a plastic collar's default), or "resultant"
+        (an elastic collar's, exact; a plastic one's where ``section = "resultant"``)."""
+        if not self.plastic:
+            return "resultant"
+        return "fibre" if self.section is None else self.section
 
     @property
     def hardening_modulus(self) -> float:
@@ -137,8 +212,10 @@ class Collar:
         E A, H A, M_p, 1 / (E W), h / (2 L_p), eps_u; the yield and fracture entries are 0 for
         an elastic collar (it never yields nor breaks: its stress past f_y is reported as
         such)."""
+        from .collar_law import FIBRE, LAW_SIZE, RESULTANT  # numba: on first use
+
         plastic = self.plastic
-        return (
+        resultant = (
             self.fy * self.area if plastic else 0.0,
             self.E * self.area,
             self.plastic_modulus * self.area,
@@ -147,6 +224,31 @@ class Collar:
             self.h / (2.0 * self.plastic_hinge_length),
             self.eps_u if plastic else 0.0,
         )
+        if self.local_law != "fibre":
+            return resultant + (float(RESULTANT),) + (0.0,) * (LAW_SIZE - len(resultant) - 1)
+        h = self.plastic_modulus
+        mp = self.steel == "menegotto-pinto"
+        fibre: tuple[float, ...] = (
+            float(FIBRE),
+            float(self.n_sections),
+            float(self.n_fibres),
+            self.E,
+            self.fy,
+            self.hardening_modulus if mp else (1.0 - self.isotropic) * h,
+            0.0 if mp else self.isotropic * h,
+            self.h,
+            self.t,
+            float(STEELS.index(self.steel)),
+        )
+        if mp:
+            fibre += (self.R0, self.cR1, self.cR2, self.a1, self.a2, self.a3, self.a4)
+        return resultant + fibre + (0.0,) * (LAW_SIZE - len(resultant) - len(fibre))
+
+    def state_size(self) -> int:
+        """Numbers in this collar's state row (colonna.core.collar_law.law_state_size)."""
+        from .collar_law import law_state_size
+
+        return law_state_size(self.law())
 
     @property
     def yield_moment(self) -> float:
@@ -207,3 +309,68 @@ def hinge_strain_profile(
         x += [a, b]
         strain += [value, value]
     return np.array(x), np.array(strain)
+
+
+RESPONSE_FIELDS = (
+    "F1x",
+    "F1y",
+    "M1",
+    "F2x",
+    "F2y",
+    "M2",
+    "N",
+    "fibre_strain",
+    "fibre_stress",
+    "plastic_work",
+    "fractured",
+    "elastic_energy",
+    "plastic_strain",
+    "largest_fibre_strain",
+    "alpha",
+)
+"""The arrays of :func:`response`: end forces (N) and moments (N m) holding the ends, in the
+collar's initial axes; the axial force N (N, tension +); the largest surface strain now and its
+largest reached; the largest fibre stress now (Pa); the plastic work (J); fractured (bool); the
+elastic energy (J); the axial plastic strain; the accumulated plastic strain (the resultant
+law's, the fibre law's largest fibre's)."""
+
+
+def response(collar: Collar, history) -> dict:
+    """A collar driven through imposed end displacements and rotations, as the models step it.
+
+    ``history``: rows (u1, v1, r1, u2, v2, r2), the ends' displacements (m) and rotations (rad)
+    in the collar's initial axes (end 1 at the origin, end 2 at (L, 0), L = ``collar.length``),
+    from the unstressed (but pretensioned) collar, each row committed in turn. The co-rotational
+    kinematics and local law are the models'
+    (:func:`colonna.core.collar_law.history_response`); the plastic work is the trapezoid
+    rule's (docs/collars.md): drive it in steps of a fraction of the first-yield slip. Returns
+    a dict of arrays, one value per row (RESPONSE_FIELDS); the resultant law's fibre stress
+    is the elastic |N|/A + |M|/W capped at f_y + H alpha (:meth:`Collar.fibre_stress`)."""
+    from .collar_law import history_response, state_size
+
+    if collar.length is None:
+        raise InputError("collar length is not set: the test bench needs the span L (m)")
+    rows = np.asarray(history, dtype=float)
+    if rows.ndim != 2 or rows.shape[1] != 6:
+        raise InputError(
+            f"collar history has shape {rows.shape}: it must be rows of 6 numbers "
+            "(u1, v1, r1, u2, v2, r2)"
+        )
+    if not np.isfinite(rows).all():
+        raise InputError("collar history has a value that is not a finite number")
+    span = collar.length
+    law = np.array(collar.law())
+    state = np.zeros((1, state_size(law)))
+    out = np.zeros((rows.shape[0], len(RESPONSE_FIELDS)))
+    ea_l = collar.E * collar.area / span
+    ei_l = collar.E * collar.second_moment / span
+    history_response(rows, span, ea_l, ei_l, collar.pretension, law, state, out)
+    result: dict[str, np.ndarray] = {
+        name: out[:, k].copy() for k, name in enumerate(RESPONSE_FIELDS)
+    }
+    result["fractured"] = out[:, RESPONSE_FIELDS.index("fractured")] > 0.0
+    if collar.local_law != "fibre":
+        moment = np.maximum(np.abs(result["M1"]), np.abs(result["M2"]))
+        stress = collar.fibre_stress(result["N"], moment, result["alpha"])
+        result["fibre_stress"] = np.where(result["fractured"], 0.0, stress)
+    return result

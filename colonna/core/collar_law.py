@@ -1,35 +1,73 @@
 """The collars' compiled frame element (numba), shared by the FEM's and the multibody model's
-collars: the co-rotational element's local law (:func:`frame_local_law`), its bilinear axial
-law (:func:`axial_return_mapping`: elastic E A up to N_y = f_y A, then isotropic linear
-hardening) and its end hinges (:func:`hinge_return_mapping`: the end moments bounded by the
-rectangle's N-M interaction surface |M| / M_p + (N / N_p)^2 <= 1).
+collars: the co-rotational element's local law :func:`frame_local_law`, which dispatches on the
+collar's law row to the fibre-section element (:func:`colonna.core.fibre.fibre_local_law`, the
+default of a plastic collar) or to the resultant law (:func:`resultant_local_law`: its bilinear
+axial law :func:`axial_return_mapping`, elastic E A up to N_y = f_y A, then isotropic linear
+hardening, and its end hinges :func:`hinge_return_mapping`, the end moments bounded by the
+rectangle's N-M interaction surface |M| / M_p + (N / N_p)^2 <= 1; an elastic collar's law).
 
 A collar's law is a row of ``LAW_SIZE`` numbers (:meth:`colonna.core.collar.Collar.law`), its
-state per collar ``STATE_SIZE`` numbers: plastic elongation s_p (m), accumulated
-(work-equivalent) plastic strain alpha, plastic work (J, with the energy a fracture releases),
-the plastic rotations of its two end hinges (rad), the largest extreme-fibre strain reached,
-and 1 once the collar has fractured (0 before)."""
+state a row of :func:`state_size` numbers (the largest a set of collars needs; zeros at rest).
+The first entries mean the same for both laws: plastic elongation s_p (m; the fibre law's mean
+axial plastic strain times L), accumulated plastic strain alpha (the fibre law's largest fibre
+value), plastic work (J, with the energy a fracture releases), the plastic rotations of the two
+ends (rad; the fibre law's integral of the plastic curvature against b(x)), the largest
+extreme-fibre strain reached, and 1 once the collar has fractured (0 before); then the committed
+basic deformations (stretch, th1, th2), basic forces (N - pretension, M1, M2), elastic energy,
+largest fibre stress and surface strain (the fibre law's; the resultant law leaves them 0), then
+the fibre law's section deformations and fibre histories (colonna.core.fibre)."""
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
 from numba import njit
 
-STATE_SIZE = 7
-"""Numbers per collar in a state: (s_p, alpha, plastic work, hinge 1, hinge 2, largest fibre
-strain, fractured)."""
+from .fibre import HEADER, fibre_local_law, fibre_state_size
 
-RECORDED = (0, 1, 3, 4, 5, 6)
-"""The state entries a history records to rebuild the collar's forces (all but the work)."""
+STATE_SIZE = HEADER
+"""The state row of resultant-law collars (16 numbers; a fibre collar needs
+:func:`state_size`): (s_p, alpha, plastic work, hinge 1, hinge 2, largest fibre strain,
+fractured, then the fibre law's committed stretch, th1, th2, N - P, M1, M2, U, largest fibre
+stress, surface strain)."""
 
-LAW_SIZE = 7
+RECORDED = (0, 1, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)
+"""The state entries a history records to rebuild the collar's forces (all of the header but
+the work). The resultant law rebuilds them from s_p and the hinges; the fibre law, whose state is
+its fibres' histories, returns its committed forces (entries 10-13) when called at its committed
+deformations (entries 7-9), as a history's replay at the recorded positions does."""
+
+LAW_KIND = 7
+"""Place in the law row of the law's kind: RESULTANT (0) or FIBRE (1); then (fibre law) the
+number of sections, of fibres, E (Pa), f_y (Pa), H_kin, H_iso (Pa; Menegotto-Pinto: E_h, 0), the
+depth h and thickness t (m), the steel (0: bilinear, 1: Menegotto-Pinto), and the
+Menegotto-Pinto steel's R0, cR1, cR2, a1, a2, a3, a4 (zeros for the bilinear)."""
+RESULTANT, FIBRE = 0, 1
+
+LAW_SIZE = 24
 """Numbers in a collar's law row: (N_y = f_y A (0: elastic), E A, H A, M_p (0: elastic in
-bending), 1 / (E W), h / (2 L_p), eps_u (0: never fractures))."""
+bending), 1 / (E W), h / (2 L_p), eps_u (0: never fractures)), then the kind (LAW_KIND), the
+fibre law's n_sections, n_fibres, E, f_y, H_kin, H_iso, h, t, steel, and 7 zeros."""
 
 FIBRE_STRAIN, FRACTURED = 5, 6  # their places in the state
 
 OUT_SIZE = 8
 """Outputs per collar of the models' collar_forces: (N, M1, M2, elastic energy, plastic strain
 s_p / L, extreme-fibre strain, end rotations th1, th2 relative to the chord)."""
+
+
+def law_state_size(law) -> int:
+    """Numbers in the state row of a collar of law row ``law``."""
+    if int(law[LAW_KIND]) == FIBRE:
+        return fibre_state_size(int(law[8]), int(law[9]), int(law[16]))
+    return STATE_SIZE
+
+
+def state_size(laws) -> int:
+    """Numbers per collar in the state array of a set of collars of law rows ``laws`` (an
+    iterable of rows, or a 2D array): the largest one of them needs, at least STATE_SIZE."""
+    return max([STATE_SIZE] + [law_state_size(law) for law in np.atleast_2d(laws) if len(law)])
 
 
 @njit(cache=True)
@@ -100,8 +138,19 @@ def hinge_return_mapping(M1_trial, M2_trial, ei_l, cap1, cap2):
 
 @njit(cache=True)
 def frame_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, commit):
-    """The collar's co-rotational Euler-Bernoulli frame element in its local frame, shared by
-    the FEM's and the multibody model's collars.
+    """The collar's local law, shared by the FEM's and the multibody model's collars: the
+    fibre-section element (colonna.core.fibre.fibre_local_law) if law[LAW_KIND] is FIBRE, else
+    the resultant law (:func:`resultant_local_law`); the same arguments and returns (N, M1, M2,
+    U, plastic strain, largest fibre strain)."""
+    if law[LAW_KIND] == FIBRE:
+        return fibre_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, commit)
+    return resultant_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, commit)
+
+
+@njit(cache=True)
+def resultant_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, commit):
+    """The collar's co-rotational Euler-Bernoulli frame element in its local frame with the
+    resultant law (an elastic collar's, and a plastic one's with ``section = "resultant"``).
 
     stretch = chord length - L0 (m), th1, th2 = end rotations relative to the chord (rad);
     ea_l = E A / L, ei_l = E I' / L0, pretension (N); law = the collar's law row (LAW_SIZE:
@@ -167,3 +216,61 @@ def frame_local_law(stretch, th1, th2, ea_l, ei_l, pretension, law, state, c, co
             state[c, 2] += energy  # released: the broken band's ends spring back
             return 0.0, 0.0, 0.0, 0.0, plastic_strain, fibre
     return N, M1, M2, energy, plastic_strain, fibre
+
+
+RESPONSE_SIZE = 15
+"""Columns of :func:`history_response`'s output, per step: the end forces and moments that hold
+the collar's ends, in its initial axes (F1x, F1y, M1, F2x, F2y, M2: N, N m), the axial force N,
+the largest surface strain now, the largest fibre stress now (Pa; 0 from the resultant law,
+whose caller estimates it), the plastic work (J), fractured (0 or 1), the elastic energy (J),
+the axial plastic strain, the largest surface strain reached so far and the accumulated
+plastic strain alpha (state entry 1)."""
+
+
+@njit(cache=True)
+def history_response(history, span, ea_l, ei_l, pretension, law, state, out):
+    """Step one collar through imposed end displacements and rotations, committing each row: a
+    test bench with the models' own kinematics (fem._kernels.collar_forces', replicated).
+
+    history[k] = (u1, v1, r1, u2, v2, r2) in the collar's initial axes (end 1 at the origin,
+    end 2 at (span, 0): m, rad); the chord's stretch and the end rotations relative to it go to
+    :func:`frame_local_law` (state row 0 of ``state``); out[k] gets RESPONSE_SIZE numbers. End 1
+    is held by -N e + V n and the moment M1, end 2 by N e - V n and M2, with e the chord's unit
+    vector, n its normal and V = (M1 + M2) / chord (the element's internal forces, as
+    collar_forces subtracts them from the nodes' forces)."""
+    for k in range(history.shape[0]):
+        u1, v1, r1, u2, v2, r2 = (
+            history[k, 0],
+            history[k, 1],
+            history[k, 2],
+            history[k, 3],
+            history[k, 4],
+            history[k, 5],
+        )
+        dx = span + u2 - u1
+        dy = v2 - v1
+        length = math.sqrt(dx * dx + dy * dy)
+        beta = math.atan2(dy, dx)
+        th1 = r1 - beta
+        th2 = r2 - beta
+        N, M1, M2, energy, plastic_strain, fibre = frame_local_law(
+            length - span, th1, th2, ea_l, ei_l, pretension, law, state, 0, True
+        )
+        ex = dx / length
+        ey = dy / length
+        shear = (M1 + M2) / length
+        out[k, 0] = -N * ex - shear * ey
+        out[k, 1] = -N * ey + shear * ex
+        out[k, 2] = M1
+        out[k, 3] = N * ex + shear * ey
+        out[k, 4] = N * ey - shear * ex
+        out[k, 5] = M2
+        out[k, 6] = N
+        out[k, 7] = fibre
+        out[k, 8] = state[0, 14] if law[LAW_KIND] == FIBRE and state[0, FRACTURED] == 0.0 else 0.0
+        out[k, 9] = state[0, 2]
+        out[k, 10] = state[0, FRACTURED]
+        out[k, 11] = energy
+        out[k, 12] = plastic_strain
+        out[k, 13] = state[0, FIBRE_STRAIN]
+        out[k, 14] = state[0, 1]

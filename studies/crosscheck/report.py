@@ -344,15 +344,40 @@ def _first_time(t, flags) -> float | None:
     return float(t[hit[0]]) if hit.size else None
 
 
+def _hinge_profile_panel(ax_p, c: dict, x, profile, peak: float, eps_y: float, top: float, k):
+    """Panel (b) of the collar hinge figure: a resultant-law collar's plastic strain along its
+    span (lumped hinges), per mille, with the largest fibre strain reached, eps_u and eps_y."""
+    ax_p.plot(1e3 * x, 1e3 * profile, color="C2", lw=2, label="plastic strain at the end")
+    ax_p.axhline(
+        1e3 * peak,
+        color="C3",
+        ls="-.",
+        lw=1,
+        label=f"largest fibre strain reached, {1e3 * peak:.3g} per mille",
+    )
+    ax_p.axhline(1e3 * c["eps_u"], color="k", ls="--", lw=1, label="eps_u (fracture)")
+    ax_p.axhline(eps_y, color="0.5", ls=":", lw=1, label="eps_y = f_y / E")
+    for end in (c["hinge_length"], c["span"] - c["hinge_length"]):
+        ax_p.axvline(1e3 * end, color="0.8", lw=0.8)
+    ax_p.set_yscale("symlog", linthresh=eps_y)  # eps_u is often far above the rest
+    ax_p.yaxis.set_major_formatter(PLAIN)
+    ax_p.set_ylim(0.0, top)
+    ax_p.set_xlabel(f"along the collar (mm), hinges over L_p = {1e3 * c['hinge_length']:.3g} mm")
+    ax_p.set_ylabel("extreme-fibre strain (per mille)")
+    ax_p.set_title(f"(b) collar {k}: plastic strain along it (lumped hinges)", fontsize=9)
+    legend_beside(ax_p)
+
+
 def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> None:
     """The plastic collars of the FEM run (replica 0, the unperturbed run, whose history is
     drawn): (a) the end moment against the end rotation (relative to the chord) at both ends
     of the most strained collar (the largest extreme-fibre strain), with +-M_y and +-M_p;
     (b) that collar's plastic strain along its span at the end of the run, from its axial
     plastic strain and end hinges (:func:`colonna.core.collar.hinge_strain_profile`), with
-    the largest fibre strain it reached and eps_u; (c) the fibre strain of every plastic collar
-    over time, with the most strained one's first yield and fracture. Drawn only for plastic
-    collars."""
+    the largest fibre strain it reached and eps_u (for a resultant-law collar only: a fibre
+    section's plastic strain lives at its integration sections, which the history does not
+    keep); (c) the fibre strain of every plastic collar over time, with the most strained
+    one's first yield and fracture. Drawn only for plastic collars."""
     collars = summary.get("collars") or []
     plastic = [
         k
@@ -375,20 +400,28 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
         peak = max(peak, float(values[0]))
     yielded = _first_time(t, fem_h[f"collar_{k}_utilisation"] >= 1.0)
     fractured = _first_time(t, fem_h[f"collar_{k}_fractured"] > 0.0)
-    axial = float(fem_h[f"collar_{k}_plastic_strain"][-1])
-    left, right = (float(fem_h[f"collar_{k}_hinge_rotation_{side}"][-1]) for side in SIDES)
-    x, profile = hinge_strain_profile(c["span"], c["hinge_length"], c["h"], axial, (left, right))
+    fibre = c.get("section") == "fibre"  # a fibre section: no lumped-hinge profile to draw
     columns = {"t": t}
     for j in plastic:
         columns.update({key: fem_h[key] for key in fem_h if key.startswith(f"collar_{j}_")})
     write_csv(out / "figures" / "collar_hinge.csv", columns)
-    write_csv(
-        out / "figures" / "collar_hinge_profile.csv",
-        {"x": x, "plastic_fibre_strain": profile},
-    )
-
-    fig = Figure(figsize=(9.5, 9.0))
-    ax_m, ax_p, ax_t = fig.subplots(3, 1)
+    top = 1e3 * 1.5 * max(c["eps_u"], peak)
+    if fibre:
+        fig = Figure(figsize=(9.5, 6.2))
+        ax_m, ax_t = fig.subplots(2, 1)
+    else:
+        axial = float(fem_h[f"collar_{k}_plastic_strain"][-1])
+        left, right = (float(fem_h[f"collar_{k}_hinge_rotation_{side}"][-1]) for side in SIDES)
+        x, profile = hinge_strain_profile(
+            c["span"], c["hinge_length"], c["h"], axial, (left, right)
+        )
+        write_csv(
+            out / "figures" / "collar_hinge_profile.csv",
+            {"x": x, "plastic_fibre_strain": profile},
+        )
+        top = max(top, 1e3 * 1.5 * float(np.max(profile)))
+        fig = Figure(figsize=(9.5, 9.0))
+        ax_m, ax_p, ax_t = fig.subplots(3, 1)
     # (a) moment against rotation at both ends, kN m against mrad, up to a fracture (the
     # broken band's ends turn on carrying nothing)
     held = t < fractured if fractured is not None else np.ones(t.size, dtype=bool)
@@ -436,26 +469,8 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
     legend_beside(ax_m)
     # (b) the plastic strain along the span at the end of the run, per mille
     eps_y = 1e3 * c["yield_strain"]
-    ax_p.plot(1e3 * x, 1e3 * profile, color="C2", lw=2, label="plastic strain at the end")
-    ax_p.axhline(
-        1e3 * peak,
-        color="C3",
-        ls="-.",
-        lw=1,
-        label=f"largest fibre strain reached, {1e3 * peak:.3g} per mille",
-    )
-    ax_p.axhline(1e3 * c["eps_u"], color="k", ls="--", lw=1, label="eps_u (fracture)")
-    ax_p.axhline(eps_y, color="0.5", ls=":", lw=1, label="eps_y = f_y / E")
-    for end in (c["hinge_length"], c["span"] - c["hinge_length"]):
-        ax_p.axvline(1e3 * end, color="0.8", lw=0.8)
-    ax_p.set_yscale("symlog", linthresh=eps_y)  # eps_u is often far above the rest
-    ax_p.yaxis.set_major_formatter(PLAIN)
-    top = 1e3 * 1.5 * max(c["eps_u"], peak, float(np.max(profile)))
-    ax_p.set_ylim(0.0, top)
-    ax_p.set_xlabel(f"along the collar (mm), hinges over L_p = {1e3 * c['hinge_length']:.3g} mm")
-    ax_p.set_ylabel("extreme-fibre strain (per mille)")
-    ax_p.set_title(f"(b) collar {k}: plastic strain along it (lumped hinges)", fontsize=9)
-    legend_beside(ax_p)
+    if not fibre:
+        _hinge_profile_panel(ax_p, c, x, profile, peak, eps_y, top, k)
     # (c) fibre strain over time, first yield and fracture
     for j, n in enumerate(plastic):
         ax_t.plot(
@@ -475,7 +490,9 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
     ax_t.set_ylim(0.0, top)
     ax_t.set_xlabel("t (s)")
     ax_t.set_ylabel("extreme-fibre strain (per mille)")
-    ax_t.set_title("(c) the plastic collars' fibre strain over time", fontsize=9)
+    ax_t.set_title(
+        f"({'b' if fibre else 'c'}) the plastic collars' fibre strain over time", fontsize=9
+    )
     legend_beside(ax_t)
     fig.tight_layout()
     caption = (
@@ -486,11 +503,18 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
             if fractured is not None
             else " and does not fracture"
         )
-        + "; its end hinges' moment-rotation loops against M_y and M_p (the hinges harden "
-        "slightly past M_p, and the moment falls with the axial force on the N-M surface), "
-        "and its residual plastic strain along the band: the axial plastic strain everywhere "
-        "plus each hinge's plastic rotation spread over its length L_p = "
-        f"{1e3 * c['hinge_length']:.3g} mm"
+        + (
+            f"; its end moment-rotation loops against M_y and M_p (a fibre section of "
+            f"{c.get('n_fibres')} layers at {c.get('n_sections')} sections: its fibres yield "
+            "from M_y, the moment nears M_p, hardening may carry it past, and the axial force "
+            "lowers it), and the collars' largest surface strain over time"
+            if fibre
+            else "; its end hinges' moment-rotation loops against M_y and M_p (the hinges "
+            "harden slightly past M_p, and the moment falls with the axial force on the N-M "
+            "surface), and its residual plastic strain along the band: the axial plastic "
+            "strain everywhere plus each hinge's plastic rotation spread over its length L_p = "
+            f"{1e3 * c['hinge_length']:.3g} mm"
+        )
     )
     figs.append(
         figure(
@@ -498,7 +522,8 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
             "collar_hinge",
             fig,
             caption,
-            data_file="figures/collar_hinge.csv, figures/collar_hinge_profile.csv",
+            data_file="figures/collar_hinge.csv"
+            + ("" if fibre else ", figures/collar_hinge_profile.csv"),
         )
     )
 
@@ -600,8 +625,8 @@ CROSSCHECK_NUMBERS = [
     ("collar plastic strain max, FEM", "fem.collar_max_plastic_strain", "-"),
     ("collar plastic work, FEM", "fem.collar_plastic_work", "J"),
     (
-        "collar extreme-fibre strain max, FEM: axial + bending + hinge rotation over L_p "
-        "(median of the replicas)",
+        "collar extreme-fibre strain max, FEM: a fibre section's surface strain (resultant "
+        "law: axial + bending + hinge rotation over L_p; median of the replicas)",
         "fem.collar_max_fibre_strain",
         "per mille",
     ),

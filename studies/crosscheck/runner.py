@@ -737,7 +737,8 @@ def _collar_section(study, collar) -> dict:
     the attachment points (the column's width unless set), steel (E, f_y, the hardening
     modulus E_h and plastic modulus H), law (plastic or elastic), fracture strain eps_u and
     end hinges' plastic length L_p, with the moments and strain they give: M_y = f_y t h^2 / 6,
-    M_p = f_y t h^2 / 4, eps_y = f_y / E."""
+    M_p = f_y t h^2 / 4, eps_y = f_y / E; the local law the models step ("fibre" or
+    "resultant") and a fibre section's layers and sections."""
     return {
         "y": collar.y,
         "t": collar.t,
@@ -753,6 +754,9 @@ def _collar_section(study, collar) -> dict:
         "yield_moment": collar.yield_moment,
         "plastic_moment": collar.plastic_moment,
         "yield_strain": collar.yield_strain,
+        "section": collar.local_law,
+        "n_fibres": collar.n_fibres,
+        "n_sections": collar.n_sections,
     }
 
 
