@@ -27,6 +27,9 @@ from numba.core import cgutils
 from numba.extending import intrinsic
 
 from ..core.collar_law import frame_local_law
+from ..core.jit_cache import ensure_fresh
+
+ensure_fresh()  # cached kernels compiled from other sources are dropped (jit_cache)
 
 # Strict IEEE arithmetic everywhere (no fast-math): the one-state path and the group path are
 # different compiled code, and only without contraction (FMA) and reassociation do they round

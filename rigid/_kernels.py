@@ -25,7 +25,10 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ..core.jit_cache import ensure_fresh
 from ..core.tables import table_value
+
+ensure_fresh()  # cached kernels compiled from other sources are dropped (jit_cache)
 
 (
     P_P2,

@@ -33,7 +33,10 @@ from numba import njit, prange
 
 from ..core.collar_law import FIBRE, LAW_KIND, OUT_SIZE, RECORDED, frame_local_law
 from ..core.fibre import STRESS as FIBRE_STRESS
+from ..core.jit_cache import ensure_fresh
 from ..core.tables import table_value
+
+ensure_fresh()  # cached kernels compiled from other sources are dropped (jit_cache)
 
 N_RECORDED = len(RECORDED)  # plastic-state entries per collar in a history row
 N_COLLAR_COLS = OUT_SIZE + N_RECORDED

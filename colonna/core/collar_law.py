@@ -25,6 +25,9 @@ import numpy as np
 from numba import njit
 
 from .fibre import HEADER, fibre_local_law, fibre_state_size
+from .jit_cache import ensure_fresh
+
+ensure_fresh()  # cached kernels compiled from other sources are dropped (jit_cache)
 
 STATE_SIZE = HEADER
 """The state row of resultant-law collars (16 numbers; a fibre collar needs

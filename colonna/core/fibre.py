@@ -67,6 +67,10 @@ import math
 import numpy as np
 from numba import njit
 
+from .jit_cache import ensure_fresh
+
+ensure_fresh()  # cached kernels compiled from other sources are dropped (jit_cache)
+
 MAX_SECTIONS = 30  # Gauss-Lobatto sections per element: 2 .. (colonna.core.collar's limit)
 MAX_ITERATIONS = 60
 TOLERANCE = 1e-12

@@ -6,6 +6,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .jit_cache import ensure_fresh
+
+ensure_fresh()  # cached kernels compiled from other sources are dropped (jit_cache)
+
 
 @njit(cache=True)
 def table_value(t, times, values):
