@@ -33,3 +33,24 @@ def half_column():
     import math
 
     return Block.from_density(b=0.2, h=2.0, density=2700.0, thickness=math.pi * 0.2)
+
+
+# The interpreter's teardown after a whole run once crashed in LLVM ("Use still stuck around
+# after Def is destroyed", a segmentation fault) after every test had passed and the summary
+# was printed (clean clone, 2026-11-26): the exit status then read as a failure that no test
+# had. Until that is understood (it is noted in the issues), the session ends with its own
+# status once pytest is done with everything it writes.
+_EXIT_STATUS: list[int] = []
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_sessionfinish(session, exitstatus):
+    _EXIT_STATUS.append(int(exitstatus))
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_unconfigure(config):
+    if _EXIT_STATUS and not hasattr(config, "workerinput"):
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(_EXIT_STATUS[-1])

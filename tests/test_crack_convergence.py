@@ -122,7 +122,9 @@ def _sliding_closed_form(mass, mu, tau, a, duration):
 def test_a_half_slides_down_the_crack_at_the_coulomb_rate(enforcement):
     """The half pressed on the crack by m a(t) (module doc, _half_sliding_down_the_crack): the
     crack's normal force is m a in the mean once the ramp is past (2 %; the half rings about
-    it) and never below zero, and the half slides down as s'' = g - mu a(t) (1 %)."""
+    it) and never below zero, and the half slides down as s'' = g - mu a(t): 1 % with the
+    exact contact; 2 % with the penalty, whose slip includes its tangential springs' stretch
+    and their restarts (measured 1.2 % on the bed's base)."""
     r, mass, mu, (tau, a), duration = _half_sliding_down_the_crack(enforcement)
     h = r.history
     force = h["crack_normal_force"][h["t"] > 2.0 * tau]
@@ -130,7 +132,8 @@ def test_a_half_slides_down_the_crack_at_the_coulomb_rate(enforcement):
     assert force.min() >= 0.0
     slip = -(h["translation_y_2"] - h["translation_y_1"])
     slip_expected, _ = _sliding_closed_form(mass, mu, tau, a, duration)
-    assert slip[-1] - slip[0] == pytest.approx(slip_expected, rel=0.01)
+    tolerance = 0.01 if enforcement == "lagrange" else 0.02
+    assert slip[-1] - slip[0] == pytest.approx(slip_expected, rel=tolerance)
     assert r.summary["energy_error_max"] < ENERGY_ERROR_LIMIT
 
 

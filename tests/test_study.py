@@ -348,7 +348,8 @@ def test_collar_design_study(tmp_path, capsys):
         # over every step) is at least the utilisation sampled at the outputs
         if r["never_yields"]:
             assert r["collar_ductility_demand"] >= r["collar_max_utilisation"] * (1 - 1e-9)
-            assert r["holds"] and r["collar_plastic_work"] == 0.0
+            # no plastic work: zero to the round-off of the fibre law's q dv - dU (J)
+            assert r["holds"] and abs(r["collar_plastic_work"]) < 1e-9
         assert r["holds"] == (not r["collar_fractured"] and r["collar_ductility_demand"] <= 15.0)
     never, holds = ductile["never_yields_t"], ductile["holds_t"]
     assert never is not None and holds is not None and holds <= never

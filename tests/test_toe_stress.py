@@ -234,8 +234,10 @@ def test_restart_from_a_recorded_state_continues_the_run(rocking_run, rocking_en
     )
     n = again.history["t"].size
     assert np.allclose(again.history["t"], r.history["t"][k : k + n], atol=1e-12)
-    # The hand-over is exact to round-off (x - X + X), and so is the run up to the next
-    # landing; there, which step a contact closes in amplifies round-off (to about 1e-5 of the
+    # The hand-over is exact to round-off (x - X + X), and the run up to the next landing to
+    # the exact crack contact's Gauss-Seidel tolerance (1e-9 of the column's size: its warm
+    # start, the last step's multipliers, is not part of a recorded state), 1e-8 of the
+    # rotation; there, which step a contact closes in amplifies round-off (to about 1e-5 of the
     # rotation), so after it the runs agree to 1e-2. Row 0 is left out: a recorded row's
     # rotation is that of the frame fitted at the start of its last step.
     # (restarted at t = 0.3 s, the next landing comes after 0.03 s: 6 output times)
@@ -243,7 +245,7 @@ def test_restart_from_a_recorded_state_continues_the_run(rocking_run, rocking_en
     scale = np.abs(r.history["theta_left"]).max()
     for key in ("theta_left", "theta_right"):
         error = np.abs(again.history[key][1:m] - r.history[key][k + 1 : k + m])
-        assert error[:5].max() < 1e-9 * scale
+        assert error[:5].max() < 1e-8 * scale
         # after the landing the restart strays from the run as the replicas (perturbed by
         # 1e-12 of the height at t = 0) stray from each other: no more than twice the most
         # any of them does
