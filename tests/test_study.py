@@ -262,6 +262,7 @@ def test_toe_windows_are_cases_of_their_own_and_resume_apart_from_the_fem(tiny_r
     assert _comparable(resumed) == _comparable(reference)
 
 
+@pytest.mark.slow  # 20-40 s: make test stays under 10 minutes (make test-all runs it)
 def test_dask_path_gives_the_local_summary(tiny_run, tmp_path):
     distributed = pytest.importorskip("distributed")
     _, study, reference = tiny_run
@@ -364,6 +365,7 @@ def test_collar_design_study(tmp_path, capsys):
     assert_opens_with_the_outcome(page, s)
 
 
+@pytest.mark.slow  # 20-40 s: make test stays under 10 minutes (make test-all runs it)
 def test_cross_check_of_a_recorded_motion(tmp_path):
     """The shipped synthetic record (tests/data/synthetic.AT2, 0.25 g), scaled, through the
     cross-check: every model runs it, the summary says where it sits (peak / a_uplift), and

@@ -67,6 +67,7 @@ def _count(study: Path, out: Path) -> dict:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
+@pytest.mark.slow  # 20-40 s: make test stays under 10 minutes (make test-all runs it)
 def test_a_cross_check_reads_its_file_once_and_validates_it_once(tmp_path):
     """The whole cross-check (its FEM, rigid, spectrum and toe cases, the record of its
     inputs, the ground motion and the report) from one read and one validation."""
