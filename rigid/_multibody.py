@@ -70,6 +70,14 @@ N_BODY_COLS = 6
 # tangential force, then per collar its N_COLLAR_COLS (outputs and recorded plastic state)
 N_TAIL = 7
 
+
+@njit(cache=True)
+def history_columns(n_bodies, n_collars):
+    """The width of a history row (``out``'s second dimension) for n_bodies and n_collars: the
+    layout _write_row writes."""
+    return 1 + N_BODY_COLS * n_bodies + N_TAIL + 2 * n_bodies + N_COLLAR_COLS * n_collars
+
+
 # The kernels' arguments travel in bundles (named tuples, which numba compiles as records of
 # arrays and numbers), as the FEM's do (fem._kernels): what describes the column (Bodies,
 # Contacts, Collars), the ground (Ground), the run (Settings), and what a step reads and
@@ -829,6 +837,9 @@ def simulate(q, v, bodies, contacts, collars, ground, settings, out, impacts):
     status = FINISHED
     reason = OVER_NONE
     t_over = -1.0
+    if out.shape[0] < 1 or out.shape[1] != history_columns(nb, collars.a.size):
+        # _write_row does not check its indices: a narrower out would corrupt the heap
+        raise ValueError("simulate: out must have history_columns(bodies, collars) columns")
     _write_row(out, n_rows, 0.0, q, v, bodies, collars, col_out, no_force, state, col_state)
     n_rows += 1
     step = 0
@@ -1133,7 +1144,7 @@ def spectrum_modes(
         ground = Ground(GROUND_HARMONIC, gpar, np.zeros(1), np.zeros(1), t_end)
         q = q0.copy()
         v = np.zeros_like(q0)
-        out = np.zeros((1, 1 + N_BODY_COLS * nb + N_TAIL + 2 * nb + N_COLLAR_COLS * collars.a.size))
+        out = np.zeros((1, history_columns(nb, collars.a.size)))
         impacts = np.zeros((1, 4))
         status, steps, rows, n_imp, reason, t_over, peak, it, util, _pl, _pw = simulate(
             q, v, bodies, contacts, collars, ground, run, out, impacts

@@ -701,13 +701,7 @@ def rock_multibody(
     require_history_rows(duration, out_every * dt)
     n_steps = int(math.ceil(duration / dt))
     q, v = tilted_state(column, initial_tilt, initial_angular_velocity)
-    n_cols = (
-        1
-        + K.N_BODY_COLS * column.n_bodies
-        + K.N_TAIL
-        + 2 * column.n_bodies
-        + K.N_COLLAR_COLS * column.col_a.size
-    )
+    n_cols = K.history_columns(column.n_bodies, column.col_a.size)
     out = np.zeros((n_steps // out_every + 3, n_cols))
     impacts = np.zeros((max_impacts_stored, 4))
     energy_scale = max(column.rocking_energy(), 1e-300)
@@ -818,14 +812,8 @@ def multibody_outcome(
         raise InputError(f"dt = {dt:g} s is above the collars' stable step: lower dt")
     n_steps = int(math.ceil(duration / dt))
     q, v = column.q_rest.copy(), np.zeros_like(column.q_rest)
-    n_cols = (
-        1
-        + K.N_BODY_COLS * column.n_bodies
-        + K.N_TAIL
-        + 2 * column.n_bodies
-        + K.N_RECORDED * column.col_a.size
-    )
-    out = np.zeros((1, n_cols))  # the initial row only
+    # the initial row only (the kernel writes one whole row: N_COLLAR_COLS per collar)
+    out = np.zeros((1, K.history_columns(column.n_bodies, column.col_a.size)))
     impacts = np.zeros((10_000, 4))
     settings = K.Settings(
         h=float(dt),
