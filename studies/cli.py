@@ -144,8 +144,9 @@ def _add_collar_option(parser) -> None:
     parser.add_argument(
         "--collars",
         type=Path,
-        help="TOML file with [[collar]] tables (y, t, h, length, E, fy, "
-        "pretension); the block is then one half of the cracked column",
+        help="TOML file with [[collar]] tables, the keys of a study file's [[collar]] ("
+        + ", ".join(schema.Collar.model_fields)
+        + "; docs/study-file.md); the block is then one half of the cracked column",
     )
 
 

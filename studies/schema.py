@@ -617,6 +617,23 @@ class Contact(Table):
         "contact too, whose stiffness is the bed's ([base]).",
     )
 
+    @staticmethod
+    def across(c: dict, given: set) -> list[tuple[str, tuple]]:
+        """The crack's penalty keys act only with its penalty enforcement: given under the
+        exact contact they would change nothing, silently."""
+        if c["enforcement"] != "lagrange":
+            return []
+        return [
+            (
+                f"contact.{key} sets the crack's penalty, which acts only with contact."
+                f'enforcement = "penalty" (the default, "lagrange", is exact and has none; the '
+                "base's stiffness is [base]'s): remove it, or set the enforcement",
+                (),
+            )
+            for key in ("penalty_factor", "penalty")
+            if key in given and _known(c[key])
+        ]
+
 
 class Base(Table):
     """[base]: the bed the column stands on (FEM): its stiffness per unit area, k = E_bed /

@@ -442,6 +442,11 @@ CASES = [
         ["contact.penalty_factor = 100000000.0", "[0.001, 1000]"],
     ),
     (
+        "a crack penalty under the exact crack contact",
+        _fem(("[mesh]", "[contact]\npenalty_factor = 4.0\n[mesh]")),
+        ["contact.penalty_factor", 'enforcement = "penalty"', "lagrange"],
+    ),
+    (
         "penalty of 1e300",
         _fem(("[mesh]", "[contact]\npenalty = 1e300\n[mesh]")),
         ["contact.penalty = 1e+300", "[1e+06, 1e+18], N/m^3"],
@@ -720,3 +725,16 @@ def test_the_estimate_counts_the_steps_the_run_takes(tmp_path):
     work = fem_work(study, 3)
     assert work.state_steps == 3 * result.summary["steps"]
     assert work.node_steps == work.state_steps * work.nodes
+
+
+def test_the_crack_penalty_is_accepted_with_its_own_enforcement():
+    """The error above is about the enforcement, not the key: with the penalty enforcement the
+    same penalty_factor is read, and under the exact contact the untouched default is fine."""
+    from colonna.core.errors import InputError
+    from colonna.studies.schema import parse_table
+
+    contact = parse_table("contact", {"enforcement": "penalty", "penalty_factor": 4.0})
+    assert contact.penalty_factor == 4.0
+    assert parse_table("contact", {"damping": 0.02}).enforcement == "lagrange"
+    with pytest.raises(InputError, match="contact.penalty "):
+        parse_table("contact", {"penalty": 1e12})
