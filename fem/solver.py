@@ -62,13 +62,16 @@ REPLICA_PERTURBATION = 1e-12
 BATCH_SLOTS = K.GROUP
 # the weak-tail stop (iter_batch's stop_in_weak_tail): a seated column under a ground that stays
 # below a body's uplift acceleration g tan(alpha_b) over WEAK_TAIL_MARGIN for the rest of the
-# motion cannot start rocking again. Measured on the fragility's column (spectrum mesh,
-# docs/fragility.md, Speed): its halves lock and it rocks only once the ground exceeds several
-# g tan(alpha_b); below that it tilts on its bed, about 0.01 alpha_b per g tan(alpha_b)
+# motion cannot start rocking again. Half of the least rigid threshold of any part (a free half
+# lifts at g tan(alpha_b), the halves locked together at about twice that); measured on the
+# fragility's column (spectrum mesh, 20 s synthetic records, docs/fragility.md, Speed): it
+# first rocked (|theta| past SEATED_TILT alpha_b) once the ground had reached 2.0-6.7
+# g tan(alpha_b), and took 3.1 g tan(alpha_b) without rocking; below that it tilts on its bed,
+# up to 0.016 alpha_b per g tan(alpha_b) of ground
 WEAK_TAIL_MARGIN = 2.0
 # seated: every body's rigid |theta| below SEATED_TILT alpha_b at every output over one period
-# of free rocking at that amplitude (so that a body rocking at it would show it): ten times the
-# bed's tilt under the weak ground, a fifth of the sway of the column measured before it rocks
+# of free rocking at that amplitude (so that a body rocking at it would show it): six times the
+# bed's tilt under the weak ground (0.008 alpha_b), a quarter of what a body first rocks to
 SEATED_TILT = 0.05
 
 
@@ -457,11 +460,14 @@ def iter_batch(
     :data:`WEAK_TAIL_MARGIN`, less with vertical motion) at every later step
     (:func:`weak_tail_start`), (2) the column is seated (every body's |theta| below
     :data:`SEATED_TILT` alpha_b at every output over the last period of free rocking at that
-    amplitude, 4 acosh(1 / (1 - SEATED_TILT)) / p_b) and (3) the
-    energy criterion above holds. A seated column that the ground cannot lift answers as an
-    elastic body from then on: no rocking, so no overturning, no further rotation, collar strain
-    or toe impact; the run's answers are those up to the stop (for records, whose weak tails
-    are seconds long). Other arguments as in :func:`run`."""
+    amplitude, 4 acosh(1 / (1 - SEATED_TILT)) / p_b) after it has rocked (a body's |theta|
+    reached SEATED_TILT alpha_b at an output) and (3) the energy criterion above holds. A
+    seated column that the ground cannot lift answers as an elastic body from then on,
+    tilting on its bed well below the seated tilt: no rocking, so no overturning, no rotation
+    past what it has reached, no collar strain from crack opening or toe impact; the run's
+    answers are those up to the stop (for records, whose weak tails are seconds long). A run
+    that never rocked is not stopped there: its elastic peaks (the bed's sway) are those of
+    the whole record. Other arguments as in :func:`run`."""
     batch = len(grounds)
     if batch < 1:
         raise InputError("run_batch: no ground motion given")
@@ -1064,6 +1070,7 @@ class _Recorder:
         self.tipping_angle = alpha_b  # rad: a body's centre of mass above its toe
         self.body_p = math.sqrt(0.75 * model.g / r_b)  # 1/s: a body's p, sqrt(m g R / J0)
         self.seated_time = 0.0  # s: the span :meth:`seated` looked back over
+        self.peak_tilt = 0.0  # rad: the largest |theta| of a body at the outputs so far
         self.potential_scale = float(model.mass[0::2].sum()) * model.g * mesh.height
         self.body_mass = np.array(
             [model.node_mass[mesh.node_body == b].sum() for b in range(mesh.n_bodies)]
@@ -1280,6 +1287,7 @@ class _Recorder:
         return row
 
     def finish_row(self, row, energy0):
+        self.peak_tilt = max(self.peak_tilt, abs(row["theta_left"]), abs(row["theta_right"]))
         self.scale = max(self.scale, row["energy_kinetic"], abs(row["energy_external_work"]))
         imbalance = (
             row["energy_total"] + row["energy_dissipated"] - row["energy_external_work"] - energy0
@@ -1378,6 +1386,7 @@ def _check(row, recorder, ground_end, t, stop_on_overturn, rest_energy=None, wea
         rest_energy is not None
         and weak_from is not None
         and weak_from <= t <= ground_end
+        and recorder.peak_tilt >= SEATED_TILT * recorder.tipping_angle
         and recorder.seated(t, SEATED_TILT)
     ):
         above_rest = row["energy_total"] - rest_energy
@@ -1388,7 +1397,9 @@ def _check(row, recorder, ground_end, t, stop_on_overturn, rest_energy=None, wea
                 f"t = {weak_from:.4g} s below 1/{WEAK_TAIL_MARGIN:g} of a body's uplift "
                 f"acceleration to its end) the column is seated (every body within "
                 f"{SEATED_TILT:g} of its slenderness angle for {recorder.seated_time:.3g} s) with "
-                f"{above_rest:.3g} J above its rest state: it can no longer lift",
+                f"{above_rest:.3g} J above its rest state, after rocking to "
+                f"{recorder.peak_tilt / recorder.tipping_angle:.3g} of it: it can no longer "
+                "lift",
                 False,
             )
     if not stop_on_overturn:

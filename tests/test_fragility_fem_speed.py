@@ -6,7 +6,8 @@ weak level, against the closed form of a sine segment); a run that rocks the col
 lets it settle under a weak tail stops in the tail, its history up to the stop the full run's
 bits, and the full run, carried on to the end, never rocks again (every body below the seated
 tilt), stays below half the tipping work, and has the same peaks and limit states; a run
-whose whole record stays weak stops once seated and answers the full run's limit states.
+whose whole record stays weak never rocks and is not stopped before the record ends (its
+elastic peaks are the whole record's).
 """
 
 import dataclasses
@@ -154,20 +155,20 @@ def test_a_run_that_rocks_then_settles_in_a_weak_tail_stops_with_the_full_run_s_
     _same_limit_states(column, full, stopped)
 
 
-def test_a_run_whose_record_stays_weak_stops_once_seated_with_the_full_run_s_limit_states(
-    column,
-):
-    """A record below the weak level throughout cannot lift the column: the run stops at the
-    first output after one seated period, and the full run never comes near the seated tilt:
-    no uplift, rotation, overturning, collar yield or toe crushing in either."""
+def test_a_run_whose_record_stays_weak_never_rocks_and_is_not_stopped_in_its_tail(column):
+    """A record below the weak level throughout does not rock the column (every body stays far
+    below the seated tilt, on its bed): overturning, rotation and collar yield cannot be
+    reached, but its elastic peaks (the bed's sway, and with it the FEM's uplift of 1e-4 alpha)
+    are those of the whole record, so the weak-tail stop leaves it to the end: the same run as
+    without it."""
     record = _record([(0.9, 0.4, 0.15)])
     full, stopped = _runs(column, record)
-    assert stopped.summary["status"].startswith("settled")
-    assert stopped.history["t"][-1] < 0.5
+    assert "weak tail" not in stopped.summary["status"]  # (settled once the record ends)
+    assert np.array_equal(full.history["theta_left"], stopped.history["theta_left"])
     theta = np.maximum(np.abs(full.history["theta_left"]), np.abs(full.history["theta_right"]))
     assert theta.max() < 0.1 * SEATED_TILT * ALPHA_B
     states = _same_limit_states(column, full, stopped)
-    assert not any(value.any() for value in states.values())
+    assert not states["overturning"].any() and not states["rotation"].any()
 
 
 def _same_limit_states(column, full, stopped) -> dict:
