@@ -463,11 +463,11 @@ def iter_batch(
     amplitude, 4 acosh(1 / (1 - SEATED_TILT)) / p_b) after it has rocked (a body's |theta|
     reached SEATED_TILT alpha_b at an output) and (3) the energy criterion above holds. A
     seated column that the ground cannot lift answers as an elastic body from then on,
-    tilting on its bed well below the seated tilt: no rocking, so no overturning, no rotation
-    past what it has reached, no collar strain from crack opening or toe impact; the run's
-    answers are those up to the stop (for records, whose weak tails are seconds long). A run
-    that never rocked is not stopped there: its elastic peaks (the bed's sway) are those of
-    the whole record. Other arguments as in :func:`run`."""
+    swaying on its bed below the seated tilt: no rocking, so no overturning, no rotation past
+    what it has reached, no crack opening that strains a collar, no toe impact; the run's
+    answers are those up to the stop (records have weak tails seconds long). A run that never
+    rocked runs on: its peaks are its sway, and a weak tail can sway it more than the strong
+    motion did (tests/test_fragility_fem_speed.py). Other arguments as in :func:`run`."""
     batch = len(grounds)
     if batch < 1:
         raise InputError("run_batch: no ground motion given")

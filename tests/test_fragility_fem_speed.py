@@ -6,8 +6,8 @@ weak level, against the closed form of a sine segment); a run that rocks the col
 lets it settle under a weak tail stops in the tail, its history up to the stop the full run's
 bits, and the full run, carried on to the end, never rocks again (every body below the seated
 tilt), stays below half the tipping work, and has the same peaks and limit states; a run
-whose whole record stays weak never rocks and is not stopped before the record ends (its
-elastic peaks are the whole record's).
+that never rocks is not stopped in its weak tail, which may sway it more than the strong
+motion did.
 """
 
 import dataclasses
@@ -155,18 +155,21 @@ def test_a_run_that_rocks_then_settles_in_a_weak_tail_stops_with_the_full_run_s_
     _same_limit_states(column, full, stopped)
 
 
-def test_a_run_whose_record_stays_weak_never_rocks_and_is_not_stopped_in_its_tail(column):
-    """A record below the weak level throughout does not rock the column (every body stays far
-    below the seated tilt, on its bed): overturning, rotation and collar yield cannot be
-    reached, but its elastic peaks (the bed's sway, and with it the FEM's uplift of 1e-4 alpha)
-    are those of the whole record, so the weak-tail stop leaves it to the end: the same run as
-    without it."""
-    record = _record([(0.9, 0.4, 0.15)])
+def test_a_run_that_never_rocks_is_not_stopped_in_its_weak_tail_which_may_sway_it_more(
+    column,
+):
+    """A ground of 1.2 g tan(alpha_b) (below the 1.8 that rocks this column) only sways it on
+    its bed, and the weak tail after it sways it more (0.0011 against 0.00056 rad: the tail's
+    period sits nearer the sway's): the peaks of a run that never rocked may still come, so the
+    weak-tail stop leaves it to the end, the same run as without it."""
+    record = _record([(0.2, 0.3, 0.1), (0.3, 1.2, 0.3), (1.0, 0.3, 0.1)])
     full, stopped = _runs(column, record)
     assert "weak tail" not in stopped.summary["status"]  # (settled once the record ends)
     assert np.array_equal(full.history["theta_left"], stopped.history["theta_left"])
     theta = np.maximum(np.abs(full.history["theta_left"]), np.abs(full.history["theta_right"]))
-    assert theta.max() < 0.1 * SEATED_TILT * ALPHA_B
+    assert theta.max() < 0.5 * SEATED_TILT * ALPHA_B  # it never rocked
+    tail = full.history["t"] > 0.5
+    assert theta[tail].max() > 1.5 * theta[~tail].max()
     states = _same_limit_states(column, full, stopped)
     assert not states["overturning"].any() and not states["rotation"].any()
 
