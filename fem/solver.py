@@ -465,7 +465,8 @@ def iter_batch(
     seated column that the ground cannot lift answers as an elastic body from then on,
     swaying on its bed below the seated tilt: no rocking, so no overturning, no rotation past
     what it has reached, no crack opening that strains a collar, no toe impact; the run's
-    answers are those up to the stop (records have weak tails seconds long). A run that never
+    answers are those up to the stop (records have weak tails seconds long), save the toe
+    stress of a mild rocking, which the sway may approach (docs/fragility.md). A run that never
     rocked runs on: its peaks are its sway, and a weak tail can sway it more than the strong
     motion did (tests/test_fragility_fem_speed.py). Other arguments as in :func:`run`."""
     batch = len(grounds)
