@@ -60,6 +60,19 @@ REPLICA_PERTURBATION = 1e-12
 # runs that advance together when a batch of many runs is streamed through iter_batch: one
 # group of the kernel (its cost per state is lowest at a full group)
 BATCH_SLOTS = K.GROUP
+# the weak-tail stop (iter_batch's stop_in_weak_tail): a seated column under a ground that stays
+# below a body's uplift acceleration g tan(alpha_b) over WEAK_TAIL_MARGIN for the rest of the
+# motion cannot start rocking again. Half of the least rigid threshold of any part (a free half
+# lifts at g tan(alpha_b), the halves locked together at about twice that); measured on the
+# fragility's column (spectrum mesh, synthetic 20 s records, docs/fragility.md, Speed): it
+# first rocked (|theta| past SEATED_TILT alpha_b) once the ground had reached 1.6-6.7
+# g tan(alpha_b) (in 5 runs), and took 0.8-3.1 without rocking; below that it sways on its
+# bed, about 0.03 alpha_b per g tan(alpha_b) of ground at most
+WEAK_TAIL_MARGIN = 2.0
+# seated: every body's rigid |theta| below SEATED_TILT alpha_b at every output over one period
+# of free rocking at that amplitude (so that a body rocking at it would show it): three times
+# the bed's sway under the weak ground
+SEATED_TILT = 0.05
 
 
 @dataclass
@@ -415,6 +428,7 @@ def iter_batch(
     initial_state: tuple | None = None,
     initial_contact: dict | None = None,
     stop_when_settled: bool = False,
+    stop_in_weak_tail: bool = False,
 ):
     """One run of the model per ground motion in ``grounds`` (with ``verticals[k]``, None for
     none), advanced together: the runs share the model and its stable step, and each step
@@ -438,7 +452,23 @@ def iter_batch(
     tips one body onto its toe. Energy only leaves the column once the ground is still
     (contact damping, friction, plastic work), so it can no longer reach a toe, let alone
     overturn, and every later swing is smaller than that energy allows (for maps of outcomes,
-    such as the spectrum's grid points). Other arguments as in :func:`run`."""
+    such as the spectrum's grid points).
+
+    ``stop_in_weak_tail`` (with ``stop_when_settled``): such a run also stops during the
+    motion, in its weak tail: from the first output at which (1) the ground the kernel reads
+    stays below :func:`weak_ground_level` (a body's uplift acceleration g tan alpha_b over
+    :data:`WEAK_TAIL_MARGIN`, less with vertical motion) at every later step
+    (:func:`weak_tail_start`), (2) the column is seated (every body's |theta| below
+    :data:`SEATED_TILT` alpha_b at every output over the last period of free rocking at that
+    amplitude, 4 acosh(1 / (1 - SEATED_TILT)) / p_b) after it has rocked (a body's |theta|
+    reached SEATED_TILT alpha_b at an output) and (3) the energy criterion above holds. A
+    seated column that the ground cannot lift answers as an elastic body from then on,
+    swaying on its bed below the seated tilt: no rocking, so no overturning, no rotation past
+    what it has reached, no crack opening that strains a collar, no toe impact; the run's
+    answers are those up to the stop (records have weak tails seconds long), save the toe
+    stress of a mild rocking, which the sway may approach (docs/fragility.md). A run that never
+    rocked runs on: its peaks are its sway, and a weak tail can sway it more than the strong
+    motion did (tests/test_fragility_fem_speed.py). Other arguments as in :func:`run`."""
     batch = len(grounds)
     if batch < 1:
         raise InputError("run_batch: no ground motion given")
@@ -542,6 +572,8 @@ def iter_batch(
         and initial_velocity is None
     )
     ground_end = [max(g.end_time, vg.end_time) for g, vg in zip(grounds, verticals)]
+    weak_from: list = [None] * batch  # s, where the weak tail starts (stop_in_weak_tail)
+    weak_level = weak_ground_level(model)
     pending = deque(range(batch))
     run_in = [-1] * slots  # the run in each slot (-1: none)
     recorders: dict[int, _Recorder] = {}
@@ -574,6 +606,16 @@ def iter_batch(
         """Start run k in the slot: its initial state and the forces there."""
         clock = time.perf_counter()
         state.reset(slot, start, None if offsets is None else offsets[k])
+        if stop_in_weak_tail and stop_when_settled and static_start:
+            weak_from[k] = weak_tail_start(
+                grounds[k],
+                verticals[k],
+                weak_level,
+                model.g,
+                start_time,
+                dt,
+                n_outputs[k] * steps_per_output,
+            )
         # the forces of the initial state (contact normal forces at rest) for the first record
         state.evaluate(dt, blend, stiffness, slot)
         recorders[k] = _Recorder(model, edge_length, list(toes), out_dirs[k])
@@ -597,6 +639,7 @@ def iter_batch(
             t,
             stop_on_overturn,
             energy0[k] if stop_when_settled and static_start else None,
+            weak_from[k],
         )
         walls[k] += time.perf_counter() - clock
         if stop is not None:
@@ -1026,6 +1069,9 @@ class _Recorder:
         self.scale = float(model.mass[0::2].sum()) * model.g * r_b * (1.0 - math.cos(alpha_b))
         self.tipping_work = self.scale / mesh.n_bodies  # J: one body onto its toe
         self.tipping_angle = alpha_b  # rad: a body's centre of mass above its toe
+        self.body_p = math.sqrt(0.75 * model.g / r_b)  # 1/s: a body's p, sqrt(m g R / J0)
+        self.seated_time = 0.0  # s: the span :meth:`seated` looked back over
+        self.peak_tilt = 0.0  # rad: the largest |theta| of a body at the outputs so far
         self.potential_scale = float(model.mass[0::2].sum()) * model.g * mesh.height
         self.body_mass = np.array(
             [model.node_mass[mesh.node_body == b].sum() for b in range(mesh.n_bodies)]
@@ -1080,6 +1126,19 @@ class _Recorder:
         edge.buffer[r] = resultants[:, None]
         edge.position[r] = 0
         edge.sums[r] = resultants * edge.buffer.shape[2]
+
+    def seated(self, t: float, tilt: float) -> bool:
+        """Whether every body's |theta| stayed below ``tilt`` x its slenderness angle at every
+        output over the last period of a body's free rocking at that amplitude before ``t``
+        (s): 4 acosh(1 / (1 - tilt)) / p_b, linearised (the rows recorded so far)."""
+        limit = tilt * self.tipping_angle
+        span = self.seated_time = 4.0 * math.acosh(1.0 / (1.0 - tilt)) / self.body_p
+        for row in reversed(self.rows):
+            if max(abs(row["theta_left"]), abs(row["theta_right"])) >= limit:
+                return False
+            if row["t"] <= t - span:
+                return True
+        return False
 
     def falling(self, row, previous) -> str | None:
         """Which part, if any, has its centre of mass beyond its outer toe and moving outward.
@@ -1229,6 +1288,7 @@ class _Recorder:
         return row
 
     def finish_row(self, row, energy0):
+        self.peak_tilt = max(self.peak_tilt, abs(row["theta_left"]), abs(row["theta_right"]))
         self.scale = max(self.scale, row["energy_kinetic"], abs(row["energy_external_work"]))
         imbalance = (
             row["energy_total"] + row["energy_dissipated"] - row["energy_external_work"] - energy0
@@ -1257,9 +1317,39 @@ class _Recorder:
         return {k: np.array([r[k] for r in self.rows]) for k in keys}
 
 
-def _check(row, recorder, ground_end, t, stop_on_overturn, rest_energy=None):
+def weak_ground_level(model: Model) -> float:
+    """The horizontal ground acceleration (m/s^2) below which the weak-tail stop counts the
+    ground as weak: a body's uplift acceleration g tan(alpha_b) (alpha_b = atan(body width /
+    height), the rigid body's static threshold; a top load only raises it) over
+    :data:`WEAK_TAIL_MARGIN`."""
+    mesh = model.mesh
+    return model.g * (mesh.width / mesh.n_bodies) / mesh.height / WEAK_TAIL_MARGIN
+
+
+def weak_tail_start(
+    ground, vertical, level: float, g: float, start_time: float, dt: float, steps: int
+) -> float:
+    """The time (s) from which the ground of a run is weak to its end: the step after the last
+    of its ``steps`` step times (start_time + n dt, the times at which the kernel reads the
+    motion) at which |a_h| >= level (1 - |a_v| / g) (a vertical acceleration a_v of either
+    sign taken as lowering the gravity that holds the column down); ``start_time`` if none."""
+    last = -1
+    chunk = 1 << 20
+    for first in range(0, steps, chunk):
+        n = np.arange(first, min(steps, first + chunk))
+        times = start_time + dt * n
+        horizontal = np.abs(ground.acceleration(times))
+        loud = horizontal >= level * (1.0 - np.abs(vertical.acceleration(times)) / g)
+        hits = np.flatnonzero(loud)
+        if hits.size:
+            last = int(n[hits[-1]])
+    return start_time + dt * (last + 1)
+
+
+def _check(row, recorder, ground_end, t, stop_on_overturn, rest_energy=None, weak_from=None):
     """None to go on, or (reason, overturned). ``rest_energy`` (J, the energy at the static
-    start): stop a run whose fate is settled (see :func:`iter_batch`)."""
+    start): stop a run whose fate is settled (see :func:`iter_batch`); ``weak_from`` (s): also
+    during the motion's weak tail, from that time on (iter_batch's ``stop_in_weak_tail``)."""
     thetas = [row["theta_left"], row["theta_right"]]
     # no physical motion has more kinetic energy than the column's whole potential energy
     # plus the work the ground put in; beyond that the integration has gone unstable
@@ -1291,6 +1381,26 @@ def _check(row, recorder, ground_end, t, stop_on_overturn, rest_energy=None):
                 f"its toes, holds {above_rest:.3g} J above its rest state, less than half "
                 f"the {recorder.tipping_work:.3g} J that tip one body onto its toe: it can "
                 "no longer overturn",
+                False,
+            )
+    if (
+        rest_energy is not None
+        and weak_from is not None
+        and weak_from <= t <= ground_end
+        and recorder.peak_tilt >= SEATED_TILT * recorder.tipping_angle
+        and recorder.seated(t, SEATED_TILT)
+    ):
+        above_rest = row["energy_total"] - rest_energy
+        bound = above_rest + abs(row["energy_error"]) * recorder.scale
+        if bound < 0.5 * recorder.tipping_work:
+            return (
+                f"settled at t = {t:.4g} s: in the ground motion's weak tail (from "
+                f"t = {weak_from:.4g} s below 1/{WEAK_TAIL_MARGIN:g} of a body's uplift "
+                f"acceleration to its end) the column is seated (every body within "
+                f"{SEATED_TILT:g} of its slenderness angle for {recorder.seated_time:.3g} s) with "
+                f"{above_rest:.3g} J above its rest state, after rocking to "
+                f"{recorder.peak_tilt / recorder.tipping_angle:.3g} of it: it can no longer "
+                "lift",
                 False,
             )
     if not stop_on_overturn:

@@ -625,13 +625,13 @@ SHARED_BY_A_BATCH = MODEL_KEYS + (
 )
 
 
-def iter_fem(studies: list[FemStudy], *, slots: int | None = None):
+def iter_fem(studies: list[FemStudy], *, slots: int | None = None, **options):
     """One FEM run of each study (no replicas). The studies that differ only in their ground
     motion and duration (the pulses of a grid: :data:`SHARED_BY_A_BATCH` equal) share a model
     and advance together on the batched kernel (:func:`colonna.fem.solver.iter_batch`,
     ``slots`` runs at a time, default :data:`colonna.fem.solver.BATCH_SLOTS`). Yields (index in
     studies, FemResult) as each run ends; each is the same bits as ``run_fem(study,
-    replicas=1)``."""
+    replicas=1)``. ``options``: more of iter_batch's (its ``stop_in_weak_tail``)."""
     from ..fem.solver import BATCH_SLOTS, iter_batch
 
     groups: list[list[int]] = []
@@ -656,6 +656,7 @@ def iter_fem(studies: list[FemStudy], *, slots: int | None = None):
             slots=BATCH_SLOTS if slots is None else slots,
             progress=False,
             **_run_settings(first),
+            **options,
         )
         for k, result in runs:
             yield members[k], result

@@ -157,11 +157,13 @@ def rigid_case(case: dict, directory: str) -> dict:
 
 def fem_cases(cases: list[dict], directories: list[str]):
     """FEM runs of records at levels (one each), those of one model batched on one kernel
-    (:func:`studies.fem_study.iter_fem`, settled-stop). Yields (index in cases, result)."""
+    (:func:`studies.fem_study.iter_fem`, settled-stop, also in a record's weak tail:
+    :func:`colonna.fem.solver.iter_batch`'s ``stop_in_weak_tail``). Yields (index in cases,
+    result)."""
     from ..fem_study import iter_fem
 
     studies = [study_of_case(case) for case in cases]
-    for index, fem in iter_fem(studies):
+    for index, fem in iter_fem(studies, stop_in_weak_tail=True):
         yield index, fem_point(studies[index], fem)
 
 
