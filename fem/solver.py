@@ -60,6 +60,9 @@ REPLICA_PERTURBATION = 1e-12
 # runs that advance together when a batch of many runs is streamed through iter_batch: one
 # group of the kernel (its cost per state is lowest at a full group)
 BATCH_SLOTS = K.GROUP
+# the exact crack contact's Gauss-Seidel tolerance, m per m of the column's size: no multiplier
+# moves a gap by more than it at the last sweep (fem._kernels.crack_lagrange)
+LAGRANGE_TOLERANCE = 1e-9
 
 
 @dataclass
@@ -876,6 +879,7 @@ class _BatchState:
             np.zeros((batch, weights.shape[0])),
         )
         self.scratch = K.new_scratch(n)
+        self.lagrange_tolerance = LAGRANGE_TOLERANCE * float(model.X.max() - model.X.min())
 
     def advance(self, n_steps, dt, blend, stiffness, acc, vacc):
         K.advance(
@@ -897,6 +901,7 @@ class _BatchState:
             self.edge,
             self.scratch,
             self.model.contact.enforcement == "lagrange",
+            self.lagrange_tolerance,
         )
 
     def reset(self, slot: int, start: dict, offset=None) -> None:
@@ -964,6 +969,7 @@ class _BatchState:
             edge,
             self.scratch,
             self.model.contact.enforcement == "lagrange",
+            self.lagrange_tolerance,
         )
         self.motion.frames[slot] = motion.frames[slot]
         self.motion.energies[slot] = motion.energies[slot]
