@@ -179,6 +179,7 @@ REPLICA_SETTINGS = [
     ("friction filter 0", 0.05625, 0.9, 1e-9, {"friction_filter": 0.0}),
     ("friction filter 2 ms", 0.05625, 0.9, 1e-9, {"friction_filter": 2e-3}),
     ("default", 0.0375, 0.9, 1e-9, {}),
+    ("default", 0.028125, 0.9, 1e-9, {}),
 ]
 
 
