@@ -6,7 +6,12 @@ Per run: the first peak of |theta| (the larger of the halves), the crack slip at
 crack's mean normal force and its friction work up to it, the step and the cost per step.
 Prints a markdown table (docs/validation.md quotes it) and writes the rows as JSON.
 
-Run: nice python benchmarks/crack_convergence.py [out.json] [--sizes 0.225,0.1125]
+With --replicas: the exact crack contact on the study's bed, 8 round-off replicas per row
+(fem.solver.run_ensemble), along the step and the mesh and over the base's free settings
+(contact damping 0-10 %, friction filter 0-2 ms) and the Gauss-Seidel tolerance (1e-9 to 1e-12
+m per m): the median first peak, the replicas' band and the cost per step and replica.
+
+Run: nice python benchmarks/crack_convergence.py [out.json] [--sizes=0.225,0.1125] [--replicas]
 """
 
 from __future__ import annotations
@@ -19,8 +24,9 @@ from pathlib import Path
 
 import numpy as np
 
+from colonna.fem import solver
 from colonna.fem.model import build_model
-from colonna.fem.solver import run
+from colonna.fem.solver import run, run_ensemble
 from colonna.meshes import column_mesh
 from colonna.rigid.multibody import rock_multibody
 from colonna.studies.fem_study import load
@@ -143,6 +149,90 @@ def table(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+# replica medians (--replicas): (label, mesh size (m), safety, Gauss-Seidel tolerance (m per
+# m), contact settings changed from the study's)
+REPLICA_SETTINGS = [
+    ("default", 0.225, 0.9, 1e-9, {}),
+    ("step / 2", 0.225, 0.45, 1e-9, {}),
+    ("step / 4", 0.225, 0.225, 1e-9, {}),
+    ("step / 8", 0.225, 0.1125, 1e-9, {}),
+    ("base damping 0", 0.225, 0.9, 1e-9, {"damping": 0.0}),
+    ("base damping 0.1", 0.225, 0.9, 1e-9, {"damping": 0.1}),
+    ("friction filter 0", 0.225, 0.9, 1e-9, {"friction_filter": 0.0}),
+    ("friction filter 2 ms", 0.225, 0.9, 1e-9, {"friction_filter": 2e-3}),
+    ("tolerance 1e-11", 0.225, 0.9, 1e-11, {}),
+    ("tolerance 1e-12", 0.225, 0.9, 1e-12, {}),
+    ("default", 0.1125, 0.9, 1e-9, {}),
+    ("step / 2", 0.1125, 0.45, 1e-9, {}),
+    ("step / 4", 0.1125, 0.225, 1e-9, {}),
+    ("base damping 0", 0.1125, 0.9, 1e-9, {"damping": 0.0}),
+    ("base damping 0.01", 0.1125, 0.9, 1e-9, {"damping": 0.01}),
+    ("base damping 0.1", 0.1125, 0.9, 1e-9, {"damping": 0.1}),
+    ("friction filter 0", 0.1125, 0.9, 1e-9, {"friction_filter": 0.0}),
+    ("friction filter 2 ms", 0.1125, 0.9, 1e-9, {"friction_filter": 2e-3}),
+    ("tolerance 1e-11", 0.1125, 0.9, 1e-11, {}),
+    ("tolerance 1e-12", 0.1125, 0.9, 1e-12, {}),
+    ("default", 0.05625, 0.9, 1e-9, {}),
+    ("step / 2", 0.05625, 0.45, 1e-9, {}),
+    ("base damping 0", 0.05625, 0.9, 1e-9, {"damping": 0.0}),
+    ("base damping 0.1", 0.05625, 0.9, 1e-9, {"damping": 0.1}),
+    ("friction filter 0", 0.05625, 0.9, 1e-9, {"friction_filter": 0.0}),
+    ("friction filter 2 ms", 0.05625, 0.9, 1e-9, {"friction_filter": 2e-3}),
+    ("default", 0.0375, 0.9, 1e-9, {}),
+    ("default", 0.028125, 0.9, 1e-9, {}),
+]
+
+
+def replica_row(study, label, size, safety, tolerance, contact, replicas=8) -> dict:
+    """The median first peak over ``replicas`` round-off replicas of the exact crack contact
+    on the study's bed, the replicas' band and the cost per step and replica."""
+    solver.LAGRANGE_TOLERANCE = tolerance
+    try:
+        mesh = column_mesh(study.width, study.height, size, cracked=True, grading=study.grading)
+        settings = dataclasses.replace(study.contact, enforcement="lagrange", **contact)
+        model = build_model(mesh, study.stone, study.thickness, (), settings, bed=study.bed)
+        clock = time.perf_counter()
+        runs = run_ensemble(
+            model, study.ground, 0.9, replicas, output_interval=1e-3, safety=safety, progress=False
+        )
+        wall = time.perf_counter() - clock
+    finally:
+        solver.LAGRANGE_TOLERANCE = 1e-9
+    peaks = []
+    for r in runs:
+        theta = np.maximum(np.abs(r.history["theta_left"]), np.abs(r.history["theta_right"]))
+        peaks.append(float(theta[first_peak(theta)]))
+    steps = runs[0].summary["steps"]
+    return {
+        "label": label,
+        "mesh_size": size,
+        "safety": safety,
+        "tolerance": tolerance,
+        "contact": contact,
+        "peaks": peaks,
+        "median": float(np.median(peaks)),
+        "dt": runs[0].summary["dt"],
+        "us_per_step": 1e6 * wall / (steps * replicas),
+    }
+
+
+def replica_table(rows: list[dict]) -> str:
+    default = {r["mesh_size"]: r["median"] for r in rows if r["label"] == "default"}
+    lines = [
+        "| mesh (m) | setting | median first peak (mrad) | / default | replicas (mrad) "
+        "| dt (us) | cost per step and replica (us) |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        lines.append(
+            f"| {r['mesh_size']:g} | {r['label']} | {1e3 * r['median']:.2f} "
+            f"| {r['median'] / default[r['mesh_size']]:.3f} "
+            f"| {1e3 * min(r['peaks']):.2f}-{1e3 * max(r['peaks']):.2f} | {1e6 * r['dt']:.2f} "
+            f"| {r['us_per_step']:.1f} |"
+        )
+    return "\n".join(lines)
+
+
 def main() -> None:
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     out = Path(args[0]) if args else Path("crack_convergence.json")
@@ -151,6 +241,16 @@ def main() -> None:
         if a.startswith("--sizes="):
             sizes = [float(v) for v in a.split("=", 1)[1].split(",")]
     study = load(STUDY)
+    if "--replicas" in sys.argv[1:]:
+        rows = []
+        for label, size, safety, tolerance, contact in REPLICA_SETTINGS:
+            if size in sizes or "--sizes=" not in " ".join(sys.argv):
+                clock = time.perf_counter()
+                rows.append(replica_row(study, label, size, safety, tolerance, contact))
+                print(f"{size:g} {label}: {time.perf_counter() - clock:.1f} s", file=sys.stderr)
+                out.write_text(json.dumps(rows, indent=1))
+        print(replica_table(rows))
+        return
     rows = rigid_rows(study)
     run(
         build_model(

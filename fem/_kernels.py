@@ -938,6 +938,7 @@ def advance(
     edge,
     scratch,
     lagrange,
+    lagrange_tolerance,
 ):
     """n_steps of central differences (velocities at half steps, lumped mass) for every live
     state of a batch (motion.alive); a state whose motion stops being finite is stopped there.
@@ -952,7 +953,8 @@ def advance(
     over the last steps and their peak kept over every step (EdgeAverage), so that an impact
     shorter than an output interval is not missed and penalty-contact chatter faster than the
     averaging time is not taken for stress. motion.done[r]: the steps state r did. lagrange:
-    the crack's contact exact (crack_lagrange) instead of penalty (crack_contact).
+    the crack's contact exact (crack_lagrange) instead of penalty (crack_contact), its
+    Gauss-Seidel solved until no multiplier moves a gap by more than lagrange_tolerance (m).
 
     The live states go through _advance_group in groups of GROUP, a group of one state in the
     one-state layout (a version of _advance_group compiled for it: a plain run keeps its speed).
@@ -1006,6 +1008,7 @@ def advance(
                 inv_mass,
                 body_mass,
                 lagrange,
+                lagrange_tolerance,
                 True,
             )
         else:
@@ -1032,6 +1035,7 @@ def advance(
                 inv_mass,
                 body_mass,
                 lagrange,
+                lagrange_tolerance,
                 False,
             )
 
@@ -1060,6 +1064,7 @@ def _advance_group(
     inv_mass,
     body_mass,
     lagrange,
+    lagrange_tolerance,
     single,
 ):
     """advance for the live states `states` (at most GROUP; one if single, a compile-time
@@ -1134,15 +1139,11 @@ def _advance_group(
     results = carray(_stack_rows(7), (7, GROUP))
     contact = carray(_stack_rows(12), (12, GROUP))
     collar_results = carray(_stack_rows(2), (2, GROUP))
-    # the exact crack contact's scratch (crack_lagrange) and its tolerance: a nanometre per
-    # metre of column (a thousandth of the crack's penetration under its own weight with the
-    # default penalty; the default column's first swing moved by 0.1 % from 1e-12 to it, the
-    # sweeps a step went from 2-3 (median), 13-67 (9 in 10) and 200 (the cap, reached) to 1-2,
-    # 2-3 and 32-37)
+    # the exact crack contact's scratch (crack_lagrange); its tolerance (m) is the caller's
+    # (fem.solver.LAGRANGE_TOLERANCE says how it is chosen)
     n_slaves = max(cracks[0].nodes.size, cracks[1].nodes.size)
     lagrange_table = np.zeros((2, n_slaves if lagrange else 0, 6))
     lagrange_velocity = np.zeros(n_dofs if lagrange else 0)
-    lagrange_tolerance = 1e-9 * (X.max() - X.min())
     positions = columns[:, POSITION, :]
     velocities = columns[:, VELOCITY, :]
     forces = columns[:, FORCE, :]

@@ -73,6 +73,9 @@ WEAK_TAIL_MARGIN = 2.0
 # of free rocking at that amplitude (so that a body rocking at it would show it): three times
 # the bed's sway under the weak ground
 SEATED_TILT = 0.05
+# the exact crack contact's Gauss-Seidel tolerance, m per m of the column's size: no multiplier
+# moves a gap by more than it at the last sweep (fem._kernels.crack_lagrange)
+LAGRANGE_TOLERANCE = 1e-9
 
 
 @dataclass
@@ -919,6 +922,7 @@ class _BatchState:
             np.zeros((batch, weights.shape[0])),
         )
         self.scratch = K.new_scratch(n)
+        self.lagrange_tolerance = LAGRANGE_TOLERANCE * float(model.X.max() - model.X.min())
 
     def advance(self, n_steps, dt, blend, stiffness, acc, vacc):
         K.advance(
@@ -940,6 +944,7 @@ class _BatchState:
             self.edge,
             self.scratch,
             self.model.contact.enforcement == "lagrange",
+            self.lagrange_tolerance,
         )
 
     def reset(self, slot: int, start: dict, offset=None) -> None:
@@ -1007,6 +1012,7 @@ class _BatchState:
             edge,
             self.scratch,
             self.model.contact.enforcement == "lagrange",
+            self.lagrange_tolerance,
         )
         self.motion.frames[slot] = motion.frames[slot]
         self.motion.energies[slot] = motion.energies[slot]
