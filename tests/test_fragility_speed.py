@@ -5,8 +5,11 @@ run's steps; with them (the steps of a column at rest skipped, the contact probl
 solve by Gaussian elimination) it gives the full run's outcome, and its peak |theta| / alpha and
 collar utilisation within the scatter of the contact solver's own tolerance, on records that
 hold the column at rest, rock it and let it settle; a column at rest under a motion below the
-uplift acceleration stays at rest; the shifted lognormal's origin is the suite's uplift
-intensity, its curve is 0 up to it and the report names it.
+uplift acceleration stays at rest; a run stopped in its free tail once no answer can change
+answers what the whole run does, a column that overturns after its record is not stopped, and
+the two lower bounds the stop rests on (a half's potential at a rotation, a collar's elastic
+energy at a utilisation) are their closed forms; the shifted lognormal's origin is the suite's
+uplift intensity, its curve is 0 up to it and the report names it.
 """
 
 import json
