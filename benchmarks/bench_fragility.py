@@ -14,8 +14,10 @@ state) differs from rock()'s 1e-10 is measured over 20 records x 40 levels.
 
 The multibody runs take the fragility's path (colonna.rigid.multibody.multibody_outcome: no
 histories, the steps of a column at rest skipped, the contact problem's active set solved by
-Gaussian elimination); the same 20 levels of two records are also run as rock_multibody runs
-them (the path before issue 37's speed-ups) for its cost a run and how many outcomes differ.
+Gaussian elimination, the free tail stopped once no answer can change); the same 20 levels of
+two records are also run as rock_multibody runs them (the path before issue 37's speed-ups)
+for its cost a run and how many outcomes differ, and on the fragility's path without the
+stop (every answer must be the same: overturning, impacts, peak and utilisation).
 
 The FEM runs on the spectrum mesh as the study runs them (10 records x 8 levels of 20 s, the
 issue's size; ``--fem-records N`` for fewer), with the workers' CPU and the cost a state-step;
@@ -139,7 +141,8 @@ def multibody_check(suite: Path, records: int = 2, steps: int = 20) -> str:
     s = setup(load(suite.parent / "multibody.toml"))
     column = s.column
     full_runs, fast_runs = [], []
-    cpu = {"full": 0.0, "fast": 0.0}
+    cpu = {"full": 0.0, "fast": 0.0, "unstopped": 0.0}
+    stopped = differ = 0
     for i in range(records):
         record = s.records[i]
         scales = analysis.scales_for(s.levels, s.intensity[i])
@@ -148,10 +151,15 @@ def multibody_check(suite: Path, records: int = 2, steps: int = 20) -> str:
         full_runs.append(_full_runs(column, record, scales, duration))
         cpu["full"] += time.process_time() - start
         start = time.process_time()
-        fast_runs.append(
-            [multibody_point(column, outcome_run(column, record, x, duration)) for x in scales]
-        )
+        outcomes = [outcome_run(column, record, x, duration) for x in scales]
         cpu["fast"] += time.process_time() - start
+        fast_runs.append([multibody_point(column, o) for o in outcomes])
+        start = time.process_time()
+        whole = [_unstopped_run(column, record, x, duration) for x in scales]
+        cpu["unstopped"] += time.process_time() - start
+        for a, b in zip(outcomes, whole):
+            stopped += a.decided_at is not None
+            differ += _answers(a) != _answers(b)
     full = analysis.exceedances(full_runs, 0.5)
     fast = analysis.exceedances(fast_runs, 0.5)
     peaks = np.abs(
@@ -164,8 +172,35 @@ def multibody_check(suite: Path, records: int = 2, steps: int = 20) -> str:
         "outcomes that differ: "
         + "; ".join(f"{k} {int(np.sum(full[k] != fast[k]))} of {runs}" for k in full),
         f"|peak ratio| difference: median {np.median(peaks):.2g}, largest {np.max(peaks):.2g}",
+        f"the free tail stopped once decided: {stopped} of {runs} runs; CPU a run without the "
+        f"stop {cpu['unstopped'] / runs:.3f} s, with it {cpu['fast'] / runs:.3f} s; runs whose "
+        f"answers (overturning, impacts, peak, utilisation) differ: {differ}",
     ]
     return "\n  ".join(lines)
+
+
+def _unstopped_run(column, record, scale, duration):
+    """outcome_run's run without the stop once decided (its free tail run to the end)."""
+    from colonna.rigid.multibody import multibody_outcome
+
+    return multibody_outcome(
+        column.rocking_block,
+        record.scaled(float(scale)),
+        column.collars,
+        cracked=column.cracked,
+        friction=column.contact.friction,
+        duration=duration,
+        stop_when_decided=False,
+    )
+
+
+def _answers(outcome) -> tuple:
+    return (
+        outcome.overturned,
+        outcome.impacts,
+        outcome.max_abs_theta,
+        outcome.collar_max_utilisation,
+    )
 
 
 def _full_runs(column, record, scales, duration) -> list[dict]:

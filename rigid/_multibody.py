@@ -119,15 +119,17 @@ Settings = namedtuple(
         "tol",
         "max_iter",
         "outcome_only",
+        "stop_decided",
     ],
-    defaults=(False,),
+    defaults=(False, False),
 )
 """The run (see :func:`simulate`): step h (s), n_steps of it, refine (substeps of a step in which
 a contact closes), Newton's e_n, a history row every out_every steps, free_halves, barrier (J),
 early_exit, impact_tol (rad), energy_scale (J), the contact solver's tolerance tol and
 max_iter sweeps, and outcome_only (False by default: a run for its outcome, without history:
 the steps of a column at rest skipped, the contacts' active-set solve by Gaussian elimination
-after FAST_GS_ITERATIONS sweeps; see :func:`simulate`)."""
+after FAST_GS_ITERATIONS sweeps; see :func:`simulate`) and stop_decided (False by default;
+with outcome_only: the run stops once no answer can change, :func:`_decided`)."""
 
 REST_VELOCITY = 1e-9  # m/s: a body at rest moves slower than this at every point (measured:
 # 1e-11 from the contact solver's tolerance while resting under a record)
@@ -789,6 +791,9 @@ def simulate(q, v, bodies, contacts, collars, ground, settings, out, impacts):
     force, all linear in it) is convex, an interval, so rest solves the skipped steps too;
     without vertical ground motion only. The skipped steps' contact forces are not updated
     (no history with it).
+    stop_decided (with outcome_only): after the ground motion, every 64 steps, the run stops
+    (status SETTLED) once no answer can change any more (:func:`_decided`: the peak |theta|,
+    the collars' largest utilisation, the impacts and overturning stay what they are).
     energy_scale: J, for the blow-up check. collars.limits[c] = (A, W, f_y, H or -1) of each
     collar (MultibodyColumn.col_limits): the largest utilisation (|N|/A + max|M|/W) / f_y, that
     stress capped at f_y + H alpha for a plastic collar, over the steps' midpoints is returned.
@@ -826,6 +831,10 @@ def simulate(q, v, bodies, contacts, collars, ground, settings, out, impacts):
     peak = np.zeros(2)
     max_util = 0.0
     skip_rest = settings.outcome_only and ground.params[5] == 0.0
+    stop_decided = settings.outcome_only and settings.stop_decided
+    least, offset = _collar_least_energy(collars)
+    if offset < 0.0:  # a collar that is not elastic: its energy is not a bound
+        stop_decided = False
     base_corners = np.zeros(nb, dtype=np.int64)
     for c in range(contacts.a.size):
         if contacts.kind[c] == CONTACT_BASE:
@@ -937,6 +946,25 @@ def simulate(q, v, bodies, contacts, collars, ground, settings, out, impacts):
         if early_exit and t_new > ground.end and mech < settings.barrier and _upright(q, half):
             status = SETTLED
             break
+        if (
+            stop_decided
+            and step % 64 == 0
+            and t_new > ground.end
+            and _decided(
+                q,
+                mech,
+                max(peak[0], peak[1]),
+                max_util,
+                armed,
+                bodies,
+                collars,
+                settings,
+                least,
+                offset,
+            )
+        ):
+            status = SETTLED
+            break
     plastic_work = 0.0
     for c in range(collars.a.size):
         plastic_work += col_state[c, 2]
@@ -1037,6 +1065,88 @@ def _at_rest(v, n_base, base_corners, half):
         ):
             return False
     return True
+
+
+DECIDED_MARGIN = 0.5
+"""A run stops once its free energy is below DECIDED_MARGIN of every threshold of
+:func:`_decided`: the factor covers what the continuous argument leaves out (the scheme's own
+energy error, 1e-5 of the rocking energy over a whole run and 1e-10 J over a quiet tail,
+measured)."""
+
+
+@njit(cache=True)
+def _collar_least_energy(collars):
+    """Per elastic collar c, least[c] (J/Pa^2) such that its elastic energy plus
+    P^2 / (2 EA/L) is at least least[c] (u f_y)^2 whenever its utilisation (|N|/A + max|M_i|/W)
+    / f_y is u; and offset = sum of P^2 / (2 EA/L) (J), the most energy its pretensions P can
+    give back. The resultant law's energy is (N^2 - P^2) / (2 EA/L) + (M1^2 - M1 M2 + M2^2) /
+    (6 EI'/L0) (colonna.core.collar_law.resultant_local_law), whose least value at max|M_i| =
+    M is M^2 / (8 EI'/L0) (M2 = M1 / 2); the least of N^2 / (2 k_a) + M^2 / (8 k_b) on |N| / A
+    + M / W = s is s^2 / (2 (k_a / A^2 + 4 k_b / W^2)) (Lagrange). offset = -1 if a collar is
+    not elastic (a fibre section or a plastic law: no such bound)."""
+    n = collars.a.size
+    least = np.zeros(n)
+    offset = 0.0
+    for c in range(n):
+        ka = collars.props[c, 0]
+        kb = collars.props[c, 1]
+        area = collars.limits[c, 0]
+        modulus = collars.limits[c, 1]
+        if collars.props[c, 5 + LAW_KIND] == FIBRE or collars.limits[c, 3] >= 0.0 or ka <= 0.0:
+            return least, -1.0
+        least[c] = 0.5 / (ka / area**2 + 4.0 * kb / modulus**2)
+        offset += 0.5 * collars.props[c, 2] ** 2 / ka
+    return least, offset
+
+
+@njit(cache=True)
+def _least_potential(mass, half, g, i, x):
+    """Body i's least gravity and top-load potential above rest (J) at |phi| = x (<= pi/2)
+    with its base corners on or above the ground: its centroid stands at least h cos x +
+    b sin x = R cos(alpha - x) high (the top load's point h cos x above it). It is 0 at x = 0,
+    rises to the body's overturning energy at its critical angle and falls after it."""
+    b = half[i, 0]
+    hh = half[i, 1]
+    y = hh * math.cos(x) + b * math.sin(x)
+    return mass[i] * g * (y - hh) + half[i, 2] * (y + hh * math.cos(x) - 2.0 * hh)
+
+
+@njit(cache=True)
+def _decided(q, mech, peak, max_util, armed, bodies, collars, settings, least, offset):
+    """After the ground motion: True once no answer of the run can change any more.
+
+    The argument: with the ground still, the mechanical energy E = kinetic + gravity and top
+    load + collars (``mech``, J above rest) does not grow (impacts and friction dissipate,
+    elastic collars store). Its parts are bounded below: kinetic >= 0; a collar's energy >=
+    -P^2 / (2 EA/L) (``offset`` sums these) and >= least[c] (u f_y)^2 - P^2 / (2 EA/L) at
+    utilisation u (:func:`_collar_least_energy`); body i's potential >= V_i(|phi_i|)
+    (:func:`_least_potential`), >= 0 while |phi_i| <= x for any x with V_i(x) >= 0 (V_i rises
+    then falls). Let F = E + offset (plus twice the weight times the corners' present
+    penetration of the ground: the scheme lets a contact drift in by g h^2 at most, which it
+    could give back) and x = the largest |theta| so far. If F < V_i(x) for every body, no
+    body reaches |phi| = x again (at the first time one did, every body would lie within x,
+    every part of E be >= 0 and its potential alone >= V_i(x) > F): the peak |theta| stays.
+    The same with x = impact_tol and no body armed: none is armed again, so no impact is
+    counted. If F < least[c] (u_max f_y)^2 for every collar, none reaches the largest
+    utilisation so far. F below the least overturning barrier and every body within its toes
+    (:func:`_upright`): nothing overturns (as early_exit). Each threshold is used with
+    DECIDED_MARGIN."""
+    mass, half, g = bodies.mass, bodies.half, bodies.g
+    free = mech + offset
+    limit = settings.barrier
+    for i in range(mass.size):
+        if armed[i]:
+            return False
+        c = math.cos(q[3 * i + 2])
+        s = math.sin(q[3 * i + 2])
+        lowest = q[3 * i + 1] - half[i, 1] * c - half[i, 0] * abs(s)
+        if lowest < 0.0:
+            free -= 2.0 * (mass[i] * g + half[i, 2]) * lowest
+        limit = min(limit, _least_potential(mass, half, g, i, peak))
+        limit = min(limit, _least_potential(mass, half, g, i, settings.impact_tol))
+    for c in range(least.size):
+        limit = min(limit, least[c] * (max_util * collars.limits[c, 2]) ** 2)
+    return limit > 0.0 and free < DECIDED_MARGIN * limit and _upright(q, half)
 
 
 @njit(cache=True)
@@ -1140,6 +1250,7 @@ def spectrum_modes(
             settings.tol,
             settings.max_iter,
             settings.outcome_only,
+            settings.stop_decided,
         )
         ground = Ground(GROUND_HARMONIC, gpar, np.zeros(1), np.zeros(1), t_end)
         q = q0.copy()

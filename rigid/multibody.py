@@ -766,7 +766,9 @@ class MultibodyOutcome:
     """What a run of :func:`multibody_outcome` answers (no histories): whether it overturned,
     the largest |theta| of any body over every step (rad; pi/2 once overturned), the column's
     impacts (the most of any body), the largest collar utilisation over every step's midpoint
-    (None without collars), the steps taken and skipped at rest, and the kernel's wall time."""
+    (None without collars), the steps taken and skipped at rest, the kernel's wall time, and
+    when the run stopped because no answer could change any more (s; None: it ran to its
+    duration or overturned)."""
 
     overturned: bool
     max_abs_theta: float
@@ -774,6 +776,7 @@ class MultibodyOutcome:
     collar_max_utilisation: float | None
     steps: int
     wall_seconds: float
+    decided_at: float | None = None
 
 
 def multibody_outcome(
@@ -786,6 +789,7 @@ def multibody_outcome(
     duration: float | None = None,
     dt: float | None = None,
     fast: bool = True,
+    stop_when_decided: bool = True,
 ) -> MultibodyOutcome:
     """The outcome of :func:`rock_multibody`'s run from rest (same column, step, contact solver
     and impact refinement) without its histories: what a fragility needs of a run. The peak
@@ -796,8 +800,12 @@ def multibody_outcome(
     and each step's contact problem, where 20 Gauss-Seidel sweeps do not settle it, is solved
     exactly by Gaussian elimination: the same model to the contact solver's tolerance, whose
     own scatter (the start of rocking amplifies it) is what the answers move by (tests/
-    test_fragility_speed.py); without it, rock_multibody's steps exactly. Elastic collars only
-    (a plastic collar's fracture is read from its history: rock_multibody)."""
+    test_fragility_speed.py); without it, rock_multibody's steps exactly. With ``fast`` and
+    ``stop_when_decided`` the run also stops after the ground motion once no answer can change
+    any more (its energy below what the peak |theta|, an impact, the collars' largest
+    utilisation or overturning would take: :func:`rigid._multibody._decided`): every answer is
+    the whole run's. Elastic collars only (a plastic collar's fracture is read from its
+    history: rock_multibody)."""
     if any(c.plastic for c in collars):
         raise InputError("multibody_outcome: plastic collars need rock_multibody's history")
     column = build_column(block, cracked=cracked, collars=collars, friction=friction)
@@ -829,6 +837,7 @@ def multibody_outcome(
         tol=SOLVER_TOLERANCE,
         max_iter=SOLVER_MAX_ITERATIONS,
         outcome_only=bool(fast),
+        stop_decided=bool(fast and stop_when_decided),
     )
     bodies, contacts, collar_elements = column.kernel_bundles()
     start = time.perf_counter()
@@ -851,6 +860,7 @@ def multibody_outcome(
         collar_max_utilisation=float(util) if column.collars else None,
         steps=int(steps),
         wall_seconds=wall,
+        decided_at=steps * dt if status == K.SETTLED else None,
     )
 
 

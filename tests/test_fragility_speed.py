@@ -5,8 +5,11 @@ run's steps; with them (the steps of a column at rest skipped, the contact probl
 solve by Gaussian elimination) it gives the full run's outcome, and its peak |theta| / alpha and
 collar utilisation within the scatter of the contact solver's own tolerance, on records that
 hold the column at rest, rock it and let it settle; a column at rest under a motion below the
-uplift acceleration stays at rest; the shifted lognormal's origin is the suite's uplift
-intensity, its curve is 0 up to it and the report names it.
+uplift acceleration stays at rest; a run stopped in its free tail once no answer can change
+answers what the whole run does, a column that overturns after its record is not stopped, and
+the two lower bounds the stop rests on (a half's potential at a rotation, a collar's elastic
+energy at a utilisation) are their closed forms; the shifted lognormal's origin is the suite's
+uplift intensity, its curve is 0 up to it and the report names it.
 """
 
 import json
@@ -177,3 +180,107 @@ def test_a_shifted_fragility_starts_at_the_uplift_intensity(tmp_path):
     assert s["design_intensity"] < s["origin"]
     page = (out / "index.html").read_text()
     assert "shifted lognormal" in page
+
+
+# --- the free tail stops once no answer can change ----------------------------------------------
+
+SETTLES_EARLY = [(0.5, 0.6, 0.25), (0.2, 2.0, 0.2), (1.0, 0.3, 0.2)]  # a small rocking, then rest
+
+
+def test_a_run_stopped_once_decided_answers_what_the_whole_run_does():
+    """The record lifts the column (peak 0.02 alpha, about a hundred impacts) and leaves it
+    to settle: the run stops in its free tail, seconds before its duration, and every answer
+    is the whole run's (overturning and impacts equal, the peak |theta| and the collars'
+    largest utilisation to 1e-12)."""
+    record = _record(SETTLES_EARLY)
+    stopped = multibody_outcome(HALF, record, COLLARS, cracked=True)
+    whole = multibody_outcome(HALF, record, COLLARS, cracked=True, stop_when_decided=False)
+    assert whole.max_abs_theta > 1e-2 * HALF.alpha and whole.impacts > 10  # it rocked
+    assert whole.decided_at is None
+    assert stopped.decided_at is not None
+    assert record.end_time < stopped.decided_at < whole.steps * _default_dt() - 1.0
+    assert stopped.steps < whole.steps
+    assert stopped.overturned == whole.overturned is False
+    assert stopped.impacts == whole.impacts
+    assert stopped.max_abs_theta == pytest.approx(whole.max_abs_theta, rel=1e-12)
+    assert stopped.collar_max_utilisation == pytest.approx(whole.collar_max_utilisation, rel=1e-12)
+
+
+def test_a_column_that_overturns_after_the_record_is_not_stopped():
+    """A pulse of 2.7 g tan alpha over 1 s leaves the column tipping: it lands once and
+    overturns about 0.9 s after the record. Its energy stays above the overturning barrier,
+    so the run is not stopped: the same steps and answers as without the stop."""
+    record = _record([(1.0, 2.7, 1.0)])
+    stopped = multibody_outcome(HALF, record, COLLARS, cracked=True)
+    whole = multibody_outcome(HALF, record, COLLARS, cracked=True, stop_when_decided=False)
+    dt = _default_dt()
+    assert whole.overturned and stopped.overturned
+    assert stopped.decided_at is None
+    assert stopped.steps == whole.steps
+    assert stopped.steps * dt > record.end_time + 0.5  # it fell in the free tail
+    assert stopped.impacts == whole.impacts
+
+
+def _default_dt() -> float:
+    from colonna.rigid.multibody import build_column, default_step
+
+    return default_step(build_column(HALF, cracked=True, collars=COLLARS))
+
+
+def test_the_least_potential_is_that_of_a_body_pivoting_on_its_toe():
+    """V(x) = m g (R cos(alpha - x) - h) + P (R cos(alpha - x) + h cos x - 2 h): a block with a
+    top load tilted by x about its toe has exactly this potential above rest; in a cracked
+    column tilted rigidly about its outer toe the half on that toe has it and the other half
+    more (it is raised by the first)."""
+    import colonna.rigid._multibody as K
+    from colonna.rigid.multibody import build_column, tilted_state
+
+    loaded = Block(b=0.3, h=1.5, mass=800.0, top_load=2.0e4)
+    for cracked in (False, True):
+        column = build_column(loaded, cracked=cracked)
+        for x in (1e-4, 0.05, 0.15):
+            q, _ = tilted_state(column, x)
+            m, half, g = column.mass, column.half, column.block.g
+            pivot = column.n_bodies - 1  # tilted toward +x: the right body's toe
+            least = K._least_potential(m, half, g, pivot, x)
+            assert K._potential(q, m, half, g, pivot) == pytest.approx(least, rel=1e-9)
+            if cracked:
+                assert K._potential(q, m, half, g, 0) > 1.5 * K._least_potential(m, half, g, 0, x)
+
+
+def test_the_collars_least_energy_at_a_utilisation():
+    """An elastic collar at utilisation u = (|N| / A + max|M_i| / W) / f_y holds at least
+    s^2 / (2 (k_a / A^2 + 4 k_b / W^2)) - P^2 / (2 k_a), s = u f_y: over random stretches and
+    end rotations (the frame element's own law) never less, and exactly that at the
+    Lagrange point (N / k_a : M / (8 k_b) as 1 / A : 1 / (4 W), M2 = M1 / 2)."""
+    import colonna.rigid._multibody as K
+    from colonna.core.collar_law import resultant_local_law
+    from colonna.rigid.multibody import build_column
+
+    collar = Collar(y=2.0, t=0.008, h=0.06, pretension=2.0e4)
+    column = build_column(HALF, cracked=True, collars=(collar,))
+    _, _, bundle = column.kernel_bundles()
+    least, offset = K._collar_least_energy(bundle)
+    ka, kb, pre = column.col_props[0, :3]
+    area, modulus, fy = column.col_limits[0, :3]
+    law = column.col_props[0, 5:]
+    state = column.collar_rest_state()
+    assert offset == pytest.approx(pre**2 / (2.0 * ka), rel=1e-12)
+
+    def energy_and_utilisation(stretch, th1, th2):
+        N, M1, M2, U, _, _ = resultant_local_law(
+            stretch, th1, th2, ka, kb, pre, law, state, 0, False
+        )
+        return U, (abs(N) / area + max(abs(M1), abs(M2)) / modulus) / fy
+
+    rng = np.random.default_rng(37)
+    for stretch, th1, th2 in rng.normal(0.0, [1e-4, 1e-3, 1e-3], size=(2000, 3)):
+        U, u = energy_and_utilisation(stretch, th1, th2)
+        assert U + offset >= least[0] * (u * fy) ** 2 * (1.0 - 1e-12)
+    s = 0.5 * fy  # the Lagrange point at u = 0.5
+    lam = s / (ka / area**2 + 4.0 * kb / modulus**2)
+    N, M = ka * lam / area, 4.0 * kb * lam / modulus
+    # M1 = kb (4 a1 + 2 a2) = M and M2 = kb (2 a1 + 4 a2) = M / 2: a1 = M / (4 kb), a2 = 0
+    U, u = energy_and_utilisation((N - pre) / ka, M / (4.0 * kb), 0.0)
+    assert u == pytest.approx(0.5, rel=1e-12)
+    assert U + offset == pytest.approx(least[0] * s**2, rel=1e-12)
