@@ -361,3 +361,31 @@ def test_a_fem_fragility_runs_every_record_and_level_and_dask_gives_the_local_ru
     dask = json.loads((root / "dask" / "summary.json").read_text())
     assert dask["runs"] == local["runs"]
     assert dask["limit_states"] == local["limit_states"]
+
+
+def test_the_fem_does_not_answer_uplift_it_sways_on_its_bed_before_it_rocks():
+    """A FEM run below rocking still turns its halves by its bed's sway (far above the rigid
+    models' 1e-4 alpha): its uplift is not assessed, and the limit state is left out of the
+    FEM's table, not read as never (or always) exceeded; its rotation is still answered."""
+    from colonna.studies.fragility.models import fem_point
+
+    block = Block(b=0.1125, h=2.0)
+    swaying = {
+        "overturned": False,
+        "max_abs_theta_left": 0.02 * block.alpha,  # bed sway: 200 times the uplift threshold
+        "max_abs_theta_right": 0.02 * block.alpha,
+        "collar_max_utilisation": 0.0,
+        "edge_stress_ratio": 0.01,
+        "status": "finished",
+        "energy_error_max": 1e-4,
+        "wall_seconds": 1.0,
+        "steps": 10,
+    }
+    run = fem_point(_free(block), types.SimpleNamespace(summary=swaying))
+    assert run["uplift"] is None
+    assert run["peak_ratio"] == pytest.approx(0.02)
+    found = analysis.exceedances([[run, run]], 0.5)
+    assert "uplift" not in found
+    assert not found["rotation"].any() and not found["overturning"].any()
+    rigid = dict(run, uplift=True)
+    assert analysis.exceedances([[rigid, rigid]], 0.5)["uplift"].all()

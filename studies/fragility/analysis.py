@@ -6,7 +6,8 @@ run gives (:data:`RUN_KEYS`) becomes, per limit state, a records x levels table 
 (:func:`exceedances`):
 
 * ``uplift``: the column left the ground (|theta| above :data:`UPLIFT_RATIO` alpha; the SDOF's
-  exact event: any rotation at all);
+  exact event: any rotation at all); the rigid models only: the FEM's column sways on its bed
+  past any such threshold long before it rocks;
 * ``rotation``: |theta| / alpha reached the study's threshold, or the column overturned;
 * ``overturning``: the column overturned;
 * ``collar_yield``: a collar's extreme fibre reached f_y (with collars);
@@ -50,7 +51,7 @@ RUN_KEYS = (
     "collar_fractured",
     "toe_ratio",
 )
-UPLIFT_RATIO = 1e-4  # |theta| / alpha above this is uplift (the multibody's and FEM's compliance)
+UPLIFT_RATIO = 1e-4  # |theta| / alpha above this is uplift (the multibody's contact compliance)
 
 
 def ladder(start: float, stop: float, steps: int) -> np.ndarray:
@@ -88,11 +89,12 @@ def exceedances(runs: list[list[dict]], theta_ratio: float) -> dict[str, np.ndar
     out."""
     overturned = table(runs, "overturned") > 0.5
     peak = table(runs, "peak_ratio")
-    found = {
-        "uplift": table(runs, "uplift") > 0.5,
-        "rotation": overturned | (peak >= theta_ratio),
-        "overturning": overturned,
-    }
+    found = {}
+    uplift = table(runs, "uplift")
+    if np.isfinite(uplift).all():  # the FEM does not assess it (studies.fragility.models)
+        found["uplift"] = uplift > 0.5
+    found["rotation"] = overturned | (peak >= theta_ratio)
+    found["overturning"] = overturned
     utilisation = table(runs, "collar_utilisation")
     if np.isfinite(utilisation).all():
         found["collar_yield"] = utilisation >= 1.0
