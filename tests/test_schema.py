@@ -196,7 +196,7 @@ def _limits(table, key):
     "model, table, required",
     [
         (Stone, schema.Stone, {}),
-        (ContactSettings, schema.Contact, {}),
+        (ContactSettings, schema.Contact, {"enforcement": "penalty"}),  # its penalty keys need it
         (Collar, schema.Collar, {"y": 1.0, "t": 0.01, "h": 0.05}),
     ],
 )
