@@ -58,6 +58,10 @@ OVER_NONE = 0
 OVER_HALF_PI = 1  # a body rotated past pi/2
 OVER_COLUMN = 2  # the column's centre of mass past an outer toe, moving outward
 OVER_HALF = 3  # a free half's centre of mass past its outer toe, moving outward
+# why an UNSTABLE run stopped (simulate's reason then): the state or the energy left its bounds,
+# or a collar's law returned no answer (NaN: a fibre section whose iteration did not converge)
+UNSTABLE_STATE = 10
+UNSTABLE_COLLAR = 11
 
 CONTACT_BASE = 0
 CONTACT_CRACK = 1
@@ -798,7 +802,8 @@ def simulate(q, v, bodies, contacts, collars, ground, settings, out, impacts):
     collar (MultibodyColumn.col_limits): the largest utilisation (|N|/A + max|M|/W) / f_y, that
     stress capped at f_y + H alpha for a plastic collar, over the steps' midpoints is returned.
 
-    Returns (status, steps done, rows written, impacts, overturn reason, overturn time, peak
+    Returns (status, steps done, rows written, impacts, overturn reason (UNSTABLE_STATE or
+    UNSTABLE_COLLAR for an UNSTABLE run), overturn time, peak
     |theta| (rad) of each body as a 2-vector, most solver iterations in a step, largest collar
     utilisation, largest collar plastic strain, collar plastic work)."""
     mass, half = bodies.mass, bodies.half
@@ -916,6 +921,11 @@ def simulate(q, v, bodies, contacts, collars, ground, settings, out, impacts):
                 finite = False
         if not finite:
             status = UNSTABLE
+            reason = UNSTABLE_STATE
+            for c in range(col_out.shape[0]):
+                for k in range(col_out.shape[1]):
+                    if not math.isfinite(col_out[c, k]):
+                        reason = UNSTABLE_COLLAR
             break
         for i in range(nb):
             peak[min(i, 1)] = max(peak[min(i, 1)], abs(q[3 * i + 2]))
@@ -936,6 +946,7 @@ def simulate(q, v, bodies, contacts, collars, ground, settings, out, impacts):
             mech = _mechanical(q, v, bodies, collars, col_out, no_force, col_state)
             if not (abs(mech) <= 1e3 * settings.energy_scale + 1e3 * abs(tallies[1])):
                 status = UNSTABLE
+                reason = UNSTABLE_STATE
         if write and n_rows < out.shape[0]:
             _write_row(
                 out, n_rows, t_new, q, v, bodies, collars, col_out, no_force, state, col_state

@@ -64,6 +64,21 @@ SOLVER_MAX_ITERATIONS = 500
 IMPACT_REFINEMENT = 32  # a step in which a contact closes is redone as 32 substeps
 IMPACT_THRESHOLD = 1e-4  # an impact counts once |theta| > 1e-4 alpha since the last one
 
+
+def _unstable(reason: int, t: float, dt: float) -> InputError:
+    """The error of a run the kernel stopped as UNSTABLE at time t (s), saying why."""
+    if reason == K.UNSTABLE_COLLAR:
+        return InputError(
+            f"the multibody run stopped at t = {t:.4g} s: a collar's law gave no answer (a "
+            'fibre section whose iteration did not converge: try section = "resultant", '
+            "more n_sections, or a lower dt)"
+        )
+    return InputError(
+        f"the multibody run went unstable at t = {t:.4g} s (dt = {dt:g} s): the state or "
+        "its energy left every physical bound: lower dt"
+    )
+
+
 OVERTURN_REASONS = {
     K.OVER_HALF_PI: "a body rotated past pi/2",
     K.OVER_COLUMN: "the column's centre of mass passed its outer toe moving outward after the "
@@ -726,9 +741,7 @@ def rock_multibody(
     )
     wall = time.perf_counter() - start
     if status == K.UNSTABLE:
-        raise InputError(
-            f"the multibody run went unstable at t = {steps * dt:.4g} s (dt = {dt:g} s): lower dt"
-        )
+        raise _unstable(reason, steps * dt, dt)
     overturned = status == K.OVERTURNED
     table = impacts[: min(n_imp, max_impacts_stored)].copy()
     if n_imp <= max_impacts_stored:
@@ -841,14 +854,12 @@ def multibody_outcome(
     )
     bodies, contacts, collar_elements = column.kernel_bundles()
     start = time.perf_counter()
-    status, steps, _rows, n_imp, _reason, _t, peak, _it, util, _pl, _w = K.simulate(
+    status, steps, _rows, n_imp, reason, _t, peak, _it, util, _pl, _w = K.simulate(
         q, v, bodies, contacts, collar_elements, kernel_ground, settings, out, impacts
     )
     wall = time.perf_counter() - start
     if status == K.UNSTABLE:
-        raise InputError(
-            f"the multibody run went unstable at t = {steps * dt:.4g} s (dt = {dt:g} s): lower dt"
-        )
+        raise _unstable(reason, steps * dt, dt)
     overturned = status == K.OVERTURNED
     if n_imp <= impacts.shape[0]:  # the column's impacts, as rock_multibody counts them
         table = impacts[:n_imp]

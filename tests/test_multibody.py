@@ -515,3 +515,29 @@ def test_a_step_above_the_collars_stable_step_is_refused():
     collars = (Collar(y=2.0, t=0.008, h=0.06),)
     with pytest.raises(InputError, match="stable step"):
         rock_multibody(half, NoMotion(), collars, cracked=True, dt=1e-2, duration=0.1)
+
+
+def test_a_collar_law_without_an_answer_stops_the_run_and_says_so(monkeypatch):
+    """A collar whose law returns NaN (a fibre section whose iteration did not converge) makes
+    the state non-finite at that step: the run stops there, and the error names the collar's
+    law rather than the step (whose own instability reads differently)."""
+    import colonna.rigid.multibody as multibody
+
+    block = Block(b=0.1125, h=2.0, mass=858.8)
+    collars = (Collar(y=2.0, t=0.008, h=0.06),)
+    column_type = type(multibody.build_column(block, cracked=True, collars=collars))
+    bundles = column_type.kernel_bundles
+
+    def broken(self):
+        bodies, contacts, collar_elements = bundles(self)
+        collar_elements.props[:] = np.nan  # every property of the law: no answer
+        return bodies, contacts, collar_elements
+
+    monkeypatch.setattr(column_type, "kernel_bundles", broken)
+    record = Record(np.array([0.0, 0.5]), np.array([0.0, 0.0]), "still")
+    for run in (multibody.rock_multibody, multibody.multibody_outcome):
+        with pytest.raises(InputError, match="a collar's law gave no answer") as raised:
+            run(block, record, collars, cracked=True, duration=0.1)
+        assert "t = 0.000" in str(raised.value)  # its first step
+    state = multibody._unstable(K.UNSTABLE_STATE, 1.25, 1e-4)
+    assert "went unstable at t = 1.25 s" in str(state) and "lower dt" in str(state)
