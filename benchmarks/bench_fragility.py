@@ -155,7 +155,7 @@ def multibody_check(suite: Path, records: int = 2, steps: int = 20) -> str:
         cpu["fast"] += time.process_time() - start
         fast_runs.append([multibody_point(column, o) for o in outcomes])
         start = time.process_time()
-        whole = [_unstopped_run(column, record, x, duration) for x in scales]
+        whole = [outcome_run(column, record, x, duration, stop_when_decided=False) for x in scales]
         cpu["unstopped"] += time.process_time() - start
         for a, b in zip(outcomes, whole):
             stopped += a.decided_at is not None
@@ -177,21 +177,6 @@ def multibody_check(suite: Path, records: int = 2, steps: int = 20) -> str:
         f"answers (overturning, impacts, peak, utilisation) differ: {differ}",
     ]
     return "\n  ".join(lines)
-
-
-def _unstopped_run(column, record, scale, duration):
-    """outcome_run's run without the stop once decided (its free tail run to the end)."""
-    from colonna.rigid.multibody import multibody_outcome
-
-    return multibody_outcome(
-        column.rocking_block,
-        record.scaled(float(scale)),
-        column.collars,
-        cracked=column.cracked,
-        friction=column.contact.friction,
-        duration=duration,
-        stop_when_decided=False,
-    )
 
 
 def _answers(outcome) -> tuple:

@@ -1373,15 +1373,14 @@ def _check(row, recorder, ground_end, t, stop_on_overturn, rest_energy=None, wea
             "(time step too large for the contact or collar stiffness?)",
             False,
         )
-    if (
-        rest_energy is not None
-        and t > ground_end
-        and max(abs(th) for th in thetas) < recorder.tipping_angle
-    ):
-        # on the near side of every toe, with less energy than reaching one takes
+    if rest_energy is not None:
+        # the energy above the static start, the balance's error its margin: below half the
+        # work that tips one body onto its toe, no body can reach a toe while the ground adds
+        # nothing (after the motion) or too little to lift a seated column (its weak tail)
         above_rest = row["energy_total"] - rest_energy
         bound = above_rest + abs(row["energy_error"]) * recorder.scale
-        if bound < 0.5 * recorder.tipping_work:
+        settled = bound < 0.5 * recorder.tipping_work
+        if settled and t > ground_end and max(abs(th) for th in thetas) < recorder.tipping_angle:
             return (
                 f"settled at t = {t:.4g} s: after the ground motion the column, short of "
                 f"its toes, holds {above_rest:.3g} J above its rest state, less than half "
@@ -1389,16 +1388,13 @@ def _check(row, recorder, ground_end, t, stop_on_overturn, rest_energy=None, wea
                 "no longer overturn",
                 False,
             )
-    if (
-        rest_energy is not None
-        and weak_from is not None
-        and weak_from <= t <= ground_end
-        and recorder.peak_tilt >= SEATED_TILT * recorder.tipping_angle
-        and recorder.seated(t, SEATED_TILT)
-    ):
-        above_rest = row["energy_total"] - rest_energy
-        bound = above_rest + abs(row["energy_error"]) * recorder.scale
-        if bound < 0.5 * recorder.tipping_work:
+        if (
+            settled
+            and weak_from is not None
+            and weak_from <= t <= ground_end
+            and recorder.peak_tilt >= SEATED_TILT * recorder.tipping_angle
+            and recorder.seated(t, SEATED_TILT)
+        ):
             return (
                 f"settled at t = {t:.4g} s: in the ground motion's weak tail (from "
                 f"t = {weak_from:.4g} s below 1/{WEAK_TAIL_MARGIN:g} of a body's uplift "

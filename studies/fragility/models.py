@@ -117,9 +117,12 @@ def multibody_runs(study, record: Record, scales) -> list[dict]:
     return runs
 
 
-def outcome_run(study, record: Record, scale: float, duration: float):
+def outcome_run(
+    study, record: Record, scale: float, duration: float, *, stop_when_decided: bool = True
+):
     """:func:`colonna.rigid.multibody.multibody_outcome` of the study's column under ``record``
-    times ``scale`` from rest (the settings of :func:`studies.fem_study.run_multibody`)."""
+    times ``scale`` from rest (the settings of :func:`studies.fem_study.run_multibody`);
+    ``stop_when_decided``: as multibody_outcome's (False runs the free tail to its end)."""
     from ...rigid.multibody import multibody_outcome
 
     return multibody_outcome(
@@ -129,6 +132,7 @@ def outcome_run(study, record: Record, scale: float, duration: float):
         cracked=study.cracked,
         friction=study.contact.friction,
         duration=duration,
+        stop_when_decided=stop_when_decided,
     )
 
 
