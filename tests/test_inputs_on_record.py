@@ -509,6 +509,18 @@ def test_report_opens_with_the_outcome_then_lists_the_inputs_of_the_study_file(d
     )
 
 
+def test_a_penalty_crack_is_said_in_the_report(design_run, tmp_path):
+    """The crack's penalty contact moves the swing with its settings (issue 38): a report of a
+    study that chose it says so beside the model; the default's (exact contact) does not."""
+    assert "data-penalty-crack" not in (design_run / "index.html").read_text()
+    study = tmp_path / "penalty.toml"
+    study.write_text(DESIGN + '[contact]\nenforcement = "penalty"\n')
+    assert main(["study", str(study), "--out", str(tmp_path / "out"), "--workers", "1"]) == 0
+    page = (tmp_path / "out" / "index.html").read_text()
+    assert page.count("data-penalty-crack") == 1
+    assert "7-10&nbsp;% below the exact contact's" in page
+
+
 def test_shares_are_balanced_on_the_cases_cost():
     """Equal costs (or none) deal round-robin; unequal ones go costliest first to the share
     with the least so far, so that no worker ends long after the others (the spectrum's grid
