@@ -8,7 +8,9 @@ hold the column at rest, rock it and let it settle; a column at rest under a mot
 uplift acceleration stays at rest; a run stopped in its free tail once no answer can change
 answers what the whole run does, a column that overturns after its record is not stopped, and
 the two lower bounds the stop rests on (a half's potential at a rotation, a collar's elastic
-energy at a utilisation) are their closed forms; the shifted lognormal's origin is the suite's
+energy at a utilisation) are their closed forms; without the impact count (the fragility's
+runs) the stop's threshold is half the least potential at the peak, and a block that still
+rocks is stopped with the whole run's answers; the shifted lognormal's origin is the suite's
 uplift intensity, its curve is 0 up to it and the report names it.
 """
 
