@@ -124,8 +124,9 @@ Settings = namedtuple(
         "max_iter",
         "outcome_only",
         "stop_decided",
+        "impacts_needed",
     ],
-    defaults=(False, False),
+    defaults=(False, False, True),
 )
 """The run (see :func:`simulate`): step h (s), n_steps of it, refine (substeps of a step in which
 a contact closes), Newton's e_n, a history row every out_every steps, free_halves, barrier (J),
@@ -133,7 +134,9 @@ early_exit, impact_tol (rad), energy_scale (J), the contact solver's tolerance t
 max_iter sweeps, and outcome_only (False by default: a run for its outcome, without history:
 the steps of a column at rest skipped, the contacts' active-set solve by Gaussian elimination
 after FAST_GS_ITERATIONS sweeps; see :func:`simulate`) and stop_decided (False by default;
-with outcome_only: the run stops once no answer can change, :func:`_decided`)."""
+with outcome_only: the run stops once no answer can change, :func:`_decided`) and
+impacts_needed (True by default: the stop keeps the impact count exact; False where the
+caller does not use it, as the fragility's limit states do not)."""
 
 REST_VELOCITY = 1e-9  # m/s: a body at rest moves slower than this at every point (measured:
 # 1e-11 from the contact solver's tolerance while resting under a record)
@@ -797,7 +800,8 @@ def simulate(q, v, bodies, contacts, collars, ground, settings, out, impacts):
     (no history with it).
     stop_decided (with outcome_only): after the ground motion, every 64 steps, the run stops
     (status SETTLED) once no answer can change any more (:func:`_decided`: the peak |theta|,
-    the collars' largest utilisation, the impacts and overturning stay what they are).
+    the collars' largest utilisation, the impacts (with impacts_needed) and overturning stay
+    what they are).
     energy_scale: J, for the blow-up check. collars.limits[c] = (A, W, f_y, H or -1) of each
     collar (MultibodyColumn.col_limits): the largest utilisation (|N|/A + max|M|/W) / f_y, that
     stress capped at f_y + H alpha for a plastic collar, over the steps' midpoints is returned.
@@ -1138,15 +1142,18 @@ def _decided(q, mech, peak, max_util, armed, bodies, collars, settings, least, o
     body reaches |phi| = x again (at the first time one did, every body would lie within x,
     every part of E be >= 0 and its potential alone >= V_i(x) > F): the peak |theta| stays.
     The same with x = impact_tol and no body armed: none is armed again, so no impact is
-    counted. If F < least[c] (u_max f_y)^2 for every collar, none reaches the largest
-    utilisation so far. F below the least overturning barrier and every body within its toes
-    (:func:`_upright`): nothing overturns (as early_exit). Each threshold is used with
-    DECIDED_MARGIN."""
+    counted (with settings.impacts_needed only: a caller that does not use the impact count,
+    the fragility, leaves this threshold, the least of them by far on a slender column,
+    1e-4 alpha, and the wait for no body to be armed out). If F < least[c] (u_max f_y)^2 for
+    every collar, none reaches the largest utilisation so far. F below the least overturning
+    barrier and every body within its toes (:func:`_upright`): nothing overturns (as
+    early_exit). Each threshold is used with DECIDED_MARGIN."""
     mass, half, g = bodies.mass, bodies.half, bodies.g
     free = mech + offset
     limit = settings.barrier
+    impacts = settings.impacts_needed
     for i in range(mass.size):
-        if armed[i]:
+        if impacts and armed[i]:
             return False
         c = math.cos(q[3 * i + 2])
         s = math.sin(q[3 * i + 2])
@@ -1154,7 +1161,8 @@ def _decided(q, mech, peak, max_util, armed, bodies, collars, settings, least, o
         if lowest < 0.0:
             free -= 2.0 * (mass[i] * g + half[i, 2]) * lowest
         limit = min(limit, _least_potential(mass, half, g, i, peak))
-        limit = min(limit, _least_potential(mass, half, g, i, settings.impact_tol))
+        if impacts:
+            limit = min(limit, _least_potential(mass, half, g, i, settings.impact_tol))
     for c in range(least.size):
         limit = min(limit, least[c] * (max_util * collars.limits[c, 2]) ** 2)
     return limit > 0.0 and free < DECIDED_MARGIN * limit and _upright(q, half)

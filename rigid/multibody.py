@@ -778,14 +778,14 @@ def rock_multibody(
 class MultibodyOutcome:
     """What a run of :func:`multibody_outcome` answers (no histories): whether it overturned,
     the largest |theta| of any body over every step (rad; pi/2 once overturned), the column's
-    impacts (the most of any body), the largest collar utilisation over every step's midpoint
-    (None without collars), the steps taken and skipped at rest, the kernel's wall time, and
-    when the run stopped because no answer could change any more (s; None: it ran to its
-    duration or overturned)."""
+    impacts (the most of any body; None where impacts_needed was False), the largest collar
+    utilisation over every step's midpoint (None without collars), the steps taken and
+    skipped at rest, the kernel's wall time, and when the run stopped because no answer could
+    change any more (s; None: it ran to its duration or overturned)."""
 
     overturned: bool
     max_abs_theta: float
-    impacts: int
+    impacts: int | None
     collar_max_utilisation: float | None
     steps: int
     wall_seconds: float
@@ -803,6 +803,7 @@ def multibody_outcome(
     dt: float | None = None,
     fast: bool = True,
     stop_when_decided: bool = True,
+    impacts_needed: bool = True,
 ) -> MultibodyOutcome:
     """The outcome of :func:`rock_multibody`'s run from rest (same column, step, contact solver
     and impact refinement) without its histories: what a fragility needs of a run. The peak
@@ -817,8 +818,12 @@ def multibody_outcome(
     ``stop_when_decided`` the run also stops after the ground motion once no answer can change
     any more (its energy below what the peak |theta|, an impact, the collars' largest
     utilisation or overturning would take: :func:`rigid._multibody._decided`): every answer is
-    the whole run's. Elastic collars only (a plastic collar's fracture is read from its
-    history: rock_multibody)."""
+    the whole run's. ``impacts_needed`` False: the caller does not use the impact count (the
+    fragility's limit states are uplift, rotation, overturning and the collars'), so the stop
+    need not keep it exact: it stops once the other answers cannot change (the impact
+    threshold, 1e-4 alpha, was the least of its bounds by far) and ``impacts`` is None.
+    Elastic collars only (a plastic collar's fracture is read from its history:
+    rock_multibody)."""
     if any(c.plastic for c in collars):
         raise InputError("multibody_outcome: plastic collars need rock_multibody's history")
     column = build_column(block, cracked=cracked, collars=collars, friction=friction)
@@ -851,6 +856,7 @@ def multibody_outcome(
         max_iter=SOLVER_MAX_ITERATIONS,
         outcome_only=bool(fast),
         stop_decided=bool(fast and stop_when_decided),
+        impacts_needed=bool(impacts_needed),
     )
     bodies, contacts, collar_elements = column.kernel_bundles()
     start = time.perf_counter()
@@ -867,7 +873,7 @@ def multibody_outcome(
     return MultibodyOutcome(
         overturned=bool(overturned),
         max_abs_theta=0.5 * math.pi if overturned else float(max(peak[0], peak[1])),
-        impacts=int(n_imp),
+        impacts=int(n_imp) if impacts_needed else None,
         collar_max_utilisation=float(util) if column.collars else None,
         steps=int(steps),
         wall_seconds=wall,

@@ -8,7 +8,9 @@ hold the column at rest, rock it and let it settle; a column at rest under a mot
 uplift acceleration stays at rest; a run stopped in its free tail once no answer can change
 answers what the whole run does, a column that overturns after its record is not stopped, and
 the two lower bounds the stop rests on (a half's potential at a rotation, a collar's elastic
-energy at a utilisation) are their closed forms; the shifted lognormal's origin is the suite's
+energy at a utilisation) are their closed forms; without the impact count (the fragility's
+runs) the stop's threshold is half the least potential at the peak, and a block that still
+rocks is stopped with the whole run's answers; the shifted lognormal's origin is the suite's
 uplift intensity, its curve is 0 up to it and the report names it.
 """
 
@@ -206,13 +208,17 @@ def test_a_run_stopped_once_decided_answers_what_the_whole_run_does():
     assert stopped.collar_max_utilisation == pytest.approx(whole.collar_max_utilisation, rel=1e-12)
 
 
-def test_a_column_that_overturns_after_the_record_is_not_stopped():
+@pytest.mark.parametrize("impacts_needed", [True, False])
+def test_a_column_that_overturns_after_the_record_is_not_stopped(impacts_needed):
     """A pulse of 2.7 g tan alpha over 1 s leaves the column tipping: it lands once and
     overturns about 0.9 s after the record. Its energy stays above the overturning barrier,
-    so the run is not stopped: the same steps and answers as without the stop."""
+    so the run is not stopped, with the impact count or without it (the fragility's): the
+    same steps and answers as without the stop."""
     record = _record([(1.0, 2.7, 1.0)])
-    stopped = multibody_outcome(HALF, record, COLLARS, cracked=True)
-    whole = multibody_outcome(HALF, record, COLLARS, cracked=True, stop_when_decided=False)
+    stopped = multibody_outcome(HALF, record, COLLARS, cracked=True, impacts_needed=impacts_needed)
+    whole = multibody_outcome(
+        HALF, record, COLLARS, cracked=True, stop_when_decided=False, impacts_needed=impacts_needed
+    )
     dt = _default_dt()
     assert whole.overturned and stopped.overturned
     assert stopped.decided_at is None
@@ -284,3 +290,115 @@ def test_the_collars_least_energy_at_a_utilisation():
     U, u = energy_and_utilisation((N - pre) / ka, M / (4.0 * kb), 0.0)
     assert u == pytest.approx(0.5, rel=1e-12)
     assert U + offset == pytest.approx(least[0] * s**2, rel=1e-12)
+
+
+# --- the fragility needs no impact count: the stop leaves the impact threshold out -------------
+
+STOCKY = Block(b=0.25, h=1.0, mass=500.0)  # alpha 0.245: each impact takes a fifth of the energy
+
+
+def _stop_settings(column, impacts_needed: bool):
+    import colonna.rigid._multibody as K
+
+    return K.Settings(
+        h=1e-4,
+        n_steps=1,
+        refine=1,
+        e_n=0.0,
+        out_every=1,
+        free_halves=False,
+        barrier=float(column.overturning_barrier()),
+        early_exit=False,
+        impact_tol=1e-4 * column.block.alpha,
+        energy_scale=1.0,
+        tol=1e-10,
+        max_iter=10,
+        outcome_only=True,
+        stop_decided=True,
+        impacts_needed=impacts_needed,
+    )
+
+
+def test_without_the_impact_count_the_stop_is_half_the_least_potential_at_the_peak():
+    """A block without collars, upright, its peak |theta| x = alpha / 2 so far: without the
+    impact count the stop's threshold is half of V(x) = m g (R cos(alpha - x) - h) (below the
+    barrier m g (R - h)), whether or not an impact is armed: an energy 1e-9 below it stops,
+    1e-9 above it does not. With the impact count an armed block never stops, and an unarmed
+    one only below half of V(1e-4 alpha), 3,800 times less here."""
+    import colonna.rigid._multibody as K
+    from colonna.rigid.multibody import build_column
+
+    column = build_column(STOCKY)
+    bodies, _, collars = column.kernel_bundles()
+    least, offset = K._collar_least_energy(collars)
+    q = column.q_rest.copy()
+    alpha, b, h = STOCKY.alpha, STOCKY.b, STOCKY.h
+    R = math.hypot(b, h)
+
+    def V(x):
+        return STOCKY.mass * STOCKY.g * (R * math.cos(alpha - x) - h)
+
+    x = 0.5 * alpha
+    assert V(x) < column.overturning_barrier()
+    without, exact = _stop_settings(column, False), _stop_settings(column, True)
+
+    def decided(energy, armed, settings):
+        flags = np.array([armed])
+        return K._decided(q, energy, x, 0.0, flags, bodies, collars, settings, least, offset)
+
+    for armed in (False, True):
+        assert decided(0.5 * V(x) * (1.0 - 1e-9), armed, without)
+        assert not decided(0.5 * V(x) * (1.0 + 1e-9), armed, without)
+    assert not decided(0.0, True, exact)
+    low = V(1e-4 * alpha)
+    assert V(x) / low > 3000.0
+    assert decided(0.5 * low * (1.0 - 1e-6), False, exact)
+    assert not decided(0.5 * low * (1.0 + 1e-6), False, exact)
+
+
+def _stocky_record(parts, dt: float = 0.005) -> Record:
+    """_record's sine segments for STOCKY (amplitudes over its g tan alpha)."""
+    t, a, start = [0.0], [0.0], 0.0
+    for duration, ratio, period in parts:
+        local = np.arange(dt, duration + 0.5 * dt, dt)
+        t.extend(start + local)
+        a.extend(ratio * STOCKY.uplift_acceleration() * np.sin(2.0 * math.pi * local / period))
+        start += duration
+    return Record(np.array(t), np.array(a), "segments")
+
+
+@pytest.mark.parametrize(
+    "case",
+    ["rocking block", "collared column"],
+)
+def test_a_run_that_needs_no_impact_count_stops_while_it_rocks_with_the_whole_run_s_answers(case):
+    """Without the impact count (the fragility's runs) the stop waits only for the energy to
+    fall below half of V(peak), the collars' least energy at their largest utilisation and the
+    barrier. A stocky block rocked to 0.6 alpha by one sine cycle still rocks (17 impacts in
+    all) when its tail is stopped, about 4 s into a 5.8 s run; with the impact count it runs
+    to its end. The collared cracked column of the settling test stops earlier than with the
+    count. Either way the fragility's answers are the whole run's: overturning, the peak
+    |theta| (uplift and rotation read it) and the collars' largest utilisation to 1e-12."""
+    if case == "rocking block":
+        block, record, kw = STOCKY, _stocky_record([(0.6, 1.6, 0.6)]), {}
+    else:
+        block, record, kw = HALF, _record(SETTLES_EARLY), {"cracked": True, "collars": COLLARS}
+    whole = multibody_outcome(block, record, stop_when_decided=False, **kw)
+    counted = multibody_outcome(block, record, **kw)
+    stopped = multibody_outcome(block, record, impacts_needed=False, **kw)
+    assert whole.max_abs_theta > 1e-2 * block.alpha and whole.impacts > 10  # it rocked
+    assert stopped.impacts is None and counted.impacts == whole.impacts
+    assert stopped.decided_at is not None
+    assert record.end_time < stopped.decided_at
+    assert stopped.steps < counted.steps
+    if case == "rocking block":
+        assert counted.decided_at is None and counted.steps == whole.steps
+        assert stopped.steps < 0.6 * whole.steps
+    assert stopped.overturned == whole.overturned is False
+    assert stopped.max_abs_theta == pytest.approx(whole.max_abs_theta, rel=1e-12)
+    if whole.collar_max_utilisation is None:
+        assert stopped.collar_max_utilisation is None
+    else:
+        assert stopped.collar_max_utilisation == pytest.approx(
+            whole.collar_max_utilisation, rel=1e-12
+        )

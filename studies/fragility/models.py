@@ -122,7 +122,9 @@ def outcome_run(
 ):
     """:func:`colonna.rigid.multibody.multibody_outcome` of the study's column under ``record``
     times ``scale`` from rest (the settings of :func:`studies.fem_study.run_multibody`);
-    ``stop_when_decided``: as multibody_outcome's (False runs the free tail to its end)."""
+    ``stop_when_decided``: as multibody_outcome's (False runs the free tail to its end). The
+    fragility's limit states do not use the impact count: the run does not keep it
+    (impacts_needed False: its stop need not wait for the last impact; impacts None)."""
     from ...rigid.multibody import multibody_outcome
 
     return multibody_outcome(
@@ -133,6 +135,7 @@ def outcome_run(
         friction=study.contact.friction,
         duration=duration,
         stop_when_decided=stop_when_decided,
+        impacts_needed=False,
     )
 
 
