@@ -1270,6 +1270,7 @@ def spectrum_modes(
             settings.max_iter,
             settings.outcome_only,
             settings.stop_decided,
+            settings.impacts_needed,
         )
         ground = Ground(GROUND_HARMONIC, gpar, np.zeros(1), np.zeros(1), t_end)
         q = q0.copy()
