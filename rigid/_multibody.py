@@ -520,8 +520,8 @@ def _gauss_solve(A, rhs, x, lu):
                 lu[k, j], lu[p, j] = lu[p, j], lu[k, j]
         for i in range(k + 1, n):
             f = lu[i, k] / lu[k, k]
-            if f != 0.0:
-                for j in range(k, n + 1):
+            if f != 0.0:  # column k below the pivot is read no more: left as it is
+                for j in range(k + 1, n + 1):
                     lu[i, j] -= f * lu[k, j]
     for i in range(n - 1, -1, -1):
         acc = lu[i, n]
