@@ -702,7 +702,8 @@ def _step(t, h, q, v, bodies, contacts, collars, ground, settings, scratch, stat
 
     state.tallies = (dissipated energy, external work, impacts, max solver iterations);
     state.forces = (crack normal, crack tangential, then per body base normal and tangential),
-    mean over the step (N). Returns True if a contact closed in this step: open in the last
+    mean over the step (N); with settings.outcome_only (no histories) the dissipated energy and
+    the forces are not kept. Returns True if a contact closed in this step: open in the last
     step, closed at this one's midpoint or end, approaching faster than gravity alone makes it
     in a few steps (4 g h; slower closures are a resting contact settling back after the
     midpoint scheme's O(h^2) lift of a pivot)."""
