@@ -158,12 +158,23 @@ Scratch = namedtuple(
         "n_base",
         "col_out",
         "col_state",
+        "trig",
+        "impulse_sum",
+        "as_status",
+        "as_sign",
+        "as_A",
+        "as_rhs",
+        "as_x",
+        "as_lu",
     ],
 )
 """A step's work arrays (:func:`new_scratch`): midpoint positions, forces, free and new
 velocities, the active contacts' free and pre-step velocities, impulses, friction, rows G,
 Delassus matrix W, candidates act and base contacts per body; and the collars' outputs and
-plastic states (col_out, col_state: collar_forces' out and state, kept across steps)."""
+plastic states (col_out, col_state: collar_forces' out and state, kept across steps); trig (per
+body the cosine and sine of its angle at the configuration whose contact rows are built,
+:func:`_body_trig`), impulse_sum (G^T P per dof) and the active-set solve's work arrays (as_*:
+:func:`_active_set_work`)."""
 
 StepState = namedtuple(
     "StepState",
@@ -207,6 +218,14 @@ def new_scratch(n_bodies, n_contacts, n_collars, collar_state_size):
         np.zeros(n_bodies, dtype=np.int64),
         np.zeros((n_collars, OUT_SIZE)),
         np.zeros((n_collars, collar_state_size)),
+        np.zeros((n_bodies, 2)),
+        np.zeros(n_dof),
+        np.zeros(n_contacts, dtype=np.int64),
+        np.ones(n_contacts),
+        np.zeros((2 * n_contacts, 2 * n_contacts)),
+        np.zeros(2 * n_contacts),
+        np.zeros(2 * n_contacts),
+        np.zeros((2 * n_contacts, 2 * n_contacts + 1)),
     )
 
 
@@ -260,6 +279,20 @@ def _world(q, body, lx, ly):
     return q[3 * body] + c * lx - s * ly, q[3 * body + 1] + s * lx + c * ly
 
 
+@njit(cache=True, inline="always")
+def _world_trig(q, body, lx, ly, c, s):
+    """:func:`_world` with the cosine c and sine s of the body's angle given."""
+    return q[3 * body] + c * lx - s * ly, q[3 * body + 1] + s * lx + c * ly
+
+
+@njit(cache=True, inline="always")
+def _body_trig(q, trig):
+    """trig[i] = (cos phi_i, sin phi_i) of every body i at q: what _contact_row reads."""
+    for i in range(trig.shape[0]):
+        trig[i, 0] = math.cos(q[3 * i + 2])
+        trig[i, 1] = math.sin(q[3 * i + 2])
+
+
 @njit(cache=True)
 def collar_forces(q, col_a, col_b, col_r, props, f, out, state, commit):
     """Co-rotational Euler-Bernoulli frame elements between body-fixed attachment points (the
@@ -273,13 +306,25 @@ def collar_forces(q, col_a, col_b, col_r, props, f, out, state, commit):
     (colonna.core.collar_law.frame_local_law): state[c] = (plastic elongation, accumulated
     plastic strain, plastic work, hinge rotations, largest fibre strain, fractured), updated
     with commit. Returns the elastic energy U (J); the plastic work of a committed call is
-    added to state[c, 2]."""
+    added to state[c, 2]. The cosine and sine of an end's body angle are computed once for the
+    collars in a row that share that body (the column's collars all join the same two)."""
     energy = 0.0
+    body_a = -1
+    body_b = -1
+    ca = sa = cb = sb = 0.0
     for c in range(col_a.size):
         a = col_a[c]
         b = col_b[c]
-        x1, y1 = _world(q, a, col_r[c, 0], col_r[c, 1])
-        x2, y2 = _world(q, b, col_r[c, 2], col_r[c, 3])
+        if a != body_a:
+            body_a = a
+            ca = math.cos(q[3 * a + 2])
+            sa = math.sin(q[3 * a + 2])
+        if b != body_b:
+            body_b = b
+            cb = math.cos(q[3 * b + 2])
+            sb = math.sin(q[3 * b + 2])
+        x1, y1 = _world_trig(q, a, col_r[c, 0], col_r[c, 1], ca, sa)
+        x2, y2 = _world_trig(q, b, col_r[c, 2], col_r[c, 3], cb, sb)
         dx = x2 - x1
         dy = y2 - y1
         length = math.sqrt(dx * dx + dy * dy)
@@ -328,21 +373,22 @@ def collar_forces(q, col_a, col_b, col_r, props, f, out, state, commit):
     return energy
 
 
-@njit(cache=True)
-def _contact_row(q, c, cand_a, cand_b, cand_pt, cand_face, G, j, n_dof):
+@njit(cache=True, inline="always")
+def _contact_row(q, trig, c, cand_a, cand_b, cand_pt, cand_face, G, j, n_dof):
     """Gap of candidate contact c at q and, if it is on its face, its velocity rows
-    G[2j] (normal) and G[2j+1] (tangential). Returns (gap, on_face)."""
+    G[2j] (normal) and G[2j+1] (tangential). trig: the bodies' cosines and sines at q
+    (:func:`_body_trig`). Returns (gap, on_face)."""
     a = cand_a[c]
     b = cand_b[c]
-    px, py = _world(q, a, cand_pt[c, 0], cand_pt[c, 1])
+    px, py = _world_trig(q, a, cand_pt[c, 0], cand_pt[c, 1], trig[a, 0], trig[a, 1])
     if b < 0:  # the ground y = 0
         nx = 0.0
         ny = 1.0
         gap = py
         on_face = True
     else:  # a face of body b: local x = face_x, outward sign
-        cb = math.cos(q[3 * b + 2])
-        sb = math.sin(q[3 * b + 2])
+        cb = trig[b, 0]
+        sb = trig[b, 1]
         rx = px - q[3 * b]
         ry = py - q[3 * b + 1]
         lx = cb * rx + sb * ry
@@ -379,7 +425,7 @@ def _contact_row(q, c, cand_a, cand_b, cand_pt, cand_face, G, j, n_dof):
     return gap, True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _normal_velocity(G, j, v):
     un = 0.0
     for k in range(v.size):
@@ -477,8 +523,8 @@ def _gauss_solve(A, rhs, x, lu):
                 lu[k, j], lu[p, j] = lu[p, j], lu[k, j]
         for i in range(k + 1, n):
             f = lu[i, k] / lu[k, k]
-            if f != 0.0:
-                for j in range(k, n + 1):
+            if f != 0.0:  # column k below the pivot is read no more: left as it is
+                for j in range(k + 1, n + 1):
                     lu[i, j] -= f * lu[k, j]
     for i in range(n - 1, -1, -1):
         acc = lu[i, n]
@@ -490,6 +536,26 @@ def _gauss_solve(A, rhs, x, lu):
 
 @njit(cache=True)
 def _active_set(W, bvec, P, mu, n_act, gauss=False):
+    """:func:`_active_set_work` with work arrays of its own."""
+    m2 = 2 * n_act
+    return _active_set_work(
+        W,
+        bvec,
+        P,
+        mu,
+        n_act,
+        gauss,
+        np.zeros(n_act, dtype=np.int64),
+        np.ones(n_act),
+        np.zeros((m2, m2)),
+        np.zeros(m2),
+        np.zeros(m2),
+        np.zeros((m2, m2 + 1)),
+    )
+
+
+@njit(cache=True)
+def _active_set_work(W, bvec, P, mu, n_act, gauss, status, sign, A, rhs, x, lu):
     """The contact problem solved exactly from the Gauss-Seidel iterate P (in place).
 
     With more contact rows than degrees of freedom (4 active contacts of 2 bodies: 8 rows, 6
@@ -504,8 +570,14 @@ def _active_set(W, bvec, P, mu, n_act, gauss=False):
     sliding in the direction s when sliding) changes status, and again, until none does.
     Returns False (P unchanged) if that does not settle within 4 n + 10 changes. ``gauss``:
     each status's equations by Gaussian elimination (:func:`_gauss_solve`; lstsq where a pivot
-    vanishes), the same solution to round-off and 20-50 times cheaper than lstsq's SVD."""
+    vanishes), the same solution to round-off and 20-50 times cheaper than lstsq's SVD.
+    Work arrays (any contents, at least this size: Scratch's as_*): status and sign (n_act), A
+    (2 n_act square), rhs and x (2 n_act), lu (2 n_act x 2 n_act + 1)."""
     m2 = 2 * n_act
+    A = A[:m2, :m2]
+    rhs = rhs[:m2]
+    x = x[:m2]
+    lu = lu[:m2, : m2 + 1]
     eps = 0.0
     scale_u = 0.0
     for r in range(m2):
@@ -514,11 +586,11 @@ def _active_set(W, bvec, P, mu, n_act, gauss=False):
     eps *= 1e-9
     if scale_u == 0.0:
         scale_u = 1e-300
-    status = np.zeros(n_act, dtype=np.int64)  # 0 open, 1 sticking, 2 sliding
-    sign = np.ones(n_act)
+    # status: 0 open, 1 sticking, 2 sliding (in the direction sign)
     for j in range(n_act):
         pn = P[2 * j]
         pt = P[2 * j + 1]
+        sign[j] = 1.0
         if pn <= 0.0:
             status[j] = 0
         elif abs(pt) < mu[j] * pn * (1.0 - 1e-6):
@@ -526,10 +598,6 @@ def _active_set(W, bvec, P, mu, n_act, gauss=False):
         else:
             status[j] = 2
             sign[j] = -1.0 if pt > 0.0 else 1.0
-    A = np.zeros((m2, m2))
-    rhs = np.zeros(m2)
-    x = np.zeros(m2)
-    lu = np.zeros((m2, m2 + 1))
     for _ in range(4 * n_act + 10):
         A[:, :] = 0.0
         rhs[:] = 0.0
@@ -597,13 +665,48 @@ def _active_set(W, bvec, P, mu, n_act, gauss=False):
 
 
 @njit(cache=True)
+def _contact_problem(G, minv, vfree, v, act, cand_a, cand_b, n_act, nb, bvec, umin, W):
+    """The active contacts' problem U = W P + b: the rows' free velocities bvec = G vfree,
+    their velocities before the step umin = G v, and the Delassus matrix W = G M^-1 G^T.
+    Each sum runs over the dofs in order and leaves out the rows' zero entries (the dofs of
+    the bodies a contact does not touch), whose terms are exact zeros: the same numbers as the
+    full products."""
+    m2 = 2 * n_act
+    for r in range(m2):
+        cr = act[r // 2]
+        ar = cand_a[cr]
+        br = cand_b[cr]
+        acc = 0.0
+        acc_minus = 0.0
+        for i in range(nb):
+            if i == ar or i == br:
+                for k in range(3 * i, 3 * i + 3):
+                    acc += G[r, k] * vfree[k]
+                    acc_minus += G[r, k] * v[k]
+        bvec[r] = acc
+        umin[r] = acc_minus
+        for s in range(r, m2):
+            cs = act[s // 2]
+            as_ = cand_a[cs]
+            bs = cand_b[cs]
+            w = 0.0
+            for i in range(nb):
+                if (i == ar or i == br) and (i == as_ or i == bs):
+                    for k in range(3 * i, 3 * i + 3):
+                        w += G[r, k] * minv[k] * G[s, k]
+            W[r, s] = w
+            W[s, r] = w
+
+
+@njit(cache=True)
 def _step(t, h, q, v, bodies, contacts, collars, ground, settings, scratch, state):
     """One Moreau-Jean step of size h from time t; q, v and the contact state (``state``, a
     :class:`StepState`) updated in place; ``settings``: its e_n, impact_tol, tol and max_iter.
 
     state.tallies = (dissipated energy, external work, impacts, max solver iterations);
     state.forces = (crack normal, crack tangential, then per body base normal and tangential),
-    mean over the step (N). Returns True if a contact closed in this step: open in the last
+    mean over the step (N); with settings.outcome_only (no histories) the dissipated energy and
+    the forces are not kept. Returns True if a contact closed in this step: open in the last
     step, closed at this one's midpoint or end, approaching faster than gravity alone makes it
     in a few steps (4 g h; slower closures are a resting contact settling back after the
     midpoint scheme's O(h^2) lift of a pivot)."""
@@ -612,7 +715,9 @@ def _step(t, h, q, v, bodies, contacts, collars, ground, settings, scratch, stat
     cand_mu, cand_kind = contacts.mu, contacts.kind
     col_a, col_b, col_r, col_props = collars.a, collars.b, collars.r, collars.props
     e_n, impact_tol = settings.e_n, settings.impact_tol
-    qm, f, vfree, vnew, bvec, umin, P, mu_act, G, W, act, n_base, col_out, col_state = scratch
+    qm, f, vfree, vnew, bvec, umin, P, mu_act, G, W, act, n_base, col_out, col_state = scratch[:14]
+    trig, impulse_sum = scratch.trig, scratch.impulse_sum
+    outcome_only = settings.outcome_only
     P_prev, was_active, pivot_side, armed, tallies, forces, impacts = state
     nb = mass.size
     n_dof = 3 * nb
@@ -635,9 +740,10 @@ def _step(t, h, q, v, bodies, contacts, collars, ground, settings, scratch, stat
         for c in range(col_a.size):
             work_before += col_state[c, 2]
         collar_forces(qm, col_a, col_b, col_r, col_props, f, col_out, col_state, True)
-        for c in range(col_a.size):
-            tallies[0] += col_state[c, 2]
-        tallies[0] -= work_before
+        if not outcome_only:  # the dissipated energy: histories only
+            for c in range(col_a.size):
+                tallies[0] += col_state[c, 2]
+            tallies[0] -= work_before
     for k in range(n_dof):
         vfree[k] = v[k] + h * minv[k] * f[k]
         vnew[k] = vfree[k]
@@ -649,8 +755,11 @@ def _step(t, h, q, v, bodies, contacts, collars, ground, settings, scratch, stat
     # free motion closes it is active too: the crack starts closed with no force across it,
     # and the drift's sign must not decide whether the halves press
     touching = g * h * h
+    _body_trig(qm, trig)
     for c in range(nc):
-        gap, on_face = _contact_row(qm, c, cand_a, cand_b, cand_pt, cand_face, G, n_act, n_dof)
+        gap, on_face = _contact_row(
+            qm, trig, c, cand_a, cand_b, cand_pt, cand_face, G, n_act, n_dof
+        )
         if on_face and (
             gap <= 0.0
             or (cand_b[c] >= 0 and gap <= touching and _normal_velocity(G, n_act, vfree) < 0.0)
@@ -664,37 +773,45 @@ def _step(t, h, q, v, bodies, contacts, collars, ground, settings, scratch, stat
         forces[k] = 0.0
     if n_act > 0:
         m2 = 2 * n_act
-        for r in range(m2):
-            acc = 0.0
-            acc_minus = 0.0
-            for k in range(n_dof):
-                acc += G[r, k] * vfree[k]
-                acc_minus += G[r, k] * v[k]
-            bvec[r] = acc
-            umin[r] = acc_minus
-            for s in range(r, m2):
-                w = 0.0
-                for k in range(n_dof):
-                    w += G[r, k] * minv[k] * G[s, k]
-                W[r, s] = w
-                W[s, r] = w
+        _contact_problem(G, minv, vfree, v, act, cand_a, cand_b, n_act, nb, bvec, umin, W)
         for j in range(n_act):
             if e_n > 0.0 and umin[2 * j] < 0.0:
                 bvec[2 * j] += e_n * umin[2 * j]
             c = act[j]
             P[2 * j] = P_prev[c, 0] if was_active[c] else 0.0
             P[2 * j + 1] = P_prev[c, 1] if was_active[c] else 0.0
-        sweeps = FAST_GS_ITERATIONS if settings.outcome_only else GS_ITERATIONS
+        sweeps = FAST_GS_ITERATIONS if outcome_only else GS_ITERATIONS
         it = _solve_contacts(W, bvec, P, mu_act, n_act, settings.tol, sweeps)
-        if it >= sweeps and not _active_set(W, bvec, P, mu_act, n_act, settings.outcome_only):
+        if it >= sweeps and not _active_set_work(
+            W,
+            bvec,
+            P,
+            mu_act,
+            n_act,
+            outcome_only,
+            scratch.as_status,
+            scratch.as_sign,
+            scratch.as_A,
+            scratch.as_rhs,
+            scratch.as_x,
+            scratch.as_lu,
+        ):
             it += _solve_contacts(W, bvec, P, mu_act, n_act, settings.tol, settings.max_iter)
         tallies[3] = max(tallies[3], it)
+        # vnew += M^-1 G^T P, each dof's sum over the rows in order, the rows' zero entries
+        # (the dofs of bodies the contact does not touch) left out
         for k in range(n_dof):
-            acc = 0.0
-            for r in range(m2):
-                acc += G[r, k] * P[r]
-            vnew[k] += minv[k] * acc
-        for j in range(n_act):
+            impulse_sum[k] = 0.0
+        for r in range(m2):
+            c = act[r // 2]
+            for i in range(nb):
+                if i == cand_a[c] or i == cand_b[c]:
+                    for k in range(3 * i, 3 * i + 3):
+                        impulse_sum[k] += G[r, k] * P[r]
+        for k in range(n_dof):
+            vnew[k] += minv[k] * impulse_sum[k]
+        # the dissipated energy and the contact forces: histories only
+        for j in range(0 if outcome_only else n_act):
             un = 0.0
             ut = 0.0
             for k in range(n_dof):
@@ -758,10 +875,13 @@ def _step(t, h, q, v, bodies, contacts, collars, ground, settings, scratch, stat
         q[k] = qm[k] + 0.5 * h * vnew[k]
         v[k] = vnew[k]
     if not closed:  # a contact that will be closed at the end of the step closes in it
+        _body_trig(q, trig)
         for c in range(nc):
             if was_active[c]:
                 continue
-            gap, on_face = _contact_row(q, c, cand_a, cand_b, cand_pt, cand_face, G, nc - 1, n_dof)
+            gap, on_face = _contact_row(
+                q, trig, c, cand_a, cand_b, cand_pt, cand_face, G, nc - 1, n_dof
+            )
             if on_face and gap <= 0.0 and _normal_velocity(G, nc - 1, v) < -v_impact:
                 closed = True
                 break
