@@ -32,14 +32,14 @@ HALF = Block(b=0.1125, h=2.0, mass=2700.0 * 0.225 * 4.0 * math.pi * 0.1125)
 COLLARS = tuple(Collar(y=y, t=0.008, h=0.06) for y in (0.5, 2.0, 3.5))
 
 
-def _record(parts, dt: float = 0.005) -> Record:
-    """A record of sine segments: (duration s, amplitude over the half's g tan alpha, period s)
-    one after the other, each a whole number of periods (no jump between them)."""
+def _record(parts, dt: float = 0.005, block: Block = HALF) -> Record:
+    """A record of sine segments: (duration s, amplitude over the block's g tan alpha, period
+    s) one after the other, each a whole number of periods (no jump between them)."""
     t, a, start = [0.0], [0.0], 0.0
     for duration, ratio, period in parts:
         local = np.arange(dt, duration + 0.5 * dt, dt)
         t.extend(start + local)
-        a.extend(ratio * HALF.uplift_acceleration() * np.sin(2.0 * math.pi * local / period))
+        a.extend(ratio * block.uplift_acceleration() * np.sin(2.0 * math.pi * local / period))
         start += duration
     return Record(np.array(t), np.array(a), "segments")
 
@@ -358,13 +358,7 @@ def test_without_the_impact_count_the_stop_is_half_the_least_potential_at_the_pe
 
 def _stocky_record(parts, dt: float = 0.005) -> Record:
     """_record's sine segments for STOCKY (amplitudes over its g tan alpha)."""
-    t, a, start = [0.0], [0.0], 0.0
-    for duration, ratio, period in parts:
-        local = np.arange(dt, duration + 0.5 * dt, dt)
-        t.extend(start + local)
-        a.extend(ratio * STOCKY.uplift_acceleration() * np.sin(2.0 * math.pi * local / period))
-        start += duration
-    return Record(np.array(t), np.array(a), "segments")
+    return _record(parts, dt, STOCKY)
 
 
 @pytest.mark.parametrize(
