@@ -271,17 +271,10 @@ def vertical_acceleration(t, ground):
     return table_value(t, ground.times[n:], ground.values[n:])
 
 
-@njit(cache=True)
-def _world(q, body, lx, ly):
-    """World position of the body-fixed point (lx, ly) (relative to the centroid)."""
-    c = math.cos(q[3 * body + 2])
-    s = math.sin(q[3 * body + 2])
-    return q[3 * body] + c * lx - s * ly, q[3 * body + 1] + s * lx + c * ly
-
-
 @njit(cache=True, inline="always")
 def _world_trig(q, body, lx, ly, c, s):
-    """:func:`_world` with the cosine c and sine s of the body's angle given."""
+    """World position of the body-fixed point (lx, ly) (relative to the centroid), c and s the
+    cosine and sine of the body's angle (:func:`_body_trig`)."""
     return q[3 * body] + c * lx - s * ly, q[3 * body + 1] + s * lx + c * ly
 
 
