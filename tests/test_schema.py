@@ -137,6 +137,9 @@ def _with(table, **keys):
         (_with("ground", pulse="square"), ["ground.pulse = 'square'", "'sine', 'cosine'"]),
         (_with("run", initial_tilt=1.0), ["run.initial_tilt = 1.0", "(-0.785398, 0.785398), rad"]),
         (_with("contact", damping=1.0), ["contact.damping = 1.0", "[0, 1)"]),
+        # a toe element of 1e-258 m was accepted and the mesh grader then asked numpy for
+        # 1e256 nodes (found by test_properties' generated study files)
+        (_with("mesh", toe_size=1e-258), ["mesh.toe_size = 1e-258", "[1e-05, inf), m"]),
         (_with("grid", points=[3, 0]), ["grid.points[2] = 0", "[1, 10000]"]),
         (_with("grid", amplitude_ratios=[3.0, 2.0]), ["grid.amplitude_ratios", "start <= stop"]),
         (_with("convergence", sizes=[0.1, 0.2, 0.05]), ["convergence.sizes", "decrease"]),
