@@ -125,8 +125,9 @@ Settings = namedtuple(
         "outcome_only",
         "stop_decided",
         "impacts_needed",
+        "touching_scale",
     ],
-    defaults=(False, False, True),
+    defaults=(False, False, True, 1.0),
 )
 """The run (see :func:`simulate`): step h (s), n_steps of it, refine (substeps of a step in which
 a contact closes), Newton's e_n, a history row every out_every steps, free_halves, barrier (J),
@@ -136,7 +137,9 @@ the steps of a column at rest skipped, the contacts' active-set solve by Gaussia
 after FAST_GS_ITERATIONS sweeps; see :func:`simulate`) and stop_decided (False by default;
 with outcome_only: the run stops once no answer can change, :func:`_decided`) and
 impacts_needed (True by default: the stop keeps the impact count exact; False where the
-caller does not use it, as the fragility's limit states do not)."""
+caller does not use it, as the fragility's limit states do not) and touching_scale (1 by
+default: a crack contact within g h^2 of touching and closing is active, h the step's own;
+(h_0 / h)^2 keeps the tolerance of a step h_0 at a longer step h)."""
 
 REST_VELOCITY = 1e-9  # m/s: a body at rest moves slower than this at every point (measured:
 # 1e-11 from the contact solver's tolerance while resting under a record)
@@ -746,8 +749,10 @@ def _step(t, h, q, v, bodies, contacts, collars, ground, settings, scratch, stat
     v_impact = 4.0 * g * h  # slower closures are resting contacts settling back
     # a crack contact within the midpoint scheme's drift of a closed contact (g h^2) whose
     # free motion closes it is active too: the crack starts closed with no force across it,
-    # and the drift's sign must not decide whether the halves press
-    touching = g * h * h
+    # and the drift's sign must not decide whether the halves press (touching_scale: another
+    # step's drift; the tolerance sets how the halves' re-closing is caught, and its own
+    # scaling with h^2 was most of the answers' change with the step)
+    touching = g * h * h * settings.touching_scale
     _body_trig(qm, trig)
     for c in range(nc):
         gap, on_face = _contact_row(
@@ -1384,6 +1389,7 @@ def spectrum_modes(
             settings.outcome_only,
             settings.stop_decided,
             settings.impacts_needed,
+            settings.touching_scale,
         )
         ground = Ground(GROUND_HARMONIC, gpar, np.zeros(1), np.zeros(1), t_end)
         q = q0.copy()

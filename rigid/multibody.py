@@ -58,7 +58,10 @@ from .solve import (
 
 DEFAULT_FRICTION = 0.7  # as the FEM's ContactSettings
 STEPS_PER_ROCKING_TIME = 1000  # default step: (1/p) / 1000
-COLLAR_STEP_SAFETY = 0.25  # h <= 0.25 * 2 / omega_collars (explicit collar forces)
+# the collars' forces are explicit: a step is at most half their stability limit 2 / omega
+# (h omega <= 1; above it is refused), by default an eighth of it (h omega = 0.25)
+COLLAR_STEP_LIMIT = 0.5
+COLLAR_STEP_FRACTION = 0.125
 SOLVER_TOLERANCE = 1e-10  # relative change of the impulses that ends the Gauss-Seidel
 SOLVER_MAX_ITERATIONS = 500
 IMPACT_REFINEMENT = 32  # a step in which a contact closes is redone as 32 substeps
@@ -648,14 +651,30 @@ def _ground_arrays(ground: GroundMotion, g: float, vertical: GroundMotion = NO_M
     return K.Ground(kind, gpar, rec_t, rec_a, end)
 
 
-def default_step(column: MultibodyColumn, ground: GroundMotion = NO_MOTION) -> float:
-    """(1/p)/1000, at most 1/400 of the pulse period, and a quarter of the collars' stable
-    step (their forces are explicit) (s)."""
+def default_step(
+    column: MultibodyColumn,
+    ground: GroundMotion = NO_MOTION,
+    collar_fraction: float = COLLAR_STEP_FRACTION,
+) -> float:
+    """(1/p)/1000, at most 1/400 of the pulse period, and at most ``collar_fraction`` of the
+    collars' explicit stability limit 2/omega (their forces are explicit; by default an eighth:
+    h omega = 0.25) (s)."""
     h = 1.0 / (column.block.p * STEPS_PER_ROCKING_TIME)
     sine = ground.sine_form
     if sine is not None:
         h = min(h, 2.0 * math.pi / sine.omega / 400.0)
-    return min(h, 0.5 * COLLAR_STEP_SAFETY * column.collar_stable_step())
+    return min(h, collar_fraction * column.collar_stable_step())
+
+
+def touching_scale(dt: float, touching_dt: float | None) -> float:
+    """The kernel's touching_scale: (touching_dt / dt)^2, so that a crack contact within
+    g touching_dt^2 of touching and closing is active at the step dt (1 where touching_dt is
+    None: dt's own drift, g dt^2). A fragility steps longer than a single run and keeps the
+    single run's tolerance (``docs/fragility.md``, "The multibody's step")."""
+    if touching_dt is None:
+        return 1.0
+    require_positive("touching_dt (s)", touching_dt)
+    return float((touching_dt / dt) ** 2)
 
 
 def rock_multibody(
@@ -675,6 +694,7 @@ def rock_multibody(
     refine: int = IMPACT_REFINEMENT,
     max_impacts_stored: int = 10_000,
     vertical: GroundMotion = NO_MOTION,
+    touching_dt: float | None = None,
 ) -> MultibodyResult:
     """Time history of the rigid multibody column under ``ground`` (a pulse, a record, or
     NoMotion(), the default, for free rocking from ``initial_tilt``).
@@ -684,7 +704,9 @@ def rock_multibody(
     ``restitution_normal`` is Newton's e_n (0: plastic impacts, which give Housner's ratio).
     ``refine``: a step in which a contact closes is redone as that many substeps (1: plain
     Moreau-Jean, first order at impacts). ``vertical``: the vertical ground acceleration
-    (upward positive; a pulse or a record), applied to every body as -m vg''."""
+    (upward positive; a pulse or a record), applied to every body as -m vg''.
+    ``touching_dt``: the step (s) whose midpoint drift g touching_dt^2 is the crack contacts'
+    touching tolerance (None: dt's own; :func:`touching_scale`)."""
     column = build_column(
         block, cracked=cracked, collars=collars, friction=friction, crack_friction=crack_friction
     )
@@ -700,7 +722,7 @@ def rock_multibody(
     if duration is None:
         duration = kernel_ground.end + 20.0 / block.p
     require_positive("duration (s)", duration)
-    h_stable = 0.5 * column.collar_stable_step()  # a quarter of 2/omega is the default
+    h_stable = COLLAR_STEP_LIMIT * column.collar_stable_step()
     if dt is None:
         dt = default_step(column, ground)
     require_positive("dt (s)", dt)
@@ -733,6 +755,7 @@ def rock_multibody(
         energy_scale=energy_scale,
         tol=SOLVER_TOLERANCE,
         max_iter=SOLVER_MAX_ITERATIONS,
+        touching_scale=touching_scale(dt, touching_dt),
     )
     bodies, contacts, collar_elements = column.kernel_bundles()
     start = time.perf_counter()
@@ -804,6 +827,7 @@ def multibody_outcome(
     fast: bool = True,
     stop_when_decided: bool = True,
     impacts_needed: bool = True,
+    touching_dt: float | None = None,
 ) -> MultibodyOutcome:
     """The outcome of :func:`rock_multibody`'s run from rest (same column, step, contact solver
     and impact refinement) without its histories: what a fragility needs of a run. The peak
@@ -822,8 +846,8 @@ def multibody_outcome(
     fragility's limit states are uplift, rotation, overturning and the collars'), so the stop
     need not keep it exact: it stops once the other answers cannot change (the impact
     threshold, 1e-4 alpha, was the least of its bounds by far) and ``impacts`` is None.
-    Elastic collars only (a plastic collar's fracture is read from its history:
-    rock_multibody)."""
+    ``touching_dt``: as rock_multibody's. Elastic collars only (a plastic collar's fracture is
+    read from its history: rock_multibody)."""
     if any(c.plastic for c in collars):
         raise InputError("multibody_outcome: plastic collars need rock_multibody's history")
     column = build_column(block, cracked=cracked, collars=collars, friction=friction)
@@ -834,7 +858,7 @@ def multibody_outcome(
     if dt is None:
         dt = default_step(column, ground)
     require_positive("dt (s)", dt)
-    if dt > 0.5 * column.collar_stable_step():
+    if dt > COLLAR_STEP_LIMIT * column.collar_stable_step():
         raise InputError(f"dt = {dt:g} s is above the collars' stable step: lower dt")
     n_steps = int(math.ceil(duration / dt))
     q, v = column.q_rest.copy(), np.zeros_like(column.q_rest)
@@ -857,6 +881,7 @@ def multibody_outcome(
         outcome_only=bool(fast),
         stop_decided=bool(fast and stop_when_decided),
         impacts_needed=bool(impacts_needed),
+        touching_scale=touching_scale(dt, touching_dt),
     )
     bodies, contacts, collar_elements = column.kernel_bundles()
     start = time.perf_counter()

@@ -534,11 +534,12 @@ def run_fem(study: FemStudy, *, replicas: int | None = None, out_dir=None, progr
     )
 
 
-def run_multibody(study: FemStudy, dt: float | None = None):
+def run_multibody(study: FemStudy, dt: float | None = None, touching_dt: float | None = None):
     """The rigid multibody model of a study (:func:`colonna.rigid.multibody.rock_multibody`; its
-    default step where ``dt`` is None). Every study kind's multibody run goes through here (the
-    cross-check, the design study, the spectrum's grid points, free rocking): a variant is a
-    changed study (``dataclasses.replace``), as for :func:`run_fem`."""
+    default step where ``dt`` is None; ``touching_dt`` as rock_multibody's). Every study kind's
+    multibody run goes through here (the cross-check, the design study, the spectrum's grid
+    points, free rocking): a variant is a changed study (``dataclasses.replace``), as for
+    :func:`run_fem`."""
     from ..rigid.multibody import rock_multibody
 
     return rock_multibody(
@@ -552,6 +553,7 @@ def run_multibody(study: FemStudy, dt: float | None = None):
         initial_tilt=study.initial_tilt,
         initial_angular_velocity=study.initial_angular_velocity,
         dt=dt,
+        touching_dt=touching_dt,
     )
 
 
