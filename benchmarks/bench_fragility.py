@@ -14,7 +14,10 @@ state) differs from rock()'s 1e-10 is measured over 20 records x 40 levels.
 
 The multibody runs take the fragility's path (colonna.rigid.multibody.multibody_outcome: no
 histories, the steps of a column at rest skipped, the contact problem's active set solved by
-Gaussian elimination, the free tail stopped once no answer can change); the same 20 levels of
+Gaussian elimination, the free tail stopped once no answer can change, the step where the
+collars set it a quarter of their stability limit with a single run's crack tolerance:
+[fragility] multibody_step); the same 20
+levels of
 two records are also run as rock_multibody runs them (the path before issue 37's speed-ups)
 for its cost a run and how many outcomes differ, and on the fragility's path without the
 stop (every answer the fragility reads must be the same: overturning, peak and utilisation;
@@ -25,8 +28,9 @@ issue's size; ``--fem-records N`` for fewer), with the workers' CPU and the cost
 what the same runs cost before the weak-tail stop is counted from where each run ended.
 
 Run: .venv/bin/python benchmarks/bench_fragility.py [--fem] [--sdof-only] [--multibody-only]
-[--fem-only] [--fem-records N] (about 5 minutes on 2 cores; --fem adds the FEM run, about 15
-minutes more on 2 quiet cores).
+[--fem-only] [--fem-records N] [--multibody-steps] (about 5 minutes on 2 cores; --fem adds the
+FEM run, about 15 minutes more on 2 quiet cores; --multibody-steps the multibody fragility at
+the single run's step and half of it, about 4 minutes more).
 """
 
 from __future__ import annotations
@@ -75,7 +79,9 @@ def write_suite(folder: Path, count: int, seed: int = 2037) -> None:
         (folder / name).write_text(text)
 
 
-def study_text(suite: Path, models, steps: int, ladder=(0.5, 8.0), collars=True) -> str:
+def study_text(
+    suite: Path, models, steps: int, ladder=(0.5, 8.0), collars=True, extra: str = ""
+) -> str:
     return (
         '[study]\nname = "bench"\nkind = "fragility"\n'
         + COLUMN
@@ -84,6 +90,7 @@ def study_text(suite: Path, models, steps: int, ladder=(0.5, 8.0), collars=True)
         + f'suite = "{suite}"\nintensity = "pgv_rocking"\nladder = [{ladder[0]}, {ladder[1]}]\n'
         + f"steps = {steps}\nmodels = {json.dumps(list(models))}\ndesign_intensity = 2.0\n"
         + "bootstrap = 200\n"
+        + extra
     )
 
 
@@ -135,7 +142,7 @@ def multibody_check(suite: Path, records: int = 2, steps: int = 20) -> str:
     speed-ups) and of the fragility's path, over ``records`` x ``steps`` levels, and how many
     limit-state outcomes differ between them."""
     from colonna.studies.fragility import analysis
-    from colonna.studies.fragility.models import multibody_point, outcome_run
+    from colonna.studies.fragility.models import multibody_point, multibody_steps, outcome_run
     from colonna.studies.fragility.runner import setup
     from colonna.studies.study import load
 
@@ -148,15 +155,29 @@ def multibody_check(suite: Path, records: int = 2, steps: int = 20) -> str:
         record = s.records[i]
         scales = analysis.scales_for(s.levels, s.intensity[i])
         duration = record.end_time + 20.0 / column.rocking_block.p
+        dt, touching_dt = multibody_steps(column, record, s.spec.multibody_step)
         start = time.process_time()
         full_runs.append(_full_runs(column, record, scales, duration))
         cpu["full"] += time.process_time() - start
         start = time.process_time()
-        outcomes = [outcome_run(column, record, x, duration) for x in scales]
+        outcomes = [
+            outcome_run(column, record, x, duration, dt=dt, touching_dt=touching_dt) for x in scales
+        ]
         cpu["fast"] += time.process_time() - start
         fast_runs.append([multibody_point(column, o) for o in outcomes])
         start = time.process_time()
-        whole = [outcome_run(column, record, x, duration, stop_when_decided=False) for x in scales]
+        whole = [
+            outcome_run(
+                column,
+                record,
+                x,
+                duration,
+                stop_when_decided=False,
+                dt=dt,
+                touching_dt=touching_dt,
+            )
+            for x in scales
+        ]
         cpu["unstopped"] += time.process_time() - start
         for a, b in zip(outcomes, whole):
             stopped += a.decided_at is not None
@@ -335,6 +356,49 @@ def multibody(folder: Path, cores: int) -> None:
         f"{os.getloadavg()[0]:.1f}"
     )
     print("  " + multibody_check(twenty))
+    if "--multibody-steps" in sys.argv:
+        step_check(folder, twenty, cores, s)
+
+
+def step_check(folder: Path, suite: Path, cores: int, study_step: dict) -> None:
+    """The same fragility at the single run's step (an eighth of the collars' stability limit)
+    and at half of it: each limit state's multiple-stripe median and dispersion (with the
+    bootstrap band of the median) at each step, the CPU, and how many runs' outcomes differ
+    from the study's step."""
+    from colonna.studies.fragility import analysis
+
+    found = {0.25: study_step}
+    for fraction in (0.125, 0.0625):
+        cpu_start = _children_cpu()
+        wall, found[fraction] = run_study(
+            folder,
+            f"multibody-{fraction}",
+            study_text(suite, ["multibody"], 20, extra=f"multibody_step = {fraction}\n"),
+            cores,
+        )
+        print(
+            f"  at multibody_step {fraction}: {wall:.1f} s wall, the workers' CPU "
+            f"{_children_cpu() - cpu_start:.0f} s"
+        )
+    exceeded = {}
+    for fraction, s in found.items():
+        runs = s["runs"]["multibody"]
+        table = [
+            [{key: runs[key][i][j] for key in runs} for j in range(len(runs["overturned"][0]))]
+            for i in range(len(runs["overturned"]))
+        ]
+        exceeded[fraction] = analysis.exceedances(table, 0.5)
+        words = []
+        for name, entry in s["limit_states"]["multibody"].items():
+            fit = (entry.get("stripes") or {}).get("fit")
+            if fit is None:
+                continue
+            low, high = entry["stripes"]["median_interval"]
+            words.append(f"{name} {fit['median']:.3f} [{low:.2f}, {high:.2f}] b {fit['beta']:.3f}")
+        print(f"  fits at multibody_step {fraction}: " + "; ".join(words))
+    for fraction in (0.125, 0.0625):
+        differ = {k: int(np.sum(v != exceeded[0.25][k])) for k, v in exceeded[fraction].items()}
+        print(f"  outcomes at {fraction} that differ from 0.25's: {differ}")
 
 
 def _children_cpu() -> float:

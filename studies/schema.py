@@ -1030,6 +1030,15 @@ class Fragility(Table):
         ge=1e-12,
         le=1e-3,
     )
+    multibody_step: float = quantity(
+        "-",
+        "Step of the multibody runs where the collars set it, as a fraction of their explicit "
+        "stability limit 2/omega, 0.01 to 0.25 (a single multibody run's is 0.125, whose crack "
+        "tolerance the runs keep; at 0.5 the answers move by 5-25 %: docs/fragility.md).",
+        0.25,
+        ge=0.01,
+        le=0.25,
+    )
 
     @staticmethod
     def across(f: dict, given: set) -> list[tuple[str, tuple]]:

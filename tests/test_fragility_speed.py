@@ -11,7 +11,10 @@ the two lower bounds the stop rests on (a half's potential at a rotation, a coll
 energy at a utilisation) are their closed forms; without the impact count (the fragility's
 runs) the stop's threshold is half the least potential at the peak, and a block that still
 rocks is stopped with the whole run's answers; the shifted lognormal's origin is the suite's
-uplift intensity, its curve is 0 up to it and the report names it.
+uplift intensity, its curve is 0 up to it and the report names it; the fragility's multibody
+runs step at their stated fraction of the collars' stability limit, where the collared
+column's energy error still falls as the step squared, and with a single run's crack tolerance
+their answers stay a single run's.
 """
 
 import json
@@ -396,3 +399,148 @@ def test_a_run_that_needs_no_impact_count_stops_while_it_rocks_with_the_whole_ru
         assert stopped.collar_max_utilisation == pytest.approx(
             whole.collar_max_utilisation, rel=1e-12
         )
+
+
+# --- the fragility's multibody step -------------------------------------------------------------
+
+
+def test_the_collared_column_s_energy_error_falls_as_the_step_squared_up_to_the_fragility_s():
+    """The collars' forces are explicit (the midpoint rule): with them the energy balance
+    closes to O(h^2). At steps of 1/16, 1/8 (a single run's) and 1/4 (the fragility's
+    default, [fragility] multibody_step) of the collars' stability limit 2/omega, the
+    largest energy error of a column rocked by one strong cycle grows 4 times per doubling
+    (measured 3.9 and 4.0): the fragility's step is still in the scheme's second-order range."""
+    from colonna.rigid.multibody import build_column
+
+    limit = build_column(HALF, cracked=True, collars=COLLARS).collar_stable_step()
+    record = _record(ROCKS)
+    errors = []
+    for fraction in (0.0625, 0.125, 0.25):
+        run = rock_multibody(
+            HALF,
+            record,
+            COLLARS,
+            cracked=True,
+            duration=2.5,
+            dt=fraction * limit,
+            touching_dt=0.125 * limit,  # the crack's tolerance a single run's, as a fragility's
+        ).summary()
+        assert run["max_abs_theta"] > 0.5 * HALF.alpha  # it rocked
+        errors.append(run["energy_error_max"])
+    ratios = np.array(errors[1:]) / np.array(errors[:-1])
+    assert np.all(np.abs(ratios - 4.0) < 0.6), ratios
+
+
+@pytest.mark.parametrize("parts", [ROCKS, SETTLES], ids=["rocks", "settles"])
+def test_at_twice_the_step_with_a_single_run_s_crack_tolerance_the_answers_stay(parts):
+    """A crack contact within g h^2 of touching and closing is active (the midpoint scheme's
+    drift). That tolerance grows with the step, and it was most of what a longer step changed:
+    at twice a single run's step h with its own tolerance the peak |theta| falls 1.6 % (one
+    strong cycle) and 4 % (a column that settles). With the single run's tolerance g h^2 kept
+    (the fragility's runs) the peak and the collars' utilisation at 2 h stay within 0.5 % and
+    1 % of h's, as h / 2's do (measured 0.3 % and 0.9 % at most)."""
+    from colonna.rigid.multibody import build_column, default_step
+
+    record = _record(parts)
+    h = default_step(build_column(HALF, cracked=True, collars=COLLARS))
+
+    def run(factor, touching_dt):
+        return multibody_outcome(
+            HALF,
+            record,
+            COLLARS,
+            cracked=True,
+            duration=4.0,
+            dt=factor * h,
+            touching_dt=touching_dt,
+        )
+
+    single = run(1.0, None)
+    assert single.max_abs_theta > 0.1 * HALF.alpha  # it rocked
+    for factor in (0.5, 2.0):
+        kept = run(factor, h)
+        assert kept.overturned == single.overturned
+        assert kept.max_abs_theta == pytest.approx(single.max_abs_theta, rel=5e-3), factor
+        assert kept.collar_max_utilisation == pytest.approx(
+            single.collar_max_utilisation, rel=1e-2
+        ), factor
+    own = run(2.0, None)
+    assert abs(own.max_abs_theta / single.max_abs_theta - 1.0) > 1e-2
+
+
+STEPPED = """
+[study]
+name = "stepped"
+kind = "fragility"
+[column]
+height = 4.0
+width = 0.45
+cracked = true
+[[collar]]
+y = 0.5
+t = 0.008
+h = 0.06
+[[collar]]
+y = 2.0
+t = 0.008
+h = 0.06
+[[collar]]
+y = 3.5
+t = 0.008
+h = 0.06
+[ground]
+pulse = "none"
+[fragility]
+suite = "suite.toml"
+intensity = "pga_rocking"
+ladder = [0.5, 2.0]
+steps = 2
+models = ["multibody"]
+design_intensity = 1.0
+bootstrap = 10
+"""
+
+
+def test_the_fragility_s_multibody_step_is_its_fraction_of_the_collars_limit(tmp_path):
+    """A fragility study's multibody runs step at multibody_step of the collars' stability
+    limit 2/omega where the collars set the step (a quarter by default: twice a single run's
+    eighth), the crack's tolerance a single run's, and at 1/(1000 p) where that is smaller
+    (half of the limit here is 0.76 ms against 0.52 ms); the summary, each case and the report
+    say which."""
+    from colonna.rigid.multibody import build_column, default_step
+    from colonna.studies.fragility.models import multibody_steps
+    from colonna.studies.fragility.runner import setup
+    from colonna.studies.study import load
+
+    (tmp_path / "study.toml").write_text(STEPPED)
+    t = np.linspace(0.0, 1.0, 101)
+    for i in (1, 2):
+        np.savetxt(tmp_path / f"p{i}.txt", np.column_stack([t, np.sin(2.0 * i * math.pi * t)]))
+    (tmp_path / "suite.toml").write_text(
+        "\n".join(f'[[record]]\nfile = "p{i}.txt"\nunits = "m/s2"\n' for i in (1, 2))
+    )
+    s = setup(load(tmp_path / "study.toml"))
+    study, record = s.column, s.records[0]
+    column = build_column(
+        study.rocking_block,
+        cracked=True,
+        collars=study.collars,
+        friction=study.contact.friction,
+    )
+    limit = column.collar_stable_step()
+    assert s.spec.multibody_step == 0.25
+    dt, touching_dt = multibody_steps(study, record, 0.25)
+    assert dt == pytest.approx(0.25 * limit, rel=1e-12)
+    assert touching_dt == default_step(column, record)  # the single run's crack tolerance
+    assert 0.5 * limit > 1.0 / (1000.0 * study.rocking_block.p)
+    # the step is also at most 1/(1000 p) (a column whose collars are soft enough)
+    assert multibody_steps(study, record, 0.5)[0] == pytest.approx(1e-3 / study.rocking_block.p)
+    assert multibody_steps(study, record, None) == (None, None)
+    assert default_step(column, record) == pytest.approx(0.125 * limit, rel=1e-12)
+    out = tmp_path / "out"
+    assert main(["study", str(tmp_path / "study.toml"), "--out", str(out), "--workers", "1"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["multibody_step"] == 0.25
+    case = json.loads((out / "cases" / "multibody-000-p1" / "inputs.json").read_text())
+    assert case["inputs"]["case"]["collar_step"] == 0.25  # a case is keyed by its step
+    assert "multibody runs step at\n0.25 of the collars" in (out / "index.html").read_text()

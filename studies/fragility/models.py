@@ -19,10 +19,13 @@ What each run gives is :data:`studies.fragility.analysis.RUN_KEYS`, the same for
   needs the ground to exceed it.
 * multibody (:func:`multibody_runs`): the study's column under the scaled record from rest, its
   duration the record plus 20 / p, through :func:`colonna.rigid.multibody.multibody_outcome`
-  (rock_multibody's model and step without histories, the steps at rest skipped, the contact
+  (rock_multibody's model without histories, the steps at rest skipped, the contact
   problem's exact solve by Gaussian elimination: the answers within the contact solver's own
   scatter, docs/fragility.md); with plastic collars, vertical motion or an initial tilt,
-  :func:`studies.fem_study.run_multibody` itself.
+  :func:`studies.fem_study.run_multibody` itself. Its step, where the collars set it, is the
+  study's ``multibody_step`` of their stability limit (:func:`multibody_steps`: by default a
+  quarter, twice the single run's eighth), the crack contacts' touching tolerance the single
+  run's (the fits at an eighth and a sixteenth are within a few % of it, docs/fragility.md).
 * FEM (:func:`fem_point`): :func:`studies.fem_study.iter_fem` on the study's mesh, settled-stop
   (a run ends once it can no longer overturn), one run per record and level, the runs of one
   model batched on one kernel.
@@ -83,23 +86,31 @@ def sdof_runs(study, record: Record, scales, *, rtol: float = SDOF_RTOL) -> list
     return runs
 
 
-def multibody_runs(study, record: Record, scales) -> list[dict]:
+def multibody_runs(study, record: Record, scales, collar_step: float | None = None) -> list[dict]:
     """The multibody runs of ``record`` times each of ``scales``: with elastic collars (or
     none) :func:`colonna.rigid.multibody.multibody_outcome` (no histories, the steps at rest
     skipped), else :func:`studies.fem_study.run_multibody`'s full run (a plastic collar's
-    fracture is read from its history)."""
+    fracture is read from its history). ``collar_step``: the step where the collars set it,
+    as a fraction of their stability limit 2/omega, with the single run's crack tolerance
+    (:func:`multibody_steps`; None: the single run's step)."""
     from ..fem_study import run_multibody
 
     block = study.rocking_block
     duration = record.end_time + FREE_TIME_P / block.p
+    dt, touching_dt = multibody_steps(study, record, collar_step)
     plastic = any(c.plastic for c in study.collars)
     from_rest = study.initial_tilt == 0.0 and study.initial_angular_velocity == 0.0
     if not plastic and not study.vertical.moves and from_rest:
-        return [multibody_point(study, outcome_run(study, record, s, duration)) for s in scales]
+        return [
+            multibody_point(
+                study, outcome_run(study, record, s, duration, dt=dt, touching_dt=touching_dt)
+            )
+            for s in scales
+        ]
     runs = []
     for scale in scales:
         variant = dataclasses.replace(study, ground=record.scaled(float(scale)), duration=duration)
-        s = run_multibody(variant).summary()
+        s = run_multibody(variant, dt, touching_dt).summary()
         alpha = block.alpha  # the SDOF's block's, as every model's here
         runs.append(
             {
@@ -117,12 +128,43 @@ def multibody_runs(study, record: Record, scales) -> list[dict]:
     return runs
 
 
+def multibody_steps(
+    study, record: Record, collar_step: float | None
+) -> tuple[float | None, float | None]:
+    """(dt, touching_dt) of the multibody runs of ``record`` (any scale: a record's step does
+    not depend on its size): the step, :func:`colonna.rigid.multibody.default_step` with the
+    collars' step at ``collar_step`` of their stability limit 2/omega, and the single run's
+    default step, whose midpoint drift stays the crack contacts' touching tolerance
+    (:func:`colonna.rigid.multibody.touching_scale`). (None, None) where ``collar_step`` is
+    None: the single run's step and tolerance."""
+    from ...rigid.multibody import build_column, default_step
+
+    if collar_step is None:
+        return None, None
+    column = build_column(
+        study.rocking_block,
+        cracked=study.cracked,
+        collars=study.collars,
+        friction=study.contact.friction,
+    )
+    return default_step(column, record, collar_fraction=collar_step), default_step(column, record)
+
+
 def outcome_run(
-    study, record: Record, scale: float, duration: float, *, stop_when_decided: bool = True
+    study,
+    record: Record,
+    scale: float,
+    duration: float,
+    *,
+    stop_when_decided: bool = True,
+    dt: float | None = None,
+    touching_dt: float | None = None,
 ):
     """:func:`colonna.rigid.multibody.multibody_outcome` of the study's column under ``record``
     times ``scale`` from rest (the settings of :func:`studies.fem_study.run_multibody`);
-    ``stop_when_decided``: as multibody_outcome's (False runs the free tail to its end). The
+    ``stop_when_decided``: as multibody_outcome's (False runs the free tail to its end); ``dt``
+    and ``touching_dt``: its step and the crack's tolerance (s; None: the single run's,
+    :func:`multibody_steps`). The
     fragility's limit states do not use the impact count: the run does not keep it
     (impacts_needed False: its stop need not wait for the last impact; impacts None)."""
     from ...rigid.multibody import multibody_outcome
@@ -134,6 +176,8 @@ def outcome_run(
         cracked=study.cracked,
         friction=study.contact.friction,
         duration=duration,
+        dt=dt,
+        touching_dt=touching_dt,
         stop_when_decided=stop_when_decided,
         impacts_needed=False,
     )

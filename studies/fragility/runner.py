@@ -151,7 +151,7 @@ def rigid_case(case: dict, directory: str) -> dict:
     if case["model"] == "sdof":
         runs = sdof_runs(study, record, scales, rtol=case["rtol"])
     else:
-        runs = multibody_runs(study, record, scales)
+        runs = multibody_runs(study, record, scales, collar_step=case["collar_step"])
     return {"runs": runs, "seconds": time.perf_counter() - start}
 
 
@@ -229,6 +229,7 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
                     record=i,
                     scales=scales[i],
                     rtol=spec.sdof_rtol if model == "sdof" else None,
+                    collar_step=spec.multibody_step if model == "multibody" else None,
                 )
             )
     runs: dict[str, list] = {}
@@ -339,6 +340,7 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
         "design": probability,
         "same_curve": tests,
         "sdof_rtol": spec.sdof_rtol if "sdof" in runs else None,
+        "multibody_step": spec.multibody_step if "multibody" in runs else None,
         "model_seconds": seconds,
         "layout": "runs[model][key][i][j]: i indexes records, j indexes levels",
     }
