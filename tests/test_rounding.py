@@ -84,6 +84,7 @@ def here():
     return _replicas(None)
 
 
+@pytest.mark.slow  # compiling every FEM kernel for the generic processor: 75 s; .ci/run runs it
 @pytest.mark.skipif(
     os.environ.get("NUMBA_CPU_NAME") == "generic",
     reason="compares this processor's instructions with the generic ones",
