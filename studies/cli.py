@@ -252,6 +252,20 @@ def _multibody_kernels(spectrum: bool = False) -> list:
     return [K.spectrum_modes if spectrum else K.simulate]
 
 
+def _study_kernels(study) -> tuple[list, str]:
+    """The numba kernels a study runs, announced before their first compilation, and their
+    name: the FEM's and the multibody's, a fragility's only those of its models (an SDOF-only
+    one none of them, so that no run announces a compilation it never does)."""
+    from ..fem import _kernels as fem_kernels
+
+    fragility = study.spec.fragility
+    fem = fragility is None or "fem" in fragility.models
+    multibody = fragility is None or "multibody" in fragility.models
+    kernels = ([fem_kernels.advance] if fem else []) + (_multibody_kernels() if multibody else [])
+    names = [name for name, used in (("FEM", fem), ("multibody", multibody)) if used]
+    return kernels, " and ".join(names) + " kernels"
+
+
 def _emit(args, summary: dict | None) -> None:
     """Print a command's summary: one JSON object at full precision with --json, else one
     ``key  value unit`` line per scalar (lists and tables are left to --json and --out)."""
@@ -525,13 +539,12 @@ def _cmd_study(args) -> dict:
 
         require_paper(args.paper or "a4")
         require_browser()
-    from ..fem import _kernels as fem_kernels
     from .executor import before_computing
 
+    kernels, what = _study_kernels(study)
+
     def announce():
-        _announce_compilation(
-            [fem_kernels.advance] + _multibody_kernels(), "FEM and multibody kernels", 60
-        )
+        _announce_compilation(kernels, what, 60)
 
     with before_computing(announce):
         summary = run_study_file(

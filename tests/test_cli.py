@@ -1,6 +1,7 @@
 """The ``colonna`` command line: JSON contracts, files written, one-line errors."""
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -551,6 +552,29 @@ def test_kernels_cached_reads_numba_cache(tmp_path):
         [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
     ).stdout.split()
     assert first == ["False", "True"] and second == ["True", "True"]
+
+
+def test_a_study_announces_only_the_kernels_it_runs(tmp_path):
+    """The compilation a study announces is of the kernels it will run: a cross-check's FEM and
+    multibody kernels; a fragility's those of its models (the multibody's alone for the
+    shipped one, none for an SDOF-only one, whose run would otherwise announce, every time,
+    a FEM compilation it never does)."""
+    from colonna.fem import _kernels as fem_kernels
+    from colonna.rigid import _multibody as multibody_kernels
+    from colonna.studies.cli import _study_kernels, resolve_study
+    from colonna.studies.study import load
+
+    kernels, what = _study_kernels(load(resolve_study("default")))
+    assert kernels == [fem_kernels.advance, multibody_kernels.simulate]
+    assert what == "FEM and multibody kernels"
+    shipped = resolve_study("fragility")
+    kernels, what = _study_kernels(load(shipped))
+    assert kernels == [multibody_kernels.simulate] and what == "multibody kernels"
+    suite = (shipped.parent / "suites" / "synthetic-pulses").resolve()
+    text = shipped.read_text().replace('models = ["sdof", "multibody"]', 'models = ["sdof"]')
+    text = re.sub(r'suite = "[^"]*"', f'suite = "{suite}"', text)
+    (tmp_path / "sdof.toml").write_text(text)
+    assert _study_kernels(load(tmp_path / "sdof.toml"))[0] == []
 
 
 # --- a study file's errors all at once ---------------------------------------------------------
