@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from ...rigid.multibody import COLLAR_STEP_FRACTION
 from ..output import write_csv
 from ..report import figure, legend_beside, render_page
 from .analysis import LIMIT_STATES
@@ -57,6 +58,7 @@ def write_report(out: Path) -> Path:
         tests=test_rows(s),
         names=MODEL_NAMES,
         states=LIMIT_STATES,
+        single_multibody_step=COLLAR_STEP_FRACTION,
     )
 
 
