@@ -1,6 +1,7 @@
 # colonna: two commands do all the set-up on a fresh machine.
 #   make demo   creates .venv, installs colonna, runs the default study, writes a report
 #   make test   creates .venv, installs colonna with test extras, runs the fast test suite
+#   make test-rounding  the tests of chaotic numbers under K seeded ulp perturbations (docs/testing.md)
 #   make lint   ruff and mypy over the code (the same .venv)
 #   make docs   the documentation site (Sphinx), warnings as errors, into docs/_build/html
 PYTHON ?= python3
@@ -9,7 +10,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 OUT    ?= out
 
-.PHONY: demo validate test test-all lint bench clean browser coverage docs docs-numbers
+.PHONY: demo validate test test-all test-rounding lint bench clean browser coverage docs docs-numbers
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -48,6 +49,16 @@ test: $(STAMP) browser
 
 test-all: $(STAMP) browser
 	$(BIN)/python -m pytest -q -m ""
+
+# The rounding stress mode (docs/testing.md): every fast test marked chaotic once per seed 1 .. K,
+# each ground motion it builds moved in its last bits as seeded, then once more with the kernels
+# compiled for a generic processor; ROUNDING_MARK=chaotic adds the slow ones
+ROUNDING_K    ?= 8
+ROUNDING_MARK ?= chaotic and not slow
+
+test-rounding: $(STAMP)
+	$(BIN)/python -m pytest -q -m "$(ROUNDING_MARK)" --rounding-seeds 1-$(ROUNDING_K)
+	NUMBA_CPU_NAME=generic $(BIN)/python -m pytest -q -m "$(ROUNDING_MARK)"
 
 # branch coverage of studies/ by the default test suite (docs/testing.md): .coverage, a table
 coverage: $(STAMP) browser

@@ -21,6 +21,66 @@ except ImportError:  # the test extra not installed: the property tests are not 
     pass
 
 
+def pytest_addoption(parser):
+    parser.addoption(
+        "--rounding-seeds",
+        default="",
+        help="the rounding stress mode (make test-rounding): each test marked chaotic runs once "
+        "per seed (e.g. 1-8 or 2,5), every ground motion it builds moved by at most 3 ulp as "
+        "seeded (tests/chaos.py)",
+    )
+
+
+def _seeds(text: str) -> list[int]:
+    """'1-8' -> 1 .. 8, '2,5' -> 2, 5: positive seeds (0 is the unperturbed run)."""
+    seeds: list[int] = []
+    for part in filter(None, (p.strip() for p in text.split(","))):
+        low, _, high = part.partition("-")
+        seeds.extend(range(int(low), int(high or low) + 1))
+    if any(seed < 1 for seed in seeds):
+        raise pytest.UsageError(f"--rounding-seeds {text!r}: seeds are positive integers")
+    return seeds
+
+
+def pytest_generate_tests(metafunc):
+    """Under ``--rounding-seeds`` every test marked ``chaotic`` runs once per seed."""
+    seeds = _seeds(metafunc.config.getoption("--rounding-seeds"))
+    if seeds and metafunc.definition.get_closest_marker("chaotic") is not None:
+        metafunc.parametrize("rounding_seed", seeds, ids=[f"seed{s}" for s in seeds])
+
+
+@pytest.fixture
+def rounding_seed():
+    """The rounding stress mode's seed of this test run: 0 (off) unless ``--rounding-seeds``
+    parametrizes a test marked ``chaotic``."""
+    return 0
+
+
+@pytest.fixture(autouse=True)
+def _rounding_stress(rounding_seed, monkeypatch):
+    """Under a rounding seed K > 0, every ground motion the test builds (records, pulses) is
+    perturbed in its last bits as seeded by K (tests/chaos.py): another machine's rounding, on
+    this one. Reaches the test's process and the workers it forks, not a subprocess it
+    starts."""
+    if not rounding_seed:
+        yield
+        return
+    import chaos
+
+    from colonna.core.ground import HarmonicPulse, Record
+
+    monkeypatch.setattr(chaos, "ROUNDING_SEED", rounding_seed)
+    for cls in (Record, HarmonicPulse):
+        built = cls.__init__
+
+        def init(self, *args, _built=built, **kwargs):
+            _built(self, *args, **kwargs)
+            chaos.perturb_on_construction(self)
+
+        monkeypatch.setattr(cls, "__init__", init)
+    yield
+
+
 @pytest.fixture
 def zm_block():
     """The Zhang & Makris (2001) validation block of the source paper."""

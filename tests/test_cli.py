@@ -326,6 +326,7 @@ COLLARS = "[[collar]]\ny = 1.0\nt = 0.01\nh = 0.04\n\n[[collar]]\ny = 3.0\nt = 0
 HALF = ("--b", "0.2", "--h", "2.0", "--density", "2700")
 
 
+@pytest.mark.chaotic
 def test_rigid_collar_state_is_apart_from_the_rocking_mode(capsys, tmp_path, monkeypatch):
     """A block that stays up while its collars pass f_y keeps mode "safe" (no overturning) but
     says "yielded" beside it, in the summary, the printed lines and the figure's title."""

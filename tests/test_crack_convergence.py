@@ -186,7 +186,7 @@ FINE, FINER = 0.1125, 0.05625
 
 
 @pytest.mark.slow
-@pytest.mark.landing
+@pytest.mark.chaotic
 def test_the_uncollared_first_swing_converges_with_exact_crack_contact():
     """The uncollared default column's first swing (docs/validation.md, "The crack contact's
     convergence path") with the default, exact crack contact on the mortar bed, judged by the
@@ -228,7 +228,7 @@ def test_the_uncollared_first_swing_converges_with_exact_crack_contact():
 
 
 @pytest.mark.slow
-@pytest.mark.landing
+@pytest.mark.chaotic
 @pytest.mark.xfail(
     strict=False,  # a branch taken or not: another rounding (NUMBA_CPU_NAME) may not take it
     reason="an undamped bed on the 0.1125 m mesh: every replica takes another branch, 4.2 % "

@@ -179,6 +179,7 @@ def tiny(tmp_path_factory):
     return out, json.loads((out / "summary.json").read_text())
 
 
+@pytest.mark.chaotic
 def test_an_ida_curve_that_overturns_then_survives_is_reported_at_its_first_overturning(tiny):
     """The one-cosine pulse at 2.5 p overturns the block from a low level, survives a band of
     higher ones (Zhang & Makris's safe region) and overturns again: its capacity is the first."""

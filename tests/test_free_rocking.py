@@ -48,7 +48,7 @@ def free_run(tmp_path_factory):
     return root / "out", json.loads((root / "out" / "summary.json").read_text())
 
 
-@pytest.mark.landing
+@pytest.mark.chaotic
 def test_multibody_gives_housner_and_the_fem_keeps_more_energy(free_run):
     _, s = free_run
     assert s["multibody_ratio"] == pytest.approx(s["restitution_housner"], rel=2e-3)

@@ -47,6 +47,7 @@ def assert_energy_closes(result, tol=1e-2):
 # --- one solid block: the SDOF nonlinear model is its no-slip limit ---------------------------
 
 
+@pytest.mark.chaotic
 @pytest.mark.parametrize("omega_ratio, amplitude_ratio", [(5.0, 2.0), (5.0, 2.5), (8.0, 3.0)])
 def test_solid_block_follows_nonlinear_sdof_to_the_third_impact(omega_ratio, amplitude_ratio):
     blk = zm_block()
@@ -81,6 +82,7 @@ def _sdof_boundaries(blk, omega_ratio, low, high, n=60):
     return out
 
 
+@pytest.mark.chaotic
 def test_overturning_classification_matches_sdof_on_both_sides_of_zhang_makris_boundaries():
     blk = zm_block()
     boundaries = _sdof_boundaries(blk, 5.0, 1.5, 10.0)
@@ -113,6 +115,7 @@ def test_free_rocking_from_rest_reaches_the_vertical_at_the_closed_form_time():
     assert mb.impacts_table[0, 0] == pytest.approx(blk.time_to_vertical(0.025), rel=5e-3)
 
 
+@pytest.mark.chaotic
 def test_mirror_symmetry():
     blk = zm_block()
     pulse = pulse_from_ratios(blk, "sine", 4.0, 2.5, "nonlinear")
@@ -318,6 +321,7 @@ def test_slender_block_slides_instead_of_rocking_when_mu_is_below_tan_alpha():
 # --- two halves ---------------------------------------------------------------------------------
 
 
+@pytest.mark.chaotic
 def test_halves_with_frictionless_crack_rock_as_independent_half_blocks():
     """No collars, no crack friction: each half is the SDOF half block up to the first impact.
     They touch at second order only (equal rotations about different toes overlap the faces by
@@ -337,6 +341,7 @@ def test_halves_with_frictionless_crack_rock_as_independent_half_blocks():
     assert_energy_closes(mb)
 
 
+@pytest.mark.chaotic
 def test_stiff_collars_and_crack_friction_lock_the_halves_into_the_whole_column_block():
     half = marble_half()
     whole = Block(b=2.0 * half.b, h=half.h, mass=2.0 * half.mass)
@@ -449,6 +454,7 @@ def test_collar_element_axial_and_lateral_stiffness():
 # --- spectra and input checks -------------------------------------------------------------------
 
 
+@pytest.mark.chaotic
 def test_spectrum_points_equal_single_histories_and_the_sdof_away_from_boundaries():
     blk = zm_block()
     omegas = np.array([2.0, 5.0, 9.0])
@@ -462,6 +468,7 @@ def test_spectrum_points_equal_single_histories_and_the_sdof_away_from_boundarie
             assert spec.modes[i][j] == single.mode == ref.mode, (a, om)
 
 
+@pytest.mark.chaotic
 def test_solid_block_spectrum_equals_the_nonlinear_sdof_spectrum():
     """The no-slip solid block is the nonlinear SDOF model: the two mode maps agree over a grid
     that holds all three outcomes (a point may differ only on a boundary)."""
@@ -476,6 +483,7 @@ def test_solid_block_spectrum_equals_the_nonlinear_sdof_spectrum():
     assert np.mean(mb.codes == sdof.codes) >= 0.98
 
 
+@pytest.mark.chaotic
 def test_collar_yield_map_of_the_spectrum_is_that_of_the_histories():
     half = marble_half()
     collars = (Collar(y=2.0, t=0.008, h=0.06),)

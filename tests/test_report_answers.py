@@ -329,6 +329,7 @@ OVERTURNING = TINY_STUDY.format(amplitude_ratio=4.0, duration=1.0).replace(
 )
 
 
+@pytest.mark.chaotic
 @pytest.mark.slow
 def test_an_overturning_cross_check_reads_as_it_should(tmp_path):
     """The tiny column under a pulse that overturns it, as a user runs it: the page opens with

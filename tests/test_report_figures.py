@@ -685,6 +685,7 @@ def test_the_crosscheck_report_of_a_fibre_collar(tmp_path):
     assert assert_report_says_what_summary_says(page, summary) >= 40
 
 
+@pytest.mark.chaotic
 @pytest.mark.parametrize("eps_u", [None, 0.0025], ids=["holds", "breaks"])
 def test_the_crosscheck_report_draws_the_hinges_of_plastic_collars(tmp_path, eps_u):
     """A tiny cross-check whose plastic collar yields: its report has the hinge figure with

@@ -37,6 +37,7 @@ def _ref_theta(pieces, t):
     return out
 
 
+@pytest.mark.chaotic
 @pytest.mark.parametrize("model", ["linear", "nonlinear"])
 @pytest.mark.parametrize("omega_ratio, amplitude_ratio", CASES)
 def test_history_matches_reference_integration(zm_block, model, omega_ratio, amplitude_ratio):
@@ -151,6 +152,7 @@ def test_mirror_symmetry(zm_block, model):
     assert a.mode == b.mode and a.impacts == b.impacts
 
 
+@pytest.mark.chaotic
 def test_record_path_reproduces_the_pulse(zm_block):
     """A finely sampled record of the pulse gives the pulse's response (record interpolation)."""
     pulse = pulse_from_ratios(zm_block, "sine", 3.0, 2.2, "nonlinear")
@@ -172,6 +174,7 @@ def test_overturning_modes_named_in_words(zm_block):
     assert after.max_abs_theta == pytest.approx(math.pi / 2)
 
 
+@pytest.mark.chaotic
 def test_cosine_pulse_starts_rocking_at_once(zm_block):
     pulse = pulse_from_ratios(zm_block, "cosine", 3.0, 2.0, "nonlinear")
     assert pulse.acceleration(0.0) == pytest.approx(2.0 * zm_block.uplift_acceleration())

@@ -95,6 +95,7 @@ def test_the_kernels_give_the_same_bits_on_another_instruction_set(here):
     assert _replicas("generic") == here
 
 
+@pytest.mark.chaotic
 def test_another_perturbation_lands_inside_the_replicas_bands(here):
     """Replicas started from another set of round-off-level offsets (3e-12 of the height in
     place of 1e-12): every median inside this ensemble's bands, and the bands are not empty

@@ -232,15 +232,15 @@ CELLS = [
 
 def _params() -> list:
     """The cells, slow ones marked; those whose outcome class follows landings (it lands, it
-    settles, it overturns after landing) marked ``landing`` too, so that CI runs them again
+    settles, it overturns after landing) marked ``chaotic`` too, so that CI runs them again
     under another rounding (the class must not depend on it)."""
-    after_landings = (LANDS_AFTER, SETTLES, OVERTURNS_AFTER)
+    after_landings = (LANDS_AFTER, SETTLES, OVERTURNS_AFTER, ROCKS_AT_THE_END)
     return [
         pytest.param(
             cell,
             id=cell.name,
             marks=([pytest.mark.slow] if cell.slow else [])
-            + ([pytest.mark.landing] if cell.outcome in after_landings else []),
+            + ([pytest.mark.chaotic] if cell.outcome in after_landings else []),
         )
         for cell in CELLS
     ]

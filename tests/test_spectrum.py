@@ -28,6 +28,7 @@ def _reference_mode(block, omega_ratio, amplitude_ratio, model, **kw):
     return "after-impact" if impacts else "without-impact"
 
 
+@pytest.mark.chaotic
 @pytest.mark.parametrize("model", ["linear", "nonlinear"])
 def test_spectrum_matches_reference_at_sampled_points(zm_block, model):
     omegas = np.linspace(0.8, 9.0, 9)
@@ -45,6 +46,7 @@ def test_spectrum_matches_reference_at_sampled_points(zm_block, model):
     assert len(seen) >= 2  # the sample crosses a boundary
 
 
+@pytest.mark.chaotic
 def test_spectrum_with_collars_matches_reference(half_column):
     from colonna.rigid.collars import collar_kernel_constants
 

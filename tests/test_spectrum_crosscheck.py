@@ -248,6 +248,7 @@ def test_grid_over_a_recorded_motion(tmp_path):
     assert "record time scale" in (out / "index.html").read_text()
 
 
+@pytest.mark.chaotic
 @pytest.mark.parametrize("amplitude_ratio", [1.7, 1.9])
 def test_a_run_stopped_as_settled_could_not_have_overturned(amplitude_ratio):
     """A grid point's FEM run stops once its fate is settled: after the pulse, every half
@@ -264,7 +265,9 @@ def test_a_run_stopped_as_settled_could_not_have_overturned(amplitude_ratio):
     from colonna.studies import schema
     from colonna.studies.fem_study import from_dict, run_fem
 
-    data = tomllib.loads(GRID_STUDY.replace("duration = 0.6\n", ""))
+    # 2.5 s after the pulse: with the default 1.5 s the 1.9 run settled only at the run's end
+    # under 2 of 8 ulp perturbations of its ground (make test-rounding)
+    data = tomllib.loads(GRID_STUDY.replace("duration = 0.6\n", "duration = 2.8\n"))
     data.pop("grid")
     data = schema.variant(
         data,

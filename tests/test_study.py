@@ -70,7 +70,7 @@ def test_summary_keys(tiny_run):
     } <= set(s["rigid_multibody"])
 
 
-@pytest.mark.landing
+@pytest.mark.chaotic
 def test_verdict_is_judged_against_the_multibody_model(tiny_run):
     """rigid_assumption_ok: the FEM and the rigid multibody model give the same outcome, peaks
     within the tolerance (when neither overturns), the same impacts before the end of the pulse
@@ -129,7 +129,7 @@ def test_verdict_is_judged_against_the_multibody_model(tiny_run):
         )
 
 
-@pytest.mark.landing
+@pytest.mark.chaotic
 def test_report_numbers_are_those_of_summary_and_csv(tiny_run):
     root, _, _ = tiny_run
     out = root / "out"

@@ -72,6 +72,7 @@ def rocking_run(rocking_ensemble):
     return rocking_ensemble[0]
 
 
+@pytest.mark.chaotic
 def test_replica_zero_is_the_plain_run(rocking_run, rocking_ensemble):
     """Replica 0 is unperturbed: it is the plain run, up to the rounding of the batch's
     mat-vec (the same bits on some processors, not on all), which the contact amplifies as it
@@ -176,7 +177,7 @@ def test_toe_stress_peak_does_not_depend_on_the_output_interval():
     assert runs[0].summary["edge_stress_max"] == runs[1].summary["edge_stress_max"]
 
 
-@pytest.mark.landing
+@pytest.mark.chaotic
 def test_time_averaging_leaves_a_steady_toe_stress_unchanged_and_lowers_a_landing():
     model = _model(_mesh())
     still = [
@@ -213,7 +214,7 @@ def test_time_averaging_leaves_a_steady_toe_stress_unchanged_and_lowers_a_landin
 # --- restart --------------------------------------------------------------------------------
 
 
-@pytest.mark.landing
+@pytest.mark.chaotic
 def test_restart_from_a_recorded_state_continues_the_run(rocking_run, rocking_ensemble):
     """Restarting the same mesh from the state recorded at an output time (positions,
     velocities, friction and filtered normal forces) gives the original history back."""
@@ -289,7 +290,7 @@ def _window_spread(runs, t_start, t_end) -> float:
     return (max(peaks) - min(peaks)) / float(np.median(peaks))
 
 
-@pytest.mark.landing
+@pytest.mark.chaotic
 def test_refinement_over_the_impact_window(rocking_run, rocking_ensemble):
     r = rocking_run
     toe, t_start, t_end, t_peak = impact_window(r.history)
@@ -333,7 +334,7 @@ def test_windows_run_apart_from_a_saved_start_give_the_refinement_bit_for_bit(
     assert start_digest(saved) != start_digest(start)
 
 
-@pytest.mark.landing
+@pytest.mark.chaotic
 def test_refinement_restarts_under_the_vertical_motion_too():
     """A run shaken vertically as well: the restarted windows are shaken the same way, so
     refinement 1 still gives the run's peak back. The hand-over error is round-off amplified
