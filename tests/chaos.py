@@ -199,3 +199,37 @@ def clearly_apart(
     dof = min(a.size, b.size) - 1
     margin = float(stats.t.ppf(1.0 - 0.5 * q, dof)) * error
     return abs(a.mean() - b.mean()) - margin > rel * abs(b.mean())
+
+
+def _mean_error(samples) -> tuple[float, float, int]:
+    """(mean, standard error of the mean, n) of an ensemble's finite values."""
+    a = np.asarray([v for v in samples if v is not None], dtype=float)
+    return float(a.mean()), float(a.std(ddof=1) / math.sqrt(a.size)), a.size
+
+
+def assert_mean_above(
+    samples: Sequence[float], bound: float, name: str, q: float = FALSE_FAILURE
+) -> None:
+    """The ensemble's mean above ``bound`` by more than t(1 - q, n - 1) of its standard
+    errors (one-sided): an ensemble whose true centre is at ``bound`` passes with
+    probability below q."""
+    mean, error, n = _mean_error(samples)
+    margin = float(stats.t.ppf(1.0 - q, n - 1)) * error
+    assert mean - margin > bound, (
+        f"{name}: mean {mean:.6g} (n = {n}, standard error {error:.3g}) is not above "
+        f"{bound:.6g} by t = {margin / error if error else math.inf:.2f} standard errors"
+    )
+
+
+def assert_mean_below_other(
+    samples: Sequence[float], other: Sequence[float], name: str, q: float = FALSE_FAILURE
+) -> None:
+    """The ensemble's mean below the other ensemble's by more than t(1 - q) standard errors
+    of their difference (one-sided, the smaller ensemble's degrees of freedom)."""
+    mean, error, n = _mean_error(samples)
+    other_mean, other_error, m = _mean_error(other)
+    margin = float(stats.t.ppf(1.0 - q, min(n, m) - 1)) * math.hypot(error, other_error)
+    assert mean + margin < other_mean, (
+        f"{name}: mean {mean:.6g} (n = {n}) is not below {other_mean:.6g} (n = {m}) by "
+        f"{margin:.3g}, t(1 - {q:g}) standard errors of their difference"
+    )

@@ -23,53 +23,34 @@ except ImportError:  # the test extra not installed: the property tests are not 
 
 def pytest_addoption(parser):
     parser.addoption(
-        "--rounding-seeds",
-        default="",
-        help="the rounding stress mode (make test-rounding): each test marked chaotic runs once "
-        "per seed (e.g. 1-8 or 2,5), every ground motion it builds moved by at most 3 ulp as "
-        "seeded (tests/chaos.py)",
+        "--rounding-seed",
+        type=int,
+        default=0,
+        help="the rounding stress mode (make test-rounding): every ground motion built in this "
+        "run is moved by at most 3 ulp and every FEM replica's start by 1e-12 of the height, "
+        "as seeded by this number (0: off); see tests/chaos.py",
     )
 
 
-def _seeds(text: str) -> list[int]:
-    """'1-8' -> 1 .. 8, '2,5' -> 2, 5: positive seeds (0 is the unperturbed run)."""
-    seeds: list[int] = []
-    for part in filter(None, (p.strip() for p in text.split(","))):
-        low, _, high = part.partition("-")
-        seeds.extend(range(int(low), int(high or low) + 1))
-    if any(seed < 1 for seed in seeds):
-        raise pytest.UsageError(f"--rounding-seeds {text!r}: seeds are positive integers")
-    return seeds
-
-
-def pytest_generate_tests(metafunc):
-    """Under ``--rounding-seeds`` every test marked ``chaotic`` runs once per seed."""
-    seeds = _seeds(metafunc.config.getoption("--rounding-seeds"))
-    if seeds and metafunc.definition.get_closest_marker("chaotic") is not None:
-        metafunc.parametrize("rounding_seed", seeds, ids=[f"seed{s}" for s in seeds])
-
-
-@pytest.fixture
-def rounding_seed():
-    """The rounding stress mode's seed of this test run: 0 (off) unless ``--rounding-seeds``
-    parametrizes a test marked ``chaotic``."""
-    return 0
-
-
-@pytest.fixture(autouse=True)
-def _rounding_stress(rounding_seed, monkeypatch):
-    """Under a rounding seed K > 0, every ground motion the test builds (records, pulses) is
-    perturbed in its last bits as seeded by K (tests/chaos.py): another machine's rounding, on
-    this one. Reaches the test's process and the workers it forks, not a subprocess it
-    starts."""
-    if not rounding_seed:
-        yield
+def pytest_configure(config):
+    """Under ``--rounding-seed K`` (K > 0) the whole run is perturbed as another machine's
+    rounding would perturb it (tests/chaos.py): every ground motion (records, pulses) is moved
+    in its last bits as it is built, and every FEM ensemble's replicas (replica 0 too) start
+    from offsets seeded by (K, replica). Module fixtures and forked workers see it; a
+    subprocess that a test starts does not. make test-rounding runs the tests marked
+    ``chaotic`` so, once per seed."""
+    seed = config.getoption("--rounding-seed")
+    if not seed:
         return
+    if seed < 0:
+        raise pytest.UsageError(f"--rounding-seed {seed}: a positive integer (0: off)")
     import chaos
+    import numpy as np
 
+    import colonna.fem.solver as fem_solver
     from colonna.core.ground import HarmonicPulse, Record
 
-    monkeypatch.setattr(chaos, "ROUNDING_SEED", rounding_seed)
+    chaos.ROUNDING_SEED = seed
     for cls in (Record, HarmonicPulse):
         built = cls.__init__
 
@@ -77,8 +58,19 @@ def _rounding_stress(rounding_seed, monkeypatch):
             _built(self, *args, **kwargs)
             chaos.perturb_on_construction(self)
 
-        monkeypatch.setattr(cls, "__init__", init)
-    yield
+        cls.__init__ = init
+
+    def replica_perturbation(model, replica, size=fem_solver.REPLICA_PERTURBATION):
+        rng = np.random.default_rng([seed, replica])
+        return size * model.mesh.height * rng.standard_normal(model.n_dofs)
+
+    fem_solver.replica_perturbation = replica_perturbation
+
+
+@pytest.fixture
+def rounding_seed(request) -> int:
+    """The rounding stress mode's seed of this run (0: off)."""
+    return request.config.getoption("--rounding-seed")
 
 
 @pytest.fixture
