@@ -17,11 +17,14 @@ the range of two or three:
   to normal for these runs; docs/testing.md). A test that asserts a value inside the band of
   its ensemble fails falsely with probability ``FALSE_FAILURE`` = 1e-3 when the value is
   another draw of the same chaos (another machine's rounding is one).
-* :func:`assert_in_band` is the one assertion every ``chaotic`` test uses for a number.
+* :func:`assert_in_band` (a value in an ensemble's band), :func:`assert_same_centre`,
+  :func:`clearly_apart` and :func:`assert_mean_below_other` (two ensembles' means) and
+  :func:`assert_mean_above` (a mean against a bound) are the assertions the ``chaotic`` tests
+  make of numbers, each with the false-failure rate ``FALSE_FAILURE``.
 
 The rounding stress mode (``make test-rounding``, tests/conftest.py) runs every test marked
-``chaotic`` with every ground motion it builds perturbed by :func:`perturbed` under the seed
-given as ``--rounding-seed``: what another machine would see, on this one.
+``chaotic`` with every ground motion built in the run perturbed by :func:`perturbed` under the
+seed given as ``--rounding-seed``: what another machine would see, on this one.
 """
 
 from __future__ import annotations
@@ -41,9 +44,9 @@ FALSE_FAILURE = 1e-3  # the probability that a draw of the same chaos falls outs
 ENSEMBLE_SIZE = 16  # runs per ensemble: t(1 - 5e-4, 15) = 4.07, the band's half width 4.2 s
 LOW_BITS = 2  # the bits set by the perturbation: up to 3 ulp, 3 in 4 values changed
 
-# The rounding stress mode's seed (tests/conftest.py sets it from --rounding-seed for the tests
-# marked chaotic; 0: no perturbation). Every ground motion such a test builds is perturbed with
-# it, and an ensemble's member ``seed`` with the pair (ROUNDING_SEED, seed).
+# The rounding stress mode's seed (tests/conftest.py sets it from --rounding-seed for the whole
+# run; 0: no perturbation). Every ground motion built in the run is perturbed with it, and an
+# ensemble's member ``seed`` with the pair (ROUNDING_SEED, seed).
 ROUNDING_SEED = 0
 _inside_perturbed = False  # perturbed() is building a motion: the rounding hook leaves it
 
@@ -167,6 +170,16 @@ def assert_in_band(
     )
 
 
+def _difference(samples, reference) -> tuple[float, float, float, int]:
+    """(mean, reference's mean, standard error of their difference, degrees of freedom) of
+    two ensembles' finite values: Welch's error, with the smaller ensemble's n - 1 degrees of
+    freedom (Welch's are at least these, so the t quantile is conservative)."""
+    a = np.asarray([v for v in samples if v is not None], dtype=float)
+    b = np.asarray([v for v in reference if v is not None], dtype=float)
+    error = math.sqrt(a.var(ddof=1) / a.size + b.var(ddof=1) / b.size)
+    return float(a.mean()), float(b.mean()), error, min(a.size, b.size) - 1
+
+
 def assert_same_centre(
     samples: Sequence[float],
     reference: Sequence[float],
@@ -175,17 +188,16 @@ def assert_same_centre(
     false_failure: float = FALSE_FAILURE,
 ) -> None:
     """The means of two ensembles within ``rel`` of the reference's, up to their sampling
-    error: |mean - mean_ref| <= rel |mean_ref| + t(1 - q/2, n + m - 2) sqrt(s^2/n + s_ref^2/m)
-    (Welch's statistic, conservatively with n + m - 2 degrees of freedom at most), so that two
+    error: |mean - mean_ref| <= rel |mean_ref| + t(1 - q/2, dof) sqrt(s^2/n + s_ref^2/m)
+    (Welch's statistic, with the smaller ensemble's dof: :func:`_difference`), so that two
     draws of chaos with the same centre fail with probability below q = ``false_failure``."""
-    a, b = np.asarray(samples, dtype=float), np.asarray(reference, dtype=float)
-    error = math.sqrt(a.var(ddof=1) / a.size + b.var(ddof=1) / b.size)
-    dof = min(a.size, b.size) - 1  # the smaller sample's: Welch's dof is at least this
-    allowed = rel * abs(b.mean()) + float(stats.t.ppf(1.0 - 0.5 * false_failure, dof)) * error
-    assert abs(a.mean() - b.mean()) <= allowed, (
-        f"{name}: mean {a.mean():.7g} (n = {a.size}, s {a.std(ddof=1):.3g}) against "
-        f"{b.mean():.7g} (n = {b.size}, s {b.std(ddof=1):.3g}): apart by "
-        f"{abs(a.mean() / b.mean() - 1):.3%}, allowed {allowed / abs(b.mean()):.3%}"
+    mean, reference_mean, error, dof = _difference(samples, reference)
+    t = float(stats.t.ppf(1.0 - 0.5 * false_failure, dof))
+    allowed = rel * abs(reference_mean) + t * error
+    assert abs(mean - reference_mean) <= allowed, (
+        f"{name}: mean {mean:.7g} against {reference_mean:.7g} (standard error of the "
+        f"difference {error:.3g}): apart by {abs(mean / reference_mean - 1):.3%}, allowed "
+        f"{allowed / abs(reference_mean):.3%}"
     )
 
 
@@ -194,11 +206,9 @@ def clearly_apart(
 ) -> bool:
     """Whether the means of two ensembles differ by more than ``rel`` of the reference's
     beyond their sampling error (the converse of :func:`assert_same_centre`)."""
-    a, b = np.asarray(samples, dtype=float), np.asarray(reference, dtype=float)
-    error = math.sqrt(a.var(ddof=1) / a.size + b.var(ddof=1) / b.size)
-    dof = min(a.size, b.size) - 1
+    mean, reference_mean, error, dof = _difference(samples, reference)
     margin = float(stats.t.ppf(1.0 - 0.5 * q, dof)) * error
-    return abs(a.mean() - b.mean()) - margin > rel * abs(b.mean())
+    return abs(mean - reference_mean) - margin > rel * abs(reference_mean)
 
 
 def _mean_error(samples) -> tuple[float, float, int]:
@@ -226,10 +236,9 @@ def assert_mean_below_other(
 ) -> None:
     """The ensemble's mean below the other ensemble's by more than t(1 - q) standard errors
     of their difference (one-sided, the smaller ensemble's degrees of freedom)."""
-    mean, error, n = _mean_error(samples)
-    other_mean, other_error, m = _mean_error(other)
-    margin = float(stats.t.ppf(1.0 - q, min(n, m) - 1)) * math.hypot(error, other_error)
+    mean, other_mean, error, dof = _difference(samples, other)
+    margin = float(stats.t.ppf(1.0 - q, dof)) * error
     assert mean + margin < other_mean, (
-        f"{name}: mean {mean:.6g} (n = {n}) is not below {other_mean:.6g} (n = {m}) by "
-        f"{margin:.3g}, t(1 - {q:g}) standard errors of their difference"
+        f"{name}: mean {mean:.6g} is not below {other_mean:.6g} by {margin:.3g}, "
+        f"t(1 - {q:g}) standard errors of their difference"
     )

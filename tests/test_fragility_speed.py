@@ -82,11 +82,11 @@ def test_the_outcome_path_is_rock_multibody_s_run_without_its_history():
     assert path.collar_max_utilisation == pytest.approx(full["collar_max_utilisation"], rel=1e-3)
 
 
-def _full_path_ensemble(record):
-    """The outcome path without its speed-ups over :data:`chaos.ENSEMBLE_SIZE` runs, each with
-    its ground moved in the last bits and the contact solver's tolerance drawn within a decade
-    of the model's 1e-10 (:func:`chaos.multibody_member`): the scatter that the fast path's
-    exact solve is one more draw of."""
+def _outcome_ensemble(record, **options) -> list:
+    """:func:`multibody_outcome` of the cracked half with its collars over
+    :data:`chaos.ENSEMBLE_SIZE` runs of 4 s, each with its ground moved in the last bits and
+    the contact solver's tolerance drawn within a decade of the model's 1e-10
+    (:func:`chaos.multibody_member`). ``options``: those of multibody_outcome."""
     runs = []
     for seed in chaos.ensemble_seeds():
         with chaos.multibody_member(seed):
@@ -97,7 +97,7 @@ def _full_path_ensemble(record):
                     COLLARS,
                     cracked=True,
                     duration=4.0,
-                    fast=False,
+                    **options,
                 )
             )
     return runs
@@ -115,7 +115,7 @@ def test_the_fast_path_stays_within_the_contact_solver_s_own_scatter(parts):
     overturning is every run's. A fast path 5 % off is outside both bands. Impact counts are
     not compared: they follow landings."""
     record = _record(parts)
-    runs = _full_path_ensemble(record)
+    runs = _outcome_ensemble(record, fast=False)  # the fast path is one more draw of these
     fast = multibody_outcome(HALF, chaos.perturbed(record, 0), COLLARS, cracked=True, duration=4.0)
     for key in ("max_abs_theta", "collar_max_utilisation"):
         values = [getattr(r, key) for r in runs]
@@ -470,20 +470,7 @@ def test_at_twice_the_step_with_a_single_run_s_crack_tolerance_the_answers_stay(
     h = default_step(build_column(HALF, cracked=True, collars=COLLARS))
 
     def ensemble(factor, touching_dt):
-        runs = []
-        for seed in chaos.ensemble_seeds():
-            with chaos.multibody_member(seed):
-                runs.append(
-                    multibody_outcome(
-                        HALF,
-                        chaos.perturbed(record, seed),
-                        COLLARS,
-                        cracked=True,
-                        duration=4.0,
-                        dt=factor * h,
-                        touching_dt=touching_dt,
-                    )
-                )
+        runs = _outcome_ensemble(record, dt=factor * h, touching_dt=touching_dt)
         assert {r.overturned for r in runs} == {False}
         return {
             key: [getattr(r, key) for r in runs]
