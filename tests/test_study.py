@@ -366,6 +366,7 @@ def test_collar_design_study(tmp_path, capsys):
 
 
 @pytest.mark.slow  # 20-40 s: make test stays under 10 minutes (make test-all runs it)
+@pytest.mark.chaotic
 def test_cross_check_of_a_recorded_motion(tmp_path):
     """The shipped synthetic record (tests/data/synthetic.AT2, 0.25 g), scaled, through the
     cross-check: every model runs it, the summary says where it sits (peak / a_uplift), and
@@ -395,7 +396,7 @@ def test_cross_check_of_a_recorded_motion(tmp_path):
     assert "figures/spectrum" not in page and 'data-key="pulse.amplitude"' in page
     # the record rocks the column and the FEM and the multibody model agree on its fate
     assert summary["rigid_multibody"]["max_abs_theta_left"] > 0.01
-    assert summary["verdict_criteria"]["same_outcome"]
+    assert summary["verdict_criteria"]["same_outcome"] == "yes"  # a word: any word is truthy
 
 
 def test_collar_design_from_a_recorded_motion(tmp_path, capsys):
