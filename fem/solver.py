@@ -26,6 +26,7 @@ Outputs per output time (``history``):
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import sys
 import time
@@ -227,6 +228,12 @@ class FemRunSummary:
     wall_seconds: float = quantity("s", "wall-clock time of the run")
     t_end: float = quantity("s", "time of the last output")
     batch_size: int = quantity("", "runs that advanced together in the kernel")
+    step_halvings: int = quantity(
+        "", "times the run was rerun at half its step after an unreliable one (0: none)", default=0
+    )
+    step_note: str | None = quantity(
+        "", "why the step was halved: rerun at dt/2 after ... (None: it was not)", default=None
+    )
 
 
 def static_state(model: Model):
@@ -338,6 +345,11 @@ def unreliable_reason(summaries: list[dict]) -> str | None:
     )
 
 
+# an ensemble whose runs are unreliable is rerun at half its step up to this many times before
+# it is returned as it is (and the study refuses it): explicit steps next to a landing's limit
+STEP_HALVINGS = 2
+
+
 def replica_perturbation(
     model: Model, replica: int, size: float = REPLICA_PERTURBATION
 ) -> np.ndarray:
@@ -387,7 +399,7 @@ def run_ensemble(
         out_dirs = [Path(out_dir)]
         out_dirs += [Path(out_dir) / "replicas" / str(r) for r in range(1, replicas)]
     offsets = [replica_perturbation(model, r, perturbation) for r in range(replicas)]
-    return run_batch(
+    results = run_batch(
         model,
         [ground] * replicas,
         duration,
@@ -396,6 +408,37 @@ def run_ensemble(
         offsets=offsets,
         **options,
     )
+    for halvings in range(1, STEP_HALVINGS + 1):
+        reason = unreliable_reason([r.summary for r in results])
+        if reason is None:
+            break
+        options["dt"] = 0.5 * results[0].summary["dt"]
+        results = run_batch(
+            model,
+            [ground] * replicas,
+            duration,
+            verticals=[vertical] * replicas,
+            out_dirs=out_dirs,
+            offsets=offsets,
+            **options,
+        )
+        note = f"rerun at dt/{2**halvings} after {reason}"
+        results = [_with_halvings(r, halvings, note) for r in results]
+        from .output import write_summary
+
+        for result, folder in zip(results, out_dirs, strict=True):
+            if folder is not None:
+                write_summary(Path(folder) / "summary.json", result.summary)
+    return results
+
+
+def _with_halvings(result: FemResult, halvings: int, note: str) -> FemResult:
+    """``result`` with its summary saying that its step was halved ``halvings`` times, and
+    why."""
+    typed = dataclasses.replace(result.typed_summary, step_halvings=halvings, step_note=note)
+    result.summary.update(step_halvings=halvings, step_note=note)
+    result.typed_summary = typed
+    return result
 
 
 def run_batch(model: Model, grounds: list, duration, **options) -> list[FemResult]:

@@ -57,7 +57,7 @@ FEM_KEYS = (
     "toe_resultant_offset toe_pressure_winkler bed_stiffness "
     "top_load energy_error_max energy_error_limit energy_reliable dt dt_critical "
     "dt_critical_elastic stable_step_reduction_by_contact penalty_base_mean steps dofs "
-    "wall_seconds t_end batch_size"
+    "wall_seconds t_end batch_size step_halvings step_note"
 ).split()
 FEM_COLLAR_KEYS = (
     "collar_max_fibre_strain collar_ductility_demand collar_fractured collar_fracture_time".split()

@@ -84,3 +84,31 @@ def test_a_solid_column_on_a_stiff_stone_bed_is_reliable(stiffness):
     }
     result = run_fem(from_dict(data), replicas=1)[0]
     assert result.summary["energy_error_max"] < 5e-3
+
+
+def test_an_unreliable_ensemble_is_rerun_at_half_its_step_and_says_so(tmp_path):
+    """Recovery before refusal: the lead case run at the linear bound's step alone (its
+    balance off by about 1) is rerun by the ensemble at half that step, which closes; every
+    replica's summary, and its summary.json, says how often and why. An ensemble that needs no
+    rerun says none."""
+    from colonna.fem.solver import STEP_HALVINGS, run_ensemble
+
+    assert STEP_HALVINGS == 2
+    study = from_dict(_default_on(0.225, bed="lead"))
+    model = build(study)
+    step = stable_time_step(model, study.safety)
+    before = step.safety * step.critical_linear * (math.sqrt(1 + 0.05**2) - 0.05)
+    runs = run_ensemble(
+        model, study.ground, 1.5, 2, dt=before, check_dt=False, progress=False, out_dir=tmp_path
+    )
+    for r in runs:
+        assert r.summary["energy_reliable"]
+        assert r.summary["dt"] == 0.5 * before
+        assert r.summary["step_halvings"] == 1
+        assert r.summary["step_note"].startswith("rerun at dt/2 after the energy balance is off")
+    import json
+
+    saved = json.loads((tmp_path / "replicas" / "1" / "summary.json").read_text())
+    assert saved["step_halvings"] == 1 and saved["step_note"] == runs[1].summary["step_note"]
+    calm = run_ensemble(model, study.ground, 0.05, 2, progress=False)
+    assert all(r.summary["step_halvings"] == 0 and r.summary["step_note"] is None for r in calm)
