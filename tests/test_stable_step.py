@@ -112,3 +112,30 @@ def test_an_unreliable_ensemble_is_rerun_at_half_its_step_and_says_so(tmp_path):
     assert saved["step_halvings"] == 1 and saved["step_note"] == runs[1].summary["step_note"]
     calm = run_ensemble(model, study.ground, 0.05, 2, progress=False)
     assert all(r.summary["step_halvings"] == 0 and r.summary["step_note"] is None for r in calm)
+
+
+def test_a_study_whose_step_was_halved_says_so_in_its_report(tmp_path, monkeypatch):
+    """The tiny study on a lead bed with the onset limit lifted to 2.0 (omega_c dt = 1.7, past
+    the measured failures): its FEM runs fail their balance at the first step, are rerun at
+    half of it and answer; the summary and the report's opening paragraph say so."""
+    import json
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from tiny_study import TINY_STUDY
+
+    import colonna.fem.model as fem_model
+    from colonna.studies.cli import main
+
+    monkeypatch.setattr(fem_model, "CONTACT_ONSET_LIMIT", 2.0)
+    study = tmp_path / "lead.toml"
+    study.write_text(
+        TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6) + '[base]\nbed = "lead"\n'
+    )
+    out = tmp_path / "out"
+    assert main(["study", str(study), "--out", str(out), "--workers", "1"]) == 0
+    fem = json.loads((out / "summary.json").read_text())["fem"]
+    assert fem["step_halvings"] == 1 and fem["energy_reliable"]
+    assert fem["step_note"].startswith("rerun at dt/2 after the energy balance is off by")
+    page = " ".join((out / "index.html").read_text().split())
+    assert f"Its step was halved: the replicas were {fem['step_note']}" in page
