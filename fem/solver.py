@@ -435,9 +435,11 @@ def run_ensemble(
 def _with_halvings(result: FemResult, halvings: int, note: str) -> FemResult:
     """``result`` with its summary saying that its step was halved ``halvings`` times, and
     why."""
-    typed = dataclasses.replace(result.typed_summary, step_halvings=halvings, step_note=note)
     result.summary.update(step_halvings=halvings, step_note=note)
-    result.typed_summary = typed
+    if result.typed_summary is not None:
+        result.typed_summary = dataclasses.replace(
+            result.typed_summary, step_halvings=halvings, step_note=note
+        )
     return result
 
 
