@@ -72,19 +72,68 @@ def unreliable_cases(results: dict) -> dict[str, str]:
     return found
 
 
+# the dissipated work of a FEM summary that an unstable step makes grow, what it is, and the
+# study keys that change it (a step too long for a stiff contact pumps energy into the contact
+# that its damping and friction then take out: the dissipation grows, not the motion)
+GROWTH_TERMS = (
+    (
+        "contact_damping_work",
+        "the bed's contact damping",
+        "[run] safety (a shorter step) or the bed ([base] bed, stiffness)",
+    ),
+    (
+        "friction_work_base",
+        "the bed's friction",
+        "[run] safety (a shorter step) or the bed ([base] bed, stiffness)",
+    ),
+    (
+        "friction_work_crack",
+        "the crack's friction",
+        "[run] safety (a shorter step) or the crack's contact ([contact] enforcement, "
+        "friction_filter)",
+    ),
+    (
+        "collar_plastic_work",
+        "the collars' plastic work",
+        "[run] safety (a shorter step) or the collars ([[collar]] t, h, plastic)",
+    ),
+)
+GENERIC_CAUSES = (
+    "a time step or contact penalty too large, a stone modulus in the wrong unit, or undamped "
+    "frictionless contact"
+)
+
+
+def grown_term(runs: list[dict]) -> str | None:
+    """Which dissipated work (:data:`GROWTH_TERMS`) is largest in the worst unreliable run of a
+    case, and the keys that change it; None where its summaries do not keep them (or none
+    grew)."""
+    bad = [run for run in runs if not run["energy_reliable"]]
+    if not bad:
+        return None
+    worst = max(bad, key=lambda run: run["energy_error_max"])
+    value, name, keys = max(
+        (float(worst.get(key) or 0.0), name, keys) for key, name, keys in GROWTH_TERMS
+    )
+    if value <= 0.0:
+        return None
+    return f"the work that grew most is {name}, {value:.3g} J: change {keys}"
+
+
 def check_fem_results(results: dict, out=None) -> None:
     """Stop the study (:class:`UnreliableRun`, one line) where any case's FEM run is not an
-    answer: the first such case by name, why, and how many more there are."""
+    answer: the first such case by name, why, which dissipated work grew most and the keys
+    that change it (where its summaries keep it; else the usual causes), and how many more
+    cases there are."""
     found = unreliable_cases(results)
     if not found:
         return
     key, why = next(iter(found.items()))
     more = len(found) - 1
     where = f"{out}/cases/{key}" if out is not None else f"cases/{key}"
+    hint = grown_term(fem_runs(results[key])) or GENERIC_CAUSES
     raise UnreliableRun(
         f"FEM case {key} is unreliable ({why})"
         + (f", and {more} more case{'s' if more > 1 else ''}" if more else "")
-        + f": no report is written from it; its files are kept in {where} (a time step or "
-        "contact penalty too large, a stone modulus in the wrong unit, or undamped "
-        "frictionless contact)"
+        + f": no report is written from it; its files are kept in {where} ({hint})"
     )

@@ -105,3 +105,34 @@ def test_a_run_whose_energy_balance_failed_stops_the_study():
         NumericalFailure, match=r"FEM case fem is unreliable \(1 of 2 FEM runs: numerical blow-up"
     ):
         check_energy({"fem": {"summary": good, "replica_summaries": [blown, good]}})
+
+
+def test_the_refusal_names_the_work_that_grew_and_the_keys_that_change_it():
+    """An unstable step pumps energy into the contact that its damping and friction take out
+    (the default column on lead at the old step: the bed's damping 216 J, its friction 85 J,
+    the crack's 44 J against 337 J of ground work). The refusal names the largest of them and
+    the keys that change it; without those keys in its summaries it names the usual causes."""
+    from colonna.studies.guard import GENERIC_CAUSES, check_fem_results
+
+    bad = {
+        "energy_error_max": 1.0,
+        "energy_reliable": False,
+        "status": "completed",
+        "energy_error_limit": 0.05,
+        "contact_damping_work": 216.0,
+        "friction_work_base": 84.6,
+        "friction_work_crack": 44.0,
+        "collar_plastic_work": 0.0,
+    }
+    with pytest.raises(NumericalFailure) as stopped:
+        check_fem_results({"fem": {"summary": bad, "replica_summaries": [bad]}})
+    assert "the work that grew most is the bed's contact damping, 216 J" in str(stopped.value)
+    assert "change [run] safety (a shorter step) or the bed ([base]" in str(stopped.value)
+    crack = {**bad, "friction_work_crack": 500.0}
+    with pytest.raises(NumericalFailure, match=r"the crack's friction, 500 J: change \[run\]"):
+        check_fem_results({"fem": {"summary": crack, "replica_summaries": [crack]}})
+    bare = {k: bad[k] for k in ("energy_error_max", "energy_reliable", "status")}
+    bare["energy_error_limit"] = 0.05
+    with pytest.raises(NumericalFailure) as stopped:
+        check_fem_results({"fem": {"fem_runs": [bare]}})
+    assert GENERIC_CAUSES in str(stopped.value)
