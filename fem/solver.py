@@ -399,21 +399,9 @@ def run_ensemble(
         out_dirs = [Path(out_dir)]
         out_dirs += [Path(out_dir) / "replicas" / str(r) for r in range(1, replicas)]
     offsets = [replica_perturbation(model, r, perturbation) for r in range(replicas)]
-    results = run_batch(
-        model,
-        [ground] * replicas,
-        duration,
-        verticals=[vertical] * replicas,
-        out_dirs=out_dirs,
-        offsets=offsets,
-        **options,
-    )
-    for halvings in range(1, STEP_HALVINGS + 1):
-        reason = unreliable_reason([r.summary for r in results])
-        if reason is None:
-            break
-        options["dt"] = 0.5 * results[0].summary["dt"]
-        results = run_batch(
+
+    def attempt() -> list[FemResult]:  # the ensemble at options["dt"] (None: the stable step)
+        return run_batch(
             model,
             [ground] * replicas,
             duration,
@@ -422,6 +410,14 @@ def run_ensemble(
             offsets=offsets,
             **options,
         )
+
+    results = attempt()
+    for halvings in range(1, STEP_HALVINGS + 1):
+        reason = unreliable_reason([r.summary for r in results])
+        if reason is None:
+            break
+        options["dt"] = 0.5 * results[0].summary["dt"]
+        results = attempt()
         note = f"rerun at dt/{2**halvings} after {reason}"
         results = [_with_halvings(r, halvings, note) for r in results]
         from .output import write_summary
