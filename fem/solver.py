@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import sys
 import time
 from collections import deque
@@ -45,6 +46,7 @@ from ..core.fibre import STRESS as FIBRE_STRESS
 from ..core.ground import NO_MOTION, GroundMotion, require_motion
 from ..core.quantities import quantity, to_dict, typed_result
 from . import _kernels as K
+from .checkpoint import Checkpoint, clear, read_parts, write_part
 from .model import Model, coincident_nodes, collar_stiffness, contact_stiffness, stable_time_step
 
 BLOW_UP = "numerical blow-up"  # how the status of a run stopped as unstable begins
@@ -371,6 +373,7 @@ def run_ensemble(
     perturbation: float = REPLICA_PERTURBATION,
     out_dir=None,
     vertical: GroundMotion = NO_MOTION,
+    checkpoint: Checkpoint | None = None,
     **options,
 ) -> list[FemResult]:
     """``replicas`` runs of the model that differ only at round-off level: replica r starts
@@ -381,7 +384,10 @@ def run_ensemble(
     sample. The replicas advance together, one pass through the stiffness per step for all.
 
     ``out_dir``: replica 0 writes the files of :func:`run` there, replica r its history.csv and
-    summary.json under ``out_dir/replicas/r``. ``options``: those of :func:`run`."""
+    summary.json under ``out_dir/replicas/r``. ``checkpoint``: the ensemble saves its state
+    there as it goes (:func:`iter_batch`; each rerun at a halved step in a folder of its own
+    under it), goes on from it when run again, and removes it once done. ``options``: those of
+    :func:`run`."""
     replicas = int(replicas)
     if replicas < 1:
         raise InputError(f"run replicas = {replicas} must be at least 1")
@@ -400,7 +406,8 @@ def run_ensemble(
         out_dirs += [Path(out_dir) / "replicas" / str(r) for r in range(1, replicas)]
     offsets = [replica_perturbation(model, r, perturbation) for r in range(replicas)]
 
-    def attempt() -> list[FemResult]:  # the ensemble at options["dt"] (None: the stable step)
+    def attempt(halvings: int) -> list[FemResult]:
+        """The ensemble at options["dt"] (None: the stable step), halved ``halvings`` times."""
         return run_batch(
             model,
             [ground] * replicas,
@@ -408,16 +415,17 @@ def run_ensemble(
             verticals=[vertical] * replicas,
             out_dirs=out_dirs,
             offsets=offsets,
+            checkpoint=None if checkpoint is None else checkpoint.sub(f"dt-{halvings}", "ensemble"),
             **options,
         )
 
-    results = attempt()
+    results = attempt(0)
     for halvings in range(1, STEP_HALVINGS + 1):
         reason = unreliable_reason([r.summary for r in results])
         if reason is None:
             break
         options["dt"] = 0.5 * results[0].summary["dt"]
-        results = attempt()
+        results = attempt(halvings)
         note = f"rerun at dt/{2**halvings} after {reason}"
         results = [_with_halvings(r, halvings, note) for r in results]
         from .output import write_summary
@@ -425,6 +433,8 @@ def run_ensemble(
         for result, folder in zip(results, out_dirs, strict=True):
             if folder is not None:
                 write_summary(Path(folder) / "summary.json", result.summary)
+    if checkpoint is not None:
+        clear(checkpoint)
     return results
 
 
@@ -473,6 +483,7 @@ def iter_batch(
     initial_contact: dict | None = None,
     stop_when_settled: bool = False,
     stop_in_weak_tail: bool = False,
+    checkpoint: Checkpoint | None = None,
 ):
     """One run of the model per ground motion in ``grounds`` (with ``verticals[k]``, None for
     none), advanced together: the runs share the model and its stable step, and each step
@@ -512,7 +523,13 @@ def iter_batch(
     answers are those up to the stop (records have weak tails seconds long), save the toe
     stress of a mild rocking, which the sway may approach (docs/fragility.md). A run that never
     rocked runs on: its peaks are its sway, and a weak tail can sway it more than the strong
-    motion did (tests/test_fragility_fem_speed.py). Other arguments as in :func:`run`."""
+    motion did (tests/test_fragility_fem_speed.py).
+
+    ``checkpoint`` (:class:`colonna.fem.checkpoint.Checkpoint`): the batch saves its state there
+    every ``checkpoint.interval`` s of wall time and when it ends, and a batch started with the
+    parts of an earlier one of the same key goes on from the last part (its ended runs yielded
+    at once, the others restored bit for bit: the same numbers as uninterrupted runs), saying so
+    on stderr. Other arguments as in :func:`run`."""
     batch = len(grounds)
     if batch < 1:
         raise InputError("run_batch: no ground motion given")
@@ -639,6 +656,109 @@ def iter_batch(
     )
 
     credited = [0.0] * batch
+    ended_since: dict = {}  # the runs ended since the last checkpoint part, as saved there
+    parts = 0  # checkpoint parts there are
+    last_save = time.monotonic()
+
+    def save_part() -> None:
+        """A checkpoint part: the runs in progress, those ended since the last part, counters."""
+        nonlocal parts, last_save
+        assert checkpoint is not None
+        live = {
+            k: {
+                "slot": slot,
+                "arrays": state.slot_arrays(slot),
+                "recorder": recorders[k].snapshot(),
+            }
+            for slot, k in enumerate(run_in)
+            if k >= 0
+        }
+        counters = {
+            "pending": list(pending),
+            "steps_done": steps_done,
+            "outputs": outputs,
+            "reasons": reasons,
+            "overturned": overturned,
+            "energy0": energy0,
+            "walls": walls,
+            "weak_from": weak_from,
+            "credited": credited,
+        }
+        write_part(
+            checkpoint,
+            parts,
+            {**identity, "live": live, "ended": dict(ended_since), "counters": counters},
+        )
+        parts += 1
+        ended_since.clear()
+        last_save = time.monotonic()
+
+    def resumable(saved: list[dict]) -> bool:
+        """Whether the runs in progress at the last part still have their files as saved."""
+        live = saved[-1]["live"]
+        return all(_Recorder.can_resume(run["recorder"], out_dirs[k]) for k, run in live.items())
+
+    def resume(saved: list[dict]) -> list:
+        """Go on from the checkpoint's parts: the runs in progress put back in their slots;
+        returns the (k, FemResult) of those that had ended."""
+        assert checkpoint is not None
+        snapshots: dict[int, list] = {}
+        ended: dict = {}
+        for part in saved:
+            for k, run in part["live"].items():
+                snapshots.setdefault(k, []).append(run["recorder"])
+            for k, end in part["ended"].items():
+                snapshots.setdefault(k, []).append(end["tail"])
+                ended[k] = end
+        last = saved[-1]
+        for k, run in last["live"].items():
+            recorder = _Recorder(model, edge_length, list(toes), None)
+            recorder.resume(snapshots[k], out_dirs[k])
+            recorders[k] = recorder
+            state.restore_slot(run["slot"], run["arrays"])
+            run_in[run["slot"]] = k
+        counters = last["counters"]
+        pending.clear()
+        pending.extend(counters["pending"])
+        for name, values in (
+            ("steps_done", steps_done),
+            ("outputs", outputs),
+            ("reasons", reasons),
+            ("overturned", overturned),
+            ("energy0", energy0),
+            ("walls", walls),
+            ("weak_from", weak_from),
+        ):
+            values[:] = counters[name]
+        for k in range(batch):
+            credit(k, counters["credited"][k])
+        times = [start_time + steps_done[k] * dt for k in last["live"]]
+        print(
+            f"[fem] resumed from the checkpoint in {checkpoint.folder}: {len(ended)} of "
+            f"{batch} runs had ended"
+            + (f", the others go on from t = {min(times):.4g} s" if times else ""),
+            file=sys.stderr,
+            flush=True,
+        )
+        results = []
+        for k, end in ended.items():
+            tail = snapshots[k]
+            rows = [row for snap in tail for row in snap["rows"]]
+            frames = {
+                name: [f for snap in tail for f in snap[name]]
+                for name in ("frames", "velocity_frames", "contact_frames")
+            }
+            result = FemResult(
+                _history(rows),
+                end["summary"],
+                frames["frames"],
+                model,
+                frames["velocity_frames"],
+                frames["contact_frames"],
+                typed_summary=end["typed"],
+            )
+            results.append((k, result))
+        return results
 
     def credit(k: int, seconds: float) -> None:
         """Advance the progress bar by run k's simulated seconds, up to its duration."""
@@ -724,6 +844,8 @@ def iter_batch(
             recorder.contact_frames,
             typed_summary=typed,
         )
+        if checkpoint is not None:  # for the next part: what a rerun needs to yield it again
+            ended_since[k] = {"tail": recorder.snapshot(), "summary": summary, "typed": typed}
         if out_dirs[k] is not None:
             from .output import write_outputs, write_summary
 
@@ -742,9 +864,27 @@ def iter_batch(
                 return
             yield finish(slot)
 
+    # what a checkpoint part must match to be gone on from (with the checkpoint's key)
+    identity = {"dt": dt, "durations": durations, "slots": slots, "start_time": start_time}
+    saved = [] if checkpoint is None else read_parts(checkpoint)
+    if saved and (
+        any(saved[-1][name] != value for name, value in identity.items()) or not resumable(saved)
+    ):
+        assert checkpoint is not None
+        print(
+            f"[fem] the checkpoint in {checkpoint.folder} does not match this run or its "
+            "files: starting afresh",
+            file=sys.stderr,
+        )
+        clear(checkpoint)
+        saved = []
     try:
-        for slot in range(slots):
-            yield from refill(slot)
+        if saved:
+            yield from resume(saved)
+            parts = len(saved)
+        else:
+            for slot in range(slots):
+                yield from refill(slot)
         motion = state.motion
         while motion.alive.any():
             live = np.flatnonzero(motion.alive).tolist()
@@ -782,6 +922,10 @@ def iter_batch(
                 if not record(slot):
                     yield finish(slot)
                     yield from refill(slot)
+            if checkpoint is not None and time.monotonic() - last_save >= checkpoint.interval:
+                save_part()
+        if checkpoint is not None and ended_since:  # the batch's end: a rerun yields it at once
+            save_part()
     finally:
         bar.close()
 
@@ -988,6 +1132,32 @@ class _BatchState:
             self.lagrange_tolerance,
         )
 
+    def _bundles(self) -> dict:
+        return {
+            "motion": self.motion,
+            "base": self.base_state,
+            "crack_a": self.crack_states[0],
+            "crack_b": self.crack_states[1],
+            "collars": self.collars,
+            "edge": self.edge,
+        }
+
+    def slot_arrays(self, slot: int) -> dict:
+        """Copies of every array the kernel keeps for state ``slot`` (a checkpoint's)."""
+        return {
+            f"{name}.{f}": np.copy(getattr(bundle, f)[slot])
+            for name, bundle in self._bundles().items()
+            for f in bundle._fields
+            if (name, f) != ("edge", "weights")  # the toes' weights are the model's
+        }
+
+    def restore_slot(self, slot: int, arrays: dict) -> None:
+        """State ``slot`` as :meth:`slot_arrays` saved it."""
+        for name, bundle in self._bundles().items():
+            for f in bundle._fields:
+                if (name, f) != ("edge", "weights"):
+                    getattr(bundle, f)[slot] = arrays[f"{name}.{f}"]
+
     def reset(self, slot: int, start: dict, offset=None) -> None:
         """Put state ``slot`` at ``start`` (positions moved by ``offset``, m, flat), at rest in
         its contact and collar history, and alive."""
@@ -1147,6 +1317,7 @@ class _Recorder:
                 "t," + ",".join(f"p_body{b}_x={v:.6f}" for b, v in zip(bodies, xb)) + "\n"
             )
         self.header = None
+        self.saved_rows = 0  # rows already in a checkpoint part (snapshot)
         self.base_area = model.base_tributary * model.thickness
         # per toe, the base nodes of its body (positions in the base arrays) from the toe
         # inward, and their tributary lengths (m): the contact length at the toe
@@ -1360,8 +1531,75 @@ class _Recorder:
             Path(self.csv.name).replace(self.csv_path)
             self.pressure_csv.close()
             Path(self.pressure_csv.name).replace(self.pressure_path)
-        keys = [key for key in self.rows[0] if not key.startswith("_")] if self.rows else []
-        return {k: np.array([r[k] for r in self.rows]) for k in keys}
+        return _history(self.rows)
+
+    # what changes as the run goes: the rest is the model's and the toes' (see __init__)
+    SNAPSHOT_SCALARS = ("scale", "peak_tilt", "seated_time", "header")
+
+    def snapshot(self) -> dict:
+        """What the recorder gained since its last snapshot, for a checkpoint part
+        (:mod:`colonna.fem.checkpoint`): the rows and frames, its running scalars, and the sizes
+        of its .part files (bytes; None without files)."""
+        n, self.saved_rows = self.saved_rows, len(self.rows)
+        files = None
+        if self.csv is not None and not self.csv.closed:
+            self.csv.flush()
+            self.pressure_csv.flush()
+            files = (
+                os.fstat(self.csv.fileno()).st_size,
+                os.fstat(self.pressure_csv.fileno()).st_size,
+            )
+        return {
+            "rows": self.rows[n:],
+            "frames": self.frames[n:],
+            "velocity_frames": self.velocity_frames[n:],
+            "contact_frames": self.contact_frames[n:],
+            "files": files,
+            **{name: getattr(self, name) for name in self.SNAPSHOT_SCALARS},
+        }
+
+    def resume(self, snapshots: list[dict], out_dir) -> None:
+        """The recorder as it was at the last of ``snapshots`` (all of its run's, in order),
+        its .part files in ``out_dir`` cut back to what they held then and appended to."""
+        for snap in snapshots:
+            for name in ("rows", "frames", "velocity_frames", "contact_frames"):
+                getattr(self, name).extend(snap[name])
+        last = snapshots[-1]
+        for name in self.SNAPSHOT_SCALARS:
+            setattr(self, name, last[name])
+        self.saved_rows = len(self.rows)
+        if out_dir is None:
+            return
+        out = Path(out_dir)
+        self.csv_path, self.pressure_path = out / "history.csv", out / "base_pressure.csv"
+        parts = self.part_files(out_dir)
+        for part, size in zip(parts, last["files"], strict=True):
+            os.truncate(part, size)
+        self.csv = open(parts[0], "a")
+        self.pressure_csv = open(parts[1], "a")
+
+    @staticmethod
+    def part_files(out_dir) -> tuple[Path, Path]:
+        """The files a run streams its rows to while it runs."""
+        return Path(out_dir) / "history.csv.part", Path(out_dir) / "base_pressure.csv.part"
+
+    @classmethod
+    def can_resume(cls, snapshot: dict, out_dir) -> bool:
+        """Whether the files in ``out_dir`` hold at least what they held at ``snapshot``."""
+        if out_dir is None:
+            return True
+        if snapshot["files"] is None:
+            return False
+        return all(
+            part.is_file() and part.stat().st_size >= size
+            for part, size in zip(cls.part_files(out_dir), snapshot["files"], strict=True)
+        )
+
+
+def _history(rows: list[dict]) -> dict:
+    """The history arrays of a run's output rows (the keys not starting with _)."""
+    keys = [key for key in rows[0] if not key.startswith("_")] if rows else []
+    return {k: np.array([r[k] for r in rows]) for k in keys}
 
 
 def weak_ground_level(model: Model) -> float:

@@ -509,7 +509,14 @@ def build(study: FemStudy):
     )
 
 
-def run_fem(study: FemStudy, *, replicas: int | None = None, out_dir=None, progress: bool = False):
+def run_fem(
+    study: FemStudy,
+    *,
+    replicas: int | None = None,
+    out_dir=None,
+    progress: bool = False,
+    checkpoint=None,
+):
     """The FEM run of a study as an ensemble of ``replicas`` (default ``study.replicas``) runs
     perturbed at round-off level (:func:`colonna.fem.solver.run_ensemble`); replica 0 is the
     unperturbed run and writes the files of a run into ``out_dir``.
@@ -518,7 +525,10 @@ def run_fem(study: FemStudy, *, replicas: int | None = None, out_dir=None, progr
     free rocking, the sweeps; the spectrum's grid points through :func:`iter_fem`, batched on
     one model): a variant is a changed study
     (``dataclasses.replace``), never another argument set. The refinement of the toe stress
-    restarts these runs on finer meshes (:func:`colonna.fem.toe_stress.toe_stress_refinement`)."""
+    restarts these runs on finer meshes (:func:`colonna.fem.toe_stress.toe_stress_refinement`).
+    ``checkpoint`` (:class:`colonna.fem.checkpoint.Checkpoint`): where the ensemble saves its
+    state as it goes, and goes on from when run again (a study's FEM case:
+    :func:`case_checkpoint`)."""
     from ..fem.solver import run_ensemble
 
     model = build(study)
@@ -530,8 +540,20 @@ def run_fem(study: FemStudy, *, replicas: int | None = None, out_dir=None, progr
         out_dir=out_dir,
         vertical=study.vertical,
         progress=progress,
+        checkpoint=checkpoint,
         **_run_settings(study),
     )
+
+
+def case_checkpoint(case: dict, directory):
+    """The checkpoint of a study's FEM case in its folder (``directory``/checkpoint), keyed by
+    the hash of the case's inputs (:func:`studies.executor.case_inputs`: the case, the bytes of
+    the files it reads, the colonna version): a case computed again from other inputs never
+    goes on from it."""
+    from ..fem.checkpoint import Checkpoint
+    from .executor import case_inputs, inputs_hash
+
+    return Checkpoint(Path(directory) / "checkpoint", inputs_hash(case_inputs(case)))
 
 
 def run_multibody(study: FemStudy, dt: float | None = None, touching_dt: float | None = None):

@@ -76,13 +76,15 @@ def fem_case(case: dict, directory: str) -> dict:
     """The study's FEM run as an ensemble of replicas (``case["replicas"]``, default the study's
     ``[run] replicas``): ``summary`` is :func:`colonna.fem.ensemble.ensemble_summary` of the
     replicas' (landing-dependent numbers as median and band), ``replica_summaries`` each
-    replica's own. With ``toe_refinement`` it also saves where the toe stress's refinement
+    replica's own. The ensemble saves checkpoints in the case's folder as it goes, and a rerun
+    of an interrupted case goes on from the last (:func:`studies.fem_study.case_checkpoint`).
+    With ``toe_refinement`` it also saves where the toe stress's refinement
     starts (:func:`colonna.fem.toe_stress.refinement_start` of the replica whose toe stress is
     the median) as ``toe_start.npz``, and says so under ``toe_start`` (the replica and the
     state's SHA-256, :func:`colonna.fem.toe_stress.start_digest`): the refined windows are
     cases of their own (:func:`toe_case`)."""
     from ...fem.ensemble import ensemble_summary, median_replica
-    from ..fem_study import run_fem
+    from ..fem_study import case_checkpoint, run_fem
 
     study = study_of_case(case)
     replicas = run_fem(
@@ -90,6 +92,7 @@ def fem_case(case: dict, directory: str) -> dict:
         out_dir=directory,
         progress=case.get("progress", False),
         replicas=case.get("replicas"),
+        checkpoint=case_checkpoint(case, directory),
     )
     summaries = [fem_run_summary(study, r) for r in replicas]
     summary = ensemble_summary(summaries, FEM_BANDED)
