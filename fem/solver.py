@@ -646,7 +646,7 @@ def iter_batch(
     walls = [0.0] * batch  # each run's share of the compute time (s)
     # a progress bar on a terminal only (quiet in logs and under a sweep's workers)
     bar = tqdm(
-        total=round(sum(durations), 6),
+        total=sum(durations),
         desc="[fem]" if batch == 1 else f"[fem x{batch}]",
         unit="s",
         dynamic_ncols=True,
@@ -764,7 +764,7 @@ def iter_batch(
         """Advance the progress bar by run k's simulated seconds, up to its duration."""
         seconds = min(seconds, durations[k] - credited[k])
         credited[k] += seconds
-        bar.update(seconds)
+        bar.update(max(0.0, min(seconds, bar.total - bar.n)))  # (sums of floats: never past)
 
     def load(slot: int, k: int) -> None:
         """Start run k in the slot: its initial state and the forces there."""

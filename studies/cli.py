@@ -624,6 +624,17 @@ def _cmd_warmup(args) -> None:
     print("colonna: compiling the kernels into numba's cache (once per install)", file=sys.stderr)
     seconds = warm(main, say=lambda line: print(line, file=sys.stderr))
     print(f"colonna: kernels compiled and cached in {seconds:.0f} s", file=sys.stderr)
+    from .cost import calibrate, save_calibration
+
+    model, measurements = calibrate()
+    path = save_calibration(model, measurements)
+    print(
+        "colonna: FEM cost model measured on this machine (for the estimates of time): "
+        f"{model.group_step * 1e6:.2g} us + {model.group_node_step * 1e9:.2g} ns a node per "
+        f"state-step in a batch, {model.single_step * 1e6:.2g} us + "
+        f"{model.single_node_step * 1e9:.2g} ns alone; saved in {path}",
+        file=sys.stderr,
+    )
 
 
 # --- parser -------------------------------------------------------------------------------------
@@ -794,7 +805,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser(
         "warmup",
-        help="compile the kernels into numba's cache (make does it after installing)",
+        help="compile the kernels into numba's cache and measure the FEM's cost on this "
+        "machine (make does it after installing)",
     )
     p.set_defaults(func=_cmd_warmup)
 

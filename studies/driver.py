@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.errors import InputError
-from .executor import RunOptions, before_computing
+from .executor import RunOptions, before_computing, study_clock
 from .kinds import KINDS
 from .output import record_inputs, write_csv
 from .study import Study, load
@@ -72,7 +72,7 @@ def run_study_file(
     out = Path(out)
     module = kind.module()
     started = time.time()  # the run's date and wall time go on record with its inputs
-    with before_computing(tell_the_work):
+    with before_computing(tell_the_work), study_clock(wall_estimate(work, workers)):
         summary = module.run(study, out, RunOptions(workers, scheduler, progress, force))
     # the inputs on record beside the results they gave, once they are all there (a refused
     # or interrupted run leaves the record of the results in out as it was)
@@ -85,19 +85,38 @@ def run_study_file(
     return summary
 
 
+# s of a study's wall time besides its cases: starting, its workers' start, the report
+STUDY_OVERHEAD_SECONDS = 8.0
+
+
+def wall_estimate(work, workers: int | None) -> float:
+    """The wall seconds a study of this work takes on ``workers`` local workers (one where
+    None): its cases dealt to the workers stage by stage (:meth:`FemWork.wall_seconds`, at
+    this machine's cost model), and :data:`STUDY_OVERHEAD_SECONDS`."""
+    from .executor import available_cores
+
+    share = max(1, min(workers or 1, available_cores()))
+    return work.wall_seconds(share) + STUDY_OVERHEAD_SECONDS
+
+
 def work_estimate(work, workers: int | None) -> str:
-    """One line for the user as the work starts: the FEM work's state-steps and its CPU time at
-    :data:`studies.fem_study.NODE_STEP_SECONDS` a node-step, shared among ``workers``. Not yet
-    calibrated on the machine: measured, a 234-node study took 1.7 times that CPU (the steps'
-    fixed costs), a 2,592-node one 0.65 times (runs that settle or overturn stop early)."""
-    from .fem_study import NODE_STEP_SECONDS, _hours
+    """One line for the user as the work starts: the study's CPU and wall time on this
+    machine's ``workers`` (:func:`wall_estimate`), from its cost model (calibrated here by
+    ``colonna warmup``, or not: the line says which), and the FEM work behind it."""
+    from .cost import cost_model
+    from .fem_study import _hours
 
     share = max(1, workers or 1)
+    source = (
+        "the cost model calibrated on this machine"
+        if cost_model().calibrated
+        else "a cost model not calibrated on this machine: run colonna warmup"
+    )
     return (
-        f"FEM work: {work.state_steps:.2g} state-steps on up to {work.nodes:,} nodes, about "
-        f"{_hours(work.seconds)} of CPU at {NODE_STEP_SECONDS * 1e9:g} ns a node-step"
-        + (f" on {share} workers" if share > 1 else "")
-        + " (an estimate from the meshes and steps; small meshes take up to twice it)"
+        f"estimated {_hours(wall_estimate(work, workers))} of wall time on {share} "
+        f"worker{'s' if share > 1 else ''} ({_hours(work.cpu_seconds)} of CPU; "
+        f"{work.state_steps:.2g} FEM state-steps on up to {work.nodes:,} nodes; {source}; "
+        "runs that overturn or settle end sooner)"
     )
 
 

@@ -82,6 +82,36 @@ def before_computing(callback: Callable[[], None]) -> Iterator[None]:
         _BEFORE_COMPUTING.reset(token)
 
 
+# the study's clock for the progress bars of :func:`run_cases` (monotonic start, estimated wall
+# seconds), set by :func:`study_clock` around a study's run
+_STUDY_CLOCK: contextvars.ContextVar[tuple[float, float] | None] = contextvars.ContextVar(
+    "study_clock", default=None
+)
+
+
+@contextlib.contextmanager
+def study_clock(estimate: float) -> Iterator[None]:
+    """Within the block, the progress bars of :func:`run_cases` say the time left of a study
+    estimated at ``estimate`` wall seconds from the block's start (:func:`time_left`)."""
+    token = _STUDY_CLOCK.set((time.monotonic(), estimate))
+    try:
+        yield
+    finally:
+        _STUDY_CLOCK.reset(token)
+
+
+def time_left(clock: tuple[float, float], now: float | None = None) -> str:
+    """The time left of a study started at ``clock[0]`` (monotonic s) and estimated at
+    ``clock[1]`` wall seconds, or how far past the estimate it is."""
+    from .units import duration_text
+
+    start, estimate = clock
+    left = estimate - ((time.monotonic() if now is None else now) - start)
+    if left >= 0.0:
+        return f"about {duration_text(left)} left of {duration_text(estimate)} estimated"
+    return f"{duration_text(-left)} past the {duration_text(estimate)} estimated"
+
+
 class StudyInterrupted(KeyboardInterrupt):
     """A run stopped by a signal, SIGINT (Ctrl-C) or SIGTERM (``signum``), with what it kept:
     ``saved`` of ``total`` cases (those known so far) in ``folder``; None where not counted
@@ -449,7 +479,25 @@ def _run_cases(
         unit="case",
         disable=not (progress and sys.stderr.isatty()),
         dynamic_ncols=True,
+        # the time left is the study's (its postfix), not this stage's rate of cases
+        bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}{postfix}]",
     )
+
+    clock = _STUDY_CLOCK.get()
+    last_key = [""]
+
+    def postfix() -> str:  # the case saved last, and the study's time left
+        parts = [last_key[0]] + ([time_left(clock)] if clock is not None else [])
+        return "; ".join(p for p in parts if p)
+
+    ticking = threading.Event()
+    if clock is not None and not bar.disable:  # the time left, once a second
+
+        def tick() -> None:
+            while not ticking.wait(1.0):
+                bar.set_postfix_str(postfix(), refresh=True)
+
+        threading.Thread(target=tick, daemon=True).start()
 
     def record(key):
         """What a case's inputs.json holds: the hash of its inputs, and the inputs."""
@@ -462,7 +510,8 @@ def _run_cases(
         if not saved:
             save_case(case_dir(out, key), record(key), result)
         results[key] = result
-        bar.set_postfix_str(key, refresh=False)
+        last_key[0] = key
+        bar.set_postfix_str(postfix(), refresh=False)
         bar.update(1)
 
     def finish_all(share, outcome, batched, saved=False):
@@ -511,6 +560,7 @@ def _run_cases(
                 raise
             pool.shutdown()
     finally:
+        ticking.set()
         bar.close()
     return results
 

@@ -8,6 +8,7 @@ must reach the rocking half's uplift acceleration), files found relative to the 
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 import warnings
@@ -36,6 +37,7 @@ from ..fem.solver import EDGE_TIME
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid.block import Block
 from . import schema
+from .units import duration_text as _hours
 
 
 @dataclass(frozen=True)
@@ -689,10 +691,8 @@ def iter_fem(studies: list[FemStudy], *, slots: int | None = None, **options):
 # --- the work of FEM runs, bounded before they run ------------------------------------------------
 
 # CPU seconds to advance one node of a mesh by one explicit time step, for one state (a replica
-# or a grid point). Measured on the 2-core machine of the README's timings (benchmarks/bench_fem.py
-# and run_ensemble on the default column's meshes, 8 replicas or 1): alone, 48-52 ns
-# (73-78 us a step on 1,512 nodes); in a batch of 8 replicas, 20 ns a state (23 ns on 440 nodes,
-# 14 ns on 5,590). The studies run batches (replicas, grid points): 25 ns, with a little margin.
+# or a grid point), on the machine of the README's timings, in a batch (the work limit's unit:
+# the estimates of time use this machine's calibrated cost model, studies.cost)
 NODE_STEP_SECONDS = 25e-9
 WORK_LIMIT_SECONDS = 2 * 3600.0  # the CPU time a study (or colonna fem) may ask for, unless --long
 # what one state keeps per output row (measured: 54.5 kB on 1,512 nodes): its displacement and
@@ -703,21 +703,69 @@ STATE_BYTES_PER_NODE = 400  # a state's own arrays in the kernel (positions, vel
 
 
 @dataclass(frozen=True)
+class FemRun:
+    """``states`` FEM runs of one model advanced together: its ``nodes``, ``steps`` and
+    ``outputs`` (rows), the ``case`` they are part of (a label: the runs of one case run one
+    after the other, cases side by side) and its ``stage`` (the stages of a study run one after
+    the other). A case without FEM runs (a rigid model's) is a FemRun of no states and its
+    ``other_seconds``."""
+
+    nodes: int
+    steps: float
+    outputs: float
+    states: int
+    case: str
+    stage: int = 0
+    other_seconds: float = 0.0  # CPU seconds of the case's work outside the FEM (rigid models)
+
+    @property
+    def seconds(self) -> float:
+        """CPU seconds on this machine (:func:`studies.cost.cost_model`)."""
+        from .cost import cost_model
+
+        fem = cost_model().run_seconds(self.nodes, self.steps, self.outputs, self.states)
+        return fem + self.other_seconds
+
+
+@dataclass(frozen=True)
 class FemWork:
     """What FEM runs ask for, estimated before they run: ``state_steps`` (time steps x states,
     a state being a replica or a grid point), ``node_steps`` (each state-step x the nodes of its
-    mesh), the largest mesh's ``nodes``, and ``memory`` (bytes) of the largest run, its states
-    held at once. Runs add up (``+``)."""
+    mesh), the largest mesh's ``nodes``, ``memory`` (bytes) of the largest run, its states
+    held at once, and the ``runs`` themselves (:class:`FemRun`) for their time. Runs add up
+    (``+``)."""
 
     state_steps: float = 0.0
     node_steps: float = 0.0
     nodes: int = 0
     memory: float = 0.0
+    runs: tuple[FemRun, ...] = ()
 
     @property
     def seconds(self) -> float:
-        """CPU seconds at :data:`NODE_STEP_SECONDS` a node-step."""
+        """CPU seconds at :data:`NODE_STEP_SECONDS` a node-step (the work limit's measure)."""
         return self.node_steps * NODE_STEP_SECONDS
+
+    @property
+    def cpu_seconds(self) -> float:
+        """CPU seconds of the runs on this machine (its calibrated cost model)."""
+        return sum(run.seconds for run in self.runs)
+
+    def wall_seconds(self, workers: int) -> float:
+        """Wall seconds of the runs on ``workers`` cores: per stage, its cases dealt as the
+        executor deals them (the costliest first, each to the least loaded worker), the
+        stages one after the other."""
+        total = 0.0
+        for stage in sorted({run.stage for run in self.runs}):
+            cases: dict[str, float] = {}
+            for run in self.runs:
+                if run.stage == stage:
+                    cases[run.case] = cases.get(run.case, 0.0) + run.seconds
+            load = [0.0] * max(1, workers)
+            for seconds in sorted(cases.values(), reverse=True):
+                load[load.index(min(load))] += seconds
+            total += max(load)
+        return total
 
     def __add__(self, other: FemWork) -> FemWork:
         return FemWork(
@@ -725,17 +773,26 @@ class FemWork:
             self.node_steps + other.node_steps,
             max(self.nodes, other.nodes),
             max(self.memory, other.memory),
+            self.runs + other.runs,
         )
 
 
 def fem_work(
-    study: FemStudy, states: int = 1, *, held: int | None = None, models: dict | None = None
+    study: FemStudy,
+    states: int = 1,
+    *,
+    held: int | None = None,
+    models: dict | None = None,
+    case: str | None = None,
+    stage: int = 0,
 ) -> FemWork:
     """The work of ``states`` FEM runs of ``study`` over its whole duration (its replicas, or
     grid points that share its model and duration; ``held`` of them at once, default all), as
     :func:`run_fem` would run them: the model is built for its nodes and stable step (once per
     model in ``models``, a cache shared by the runs of a study: about 0.1 s for the default
-    column). A run that stops early (overturned, settled) costs less."""
+    column). ``case``: the case they are part of (default: a case of their own), ``stage``
+    the study's stage (:class:`FemRun`). A run that stops early (overturned, settled) costs
+    less."""
     key = tuple(getattr(study, k) for k in MODEL_KEYS)
     if models is None or key not in models:
         from ..fem.model import stable_time_step
@@ -759,7 +816,18 @@ def fem_work(
         + 32.0 * max(1.0, round(study.edge_time / dt))  # the toe stresses' averaging window
     )
     at_once = states if held is None else min(states, held)
-    return FemWork(steps * states, steps * states * nodes, nodes, at_once * per_state)
+    run = FemRun(
+        nodes,
+        steps,
+        float(outputs),
+        states,
+        case if case is not None else f"run-{next(_RUN_LABELS)}",
+        stage,
+    )
+    return FemWork(steps * states, steps * states * nodes, nodes, at_once * per_state, (run,))
+
+
+_RUN_LABELS = itertools.count()
 
 
 def memory_limit() -> float:
@@ -793,11 +861,3 @@ def require_bounded_work(
             f"history and states (at most {limit / 2**30:.3g} GiB, half of this machine's): "
             "lengthen [run] output_interval, shorten [run] duration or coarsen [mesh] size"
         )
-
-
-def _hours(seconds: float) -> str:
-    """A duration for people: '40 min', '14 h', '3.2 days', '2e+03 years'."""
-    units = (("years", 365 * 86400.0), ("days", 86400.0), ("h", 3600.0), ("min", 60.0))
-    unit, size = next((u for u in units if seconds >= 2.0 * u[1]), units[-1])
-    value = seconds / size
-    return f"{value:.0f} {unit}" if 10.0 <= value < 1e4 else f"{value:.2g} {unit}"

@@ -139,3 +139,17 @@ def guessed_unit(key: str) -> tuple[str, float]:
         if words & names:
             return unit, DISPLAY_UNITS.get(unit, 1.0)
     return "", 1.0
+
+
+def duration_text(seconds: float) -> str:
+    """A duration for people: '25 s', '40 min', '14 h', '3.2 days', '2e+03 years'."""
+    units = (
+        ("years", 365 * 86400.0),
+        ("days", 86400.0),
+        ("h", 3600.0),
+        ("min", 60.0),
+        ("s", 1.0),
+    )
+    unit, size = next((u for u in units if seconds >= 2.0 * u[1]), units[-1])
+    value = seconds / size
+    return f"{value:.0f} {unit}" if 10.0 <= value < 1e4 else f"{value:.2g} {unit}"

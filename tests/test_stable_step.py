@@ -139,28 +139,3 @@ def test_a_study_whose_step_was_halved_says_so_in_its_report(tmp_path, monkeypat
     assert fem["step_note"].startswith("rerun at dt/2 after the energy balance is off by")
     page = " ".join((out / "index.html").read_text().split())
     assert f"Its step was halved: the replicas were {fem['step_note']}" in page
-
-
-def test_a_study_tells_its_fem_work_before_it_starts(tmp_path, capsys):
-    """As the work starts: the FEM work's state-steps and CPU time, the kind's own estimate
-    (studies.driver.fem_work_of), and the workers it is shared among; then the report."""
-    import sys
-
-    sys.path.insert(0, str(Path(__file__).parent))
-    from tiny_study import TINY_STUDY
-
-    from colonna.studies.cli import main
-    from colonna.studies.driver import fem_work_of, work_estimate
-    from colonna.studies.study import load
-
-    study = tmp_path / "tiny.toml"
-    study.write_text(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.3))
-    work = fem_work_of(load(study))
-    assert work.seconds > 0.0
-    # one worker: a pool forked from this process, which has run OpenMP, would be killed
-    assert main(["study", str(study), "--out", str(tmp_path / "out"), "--workers", "1"]) == 0
-    err = capsys.readouterr().err
-    line = f"[study] {work_estimate(work, 1)}"
-    assert line in err and err.index(line) < err.index("[study] report")
-    assert "of CPU at 25 ns a node-step (an estimate" in line
-    assert "of CPU at 25 ns a node-step on 2 workers" in work_estimate(work, 2)

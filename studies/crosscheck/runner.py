@@ -392,17 +392,71 @@ FEWER = ", fewer [run] replicas"  # its way to ask for less FEM work (besides [r
 
 
 def fem_work(study: Study) -> FemWork:
-    """The FEM work of the cross-check (:func:`studies.driver.check_work`): the study's run
-    with its replicas, and the same on the meshes of its mesh-convergence uncertainty. Not
-    counted: the toe windows (a few hundredths of a second on refined meshes: a few per cent of
-    its work) and the time that runs stopping early (overturned) save."""
+    """The FEM work of the cross-check (:func:`studies.driver.check_work`), case by case: the
+    study's run with its replicas, the same on the meshes of its mesh-convergence uncertainty,
+    the bed range's runs, then (a stage of their own) the toe windows on their refined meshes.
+    Not counted: the time that runs stopping early (overturned) save."""
     fem = study.fem
     models: dict = {}  # the model of each mesh, built once
-    work = estimate_work(fem, fem.replicas, models=models)
-    for size in mesh_uncertainty_sizes(fem):
-        work += estimate_work(replace(fem, mesh_size=size), fem.replicas, models=models)
-    for end in bed_range_studies(fem).values():
-        work += estimate_work(end, 1, models=models)
+    work = estimate_work(fem, fem.replicas, models=models, case="fem")
+    for factor, size in zip((2, 4), mesh_uncertainty_sizes(fem)):
+        mesh = replace(fem, mesh_size=size)
+        work += estimate_work(mesh, fem.replicas, models=models, case=f"fem-mesh-{factor}h")
+    for end, bed in bed_range_studies(fem).items():
+        work += estimate_work(bed, 1, models=models, case=f"fem-bed-{end}")
+    return work + toe_window_work(fem) + rigid_work(fem)
+
+
+# CPU seconds of the rigid cases (measured on the machine of the README's timings: the default
+# study's spectrum case 15 s, the tiny test study's 10 s; its multibody runs 0.7 s a simulated s)
+SPECTRUM_SECONDS = 12.0
+MULTIBODY_SECONDS_PER_SECOND = 0.75
+
+
+def rigid_work(fem) -> FemWork:
+    """The rigid cases as work of the study's first stage (for its wall time): the multibody
+    runs and, with a pulse, the spectra."""
+    from ..fem_study import FemRun
+
+    runs = [
+        FemRun(0, 0, 0, 0, "multibody", other_seconds=MULTIBODY_SECONDS_PER_SECOND * fem.duration)
+    ]
+    if fem.ground.pulse_shape is not None:
+        runs.append(FemRun(0, 0, 0, 0, "spectrum", other_seconds=SPECTRUM_SECONDS))
+    return FemWork(runs=tuple(runs))
+
+
+# s: a toe window's length, about (fem.toe_stress: from LEAD_TIME before the landing to
+# TAIL_TIME after the peak, the landing itself a few ms); measured 24-34 ms on the default column
+TOE_WINDOW = 0.03
+
+
+def toe_window_work(fem) -> FemWork:
+    """The work of the toe stress's refined windows (:func:`toe_case`), one state each over
+    :data:`TOE_WINDOW`, in the stage after the other cases (none without refinements or with
+    a mesh file)."""
+    from ...fem.model import build_model, stable_time_step
+    from ..fem_study import FemRun, build, toe_mesh
+
+    if fem.mesh_file is not None or not fem.toe_refinements:
+        return FemWork()
+    model = build(fem)
+    work = FemWork()
+    for refinement in fem.toe_refinements:
+        fine = build_model(
+            toe_mesh(fem, refinement),
+            model.stone,
+            model.thickness,
+            model.collars,
+            model.contact,
+            model.g,
+            model.top_load,
+            model.bed,
+        )
+        steps = TOE_WINDOW / stable_time_step(fine, fem.safety).dt
+        nodes = fine.n_dofs // 2
+        run = FemRun(nodes, steps, steps / 50.0, 1, f"toe-{refinement}", stage=1)
+        work += FemWork(steps, steps * nodes, nodes, 0.0, (run,))
     return work
 
 
