@@ -30,6 +30,25 @@ def reliability(summary: dict) -> dict:
     return {key: summary[key] for key in RELIABILITY_KEYS}
 
 
+def halved_steps(runs: list[tuple[str, dict]]) -> list[dict]:
+    """The FEM runs of a study whose step was halved (:func:`colonna.fem.solver.run_ensemble`
+    reruns an ensemble whose balance failed at half its step), for its report's opening: of
+    each (what the run is in words, its summary: a FEM run's or an ensemble's, whose
+    ``step_halvings``, ``step_note`` and ``dt`` it carries) that was halved, those three and
+    the words as ``run``. Summaries without them (saved before the reruns) count as not
+    halved."""
+    return [
+        {
+            "run": run,
+            "step_halvings": int(summary["step_halvings"]),
+            "step_note": summary.get("step_note"),
+            "dt": summary.get("dt"),
+        }
+        for run, summary in runs
+        if summary.get("step_halvings")
+    ]
+
+
 def fem_runs(result) -> list[dict]:
     """The FEM runs of a case result, as summaries with :data:`RELIABILITY_KEYS` (none for a
     case without a FEM run)."""

@@ -23,7 +23,7 @@ from ..crosscheck.runner import fem_case
 from ..executor import RunOptions, run_cases
 from ..fem_study import FemWork, case_of, run_multibody, study_of_case
 from ..fem_study import fem_work as estimate_work
-from ..guard import check_fem_results
+from ..guard import check_fem_results, halved_steps
 from ..outcome import fem_answers, fem_model, outcome, rocking_block
 from ..output import write_csv, write_json
 from ..study import Study
@@ -106,6 +106,7 @@ def run(given: Study, out: Path, options: RunOptions) -> dict:
         )
         / design["yield_rotation"],
         "ductile_design": ductile_design(study, thicknesses, trial_cases, trials),
+        "halved_steps": halved_steps([("the FEM run", fem)]),
         "wall_seconds": time.perf_counter() - start,
         "outcome": outcome(
             [

@@ -30,7 +30,7 @@ from ...rigid.impacts import impact_ratios_from_peaks
 from ..executor import RunOptions, run_cases
 from ..fem_study import FemStudy, FemWork, case_of, from_spec, run_multibody, study_of_case
 from ..fem_study import fem_work as estimate_work
-from ..guard import check_fem_results, reliability
+from ..guard import check_fem_results, halved_steps, reliability
 from ..outcome import none_assessed
 from ..output import write_csv, write_json
 from ..study import Study
@@ -83,6 +83,10 @@ def free_rocking_case(case: dict, directory: str) -> dict:
             "status": result.summary["status"],
             "energy_error_max": max(r.summary["energy_error_max"] for r in replicas),
             "fem_runs": [reliability(r.summary) for r in replicas],
+            # the ensemble's step, and whether it was halved (run_ensemble's reruns)
+            "dt": result.summary["dt"],
+            "step_halvings": result.summary.get("step_halvings", 0),
+            "step_note": result.summary.get("step_note"),
             "wall_seconds": result.summary["wall_seconds"],
         }
     result = run_multibody(replace(study, initial_tilt=tilt))
@@ -239,6 +243,20 @@ def run(given: Study, out: Path, options: RunOptions) -> dict:
             "cross-check study answers this for a ground motion"
         ),
     }
+    summary["halved_steps"] = halved_steps(
+        [
+            (f"the FEM run released at a tilt of {f * alpha:.3g} rad", results[f"fem-tilt{k + 1}"])
+            for k, f in enumerate(tilts)
+        ]
+        + [
+            (f"the FEM run with contact damping {d:g} of critical", results[f"fem-damping{k + 1}"])
+            for k, d in enumerate(dampings)
+        ]
+        + [
+            (f"the FEM run on the mesh of size {size * 1e3:.4g} mm", results[f"fem-mesh{k + 1}"])
+            for k, size in enumerate(sizes)
+        ]
+    )
     summary["wall_seconds"] = time.perf_counter() - start
     write_json(out / "summary.json", summary)
     return summary

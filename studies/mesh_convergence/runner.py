@@ -11,6 +11,7 @@ from ...fem.convergence import convergence_table
 from ..executor import RunOptions
 from ..fem_study import FemStudy, FemWork, case_of
 from ..fem_study import fem_work as estimate_work
+from ..guard import halved_steps
 from ..outcome import fem_answers, fem_model, outcome, rocking_block
 from ..study import Study
 from ..sweep import run_sweep
@@ -87,6 +88,15 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
         # the bed: its stiffness per unit area the same on every mesh (issue 38)
         "bed": {"stiffness": study.bed.stiffness, "source": study.bed.source},
         "fem": {c["key"]: results[c["key"]]["summary"] for c in cases},
+        "halved_steps": halved_steps(
+            [
+                (
+                    f"the FEM run on the mesh of size {c['size'] * 1e3:.4g} mm",
+                    results[c["key"]]["summary"],
+                )
+                for c in cases
+            ]
+        ),
     }
 
 

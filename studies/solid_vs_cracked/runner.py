@@ -10,6 +10,7 @@ from pathlib import Path
 from ..executor import RunOptions
 from ..fem_study import FemStudy, FemWork, case_of, from_spec, rocking_alpha
 from ..fem_study import fem_work as estimate_work
+from ..guard import halved_steps
 from ..outcome import fem_answers, fem_model, model_outcome, outcome, rocking_block
 from ..study import Study
 from ..sweep import run_sweep
@@ -19,6 +20,12 @@ VARIANTS = {
     "solid": (False, False),
     "cracked": (True, False),
     "cracked-collars": (True, True),
+}
+# each variant's column in words
+COLUMNS = {
+    "solid": "the solid column",
+    "cracked": "the cracked column without collars",
+    "cracked-collars": "the cracked column with collars",
 }
 
 
@@ -105,6 +112,12 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
         "study": study.name,
         "outcome": outcome(models, answers, stress_model),
         "variants": rows,
+        "halved_steps": halved_steps(
+            [
+                (f"the FEM run of {COLUMNS[name]}", results[f"{name}-fem"]["summary"])
+                for name in variants
+            ]
+        ),
     }
 
 
