@@ -8,8 +8,9 @@ A FEM run of ``states`` states (replicas or grid points) on a mesh of ``nodes`` 
 with L the kernel's layout: one state alone (``single``) or a group of states (``group``,
 several states a pass through the stiffness, cheaper per state); ``c`` and ``e`` the Python
 recorder's cost of an output row (its numbers, its frames); a run's setup (the static state)
-is a few ms, below what the fit resolves. :func:`calibrate` measures them here on the default column's meshes (168,
-440 and 1,512 nodes; one state and 8; outputs every 100 steps and every 5) and fits them by
+is a few ms, below what the fit resolves. :func:`calibrate` measures them here on the default
+column's meshes (168, 440 and 1,512 nodes; one state and 8; outputs every 100 steps and every
+5) and fits them by
 least squares; ``colonna warmup`` (run by ``make`` at install) saves the fit
 (:func:`save_calibration`) under :func:`cache_dir`, keyed by this machine and colonna's
 version. Without one (another machine, another version) :data:`UNCALIBRATED` is used, the fit

@@ -403,13 +403,14 @@ class Collar(Table):
 
 
 PULSE_PAIRS = (("amplitude", "amplitude_ratio"), ("period", "omega_ratio"))
+RECORD_SCALES = ("scale", "scale_to_pga", "scale_to_pgv")  # a record's factor: one of them
 HORIZONTAL = (
     "amplitude",
     "amplitude_ratio",
     "period",
     "omega_ratio",
     "record",
-    "scale",
+    *RECORD_SCALES,
     "time_scale",
 )
 
@@ -466,6 +467,24 @@ class Ground(Table):
         "Factor on the record's acceleration (default 1), at most 1000 in size.",
         ge=-1000,
         le=1000,
+    )
+    scale_to_pga: float | None = quantity(
+        "m/s^2",
+        "Scale the record so that its peak ground acceleration is this, in place of scale "
+        "(the factor, this over the file's PGA, is on record).",
+        None,
+        (0.0, 50.0, "m/s^2", "a ground motion (5 g)"),
+        gt=0,
+        le=1000,
+    )
+    scale_to_pgv: float | None = quantity(
+        "m/s",
+        "Scale the record so that its peak ground velocity is this, in place of scale: the "
+        "PGV of the motion as applied, as the fragility's (the factor is on record).",
+        None,
+        (0.0, 5.0, "m/s", "a ground motion"),
+        gt=0,
+        le=100,
     )
     time_scale: float | None = quantity(
         "-",
@@ -539,8 +558,19 @@ class Ground(Table):
                 ("amplitude", "amplitude_ratio", "period", "omega_ratio"),
                 "with pulse = 'record' (use scale and time_scale)",
             )
+            scales = [k for k in RECORD_SCALES if k in given]
+            if len(scales) > 1:
+                found.append(
+                    (
+                        f"give only one of ground.{', ground.'.join(scales)} (each sets the "
+                        "record's factor)",
+                        tuple(f"ground.{k}" for k in scales),
+                    )
+                )
         elif pulse is not FAILED:
-            found += _none_of(given, ("record", "scale", "time_scale"), f"with pulse = '{pulse}'")
+            found += _none_of(
+                given, ("record", *RECORD_SCALES, "time_scale"), f"with pulse = '{pulse}'"
+            )
             for pair in PULSE_PAIRS:
                 if len(given & set(pair)) > 1:
                     found.append((f"give only one of ground.{pair[0]} and ground.{pair[1]}", ()))

@@ -189,10 +189,25 @@ class Study:
             period = 2.0 * math.pi / sine.omega
             fill("ground", "period", period, "2 pi / (omega_ratio x p of the rocking half)")
         if ground["pulse"] == "record":
-            fill("ground", "scale", 1.0, "1 (the record as read)")
+            fill("ground", "scale", *self._record_scale())
             fill("ground", "time_scale", 1.0, "1 (the record's own time)")
         if ground.get("vertical_record") is not None:
             fill("ground", "vertical_scale", 1.0, "1 (the record as read)")
+
+    def _record_scale(self) -> tuple[float, str]:
+        """The factor on the horizontal record and how it was set
+        (:func:`studies.fem_study.record_scale`)."""
+        from .fem_study import _read_study_record, record_scale
+
+        ground = self.spec.ground
+        assert ground.record is not None
+        record = _read_study_record(
+            self.base, ground.record, "ground.record", self.source, schema.G
+        )
+        speed = ground.time_scale or 1.0
+        if speed != 1.0:
+            record = type(record)(record.time / speed, record.acceleration_values, record.name)
+        return record_scale(ground, record)
 
     def _motion_record(self) -> dict | None:
         """The ground motion as applied (:meth:`to_json`'s ``ground_motion``), for a kind with
@@ -202,7 +217,12 @@ class Study:
         fem = self.fem
         record: dict = {}
         for name, motion, given, scale in (
-            ("horizontal", fem.ground, self.spec.ground.record, self.spec.ground.scale),
+            (
+                "horizontal",
+                fem.ground,
+                self.spec.ground.record,
+                self._record_scale()[0] if self.spec.ground.record is not None else None,
+            ),
             (
                 "vertical",
                 fem.vertical,
