@@ -334,3 +334,108 @@ def test_a_study_on_a_record_below_uplift_says_so(tmp_path):
         from_dict(
             tomllib.loads(text.replace("record = ", "scale = 9.81\nrecord = ")), base=tmp_path
         )
+
+
+# --- how a two-column file is written (issue 48) ---------------------------------------------
+
+RECORD_T = np.arange(6) * 0.01
+RECORD_A = np.array([0.0, 0.5, -1.25, 2.0, -0.75, 0.125])
+
+
+def _written(path, sep, decimal=".", header=""):
+    rows = (f"{t:.2f}{sep}{a:.4f}".replace(".", decimal) for t, a in zip(RECORD_T, RECORD_A))
+    path.write_text(header + "\n".join(rows) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("sep, words", [("\t", "tabs"), (" ", "spaces"), (";", "';'")])
+def test_decimal_commas_are_named_with_their_line(tmp_path, sep, words):
+    """0,01 read with commas between columns would be time 0 on every line ('time must
+    increase strictly' before): one line with the file, the line and the cause."""
+    path = _written(tmp_path / "commas.txt", sep, ",", header="time acceleration\n")
+    with pytest.raises(InputError) as raised:
+        read_record(path)
+    assert str(raised.value) == (
+        f"record file {path}, line 2: decimal commas in {f'0,00{sep}0,0000'!r} (columns "
+        f"separated by {words}): use a point as the decimal separator, 0.00 for 0,00"
+    )
+
+
+def test_decimal_commas_between_commas_are_named(tmp_path):
+    """'0,01,0,5': every time reads as 0; the line where time stops is named with the cause."""
+    path = _written(tmp_path / "commas.csv", ",", ",")
+    with pytest.raises(InputError) as raised:
+        read_record(path)
+    assert str(raised.value) == (
+        f"record file {path}, line 2: decimal commas ('0,01,0,5000' reads as time 0 s, as line "
+        "1 does): use a point as the decimal separator"
+    )
+
+
+@pytest.mark.parametrize("sep", [";", "; ", ",", ", ", "\t"])
+def test_separators_with_points_read_as_spaces_do(tmp_path, sep):
+    """Semicolons (a spreadsheet's CSV where the comma is the decimal mark, written with points),
+    commas and tabs: the same record as the space-separated file."""
+    plain = read_record(_written(tmp_path / "plain.txt", " "))
+    np.testing.assert_array_equal(plain.time, RECORD_T.round(2))
+    np.testing.assert_array_equal(plain.acceleration_values, RECORD_A)
+    other = read_record(_written(tmp_path / "other.txt", sep))
+    np.testing.assert_array_equal(other.time, plain.time)
+    np.testing.assert_array_equal(other.acceleration_values, plain.acceleration_values)
+
+
+def test_a_header_line_of_text_is_skipped_and_text_after_data_is_not(tmp_path):
+    plain = read_record(_written(tmp_path / "plain.txt", " "))
+    headed = read_record(_written(tmp_path / "h.txt", ";", header="Zeit [s];Beschl. [m/s2]\n"))
+    np.testing.assert_array_equal(headed.acceleration_values, plain.acceleration_values)
+    np.testing.assert_array_equal(headed.time, plain.time)
+    path = tmp_path / "late.txt"
+    path.write_text((tmp_path / "plain.txt").read_text() + "end of record\n")
+    with pytest.raises(InputError, match=r"late\.txt, line 7: not numeric: 'end of record'"):
+        read_record(path)
+
+
+@pytest.mark.parametrize("mark", ["|", ":"])
+def test_another_column_separator_is_named(tmp_path, mark):
+    """'0.01|0.5' is no header: before, every line was skipped as one ('fewer than two rows')."""
+    path = _written(tmp_path / "pipe.txt", mark, header="t|a\n")
+    with pytest.raises(InputError) as raised:
+        read_record(path)
+    assert str(raised.value) == (
+        f"record file {path}, line 2: columns separated by {mark!r} "
+        f"({f'0.00{mark}0.0000'!r}): separate them by spaces, tabs, commas or semicolons"
+    )
+
+
+def test_a_time_that_stops_increasing_names_its_line(tmp_path):
+    path = tmp_path / "back.txt"
+    path.write_text("# t a\n0.00 0\n0.01 1\n0.02 2\n0.02 3\n0.03 4\n")
+    with pytest.raises(InputError) as raised:
+        read_record(path)
+    assert str(raised.value) == (
+        f"record file {path}, line 5: time 0.02 s is not after 0.02 s on line 4: time must "
+        "increase strictly"
+    )
+    path.write_text("0.00 0\n0.01 1\n0.005 2\n")
+    with pytest.raises(InputError, match="line 3: time 0.005 s is not after 0.01 s on line 2"):
+        read_record(path)
+
+
+def test_a_studys_record_with_decimal_commas_is_named_by_its_key(tmp_path):
+    import tomllib
+
+    from tiny_study import TINY_STUDY
+
+    from colonna.studies.fem_study import from_dict
+
+    path = _written(tmp_path / "commas.txt", ";", ",")
+    text = TINY_STUDY.format(amplitude_ratio=2.5, duration=0.1).replace(
+        "amplitude_ratio = 2.5\nomega_ratio = 3.0\n", 'pulse = "record"\nrecord = "commas.txt"\n'
+    )
+    with pytest.raises(InputError) as raised:
+        from_dict(tomllib.loads(text), "s.toml", base=tmp_path)
+    assert str(raised.value) == (
+        f"s.toml: ground.record = 'commas.txt': record file {path}, line 1: decimal commas in "
+        "'0,00;0,0000' (columns separated by ';'): use a point as the decimal separator, 0.00 "
+        "for 0,00"
+    )

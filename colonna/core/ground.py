@@ -548,25 +548,91 @@ def _check_uniform(path: Path, time: np.ndarray, printed: list[str], lines: list
     return dt
 
 
+_DECIMAL_COMMA = re.compile(r"[+-]?\d*,\d+(?:[eE][+-]?\d+)?")
+_COLUMN_SEPARATORS = "spaces, tabs, commas or semicolons"
+
+
+def _separator_words(line: str) -> str:
+    """How the columns of a line are separated, in words: "';'", 'tabs', 'spaces'."""
+    return "';'" if ";" in line else "tabs" if "\t" in line else "spaces"
+
+
+def _decimal_commas(path: Path, lineno: int, line: str) -> None:
+    """An InputError where a line writes its numbers with decimal commas beside another column
+    separator ('0,01;0,5', '0,01<tab>0,5', '0,01 0,5'): read as commas between columns, every
+    time would be its integer part."""
+    tokens = [x.strip(",") for x in re.split(r"[;\s]+", line) if x.strip(",")]
+    comma = next((x for x in tokens if _DECIMAL_COMMA.fullmatch(x)), None)
+    if len(tokens) >= 2 and comma is not None:
+        raise InputError(
+            f"record file {path}, line {lineno}: decimal commas in {line[:40]!r} (columns "
+            f"separated by {_separator_words(line)}): use a point as the decimal separator, "
+            f"{comma.replace(',', '.')} for {comma}"
+        )
+
+
+def _unknown_separator(path: Path, lineno: int, line: str) -> None:
+    """An InputError where a line that is not numeric would be numbers with its columns
+    separated by another character ('0.01|0.5', '0.01:0.5'): not a header line."""
+    others = set(re.sub(r"[0-9.eE+\-,;\s]", "", line))
+    if len(others) != 1:
+        return
+    mark = others.pop()
+    try:
+        values = [float(x) for x in re.split(r"[,;\s]+", line.replace(mark, " ")) if x]
+    except ValueError:
+        return
+    if len(values) < 2:
+        return
+    raise InputError(
+        f"record file {path}, line {lineno}: columns separated by {mark!r} ({line[:40]!r}): "
+        f"separate them by {_COLUMN_SEPARATORS}"
+    )
+
+
+def _check_increasing(path: Path, time: np.ndarray, texts: list[str], lines: list[int]) -> None:
+    """An InputError naming the first line whose time is not after the line before it; where
+    those lines have commas and no point, the likely cause: decimal commas between columns
+    separated by commas ('0,01,0,5' reads as time 0)."""
+    stops = np.flatnonzero(np.diff(time) <= 0.0)
+    if not stops.size:
+        return
+    k = int(stops[0])
+    where = f"record file {path}, line {lines[k + 1]}"
+    if all("," in texts[i] and not re.search(r"[.eE]", texts[i]) for i in (k, k + 1)):
+        raise InputError(
+            f"{where}: decimal commas ({texts[k + 1][:40]!r} reads as time {time[k + 1]:g} s, "
+            f"as line {lines[k]} does): use a point as the decimal separator"
+        )
+    raise InputError(
+        f"{where}: time {time[k + 1]:g} s is not after {time[k]:g} s on line {lines[k]}: time "
+        "must increase strictly"
+    )
+
+
 def read_two_column(path, *, units: str = "m/s2", g: float = STANDARD_GRAVITY) -> Record:
     """Read ``time, acceleration`` rows (comma, semicolon or whitespace separated; '#' comments
-    and a non-numeric header line are skipped). ``units``: one of :data:`UNITS` ('m/s2', 'g',
-    'cm/s2', 'gal', 'mm/s2'). The times must be uniformly spaced, :data:`MAX_RECORD_STEP` or
-    finer."""
+    and non-numeric header lines are skipped). ``units``: one of :data:`UNITS` ('m/s2', 'g',
+    'cm/s2', 'gal', 'mm/s2'). The times must increase, uniformly spaced,
+    :data:`MAX_RECORD_STEP` or finer. Decimal commas, another column separator and a time that
+    does not increase are an InputError naming the line and the cause."""
     path = Path(path)
     if units not in UNITS:
         raise InputError(f"units = {units!r} is not one of {', '.join(UNITS)}")
     rows: list[list[float]] = []
     printed: list[str] = []  # the times as written, for their rounding
+    texts: list[str] = []  # the data lines as written
     lines: list[int] = []
     for lineno, line in enumerate(_read_text(path).splitlines(), start=1):
         line = line.split("#", 1)[0].strip()
         if not line:
             continue
+        _decimal_commas(path, lineno, line)
         parts = [x for x in re.split(r"[,;\s]+", line) if x]
         try:
             values = [float(x) for x in parts]
         except ValueError:
+            _unknown_separator(path, lineno, line)
             if not rows:  # a header line
                 continue
             raise InputError(f"record file {path}, line {lineno}: not numeric: {line!r}") from None
@@ -576,10 +642,12 @@ def read_two_column(path, *, units: str = "m/s2", g: float = STANDARD_GRAVITY) -
             )
         rows.append(values[:2])
         printed.append(parts[0])
+        texts.append(line)
         lines.append(lineno)
     if len(rows) < 2:
         raise InputError(f"record file {path}: fewer than two data rows")
     data = np.array(rows)
+    _check_increasing(path, data[:, 0], texts, lines)
     record = Record(data[:, 0], data[:, 1] * _to_si(units, g), name=path.stem)
     _check_step(path, _check_uniform(path, record.time, printed, lines))
     return record
