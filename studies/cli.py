@@ -5,8 +5,11 @@
     colonna design    collar design numbers (corrected Eq. 22-24) and the design chart
     colonna collar    one collar through imposed end displacements (the collar test bench)
     colonna fem       2D finite-element contact model of a study file
-    colonna study     cross-check study (FEM and rigid side by side) with an HTML report
+    colonna study     a study file of any kind (its [study] kind) with an HTML report
+    colonna schema    the study file's keys (JSON Schema, or Markdown for docs/study-file.md)
+    colonna warmup    compile the kernels and measure the FEM's cost on this machine
     colonna validate  the Zhang & Makris validation block (make demo)
+    colonna fragility the SDOF's fragility over a record suite, fast
 
 Bad input ends with one line ``colonna: error: ...`` naming the parameter (a study file: one
 line for each of its errors, all at once), exit status 2; so do results in --out saved from other
@@ -661,7 +664,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", required=True)
 
-    p = sub.add_parser("rigid", help="rocking time history of a rigid block")
+    p = sub.add_parser(
+        "rigid",
+        help="rocking time history of a rigid block, or of a cracked column's two halves with "
+        "collars (SDOF or multibody)",
+    )
     _add_block_options(p)
     g = p.add_argument_group("ground motion")
     g.add_argument("--pulse", choices=PULSE_KINDS, default="sine")
@@ -693,7 +700,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_cmd_rigid)
 
-    p = sub.add_parser("spectrum", help="overturning spectrum (mode map)")
+    p = sub.add_parser(
+        "spectrum", help="overturning spectrum (mode map) of a rigid block, with or without collars"
+    )
     _add_block_options(p)
     p.add_argument("--pulse", choices=PULSE_KINDS, default="sine")
     p.add_argument("--omega-ratios", required=True, help="START:STOP:N of Omega / p")
@@ -738,7 +747,11 @@ def build_parser() -> argparse.ArgumentParser:
     collar_bench.add_arguments(p)
     p.set_defaults(func=collar_bench.run_command)
 
-    p = sub.add_parser("fem", help="2D finite-element contact run of a study file")
+    p = sub.add_parser(
+        "fem",
+        help="one 2D finite-element contact run of a study file's column and ground motion, "
+        "without the rigid models or a report",
+    )
     p.add_argument("study", help="study file (TOML) or the name of a shipped study")
     p.add_argument(
         "--out",
@@ -750,7 +763,13 @@ def build_parser() -> argparse.ArgumentParser:
     _add_long_option(p)
     p.set_defaults(func=_cmd_fem)
 
-    p = sub.add_parser("study", help="cross-check study: FEM and rigid side by side, report")
+    from .kinds import DEFAULT_KIND, KINDS
+
+    what = (
+        f"run a study file of any kind, the one its [study] kind names ({', '.join(KINDS)}; "
+        f"default {DEFAULT_KIND}), into an HTML report"
+    )
+    p = sub.add_parser("study", help=what, description=f"{what[0].upper()}{what[1:]}.")
     p.add_argument("study", help="study file (TOML) or the name of a shipped study")
     p.add_argument(
         "--out",
@@ -810,12 +829,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.set_defaults(func=_cmd_warmup)
 
-    p = sub.add_parser("validate", help="Zhang & Makris validation block (p = 2.14, alpha = 0.25)")
+    p = sub.add_parser(
+        "validate",
+        help="the rigid solvers on Zhang & Makris's block (p = 2.14, alpha = 0.25): time "
+        "histories, mode boundaries beside the paper's Fig. 5, overturning spectra",
+    )
     p.add_argument("--out", type=Path, default=Path("out/validation"))
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_validate)
-
-    from .kinds import KINDS
 
     for name, kind in KINDS.items():  # a kind's own command (studies/kinds.py, its package)
         if kind.command:

@@ -810,3 +810,31 @@ def test_version_is_the_one_the_inputs_record(capsys):
     printed = capsys.readouterr().out.strip()
     recorded = load(resolve_study("default")).to_json()["colonna_version"]
     assert printed == f"colonna {recorded}" == f"colonna {colonna.__version__}"
+
+
+def test_the_help_says_what_each_command_runs(capsys, monkeypatch):
+    """`colonna study` runs every kind of KINDS (issue 48: the help called it a cross-check),
+    so its help line names them from the table; the rigid and spectrum commands say they take
+    collars, fem that it runs the FEM alone."""
+    from colonna.studies.kinds import DEFAULT_KIND, KINDS
+
+    monkeypatch.setenv("COLUMNS", "1000")  # one line a command: argparse wraps at hyphens
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    lines = {
+        line.split()[0]: " ".join(line.split()[1:])
+        for line in capsys.readouterr().out.splitlines()
+        if line.startswith("    ") and line.split()[0].isalpha()
+    }
+    kinds = ", ".join(KINDS)
+    assert lines["study"] == (
+        f"run a study file of any kind, the one its [study] kind names ({kinds}; default "
+        f"{DEFAULT_KIND}), into an HTML report"
+    )
+    assert "cross-check study" not in " ".join(lines.values())
+    assert "collars" in lines["rigid"] and "collars" in lines["spectrum"]
+    assert "without the rigid models or a report" in lines["fem"]
+    assert "Zhang & Makris" in lines["validate"]
+    with pytest.raises(SystemExit):
+        main(["study", "--help"])
+    assert f"of any kind, the one its [study] kind names ({kinds};" in capsys.readouterr().out
