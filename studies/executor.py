@@ -32,6 +32,7 @@ import json
 import logging
 import multiprocessing
 import os
+import re
 import shutil
 import signal
 import sys
@@ -322,6 +323,126 @@ def _changed_record(old, new) -> str | None:
     return None
 
 
+# The study-file key each field of a case's study (studies.fem_study.FemStudy.to_json) comes
+# from, so that a changed input is named as the file spells it (run.safety, collar[2].t): a
+# table's fields keep their names after it (stone.E); the motions' and the bed's by their maps.
+STUDY_FILE_KEYS = {
+    "height": "column.height",
+    "width": "column.width",
+    "thickness": "column.thickness",
+    "cracked": "column.cracked",
+    "top_load": "column.top_load",
+    "stone": "stone",
+    "collars": "collar",
+    "contact": "contact",
+    "rigid": "rigid",
+    "bed": "base",
+    "mesh_size": "mesh.size",
+    "grading": "mesh.grading",
+    "mesh_file": "mesh.file",
+    "edge_length": "mesh.edge_length",
+    "edge_time": "mesh.edge_time",
+    "toe_size": "mesh.toe_size",
+    "toe_refinements": "mesh.toe_refinements",
+    "duration": "run.duration",
+    "output_interval": "run.output_interval",
+    "dt": "run.dt",
+    "safety": "run.safety",
+    "initial_tilt": "run.initial_tilt",
+    "initial_angular_velocity": "run.initial_angular_velocity",
+    "replicas": "run.replicas",
+    "ground": "ground",
+    "vertical": "ground",
+    "stop_when_settled": "[study] kind (whether a run stops once settled)",
+}
+# the [base] key each field of fem.bed.Bed comes from
+BED_KEYS = {
+    "stiffness": "stiffness",
+    "low": "stiffness_range",
+    "high": "stiffness_range",
+    "source": "bed",
+    "yield_pressure": "yield_pressure",
+    "yield_source": "bed",
+}
+# the [ground] keys a harmonic pulse's JSON fields come from (horizontal, vertical)
+MOTION_KEYS = {
+    "type": ("pulse", "vertical_amplitude or vertical_record"),
+    "kind": ("pulse", "vertical_amplitude or vertical_record"),
+    "amplitude": ("amplitude or ground.amplitude_ratio (a_p, m/s^2)", "vertical_amplitude"),
+    "omega": ("period or ground.omega_ratio (Omega, rad/s)", "vertical_period (Omega, rad/s)"),
+    "phase": ("amplitude or ground.amplitude_ratio (the pulse's phase, rad)", "vertical_phase"),
+    "duration": ("period or ground.omega_ratio (the pulse's duration, s)", "vertical_duration"),
+}
+# the fields of a case's study that may be defaults that follow from others (a pulse from the
+# column's uplift, the run's duration from the motion, the thickness from the width): compared
+# after the others, so that the input changed is named, not what follows from it
+DERIVED_FIELDS = ("ground", "vertical", "duration", "thickness", "mesh_size", "edge_length")
+
+
+def study_file_key(path: str) -> str:
+    """A key path of a case's study JSON ('study.safety', 'study.collars[1].t') as the study
+    file spells it ('run.safety', 'collar[1].t'); a path outside it as it is."""
+    match = re.fullmatch(r"study\.([a-z_]+)(.*)", path)
+    if match is None:
+        return path
+    if match.group(1) not in STUDY_FILE_KEYS:  # a study dict shaped as the file: its table's key
+        from .schema import StudyFile
+
+        return path[len("study.") :] if match.group(1) in StudyFile.model_fields else path
+    field, rest = match.groups()
+    sub = rest.lstrip(".").split(".")[0]
+    if field == "bed" and sub:
+        return f"base.{BED_KEYS.get(sub, 'bed')}"
+    if field in ("ground", "vertical") and sub:
+        words = MOTION_KEYS.get(sub)
+        return f"ground.{words[field == 'vertical']}" if words else f"ground ({sub})"
+    if field == "mesh_file" and sub:
+        return "mesh.file (its path or contents)"
+    return STUDY_FILE_KEYS[field] + rest
+
+
+def _in_order(old: dict, new: dict, path: str):
+    """(path, old, new) of each key of two dicts, sorted, the :data:`DERIVED_FIELDS` last and
+    a motion's fields in :data:`MOTION_KEYS`' order (its type, amplitude, then what follows)."""
+    keys = sorted(set(old) | set(new))
+    for key in [k for k in keys if k not in DERIVED_FIELDS] + list(DERIVED_FIELDS):
+        a, b = old.get(key, _MISSING), new.get(key, _MISSING)
+        if key in ("ground", "vertical") and isinstance(a, dict) and isinstance(b, dict):
+            subs = sorted(set(a) | set(b))
+            subs = [k for k in MOTION_KEYS if k in subs] + [k for k in subs if k not in MOTION_KEYS]
+            for sub in subs:
+                yield f"{path}.{key}.{sub}", a.get(sub, _MISSING), b.get(sub, _MISSING)
+        else:
+            yield f"{path}.{key}", a, b
+
+
+_MISSING = object()
+
+
+def _study_difference(old, new) -> str | None:
+    """The first difference of two cases' studies (:func:`_in_order`), the key named as the
+    study file spells it (:func:`study_file_key`); a changed bed by its preset."""
+    if not (isinstance(old, dict) and isinstance(new, dict)):
+        return _first_difference(old, new, "study")
+    old_bed, new_bed = old.get("bed"), new.get("bed")
+    if isinstance(old_bed, dict) and isinstance(new_bed, dict):
+        if old_bed.get("source") != new_bed.get("source"):
+            before, after = (_value_text(b.get("source"), False) for b in (old_bed, new_bed))
+            return f"base.bed: {before} -> {after}"
+    for where, a, b in _in_order(old, new, "study"):
+        found: str | None
+        if a is _MISSING and b is _MISSING:
+            continue
+        if a is _MISSING or b is _MISSING:
+            found = f"{where}: {_value_text(a, a is _MISSING)} -> {_value_text(b, b is _MISSING)}"
+        else:
+            found = _first_difference(a, b, where)
+        if found:
+            place, change = found.split(": ", 1)
+            return f"{study_file_key(place)}: {change}"
+    return None
+
+
 def describe_difference(old: dict, new: dict) -> str:
     """The first difference between the saved inputs of a case and the present ones, in
     words: a key path of the case, a changed file, or the colonna version."""
@@ -330,9 +451,10 @@ def describe_difference(old: dict, new: dict) -> str:
     changed = _changed_record(old_case.get("study"), new_case.get("study"))
     if changed:
         return changed
-    found = _first_difference(
-        old_case.get("study"), new_case.get("study"), "study"
-    ) or _first_difference(old_case, new_case)
+    found = _study_difference(old_case.get("study"), new_case.get("study"))
+    if found:
+        return found
+    found = _first_difference(old_case, new_case)
     if found:
         return found
     old_files = old.get("files")
