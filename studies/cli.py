@@ -572,12 +572,13 @@ def _cmd_study(args) -> dict:
 
 
 def short_summary(keys, summary: dict, report: Path) -> dict:
-    """What ``colonna study`` prints of a kind's summary: its ``keys``; an outcome in the
-    report's words (each model's motion, then each answer with its qualifier, so that a stress
-    answer of a column that overturns reads 'no (until overturning at t = ...)', never a bare
-    'no'); a verdict's words that the answers do not already give."""
+    """What ``colonna study`` prints of a kind's summary, the report's first screen in its
+    words (``keys``, a kind's ``short``): "outcome", each model's motion, then each question
+    with its answer and qualifier (a stress answer of a column that overturns reads 'no
+    (until overturning at t = ...)', never a bare 'no'); "design", the fragility's probability
+    of each limit state at the design intensity, per model. Internal keys stay in
+    summary.json."""
     short: dict = {"report": str(report)}
-    answered: set[str] = set()
     for key in keys:
         value = summary.get(key)
         if key == "outcome" and value:  # the report's opening, in words
@@ -591,12 +592,42 @@ def short_summary(keys, summary: dict, report: Path) -> dict:
                 short[answer["question"]] = answer["answer"] + (
                     f" ({qualifier})" if qualifier else ""
                 )
-                answered.add(answer.get("key", ""))
-        elif isinstance(value, dict):
-            short.update({k: v for k, v in value.items() if k not in answered})
-        elif value is not None:
-            short[key] = value
+        elif key == "design" and value:
+            short.update(_design_probabilities(summary))
     return short
+
+
+# a fragility's intensity measures (colonna.core.intensity.IntensityMeasures) in words
+INTENSITY_WORDS = {
+    "pga": "PGA",
+    "pgv": "PGV",
+    "pgd": "PGD",
+    "arias": "Arias intensity",
+    "cav": "CAV",
+    "d5_95": "duration D5-95",
+    "pga_rocking": "PGA / (g tan alpha)",
+    "pgv_rocking": "PGV p / (g tan alpha)",
+}
+
+
+def _design_probabilities(summary: dict) -> dict:
+    """A fragility's first screen in words: per limit state, the question 'Probability of
+    ... at IM = x?' and each model's answer as its report's table gives it."""
+    from .fragility.report import MODEL_NAMES, design_rows
+
+    unit = summary.get("intensity_unit")
+    at = (
+        f"{INTENSITY_WORDS.get(summary['intensity'], summary['intensity'])} = "
+        f"{summary['design_intensity']:.4g}{f' {unit}' if unit and unit != '-' else ''}"
+    )
+    return {
+        f"Probability of {row['state']} at {at}?": "; ".join(
+            f"{MODEL_NAMES.get(model, model)}: {cell['text']}"
+            + (f" ({cell['note']})" if cell.get("note") else "")
+            for model, cell in zip(summary["models"], row["cells"])
+        )
+        for row in design_rows(summary)
+    }
 
 
 # --- colonna schema ------------------------------------------------------------------------------

@@ -838,3 +838,74 @@ def test_the_help_says_what_each_command_runs(capsys, monkeypatch):
     with pytest.raises(SystemExit):
         main(["study", "--help"])
     assert f"of any kind, the one its [study] kind names ({kinds};" in capsys.readouterr().out
+
+
+SNAKE_CASE = re.compile(r"\b[a-z0-9]+(?:_[a-z0-9]+)+\b")
+
+
+def test_the_study_summary_prints_the_reports_questions_and_answers(tmp_path, capsys):
+    """`colonna study` prints the report line, then the report's first screen in its words:
+    each model's row, each question with its answer; the verdict's internal keys
+    (sdof_half_model_ok, rocks_as_one_block, overturns_fem: issue 48) stay in summary.json."""
+    from tiny_study import TINY_STUDY
+
+    from colonna.studies.outcome import QUESTIONS
+
+    study = tmp_path / "tiny.toml"
+    study.write_text(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.1))
+    out = tmp_path / "out"
+    assert main(["study", str(study), "--out", str(out), "--workers", "1"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    summary = json.loads((out / "summary.json").read_text())
+    assert lines[0].split() == ["report", str(out / "index.html")]
+    models = [m["model"] for m in summary["outcome"]["models"]]
+    answers = {a["question"]: a["answer"] for a in summary["outcome"]["answers"]}
+    printed = []
+    for line in lines[1:]:
+        head = next(h for h in models + list(QUESTIONS.values()) if line.startswith(h))
+        assert line[len(head) :].strip(), line  # an answer beside it
+        assert not SNAKE_CASE.search(head), line
+        printed.append(head)
+    assert printed == models + list(answers)  # every row of the first screen, in its order
+    for question, answer in answers.items():
+        assert (
+            next(x for x in lines if x.startswith(question))[len(question) :].split()[0]
+            == (answer.split()[0])
+        )
+    assert set(summary["verdict"]) >= {"sdof_half_model_ok", "rocks_as_one_block"}
+    for key in summary["verdict"]:  # on record, not printed
+        assert key not in "\n".join(lines)
+
+
+def test_every_kind_prints_its_first_screen_in_words():
+    """Each kind's terminal summary is the report's opening ("outcome") or, for the fragility,
+    its probabilities at the design intensity ("design"), each a question in words."""
+    from colonna.studies.cli import short_summary
+    from colonna.studies.kinds import KINDS
+
+    for name, kind in KINDS.items():
+        assert kind.short in (("outcome",), ("design",)), name
+    summary = {
+        "intensity": "pga_rocking",
+        "intensity_unit": "-",
+        "design_intensity": 1.5,
+        "models": ["sdof"],
+        "limit_states": {
+            "sdof": {
+                "overturning": {
+                    "stripes": {
+                        "fit": "lognormal",
+                        "probability": 0.3125,
+                        "probability_interval": [0.2, 0.45],
+                    }
+                }
+            }
+        },
+        "design": {"P(overturning)_sdof": 0.3125},
+    }
+    printed = short_summary(KINDS["fragility"].short, summary, Path("out/index.html"))
+    assert printed == {
+        "report": "out/index.html",
+        "Probability of overturning at PGA / (g tan alpha) = 1.5?": "SDOF half block: 0.312 "
+        "[0.2, 0.45]",
+    }
