@@ -386,7 +386,8 @@ def test_separators_with_points_read_as_spaces_do(tmp_path, sep):
 
 def test_a_header_line_of_text_is_skipped_and_text_after_data_is_not(tmp_path):
     plain = read_record(_written(tmp_path / "plain.txt", " "))
-    headed = read_record(_written(tmp_path / "h.txt", ";", header="Zeit [s];Beschl. [m/s2]\n"))
+    header = "Zeit [s];Beschl. [m/s2], Filter ab 0,1 Hz\n"  # a decimal comma in words
+    headed = read_record(_written(tmp_path / "h.txt", ";", header=header))
     np.testing.assert_array_equal(headed.acceleration_values, plain.acceleration_values)
     np.testing.assert_array_equal(headed.time, plain.time)
     path = tmp_path / "late.txt"
@@ -405,6 +406,10 @@ def test_another_column_separator_is_named(tmp_path, mark):
         f"record file {path}, line 2: columns separated by {mark!r} "
         f"({f'0.00{mark}0.0000'!r}): separate them by spaces, tabs, commas or semicolons"
     )
+    # a header of letters and digits is a header: x1 and x2 are no numbers apart
+    plain = read_record(_written(tmp_path / "plain.txt", " "))
+    headed = read_record(_written(tmp_path / "h.txt", ",", header="x1,x2\n"))
+    np.testing.assert_array_equal(headed.acceleration_values, plain.acceleration_values)
 
 
 def test_a_time_that_stops_increasing_names_its_line(tmp_path):

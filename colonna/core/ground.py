@@ -549,6 +549,7 @@ def _check_uniform(path: Path, time: np.ndarray, printed: list[str], lines: list
 
 
 _DECIMAL_COMMA = re.compile(r"[+-]?\d*,\d+(?:[eE][+-]?\d+)?")
+_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
 _COLUMN_SEPARATORS = "spaces, tabs, commas or semicolons"
 
 
@@ -563,7 +564,8 @@ def _decimal_commas(path: Path, lineno: int, line: str) -> None:
     time would be its integer part."""
     tokens = [x.strip(",") for x in re.split(r"[;\s]+", line) if x.strip(",")]
     comma = next((x for x in tokens if _DECIMAL_COMMA.fullmatch(x)), None)
-    if len(tokens) >= 2 and comma is not None:
+    numbers = all(_DECIMAL_COMMA.fullmatch(x) or _NUMBER.fullmatch(x) for x in tokens)
+    if len(tokens) >= 2 and comma is not None and numbers:  # not a header ('f = 1,5 Hz')
         raise InputError(
             f"record file {path}, line {lineno}: decimal commas in {line[:40]!r} (columns "
             f"separated by {_separator_words(line)}): use a point as the decimal separator, "
@@ -578,11 +580,8 @@ def _unknown_separator(path: Path, lineno: int, line: str) -> None:
     if len(others) != 1:
         return
     mark = others.pop()
-    try:
-        values = [float(x) for x in re.split(r"[,;\s]+", line.replace(mark, " ")) if x]
-    except ValueError:
-        return
-    if len(values) < 2:
+    number = r"\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\s*"
+    if not re.fullmatch(rf"{number}(?:{re.escape(mark)}{number})+", line):  # a header: 'x1 x2'
         return
     raise InputError(
         f"record file {path}, line {lineno}: columns separated by {mark!r} ({line[:40]!r}): "
