@@ -69,6 +69,32 @@ def _penalty_contact(gap, vn, vt, kn, kt, cn, mu, dt, ft, fc, blend):
 
 
 @njit(cache=True, inline="always")
+def _bed_contact(depth, vn, vt, kn, kt, cn, fy, mu, dt, ft, fc, blend):
+    """One node of an elastic-plastic bed pressed ``depth`` below the bottom of its
+    indentation (> 0; depth = -gap - indentation), normal velocity vn, tangential vt; penalties
+    kn, kt, damping cn, yield force fy (the bed's yield pressure over the node's area; inf for
+    an elastic bed). The spring's force kn depth is capped at fy: past it the indentation grows
+    by the excess depth - fy / kn (plastic work fy times that), and the damped force too is
+    capped at fy (the pressure never exceeds the bed's yield). With fy = inf the arithmetic is
+    _penalty_contact's, bit for bit. Returns its values and, last, the plastic indentation's
+    increment (m) and work (J)."""
+    flow = 0.0
+    fn_el = kn * depth
+    if fn_el > fy:
+        flow = depth - fy / kn
+        depth = fy / kn
+        fn_el = fy
+    fn = min(max(fn_el - cn * vn, 0.0), fy)
+    cone = fn if fc == 0.0 else fc + blend * (fn - fc)
+    trial, friction = _coulomb(ft, kt, vt, dt, mu * cone)
+    damping = (fn - fn_el) * (-vn)  # damping, or the clipped tensile part
+    power = friction + damping
+    energy = 0.5 * kn * depth * depth + 0.5 * trial * trial / kt
+    work = fy * flow if flow > 0.0 else 0.0  # (inf x 0 on an elastic bed)
+    return fn, trial, cone, energy, power, friction, damping, flow, work
+
+
+@njit(cache=True, inline="always")
 def _release(ft, normal_force, fn_filtered, r, k):
     """Contact k of state r is open: no forces, and the friction cone's filter starts afresh."""
     ft[r, k] = 0.0
@@ -78,46 +104,70 @@ def _release(ft, normal_force, fn_filtered, r, k):
 
 @njit(cache=True)
 def base_contact(
-    x, v, f, running, states, nodes, kn, kt, cn, mu, dt, ft, normal_force, fn_filtered, blend, out
+    x,
+    v,
+    f,
+    running,
+    states,
+    nodes,
+    kn,
+    kt,
+    cn,
+    fy,
+    mu,
+    dt,
+    ft,
+    normal_force,
+    fn_filtered,
+    indentation,
+    blend,
+    out,
 ):
-    """Base nodes against the rigid ground y = 0, for the running columns of a group.
+    """Base nodes against the bed on the rigid ground y = 0, for the running columns of a
+    group.
 
     x, v, f: positions, velocities and forces (n_dofs, columns), column j holding state
-    states[j] if running[j]. ft, normal_force, fn_filtered (states, nodes): tangential force,
-    normal force, and the normal force low-pass filtered for the friction cone (blend = dt /
-    tau, 1 for no filter). out[0, j], out[1, j]: the elastic contact energy and dissipated
-    power of column j; out[2, j], out[3, j]: of that power the friction's and the damping's
-    (diagnostics only: nothing reads them back into the motion). Node by node with the
-    columns innermost, so that a node's rows are read once for the group (a state's sums
-    still run over the nodes in order: the same bits alone or in a group)."""
+    states[j] if running[j]. ft, normal_force, fn_filtered, indentation (states, nodes):
+    tangential force, normal force, the normal force low-pass filtered for the friction cone
+    (blend = dt / tau, 1 for no filter), and the bed's plastic indentation under the node (m,
+    > 0 downward: where the node is above its bottom, y > -indentation, it is open). fy: each
+    node's yield force (N; inf: an elastic bed; _bed_contact). out[0, j], out[1, j]: the
+    elastic contact energy and dissipated power (friction and damping) of column j; out[2, j],
+    out[3, j]: of that power the friction's and the damping's (diagnostics only: nothing reads
+    them back into the motion); out[4, j]: the bed's plastic work this step (J). Node by node
+    with the columns innermost, so that a node's rows are read once for the group (a state's
+    sums still run over the nodes in order: the same bits alone or in a group)."""
     for j in range(states.size):
         out[0, j] = 0.0
         out[1, j] = 0.0
         out[2, j] = 0.0
         out[3, j] = 0.0
+        out[4, j] = 0.0
     for k in range(nodes.size):
         i = nodes[k]
         for j in range(states.size):
             if not running[j]:
                 continue
             r = states[j]
-            gap = x[2 * i + 1, j]
-            if gap >= 0.0:
+            depth = -x[2 * i + 1, j] - indentation[r, k]
+            if depth <= 0.0:
                 _release(ft, normal_force, fn_filtered, r, k)
                 continue
-            fn, trial, cone, e, p, p_friction, p_damping = _penalty_contact(
-                gap,
+            fn, trial, cone, e, p, p_friction, p_damping, flow, w_plastic = _bed_contact(
+                depth,
                 v[2 * i + 1, j],
                 v[2 * i, j],
                 kn[k],
                 kt[k],
                 cn[k],
+                fy[k],
                 mu,
                 dt,
                 ft[r, k],
                 fn_filtered[r, k],
                 blend,
             )
+            indentation[r, k] += flow
             ft[r, k] = trial
             normal_force[r, k] = fn
             fn_filtered[r, k] = cone
@@ -127,6 +177,7 @@ def base_contact(
             out[1, j] += p
             out[2, j] += p_friction
             out[3, j] += p_damping
+            out[4, j] += w_plastic
 
 
 @njit(cache=True, inline="always")
@@ -655,14 +706,16 @@ Bodies = namedtuple(
 gravity load per dof, and the nodes grouped by body: body b's nodes are
 order[offsets[b]:offsets[b + 1]]."""
 
-ContactPass = namedtuple("ContactPass", ["nodes", "masters", "sign", "kn", "kt", "cn"])
+ContactPass = namedtuple("ContactPass", ["nodes", "masters", "sign", "kn", "kt", "cn", "fy"])
 """A contact pass: the base (nodes against the ground; masters and sign unused) or one crack
-pass (slave nodes on the master face; see crack_contact); penalty, tangential penalty and
-damping per contact node."""
+pass (slave nodes on the master face; see crack_contact); penalty, tangential penalty,
+damping and yield force (the base's elastic-plastic bed, inf where elastic; a crack's unused)
+per contact node."""
 
-ContactState = namedtuple("ContactState", ["seg", "ft", "fn", "fc"])
+ContactState = namedtuple("ContactState", ["seg", "ft", "fn", "fc", "indentation"])
 """Per state (rows) and contact node: master segment last used (crack), tangential force,
-normal force and its filtered value for the friction cone."""
+normal force, its filtered value for the friction cone, and the bed's plastic indentation (m;
+the base's)."""
 
 Collars = namedtuple("Collars", ["nodes", "props"])
 """collar_forces' node table and properties."""
@@ -678,8 +731,9 @@ running sums (B, n_edges) and the peak of the average since the last record (B, 
 
 Motion = namedtuple("Motion", ["x", "v", "frames", "tallies", "energies", "alive", "done"])
 """Per state: positions and velocities (B, n_dofs), body frames (B, n_bodies, 3: centroid x,
-y and rotation), tallies (B, 5: dissipated energy, external work, and of the dissipated the
-base's friction work, the crack's friction work, the contact damping work), energies (B, 6: strain,
+y and rotation), tallies (B, 6: dissipated energy, external work, and of the dissipated the
+base's friction work, the crack's friction work, the contact damping work, the bed's plastic
+work), energies (B, 6: strain,
 base contact, crack contact, collar, gravity, kinetic), alive (B,: False stops a state) and
 done (B,: steps done by the last call)."""
 
@@ -1136,8 +1190,8 @@ def _advance_group(
     frame = carray(_stack_rows(4), (4, GROUP))
     totals = carray(_stack_rows(5), (5, GROUP))
     ground = carray(_stack_rows(4), (4, GROUP))
-    results = carray(_stack_rows(7), (7, GROUP))
-    contact = carray(_stack_rows(12), (12, GROUP))
+    results = carray(_stack_rows(8), (8, GROUP))
+    contact = carray(_stack_rows(17), (17, GROUP))
     collar_results = carray(_stack_rows(2), (2, GROUP))
     # the exact crack contact's scratch (crack_lagrange); its tolerance (m) is the caller's
     # (fem.solver.LAGRANGE_TOLERANCE says how it is chosen)
@@ -1229,13 +1283,15 @@ def _advance_group(
             base.kn,
             base.kt,
             base.cn,
+            base.fy,
             mu,
             dt,
             base_state.ft,
             base_state.fn,
             base_state.fc,
+            base_state.indentation,
             blend,
-            contact[0:4],
+            contact[12:17],
         )
         # per state the toe averages and the collars (their forces join the external ones:
         # the exact crack contact predicts with every other force in)
@@ -1318,19 +1374,20 @@ def _advance_group(
             e_crack = 0.0
             p_crack = 0.0
             friction_crack = 0.0
-            damping = contact[3, j]
+            damping = contact[15, j]
             for p in range(2):
                 e_crack += contact[4 + 4 * p, j]
                 p_crack += contact[5 + 4 * p, j]
                 friction_crack += contact[6 + 4 * p, j]
                 damping += contact[7 + 4 * p, j]
-            results[0, j] = contact[0, j]
+            results[0, j] = contact[12, j]
             results[1, j] = e_crack
             results[2, j] = e_collar
-            results[3, j] = (contact[1, j] + p_crack) * dt + w_plastic
-            results[4, j] = contact[2, j] * dt
+            results[3, j] = (contact[13, j] + p_crack) * dt + w_plastic + contact[16, j]
+            results[4, j] = contact[14, j] * dt
             results[5, j] = friction_crack * dt
             results[6, j] = damping * dt
+            results[7, j] = contact[16, j]
         # fused, body by body: elastic forces back to the ground frame, update, next step's
         # loads; per state the sums of strain, gravity and kinetic energy, external work, |v|^2
         # and the next step's frame sums (of the new positions)
@@ -1397,6 +1454,7 @@ def _advance_group(
             motion.tallies[r, 2] += results[4, j]
             motion.tallies[r, 3] += results[5, j]
             motion.tallies[r, 4] += results[6, j]
+            motion.tallies[r, 5] += results[7, j]
             energies = motion.energies[r]
             energies[0] = totals[0, j]
             energies[1] = results[0, j]

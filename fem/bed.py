@@ -34,6 +34,7 @@ import numpy as np
 from ..core.errors import InputError, require_range
 
 STIFFNESS_RANGE = (1e6, 1e18)  # N/m^3: the range a bed stiffness may take (as contact.penalty)
+YIELD_PRESSURE_RANGE = (1e5, 1e10)  # Pa: the range a bed's yield pressure may take
 
 
 @dataclass(frozen=True)
@@ -45,6 +46,18 @@ class BedPreset:
     stiffness_range: tuple[float, float]
     source: str
     layer: tuple[tuple[float, float], tuple[float, float]] | None = None
+    # the pressure (Pa) at which the layer yields, its range and where it comes from; None for
+    # a bed that does not yield before the stone (stone on stone)
+    yield_range: tuple[float, float] | None = None
+    yield_source: str = ""
+    plastic: bool = False  # whether the preset yields unless [base] plastic = false
+
+    @property
+    def yield_pressure(self) -> float | None:
+        """The nominal yield pressure (Pa): the geometric mean of its range's ends."""
+        if self.yield_range is None:
+            return None
+        return math.sqrt(self.yield_range[0] * self.yield_range[1])
 
     @property
     def stiffness(self) -> float:
@@ -67,12 +80,20 @@ BED_PRESETS = {
         source="mortar bed: E 1-10 GPa over 10-20 mm (joint stiffness E_m / t_m, Lourenco & Rots "
         "1997)",
         **_layer((1e9, 10e9), (0.010, 0.020)),
+        yield_range=(1e6, 20e6),
+        yield_source="mortar: compressive strength 1-20 MPa, classes M1 to M20 of EN 998-2 "
+        "(a bed joint's confinement raises it: the lower end is conservative for the toe)",
     ),
     "lead": BedPreset(
         "lead",
-        source="lead sheet: E 16 GPa (ASM Handbook Vol. 2) over 1.32-3.55 mm (EN 12588 codes "
-        "3-8); elastic, lead yields at a few MPa",
+        source="lead sheet: E 16 GPa (ASM Handbook Vol. 2) over 1.32-3.55 mm (EN 12588 codes 3-8)",
         **_layer((16e9, 16e9), (1.32e-3, 3.55e-3)),
+        yield_range=(5e6, 40e6),
+        yield_source="lead: from its uniaxial yield stress, about 5 MPa (pure lead, ASM Handbook "
+        "Vol. 2), for a sheet free to flow out, to its Brinell hardness, about 4 HB = 40 MPa, "
+        "for one confined under the toe (an indentation pressure about 3 times the yield "
+        "stress, Tabor 1951)",
+        plastic=True,
     ),
     "stone": BedPreset(
         "stone",
@@ -93,11 +114,23 @@ class Bed:
     low: float
     high: float
     source: str
+    # Pa: the pressure at which the bed yields (elastic-perfectly plastic, its indentation
+    # kept); None: elastic
+    yield_pressure: float | None = None
+    yield_source: str = ""
 
     def __post_init__(self):
         for name, value in (("stiffness", self.stiffness), ("low", self.low), ("high", self.high)):
             require_range(
                 f"base {name} (N/m^3)", value, *STIFFNESS_RANGE, closed_low=True, closed_high=True
+            )
+        if self.yield_pressure is not None:
+            require_range(
+                "base yield_pressure (Pa)",
+                self.yield_pressure,
+                *YIELD_PRESSURE_RANGE,
+                closed_low=True,
+                closed_high=True,
             )
         if not self.low <= self.stiffness <= self.high:
             raise InputError(
@@ -111,20 +144,44 @@ def bed_of(
     stiffness: float | None = None,
     low: float | None = None,
     high: float | None = None,
+    plastic: bool | None = None,
+    yield_pressure: float | None = None,
 ) -> Bed:
     """The bed of a preset name (:data:`BED_PRESETS`), or of a given ``stiffness`` (N/m^3, with
-    an optional range ``low``-``high``; it overrides the preset, which then only names it)."""
-    if stiffness is not None:
-        low = stiffness if low is None else low
-        high = stiffness if high is None else high
-        return Bed(float(stiffness), float(low), float(high), "given (base.stiffness)")
-    if low is not None or high is not None:
-        raise InputError("base.stiffness_range goes with a given base.stiffness only")
+    an optional range ``low``-``high``; it overrides the preset, which then only names it).
+
+    It yields (elastic-perfectly plastic) at ``yield_pressure`` (Pa) where given, else at the
+    preset's nominal yield pressure where ``plastic`` (default: the preset's own choice, lead
+    yields); ``plastic = False`` keeps it elastic."""
     name = preset or DEFAULT_BED
     if name not in BED_PRESETS:
         raise InputError(f"base.bed = {name!r} must be one of {', '.join(BED_PRESETS)}")
     p = BED_PRESETS[name]
-    return Bed(p.stiffness, *p.stiffness_range, p.source)
+    yields = p.plastic if plastic is None else plastic
+    if plastic is False and yield_pressure is not None:
+        raise InputError(
+            "base.yield_pressure goes with a bed that yields: not with plastic = false"
+        )
+    pressure: float | None = None
+    why = ""
+    if yield_pressure is not None:
+        pressure, why = float(yield_pressure), "given (base.yield_pressure)"
+    elif yields:
+        if p.yield_pressure is None:
+            raise InputError(
+                f"base.plastic = true: the {name} bed has no yield pressure of its own (it "
+                "does not yield before the stone): give base.yield_pressure"
+            )
+        pressure, why = p.yield_pressure, p.yield_source
+    if stiffness is not None:
+        low = stiffness if low is None else low
+        high = stiffness if high is None else high
+        return Bed(
+            float(stiffness), float(low), float(high), "given (base.stiffness)", pressure, why
+        )
+    if low is not None or high is not None:
+        raise InputError("base.stiffness_range goes with a given base.stiffness only")
+    return Bed(p.stiffness, *p.stiffness_range, p.source, pressure, why)
 
 
 DEFAULT = bed_of()
@@ -168,6 +225,39 @@ def winkler_toe_pressure(force, theta, stiffness: float, thickness: float, width
     full = force / (t * w) + 0.5 * k * tilt * w
     inside = 2.0 * force <= k * t * tilt * w * w  # c <= w
     return np.where(inside, np.sqrt(partial), full)
+
+
+def winkler_plastic_pivot(
+    weight: float, stiffness: float, thickness: float, theta: float, yield_pressure: float
+) -> dict:
+    """A rigid block of weight W (N) and thickness t (m) pivoting at tilt theta (rad) on a
+    tensionless elastic-perfectly plastic Winkler bed (k N/m^3, yield pressure p_y Pa),
+    loaded monotonically: the bed's pressure is min(k theta (c - s), p_y) at a distance s from
+    the toe. Where the elastic peak k theta c_e (c_e = sqrt(2 W / (k t theta))) stays below
+    p_y, the elastic answer; else a plastic zone of length a = W / (t p_y) - p_y / (2 k theta)
+    at p_y, then the elastic wedge over p_y / (k theta): c = a + p_y / (k theta), from
+    W = t (p_y a + p_y^2 / (2 k theta)). Returns contact_length c, plastic_length a (m),
+    peak_pressure (Pa) and offset, the resultant's distance from the toe (m)."""
+    k, t, p_y, tilt = stiffness, thickness, yield_pressure, abs(theta)
+    elastic = winkler_contact_length(weight, k, t, tilt)
+    if k * tilt * elastic <= p_y:
+        return {
+            "contact_length": elastic,
+            "plastic_length": 0.0,
+            "peak_pressure": k * tilt * elastic,
+            "offset": elastic / 3.0,
+        }
+    wedge = p_y / (k * tilt)
+    a = weight / (t * p_y) - 0.5 * wedge
+    # moments about the toe: the plastic block p_y a at a / 2, the wedge p_y wedge / 2 at
+    # a + wedge / 3
+    moment = p_y * a * 0.5 * a + 0.5 * p_y * wedge * (a + wedge / 3.0)
+    return {
+        "contact_length": a + wedge,
+        "plastic_length": a,
+        "peak_pressure": p_y,
+        "offset": moment / (p_y * a + 0.5 * p_y * wedge),
+    }
 
 
 ELEMENTS_ACROSS = 4  # elements across the contact zone that resolve it (the toe grading rule)

@@ -34,6 +34,7 @@ LANDING_DEPENDENT = (
     "edge_stress_ratio",
     "collar_max_plastic_strain",
     "collar_plastic_work",
+    "bed_plastic_work",
     "collar_max_fibre_strain",
     "collar_ductility_demand",
     "collar_fracture_time",

@@ -138,6 +138,15 @@ class Model:
         return np.zeros((self.collar_nodes.shape[0], self.collar_state_size))
 
     @property
+    def base_yield_force(self) -> np.ndarray:
+        """Each base node's yield force (N): the bed's yield pressure x thickness x tributary
+        length; inf on an elastic bed (fem.bed.Bed.yield_pressure None)."""
+        pressure = self.bed.yield_pressure
+        if pressure is None:
+            return np.full(self.base_nodes.size, np.inf)
+        return pressure * self.thickness * self.base_tributary
+
+    @property
     def node_mass(self) -> np.ndarray:
         return self.mass[0::2]
 

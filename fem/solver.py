@@ -213,6 +213,14 @@ class FemRunSummary:
         "Pa", "largest Winkler toe pressure of a body's sampled base force and tilt", default=0.0
     )
     bed_stiffness: float = quantity("N/m^3", "the base's bed stiffness per unit area", default=0.0)
+    bed_yield_pressure: float | None = quantity(
+        "Pa", "the bed's yield pressure (None: an elastic bed)", default=None
+    )
+    bed_plastic_work: float = quantity(
+        "J",
+        "the bed's plastic work over the run (its indentation, on a bed that yields)",
+        default=0.0,
+    )
     top_load: float = quantity("N", "dead load on the capital")
     energy_error_max: float = quantity("-", "largest energy balance error / energy scale")
     energy_error_limit: float = quantity("-", "the balance error past which a run is unreliable")
@@ -257,6 +265,15 @@ def static_state(model: Model):
         False,
     )
     u = spsolve(total, f)
+    base_fn = -model.base_kn * u[2 * model.base_nodes + 1]
+    if model.bed.yield_pressure is not None and np.any(base_fn > model.base_yield_force):
+        pressure = float(np.max(base_fn / (model.base_tributary * model.thickness)))
+        raise InputError(
+            f"the bed yields under the column at rest: its static pressure reaches "
+            f"{pressure / 1e6:.3g} MPa, above the bed's yield pressure "
+            f"{model.bed.yield_pressure / 1e6:.3g} MPa: raise base.yield_pressure or set "
+            "base.plastic = false"
+        )
     base_ft = -tangential * model.base_kt * u[2 * model.base_nodes]
     crack_ft = []
     for slaves, masters, _sign, _kn, kt, _cn in model.crack_passes:
@@ -1010,6 +1027,14 @@ def _restore_contact(model, state: dict) -> dict:
     if given != expected:
         raise InputError(f"run initial_contact: expected arrays of shapes {expected}, got {given}")
     out = {"base_ft": base[0], "base_fc": base[1], "crack_ft": passes[0], "crack_fc": passes[1]}
+    if state.get("base_indentation") is not None:  # the bed's plastic indentation (m)
+        indentation = np.array(state["base_indentation"], dtype=float)
+        if indentation.shape != (model.base_nodes.size,):
+            raise InputError(
+                f"run initial_contact: base_indentation must have shape "
+                f"({model.base_nodes.size},), got {indentation.shape}"
+            )
+        out["base_indentation"] = indentation
     if "collar_state" in state:  # the plastic state of the collars
         collar_state = np.asarray(state["collar_state"], dtype=float)
         shape = (model.collar_nodes.shape[0], model.collar_state_size)
@@ -1061,23 +1086,23 @@ class _BatchState:
             model.base_kn,
             model.base_kt,
             model.base_cn,
+            model.base_yield_force,
         )
         passes = [
-            K.ContactPass(sl, ma, float(sign), kn, kt, cn)
+            K.ContactPass(sl, ma, float(sign), kn, kt, cn, np.full(sl.size, np.inf))
             for sl, ma, sign, kn, kt, cn in model.crack_passes
         ]
+        none = np.zeros(0)
         while len(passes) < 2:
             passes.append(
-                K.ContactPass(
-                    empty_i, np.zeros(1, dtype=np.int64), 1.0, np.zeros(0), np.zeros(0), np.zeros(0)
-                )
+                K.ContactPass(empty_i, np.zeros(1, dtype=np.int64), 1.0, none, none, none, none)
             )
         self.cracks = tuple(passes)
         self.motion = K.Motion(
             np.zeros((batch, n)),
             np.zeros((batch, n)),
             np.zeros((batch, model.mesh.n_bodies, 3)),
-            np.zeros((batch, 5)),
+            np.zeros((batch, 6)),
             np.zeros((batch, 6)),
             np.zeros(batch, dtype=np.bool_),
             np.zeros(batch, dtype=np.int64),
@@ -1086,6 +1111,7 @@ class _BatchState:
         def contact_state(nodes: int) -> K.ContactState:
             return K.ContactState(
                 np.zeros((batch, nodes), dtype=np.int64),
+                np.zeros((batch, nodes)),
                 np.zeros((batch, nodes)),
                 np.zeros((batch, nodes)),
                 np.zeros((batch, nodes)),
@@ -1178,6 +1204,9 @@ class _BatchState:
             contact.ft[slot] = ft
             contact.fn[slot] = 0.0
             contact.fc[slot] = fc
+            contact.indentation[slot] = 0.0
+        if start.get("base_indentation") is not None:  # a restart on a bed that yielded
+            self.base_state.indentation[slot] = start["base_indentation"]
         self.collars.out[slot] = 0.0
         self.collars.plastic[slot] = np.asarray(start["collar_state"]).reshape(
             self.collars.plastic.shape[1:]
@@ -1476,6 +1505,7 @@ class _Recorder:
             energy_friction_base=tallies[2],
             energy_friction_crack=tallies[3],
             energy_contact_damping=tallies[4],
+            energy_bed_plastic=tallies[5],
         )
         row["energy_total"] = (
             kinetic + energies[0] + gravity + energies[1] + energies[2] + energies[3]
@@ -1488,6 +1518,7 @@ class _Recorder:
                 {
                     "base_ft": base_ft.copy(),
                     "base_fc": base_fc.copy(),
+                    "base_indentation": state.base_state.indentation[r].copy(),
                     "crack_ft": [ft.copy() for ft, _, _ in passes],
                     "crack_fc": [fc.copy() for _, _, fc in passes],
                     "collar_state": collar_state.copy(),
@@ -1777,6 +1808,8 @@ def _summary(
         toe_resultant_offset=float(h[f"toe_resultant_offset_{name}"][at_peak]),
         toe_pressure_winkler=_winkler_pressure(model, h),
         bed_stiffness=model.bed.stiffness,
+        bed_yield_pressure=model.bed.yield_pressure,
+        bed_plastic_work=float(h["energy_bed_plastic"][-1]) if len(h["t"]) else 0.0,
         top_load=model.top_load,
         energy_error_max=error_max,
         energy_error_limit=ENERGY_ERROR_LIMIT,
@@ -1812,24 +1845,29 @@ def _crack_force_summary(history) -> dict:
 def _winkler_pressure(model, history) -> float:
     """The largest toe pressure of a rigid base on the bed (Pa) over the output samples and the
     bodies, from each body's base normal force and rigid tilt
-    (:func:`colonna.fem.bed.winkler_toe_pressure`)."""
+    (:func:`colonna.fem.bed.winkler_toe_pressure`), at most the bed's yield pressure on a bed
+    that yields (:func:`colonna.fem.bed.winkler_plastic_pivot`: its peak)."""
     from .bed import winkler_toe_pressure
 
     mesh = model.mesh
     tilts = ["theta_left", "theta_right"][: mesh.n_bodies]
-    return max(
-        float(
-            np.max(
-                winkler_toe_pressure(
-                    history[f"base_normal_force_{b + 1}"],
-                    history[tilt],
-                    model.bed.stiffness,
-                    model.thickness,
-                    mesh.width / mesh.n_bodies,
+    cap = math.inf if model.bed.yield_pressure is None else model.bed.yield_pressure
+    return min(
+        cap,
+        max(
+            float(
+                np.max(
+                    winkler_toe_pressure(
+                        history[f"base_normal_force_{b + 1}"],
+                        history[tilt],
+                        model.bed.stiffness,
+                        model.thickness,
+                        mesh.width / mesh.n_bodies,
+                    )
                 )
             )
-        )
-        for b, tilt in enumerate(tilts)
+            for b, tilt in enumerate(tilts)
+        ),
     )
 
 

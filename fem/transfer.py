@@ -81,7 +81,8 @@ def transfer_contact(source, target, state: dict) -> dict:
     base_ft, crack_ft and filtered normal forces base_fc, crack_fc, N per node) carried to the
     ``target`` model (both :class:`colonna.fem.model.Model`) as tractions along the base of
     each body and along each crack pass's face, so that a restart keeps the friction that was
-    holding the column (reset to zero, a sticking crack slips for a moment)."""
+    holding the column (reset to zero, a sticking crack slips for a moment), and the bed's
+    plastic indentation (m) where it has one, interpolated as a depth."""
     from .model import _tributary
 
     body_s = source.mesh.node_body[source.base_nodes]
@@ -107,6 +108,13 @@ def transfer_contact(source, target, state: dict) -> dict:
                     ys, np.asarray(force, dtype=float), yt, _tributary(ys), _tributary(yt)
                 )
             )
+    if state.get("base_indentation") is not None:  # the bed's indentation (m): a depth
+        depth = np.asarray(state["base_indentation"], dtype=float)
+        carried = np.zeros(target.base_nodes.size)
+        for body in range(target.mesh.n_bodies):
+            s, t = body_s == body, body_t == body
+            carried[t] = np.interp(xt[t], xs[s], depth[s])
+        out["base_indentation"] = carried
     if "collar_state" in state:  # the same collars on both meshes
         out["collar_state"] = np.array(state["collar_state"], dtype=float)
     return out

@@ -192,7 +192,8 @@ def toe_resolution(study: FemStudy) -> dict:
     (m), the toe element size c / 4 that resolves it (m) and the fine zone 2 c (m; at most half
     a body's width) over which the toe's elements keep that size
     (:func:`colonna.fem.bed.resolving_toe_size`); the Winkler peak pressure 2 W / (t c) at the
-    bed's stiffness and at its range's ends (Pa): the closed form's answer over the range."""
+    bed's stiffness and at its range's ends (Pa), at most the yield pressure of a bed that
+    yields (given with its source): the closed form's answer over the range."""
     from ..fem.bed import ELEMENTS_ACROSS, winkler_contact_length, winkler_peak_pressure
 
     half = study.cracked and not study.collars
@@ -200,6 +201,7 @@ def toe_resolution(study: FemStudy) -> dict:
     weight = block.mass * block.g + (0.5 if half else 1.0) * study.top_load
     theta = 0.5 * study.rocking_alpha
     k, t = study.bed.stiffness, study.thickness
+    cap = math.inf if study.bed.yield_pressure is None else study.bed.yield_pressure
     contact = winkler_contact_length(weight, k, t, theta)
     body_width = study.width / (2.0 if study.cracked else 1.0)
     return {
@@ -210,9 +212,12 @@ def toe_resolution(study: FemStudy) -> dict:
         "toe_size": contact / ELEMENTS_ACROSS,
         "elements_across": ELEMENTS_ACROSS,
         "zone": min(2.0 * contact, 0.5 * body_width),
-        "pressure": winkler_peak_pressure(weight, k, t, theta),
-        "pressure_low": winkler_peak_pressure(weight, study.bed.low, t, theta),
-        "pressure_high": winkler_peak_pressure(weight, study.bed.high, t, theta),
+        # on a bed that yields, the peak is at most its yield pressure (fem.bed.winkler_plastic_pivot)
+        "pressure": min(cap, winkler_peak_pressure(weight, k, t, theta)),
+        "pressure_low": min(cap, winkler_peak_pressure(weight, study.bed.low, t, theta)),
+        "pressure_high": min(cap, winkler_peak_pressure(weight, study.bed.high, t, theta)),
+        "yield_pressure": study.bed.yield_pressure,
+        "yield_source": study.bed.yield_source or None,
     }
 
 
@@ -316,7 +321,11 @@ def column_of(spec: schema.StudyFile, source: str = "study", base: Path = Path("
         ground=NoMotion(),
         contact=ContactSettings(**spec.contact.model_dump()),
         bed=bed_of(
-            spec.base.bed, spec.base.stiffness, *(spec.base.stiffness_range or (None, None))
+            spec.base.bed,
+            spec.base.stiffness,
+            *(spec.base.stiffness_range or (None, None)),
+            plastic=spec.base.plastic,
+            yield_pressure=spec.base.yield_pressure,
         ),
         mesh_size=mesh.size or column.width / 16.0,
         grading=mesh.grading,

@@ -112,6 +112,11 @@ GROWTH_TERMS = (
         "friction_filter)",
     ),
     (
+        "bed_plastic_work",
+        "the bed's plastic work",
+        "[run] safety (a shorter step) or the bed's yield ([base] yield_pressure, plastic)",
+    ),
+    (
         "collar_plastic_work",
         "the collars' plastic work",
         "[run] safety (a shorter step) or the collars ([[collar]] t, h, plastic)",

@@ -19,7 +19,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 from tiny_study import TINY_STUDY  # noqa: E402
 
-LEAD = '[base]\nbed = "lead"\n'
+LEAD = '[base]\nbed = "lead"\nplastic = false\n'  # the elastic lead: its springs uncapped
 TINY = TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6).replace("[run]", "[run]\nreplicas = 2")
 FREE = """
 [study]

@@ -54,7 +54,7 @@ FEM_KEYS = (
     "base_reaction_static collar_max_plastic_strain collar_plastic_work crack_slip_residual "
     "friction_work_base friction_work_crack contact_damping_work contact_penalty_energy_max "
     "toe_contact_length toe_contact_nodes toe_node_spacing toe_pressure_max toe_resultant "
-    "toe_resultant_offset toe_pressure_winkler bed_stiffness "
+    "toe_resultant_offset toe_pressure_winkler bed_stiffness bed_yield_pressure bed_plastic_work "
     "top_load energy_error_max energy_error_limit energy_reliable dt dt_critical "
     "dt_critical_elastic stable_step_reduction_by_contact penalty_base_mean steps dofs "
     "wall_seconds t_end batch_size step_halvings step_note"
