@@ -32,7 +32,7 @@ from ..core.collar import MAX_FIBRES, MAX_SECTIONS, STEELS
 from ..core.collar import Collar as CollarLaw
 from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_EPS_U, STEEL_FY
 from ..core.errors import InputError, read_toml
-from ..fem.bed import BED_PRESETS, DEFAULT_BED, STIFFNESS_RANGE
+from ..fem.bed import BED_PRESETS, DEFAULT_BED, STIFFNESS_RANGE, YIELD_PRESSURE_RANGE
 from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
@@ -703,6 +703,21 @@ class Base(Table):
         min_length=2,
         max_length=2,
     )
+    plastic: bool | None = Field(
+        None,
+        description="Whether the bed yields (elastic-perfectly plastic: the pressure capped at "
+        "its yield pressure, the indentation kept): default true for lead (5-40 MPa, nominal "
+        "14 MPa), false for mortar (1-20 MPa when true) and stone (no yield of its own).",
+    )
+    yield_pressure: float | None = quantity(
+        "Pa",
+        "The bed's yield pressure, in place of its preset's; the bed then yields. 0.1 MPa to "
+        "10 GPa.",
+        None,
+        (5e5, 5e8, "MPa", "a bed's yield pressure"),
+        ge=YIELD_PRESSURE_RANGE[0],
+        le=YIELD_PRESSURE_RANGE[1],
+    )
 
     @staticmethod
     def across(b: dict, given: set) -> list[tuple[str, tuple]]:
@@ -860,6 +875,22 @@ class StudyInfo(Table):
 
     name: str | None = Field(None, description="Name in reports; default the file name.")
     description: str | None = Field(None, description="Free text.")
+    # the report's title block (page 1): they name the document, not the computation, so
+    # they leave the saved cases valid (studies.executor.NOT_STUDY_INPUTS)
+    project: str | None = Field(
+        None, description="Project, in the report's title block; a blank line to fill if not given."
+    )
+    site: str | None = Field(None, description="Site (building, place), in the title block.")
+    client: str | None = Field(None, description="Client, in the title block.")
+    prepared_by: str | None = Field(
+        None, description="Who prepared the study, beside its signature line in the title block."
+    )
+    checked_by: str | None = Field(
+        None, description="Who checked it, beside its signature line in the title block."
+    )
+    revision: str | None = Field(
+        None, description='Revision of the document, e.g. "A" or "1", in the title block.'
+    )
     kind: Literal[STUDY_KINDS] = Field(  # type: ignore[valid-type]
         DEFAULT_KIND, description="Which study to run."
     )
@@ -1036,7 +1067,8 @@ class Fragility(Table):
         "lifts the rocking block, PGA = g tan alpha).",
     )
     design_intensity: float = Field(
-        description="The site's design intensity, in the intensity's unit: the report opens "
+        description="The site's design intensity, in the intensity's unit, within the levels "
+        "run (the ladder's [start, stop], or the first to the last stripe): the report opens "
         "with each limit state's probability there.",
         json_schema_extra={"unit": "IM"},
         gt=0,
@@ -1072,7 +1104,8 @@ class Fragility(Table):
 
     @staticmethod
     def across(f: dict, given: set) -> list[tuple[str, tuple]]:
-        """The ladder with IDA, the levels with MSA, the period with Sa."""
+        """The ladder with IDA, the levels with MSA, the period with Sa; the design intensity
+        within the levels run (:meth:`_design_within`)."""
         found: list[tuple[str, tuple]] = []
         if f["analysis"] == "ida":
             if f["ladder"] is None:
@@ -1081,6 +1114,8 @@ class Fragility(Table):
                 )
             elif _known(f["ladder"]) and not f["ladder"][0] <= f["ladder"][1]:
                 found.append((f"fragility.ladder = {f['ladder']!r} must have start <= stop", ()))
+            else:
+                found += Fragility._design_within(f, "ladder")
             if f["levels"] is not None:
                 found.append(("fragility.levels goes with analysis = 'msa' (use ladder)", ()))
         elif f["analysis"] == "msa":
@@ -1088,6 +1123,8 @@ class Fragility(Table):
                 found.append(("fragility.levels is required with analysis = 'msa'", ()))
             elif _known(f["levels"]) and any(b <= a for a, b in zip(f["levels"], f["levels"][1:])):
                 found.append((f"fragility.levels = {f['levels']!r} must increase", ()))
+            else:
+                found += Fragility._design_within(f, "levels")
             if f["ladder"] is not None or "steps" in given:
                 found.append(("fragility.ladder and steps go with analysis = 'ida'", ()))
         if f["intensity"] == "sa" and f["period"] is None:
@@ -1095,6 +1132,34 @@ class Fragility(Table):
         if f["intensity"] not in ("sa", FAILED) and f["period"] is not None:
             found.append(("fragility.period goes with intensity = 'sa' only", ()))
         return found
+
+    @staticmethod
+    def _design_within(f: dict, key: str) -> list[tuple[str, tuple]]:
+        """The design intensity within the levels run (``key``: ladder or levels), else
+        refused, before anything runs. Refused rather than reported as extrapolated: outside
+        the levels a probability is the fitted lognormal's tail, not the records' answer (a
+        design PGV p / (g tan alpha) of 245 over a ladder of 0.5-8 gave every P = 1), such a
+        value is most often an IM in another unit, and the remedy (a ladder or a stripe that
+        reaches it) is one key and gives data where the answer is read."""
+        levels, design = f[key], f["design_intensity"]
+        if not _known(levels, design, f["intensity"]) or design is None:
+            return []
+        low, high = min(levels), max(levels)
+        if low <= design <= high:
+            return []
+        unit = INTENSITY_MEASURES.get(f["intensity"], "")
+        unit = f"{f['intensity']}, no unit" if unit == "-" else f"{f['intensity']} in {unit}"
+        where = "above the highest" if design > high else "below the lowest"
+        return [
+            (
+                f"fragility.design_intensity = {design:g} lies {where} level run: "
+                f"fragility.{key} spans {low:g} to {high:g} ({unit}); a probability there "
+                "would be the fitted curve's extrapolation, not the records' answer: "
+                + ("extend the ladder" if key == "ladder" else "add a stripe")
+                + " to reach it, or give it in the intensity's unit",
+                (),
+            )
+        ]
 
 
 class StudyFile(Table):
