@@ -153,16 +153,19 @@ def fit_limit_state(
         entry.update(stripes=None, ida=None, why="one intensity level: no curve")
         return entry
     at = np.concatenate([[design], curve_grid(levels, design)])
-    entry["stripes"] = _band_entry(
-        lambda: fits.bootstrap_stripes(
-            levels,
-            exceeded.astype(float),
-            draws=draws,
-            seed=seed,
-            level=level,
-            origin=origin,
-            at=at,
-        )
+    entry["stripes"] = outside_levels(
+        _band_entry(
+            lambda: fits.bootstrap_stripes(
+                levels,
+                exceeded.astype(float),
+                draws=draws,
+                seed=seed,
+                level=level,
+                origin=origin,
+                at=at,
+            )
+        ),
+        levels,
     )
     if ida:
         capacity, censored = first_exceedance(exceeded, levels)
@@ -171,19 +174,49 @@ def fit_limit_state(
         entry["ida"] = (
             None
             if censored.all()
-            else _band_entry(
-                lambda: fits.bootstrap_capacities(
-                    capacity,
-                    censored=censored,
-                    draws=draws,
-                    seed=seed,
-                    level=level,
-                    origin=origin,
-                    at=at,
-                )
+            else outside_levels(
+                _band_entry(
+                    lambda: fits.bootstrap_capacities(
+                        capacity,
+                        censored=censored,
+                        draws=draws,
+                        seed=seed,
+                        level=level,
+                        origin=origin,
+                        at=at,
+                    )
+                ),
+                levels,
             )
         )
     return entry
+
+
+def outside_levels(band: dict | None, levels) -> dict | None:
+    """A fit (:func:`_band_entry`) with what of it is read outside the levels run flagged:
+    ``curve["extrapolated"]``, per point of its curve, whether it lies below the lowest level
+    or above the highest; ``extrapolated``, in words, its median (the IM of P = 1/2) or an end
+    of the median's interval outside them (empty where none is). A fit's curve beyond its
+    data is the lognormal's shape, not the records' answer."""
+    if band is None or band.get("fit") is None:
+        return band
+    low, high = float(np.min(levels)), float(np.max(levels))
+    im = np.asarray(band["curve"]["im"], dtype=float)
+    band["curve"]["extrapolated"] = ((im < low) | (im > high)).tolist()
+    origin = band["fit"].get("origin", 0.0)
+    median = "the median" if origin == 0.0 else "x0 + the median"
+    words = []
+    for name, value in (
+        (median, origin + band["fit"]["median"]),
+        (f"{median} interval's lower end", origin + band["median_interval"][0]),
+        (f"{median} interval's upper end", origin + band["median_interval"][1]),
+    ):
+        if value > high:
+            words.append(f"{name}, {value:.4g}, lies above the highest level run, {high:.4g}")
+        elif value < low:
+            words.append(f"{name}, {value:.4g}, lies below the lowest level run, {low:.4g}")
+    band["extrapolated"] = words
+    return band
 
 
 def clopper_pearson(k, n: int, level: float) -> np.ndarray:
@@ -249,4 +282,28 @@ def same_curve(first, second, levels, *, origin: float = 0.0) -> dict | None:
         "p_value": test.p_value,
         "one_curve": not test.rejects(0.05),
         "joint": test.joint.to_dict(),
+    }
+
+
+# the limit states whose "not reached" rests on the collars' response after they yield
+AFTER_YIELD = ("rotation", "overturning", "toe_crushing")
+
+
+def past_yield(runs: list[list[dict]]) -> dict | None:
+    """Where elastic collars carried more than f_y in runs the column survived (its survival
+    there rests on collars past their strength; an overturned run's stress is the stop's):
+    the count of such runs, of the runs that survived, the largest utilisation over them, and
+    per level whether any run there did. None without collar stresses or where none did."""
+    utilisation = table(runs, "collar_utilisation")
+    if not np.isfinite(utilisation).all():
+        return None
+    survived = ~(table(runs, "overturned") > 0.5)
+    past = survived & (utilisation >= 1.0)
+    if not past.any():
+        return None
+    return {
+        "runs": int(past.sum()),
+        "of": int(survived.sum()),
+        "largest_utilisation": float(np.max(utilisation[survived])),
+        "levels": past.any(axis=0).tolist(),
     }

@@ -94,7 +94,7 @@ def run_command(args) -> dict | None:
     from ...core.suite import load_suite
     from .. import schema
     from . import analysis
-    from .models import sdof_runs
+    from .models import collar_law, sdof_runs, unreachable
     from .runner import answer_fit, intensity_of, limit_state_fits, setup
 
     if args.study is not None:
@@ -114,7 +114,10 @@ def run_command(args) -> dict | None:
     else:
         from ..cli import _block_from_args, _collars_from_args
 
-        spec = schema.parse_table("fragility", _table_from_flags(args), "flags")
+        try:
+            spec = schema.parse_table("fragility", _table_from_flags(args), "flags")
+        except InputError as exc:
+            raise InputError(_as_flags(str(exc))) from None
         block, collars = _block_from_args(args), _collars_from_args(args)
         suite = load_suite(spec.suite, g=block.g)
         records = tuple(entry.scaled for entry in suite)
@@ -141,6 +144,8 @@ def run_command(args) -> dict | None:
     ]
     seconds = time.perf_counter() - start
     fits = limit_state_fits(analysis.exceedances(runs, spec.theta_ratio), levels, spec)
+    law = collar_law(study, "sdof")
+    law["past_fy"] = analysis.past_yield(runs) if collars else None
     summary = {
         "intensity": spec.intensity,
         "design_intensity": spec.design_intensity,
@@ -149,6 +154,8 @@ def run_command(args) -> dict | None:
         "runs": len(records) * levels.size,
         "seconds": seconds,
         "limit_states": fits,
+        "collars": law,
+        "unreachable": unreachable(study, "sdof"),
     }
     if args.out is not None:
         from ..output import write_json
@@ -170,6 +177,18 @@ def run_command(args) -> dict | None:
         name: f"|theta| / alpha > {spec.theta_ratio:g}" if name == "rotation" else text
         for name, text in analysis.LIMIT_STATES.items()
     }
+    if collars:
+        past = law["past_fy"]
+        print(
+            f"collars: {law['words']}"
+            + (
+                f"; in {past['runs']} of the {past['of']} runs it survived their stress passed "
+                f"f_y, up to {past['largest_utilisation']:.3g} f_y: its survival there rests "
+                "on collars past their strength"
+                if past
+                else ""
+            )
+        )
     print(f"{'limit state':24s} {'P(design)':>22s} {'median':>22s} {'beta':>20s}  fit")
     for name, entry in fits.items():
         best = answer_fit(entry)
@@ -189,8 +208,30 @@ def run_command(args) -> dict | None:
                 if f["separated"]
                 else ""
             )
+            + "".join(f"; extrapolated: {w}" for w in best.get("extrapolated", ()))
         )
+    for name, why in summary["unreachable"].items():
+        print(f"{state_names[name]:24s} cannot be reached by this model ({why})")
     return None
+
+
+FLAGS = {
+    "fragility.design_intensity": "--design",
+    "fragility.ladder": "--ladder",
+    "fragility.steps": "--ladder",
+    "fragility.levels": "--levels",
+    "fragility.theta_ratio": "--theta-ratio",
+    "fragility.bootstrap": "--bootstrap",
+    "fragility.sdof_rtol": "--rtol",
+    "fragility.period": "--period",
+}
+
+
+def _as_flags(message: str) -> str:
+    """A [fragility] table's error with each key named as the flag that set it."""
+    for key, flag in FLAGS.items():
+        message = message.replace(key, flag)
+    return message
 
 
 class _Sdof:

@@ -41,6 +41,11 @@ import numpy as np
 from ...core.ground import Record
 from .analysis import UPLIFT_RATIO
 
+MODEL_NAMES = {
+    "sdof": "SDOF half block",
+    "multibody": "rigid multibody",
+    "fem": "FEM",
+}
 SDOF_RTOL = 1e-6  # the SDOF runs' relative tolerance (measured against 1e-10: docs/fragility.md)
 SDOF_ATOL = 1e-12  # rad, as rock's
 FREE_TIME_P = 20.0  # s x p: how long the rigid runs follow free rocking after the record
@@ -223,3 +228,102 @@ def fem_point(study, fem) -> dict:
         "fem_seconds": s["wall_seconds"],
         "fem_steps": s["steps"],
     }
+
+
+ELASTIC_SPRINGS = (
+    "elastic springs (the paper's axial E A / l and lateral 12 E I / l^3 at each collar's "
+    "height): they never yield nor fracture, whatever [[collar]] plastic says; their stress "
+    "is the elastic one at the largest |theta|"
+)
+FRAMES = {
+    "multibody": "co-rotational frame elements between the collars' attachment points on the "
+    "two rigid halves (the FEM's element)",
+    "fem": "co-rotational frame (Euler-Bernoulli) elements attached to the outer faces of "
+    "the two meshed halves",
+}
+RIGID_TOE = "rigid bodies: no stress at the toe, the FEM's answer"
+
+
+def collar_law(study, model: str) -> dict:
+    """What a model's collars are, in words (``words``; ``short`` for a legend) with
+    whether they can yield and fracture: the SDOF's are always elastic springs; the
+    multibody's and the FEM's frame elements, elastic or plastic by each [[collar]] plastic
+    key (plastic: the fibre section or the resultant law, :attr:`colonna.core.collar.Collar.
+    local_law`, breaking at eps_u)."""
+    collars = tuple(study.collars)
+    if not collars:
+        return {
+            "law": "none",
+            "short": "no collars",
+            "words": "no collars",
+            "yields": False,
+            "fractures": False,
+        }
+    if model == "sdof":
+        return {
+            "law": "elastic springs",
+            "short": "elastic collar springs",
+            "words": ELASTIC_SPRINGS,
+            "yields": False,
+            "fractures": False,
+        }
+    laws = [_frame_law(c) for c in collars]
+    plastic = [c.plastic for c in collars]
+    if len(set(laws)) == 1:
+        law = laws[0]
+        words = f"{FRAMES[model]}, {law}"
+    else:
+        law = "mixed"
+        words = (
+            FRAMES[model]
+            + "; "
+            + "; ".join(
+                f"collar {k} (y = {c.y:g} m) {w}" for k, (c, w) in enumerate(zip(collars, laws), 1)
+            )
+        )
+    if not any(plastic):
+        short = "elastic frame collars"
+    elif all(plastic) and len({c.local_law for c in collars}) == 1:
+        short = f"plastic frame collars, {collars[0].local_law} law"
+    else:
+        short = "elastic and plastic frame collars"
+    return {
+        "law": law,
+        "short": short,
+        "words": words,
+        "yields": any(plastic),
+        "fractures": any(plastic),
+    }
+
+
+def _frame_law(collar) -> str:
+    """A frame collar's law in words."""
+    if not collar.plastic:
+        return "elastic (plastic = false): they never yield nor fracture"
+    if collar.local_law == "fibre":
+        return (
+            f"plastic, fibre section ({collar.n_fibres} layers x {collar.n_sections} sections, "
+            f"{collar.steel} steel), fracture at an extreme-fibre strain of {collar.eps_u:g}"
+        )
+    return (
+        "plastic, resultant law (bilinear axial, end hinges on |M| / M_p + (N / N_p)^2 = 1), "
+        f"fracture at an extreme-fibre strain of {collar.eps_u:g}"
+    )
+
+
+def unreachable(study, model: str) -> dict[str, str]:
+    """The limit states a model cannot reach, each with why: toe crushing in the rigid models
+    (no stress at the toe), collar fracture where its collars cannot break (the SDOF's
+    springs, elastic frames). A report says "cannot be reached by this model", never a
+    probability of zero."""
+    found = {}
+    law = collar_law(study, model)
+    if study.collars and not law["fractures"]:
+        found["collar_fracture"] = (
+            "elastic collar springs: they never fracture"
+            if model == "sdof"
+            else "elastic frame collars (plastic = false): they never fracture"
+        )
+    if model in ("sdof", "multibody"):
+        found["toe_crushing"] = RIGID_TOE
+    return found

@@ -15,13 +15,9 @@ from ...rigid.multibody import COLLAR_STEP_FRACTION
 from ..output import write_csv
 from ..report import figure, legend_beside, render_page
 from .analysis import LIMIT_STATES
+from .models import MODEL_NAMES
 from .runner import answer_fit
 
-MODEL_NAMES = {
-    "sdof": "SDOF half block",
-    "multibody": "rigid multibody",
-    "fem": "FEM",
-}
 FIT_NAMES = {"ida": "IDA", "stripes": "stripes"}
 INTENSITY_LABELS = {
     "pga": "PGA (m/s$^2$)",
@@ -53,6 +49,8 @@ def write_report(out: Path) -> Path:
         f"colonna fragility: {s['study']}",
         figs=[f for f in figs if f is not None],
         design_rows=design_rows(s),
+        collar_rows=collar_rows(s),
+        extrapolated=extrapolated_rows(s),
         fit_rows=fit_rows(s),
         im_rows=im_rows(s),
         tests=test_rows(s),
@@ -71,20 +69,30 @@ def _answer(entry: dict) -> tuple[str, dict | None]:
     return ("ida" if fit is entry.get("ida") else "stripes"), fit
 
 
+UNREACHABLE = "cannot be reached by this model"
+
+
 def design_rows(s: dict) -> list[dict]:
     """Per limit state, per model: P at the design intensity with its interval (or why
-    none), and the stripe fraction at the design intensity where it is one of the levels."""
+    none); "cannot be reached by this model" with why where the model cannot reach the limit
+    state (never a probability of zero), and beside an answer that rests on elastic collars
+    past f_y (:func:`rests_note`) a note that says so."""
     rows = []
     for state, words in LIMIT_STATES.items():
         cells = []
         for model in s["models"]:
             entry = s["limit_states"][model].get(state)
+            why = s.get("unreachable", {}).get(model, {}).get(state)
+            if why is not None:
+                cells.append({"text": UNREACHABLE, "key": None, "note": why, "unreachable": True})
+                continue
             if entry is None:
                 cells.append({"text": "not assessed", "key": None})
                 continue
+            note = rests_note(s, model, state)
             which, fit = _answer(entry)
             if fit is None:
-                cells.append({"text": entry.get("why", "no curve"), "key": None})
+                cells.append({"text": entry.get("why", "no curve"), "key": None, "note": note})
                 continue
             low, high = fit["probability_interval"]
             cells.append(
@@ -92,11 +100,50 @@ def design_rows(s: dict) -> list[dict]:
                     "text": f"{fit['probability']:.3g} [{low:.3g}, {high:.3g}]",
                     "key": f"design.P({state})_{model}",
                     "fit": which,
+                    "note": note,
                 }
             )
         if any(c["key"] is not None or c["text"] != "not assessed" for c in cells):
             rows.append({"state": words, "cells": cells})
     return rows
+
+
+def rests_note(s: dict, model: str, state: str) -> str | None:
+    """Where a model's answer for ``state`` rests on elastic collars that carried more than
+    f_y in runs the column survived (summary.json's collars[model].past_fy), that in words."""
+    law = s.get("collars", {}).get(model, {})
+    past = law.get("past_fy")
+    if past is None or state not in law.get("rests", ()):
+        return None
+    return (
+        f"rests on {law['short']} at up to {past['largest_utilisation']:.3g} f_y "
+        f"({past['runs']} of {past['of']} survived runs past f_y)"
+    )
+
+
+def collar_rows(s: dict) -> list[dict]:
+    """Per model: what its collars are and, where they are elastic and passed f_y, the note
+    (summary.json's collars)."""
+    return [
+        {"model": MODEL_NAMES[m], "words": law["words"], "note": law.get("note")}
+        for m, law in s.get("collars", {}).items()
+    ]
+
+
+def extrapolated_rows(s: dict) -> list[str]:
+    """Every fit read outside the levels run (its median or the median's interval), in
+    words: model, limit state, fit and what lies outside."""
+    found = []
+    for model in s["models"]:
+        for state, entry in s["limit_states"][model].items():
+            for which in ("ida", "stripes"):
+                fit = entry.get(which) or {}
+                for words in fit.get("extrapolated", ()):
+                    found.append(
+                        f"{MODEL_NAMES[model]}, {LIMIT_STATES[state]}, {FIT_NAMES[which]} fit: "
+                        + words
+                    )
+    return found
 
 
 def fit_rows(s: dict) -> list[dict]:
@@ -128,6 +175,7 @@ def fit_rows(s: dict) -> list[dict]:
                             if f.get("origin", 0.0) > 0.0
                             else ""
                         ),
+                        extrapolated="; ".join(fit.get("extrapolated", ())),
                     )
                 rows.append(row)
     return rows
@@ -180,38 +228,76 @@ def _curves(out: Path, s: dict, label: str) -> dict | None:
     levels = np.array(s["levels"])
     data: dict = {"im": levels}
     for ax, state in zip(axes, states):
+        cannot, fitted = [], False
         for k, model in enumerate(s["models"]):
             entry = s["limit_states"][model].get(state)
+            if state in s.get("unreachable", {}).get(model, {}):
+                cannot.append(MODEL_NAMES[model])
             if entry is None:
                 continue
             colour = f"C{k}"
+            name = model_label(s, model)
             fractions = np.array(entry["fractions"])
             bars = np.array(entry["fraction_intervals"])
+            x = levels * (1.0 + 0.01 * (k - 1))  # models' bars side by side
             ax.errorbar(
-                levels * (1.0 + 0.01 * (k - 1)),  # models' bars side by side
+                x,
                 fractions,
                 yerr=[fractions - bars[:, 0], bars[:, 1] - fractions],
-                fmt="o",
-                ms=3.5,
+                fmt="none",
                 color=colour,
                 capsize=2,
                 lw=0.8,
-                label=f"{MODEL_NAMES[model]}: fraction of records",
             )
+            past = np.zeros(levels.size, dtype=bool)
+            if rests_note(s, model, state) is not None:
+                past = np.array(s["collars"][model]["past_fy"]["levels"], dtype=bool)
+            if (~past).any():
+                ax.plot(
+                    x[~past],
+                    fractions[~past],
+                    "o",
+                    ms=4,
+                    color=colour,
+                    label=f"{name}: fraction of records",
+                )
+            if past.any():
+                ax.plot(
+                    x[past],
+                    fractions[past],
+                    "o",
+                    ms=4,
+                    mfc="white",
+                    mec=colour,
+                    label=f"{name}: fraction of records, at a level where a run it survived "
+                    "had its elastic collars past f_y",
+                )
             data[f"{state}_{model}_fraction"] = fractions
             which, fit = _answer(entry)
             if fit is not None:
                 curve = fit["curve"]
                 im = np.array(curve["im"])
+                outside = np.array(
+                    curve.get("extrapolated", (im < levels.min()) | (im > levels.max())),
+                    dtype=bool,
+                )
+                fitted = True
                 ax.fill_between(im, curve["low"], curve["high"], color=colour, alpha=0.18, lw=0)
+                p = np.array(curve["probability"], dtype=float)
+                ax.plot(im, p, color=colour, ls="--", lw=0.9)
                 ax.plot(
                     im,
-                    curve["probability"],
+                    np.where(outside, np.nan, p),
                     color=colour,
                     label=f"{MODEL_NAMES[model]}: lognormal fit ({FIT_NAMES[which]}) and band",
                 )
         ax.axvline(s["design_intensity"], color="k", ls=":", lw=1.0, label="design intensity")
-        ax.set_title(LIMIT_STATES[state], fontsize=10)
+        if fitted:
+            ax.plot([], [], color="k", ls="--", lw=0.9, label=EXTRAPOLATED)
+        title = LIMIT_STATES[state]
+        if cannot:
+            title += "\n" + ", ".join(cannot) + ": " + UNREACHABLE
+        ax.set_title(title, fontsize=10 if not cannot else 8.5)
         ax.set_ylim(-0.03, 1.03)
         ax.set_xlabel(label)
         ax.set_ylabel("P[limit state | IM]")
@@ -234,8 +320,22 @@ def _curves(out: Path, s: dict, label: str) -> dict | None:
         "Fragility curves: per limit state, each model's lognormal fit with its bootstrap band "
         + (f"({100 * band:.0f} %, over records) " if band else "")
         + "and the fraction of records in the limit state at each level with its exact "
-        "binomial interval; the dotted line is the design intensity",
+        "binomial interval; the dotted line is the design intensity; a fit is dashed outside "
+        "the levels run (extrapolated); a hollow marker: a level at which the model's elastic "
+        "collars carried more than f_y in a run it survived; a model that cannot reach a limit "
+        "state is named in its panel's title, no curve drawn",
     )
+
+
+EXTRAPOLATED = "dashed: a fit outside the levels run (extrapolated)"
+
+
+def model_label(s: dict, model: str) -> str:
+    """A model's name with its collars (summary.json's collars[model].short), for a legend."""
+    short = s.get("collars", {}).get(model, {}).get("short")
+    if short in (None, "no collars"):
+        return MODEL_NAMES[model]
+    return f"{MODEL_NAMES[model]} ({short})"
 
 
 def _ida(out: Path, s: dict, label: str) -> dict | None:
@@ -260,7 +360,7 @@ def _ida(out: Path, s: dict, label: str) -> dict | None:
         ax.axvline(s["theta_ratio"], color="C1", ls="--", lw=1.0, label="rotation threshold")
         ax.axhline(s["design_intensity"], color="k", ls=":", lw=1.0, label="design intensity")
         ax.set_xlim(0.0, cap * 1.05)
-        ax.set_title(MODEL_NAMES[model], fontsize=10)
+        ax.set_title(model_label(s, model), fontsize=10)
         ax.set_xlabel(r"largest $|\theta| / \alpha$ (right edge: overturned)")
     axes[0].set_ylabel(label)
     handles, labels = axes[-1].get_legend_handles_labels()

@@ -41,7 +41,15 @@ from ..guard import check_fem_results
 from ..output import write_json
 from ..study import Study
 from . import analysis
-from .models import FREE_TIME_P, fem_point, multibody_runs, sdof_runs
+from .models import (
+    FREE_TIME_P,
+    MODEL_NAMES,
+    collar_law,
+    fem_point,
+    multibody_runs,
+    sdof_runs,
+    unreachable,
+)
 
 FEM_TAIL = 1.5  # s of free motion the FEM follows after a record (as a study's default)
 FEWER = ", fewer records, levels (fragility.steps, levels) or models (fragility.models)"
@@ -338,12 +346,50 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
         },
         "limit_states": states,
         "design": probability,
+        "collars": collar_summary(s.column, runs, probability),
+        "unreachable": {model: unreachable(s.column, model) for model in runs},
         "same_curve": tests,
         "sdof_rtol": spec.sdof_rtol if "sdof" in runs else None,
         "multibody_step": spec.multibody_step if "multibody" in runs else None,
         "model_seconds": seconds,
         "layout": "runs[model][key][i][j]: i indexes records, j indexes levels",
     }
+
+
+def collar_summary(column: FemStudy, runs: dict, probability: dict) -> dict:
+    """Per model, what its collars are (:func:`.models.collar_law`) and, where they are
+    elastic and carried more than f_y in runs the column survived (:func:`.analysis.
+    past_yield`), ``past_fy`` and a ``note`` that says so: those survivals rest on collars
+    past their strength (the limit states :data:`.analysis.AFTER_YIELD`, ``rests``)."""
+    found = {}
+    for model, table in runs.items():
+        law = collar_law(column, model)
+        past = None if law["yields"] else analysis.past_yield(table)
+        law["past_fy"] = past
+        law["rests"] = []
+        law["note"] = None
+        if past is not None:
+            law["rests"] = list(analysis.AFTER_YIELD)
+            u = past["largest_utilisation"]
+            note = (
+                f"its collars ({law['short']}) never yield: in {past['runs']} of the "
+                f"{past['of']} runs it survived their stress passed f_y, up to "
+                f"sigma / f_y = {u:.3g}, so its survival there rests on collars carrying up to "
+                f"{u:.3g} times their strength"
+            )
+            if not any(r["overturned"] for row in table for r in row):
+                others = [
+                    f"the {MODEL_NAMES[m]} does (P = {probability[f'P(overturning)_{m}']:.2g} "
+                    "at the design intensity)"
+                    for m in runs
+                    if m != model and probability.get(f"P(overturning)_{m}") is not None
+                ]
+                note += "; it never overturns over the suite" + (
+                    f", while {', '.join(others)}" if others else ""
+                )
+            law["note"] = note
+        found[model] = law
+    return found
 
 
 SPECTRUM_PERIODS = np.geomspace(0.05, 5.0, 30)  # s, the suite's spectra in the report
