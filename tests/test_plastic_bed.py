@@ -181,3 +181,47 @@ def test_a_slot_starts_with_its_own_indentation_not_the_last_run_s():
     dented = dict(start, base_indentation=np.full(model.base_nodes.size, 2e-4))
     state.reset(1, dented)
     assert np.all(state.base_state.indentation[1] == 2e-4)
+
+
+def test_the_default_column_on_lead_reports_toe_pressures_within_the_lead_s_yield(tmp_path):
+    """The issue's acceptance, on the default column on lead (a coarse mesh, two replicas, a
+    short run: the report's numbers, not their convergence): every toe pressure it reports
+    (the runs' nodal and Winkler pressures, the closed form at alpha / 2 over the bed's range)
+    is at most the lead's yield pressure, and the report says that the bed yields and at what."""
+    import json
+    import re
+    import tomllib
+
+    from colonna.studies.driver import run_study_file
+
+    data = _default_on_lead(0.225)
+    data["run"]["replicas"] = 2
+    data["run"]["duration"] = 1.6
+    data["mesh"]["toe_refinements"] = [1, 2, 4]
+    study = tmp_path / "lead.toml"
+    lines = []
+    for table, values in data.items():
+        lines.append(f"[{table}]" if table != "collar" else "")
+        if table == "collar":
+            for collar in values:
+                lines.append("[[collar]]")
+                lines += [f"{k} = {v!r}" for k, v in collar.items()]
+            continue
+        for key, value in values.items():
+            text = f'"{value}"' if isinstance(value, str) else repr(value).lower()
+            lines.append(f"{key} = {text}" if not isinstance(value, list) else f"{key} = {value}")
+    study.write_text("\n".join(lines) + "\n")
+    tomllib.loads(study.read_text())  # (the file as written reads back)
+    out = tmp_path / "out"
+    run_study_file(study, out, workers=1, progress=False)
+    summary = json.loads((out / "summary.json").read_text())
+    p_y = summary["bed"]["yield_pressure"]
+    assert p_y == pytest.approx(math.sqrt(5e6 * 40e6))
+    for key in ("toe_pressure_max", "toe_pressure_winkler"):
+        assert summary["fem"][key] <= p_y * (1 + 1e-12), key
+    for key in ("pressure", "pressure_low", "pressure_high"):
+        assert summary["bed"][key] <= p_y, key
+    html = (out / "index.html").read_text().replace("&nbsp;", " ")
+    page = " ".join(re.sub(r"<[^>]+>", "", html).split())
+    assert "The bed yields at p_y = 14.1 MPa" in page
+    assert "no pressure on it exceeds p_y" in page
