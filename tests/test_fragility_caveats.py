@@ -267,6 +267,12 @@ def test_the_sdof_s_survival_on_collars_past_f_y_is_said_beside_its_answer(colla
     assert cell.startswith("no run reached it")
     assert f"rests on elastic collar springs at up to {u:.3g} f_y" in cell
     assert "rests on" not in _cell(page, "overturning", 1)
+    # a qualified answer keeps its number first and its key (the terminal and tests read it)
+    rotation = re.search(r'data-key="design\.P\(rotation\)_sdof">([^<]+)<br>', page)
+    assert rotation and rotation.group(1).startswith(f"{s['design']['P(rotation)_sdof']:.3g}")
+    assert "rests on elastic collar springs" in _cell(
+        page, "|theta| / alpha above the threshold", 0
+    )
     assert f"The SDOF half block: {sdof['note']}." in _text(page)
 
 
