@@ -212,7 +212,7 @@ def toe_resolution(study: FemStudy) -> dict:
         "toe_size": contact / ELEMENTS_ACROSS,
         "elements_across": ELEMENTS_ACROSS,
         "zone": min(2.0 * contact, 0.5 * body_width),
-        # on a bed that yields, the peak is at most its yield pressure (fem.bed.winkler_plastic_pivot)
+        # on a bed that yields, at most its yield pressure (fem.bed.winkler_plastic_pivot)
         "pressure": min(cap, winkler_peak_pressure(weight, k, t, theta)),
         "pressure_low": min(cap, winkler_peak_pressure(weight, study.bed.low, t, theta)),
         "pressure_high": min(cap, winkler_peak_pressure(weight, study.bed.high, t, theta)),
@@ -695,9 +695,18 @@ def iter_fem(studies: list[FemStudy], *, slots: int | None = None, **options):
     and advance together on the batched kernel (:func:`colonna.fem.solver.iter_batch`,
     ``slots`` runs at a time, default :data:`colonna.fem.solver.BATCH_SLOTS`). Yields (index in
     studies, FemResult) as each run ends; each is the same bits as ``run_fem(study,
-    replicas=1)``. ``options``: more of iter_batch's (its ``stop_in_weak_tail``)."""
-    from ..fem.solver import BATCH_SLOTS, iter_batch
+    replicas=1)``, a run whose energy balance fails rerun at half the step up to
+    :data:`colonna.fem.solver.STEP_HALVINGS` times as there (the failed runs of a batch
+    together). ``options``: more of iter_batch's (its ``stop_in_weak_tail``)."""
+    from ..fem.solver import (
+        BATCH_SLOTS,
+        STEP_HALVINGS,
+        _with_halvings,
+        iter_batch,
+        unreliable_reason,
+    )
 
+    notes: dict[int, str] = {}  # why a run was rerun at a halved step
     groups: list[list[int]] = []
     for index, study in enumerate(studies):
         for members in groups:
@@ -712,18 +721,34 @@ def iter_fem(studies: list[FemStudy], *, slots: int | None = None, **options):
         # runs ending early leave, so the batch does not end on a few long runs alone
         members.sort(key=lambda i: -studies[i].duration)
         first = studies[members[0]]
-        runs = iter_batch(
-            build(first),
-            [studies[i].ground for i in members],
-            [studies[i].duration for i in members],
-            verticals=[studies[i].vertical for i in members],
-            slots=BATCH_SLOTS if slots is None else slots,
-            progress=False,
-            **_run_settings(first),
-            **options,
-        )
-        for k, result in runs:
-            yield members[k], result
+        model = build(first)
+        settings = {**_run_settings(first), **options}
+        halvings = 0
+        while members:
+            runs = iter_batch(
+                model,
+                [studies[i].ground for i in members],
+                [studies[i].duration for i in members],
+                verticals=[studies[i].vertical for i in members],
+                slots=BATCH_SLOTS if slots is None else slots,
+                progress=False,
+                **settings,
+            )
+            failed: list[tuple[int, float]] = []  # (index in studies, its step)
+            for k, result in runs:
+                reason = unreliable_reason([result.summary])
+                if halvings:
+                    note = f"rerun at dt/{2**halvings} after {notes[members[k]]}"
+                    result = _with_halvings(result, halvings, note)
+                if reason is None or halvings == STEP_HALVINGS:
+                    yield members[k], result
+                else:  # as run_ensemble: rerun at half the step (those that failed, together)
+                    notes[members[k]] = reason
+                    failed.append((members[k], result.summary["dt"]))
+            members = [i for i, _ in failed]
+            if failed:
+                halvings += 1
+                settings["dt"] = 0.5 * failed[0][1]
 
 
 # --- the work of FEM runs, bounded before they run ------------------------------------------------

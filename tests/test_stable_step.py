@@ -141,3 +141,34 @@ def test_a_study_whose_step_was_halved_says_so_in_its_report(tmp_path, monkeypat
     assert fem["step_note"].startswith("rerun at dt/2 after the energy balance is off by")
     page = " ".join((out / "index.html").read_text().split())
     assert f"Its step was halved: the replicas were {fem['step_note']}" in page
+
+
+def test_batched_runs_are_rerun_at_half_their_step_as_an_ensemble_is():
+    """The spectrum's and the fragility's FEM runs go through iter_fem, batched: a run whose
+    balance fails is rerun at half the step there too, and each is the same bits as the study
+    run alone through run_ensemble, which reruns the same way, its note the same. The elastic
+    lead case at the linear bound's step alone (as above: it fails, and closes at half of it)
+    under two pulses, batched."""
+    from colonna.fem.solver import run_ensemble
+    from colonna.studies.fem_study import _run_settings, iter_fem
+
+    data = _default_on(0.225, bed="lead", plastic=False)
+    data["run"]["duration"] = 1.5
+    lead = from_dict(data)
+    data["ground"]["amplitude_ratio"] = 2.5
+    studies = [lead, from_dict(data)]
+    model = build(lead)
+    step = stable_time_step(model, lead.safety)
+    before = step.safety * step.critical_linear * (math.sqrt(1 + 0.05**2) - 0.05)
+    batched = dict(iter_fem(studies, dt=before, check_dt=False))
+    for k, study in enumerate(studies):
+        settings = {**_run_settings(study), "dt": before, "check_dt": False}
+        alone = run_ensemble(model, study.ground, 1.5, 1, progress=False, **settings)[0]
+        result = batched[k]
+        assert result.summary["step_halvings"] == alone.summary["step_halvings"] >= 1
+        assert result.summary["step_note"] == alone.summary["step_note"]
+        assert result.summary["step_note"].startswith("rerun at dt/")
+        assert result.summary["dt"] == alone.summary["dt"] <= 0.5 * before
+        assert result.summary["energy_reliable"]
+        for key, values in alone.history.items():
+            assert np.array_equal(result.history[key], values), key
