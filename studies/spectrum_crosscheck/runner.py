@@ -43,7 +43,7 @@ from ..fem_study import (
     study_of_case,
 )
 from ..fem_study import fem_work as estimate_work
-from ..guard import check_fem_results
+from ..guard import check_fem_results, halved_steps
 from ..outcome import QUESTIONS, count_answer, grid_outcome, not_assessed, outcome
 from ..output import write_json
 from ..study import Study
@@ -136,6 +136,10 @@ def _point_result(case: dict, study, fem) -> dict:
         "toe_ratio_fem": s["edge_stress_ratio"],
         "energy_error_fem": s["energy_error_max"],
         "status_fem": s["status"],
+        # a point rerun at a halved step (fem.solver.STEP_HALVINGS) and why; its step
+        "step_halvings": int(s.get("step_halvings") or 0),
+        "step_note": s.get("step_note"),
+        "dt": s["dt"],
         "fem_seconds": s["wall_seconds"],
         "fem_steps": s["steps"],
         # the ground motion this point ran: its peak (m/s^2) and when it ends (s)
@@ -289,6 +293,16 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
     )
     check_fem_results(results, out)
     summary = assemble_summary(first, omegas, amplitudes, cases, results)
+    summary["halved_steps"] = halved_steps(
+        [
+            (
+                f"the grid point (amplitude ratio, x) = ({c['amplitude_ratio']:.3g}, "
+                f"{c['omega_ratio']:.3g})",
+                results[c["key"]],
+            )
+            for c in cases
+        ]
+    )
     summary["x_axis"] = "time_scale" if kind == "record" else "omega_ratio"
     if kind == "record":
         summary["record"] = points.original.name
