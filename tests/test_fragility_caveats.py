@@ -316,3 +316,22 @@ def test_frame_collars_say_their_law_and_elastic_ones_cannot_fracture():
     assert unreachable(types.SimpleNamespace(collars=()), "sdof") == {
         "toe_crushing": "rigid bodies: no stress at the toe, the FEM's answer"
     }
+
+
+def test_a_limit_state_a_model_does_not_assess_is_said_so_beside_the_others(collared, tmp_path):
+    """The FEM's uplift (its column sways on its bed before it rocks) is "not assessed", not
+    "cannot be reached": the report of a summary whose multibody lacks uplift says so."""
+    import copy
+    import shutil
+
+    from colonna.studies.fragility import write_report
+
+    out, s = collared
+    s = copy.deepcopy(s)
+    folder = tmp_path / "out"
+    shutil.copytree(out, folder)
+    del s["limit_states"]["multibody"]["uplift"]
+    (folder / "summary.json").write_text(json.dumps(s))
+    page = write_report(folder).read_text()
+    assert _cell(page, "uplift", 1) == "not assessed"
+    assert _cell(page, "uplift", 0) == s["limit_states"]["sdof"]["uplift"].get("why", "no curve")

@@ -87,7 +87,7 @@ def design_rows(s: dict) -> list[dict]:
                 cells.append({"text": UNREACHABLE, "key": None, "note": why, "unreachable": True})
                 continue
             if entry is None:
-                cells.append({"text": "not assessed", "key": None})
+                cells.append({"text": "not assessed", "key": None, "note": None})
                 continue
             note = rests_note(s, model, state)
             which, fit = _answer(entry)
