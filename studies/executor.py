@@ -52,9 +52,18 @@ from .output import _atomic_write_bytes, _plain, json_bytes, write_json
 
 # case keys that do not change what a case computes (left out of its inputs): how it reports
 # progress, and where the study file was (the files it names are hashed by their bytes); and
-# the keys of a study dict's [study] table that only name it
+# the keys of a study dict's [study] table that only name it (its title block's among them)
 NOT_INPUTS = ("progress", "source", "base", "cost")  # cost: a scheduling hint (see _deal)
-NOT_STUDY_INPUTS = ("name", "description")
+NOT_STUDY_INPUTS = (
+    "name",
+    "description",
+    "project",
+    "site",
+    "client",
+    "prepared_by",
+    "checked_by",
+    "revision",
+)
 # the files a case's study dict may name, relative to the case's "base" (key path: what it is)
 INPUT_FILES = {
     ("ground", "record"): "record file",

@@ -1,6 +1,7 @@
 """The report as a PDF fit to file, printed by the headless Chromium the report tests already
-use: the page as the browser lays it out for print, the outcome and the answers on its first
-page (the ``@media print`` rules of ``templates/base.html.j2`` leave the GIF and the 3-D
+use: the page as the browser lays it out for print, the title block (with its signature lines
+and the study file's full SHA-256) and the outcome and the answers on its first page (the
+``@media print`` rules of ``templates/base.html.j2`` leave the GIF and the 3-D
 renders out and start the inputs on a page of their own).
 
 Paged media, and why Chromium's CSS rather than WeasyPrint or the browser's print settings
