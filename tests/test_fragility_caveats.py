@@ -335,3 +335,30 @@ def test_a_limit_state_a_model_does_not_assess_is_said_so_beside_the_others(coll
     page = write_report(folder).read_text()
     assert _cell(page, "uplift", 1) == "not assessed"
     assert _cell(page, "uplift", 0) == s["limit_states"]["sdof"]["uplift"].get("why", "no curve")
+
+
+def test_the_curves_and_ida_figures_keep_their_longer_texts_inside(collared, tmp_path, monkeypatch):
+    """The legend entries with each model's collars and hollow markers, and a panel title that
+    names a model which cannot reach its limit state, stay within the figure
+    (:func:`colonna.studies.report.texts_outside`)."""
+    import shutil
+
+    from matplotlib.figure import Figure
+
+    from colonna.studies.fragility import write_report
+    from colonna.studies.report import texts_outside
+
+    out, _ = collared
+    folder = tmp_path / "out"
+    shutil.copytree(out, folder)
+    keep, checked = Figure.savefig, {}
+
+    def spy(fig, fname, *args, **kwargs):
+        if isinstance(fname, (str, Path)):
+            checked.setdefault(Path(fname).stem, texts_outside(fig))
+        return keep(fig, fname, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", spy)
+    write_report(folder)
+    assert {"curves", "ida"} <= set(checked)
+    assert {name: cut for name, cut in checked.items() if cut} == {}
