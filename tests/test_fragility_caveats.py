@@ -335,6 +335,11 @@ def test_a_limit_state_a_model_does_not_assess_is_said_so_beside_the_others(coll
     page = write_report(folder).read_text()
     assert _cell(page, "uplift", 1) == "not assessed"
     assert _cell(page, "uplift", 0) == s["limit_states"]["sdof"]["uplift"].get("why", "no curve")
+    # the first model without the first limit state (the FEM first, without uplift)
+    s["limit_states"]["multibody"]["uplift"] = s["limit_states"]["sdof"].pop("uplift")
+    (folder / "summary.json").write_text(json.dumps(s))
+    page = write_report(folder).read_text()
+    assert _cell(page, "uplift", 0) == "not assessed"
 
 
 def test_the_curves_and_ida_figures_keep_their_longer_texts_inside(collared, tmp_path, monkeypatch):

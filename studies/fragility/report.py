@@ -311,8 +311,16 @@ def _curves(out: Path, s: dict, label: str) -> dict | None:
     fig.legend(list(seen.values()), list(seen), loc="lower center", ncol=2, fontsize=8)
     fig.tight_layout(rect=(0, 0.06 + 0.03 * len(seen) / 2 / rows, 1, 1))
     write_csv(out / "figures" / "curves.csv", data)
-    level = s["limit_states"][s["models"][0]][states[0]]
-    band = (level.get("ida") or level.get("stripes") or {}).get("level")
+    band = next(
+        (
+            fit["level"]
+            for m in s["models"]
+            for entry in s["limit_states"][m].values()
+            for fit in (entry.get("ida"), entry.get("stripes"))
+            if fit and "level" in fit
+        ),
+        None,
+    )  # (the first model need not assess the first limit state: the FEM's uplift)
     return figure(
         out,
         "curves",
