@@ -80,9 +80,8 @@ def main(names: list[str]) -> None:
             )
             wall = time.perf_counter() - start
             rows.append((name, estimate, wall))
-            print(
-                f"{name}: estimated {estimate:.0f} s, took {wall:.0f} s, ratio {wall / estimate:.2f}"
-            )
+            ratio = wall / estimate
+            print(f"{name}: estimated {estimate:.0f} s, took {wall:.0f} s, ratio {ratio:.2f}")
     print("\n| study | estimated (s) | wall (s) | wall / estimate |\n|---|---|---|---|")
     for name, estimate, wall in rows:
         print(f"| {name} | {estimate:.0f} | {wall:.0f} | {wall / estimate:.2f} |")
