@@ -584,11 +584,17 @@ def short_summary(keys, summary: dict, report: Path) -> dict:
         if key == "outcome" and value:  # the report's opening, in words
             for m in value["models"]:
                 time = m.get("overturn_time")
-                short[m["model"]] = m["motion"] + (
-                    f" (run stops at t = {time:.3f} s)" if time is not None else ""
+                short[m["model"]] = (
+                    m["motion"]
+                    + (f" (run stops at t = {time:.3f} s)" if time is not None else "")
+                    + (f"; {m['caveat']}" if m.get("caveat") else "")  # why it is no pass
                 )
             for answer in value.get("answers", ()):
-                qualifier = answer.get("qualifier") or answer.get("why")
+                qualifier = "; ".join(
+                    w
+                    for w in (answer.get("qualifier") or answer.get("why"), answer.get("caveat"))
+                    if w
+                )
                 short[answer["question"]] = answer["answer"] + (
                     f" ({qualifier})" if qualifier else ""
                 )

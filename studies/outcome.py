@@ -79,6 +79,7 @@ def model_outcome(
     collar_fractured: bool = False,
     block: str = "column",
     overturn_time_range: tuple[float, float] | None = None,
+    elastic_collars: str | None = None,
 ) -> dict:
     """One model's outcome. ``peak_rotation`` (rad) is the largest |theta| of a rocking half
     (None or the pi/2 convention of an overturned block are not reported as a rotation);
@@ -86,7 +87,10 @@ def model_outcome(
     ``half``); ``overturn_time_range`` the replicas' earliest and latest overturning
     (s); ``collar_utilisation`` the largest sigma / f_y of its
     collars, whose state (elastic / yielded, or fractured where ``collar_fractured``: a
-    plastic collar broke) is then said beside the motion."""
+    plastic collar broke) is then said beside the motion. ``elastic_collars``: the words that
+    say the model's collars never yield (e.g. "the SDOF's collars are elastic"), where they
+    do not; a model that stays up on such collars past f_y rests on a strength they do not
+    have, and its outcome carries that as its ``caveat`` (:func:`collar_caveat`)."""
     if block not in BLOCKS:
         raise ValueError(f"block {block!r}: one of {', '.join(BLOCKS)}")
     motion = motion_word(bool(overturned), 0.0 if peak_rotation is None else peak_rotation, alpha)
@@ -113,7 +117,19 @@ def model_outcome(
             collar_state=collar_state(collar_utilisation, fractured=bool(collar_fractured)),
             collar_utilisation=float(collar_utilisation),
         )
+        caveat = collar_caveat(motion, collar_utilisation, elastic_collars)
+        if caveat:
+            out["caveat"] = caveat
     return out
+
+
+def collar_caveat(motion: str, utilisation: float, elastic_collars: str | None) -> str | None:
+    """Why a model that stays up is outside its validity: its collars are elastic
+    (``elastic_collars`` says so in words) and carry ``utilisation`` times f_y; None where the
+    model overturns, its collars yield in the model, or they stay below f_y."""
+    if elastic_collars is None or motion.startswith("overturned") or not utilisation > 1.0:
+        return None
+    return f"its collars would carry {utilisation:.3g} times f_y ({elastic_collars})"
 
 
 def limit_answer(
@@ -206,6 +222,8 @@ def _model_stays_up(m: dict) -> dict:
         n, total = int(m["motion"].startswith("overturned")), 1
     word = YES if n == 0 else NO if n == total else UNDECIDED
     out = {"model": m["model"], "answer": word, "overturned": n, "of": total}
+    if m.get("caveat"):
+        out["caveat"] = m["caveat"]
     if m.get("overturn_time") is not None:
         out["overturn_time"] = m["overturn_time"]
     if m.get("overturn_time_range"):
@@ -225,12 +243,15 @@ def stays_up(
     if not models:
         return not_assessed(question, why)
     per_model = [_model_stays_up(m) for m in models]
-    return {
+    out = {
         "question": question,
         "answer": per_model[stress_model]["answer"],
         "model": per_model[stress_model]["model"],
         "per_model": per_model,
     }
+    if per_model[stress_model].get("caveat"):  # its word rests on what its caveat says
+        out["caveat"] = per_model[stress_model]["caveat"]
+    return out
 
 
 def _until_overturning(model: dict) -> dict | None:
@@ -395,3 +416,70 @@ def _overturn_times(fem: dict) -> list[float]:
         for t, status in zip(ends, statuses)
         if t is not None and str(status).startswith("overturned")
     ]
+
+
+# --- numbers of a stopped run (issue 48) ---------------------------------------------------------
+# A run stops where its column overturns (a stopping convention): its largest rotation is then
+# the angle it stopped at, a ratio of two such angles compares two stopping rules, and a
+# velocity ratio from the rotation peaks takes the stopping angle for a peak. Such a number is
+# never a result: summary.json carries, in its place, the words saying why.
+NOT_APPLICABLE = "not applicable"
+# the keys of a run's summary that hold its stopping angle where it overturned: its rotations,
+# and the velocity ratio measured from its rotation peaks
+STOPPED_KEYS = (
+    "max_abs_theta_left",
+    "max_abs_theta_right",
+    "max_abs_theta",
+    "restitution_after_motion",
+)
+
+
+def overturned_at(name: str, overturned: int | bool, t: float | None, of: int = 1) -> str | None:
+    """'<name> overturned at t = ... s' (with 'in n of N replicas' for an ensemble), None where
+    it did not overturn."""
+    if not overturned:
+        return None
+    when = "" if t is None else f" at t = {t:.4g} s"
+    replicas = f" in {int(overturned)} of {of} replicas" if of > 1 else ""
+    return f"{name} overturned{when}{replicas}".strip()
+
+
+def fem_stop(name: str, fem: dict) -> str | None:
+    """:func:`overturned_at` of an FEM ensemble summary: any replica that overturned stops the
+    ensemble's rotation numbers (its median mixes stopping angles), the time the median of
+    the overturned replicas' run ends."""
+    replicas = int(fem.get("replicas", 1))
+    n = int(fem.get("overturned_replicas", int(bool(fem["overturned"]))))
+    times = _overturn_times(fem)
+    return overturned_at(name, n, float(np.median(times)) if times else fem.get("t_end"), replicas)
+
+
+def not_applicable(*stops: str | None) -> str | None:
+    """'not applicable: <the stops>' where a run stopped, None where none did."""
+    said = [s for s in stops if s]
+    return f"{NOT_APPLICABLE}: {'; '.join(said)}" if said else None
+
+
+def unless_stopped(value, *stops: str | None):
+    """``value``, or where one of the runs behind it stopped (:func:`overturned_at`), the
+    sentence that says so in its place (:func:`not_applicable`)."""
+    note = not_applicable(*stops)
+    return value if note is None else note
+
+
+def is_stopped(value) -> bool:
+    """Whether a summary value is the words of :func:`not_applicable` (not a number)."""
+    return isinstance(value, str) and value.startswith(NOT_APPLICABLE)
+
+
+def without_stopping_angles(summary: dict, stop: str | None) -> dict:
+    """A copy of a run's summary whose keys of :data:`STOPPED_KEYS` (and their bands)
+    say :func:`not_applicable` where the run stopped (``stop``); the summary itself where it
+    did not."""
+    note = not_applicable(stop)
+    if note is None:
+        return summary
+    out = {k: (note if k in STOPPED_KEYS else v) for k, v in summary.items()}
+    if isinstance(summary.get("bands"), dict):
+        out["bands"] = {k: (note if k in STOPPED_KEYS else v) for k, v in summary["bands"].items()}
+    return out

@@ -209,7 +209,9 @@ def test_no_stress_answer_of_an_overturning_column_is_green_in_the_browser(tmp_p
     colours = json.loads(html.unescape(found.group(1)))
     for key in ("stays_up", "collars_yield", "toe_crushes"):
         assert colours[key] != GREEN, key
-    assert colours["per_model"][2] == GREEN  # the SDOF half block stays up: a plain yes
+    # the SDOF half block stays up on its elastic collars at 3.9 f_y: a yes it cannot carry,
+    # never green (issue 48)
+    assert colours["per_model"][2] != GREEN
     assert colours["rigid_assumption_ok"] == GREEN  # no stress answer: not qualified
 
 

@@ -24,7 +24,14 @@ from ..executor import RunOptions, run_cases
 from ..fem_study import FemWork, case_of, run_multibody, study_of_case
 from ..fem_study import fem_work as estimate_work
 from ..guard import check_fem_results, halved_steps
-from ..outcome import fem_answers, fem_model, outcome, rocking_block
+from ..outcome import (
+    fem_answers,
+    fem_model,
+    fem_stop,
+    outcome,
+    rocking_block,
+    unless_stopped,
+)
 from ..output import write_csv, write_json
 from ..study import Study
 
@@ -100,11 +107,14 @@ def run(given: Study, out: Path, options: RunOptions) -> dict:
         "fem_collar_max_utilisation": fem["collar_max_utilisation"],
         "fem_collar_first_yield_time": fem["collar_first_yield_time"],
         "fem_overturned": fem["overturned"],
-        "fem_max_rotation": max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]),
-        "fem_max_rotation_over_yield_rotation": max(
-            fem["max_abs_theta_left"], fem["max_abs_theta_right"]
-        )
-        / design["yield_rotation"],
+        # an FEM run that overturned stopped at its overturning angle: no rotation it reached
+        "fem_max_rotation": unless_stopped(
+            max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]), fem_stop("the FEM", fem)
+        ),
+        "fem_max_rotation_over_yield_rotation": unless_stopped(
+            max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]) / design["yield_rotation"],
+            fem_stop("the FEM", fem),
+        ),
         "ductile_design": ductile_design(study, thicknesses, trial_cases, trials),
         "halved_steps": halved_steps([("the FEM run", fem)]),
         "wall_seconds": time.perf_counter() - start,

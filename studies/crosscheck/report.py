@@ -531,23 +531,23 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
 # the Numbers table of the cross-check: (label, summary key, unit; "-" a ratio, "" words)
 CROSSCHECK_NUMBERS = [
     (
-        "FEM largest rotation, left half (where the run stopped if it overturns)",
-        "fem.max_abs_theta_left",
+        "FEM largest rotation, left half (not applicable where the run overturned)",
+        "peak_rotations.fem_left",
         "rad",
     ),
     (
-        "FEM largest rotation, right half (where the run stopped if it overturns)",
-        "fem.max_abs_theta_right",
+        "FEM largest rotation, right half (not applicable where the run overturned)",
+        "peak_rotations.fem_right",
         "rad",
     ),
     (
-        "multibody largest rotation, left half (where the run stopped if it overturns)",
-        "rigid_multibody.max_abs_theta_left",
+        "multibody largest rotation, left half (not applicable where the run overturned)",
+        "peak_rotations.multibody_left",
         "rad",
     ),
     (
-        "multibody largest rotation, right half (where the run stopped if it overturns)",
-        "rigid_multibody.max_abs_theta_right",
+        "multibody largest rotation, right half (not applicable where the run overturned)",
+        "peak_rotations.multibody_right",
         "rad",
     ),
     ("multibody mode", "rigid_multibody.mode", ""),

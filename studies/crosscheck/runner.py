@@ -50,16 +50,22 @@ from ..outcome import (
     collars_hold,
     criteria_answer,
     fem_model,
+    fem_stop,
+    is_stopped,
     limit_answer,
     model_outcome,
     not_assessed,
     outcome,
+    overturned_at,
     rocking_block,
+    unless_stopped,
+    without_stopping_angles,
 )
 from ..output import read_csv, write_csv, write_json
 from ..study import Study
 
 NOT_APPLICABLE = "not applicable"
+SDOF_HALF = "SDOF half block with collars (the paper's)"  # the model's name in the outcome
 
 # tolerances of the verdict "rigid assumption good enough?" (FEM against the multibody model)
 PEAK_TOLERANCE = 0.20  # |theta / theta_reference - 1| for two models to give one answer
@@ -654,11 +660,24 @@ def _word(flag: bool) -> str:
     return YES if flag else NO
 
 
-def _standing_ratio(fem: dict, fem_peak: float, other: dict, other_peak: float) -> float | None:
-    """FEM peak / another model's peak where neither overturns, else None."""
-    if fem["overturned"] or other["overturned"]:
-        return None
-    return _peak_ratio(fem_peak, other_peak)
+def _multibody_stop(mb: dict) -> str | None:
+    """Where the rigid multibody run overturned: :func:`studies.outcome.overturned_at`."""
+    return overturned_at("the multibody model", mb["overturned"], mb.get("overturn_time"))
+
+
+def _sdof_stop(name: str, sdof: dict) -> str | None:
+    """Where an SDOF run overturned (its max_abs_theta is then pi/2 by convention)."""
+    return overturned_at(name, sdof["overturned"], sdof.get("overturn_time"))
+
+
+def _stops(fem: dict, results: dict) -> dict:
+    """Each model's stop (:func:`studies.outcome.overturned_at`; None where it stayed up)."""
+    return {
+        "fem": fem_stop("the FEM", fem),
+        "multibody": _multibody_stop(results["multibody"]),
+        "rigid": _sdof_stop("the SDOF half block", results["rigid"]),
+        "monolith": _sdof_stop("the whole-column SDOF", results["monolith"]),
+    }
 
 
 def assemble_summary(study, results: dict, criteria: dict) -> dict:
@@ -671,9 +690,18 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
     mb_peak = max(multibody["max_abs_theta_left"], multibody["max_abs_theta_right"])
     # a ratio of peak rotations compares columns that stay up: an overturned block's peak is
     # where its run stopped (pi/2 for the SDOF model, by convention), not a rotation it reached
-    ratio = _standing_ratio(fem, fem_peak, rigid, rigid["max_abs_theta"])
-    ratio_monolith = _standing_ratio(fem, fem_peak, monolith, monolith["max_abs_theta"])
-    ratio_multibody = _peak_ratio(fem_peak, mb_peak)
+    # (a run that stopped in any replica: its ensemble's median mixes stopping angles), in
+    # its place the words that say which run stopped when
+    stops = _stops(fem, results)
+    ratio = unless_stopped(
+        _peak_ratio(fem_peak, rigid["max_abs_theta"]), stops["fem"], stops["rigid"]
+    )
+    ratio_monolith = unless_stopped(
+        _peak_ratio(fem_peak, monolith["max_abs_theta"]), stops["fem"], stops["monolith"]
+    )
+    ratio_multibody = unless_stopped(
+        _peak_ratio(fem_peak, mb_peak), stops["fem"], stops["multibody"]
+    )
     block = study.rocking_block
     # a column that no model uplifts: the SDOF model agrees with the multibody one whatever
     # the ratio of their (elastic, contact-compliance) rotations, and it does not rock at all
@@ -685,6 +713,7 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
     )
     answers = crosscheck_outcome(study, results, criteria)
     words = {a["key"]: a["answer"] for a in answers["answers"]}
+    sdof_model = next(m for m in answers["models"] if m["model"] == SDOF_HALF)
     return {
         "study": study.name,
         "outcome": answers,
@@ -701,13 +730,26 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
             "collars_yield": words["collars_yield"],
             "toe_crushes": words["toe_crushes"],
             "rocks_as_one_block": NOT_APPLICABLE
-            if ratio is None or ratio_monolith is None or fem_at_rest
+            if is_stopped(ratio) or is_stopped(ratio_monolith) or fem_at_rest
             else _word(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
             "overturns_fem": fem["overturned_answer"],
         },
+        # a verdict that rests on a model outside its validity: why (the SDOF's elastic
+        # collars past f_y), said beside its word
+        "verdict_caveats": {
+            key: m["caveat"] for key, m in (("sdof_half_model_ok", sdof_model),) if m.get("caveat")
+        },
         # neither the SDOF half block nor the multibody model uplifts the column
         "sdof_at_rest": sdof_at_rest,
-        "fem": fem,
+        # the FEM's summary, its rotations (the angle it stopped at) not given where it overturned
+        "fem": without_stopping_angles(fem, stops["fem"]),
+        # each model's largest rotation, a rotation it reached where it stayed up
+        "peak_rotations": {
+            "fem_left": unless_stopped(fem["max_abs_theta_left"], stops["fem"]),
+            "fem_right": unless_stopped(fem["max_abs_theta_right"], stops["fem"]),
+            "multibody_left": unless_stopped(multibody["max_abs_theta_left"], stops["multibody"]),
+            "multibody_right": unless_stopped(multibody["max_abs_theta_right"], stops["multibody"]),
+        },
         "collar_heights": [c.y for c in study.collars],
         "collar_fy": [c.fy for c in study.collars],  # Pa
         "collars": [_collar_section(study, c) for c in study.collars],
@@ -717,12 +759,14 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "toe_stress": _toe_stress(study, results),
         "bed": _bed(study, results),
         # the multibody run's summary, as its typed result selects it for the cross-check
-        "rigid_multibody": selected(multibody, MultibodySummary, MULTIBODY_KEYS),
+        "rigid_multibody": without_stopping_angles(
+            selected(multibody, MultibodySummary, MULTIBODY_KEYS), stops["multibody"]
+        ),
         # an overturned block's max_abs_theta is the pi/2 of its stopping rule: not shown
         "rigid": {
             "overturned": rigid["overturned"],
             "mode": rigid["mode"],
-            "max_abs_theta": None if rigid["overturned"] else rigid["max_abs_theta"],
+            "max_abs_theta": unless_stopped(rigid["max_abs_theta"], stops["rigid"]),
             "overturn_time": rigid.get("overturn_time"),
             "collar_max_utilisation": rigid.get("collar_max_utilisation"),
             "collar_state": rigid.get("collar_state"),
@@ -733,7 +777,7 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "rigid_monolith": {
             "overturned": monolith["overturned"],
             "mode": monolith["mode"],
-            "max_abs_theta": None if monolith["overturned"] else monolith["max_abs_theta"],
+            "max_abs_theta": unless_stopped(monolith["max_abs_theta"], stops["monolith"]),
             "overturn_time": monolith.get("overturn_time"),
             "impacts": monolith["impacts"],
         },
@@ -743,16 +787,21 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "theta_peak_ratio_fem_over_rigid": ratio,
         "theta_peak_ratio_fem_over_monolith": ratio_monolith,
         # an overturned SDOF block reports pi/2 by convention: no rotation to compare
-        "theta_peak_ratio_rigid_over_multibody": None
-        if rigid["overturned"]
-        else _peak_ratio(rigid["max_abs_theta"], mb_peak),
-        "theta_peak_ratio_monolith_over_multibody": None
-        if monolith["overturned"]
-        else _peak_ratio(monolith["max_abs_theta"], mb_peak),
+        "theta_peak_ratio_rigid_over_multibody": unless_stopped(
+            _peak_ratio(rigid["max_abs_theta"], mb_peak), stops["rigid"], stops["multibody"]
+        ),
+        "theta_peak_ratio_monolith_over_multibody": unless_stopped(
+            _peak_ratio(monolith["max_abs_theta"], mb_peak), stops["monolith"], stops["multibody"]
+        ),
         # the velocity ratio of the impacts after the ground motion (free rocking), where
-        # there are any: FEM median and band, multibody
-        "restitution_after_motion_fem": fem["restitution_after_motion"],
-        "restitution_after_motion_multibody": multibody.get("restitution_after_motion"),
+        # there are any: FEM median and band, multibody; of a run that overturned the rotation
+        # peak after its last impact is the angle it stopped at, so none
+        "restitution_after_motion_fem": unless_stopped(
+            fem["restitution_after_motion"], stops["fem"]
+        ),
+        "restitution_after_motion_multibody": unless_stopped(
+            multibody.get("restitution_after_motion"), stops["multibody"]
+        ),
         "restitution_housner": block.restitution_housner,
         "pulse": _pulse_summary(study, results),
         "peak_tolerance": PEAK_TOLERANCE,
@@ -844,8 +893,13 @@ def _fem_vs_multibody(fem_case_result: dict, multibody: dict) -> dict:
     return {
         "t_end_fem": fem["t_end"],
         "t_end_multibody": multibody["overturn_time"] if multibody["overturned"] else None,
-        "collar_utilisation_ratio": _peak_ratio(
-            fem["collar_max_utilisation"], multibody.get("collar_max_utilisation") or 0.0
+        # each run's peak is its peak until it stopped: their ratio compares two stops
+        "collar_utilisation_ratio": unless_stopped(
+            _peak_ratio(
+                fem["collar_max_utilisation"], multibody.get("collar_max_utilisation") or 0.0
+            ),
+            fem_stop("the FEM", fem),
+            _multibody_stop(multibody),
         ),
         "crack_slip_fem": fem_case_result.get("crack_slip_max"),
         "crack_slip_multibody": multibody["max_abs_crack_slip"],
@@ -870,6 +924,11 @@ def _uncertainty(results: dict) -> dict | None:
         for name, get in quantities.items()
     }
     table["edge_stress_ratio"]["method"] = "meshes 4h, 2h, h"
+    # the rotations of runs that overturned are their stopping angles: no order to observe
+    table["peak_rotation"] = unless_stopped(
+        table["peak_rotation"],
+        *(fem_stop(f"the FEM on mesh {k[4:] or 'h'}", results[k]["summary"]) for k in keys),
+    )
     return table
 
 
@@ -964,9 +1023,11 @@ def toe_crushes(study, results: dict) -> dict:
     fem = results["fem"]["summary"]
     # the toe stress named (issue 35): which peak, and what it averages
     window = f"base contact pressure averaged over the first {1e3 * fem['edge_length']:.3g} mm"
+    if fem.get("edge_time") is not None:
+        window += f" and {1e3 * fem['edge_time']:.3g} ms"
     toe = _toe_stress(study, results)
     if toe is None:
-        return limit_answer(
+        answer = limit_answer(
             question,
             f"toe stress ({window}) / f_c, study-mesh peak",
             fem["bands"]["edge_stress_ratio"],
@@ -975,15 +1036,108 @@ def toe_crushes(study, results: dict) -> dict:
             _mesh_uncertainty(results, "edge_stress_ratio"),
             figure="toe_stress",
         )
-    b = toe["band_ratio"]
-    return limit_answer(
-        question,
-        f"toe stress ({window}) / f_c, refined toe-window peak",
-        {"median": toe["ratio"], "min": b["min"], "max": b["max"], "missing": 0},
-        1.0,
-        "-",
-        figure="toe_stress",
+    else:
+        b = toe["band_ratio"]
+        answer = limit_answer(
+            question,
+            f"toe stress ({window}) / f_c, refined toe-window peak",
+            {"median": toe["ratio"], "min": b["min"], "max": b["max"], "missing": 0},
+            1.0,
+            "-",
+            figure="toe_stress",
+        )
+    return toe_local(study, results, answer)
+
+
+LOCAL_SPALLING = "local spalling of the corner possible"
+NO_LOCAL_SPALLING = "no local spalling"
+
+
+def toe_local(study, results: dict, answer: dict) -> dict:
+    """The toe answer with what its first screen must say beside it (issue 48): ``averaged``,
+    the averaged toe stress (Pa) its word compares with f_c, over ``edge_length`` (m) and
+    ``edge_time`` (s); ``local``, the largest Winkler toe pressure of the runs (Pa, over the
+    few millimetres of contact the mesh does not resolve; the toe section's number,
+    :func:`winkler_run_max`) over f_c and its spalling verdict; and ``caveat`` where the
+    answer rests on more than its word says: the local pressure past f_c, or an elastic bed
+    whose toe pressure passes the yield pressure of its material (:func:`bed_yield`)."""
+    fem = results["fem"]["summary"]
+    if answer.get("median") is None or fem.get("toe_pressure_winkler") is None:
+        return answer
+    fc = study.stone.fc
+    pressure = winkler_run_max(results)
+    answer = dict(
+        answer,
+        averaged={
+            "stress": answer["median"] * fc,
+            "edge_length": fem["edge_length"],
+            "edge_time": fem.get("edge_time"),
+        },
+        local={
+            "measure": "Winkler toe pressure of the runs (the bed's elastic peak over the first "
+            "millimetres of contact, which the mesh does not resolve)",
+            "pressure": pressure,
+            "ratio": pressure / fc,
+            "spalling": LOCAL_SPALLING if pressure > fc else NO_LOCAL_SPALLING,
+        },
     )
+    caveats = []
+    if pressure > fc:
+        caveats.append(
+            f"the local (Winkler) toe pressure reaches {pressure / fc:.3g} f_c: {LOCAL_SPALLING}"
+        )
+    yielding = bed_yield(study.bed)
+    if yielding is not None and pressure > yielding["pressure"]:
+        caveats.append(
+            f"it rests on an elastic bed past its yield: the toe pressure "
+            f"{pressure / 1e6:.3g} MPa is above the {yielding['name']} bed's yield pressure "
+            f"{yielding['pressure'] / 1e6:.3g} MPa (range {yielding['low'] / 1e6:.3g} to "
+            f"{yielding['high'] / 1e6:.3g} MPa: {yielding['source']}), which it cannot carry"
+        )
+        answer["bed_yield"] = yielding
+    if caveats:
+        answer["caveat"] = "; ".join(caveats)
+    return answer
+
+
+def bed_yield(bed) -> dict | None:
+    """Where an elastic bed (no ``yield_pressure`` of its own) is a preset of
+    :data:`colonna.fem.bed.BED_PRESETS` whose material yields (its ``yield_range`` and
+    ``yield_source``: lead at a few MPa, mortar at its compressive strength): its name, its
+    nominal yield ``pressure`` (the range's geometric mean, as a bed that yields takes it),
+    the range (Pa) and the source; None for a bed that yields in the model, a given stiffness or
+    a preset without a yield pressure."""
+    from ...fem.bed import BED_PRESETS
+
+    if getattr(bed, "yield_pressure", None) is not None:
+        return None
+    for name, preset in BED_PRESETS.items():
+        limits = getattr(preset, "yield_range", None)
+        if limits and bed.source.startswith(preset.source):
+            return {
+                "name": name,
+                # the nominal value, the geometric mean of the range (as a bed that yields uses)
+                "pressure": math.sqrt(limits[0] * limits[1]),
+                "low": float(limits[0]),
+                "high": float(limits[1]),
+                "source": getattr(preset, "yield_source", ""),
+            }
+    return None
+
+
+def winkler_run_max(results: dict) -> float:
+    """The largest Winkler toe pressure (Pa) the runs themselves gave (their base force and
+    tilt): the FEM ensemble's, and where the bed has a range, replica 0's on the nominal bed
+    and the range's ends' (the toe section's ``winkler_run_ratio_max`` times f_c)."""
+    fem = results["fem"]
+    values = [fem["summary"]["toe_pressure_winkler"]]
+    if "fem-bed-low" in results and "fem-bed-high" in results:
+        values += [
+            fem.get("replica_summaries", [fem["summary"]])[0]["toe_pressure_winkler"],
+            results["fem-bed-low"]["summary"]["toe_pressure_winkler"],
+            results["fem-bed-high"]["summary"]["toe_pressure_winkler"],
+        ]
+    return float(max(values))
 
 
 def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
@@ -1003,15 +1157,22 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
             collar_utilisation=mb.get("collar_max_utilisation") if study.collars else None,
             collar_fractured=bool(mb.get("collar_fractured")),
             block=block,
+            elastic_collars=None
+            if any(c.plastic for c in study.collars)
+            else "the multibody model's collars are elastic frames",
         ),
         model_outcome(
-            "SDOF half block with collars (the paper's)",
+            SDOF_HALF,
             rigid["overturned"],
             rigid["max_abs_theta"],
             rigid["alpha"],
             rigid.get("overturn_time"),
             collar_utilisation=rigid.get("collar_max_utilisation"),
             block="half" if study.cracked else "column",
+            # the SDOF's collar springs never yield (rigid.solve: collar_law "elastic")
+            elastic_collars="the SDOF's collars are elastic"
+            if rigid.get("collar_law", "elastic") == "elastic"
+            else None,
         ),
         model_outcome(
             "SDOF whole column, no crack",
@@ -1077,7 +1238,10 @@ def _bed(study, results: dict) -> dict:
                 "edge_stress_max": summary["edge_stress_max"],
                 "edge_stress_ratio": summary["edge_stress_max"] / study.stone.fc,
                 "toe_pressure_winkler": summary["toe_pressure_winkler"],
-                "peak_rotation": max(summary["max_abs_theta_left"], summary["max_abs_theta_right"]),
+                "peak_rotation": unless_stopped(
+                    max(summary["max_abs_theta_left"], summary["max_abs_theta_right"]),
+                    fem_stop("this run", summary),
+                ),
                 "overturned": bool(summary["overturned"]),
             }
     finest = max(study.toe_refinements, default=1)
@@ -1098,11 +1262,7 @@ def _bed(study, results: dict) -> dict:
         "range_runs": runs or None,
         # the largest Winkler toe pressure the runs themselves gave (their base force and tilt),
         # nominal bed and the range's ends, over f_c
-        "winkler_run_ratio_max": max(
-            [results["fem"]["summary"]["toe_pressure_winkler"]]
-            + [r["toe_pressure_winkler"] for r in runs.values()]
-        )
-        / study.stone.fc,
+        "winkler_run_ratio_max": winkler_run_max(results) / study.stone.fc,
     }
 
 

@@ -65,7 +65,9 @@ def write_report(out: Path) -> Path:
     ratio_columns = {}
     for k, tilt in enumerate(s["tilts"], start=1):
         for j, kind in enumerate(("fem", "multibody")):
-            ratios = np.array(tilt[kind]["ratios"], dtype=float)
+            # a run that overturned has no ratios (a string says so): nothing drawn
+            given = tilt[kind]["ratios"]
+            ratios = np.array([] if isinstance(given, str) else given, dtype=float)
             label = "FEM" if kind == "fem" else "rigid multibody"
             i = 2 * (k - 1) + j  # equal ratios stay apart: each its marker and size
             ax.plot(

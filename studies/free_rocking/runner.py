@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import copy
 import math
+import re
+import statistics
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -31,7 +33,7 @@ from ..executor import RunOptions, run_cases
 from ..fem_study import FemStudy, FemWork, case_of, from_spec, run_multibody, study_of_case
 from ..fem_study import fem_work as estimate_work
 from ..guard import check_fem_results, halved_steps, reliability
-from ..outcome import none_assessed
+from ..outcome import none_assessed, not_applicable, overturned_at
 from ..output import write_csv, write_json
 from ..study import Study
 
@@ -108,6 +110,40 @@ def free_rocking_case(case: dict, directory: str) -> dict:
         "impulse_ratios": result.impact_velocity_ratios(0)[:10].tolist(),
         "energy_error_max": result.summary()["energy_error_max"],
     }
+
+
+# a case's velocity ratios: measured from the rotation peaks either side of each impact
+RATIO_KEYS = (
+    "ratios",
+    "ratio_first",
+    "ratio_first_band",
+    "ratio_mean",
+    "ratio_mean_band",
+    "impulse_ratios",
+)
+
+
+def case_stop(key: str, result: dict) -> str | None:
+    """Where a case's run overturned (:func:`studies.outcome.overturned_at`, the time from its
+    status), None where it did not: an FEM case's replicas, a multibody case's one run."""
+    statuses = (
+        [r["status"] for r in result["fem_runs"]] if "fem_runs" in result else [result["status"]]
+    )
+    over = [str(s) for s in statuses if str(s).startswith("overturned")]
+    times = [float(m.group(1)) for s in over if (m := re.search(r"t = ([-+0-9.eE]+) s", s))]
+    name = "the FEM" if key.startswith("fem") else "the multibody model"
+    return overturned_at(
+        name, len(over), float(statistics.median(times)) if times else None, len(statuses)
+    )
+
+
+def without_stopped_ratios(key: str, result: dict) -> dict:
+    """A case's result whose velocity ratios (:data:`RATIO_KEYS`) say not applicable where its
+    run overturned: the rotation peak after its last impact is then the angle it stopped at."""
+    note = not_applicable(case_stop(key, result))
+    if note is None:
+        return result
+    return {k: (note if k in RATIO_KEYS else v) for k, v in result.items()}
 
 
 def _base_study(study: Study) -> FemStudy:
@@ -211,6 +247,7 @@ def run(given: Study, out: Path, options: RunOptions) -> dict:
         **options.for_cases(),
     )
     check_fem_results(results, out)
+    results = {key: without_stopped_ratios(key, r) for key, r in results.items()}
     housner = Block(b=1.0, h=1.0 / math.tan(alpha)).restitution_housner
     base_fem = results["fem-tilt1"]
     summary = {

@@ -56,11 +56,13 @@ def _convergence_figure(out: Path, s: dict) -> dict:
     handles: dict[str, Artist] = {}  # one legend for the three panels, below them: what is drawn
     for ax, (name, label, unit) in zip(axes, CONVERGENCE_QUANTITIES):
         c = s["convergence"][name]
-        columns[name] = np.array(c["values"], dtype=float)
+        # a run that overturned has no value (its rotation is where it stopped): not drawn
+        given = np.array([v if isinstance(v, (int, float)) else np.nan for v in c["values"]])
+        columns[name] = given
         unit, scale = shown_unit(unit)  # stresses in MPa
-        values = scale * np.array(c["values"], dtype=float)
+        values = scale * given
         handles.setdefault("FEM", ax.plot(sizes, values, "o-", color="C0", label="FEM")[0])
-        if c["richardson"] is not None:
+        if isinstance(c["richardson"], (int, float)):
             handles.setdefault(
                 "Richardson",
                 ax.axhline(

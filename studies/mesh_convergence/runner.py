@@ -12,7 +12,16 @@ from ..executor import RunOptions
 from ..fem_study import FemStudy, FemWork, case_of
 from ..fem_study import fem_work as estimate_work
 from ..guard import halved_steps
-from ..outcome import fem_answers, fem_model, outcome, rocking_block
+from ..outcome import (
+    fem_answers,
+    fem_model,
+    fem_stop,
+    not_applicable,
+    outcome,
+    rocking_block,
+    unless_stopped,
+    without_stopping_angles,
+)
 from ..study import Study
 from ..sweep import run_sweep
 
@@ -62,6 +71,17 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
     for name, get in quantities.items():
         values = [get(results[c["key"]]["summary"]) for c in cases]
         table[name] = convergence_table(values, ratio)
+    # a run that overturned stopped at its overturning angle: its peak rotation is no value of
+    # the mesh, and no order is observed from it
+    stops = [fem_stop("the FEM on this mesh", results[c["key"]]["summary"]) for c in cases]
+    if any(stops):
+        note = not_applicable(*(s for s in stops if s))
+        table["peak_rotation"] = {
+            **{k: note for k in table["peak_rotation"]},
+            "values": [
+                unless_stopped(v, s) for v, s in zip(table["peak_rotation"]["values"], stops)
+            ],
+        }
     finest = results[cases[-1]["key"]]["summary"]
     models = [
         fem_model(
@@ -87,7 +107,10 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
         "dofs": [results[c["key"]]["summary"]["dofs"] for c in cases],
         # the bed: its stiffness per unit area the same on every mesh (issue 38)
         "bed": {"stiffness": study.bed.stiffness, "source": study.bed.source},
-        "fem": {c["key"]: results[c["key"]]["summary"] for c in cases},
+        "fem": {
+            c["key"]: without_stopping_angles(results[c["key"]]["summary"], s)
+            for c, s in zip(cases, stops)
+        },
         "halved_steps": halved_steps(
             [
                 (

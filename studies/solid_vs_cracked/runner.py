@@ -11,7 +11,16 @@ from ..executor import RunOptions
 from ..fem_study import FemStudy, FemWork, case_of, from_spec, rocking_alpha
 from ..fem_study import fem_work as estimate_work
 from ..guard import halved_steps
-from ..outcome import fem_answers, fem_model, model_outcome, outcome, rocking_block
+from ..outcome import (
+    fem_answers,
+    fem_model,
+    fem_stop,
+    model_outcome,
+    outcome,
+    overturned_at,
+    rocking_block,
+    unless_stopped,
+)
 from ..study import Study
 from ..sweep import run_sweep
 
@@ -71,9 +80,16 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
         fem = results[f"{name}-fem"]["summary"]
         rigid = results[f"{name}-rigid"]
         rows[name] = {
-            "fem_peak_rotation": max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]),
+            # a run that overturned stopped at its overturning angle (pi/2 for the SDOF)
+            "fem_peak_rotation": unless_stopped(
+                max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]),
+                fem_stop("the FEM", fem),
+            ),
             "fem_overturned": fem["overturned"],
-            "rigid_peak_rotation": rigid["max_abs_theta"],
+            "rigid_peak_rotation": unless_stopped(
+                rigid["max_abs_theta"],
+                overturned_at("the SDOF", rigid["overturned"], rigid.get("overturn_time")),
+            ),
             "rigid_overturned": rigid["overturned"],
             "rigid_mode": rigid["mode"],
             "collar_max_utilisation": fem["collar_max_utilisation"],

@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..report import image, render_page
+from ..report import fmt, image, render_page
 
 
 def write_markdown(out: Path, s: dict) -> None:
@@ -15,7 +15,7 @@ def write_markdown(out: Path, s: dict) -> None:
     Fig. 5, and its spectra (what ``colonna validate`` leaves beside summary.json)."""
     lin, non = s["boundaries"]["linear"], s["boundaries"]["nonlinear"]
     rows = "\n".join(
-        f"| {x} | {h['mode']} | {h['impacts']} | {h['max_abs_theta_over_alpha']:.4f} |"
+        f"| {x} | {h['mode']} | {h['impacts']} | {fmt(h['max_abs_theta_over_alpha'], 4)} |"
         for x, h in s["histories"].items()
     )
     text = f"""# Zhang & Makris block: validation of the rigid solver

@@ -20,6 +20,7 @@ from ...rigid.block import Block, pulse_from_ratios
 from ...rigid.solve import rock
 from ...rigid.spectrum import overturning_spectrum
 from ..executor import RunOptions
+from ..outcome import overturned_at, unless_stopped
 from ..output import write_csv, write_json
 from ..study import Study
 from .report import write_markdown
@@ -31,6 +32,20 @@ OMEGA_RATIO = 5.0
 
 def zhang_makris_block(**kw) -> Block:
     return Block.from_dimensionless(**ZHANG_MAKRIS, **kw)
+
+
+def history_entry(result) -> dict:
+    """What the summary keeps of a time history: whether and how the block overturned, its
+    impacts, and its largest |theta| / alpha, which of a block that overturned is where its
+    run stopped (no result: the words that say so in its place)."""
+    run = result.summary()
+    return {
+        **{k: run[k] for k in ("overturned", "mode", "impacts")},
+        "max_abs_theta_over_alpha": unless_stopped(
+            run["max_abs_theta_over_alpha"],
+            overturned_at("the block", run["overturned"], run.get("overturn_time")),
+        ),
+    }
 
 
 def mode_boundaries(
@@ -101,10 +116,7 @@ def zhang_makris_validation(out: Path, progress: bool = True) -> dict:
             out / f"history_{tag}.png",
             title=f"a_p = {x:g} g alpha, Omega/p = 5: {result.mode}",
         )
-        summary["histories"][f"{x:g}"] = {
-            k: result.summary()[k]
-            for k in ("overturned", "mode", "impacts", "max_abs_theta_over_alpha")
-        }
+        summary["histories"][f"{x:g}"] = history_entry(result)
 
     say("mode boundaries at Omega/p = 5 (bisection)")
     brackets = [(2.5, 4.0), (5.5, 6.9), (6.9, 8.0)]
