@@ -470,14 +470,17 @@ def bed_range_studies(fem) -> dict:
     """The study on the softest and the stiffest bed of its range (one unperturbed run each, at
     its own stable step: a step set by hand for the nominal bed may be too long for the
     stiffest), where the bed's stiffness has a range: the toe answer at the range's ends."""
-    from ...fem.bed import Bed
-
     bed = fem.bed
     if not bed.low < bed.high:
         return {}
     return {
         end: replace(
-            fem, bed=Bed(k, k, k, f"{bed.source}: the range's {end} end"), replicas=1, dt=None
+            fem,
+            bed=replace(
+                bed, stiffness=k, low=k, high=k, source=f"{bed.source}: the range's {end} end"
+            ),
+            replicas=1,
+            dt=None,
         )
         for end, k in (("low", bed.low), ("high", bed.high))
     }
