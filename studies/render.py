@@ -7,6 +7,7 @@ line, and each image is then trimmed to what is drawn (a few pixels of margin ke
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import sys
 from pathlib import Path
@@ -107,7 +108,16 @@ def render_snapshots(out: Path, n_frames: int = 24) -> list[tuple[str, str]]:
         meshes["final"].point_data["displacement"],
     )
     snaps = [("initial", "at rest under gravity")]
-    if same_end:
+    if same_end and _overturned(fem):
+        snaps.append(
+            (
+                "peak_rotation",
+                "at the overturning stop, the end of the run: its largest rotation is where "
+                "the overturning rule stopped it (a stopping convention, not a peak; the "
+                "deformed-column figure shows the largest rotation before overturning)",
+            )
+        )
+    elif same_end:
         snaps.append(("peak_rotation", "at peak rotation, which is also the end of the run"))
     else:
         snaps += [("peak_rotation", "at peak rotation"), ("final", "at the end of the run")]
@@ -118,7 +128,8 @@ def render_snapshots(out: Path, n_frames: int = 24) -> list[tuple[str, str]]:
         images.append(
             (
                 png,
-                f"Deformed halves {caption}, coloured by the stone's minimum principal "
+                f"Deformed halves {caption}, drawn true to scale (displacements not "
+                "magnified), coloured by the stone's minimum principal "
                 "stress sigma_3 per element (MPa, compression negative): a stress in the "
                 "stone, not the toe stress of the answers (the base contact pressure "
                 "averaged over the toe window)",
@@ -126,6 +137,14 @@ def render_snapshots(out: Path, n_frames: int = 24) -> list[tuple[str, str]]:
         )
     images.append(_gif(out, fem, n_frames))
     return images
+
+
+def _overturned(fem: Path) -> bool:
+    """Whether the FEM run of ``fem`` (its summary.json) stopped as the column overturned."""
+    try:
+        return bool(json.loads((fem / "summary.json").read_text()).get("overturned"))
+    except (OSError, ValueError, AttributeError):
+        return False
 
 
 def _snapshot(m, path: Path) -> None:

@@ -19,6 +19,7 @@ import importlib
 import io
 import json
 import math
+import textwrap
 from pathlib import Path
 
 import jinja2
@@ -232,9 +233,10 @@ def render_page(out: Path, template: str, summary: dict, title: str, **context) 
 
 
 def _legend_entries(fig) -> list[str]:
-    """The texts of every legend of the figure (figure legends and axes legends)."""
+    """The texts of every legend of the figure (figure legends and axes legends), a wrapped
+    entry's lines joined by a space."""
     legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend()]
-    return [t.get_text() for legend in legends for t in legend.get_texts()]
+    return [" ".join(t.get_text().split()) for legend in legends for t in legend.get_texts()]
 
 
 def figure(out: Path, name: str, fig, caption: str, data_file: str | None = "") -> dict:
@@ -255,6 +257,44 @@ def figure(out: Path, name: str, fig, caption: str, data_file: str | None = "") 
         "legend": legend,
         "data_file": f"figures/{name}.csv" if data_file == "" else data_file,
     }
+
+
+def texts_outside(fig) -> list[str]:
+    """What of a figure's text reaches beyond its edges once drawn (a legend entry, an axis
+    label, a title, the tick labels of an axis), as "where: text"; empty where every text is
+    inside. The trial's PDF showed "base contact pressure at the" and "nodes (MPa": texts cut
+    at the figure's edge."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.text import Text
+
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    page = fig.bbox.padded(1.0)  # a pixel of rounding
+
+    def cut(text) -> bool:
+        box = text.get_window_extent(renderer)
+        return not (
+            page.x0 <= box.x0 and box.x1 <= page.x1 and page.y0 <= box.y0 and box.y1 <= page.y1
+        )
+
+    found: list[str] = []
+    tick_labels: set = set()
+    for n, ax in enumerate(fig.axes):
+        for axis in (ax.xaxis, ax.yaxis):
+            every = axis.get_major_ticks() + axis.get_minor_ticks()
+            tick_labels.update(t for tick in every for t in (tick.label1, tick.label2))
+            # the ticks drawn (those in the view; matplotlib's own choice)
+            for tick in axis._update_ticks():
+                for label in (tick.label1, tick.label2):
+                    if label.get_visible() and label.get_text() and cut(label):
+                        found.append(f"axes {n} {axis.axis_name} tick label: {label.get_text()}")
+    for text in fig.findobj(Text):
+        if text in tick_labels or not text.get_visible() or not text.get_text().strip():
+            continue
+        if cut(text):
+            found.append(f"text: {' '.join(text.get_text().split())}")
+    return found
 
 
 def image(path: Path, caption: str, name: str | None = None) -> dict:
@@ -297,6 +337,12 @@ def legend_beside(ax, **kw):
     return ax.legend(
         fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, **kw
     )
+
+
+def wrap(text: str, width: int = 30) -> str:
+    """A label broken into lines of at most ``width`` characters: a long legend entry or axis
+    label would otherwise run past its figure's edge (:func:`texts_outside`)."""
+    return "\n".join(textwrap.wrap(text, width)) or text
 
 
 def has(summary: dict, dotted: str) -> bool:

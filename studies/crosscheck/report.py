@@ -19,7 +19,16 @@ from matplotlib.ticker import FuncFormatter, MaxNLocator
 from ...core.collar import hinge_strain_profile
 from ...core.constants import DUCTILITY_LIMIT
 from ..output import read_csv, write_csv
-from ..report import LINE_STYLES, distinct, figure, has, image, legend_beside, render_page
+from ..report import (
+    LINE_STYLES,
+    distinct,
+    figure,
+    has,
+    image,
+    legend_beside,
+    render_page,
+    wrap,
+)
 
 SIDES = ("left", "right")  # a collar's ends in the FEM history
 
@@ -152,7 +161,8 @@ def write_report(out: Path) -> Path:
     )
 
     # 1b. the deformed column at peak rotation: crack, collars, toe pressure
-    _deformed_figure(out, fem_h, figs)
+    state = drawn_state(out, fem_h)
+    _deformed_figure(out, fem_h, figs, state)
 
     # 2. where the pulse sits on the rigid spectrum (a record has no place on it)
     if spectrum is not None:
@@ -272,12 +282,12 @@ def write_report(out: Path) -> Path:
         )
     )
 
-    # 5. base contact pressure at peak rotation
+    # 5. base contact pressure at the deformed column's instant (its peak rotation, or where
+    # the run overturned its largest rotation before overturning: drawn_state)
     pressure = read_csv(out / "cases" / "fem" / "base_pressure.csv")
-    peak = int(np.argmax(np.maximum(np.abs(fem_h["theta_left"]), np.abs(fem_h["theta_right"]))))
     names = [k for k in pressure if k != "t"]
     x = np.array([float(n.split("_x=")[1]) for n in names])
-    row = min(peak, pressure["t"].size - 1)
+    row = int(np.argmin(np.abs(pressure["t"] - state["t"])))
     p_peak = np.array([pressure[n][row] for n in names])
     p_rest = np.array([pressure[n][0] for n in names])
     write_csv(
@@ -287,9 +297,9 @@ def write_report(out: Path) -> Path:
     fig = Figure(figsize=(8, 3.2))
     ax = fig.subplots()
     ax.plot(x, p_rest / 1e6, "o-", ms=3, label="at rest (gravity)")
-    ax.plot(x, p_peak / 1e6, "s-", ms=3, label=f"at peak rotation, t = {pressure['t'][row]:.3f} s")
+    ax.plot(x, p_peak / 1e6, "s-", ms=3, label=f"{state['when']}, t = {pressure['t'][row]:.3f} s")
     ax.set_xlabel("x (m)")
-    ax.set_ylabel(f"{AT_NODES} (MPa)")
+    ax.set_ylabel(wrap(f"{AT_NODES} (MPa)", 24))  # one line was taller than the figure
     ax.legend(fontsize=8)
     fig.tight_layout()
     figs.append(
@@ -297,8 +307,9 @@ def write_report(out: Path) -> Path:
             out,
             "base_pressure",
             fig,
-            f"The {AT_NODES} (replica 0), not averaged: the toe stress is its average over "
-            f"the toe window ({toe_window(summary)})",
+            f"The {AT_NODES} (replica 0), not averaged, at rest and {state['when']}"
+            f"{_state_note(state)}: the toe stress is its average over the toe window "
+            f"({toe_window(summary)})",
         )
     )
 
@@ -741,6 +752,123 @@ def _renders(out: Path) -> tuple[list, str]:
     return [image(out / "figures" / name, caption) for name, caption in images], ""
 
 
+# the instant the deformed-column and base-pressure figures draw (drawn_state): the trial's
+# "FEM at peak rotation" was the 45-degree overturning stop, drawn as if it were a result
+PEAK = "at peak rotation"
+BEFORE = "at its largest rotation before overturning"
+STOP = "at the overturning stop"
+
+
+def _fem_status(out: Path) -> dict:
+    """The FEM run's own summary (replica 0: whether it overturned, its stop in words)."""
+    try:
+        found = json.loads((out / "cases" / "fem" / "summary.json").read_text())
+    except (OSError, ValueError):
+        return {}
+    return found if isinstance(found, dict) else {}
+
+
+def _frames(series: Path) -> list[tuple[float, np.ndarray]]:
+    """The saved field frames of a FEM run (fields.xdmf): (t, displacement (n, 2)) each."""
+    import meshio
+
+    with meshio.xdmf.TimeSeriesReader(series) as reader:
+        reader.read_points_cells()
+        frames = []
+        for k in range(reader.num_steps):
+            t, point_data, _ = reader.read_data(k)
+            frames.append((float(t), np.asarray(point_data["displacement"])[:, :2]))
+    return frames
+
+
+def drawn_state(out: Path, fem_h: dict) -> dict:
+    """The FEM state (replica 0) that the deformed-column and base-pressure figures draw:
+    ``t``, ``when`` (PEAK, BEFORE or STOP) and ``displacement`` (a saved frame's, (n, 2), or
+    None: fields_peak_rotation.vtu's), with ``swing``, ``stop`` and ``spacing`` (s) for BEFORE.
+
+    A run that did not overturn: its peak rotation. A run that overturned stopped at its largest
+    rotation (its overturning rule: past its toe moving outward, or a half past 45 degrees), no
+    state to read: the saved frame (fields.xdmf) of the largest rotation before the swing in
+    which it overturned, that swing starting at the last output with the column upright or
+    tilted the other way. Where there is no such swing (it overturned in its first, or every
+    earlier rotation is below 1e-4 of the stop's: the stone's elastic sway), the stop, said so."""
+    t = fem_h["t"]
+    theta = np.maximum(np.abs(fem_h["theta_left"]), np.abs(fem_h["theta_right"]))
+    peak = {"t": float(t[int(np.argmax(theta))]), "when": PEAK, "displacement": None}
+    if not _fem_status(out).get("overturned"):
+        return peak
+    stop = dict(peak, when=STOP)
+    tilt = fem_h["theta_left"] + fem_h["theta_right"]
+    back = np.flatnonzero(np.sign(tilt[-1]) * tilt <= 0.0)
+    series = out / "cases" / "fem" / "fields.xdmf"
+    if not back.size or not series.is_file():
+        return stop
+    swing = float(t[back[-1]])  # the overturning swing starts after this output
+    frames = _frames(series)
+    times = np.array([f[0] for f in frames])
+    before = np.flatnonzero(times <= swing)
+    if not before.size:
+        return stop
+    rotation = np.interp(times[before], t, theta)
+    if rotation.max() < 1e-4 * float(theta.max()):
+        return stop
+    k = int(before[np.argmax(rotation)])
+    return {
+        "t": float(times[k]),
+        "when": BEFORE,
+        "displacement": frames[k][1],
+        "swing": swing,
+        "stop": float(t[-1]),
+        "spacing": float(np.median(np.diff(times))) if times.size > 1 else 0.0,
+    }
+
+
+def _state_note(state: dict) -> str:
+    """What the drawn instant is, for a caption (empty at a peak rotation)."""
+    if state["when"] == BEFORE:
+        return (
+            f" (t = {state['t']:.4g} s: the saved field frame, one every "
+            f"{state['spacing']:.3g} s, of the largest rotation before the swing from "
+            f"t = {state['swing']:.4g} s in which the column overturns; the run stops at "
+            f"t = {state['stop']:.4g} s by its overturning rule, a stopping convention, not "
+            "a state to read)"
+        )
+    if state["when"] == STOP:
+        return (
+            f" (t = {state['t']:.4g} s: the column overturned in its first swing, and this is "
+            "where the run stopped by its overturning rule, a stopping convention, not a peak)"
+        )
+    return ""
+
+
+def _elastic_part(X: np.ndarray, quads: np.ndarray, cell_body: np.ndarray, u: np.ndarray):
+    """``u`` less each body's best-fit rigid motion (centroid and rotation weighted by a quarter
+    of each element's area at its nodes): the elastic deformation, as the solver splits its own
+    snapshots (fem.output.elastic_displacement, with its lumped masses)."""
+    p = X[quads]
+    area = 0.5 * np.abs(
+        np.sum(
+            p[..., 0] * np.roll(p[..., 1], -1, axis=1) - np.roll(p[..., 0], -1, axis=1) * p[..., 1],
+            axis=1,
+        )
+    )
+    weight = np.zeros(len(X))
+    np.add.at(weight, quads, np.repeat(area[:, None] / 4.0, 4, axis=1))
+    elastic = np.zeros_like(u)
+    for b in np.unique(cell_body):
+        on = np.zeros(len(X), dtype=bool)
+        on[quads[cell_body == b]] = True
+        w = weight[on] / weight[on].sum()
+        P = X[on] - w @ X[on]
+        Q = X[on] + u[on] - w @ (X[on] + u[on])
+        phi = np.arctan2(
+            np.sum(w * (P[:, 0] * Q[:, 1] - P[:, 1] * Q[:, 0])), np.sum(w * np.sum(P * Q, axis=1))
+        )
+        c, s = np.cos(phi), np.sin(phi)
+        elastic[on] = Q - P @ np.array([[c, s], [-s, c]])
+    return elastic
+
+
 def _magnification(largest: float, height: float) -> float:
     """A round factor (1, 2 or 5 x 10^k) that draws the largest elastic displacement at about
     2 % of the column height."""
@@ -751,10 +879,12 @@ def _magnification(largest: float, height: float) -> float:
     return max(1.0, max(f * 10.0**k for f in (1.0, 2.0, 5.0) if f * 10.0**k <= raw))
 
 
-def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
-    """The FEM column at its peak rotation, drawn in the ground frame: each half's rigid motion
-    true to scale, its elastic deformation (the field file's ``elastic_displacement``, split off
-    by the solver) magnified by a stated factor; the collars between their attachment nodes
+def _deformed_figure(out: Path, fem_h: dict, figs: list, state: dict | None = None) -> None:
+    """The FEM column at the instant of ``state`` (:func:`drawn_state`: its peak rotation, or
+    where it overturned its largest rotation before overturning), drawn in the ground frame:
+    each half's rigid motion true to scale, its elastic deformation (the field file's
+    ``elastic_displacement``, split off by the solver; :func:`_elastic_part` of a saved frame)
+    magnified by a factor stated on the figure; the collars between their attachment nodes
     (``collar_end``); the base contact pressure under the toes at that instant."""
     import meshio
 
@@ -762,18 +892,22 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
     vtu = fem / "fields_peak_rotation.vtu"
     if not vtu.exists():
         return
+    state = drawn_state(out, fem_h) if state is None else state
     m = meshio.read(vtu)
     X = m.points[:, :2]
-    u = m.point_data["displacement"][:, :2]
-    elastic = m.point_data["elastic_displacement"][:, :2]
     collar_end = m.point_data["collar_end"].astype(int)
     quads = np.vstack([c.data for c in m.cells if c.type == "quad"])
     cell_body = np.concatenate(m.cell_data["body"]).astype(int)
+    if state["displacement"] is None:
+        u = m.point_data["displacement"][:, :2]
+        elastic = m.point_data["elastic_displacement"][:, :2]
+    else:
+        u = state["displacement"]
+        elastic = _elastic_part(X, quads, cell_body, u)
     height = float(np.ptp(X[:, 1]))
     factor = _magnification(float(np.abs(elastic).max()), height)
     drawn = X + u + (factor - 1.0) * elastic
-    k = int(np.argmax(np.maximum(np.abs(fem_h["theta_left"]), np.abs(fem_h["theta_right"]))))
-    t_peak = float(fem_h["t"][k])
+    t_drawn = state["t"]
     fig = Figure(figsize=(7.0, 6.4))
     ax = fig.subplots()
     handles: list[Artist] = []
@@ -812,7 +946,7 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
         with open(pressure_file) as fh:
             names = fh.readline().strip().split(",")[1:]
             rows = np.loadtxt(fh, delimiter=",", ndmin=2)
-        row = rows[int(np.argmin(np.abs(rows[:, 0] - t_peak)))]
+        row = rows[int(np.argmin(np.abs(rows[:, 0] - t_drawn)))]
         xs = np.array([float(n.split("=")[1]) for n in names])
         pressure = row[1:] / 1e6
         scale = 0.12 * height / max(pressure.max(), 1e-12)
@@ -822,7 +956,7 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
             Patch(
                 facecolor="k",
                 alpha=0.35,
-                label=f"{AT_NODES} (max {pressure.max():.3g} MPa)",
+                label=wrap(f"{AT_NODES} (max {pressure.max():.3g} MPa)", 28),
             )
         )
     ax.axhline(0.0, color="k", lw=0.8)
@@ -833,7 +967,14 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
     ax.xaxis.set_major_formatter(PLAIN)
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
-    ax.set_title(f"FEM at peak rotation, t = {t_peak:.3f} s")
+    # what is drawn and at what scale, on the figure itself: from the axes' left edge, so that
+    # a narrow column's title does not run off the figure
+    ax.set_title(
+        f"FEM {state['when']}, t = {t_drawn:.3f} s\nrigid motion true to scale,\n"
+        f"elastic deformation x{factor:g}",
+        loc="left",
+        fontsize=9,
+    )
     ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     fig.tight_layout()
     figs.append(
@@ -841,8 +982,8 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list) -> None:
             out,
             "deformed",
             fig,
-            "The FEM column at its peak rotation: each "
-            "half's rigid motion true to scale, its elastic deformation magnified "
+            f"The FEM column {state['when']}{_state_note(state)}: each half's rigid motion "
+            "true to scale, its elastic deformation magnified "
             f"x{factor:g}; the crack is the gap between the halves; collars in red; "
             f"under the base, the {AT_NODES} at that instant (not averaged, and not to the "
             "length scale: the toe stress of the answers is its average over the toe window)",

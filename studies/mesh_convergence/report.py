@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import NullFormatter
 
 from ..output import write_csv
-from ..report import figure, render_page
+from ..report import figure, render_page, wrap
 from ..units import shown_unit
 
 
@@ -77,7 +77,8 @@ def _convergence_figure(out: Path, s: dict) -> dict:
         ax.set_xticks(sizes, [f"{1e3 * h:g}" for h in sizes])
         ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_xlabel("mesh size h (mm)")
-        ax.set_title(label.split(" (")[0], fontsize=9)  # the table's label says what it averages
+        # the table's label says what it averages; wrapped: a long one ran off the figure
+        ax.set_title(wrap(label.split(" (")[0], 44), fontsize=9)
         ax.set_ylabel(f"({unit})")
     fig.legend(handles=list(handles.values()), loc="lower center", ncol=len(handles), fontsize=8)
     fig.tight_layout(rect=(0, 0.08, 1, 1))

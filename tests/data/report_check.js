@@ -63,9 +63,11 @@ window.addEventListener('load', () => {
         [...legend.children].filter(g => g.tagName === 'g').forEach((g, k) => {
           if (k === 0 && (g.id || '').startsWith('patch_')) return;       // the frame
           if ((g.id || '').startsWith('text_')) {
-            const text = g.querySelector('text');
-            const label = text ? text.textContent.trim() : '';
-            texts.push({label, shown: !!text && area(text) > 0 && within(text, svg)});
+            // a wrapped entry is a text per line: its label is their words, shown if all are
+            const lines = [...g.querySelectorAll('text')];
+            const label = lines.map(t => t.textContent).join(' ').split(/\s+/).join(' ').trim();
+            texts.push({label, shown: lines.length > 0 &&
+                        lines.every(t => area(t) > 0 && within(t, svg))});
             handleColours[label] = pending.flatMap(colours);
             pending = [];
           } else {
