@@ -357,7 +357,17 @@ def unreliable_reason(summaries: list[dict]) -> str | None:
     blown = [s["status"] for s in bad if s["status"].startswith(BLOW_UP)]
     if blown:
         return blown[0]
-    worst = max(bad, key=lambda s: s["energy_error_max"])
+
+    def error(summary) -> float:  # a balance that is not a number (NaN, None in JSON) is worst
+        value = summary.get("energy_error_max")
+        return math.inf if value is None or not math.isfinite(value) else value
+
+    worst = max(bad, key=error)
+    if not math.isfinite(error(worst)):
+        return (
+            f"the energy balance is not a number (limit {worst['energy_error_limit']:g}): the "
+            "state stopped being finite"
+        )
     return (
         f"the energy balance is off by {worst['energy_error_max']:.3g} of the energy scale "
         f"(limit {worst['energy_error_limit']:g})"

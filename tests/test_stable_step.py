@@ -172,3 +172,24 @@ def test_batched_runs_are_rerun_at_half_their_step_as_an_ensemble_is():
         assert result.summary["energy_reliable"]
         for key, values in alone.history.items():
             assert np.array_equal(result.history[key], values), key
+
+
+def test_a_balance_that_is_not_a_number_is_the_worst_reason_not_a_crash():
+    """A run whose energies stopped being finite has a NaN balance (None in summary.json): it
+    is the reason given, never a TypeError from comparing it."""
+    from colonna.fem.solver import unreliable_reason
+
+    def summary(error):
+        return {
+            "energy_reliable": False,
+            "status": "completed",
+            "energy_error_max": error,
+            "energy_error_limit": 0.05,
+        }
+
+    for nan in (None, float("nan")):
+        reason = unreliable_reason([summary(0.2), summary(nan)])
+        assert reason is not None and reason.startswith("the energy balance is not a number")
+    assert unreliable_reason([summary(0.2)]) == (
+        "the energy balance is off by 0.2 of the energy scale (limit 0.05)"
+    )
