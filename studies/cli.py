@@ -664,7 +664,8 @@ def _cmd_warmup(args) -> None:
     print("colonna: compiling the kernels into numba's cache (once per install)", file=sys.stderr)
     seconds = warm(main, say=lambda line: print(line, file=sys.stderr))
     print(f"colonna: kernels compiled and cached in {seconds:.0f} s", file=sys.stderr)
-    from .cost import calibrate, save_calibration
+    from .cost import save_calibration
+    from .warmup import calibrate
 
     model, measurements = calibrate()
     path = save_calibration(model, measurements)

@@ -8,13 +8,13 @@ A FEM run of ``states`` states (replicas or grid points) on a mesh of ``nodes`` 
 with L the kernel's layout: one state alone (``single``) or a group of states (``group``,
 several states a pass through the stiffness, cheaper per state); ``c`` and ``e`` the Python
 recorder's cost of an output row (its numbers, its frames); a run's setup (the static state)
-is a few ms, below what the fit resolves. :func:`calibrate` measures them here on the default
-column's meshes (168, 440 and 1,512 nodes; one state and 8; outputs every 100 steps and every
-5) and fits them by
-least squares; ``colonna warmup`` (run by ``make`` at install) saves the fit
-(:func:`save_calibration`) under :func:`cache_dir`, keyed by this machine and colonna's
-version. Without one (another machine, another version) :data:`UNCALIBRATED` is used, the fit
-on the machine of the README's timings, and the estimates say so.
+is a few ms, below what the fit resolves. :func:`studies.warmup.calibrate` measures them here
+on the default column's meshes (168, 440 and 1,512 nodes; one state and 8; outputs every 100
+steps and every 5) and :func:`fit` fits them by least squares; ``colonna warmup`` (run by
+``make`` at install) saves the fit (:func:`save_calibration`) under :func:`cache_dir`, keyed by
+this machine and colonna's version. Without one (another machine, another version)
+:data:`UNCALIBRATED` is used, the fit on the machine of the README's timings, and the
+estimates say so.
 
 Measured on that machine (2 cores): group 2.3 us + 11.3 ns a node per state-step, single 5.0 us
 + 29.4 ns, an output row 148 us + 12 ns a node a state (the fit within 10 % of each of the 12
@@ -27,7 +27,6 @@ from __future__ import annotations
 import json
 import os
 import platform
-import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -139,50 +138,6 @@ def save_calibration(model: CostModel, measurements: list[dict]) -> Path:
     os.replace(partial, path)
     _LOADED.clear()
     return path
-
-
-def calibrate(repeats: int = 2) -> tuple[CostModel, list[dict]]:
-    """Measure the FEM kernel here and fit the cost formula: the default column on meshes of
-    0.15, 0.075 and 0.0375 m, one state and 8, outputs every 100 and every 5 steps (the best of
-    ``repeats`` each); a few seconds. Returns the model and the measurements."""
-    import tomllib
-
-    from ..fem.model import stable_time_step
-    from ..fem.solver import run_batch
-    from .fem_study import build, from_dict
-
-    data = tomllib.loads((Path(__file__).parent / "default.toml").read_text())
-    measurements = []
-    for size in (0.15, 0.075, 0.0375):
-        data["mesh"]["size"] = size
-        study = from_dict(data)
-        model = build(study)
-        dt = stable_time_step(model, study.safety).dt
-        nodes = model.n_dofs // 2
-        for states in (1, 8):
-            for per_output in (100, 5):
-                steps = 3000 if states == 1 else 1500
-                wall = []
-                for _ in range(repeats):
-                    clock = time.perf_counter()
-                    run_batch(
-                        model,
-                        [study.ground] * states,
-                        steps * dt,
-                        output_interval=per_output * dt,
-                        progress=False,
-                    )
-                    wall.append(time.perf_counter() - clock)
-                measurements.append(
-                    {
-                        "nodes": nodes,
-                        "states": states,
-                        "steps": steps,
-                        "outputs": steps // per_output,
-                        "seconds": min(wall),
-                    }
-                )
-    return fit(measurements), measurements
 
 
 def fit(measurements: list[dict]) -> CostModel:

@@ -1,5 +1,6 @@
 """Compile the numba kernels of the command line into numba's cache, once, when colonna is
-installed (``make`` runs ``colonna warmup`` after ``pip install``).
+installed (``make`` runs ``colonna warmup`` after ``pip install``), and measure the FEM's cost
+on this machine for the estimates of time (:func:`calibrate`, :mod:`studies.cost`).
 
 numba compiles a kernel the first time a process calls it with a given signature and, with
 ``cache=True``, saves the machine code beside its module (the ``__pycache__`` folders of the
@@ -22,6 +23,10 @@ import tempfile
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .cost import CostModel
 
 COLLARS = """
 [[collar]]
@@ -110,3 +115,44 @@ def warm(main: Callable[[Sequence[str]], int], say: Callable[[str], object] = pr
                 raise RuntimeError(f"colonna warmup: {what} failed:\n{sink.getvalue()}")
             say(f"  {what}: {time.perf_counter() - clock:.1f} s")
     return time.perf_counter() - start
+
+
+def calibrate(repeats: int = 2) -> tuple[CostModel, list[dict]]:
+    """Measure the FEM kernel here and fit the cost formula: the default column on meshes of
+    0.15, 0.075 and 0.0375 m, one state and 8, outputs every 100 and every 5 steps (the best of
+    ``repeats`` each); a few seconds. Returns the model and the measurements."""
+    import tomllib
+    from dataclasses import replace
+
+    from ..fem.model import stable_time_step
+    from .cost import fit
+    from .fem_study import build, from_dict, iter_fem
+
+    data = tomllib.loads((Path(__file__).parent / "default.toml").read_text())
+    measurements = []
+    for size in (0.15, 0.075, 0.0375):
+        data["mesh"]["size"] = size
+        study = from_dict(data)
+        model = build(study)
+        dt = stable_time_step(model, study.safety).dt
+        nodes = model.n_dofs // 2
+        for states in (1, 8):
+            for per_output in (100, 5):
+                steps = 3000 if states == 1 else 1500
+                wall = []
+                for _ in range(repeats):
+                    run = replace(study, duration=steps * dt, output_interval=per_output * dt)
+                    clock = time.perf_counter()
+                    for _ in iter_fem([run] * states):  # one batch: they share the model
+                        pass
+                    wall.append(time.perf_counter() - clock)
+                measurements.append(
+                    {
+                        "nodes": nodes,
+                        "states": states,
+                        "steps": steps,
+                        "outputs": steps // per_output,
+                        "seconds": min(wall),
+                    }
+                )
+    return fit(measurements), measurements

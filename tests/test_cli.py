@@ -629,7 +629,8 @@ GROUND = "[ground]\namplitude_ratio = 2.0\nomega_ratio = 3.0"
         (
             {"study": "kynd = 'cross-check'", "y": 1.5},
             [
-                "unknown key study.kynd (allowed in [study]: name, description, kind, intended)",
+                "unknown key study.kynd (allowed in [study]: name, description, project, site, "
+                "client, prepared_by, checked_by, revision, kind, intended)",
                 "collar[1].y = 1.5 m is outside the allowed range [0.001, 1] m (the column height)",
             ],
         ),

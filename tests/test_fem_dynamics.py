@@ -414,6 +414,7 @@ def release_bands():
 
 
 @pytest.mark.chaotic
+@pytest.mark.slow
 def test_free_rocking_impact_loss_of_the_fem_approaches_housner_as_the_stone_stiffens(
     release_bands,
 ):

@@ -183,6 +183,7 @@ def test_a_slot_starts_with_its_own_indentation_not_the_last_run_s():
     assert np.all(state.base_state.indentation[1] == 2e-4)
 
 
+@pytest.mark.slow
 def test_the_default_column_on_lead_reports_toe_pressures_within_the_lead_s_yield(tmp_path):
     """The issue's acceptance, on the default column on lead (a coarse mesh, two replicas, a
     short run: the report's numbers, not their convergence): every toe pressure it reports

@@ -121,8 +121,17 @@ class Cell:
 
 CELLS = [
     # one cell of each outcome class in the default run
-    Cell("record-at-rest", "cross-check", "none", "record", 0.01, duration=1.0, outcome=AT_REST),
-    Cell("sine-lands-after", "cross-check", "elastic", "sine", 1.3, outcome=LANDS_AFTER),
+    Cell(
+        "record-at-rest",
+        "cross-check",
+        "none",
+        "record",
+        0.01,
+        duration=1.0,
+        outcome=AT_REST,
+        slow=True,
+    ),
+    Cell("sine-lands-after", "cross-check", "elastic", "sine", 1.3, outcome=LANDS_AFTER, slow=True),
     Cell(
         "sine-overturns-during",
         "cross-check",

@@ -115,6 +115,7 @@ def test_an_unreliable_ensemble_is_rerun_at_half_its_step_and_says_so(tmp_path):
     assert all(r.summary["step_halvings"] == 0 and r.summary["step_note"] is None for r in calm)
 
 
+@pytest.mark.slow
 def test_a_study_whose_step_was_halved_says_so_in_its_report(tmp_path, monkeypatch):
     """The tiny study on a lead bed with the onset limit lifted to 2.0 (omega_c dt = 1.7, past
     the measured failures): its FEM runs fail their balance at the first step, are rerun at
@@ -143,6 +144,7 @@ def test_a_study_whose_step_was_halved_says_so_in_its_report(tmp_path, monkeypat
     assert f"Its step was halved: the replicas were {fem['step_note']}" in page
 
 
+@pytest.mark.slow
 def test_batched_runs_are_rerun_at_half_their_step_as_an_ensemble_is():
     """The spectrum's and the fragility's FEM runs go through iter_fem, batched: a run whose
     balance fails is rerun at half the step there too, and each is the same bits as the study

@@ -104,7 +104,9 @@ def title_block(page: str) -> str:
     return found[0]
 
 
-@pytest.mark.parametrize("kind", ["fragility", "zhang-makris"])
+@pytest.mark.parametrize(
+    "kind", [pytest.param("fragility", marks=pytest.mark.slow), "zhang-makris"]
+)
 def test_the_title_block_is_on_the_first_page(titled, kind):
     """Its values, the full SHA-256 of the study file (as copied beside the report) and the
     version, before the page's opening; a signature line each for who prepared and who checked
