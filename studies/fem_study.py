@@ -848,6 +848,7 @@ def fem_work(
     models: dict | None = None,
     case: str | None = None,
     stage: int = 0,
+    until: float | None = None,
 ) -> FemWork:
     """The work of ``states`` FEM runs of ``study`` over its whole duration (its replicas, or
     grid points that share its model and duration; ``held`` of them at once, default all), as
@@ -855,7 +856,8 @@ def fem_work(
     model in ``models``, a cache shared by the runs of a study: about 0.1 s for the default
     column). ``case``: the case they are part of (default: a case of their own), ``stage``
     the study's stage (:class:`FemRun`). A run that stops early (overturned, settled) costs
-    less."""
+    less: ``until`` (s), where the runs are expected to stop, bounds the time they are
+    estimated to take (not their memory, which is bounded for the whole duration)."""
     key = tuple(getattr(study, k) for k in MODEL_KEYS)
     if models is None or key not in models:
         from ..fem.model import stable_time_step
@@ -879,10 +881,11 @@ def fem_work(
         + 32.0 * max(1.0, round(study.edge_time / dt))  # the toe stresses' averaging window
     )
     at_once = states if held is None else min(states, held)
+    share = 1.0 if until is None else min(1.0, max(0.0, until) / study.duration)
     run = FemRun(
         nodes,
-        steps,
-        float(outputs),
+        steps * share,
+        outputs * share,
         states,
         case if case is not None else f"run-{next(_RUN_LABELS)}",
         stage,
