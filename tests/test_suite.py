@@ -108,3 +108,24 @@ def test_the_list_writer_reads_back_every_float_exactly(folder):
     (entry,) = load_suite(folder / "list.toml")
     assert entry.scale == 1 / 3 and entry.parameters == values
     assert (folder / "list.toml").read_text().startswith("# x\n# y\n\n[[record]]\n")
+
+
+def test_a_suite_record_scaled_to_a_target_pga_or_pgv_has_that_peak(folder):
+    """scale_to_pga (m/s^2) or scale_to_pgv (m/s) in place of scale (issue 48): the factor is
+    the target over the record's own peak, as the fragility measures it, and is the record's
+    scale (reported with the suite)."""
+    from colonna.core.intensity import intensity_measures
+
+    (folder / "list.toml").write_text(
+        '[[record]]\nfile = "a_peer.AT2"\nscale_to_pga = 3.43\n\n'
+        '[[record]]\nfile = "b_esm.ASC"\nscale_to_pgv = 0.25\n'
+    )
+    peer, esm = load_suite(folder / "list.toml")
+    assert peer.scaled.peak_acceleration == pytest.approx(3.43, rel=1e-12)
+    assert peer.scale == pytest.approx(3.43 / peer.record.peak_acceleration, rel=1e-15)
+    assert intensity_measures(esm.scaled).pgv == pytest.approx(0.25, rel=1e-12)
+    (folder / "both.toml").write_text(
+        '[[record]]\nfile = "a_peer.AT2"\nscale = 2\nscale_to_pga = 3\n'
+    )
+    with pytest.raises(InputError, match="give only one of scale, scale_to_pga"):
+        load_suite(folder / "both.toml")

@@ -12,7 +12,8 @@ A suite is either
 
       [[record]]
       file = "records/MRN_HNE.ASC"   # required
-      scale = 1.5                    # optional, default 1 (multiplies the acceleration)
+      scale = 1.5                    # optional, default 1 (multiplies the acceleration); or
+      # scale_to_pga = 3.0 (m/s^2) or scale_to_pgv = 0.4 (m/s): the factor that gives it
       name = "MRN-E"                 # optional, default the file's stem; names are unique
       units = "g"                    # two-column files only: g, cm/s2 (gal), m/s2, mm/s2
 
@@ -42,7 +43,8 @@ __all__ = ["SuiteRecord", "load_suite", "suite_toml"]
 
 SUITE_FILE = "suite.toml"  # a folder's list, where it has one
 TWO_COLUMN_SUFFIXES = (".txt", ".csv", ".dat")
-RECORD_KEYS = ("file", "scale", "name", "units", "parameters")
+RECORD_KEYS = ("file", "scale", "scale_to_pga", "scale_to_pgv", "name", "units", "parameters")
+SCALE_KEYS = ("scale", "scale_to_pga", "scale_to_pgv")  # one of them sets the factor
 
 
 @dataclass(frozen=True)
@@ -104,13 +106,17 @@ def _entry(index: int, data: Any, base: Path, g: float) -> SuiteRecord:
         raise InputError(
             f"suite record {index}: file = ... (a path relative to the list) is required"
         )
-    scale = data.get("scale", 1.0)
+    given = [key for key in SCALE_KEYS if key in data]
+    if len(given) > 1:
+        raise InputError(f"{where}: give only one of {', '.join(given)} (each sets the factor)")
+    key = given[0] if given else "scale"
+    scale = data.get(key, 1.0)
     if (
         isinstance(scale, bool)
         or not isinstance(scale, int | float)
         or not (0.0 < scale < math.inf)
     ):
-        raise InputError(f"{where}: scale = {scale!r} must be a number > 0")
+        raise InputError(f"{where}: {key} = {scale!r} must be a number > 0")
     units = data.get("units")
     if units is not None and units not in UNITS:
         raise InputError(f"{where}: units = {units!r} is not one of {', '.join(UNITS)}")
@@ -124,6 +130,14 @@ def _entry(index: int, data: Any, base: Path, g: float) -> SuiteRecord:
     if not path.is_file():
         raise InputError(f"{where}: no such file {path}")
     record = _read(path, units, where, g)
+    if key != "scale":  # the factor that gives the record that peak (the study's PGA, PGV)
+        from .intensity import intensity_measures
+
+        measures = intensity_measures(record)
+        peak = measures.pga if key == "scale_to_pga" else measures.pgv
+        if not peak > 0.0:
+            raise InputError(f"{where}: {key}: the record never moves")
+        scale = scale / peak
     return SuiteRecord(name, record, float(scale), path, _sha256(path), dict(parameters))
 
 
