@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.errors import InputError
-from .executor import RunOptions, before_computing, study_clock
+from .executor import RunOptions, StudyClock, before_computing, study_clock
 from .kinds import KINDS
 from .output import record_inputs, write_csv
 from .study import Study, load
@@ -62,17 +62,20 @@ def run_study_file(
                 f"--{option} applies to studies of kind {' or '.join(takers)}, not {study.kind!r}"
             )
     work = check_work(study, long=long)
-    told: list[bool] = []
+    clock = StudyClock()
 
     def tell_the_work():  # once, as the first case is computed (not for a refused study)
-        if progress and work.seconds > 0.0 and not told:
-            told.append(True)
-            print(f"[study] {work_estimate(work, workers)}", file=sys.stderr, flush=True)
+        if clock.started is not None:
+            return
+        expected = expected_work_of(study, work)
+        clock.start(wall_estimate(expected, workers))
+        if progress and work.seconds > 0.0:
+            print(f"[study] {work_estimate(expected, workers)}", file=sys.stderr, flush=True)
 
     out = Path(out)
     module = kind.module()
     started = time.time()  # the run's date and wall time go on record with its inputs
-    with before_computing(tell_the_work), study_clock(wall_estimate(work, workers)):
+    with before_computing(tell_the_work), study_clock(clock):
         summary = module.run(study, out, RunOptions(workers, scheduler, progress, force))
     # the inputs on record beside the results they gave, once they are all there (a refused
     # or interrupted run leaves the record of the results in out as it was)
@@ -136,6 +139,16 @@ def check_work(study: Study, *, long: bool = False):
     fewer = getattr(KINDS[study.kind].module(), "FEWER", "")
     require_bounded_work(work, long=long, what=f"{study.source}: this study", fewer=fewer)
     return work
+
+
+def expected_work_of(study: Study, work):
+    """The work of a study as it is expected to run, for its estimate of time: its kind's
+    ``expected_work(study)`` where it has one (the cross-check expects its FEM runs to stop
+    where its rigid model overturns), else ``work`` (:func:`fem_work_of`'s, an upper bound).
+    Computed as the study starts computing, not when its work is checked (the check stays
+    cheap)."""
+    expected = getattr(KINDS[study.kind].module(), "expected_work", None)
+    return work if expected is None else expected(study)
 
 
 def fem_work_of(study: Study):

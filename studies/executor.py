@@ -92,18 +92,36 @@ def before_computing(callback: Callable[[], None]) -> Iterator[None]:
         _BEFORE_COMPUTING.reset(token)
 
 
-# the study's clock for the progress bars of :func:`run_cases` (monotonic start, estimated wall
-# seconds), set by :func:`study_clock` around a study's run
-_STUDY_CLOCK: contextvars.ContextVar[tuple[float, float] | None] = contextvars.ContextVar(
+@dataclass
+class StudyClock:
+    """A study's estimated wall time (s) and when it was started (monotonic s): None until the
+    study starts computing (:meth:`start`, once its estimate is known)."""
+
+    started: float | None = None
+    estimate: float | None = None
+
+    def start(self, estimate: float) -> None:
+        self.started, self.estimate = time.monotonic(), estimate
+
+    def reading(self) -> tuple[float, float] | None:
+        """(started, estimate) once started, for :func:`time_left`."""
+        if self.started is None or self.estimate is None:
+            return None
+        return self.started, self.estimate
+
+
+# the study's clock for the progress bars of :func:`run_cases`, set by :func:`study_clock`
+# around a study's run
+_STUDY_CLOCK: contextvars.ContextVar[StudyClock | None] = contextvars.ContextVar(
     "study_clock", default=None
 )
 
 
 @contextlib.contextmanager
-def study_clock(estimate: float) -> Iterator[None]:
-    """Within the block, the progress bars of :func:`run_cases` say the time left of a study
-    estimated at ``estimate`` wall seconds from the block's start (:func:`time_left`)."""
-    token = _STUDY_CLOCK.set((time.monotonic(), estimate))
+def study_clock(clock: StudyClock) -> Iterator[None]:
+    """Within the block, the progress bars of :func:`run_cases` say the time left of the
+    study's ``clock`` once it is started (:func:`time_left`)."""
+    token = _STUDY_CLOCK.set(clock)
     try:
         yield
     finally:
@@ -618,7 +636,8 @@ def _run_cases(
     last_key = [""]
 
     def postfix() -> str:  # the case saved last, and the study's time left
-        parts = [last_key[0]] + ([time_left(clock)] if clock is not None else [])
+        reading = None if clock is None else clock.reading()
+        parts = [last_key[0]] + ([time_left(reading)] if reading is not None else [])
         return "; ".join(p for p in parts if p)
 
     ticking = threading.Event()

@@ -111,8 +111,9 @@ def test_cases_are_dealt_to_the_workers_and_stages_follow_each_other():
 
 
 def test_the_time_left_counts_down_from_the_estimate_and_then_says_it_is_past():
-    from colonna.studies.executor import time_left
+    from colonna.studies.executor import StudyClock, time_left
 
+    assert StudyClock().reading() is None  # not started: no time left to say
     assert time_left((100.0, 300.0), now=160.0) == "about 4 min left of 5 min estimated"
     assert time_left((100.0, 30.0), now=145.0) == "15 s past the 30 s estimated"
 
@@ -127,6 +128,7 @@ def test_a_study_announces_its_wall_and_cpu_time_before_it_starts(tmp_path, caps
     from colonna.studies.cli import main
     from colonna.studies.driver import (
         STUDY_OVERHEAD_SECONDS,
+        expected_work_of,
         fem_work_of,
         wall_estimate,
         work_estimate,
@@ -143,8 +145,31 @@ def test_a_study_announces_its_wall_and_cpu_time_before_it_starts(tmp_path, caps
     # one worker: a pool forked from this process, which has run OpenMP, would be killed
     assert main(["study", str(study), "--out", str(tmp_path / "out"), "--workers", "1"]) == 0
     err = capsys.readouterr().err
-    line = f"[study] {work_estimate(work, 1)}"
+    line = f"[study] {work_estimate(expected_work_of(load(study), work), 1)}"
     assert line in err and err.index(line) < err.index("[study] report")
     assert err.count("[study] estimated") == 1
     assert line.startswith("[study] estimated ") and " of wall time on 1 worker (" in line
     assert " of wall time on 2 workers (" in work_estimate(work, 2)
+
+
+def test_the_cross_check_expects_its_fem_runs_to_stop_where_its_rigid_model_overturns():
+    """The default study's multibody overturns at 1.39 s of 2.53 s: its FEM runs are expected
+    a quarter of the way from there to the end, their time scaled to it; a study whose
+    multibody stays up is expected to its end; the work limit's measure is the whole
+    duration's either way."""
+    from colonna.studies.crosscheck.runner import expected_stop, expected_work, fem_work
+    from colonna.studies.fem_study import run_multibody
+    from colonna.studies.study import load
+
+    study = load(Path(__file__).parents[1] / "studies" / "default.toml")
+    fem = study.fem
+    overturn = run_multibody(fem).summary()["overturn_time"]
+    assert overturn < fem.duration
+    assert expected_stop(fem) == pytest.approx(overturn + 0.25 * (fem.duration - overturn))
+    full, expected = fem_work(study), expected_work(study)
+    assert expected.seconds == full.seconds  # the limit's measure: the whole duration
+    ratio = expected_stop(fem) / fem.duration
+    by_case = {r.case: r for r in expected.runs}
+    for run in full.runs:
+        if run.case.startswith("fem"):
+            assert by_case[run.case].steps == pytest.approx(ratio * run.steps)

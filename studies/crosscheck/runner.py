@@ -397,15 +397,21 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
 FEWER = ", fewer [run] replicas"  # its way to ask for less FEM work (besides [run], [mesh])
 
 
-def fem_work(study: Study) -> FemWork:
+def expected_work(study: Study) -> FemWork:
+    """The FEM work of the cross-check as it is expected to run (:func:`fem_work` to
+    :func:`expected_stop`), for the estimate of its time (studies.driver.expected_work_of)."""
+    return fem_work(study, until=expected_stop(study.fem))
+
+
+def fem_work(study: Study, until: float | None = None) -> FemWork:
     """The FEM work of the cross-check (:func:`studies.driver.check_work`), case by case: the
     study's run with its replicas, the same on the meshes of its mesh-convergence uncertainty,
     the bed range's runs, then (a stage of their own) the toe windows on their refined meshes.
-    The FEM runs stop where the column overturns: their time is estimated to
-    :func:`expected_stop`."""
+    The FEM runs stop where the column overturns: ``until`` (s), where they are expected to
+    (:func:`expected_work`), bounds their time; their memory and the work limit's measure stay
+    those of the whole duration."""
     fem = study.fem
     models: dict = {}  # the model of each mesh, built once
-    until = expected_stop(fem)
     work = estimate_work(fem, fem.replicas, models=models, case="fem", until=until)
     for factor, size in zip((2, 4), mesh_uncertainty_sizes(fem)):
         mesh = replace(fem, mesh_size=size)
@@ -417,6 +423,11 @@ def fem_work(study: Study) -> FemWork:
     return work + toe_window_work(fem) + rigid_work(fem)
 
 
+EXPECTED_STOP_SECONDS = (
+    5.0  # the most of the study's time the multibody run of the estimate may take
+)
+
+
 def expected_stop(fem) -> float:
     """Where the FEM runs of the cross-check are expected to stop (s), for the estimate of
     their time: the study's duration, or, where the rigid multibody model (its default step:
@@ -425,6 +436,10 @@ def expected_stop(fem) -> float:
     against 1.39 s of 2.53 s), but the cross-check is run to find where it does not: a quarter
     of the way keeps the default study's estimate within 1.4 times its wall time either way
     (benchmarks/bench_estimate.py)."""
+    if MULTIBODY_SECONDS_PER_SECOND * fem.duration > EXPECTED_STOP_SECONDS:
+        return (
+            fem.duration
+        )  # a long record: its multibody run costs more than the estimate is worth
     rigid = run_multibody(fem).summary()
     end = rigid.get("overturn_time")
     if not rigid.get("overturned") or end is None:
