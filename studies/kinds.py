@@ -16,7 +16,9 @@ A kind's package (as meshio has one per format) provides
       its report, from what the run left on disk;
 and where it has them, ``defaults(data) -> data`` (its own defaults of the file's tables,
 validated with them), ``fem_work(study) -> FemWork`` with ``FEWER`` (the FEM work it will ask
-for, checked before anything runs, and its ways to ask for less). Adding a kind is that package
+for, checked before anything runs, and its ways to ask for less) and ``expected_work(study) ->
+FemWork`` (that work as it is expected to run, for the study's estimate of time: where its runs
+are expected to stop early). Adding a kind is that package
 and one line here (docs/contributing.md; tests/test_kinds.py adds one).
 """
 

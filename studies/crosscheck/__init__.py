@@ -9,6 +9,6 @@ writes ``index.html`` from what the run left on disk.
 """
 
 from .report import write_report
-from .runner import FEWER, fem_work, run
+from .runner import FEWER, expected_work, fem_work, run
 
-__all__ = ["FEWER", "fem_work", "run", "write_report"]
+__all__ = ["FEWER", "expected_work", "fem_work", "run", "write_report"]
