@@ -367,3 +367,17 @@ def test_the_curves_and_ida_figures_keep_their_longer_texts_inside(collared, tmp
     write_report(folder)
     assert {"curves", "ida"} <= set(checked)
     assert {name: cut for name, cut in checked.items() if cut} == {}
+
+
+def test_a_run_that_overturned_has_no_peak_in_the_summary(collared):
+    """No number from a stopped run is a result (issue 48): where a model's run overturned,
+    summary.json's peak_ratio is null (its peak was the stop's: pi/2 for the SDOF, 45 degrees
+    for the multibody); the analysis reads the runs themselves, its probabilities unchanged."""
+    out, s = collared
+    over = np.array(s["runs"]["multibody"]["overturned"], dtype=bool)
+    peaks = s["runs"]["multibody"]["peak_ratio"]
+    assert over.any()
+    for i, row in enumerate(peaks):
+        for j, value in enumerate(row):
+            assert (value is None) == bool(over[i][j])
+    assert "a run that overturned has no peak_ratio" in s["layout"]

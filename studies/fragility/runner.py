@@ -340,10 +340,7 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
             for entry, record, ims, value in zip(s.suite, s.records, s.ims, s.intensity)
         ],
         "spectra": suite_spectra(s.records),
-        "runs": {
-            model: {key: analysis.table(table, key).tolist() for key in RUN_TABLES}
-            for model, table in runs.items()
-        },
+        "runs": {model: run_tables(model, table) for model, table in runs.items()},
         "limit_states": states,
         "design": probability,
         "collars": collar_summary(s.column, runs, probability),
@@ -352,8 +349,26 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
         "sdof_rtol": spec.sdof_rtol if "sdof" in runs else None,
         "multibody_step": spec.multibody_step if "multibody" in runs else None,
         "model_seconds": seconds,
-        "layout": "runs[model][key][i][j]: i indexes records, j indexes levels",
+        "layout": "runs[model][key][i][j]: i indexes records, j indexes levels; null where a "
+        "run gives none, and a run that overturned has no peak_ratio (its peak is where the run "
+        "stopped), nor an SDOF's collar_utilisation (computed at that angle)",
     }
+
+
+def run_tables(model: str, runs: list[list[dict]]) -> dict:
+    """The records x levels tables of :data:`RUN_TABLES` for summary.json, None where a run
+    gives no number: an overturned run's peak rotation is where it stopped (the SDOF's pi/2,
+    the others' stop at 45 degrees), and the SDOF's collar utilisation is computed at that
+    angle, so neither is a result (issue 48; the analysis reads the runs themselves, where an
+    overturned run exceeds the rotation limit states)."""
+    overturned = analysis.table(runs, "overturned") > 0.5
+    tables = {}
+    for key in RUN_TABLES:
+        values = analysis.table(runs, key)
+        if key == "peak_ratio" or (key == "collar_utilisation" and model == "sdof"):
+            values = np.where(overturned, np.nan, values)
+        tables[key] = [[None if np.isnan(v) else float(v) for v in row] for row in values]
+    return tables
 
 
 def collar_summary(column: FemStudy, runs: dict, probability: dict) -> dict:
