@@ -177,6 +177,21 @@ def read_start(path) -> dict:
     return start
 
 
+def model_on(model, mesh: ColumnMesh):
+    """``model`` (its stone, thickness, collars, contact, gravity, top load and bed) built on
+    another ``mesh``: a toe window's refined model."""
+    return build_model(
+        mesh,
+        model.stone,
+        model.thickness,
+        model.collars,
+        model.contact,
+        model.g,
+        model.top_load,
+        model.bed,
+    )
+
+
 def refine_window(
     model,
     start: dict,
@@ -193,16 +208,7 @@ def refine_window(
     and dt (s)."""
     from .transfer import transfer_contact, transfer_state
 
-    fine = build_model(
-        mesh,
-        model.stone,
-        model.thickness,
-        model.collars,
-        model.contact,
-        model.g,
-        model.top_load,
-        model.bed,
-    )
+    fine = model_on(model, mesh)
     t_start, t_end = start["t_start"], start["t_end"]
     window = run(
         fine,

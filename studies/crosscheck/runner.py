@@ -476,7 +476,8 @@ def toe_window_work(fem) -> FemWork:
     """The work of the toe stress's refined windows (:func:`toe_case`), one state each over
     :data:`TOE_WINDOW`, in the stage after the other cases (none without refinements or with
     a mesh file)."""
-    from ...fem.model import build_model, stable_time_step
+    from ...fem.model import stable_time_step
+    from ...fem.toe_stress import model_on
     from ..fem_study import FemRun, build, toe_mesh
 
     if fem.mesh_file is not None or not fem.toe_refinements:
@@ -484,16 +485,7 @@ def toe_window_work(fem) -> FemWork:
     model = build(fem)
     work = FemWork()
     for refinement in fem.toe_refinements:
-        fine = build_model(
-            toe_mesh(fem, refinement),
-            model.stone,
-            model.thickness,
-            model.collars,
-            model.contact,
-            model.g,
-            model.top_load,
-            model.bed,
-        )
+        fine = model_on(model, toe_mesh(fem, refinement))
         steps = TOE_WINDOW / stable_time_step(fine, fem.safety).dt
         nodes = fine.n_dofs // 2
         run = FemRun(nodes, steps, steps / 50.0, 1, f"toe-{refinement}", stage=1)
