@@ -438,31 +438,35 @@ def _read_study_record(base: Path, given: str, key: str, source: str, g: float):
     return record
 
 
+def played_record(ground: schema.Ground, base: Path, source: str, g: float) -> Record:
+    """The study's horizontal record as read (:func:`_read_study_record`) and played at its
+    ground.time_scale (t -> t / time_scale: faster), before its factor."""
+    assert ground.record is not None  # the schema asks for it with pulse = "record"
+    record = _read_study_record(base, ground.record, "ground.record", source, g)
+    speed = ground.time_scale or 1.0
+    if speed != 1.0:
+        record = Record(record.time / speed, record.acceleration_values, record.name)
+    return record
+
+
 def record_scale(ground: schema.Ground, record: Record) -> tuple[float, str]:
     """The factor on a record (as read, played at its time_scale) and how it was set: ground.scale
-    (default 1), or scale_to_pga over its PGA, or scale_to_pgv over its PGV (that of the
-    motion as the solvers apply it, as the fragility's intensity measure:
-    :func:`colonna.core.intensity.intensity_measures`)."""
-    if ground.scale_to_pga is not None:
-        pga = record.peak_acceleration
-        if pga == 0.0:
-            raise InputError(f"ground.scale_to_pga: the record {ground.record!r} is all zeros")
-        return (
-            ground.scale_to_pga / pga,
-            f"scale_to_pga {ground.scale_to_pga:g} m/s^2 / the record's PGA {pga:.6g} m/s^2",
-        )
-    if ground.scale_to_pgv is not None:
-        import numpy as np
+    (default 1), or scale_to_pga over its PGA, or scale_to_pgv over its PGV (those of the
+    motion as the solvers apply it, as the fragility's: :func:`colonna.core.intensity.
+    peak_ground`)."""
+    from ..core.intensity import peak_ground
 
-        from ..core.intensity import ground_velocity_displacement
-
-        velocity = ground_velocity_displacement(record, baseline=False)[2]
-        pgv = float(np.max(np.abs(velocity)))
-        if pgv == 0.0:
-            raise InputError(f"ground.scale_to_pgv: the record {ground.record!r} never moves")
+    for measure, unit in (("pga", "m/s^2"), ("pgv", "m/s")):
+        target = getattr(ground, f"scale_to_{measure}")
+        if target is None:
+            continue
+        peak = peak_ground(record, measure)
+        if peak == 0.0:
+            raise InputError(f"ground.scale_to_{measure}: the record {ground.record!r} never moves")
         return (
-            ground.scale_to_pgv / pgv,
-            f"scale_to_pgv {ground.scale_to_pgv:g} m/s / the record's PGV {pgv:.6g} m/s",
+            target / peak,
+            f"scale_to_{measure} {target:g} {unit} / the record's {measure.upper()} "
+            f"{peak:.6g} {unit}",
         )
     return (1.0 if ground.scale is None else ground.scale), "1 (the record as read)"
 
@@ -477,10 +481,7 @@ def _ground(ground: schema.Ground, block: Block, base: Path, source: str = "stud
     uplift = block.uplift_acceleration("nonlinear")
     if ground.pulse == "record":
         assert ground.record is not None  # the schema asks for it with pulse = "record"
-        record = _read_study_record(base, ground.record, "ground.record", source, block.g)
-        speed = ground.time_scale or 1.0
-        if speed != 1.0:  # t -> t / time_scale: the record played faster
-            record = Record(record.time / speed, record.acceleration_values, record.name)
+        record = played_record(ground, base, source, block.g)
         scale, _ = record_scale(ground, record)
         record = record.scaled(scale)
         if ground.vertical_record is None and ground.vertical_amplitude is None:

@@ -197,17 +197,10 @@ class Study:
     def _record_scale(self) -> tuple[float, str]:
         """The factor on the horizontal record and how it was set
         (:func:`studies.fem_study.record_scale`)."""
-        from .fem_study import _read_study_record, record_scale
+        from .fem_study import played_record, record_scale
 
         ground = self.spec.ground
-        assert ground.record is not None
-        record = _read_study_record(
-            self.base, ground.record, "ground.record", self.source, schema.G
-        )
-        speed = ground.time_scale or 1.0
-        if speed != 1.0:
-            record = type(record)(record.time / speed, record.acceleration_values, record.name)
-        return record_scale(ground, record)
+        return record_scale(ground, played_record(ground, self.base, self.source, schema.G))
 
     def _motion_record(self) -> dict | None:
         """The ground motion as applied (:meth:`to_json`'s ``ground_motion``), for a kind with

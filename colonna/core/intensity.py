@@ -53,6 +53,7 @@ __all__ = [
     "ground_velocity_displacement",
     "husid",
     "intensity_measures",
+    "peak_ground",
     "significant_duration",
     "spectral_acceleration",
 ]
@@ -268,6 +269,18 @@ def _uplift_acceleration(block) -> float:
     return float(uplift()) if callable(uplift) else block.g * math.tan(block.alpha)
 
 
+def peak_ground(record, measure: str) -> float:
+    """The record's PGA (m/s^2, ``measure`` "pga") or PGV (m/s, "pgv") as
+    :func:`intensity_measures` gives them: of the motion as the solvers apply it (no baseline
+    correction). The peak a record is scaled to (``[ground] scale_to_pga``, ``scale_to_pgv``,
+    and a suite record's)."""
+    if measure == "pga":
+        return float(np.max(np.abs(_table(record)[1])))
+    if measure == "pgv":
+        return float(np.max(np.abs(ground_velocity_displacement(record, baseline=False)[2])))
+    raise ValueError(f"peak_ground: measure {measure!r} is not 'pga' or 'pgv'")
+
+
 def intensity_measures(
     record,
     *,
@@ -288,7 +301,7 @@ def intensity_measures(
     describe the motion the column feels."""
     g = g if g is not None else (block.g if block is not None else STANDARD_GRAVITY)
     _, a, v, u = ground_velocity_displacement(record, baseline=baseline)
-    pga = float(np.max(np.abs(_table(record)[1])))
+    pga = peak_ground(record, "pga")
     pgv, pgd = float(np.max(np.abs(v))), float(np.max(np.abs(u)))
     periods = [float(x) for x in np.atleast_1d(np.asarray(periods, dtype=float))]
     sa: Any = spectral_acceleration(record, periods, damping=damping) if periods else []

@@ -131,10 +131,9 @@ def _entry(index: int, data: Any, base: Path, g: float) -> SuiteRecord:
         raise InputError(f"{where}: no such file {path}")
     record = _read(path, units, where, g)
     if key != "scale":  # the factor that gives the record that peak (the study's PGA, PGV)
-        from .intensity import intensity_measures
+        from .intensity import peak_ground
 
-        measures = intensity_measures(record)
-        peak = measures.pga if key == "scale_to_pga" else measures.pgv
+        peak = peak_ground(record, key.removeprefix("scale_to_"))
         if not peak > 0.0:
             raise InputError(f"{where}: {key}: the record never moves")
         scale = scale / peak
