@@ -208,23 +208,39 @@ def winkler_contact_length(weight: float, stiffness: float, thickness: float, th
     return math.sqrt(2.0 * weight / (stiffness * thickness * abs(theta)))
 
 
-def winkler_peak_pressure(weight: float, stiffness: float, thickness: float, theta: float):
-    """p = 2 W / (t c) = sqrt(2 W k theta / t) (Pa): the pressure at the toe of that block."""
-    return math.sqrt(2.0 * weight * stiffness * abs(theta) / thickness)
+def winkler_peak_pressure(
+    weight: float,
+    stiffness: float,
+    thickness: float,
+    theta: float,
+    yield_pressure: float | None = None,
+):
+    """p = 2 W / (t c) = sqrt(2 W k theta / t) (Pa): the pressure at the toe of that block; on
+    a bed that yields at most its ``yield_pressure`` (:func:`winkler_plastic_pivot`'s peak)."""
+    elastic = math.sqrt(2.0 * weight * stiffness * abs(theta) / thickness)
+    return elastic if yield_pressure is None else min(elastic, yield_pressure)
 
 
-def winkler_toe_pressure(force, theta, stiffness: float, thickness: float, width: float):
+def winkler_toe_pressure(
+    force,
+    theta,
+    stiffness: float,
+    thickness: float,
+    width: float,
+    yield_pressure: float | None = None,
+):
     """The toe pressure (Pa) of a rigid base of width w (m) pressed on the bed by a normal force
     N (N) at tilt theta (rad), arrays alike: while c = sqrt(2 N / (k t |theta|)) <= w the
     partial contact's k |theta| c, else the full contact's N / (t w) + k |theta| w / 2 (the
-    two agree at c = w); 0 where N <= 0."""
+    two agree at c = w); 0 where N <= 0; on a bed that yields at most its ``yield_pressure``."""
     force = np.maximum(np.asarray(force, dtype=float), 0.0)
     tilt = np.abs(np.asarray(theta, dtype=float))
     k, t, w = stiffness, thickness, width
     partial = 2.0 * force * k * tilt / t  # (k theta c)^2
     full = force / (t * w) + 0.5 * k * tilt * w
     inside = 2.0 * force <= k * t * tilt * w * w  # c <= w
-    return np.where(inside, np.sqrt(partial), full)
+    pressure = np.where(inside, np.sqrt(partial), full)
+    return pressure if yield_pressure is None else np.minimum(pressure, yield_pressure)
 
 
 def winkler_plastic_pivot(

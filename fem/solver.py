@@ -1855,29 +1855,26 @@ def _crack_force_summary(history) -> dict:
 def _winkler_pressure(model, history) -> float:
     """The largest toe pressure of a rigid base on the bed (Pa) over the output samples and the
     bodies, from each body's base normal force and rigid tilt
-    (:func:`colonna.fem.bed.winkler_toe_pressure`), at most the bed's yield pressure on a bed
-    that yields (:func:`colonna.fem.bed.winkler_plastic_pivot`: its peak)."""
+    (:func:`colonna.fem.bed.winkler_toe_pressure`, at most the yield pressure of a bed that
+    yields)."""
     from .bed import winkler_toe_pressure
 
     mesh = model.mesh
     tilts = ["theta_left", "theta_right"][: mesh.n_bodies]
-    cap = math.inf if model.bed.yield_pressure is None else model.bed.yield_pressure
-    return min(
-        cap,
-        max(
-            float(
-                np.max(
-                    winkler_toe_pressure(
-                        history[f"base_normal_force_{b + 1}"],
-                        history[tilt],
-                        model.bed.stiffness,
-                        model.thickness,
-                        mesh.width / mesh.n_bodies,
-                    )
+    return max(
+        float(
+            np.max(
+                winkler_toe_pressure(
+                    history[f"base_normal_force_{b + 1}"],
+                    history[tilt],
+                    model.bed.stiffness,
+                    model.thickness,
+                    mesh.width / mesh.n_bodies,
+                    model.bed.yield_pressure,
                 )
             )
-            for b, tilt in enumerate(tilts)
-        ),
+        )
+        for b, tilt in enumerate(tilts)
     )
 
 

@@ -200,8 +200,7 @@ def toe_resolution(study: FemStudy) -> dict:
     block = study.rocking_block if half else study.column_block
     weight = block.mass * block.g + (0.5 if half else 1.0) * study.top_load
     theta = 0.5 * study.rocking_alpha
-    k, t = study.bed.stiffness, study.thickness
-    cap = math.inf if study.bed.yield_pressure is None else study.bed.yield_pressure
+    k, t, p_y = study.bed.stiffness, study.thickness, study.bed.yield_pressure
     contact = winkler_contact_length(weight, k, t, theta)
     body_width = study.width / (2.0 if study.cracked else 1.0)
     return {
@@ -212,10 +211,9 @@ def toe_resolution(study: FemStudy) -> dict:
         "toe_size": contact / ELEMENTS_ACROSS,
         "elements_across": ELEMENTS_ACROSS,
         "zone": min(2.0 * contact, 0.5 * body_width),
-        # on a bed that yields, at most its yield pressure (fem.bed.winkler_plastic_pivot)
-        "pressure": min(cap, winkler_peak_pressure(weight, k, t, theta)),
-        "pressure_low": min(cap, winkler_peak_pressure(weight, study.bed.low, t, theta)),
-        "pressure_high": min(cap, winkler_peak_pressure(weight, study.bed.high, t, theta)),
+        "pressure": winkler_peak_pressure(weight, k, t, theta, p_y),
+        "pressure_low": winkler_peak_pressure(weight, study.bed.low, t, theta, p_y),
+        "pressure_high": winkler_peak_pressure(weight, study.bed.high, t, theta, p_y),
         "yield_pressure": study.bed.yield_pressure,
         "yield_source": study.bed.yield_source or None,
     }

@@ -18,7 +18,14 @@ import pytest
 
 from colonna.core.errors import InputError
 from colonna.fem import _kernels as K
-from colonna.fem.bed import BED_PRESETS, bed_of, winkler_contact_length, winkler_plastic_pivot
+from colonna.fem.bed import (
+    BED_PRESETS,
+    bed_of,
+    winkler_contact_length,
+    winkler_peak_pressure,
+    winkler_plastic_pivot,
+    winkler_toe_pressure,
+)
 
 sys.path.insert(0, str(Path(__file__).parent))
 
@@ -106,6 +113,13 @@ def test_a_block_pivoting_on_a_yielding_bed_matches_the_closed_form(p_y):
     for key in ("contact_length", "offset"):
         assert found[key] == pytest.approx(closed[key], rel=0.03), key
     assert found["peak_pressure"] <= p_y * (1 + 1e-12)
+    # the closed forms the reports use: their peak is the pivot's, capped at p_y
+    assert winkler_peak_pressure(weight, k, t, theta, p_y) == pytest.approx(
+        closed["peak_pressure"], rel=1e-12
+    )
+    assert winkler_toe_pressure(weight, theta, k, t, 0.2, p_y) == pytest.approx(
+        closed["peak_pressure"], rel=1e-12
+    )
     if p_y < 1e12:
         assert closed["plastic_length"] > 0.5 * closed["contact_length"]
         assert found["plastic_length"] == pytest.approx(closed["plastic_length"], rel=0.03)
