@@ -453,8 +453,7 @@ def run_ensemble(
             break
         options["dt"] = 0.5 * results[0].summary["dt"]
         results = attempt(halvings)
-        note = f"rerun at dt/{2**halvings} after {reason}"
-        results = [_with_halvings(r, halvings, note) for r in results]
+        results = [_with_halvings(r, halvings, reason) for r in results]
         from .output import write_summary
 
         for result, folder in zip(results, out_dirs, strict=True):
@@ -465,9 +464,10 @@ def run_ensemble(
     return results
 
 
-def _with_halvings(result: FemResult, halvings: int, note: str) -> FemResult:
+def _with_halvings(result: FemResult, halvings: int, reason: str) -> FemResult:
     """``result`` with its summary saying that its step was halved ``halvings`` times, and
-    why."""
+    why: the ``reason`` the run before it was unreliable (:func:`unreliable_reason`)."""
+    note = f"rerun at dt/{2**halvings} after {reason}"
     result.summary.update(step_halvings=halvings, step_note=note)
     if result.typed_summary is not None:
         result.typed_summary = dataclasses.replace(

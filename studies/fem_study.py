@@ -705,7 +705,7 @@ def iter_fem(studies: list[FemStudy], *, slots: int | None = None, **options):
         unreliable_reason,
     )
 
-    notes: dict[int, str] = {}  # why a run was rerun at a halved step
+    notes: dict[int, str] = {}  # why a run was rerun at a halved step (unreliable_reason)
     groups: list[list[int]] = []
     for index, study in enumerate(studies):
         for members in groups:
@@ -737,8 +737,7 @@ def iter_fem(studies: list[FemStudy], *, slots: int | None = None, **options):
             for k, result in runs:
                 reason = unreliable_reason([result.summary])
                 if halvings:
-                    note = f"rerun at dt/{2**halvings} after {notes[members[k]]}"
-                    result = _with_halvings(result, halvings, note)
+                    result = _with_halvings(result, halvings, notes[members[k]])
                 if reason is None or halvings == STEP_HALVINGS:
                     yield members[k], result
                 else:  # as run_ensemble: rerun at half the step (those that failed, together)
