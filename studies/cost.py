@@ -24,6 +24,7 @@ measurements). A study's estimate adds its cases' runs
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import platform
@@ -82,6 +83,11 @@ def cache_dir() -> Path:
     return Path(base) / "colonna"
 
 
+@functools.cache
+def _machine_key() -> str:
+    return json.dumps(machine_key(), sort_keys=True)
+
+
 def machine_key() -> dict:
     """What a calibration belongs to: this machine (its name, processor and cores) and this
     version of colonna (its kernels)."""
@@ -110,7 +116,7 @@ _LOADED: dict = {}
 def cost_model() -> CostModel:
     """This machine's calibrated model (``colonna warmup`` saved it), else
     :data:`UNCALIBRATED`."""
-    key = json.dumps(machine_key(), sort_keys=True)
+    key = _machine_key()  # read once a process: every FEM run's estimate asks for the model
     if key not in _LOADED:
         _LOADED[key] = _read(cache_dir() / FILE_NAME, json.loads(key)) or UNCALIBRATED
     return _LOADED[key]
