@@ -17,7 +17,7 @@ import pytest
 
 matplotlib.use("Agg")
 from matplotlib.figure import Figure  # noqa: E402
-from tiny_study import TINY_STUDY  # noqa: E402
+from tiny_study import TINY_FRAGILITY, TINY_STUDY, write_pulse_suite  # noqa: E402
 
 from colonna.studies.crosscheck import report as crosscheck  # noqa: E402
 from colonna.studies.output import read_csv, write_csv, write_json  # noqa: E402
@@ -238,25 +238,7 @@ GRID = (
     )
     + "[grid]\nomega_ratios = [1.5, 6.0]\namplitude_ratios = [1.5, 8.0]\npoints = [3, 3]\n"
 )
-FRAGILITY = """
-[study]
-name = "tiny-fragility"
-kind = "fragility"
-[column]
-height = 4.0
-width = 0.6
-cracked = false
-[ground]
-pulse = "none"
-[fragility]
-suite = "suite.toml"
-intensity = "pga_rocking"
-ladder = [1.1, 8.0]
-steps = 24
-models = ["sdof"]
-design_intensity = 3.0
-bootstrap = 40
-"""
+FRAGILITY = TINY_FRAGILITY
 slow = pytest.mark.slow
 # (study file, the figures it must draw at least)
 STUDIES = {
@@ -287,23 +269,6 @@ STUDIES = {
 FAST = ("collar-design", "fragility")  # the default suite's; the rest (20-30 s each) slow
 
 
-def _suite(root):
-    """Four one-cycle pulses (cosine and sine, 2-6 times the fragility column's p) as
-    two-column records (m/s^2), and their suite file."""
-    from colonna.rigid.block import Block
-
-    p = Block(b=0.3, h=2.0).p
-    entries = []
-    for i, (shape, ratio) in enumerate(
-        ((np.cos, 2.5), (np.cos, 2.0), (np.sin, 3.5), (np.sin, 6.0))
-    ):
-        omega = ratio * p
-        t = np.linspace(0.0, 2.0 * np.pi / omega, 401)
-        np.savetxt(root / f"p{i}.txt", np.column_stack([t, shape(omega * t)]))
-        entries.append(f'[[record]]\nfile = "p{i}.txt"\nunits = "m/s2"\n')
-    (root / "suite.toml").write_text("\n".join(entries))
-
-
 @pytest.mark.chaotic
 @pytest.mark.parametrize("name", [n if n in FAST else pytest.param(n, marks=slow) for n in STUDIES])
 def test_no_text_of_a_report_figure_runs_off_it(tmp_path, monkeypatch, name):
@@ -327,7 +292,7 @@ def test_no_text_of_a_report_figure_runs_off_it(tmp_path, monkeypatch, name):
 
     monkeypatch.setattr(Figure, "savefig", spy)
     if name == "fragility":
-        _suite(tmp_path)
+        write_pulse_suite(tmp_path)
     study = tmp_path / "study.toml"
     study.write_text(text)
     out = tmp_path / "out"

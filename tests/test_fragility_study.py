@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from tiny_study import TINY_FRAGILITY, write_pulse_suite
 
 from colonna.core.errors import InputError
 from colonna.core.ground import Record
@@ -144,35 +145,13 @@ def _pulse(shape: str, omega_ratio: float) -> np.ndarray:
     return np.column_stack([t, np.cos(omega * t) if shape == "cos" else np.sin(omega * t)])
 
 
-TINY = """
-[study]
-name = "tiny-fragility"
-kind = "fragility"
-[column]
-height = 4.0
-width = 0.6
-cracked = false
-[ground]
-pulse = "none"
-[fragility]
-suite = "suite.toml"
-intensity = "pga_rocking"
-ladder = [1.1, 8.0]
-steps = 24
-models = ["sdof"]
-design_intensity = 3.0
-bootstrap = 40
-"""
+TINY = TINY_FRAGILITY
 
 
 @pytest.fixture(scope="module")
 def tiny(tmp_path_factory):
     root = tmp_path_factory.mktemp("fragility")
-    entries = []
-    for i, (shape, ratio) in enumerate((("cos", 2.5), ("cos", 2.0), ("sin", 3.5), ("sin", 6.0))):
-        np.savetxt(root / f"p{i}.txt", _pulse(shape, ratio))
-        entries.append(f'[[record]]\nfile = "p{i}.txt"\nunits = "m/s2"\n')
-    (root / "suite.toml").write_text("\n".join(entries))
+    write_pulse_suite(root)
     (root / "study.toml").write_text(TINY)
     out = root / "out"
     assert main(["study", str(root / "study.toml"), "--out", str(out), "--workers", "1"]) == 0

@@ -10,8 +10,8 @@ import json
 import re
 import shutil
 
-import numpy as np
 import pytest
+from tiny_study import TINY_FRAGILITY, write_pulse_suite
 
 import colonna
 from colonna.studies import executor
@@ -31,47 +31,14 @@ TITLE_LINES = "".join(f'{key} = "{value}"\n' for key, value in TITLE.items())
 
 # the fastest study of two kinds: a fragility of the SDOF over four pulses (its page opens with
 # its own block), and the Zhang & Makris validation (no column)
-FRAGILITY = """
-[study]
-name = "titled-fragility"
-kind = "fragility"
-{title}[column]
-height = 4.0
-width = 0.6
-cracked = false
-[ground]
-pulse = "none"
-[fragility]
-suite = "suite.toml"
-intensity = "pga_rocking"
-ladder = [1.1, 8.0]
-steps = 24
-models = ["sdof"]
-design_intensity = 3.0
-bootstrap = 40
-"""
+FRAGILITY = TINY_FRAGILITY.replace('name = "tiny-fragility"', 'name = "titled-fragility"').replace(
+    "\n[column]", "\n{title}[column]", 1
+)
 ZHANG_MAKRIS = """
 [study]
 name = "titled-validation"
 kind = "zhang-makris"
 {title}"""
-
-
-def _suite(root):
-    """Four one-cycle pulses, cosine and sine, at 2-6 times the column's p, as two-column
-    records (m/s^2) and their suite file."""
-    from colonna.rigid.block import Block
-
-    p = Block(b=0.3, h=2.0).p  # the rocking block of the column (uncracked, 0.6 x 4 m)
-    entries = []
-    for i, (shape, ratio) in enumerate(
-        ((np.cos, 2.5), (np.cos, 2.0), (np.sin, 3.5), (np.sin, 6.0))
-    ):
-        omega = ratio * p
-        t = np.linspace(0.0, 2.0 * np.pi / omega, 401)
-        np.savetxt(root / f"p{i}.txt", np.column_stack([t, shape(omega * t)]))
-        entries.append(f'[[record]]\nfile = "p{i}.txt"\nunits = "m/s2"\n')
-    (root / "suite.toml").write_text("\n".join(entries))
 
 
 def _run(root, text, *extra):
@@ -87,7 +54,7 @@ def titled(tmp_path_factory):
     for kind, text in (("fragility", FRAGILITY), ("zhang-makris", ZHANG_MAKRIS)):
         root = tmp_path_factory.mktemp(kind)
         if kind == "fragility":
-            _suite(root)
+            write_pulse_suite(root)
         assert _run(root, text.format(title=TITLE_LINES)) == 0
         roots[kind] = root
     return roots

@@ -20,3 +20,48 @@ grading = 0.0
 duration = {duration}
 output_interval = 0.005
 """
+
+# A small fragility study: the SDOF of an uncracked 0.6 x 4 m column over four one-cycle pulses
+# (write_pulse_suite writes them and the suite.toml it reads beside the study file)
+TINY_FRAGILITY = """
+[study]
+name = "tiny-fragility"
+kind = "fragility"
+[column]
+height = 4.0
+width = 0.6
+cracked = false
+[ground]
+pulse = "none"
+[fragility]
+suite = "suite.toml"
+intensity = "pga_rocking"
+ladder = [1.1, 8.0]
+steps = 24
+models = ["sdof"]
+design_intensity = 3.0
+bootstrap = 40
+"""
+
+# (shape, Omega / p) of the four pulses: the cosine at 2.5 p overturns from a low level,
+# survives a band of higher ones and overturns again
+PULSES = (("cos", 2.5), ("cos", 2.0), ("sin", 3.5), ("sin", 6.0))
+
+
+def write_pulse_suite(root) -> None:
+    """TINY_FRAGILITY's records in ``root``: one cycle of each of :data:`PULSES` at the
+    column's p (its rocking block, 0.3 x 2 m half-sizes), unit amplitude, as two-column files
+    in m/s^2, and their suite.toml."""
+    import numpy as np
+
+    from colonna.rigid.block import Block
+
+    p = Block(b=0.3, h=2.0).p
+    entries = []
+    for i, (shape, ratio) in enumerate(PULSES):
+        omega = ratio * p
+        t = np.linspace(0.0, 2.0 * np.pi / omega, 401)
+        wave = np.cos(omega * t) if shape == "cos" else np.sin(omega * t)
+        np.savetxt(root / f"p{i}.txt", np.column_stack([t, wave]))
+        entries.append(f'[[record]]\nfile = "p{i}.txt"\nunits = "m/s2"\n')
+    (root / "suite.toml").write_text("\n".join(entries))
