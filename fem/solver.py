@@ -557,9 +557,136 @@ def iter_batch(
     parts of an earlier one of the same key goes on from the last part (its ended runs yielded
     at once, the others restored bit for bit: the same numbers as uninterrupted runs), saying so
     on stderr. Other arguments as in :func:`run`."""
+    static_start = (
+        initial_state is None
+        and initial_tilt == 0.0
+        and initial_angular_velocity == 0.0
+        and initial_velocity is None
+    )
+    plan = _plan_batch(
+        model,
+        grounds,
+        duration,
+        verticals=verticals,
+        out_dirs=out_dirs,
+        offsets=offsets,
+        slots=slots,
+        dt=dt,
+        safety=safety,
+        check_dt=check_dt,
+        output_interval=output_interval,
+        edge_length=edge_length,
+        edge_time=edge_time,
+        initial_tilt=initial_tilt,
+        start_time=start_time,
+        stop_on_overturn=stop_on_overturn,
+        settled_stop=stop_when_settled and static_start,
+        weak_stop=stop_in_weak_tail and stop_when_settled and static_start,
+        static_start=static_start,
+    )
+    start = _initial_state(
+        model,
+        initial_state,
+        initial_contact,
+        initial_tilt,
+        initial_angular_velocity,
+        initial_velocity,
+    )
+    yield from _Batch(model, plan, start, checkpoint, progress).run()
+
+
+@dataclass(frozen=True)
+class _BatchPlan:
+    """A batch's checked inputs and what they set (:func:`iter_batch`): one entry per run in
+    the lists; ``dt`` the step (s) and ``step`` the stable step it is a fraction of; every run
+    records every ``steps_per_output`` steps, ``n_outputs[k]`` times."""
+
+    grounds: list
+    verticals: list
+    out_dirs: list
+    durations: list
+    offsets: list | None
+    slots: int
+    step: object  # colonna.fem.model.StableStep
+    dt: float
+    steps_per_output: int
+    n_outputs: list
+    edge_length: float  # m
+    edge_time: float  # s
+    start_time: float  # s
+    static_start: bool
+    stop_on_overturn: bool
+    settled_stop: bool  # stop a run from the static state once its fate is settled
+    weak_stop: bool  # ... and in the motion's weak tail
+
+    @property
+    def size(self) -> int:
+        return len(self.grounds)
+
+    @property
+    def ground_end(self) -> list:
+        """Each run's end of ground motion (s), horizontal or vertical."""
+        return [max(g.end_time, vg.end_time) for g, vg in zip(self.grounds, self.verticals)]
+
+    @property
+    def identity(self) -> dict:
+        """What a checkpoint part must match to be gone on from (with the checkpoint's key)."""
+        return {
+            "dt": self.dt,
+            "durations": self.durations,
+            "slots": self.slots,
+            "start_time": self.start_time,
+        }
+
+
+def _plan_batch(model: Model, grounds: list, duration, **inputs) -> _BatchPlan:
+    """The checked inputs of :func:`iter_batch` (its keywords) as a :class:`_BatchPlan`."""
     batch = len(grounds)
     if batch < 1:
         raise InputError("run_batch: no ground motion given")
+    verticals, out_dirs, durations = _batch_lists(
+        grounds, duration, inputs["verticals"], inputs["out_dirs"], inputs["offsets"]
+    )
+    slots = batch if inputs["slots"] is None else int(inputs["slots"])
+    if slots < 1:
+        raise InputError(f"run_batch slots = {slots} must be at least 1")
+    require_range(
+        "run initial_tilt (rad)",
+        inputs["initial_tilt"],
+        -0.25 * math.pi,
+        0.25 * math.pi,
+        range_text="(-pi/4, pi/4)",
+    )
+    step, dt = _batch_step(model, inputs["dt"], inputs["safety"], inputs["check_dt"])
+    steps_per_output, n_outputs = _output_steps(durations, inputs["output_interval"], dt)
+    edge_length, edge_time = _edge_settings(model, inputs["edge_length"], inputs["edge_time"])
+    start_time = inputs["start_time"]
+    if not math.isfinite(start_time):
+        raise InputError(f"run start_time = {start_time!r} s must be finite")
+    return _BatchPlan(
+        grounds=list(grounds),
+        verticals=verticals,
+        out_dirs=out_dirs,
+        durations=durations,
+        offsets=inputs["offsets"],
+        slots=min(slots, batch),
+        step=step,
+        dt=dt,
+        steps_per_output=steps_per_output,
+        n_outputs=n_outputs,
+        edge_length=edge_length,
+        edge_time=edge_time,
+        start_time=start_time,
+        static_start=inputs["static_start"],
+        stop_on_overturn=inputs["stop_on_overturn"],
+        settled_stop=inputs["settled_stop"],
+        weak_stop=inputs["weak_stop"],
+    )
+
+
+def _batch_lists(grounds, duration, verticals, out_dirs, offsets):
+    """The batch's vertical motions, output folders and durations, one per ground motion."""
+    batch = len(grounds)
     verticals = [NO_MOTION] * batch if verticals is None else list(verticals)
     for k, (g, vg) in enumerate(zip(grounds, verticals)):
         require_motion(f"ground motion {k + 1}", g)
@@ -579,28 +706,28 @@ def iter_batch(
         )
     for d in durations:
         require_positive("run duration (s)", d)
-    slots = batch if slots is None else int(slots)
-    if slots < 1:
-        raise InputError(f"run_batch slots = {slots} must be at least 1")
-    slots = min(slots, batch)
-    require_range(
-        "run initial_tilt (rad)",
-        initial_tilt,
-        -0.25 * math.pi,
-        0.25 * math.pi,
-        range_text="(-pi/4, pi/4)",
-    )
+    return verticals, out_dirs, durations
+
+
+def _batch_step(model: Model, dt: float | None, safety: float, check_dt: bool):
+    """The stable step of the model and the step of the run: ``dt`` (s) if given, checked
+    against the stable step unless ``check_dt`` is False, else the stable step's."""
     step = stable_time_step(model, safety)
     if dt is None:
-        dt = step.dt
-    else:
-        require_positive("run dt (s)", dt)
-        if check_dt and dt > step.dt * (1.0 + 1e-9):
-            raise InputError(
-                f"run dt = {dt:.4g} s is above the stable time step {step.dt:.4g} s "
-                f"(critical {step.critical:.4g} s x safety {safety:g} x damping "
-                "reduction): lower it or leave it out"
-            )
+        return step, step.dt
+    require_positive("run dt (s)", dt)
+    if check_dt and dt > step.dt * (1.0 + 1e-9):
+        raise InputError(
+            f"run dt = {dt:.4g} s is above the stable time step {step.dt:.4g} s "
+            f"(critical {step.critical:.4g} s x safety {safety:g} x damping "
+            "reduction): lower it or leave it out"
+        )
+    return step, dt
+
+
+def _output_steps(durations: list, output_interval: float | None, dt: float):
+    """Steps per output interval and each run's number of outputs (whole intervals covering
+    its duration); the interval defaults to 1/400 of a common duration."""
     if output_interval is None:
         if len(set(durations)) > 1:
             raise InputError("run_batch: runs of different durations need an output_interval")
@@ -612,7 +739,12 @@ def iter_batch(
             f"{max(durations):g} s (the run ends on a whole output interval)"
         )
     steps_per_output = max(1, int(round(output_interval / dt)))
-    n_outputs = [int(math.ceil(d / (steps_per_output * dt))) for d in durations]
+    return steps_per_output, [int(math.ceil(d / (steps_per_output * dt))) for d in durations]
+
+
+def _edge_settings(model: Model, edge_length: float | None, edge_time: float | None):
+    """The toe stress's averaging length (m; a tenth of a body's width by default) and time
+    (s; :data:`EDGE_TIME`), checked."""
     mesh = model.mesh
     body_width = mesh.width / mesh.n_bodies
     if edge_length is None:
@@ -633,102 +765,298 @@ def iter_batch(
         raise InputError(
             f"edge_length = {edge_length:g} m is larger than the width of a body ({body_width:g} m)"
         )
-    if not math.isfinite(start_time):
-        raise InputError(f"run start_time = {start_time!r} s must be finite")
-    start = _initial_state(
-        model,
-        initial_state,
-        initial_contact,
-        initial_tilt,
-        initial_angular_velocity,
-        initial_velocity,
-    )
-    toes = edge_weights(model, edge_length)
-    state = _BatchState(
-        model,
-        slots,
-        max(1, int(round(edge_time / dt))),
-        np.ascontiguousarray(np.array(list(toes.values()))),
-    )
-    tau = model.contact.friction_filter
-    blend = 1.0 if tau == 0.0 else min(1.0, dt / tau)
-    stiffness = _stiffness(model)
-    static_start = (
-        initial_state is None
-        and initial_tilt == 0.0
-        and initial_angular_velocity == 0.0
-        and initial_velocity is None
-    )
-    ground_end = [max(g.end_time, vg.end_time) for g, vg in zip(grounds, verticals)]
-    weak_from: list = [None] * batch  # s, where the weak tail starts (stop_in_weak_tail)
-    weak_level = weak_ground_level(model)
-    pending = deque(range(batch))
-    run_in = [-1] * slots  # the run in each slot (-1: none)
-    recorders: dict[int, _Recorder] = {}
-    steps_done = [0] * batch
-    outputs = [0] * batch  # output intervals done
-    reasons = ["completed"] * batch
-    overturned = [False] * batch
-    energy0: list = [None] * batch
-    walls = [0.0] * batch  # each run's share of the compute time (s)
-    # a progress bar on a terminal only (quiet in logs and under a sweep's workers)
-    bar = tqdm(
-        total=sum(durations),
-        desc="[fem]" if batch == 1 else f"[fem x{batch}]",
-        unit="s",
-        dynamic_ncols=True,
-        disable=not (progress and sys.stderr.isatty()),
-        bar_format="{desc} {percentage:5.1f}%|{bar}| t = {n:.3f}/{total:.3f} s "
-        "[{elapsed}<{remaining}]",
+    return edge_length, edge_time
+
+
+class _Batch:
+    """The runs of :func:`iter_batch` in progress: the kernel's state of its slots, each run's
+    recorder and counters, the progress bar and the checkpoint's parts. :meth:`run` yields
+    (k, FemResult) as each run ends."""
+
+    def __init__(self, model: Model, plan: _BatchPlan, start: dict, checkpoint, progress: bool):
+        self.model, self.plan, self.start, self.checkpoint = model, plan, start, checkpoint
+        dt, batch = plan.dt, plan.size
+        self.toes = edge_weights(model, plan.edge_length)
+        self.state = _BatchState(
+            model,
+            plan.slots,
+            max(1, int(round(plan.edge_time / dt))),
+            np.ascontiguousarray(np.array(list(self.toes.values()))),
+        )
+        tau = model.contact.friction_filter
+        self.blend = 1.0 if tau == 0.0 else min(1.0, dt / tau)
+        self.stiffness = _stiffness(model)
+        self.ground_end = plan.ground_end
+        self.weak_level = weak_ground_level(model)
+        self.pending = deque(range(batch))
+        self.run_in = [-1] * plan.slots  # the run in each slot (-1: none)
+        self.recorders: dict[int, _Recorder] = {}
+        self.weak_from: list = [None] * batch  # s, where the weak tail starts (weak_stop)
+        self.steps_done = [0] * batch
+        self.outputs = [0] * batch  # output intervals done
+        self.reasons = ["completed"] * batch
+        self.overturned = [False] * batch
+        self.energy0: list = [None] * batch
+        self.walls = [0.0] * batch  # each run's share of the compute time (s)
+        self.credited = [0.0] * batch
+        self.ended_since: dict = {}  # the runs ended since the last checkpoint part, as saved
+        self.parts = 0  # checkpoint parts there are
+        self.last_save = time.monotonic()
+        # a progress bar on a terminal only (quiet in logs and under a sweep's workers)
+        self.bar = tqdm(
+            total=sum(plan.durations),
+            desc="[fem]" if batch == 1 else f"[fem x{batch}]",
+            unit="s",
+            dynamic_ncols=True,
+            disable=not (progress and sys.stderr.isatty()),
+            bar_format="{desc} {percentage:5.1f}%|{bar}| t = {n:.3f}/{total:.3f} s "
+            "[{elapsed}<{remaining}]",
+        )
+
+    # the counters a checkpoint part keeps, by name
+    COUNTERS = (
+        "steps_done",
+        "outputs",
+        "reasons",
+        "overturned",
+        "energy0",
+        "walls",
+        "weak_from",
     )
 
-    credited = [0.0] * batch
-    ended_since: dict = {}  # the runs ended since the last checkpoint part, as saved there
-    parts = 0  # checkpoint parts there are
-    last_save = time.monotonic()
+    def run(self):
+        """Yield (k, FemResult) as each run ends, from the checkpoint's last part if it
+        matches, else from the start."""
+        saved = self.saved_parts()
+        try:
+            if saved:
+                yield from self.resume(saved)
+                self.parts = len(saved)
+            else:
+                for slot in range(self.plan.slots):
+                    yield from self.refill(slot)
+            while self.state.motion.alive.any():
+                yield from self.advance()
+                if (
+                    self.checkpoint is not None
+                    and time.monotonic() - self.last_save >= self.checkpoint.interval
+                ):
+                    self.save_part()
+            if self.checkpoint is not None and self.ended_since:
+                self.save_part()  # the batch's end: a rerun yields it at once
+        finally:
+            self.bar.close()
 
-    def save_part() -> None:
+    def advance(self):
+        """One output interval of every live slot through the kernel; yields the runs that end
+        and refills their slots."""
+        plan, motion = self.plan, self.state.motion
+        n, dt = plan.steps_per_output, plan.dt
+        live = np.flatnonzero(motion.alive).tolist()
+        acc = np.zeros((plan.slots, n))
+        vacc = np.zeros((plan.slots, n))
+        for slot in live:
+            k = self.run_in[slot]
+            # times from the step count, not accumulated: the trajectory then does not
+            # depend on how the steps are grouped into output intervals (contact stick/slip
+            # decisions amplify round-off differences)
+            times = plan.start_time + dt * (self.steps_done[k] + np.arange(n))
+            acc[slot] = plan.grounds[k].acceleration(times)
+            vacc[slot] = plan.verticals[k].acceleration(times)
+        clock = time.perf_counter()
+        self.state.advance(n, dt, self.blend, self.stiffness, acc, vacc)
+        share = (time.perf_counter() - clock) / len(live)
+        for slot in live:
+            k = self.run_in[slot]
+            self.walls[k] += share
+            done = int(motion.done[slot])
+            if done < n:
+                t_k = plan.start_time + (self.steps_done[k] + done) * dt
+                self.reasons[k] = (
+                    f"{BLOW_UP} at t = {t_k:.4g} s: the state stopped being "
+                    f"finite (dt = {dt:.3g} s too large for the contact or collar "
+                    "stiffness?)"
+                )
+                self.steps_done[k] += done
+                yield self.finish(slot)
+                yield from self.refill(slot)
+                continue
+            self.steps_done[k] += n
+            self.outputs[k] += 1
+            self.credit(k, n * dt)
+            if not self.record(slot):
+                yield self.finish(slot)
+                yield from self.refill(slot)
+
+    def credit(self, k: int, seconds: float) -> None:
+        """Advance the progress bar by run k's simulated seconds, up to its duration."""
+        seconds = min(seconds, self.plan.durations[k] - self.credited[k])
+        self.credited[k] += seconds
+        bar = self.bar
+        bar.update(max(0.0, min(seconds, bar.total - bar.n)))  # (sums of floats: never past)
+
+    def load(self, slot: int, k: int) -> None:
+        """Start run k in the slot: its initial state and the forces there."""
+        plan, state = self.plan, self.state
+        clock = time.perf_counter()
+        state.reset(slot, self.start, None if plan.offsets is None else plan.offsets[k])
+        if plan.weak_stop:
+            self.weak_from[k] = weak_tail_start(
+                plan.grounds[k],
+                plan.verticals[k],
+                self.weak_level,
+                self.model.g,
+                plan.start_time,
+                plan.dt,
+                plan.n_outputs[k] * plan.steps_per_output,
+            )
+        # the forces of the initial state (contact normal forces at rest) for the first record
+        state.evaluate(plan.dt, self.blend, self.stiffness, slot)
+        recorder = _Recorder(self.model, plan.edge_length, list(self.toes), plan.out_dirs[k])
+        recorder.start_edge_average(state, slot)
+        self.recorders[k] = recorder
+        self.run_in[slot] = k
+        self.walls[k] += time.perf_counter() - clock
+
+    def record(self, slot: int) -> bool:
+        """Record the slot's run at its present output time; False where the run ends."""
+        plan = self.plan
+        clock = time.perf_counter()
+        k = self.run_in[slot]
+        t = plan.start_time + self.steps_done[k] * plan.dt
+        recorder = self.recorders[k]
+        row = recorder.record(t, self.state, slot)
+        if self.energy0[k] is None:
+            self.energy0[k] = row["energy_total"]
+        recorder.finish_row(row, self.energy0[k])
+        stop = _check(
+            row,
+            recorder,
+            self.ground_end[k],
+            t,
+            plan.stop_on_overturn,
+            self.energy0[k] if plan.settled_stop else None,
+            self.weak_from[k],
+        )
+        self.walls[k] += time.perf_counter() - clock
+        if stop is not None:
+            self.reasons[k], self.overturned[k] = stop
+            return False
+        return self.outputs[k] < plan.n_outputs[k]
+
+    def finish(self, slot: int) -> tuple[int, FemResult]:
+        """End the slot's run: its result, files written; the slot is free."""
+        plan = self.plan
+        k = self.run_in[slot]
+        self.run_in[slot] = -1
+        self.state.motion.alive[slot] = False
+        recorder = self.recorders.pop(k)
+        history = recorder.close()
+        typed = _summary(
+            self.model,
+            history,
+            self.reasons[k],
+            self.overturned[k],
+            plan.dt,
+            plan.step,
+            self.outputs[k],
+            plan.steps_per_output,
+            self.walls[k],
+            plan.edge_length,
+            plan.edge_time,
+            plan.static_start,
+            self.state.collars.plastic[slot],
+            batch_size=plan.slots,
+        )
+        summary = to_dict(typed)
+        result = FemResult(
+            history,
+            summary,
+            recorder.frames,
+            self.model,
+            recorder.velocity_frames,
+            recorder.contact_frames,
+            typed_summary=typed,
+        )
+        if self.checkpoint is not None:  # for the next part: what a rerun needs to yield it
+            self.ended_since[k] = {"tail": recorder.snapshot(), "summary": summary, "typed": typed}
+        folder = plan.out_dirs[k]
+        if folder is not None:
+            from .output import write_outputs, write_summary
+
+            if k == 0:
+                write_outputs(result, Path(folder))
+            else:
+                write_summary(Path(folder) / "summary.json", summary)
+        self.credit(k, plan.durations[k])  # the rest of a run that ended early
+        return k, result
+
+    def refill(self, slot: int):
+        """Start the next waiting run in a free slot (yielding any that end at once)."""
+        while self.pending:
+            self.load(slot, self.pending.popleft())
+            if self.record(slot):
+                return
+            yield self.finish(slot)
+
+    def saved_parts(self) -> list:
+        """The checkpoint's parts to go on from: none without a checkpoint, and none (the
+        checkpoint cleared, said on stderr) where they do not match this batch or its files."""
+        checkpoint = self.checkpoint
+        saved = [] if checkpoint is None else read_parts(checkpoint)
+        if saved and (
+            any(saved[-1][name] != value for name, value in self.plan.identity.items())
+            or not self.resumable(saved)
+        ):
+            print(
+                f"[fem] the checkpoint in {checkpoint.folder} does not match this run or its "
+                "files: starting afresh",
+                file=sys.stderr,
+            )
+            clear(checkpoint)
+            saved = []
+        return saved
+
+    def save_part(self) -> None:
         """A checkpoint part: the runs in progress, those ended since the last part, counters."""
-        nonlocal parts, last_save
-        assert checkpoint is not None
+        assert self.checkpoint is not None
         live = {
             k: {
                 "slot": slot,
-                "arrays": state.slot_arrays(slot),
-                "recorder": recorders[k].snapshot(),
+                "arrays": self.state.slot_arrays(slot),
+                "recorder": self.recorders[k].snapshot(),
             }
-            for slot, k in enumerate(run_in)
+            for slot, k in enumerate(self.run_in)
             if k >= 0
         }
-        counters = {
-            "pending": list(pending),
-            "steps_done": steps_done,
-            "outputs": outputs,
-            "reasons": reasons,
-            "overturned": overturned,
-            "energy0": energy0,
-            "walls": walls,
-            "weak_from": weak_from,
-            "credited": credited,
-        }
+        counters = {name: getattr(self, name) for name in self.COUNTERS}
+        counters.update(pending=list(self.pending), credited=self.credited)
         write_part(
-            checkpoint,
-            parts,
-            {**identity, "live": live, "ended": dict(ended_since), "counters": counters},
+            self.checkpoint,
+            self.parts,
+            {
+                **self.plan.identity,
+                "live": live,
+                "ended": dict(self.ended_since),
+                "counters": counters,
+            },
         )
-        parts += 1
-        ended_since.clear()
-        last_save = time.monotonic()
+        self.parts += 1
+        self.ended_since.clear()
+        self.last_save = time.monotonic()
 
-    def resumable(saved: list[dict]) -> bool:
+    def resumable(self, saved: list[dict]) -> bool:
         """Whether the runs in progress at the last part still have their files as saved."""
         live = saved[-1]["live"]
-        return all(_Recorder.can_resume(run["recorder"], out_dirs[k]) for k, run in live.items())
+        return all(
+            _Recorder.can_resume(run["recorder"], self.plan.out_dirs[k]) for k, run in live.items()
+        )
 
-    def resume(saved: list[dict]) -> list:
+    def resume(self, saved: list[dict]) -> list:
         """Go on from the checkpoint's parts: the runs in progress put back in their slots;
         returns the (k, FemResult) of those that had ended."""
-        assert checkpoint is not None
+        assert self.checkpoint is not None
+        plan = self.plan
         snapshots: dict[int, list] = {}
         ended: dict = {}
         for part in saved:
@@ -739,222 +1067,45 @@ def iter_batch(
                 ended[k] = end
         last = saved[-1]
         for k, run in last["live"].items():
-            recorder = _Recorder(model, edge_length, list(toes), None)
-            recorder.resume(snapshots[k], out_dirs[k])
-            recorders[k] = recorder
-            state.restore_slot(run["slot"], run["arrays"])
-            run_in[run["slot"]] = k
+            recorder = _Recorder(self.model, plan.edge_length, list(self.toes), None)
+            recorder.resume(snapshots[k], plan.out_dirs[k])
+            self.recorders[k] = recorder
+            self.state.restore_slot(run["slot"], run["arrays"])
+            self.run_in[run["slot"]] = k
         counters = last["counters"]
-        pending.clear()
-        pending.extend(counters["pending"])
-        for name, values in (
-            ("steps_done", steps_done),
-            ("outputs", outputs),
-            ("reasons", reasons),
-            ("overturned", overturned),
-            ("energy0", energy0),
-            ("walls", walls),
-            ("weak_from", weak_from),
-        ):
-            values[:] = counters[name]
-        for k in range(batch):
-            credit(k, counters["credited"][k])
-        times = [start_time + steps_done[k] * dt for k in last["live"]]
+        self.pending.clear()
+        self.pending.extend(counters["pending"])
+        for name in self.COUNTERS:
+            getattr(self, name)[:] = counters[name]
+        for k in range(plan.size):
+            self.credit(k, counters["credited"][k])
+        times = [plan.start_time + self.steps_done[k] * plan.dt for k in last["live"]]
         print(
-            f"[fem] resumed from the checkpoint in {checkpoint.folder}: {len(ended)} of "
-            f"{batch} runs had ended"
+            f"[fem] resumed from the checkpoint in {self.checkpoint.folder}: {len(ended)} of "
+            f"{plan.size} runs had ended"
             + (f", the others go on from t = {min(times):.4g} s" if times else ""),
             file=sys.stderr,
             flush=True,
         )
-        results = []
-        for k, end in ended.items():
-            tail = snapshots[k]
-            rows = [row for snap in tail for row in snap["rows"]]
-            frames = {
-                name: [f for snap in tail for f in snap[name]]
-                for name in ("frames", "velocity_frames", "contact_frames")
-            }
-            result = FemResult(
-                _history(rows),
-                end["summary"],
-                frames["frames"],
-                model,
-                frames["velocity_frames"],
-                frames["contact_frames"],
-                typed_summary=end["typed"],
-            )
-            results.append((k, result))
-        return results
+        return [(k, self.ended_result(snapshots[k], end)) for k, end in ended.items()]
 
-    def credit(k: int, seconds: float) -> None:
-        """Advance the progress bar by run k's simulated seconds, up to its duration."""
-        seconds = min(seconds, durations[k] - credited[k])
-        credited[k] += seconds
-        bar.update(max(0.0, min(seconds, bar.total - bar.n)))  # (sums of floats: never past)
-
-    def load(slot: int, k: int) -> None:
-        """Start run k in the slot: its initial state and the forces there."""
-        clock = time.perf_counter()
-        state.reset(slot, start, None if offsets is None else offsets[k])
-        if stop_in_weak_tail and stop_when_settled and static_start:
-            weak_from[k] = weak_tail_start(
-                grounds[k],
-                verticals[k],
-                weak_level,
-                model.g,
-                start_time,
-                dt,
-                n_outputs[k] * steps_per_output,
-            )
-        # the forces of the initial state (contact normal forces at rest) for the first record
-        state.evaluate(dt, blend, stiffness, slot)
-        recorders[k] = _Recorder(model, edge_length, list(toes), out_dirs[k])
-        recorders[k].start_edge_average(state, slot)
-        run_in[slot] = k
-        walls[k] += time.perf_counter() - clock
-
-    def record(slot: int) -> bool:
-        """Record the slot's run at its present output time; False where the run ends."""
-        clock = time.perf_counter()
-        k = run_in[slot]
-        t = start_time + steps_done[k] * dt
-        row = recorders[k].record(t, state, slot)
-        if energy0[k] is None:
-            energy0[k] = row["energy_total"]
-        recorders[k].finish_row(row, energy0[k])
-        stop = _check(
-            row,
-            recorders[k],
-            ground_end[k],
-            t,
-            stop_on_overturn,
-            energy0[k] if stop_when_settled and static_start else None,
-            weak_from[k],
+    def ended_result(self, tail: list[dict], end: dict) -> FemResult:
+        """The FemResult of a run that had ended before the checkpoint's last part, from its
+        recorder's snapshots and its summary as saved."""
+        rows = [row for snap in tail for row in snap["rows"]]
+        frames = {
+            name: [f for snap in tail for f in snap[name]]
+            for name in ("frames", "velocity_frames", "contact_frames")
+        }
+        return FemResult(
+            _history(rows),
+            end["summary"],
+            frames["frames"],
+            self.model,
+            frames["velocity_frames"],
+            frames["contact_frames"],
+            typed_summary=end["typed"],
         )
-        walls[k] += time.perf_counter() - clock
-        if stop is not None:
-            reasons[k], overturned[k] = stop
-            return False
-        return outputs[k] < n_outputs[k]
-
-    def finish(slot: int) -> tuple[int, FemResult]:
-        """End the slot's run: its result, files written; the slot is free."""
-        k = run_in[slot]
-        run_in[slot] = -1
-        state.motion.alive[slot] = False
-        recorder = recorders.pop(k)
-        history = recorder.close()
-        typed = _summary(
-            model,
-            history,
-            reasons[k],
-            overturned[k],
-            dt,
-            step,
-            outputs[k],
-            steps_per_output,
-            walls[k],
-            edge_length,
-            edge_time,
-            static_start,
-            state.collars.plastic[slot],
-            batch_size=slots,
-        )
-        summary = to_dict(typed)
-        result = FemResult(
-            history,
-            summary,
-            recorder.frames,
-            model,
-            recorder.velocity_frames,
-            recorder.contact_frames,
-            typed_summary=typed,
-        )
-        if checkpoint is not None:  # for the next part: what a rerun needs to yield it again
-            ended_since[k] = {"tail": recorder.snapshot(), "summary": summary, "typed": typed}
-        if out_dirs[k] is not None:
-            from .output import write_outputs, write_summary
-
-            if k == 0:
-                write_outputs(result, Path(out_dirs[k]))
-            else:
-                write_summary(Path(out_dirs[k]) / "summary.json", summary)
-        credit(k, durations[k])  # the rest of a run that ended early
-        return k, result
-
-    def refill(slot: int):
-        """Start the next waiting run in a free slot (yielding any that end at once)."""
-        while pending:
-            load(slot, pending.popleft())
-            if record(slot):
-                return
-            yield finish(slot)
-
-    # what a checkpoint part must match to be gone on from (with the checkpoint's key)
-    identity = {"dt": dt, "durations": durations, "slots": slots, "start_time": start_time}
-    saved = [] if checkpoint is None else read_parts(checkpoint)
-    if saved and (
-        any(saved[-1][name] != value for name, value in identity.items()) or not resumable(saved)
-    ):
-        assert checkpoint is not None
-        print(
-            f"[fem] the checkpoint in {checkpoint.folder} does not match this run or its "
-            "files: starting afresh",
-            file=sys.stderr,
-        )
-        clear(checkpoint)
-        saved = []
-    try:
-        if saved:
-            yield from resume(saved)
-            parts = len(saved)
-        else:
-            for slot in range(slots):
-                yield from refill(slot)
-        motion = state.motion
-        while motion.alive.any():
-            live = np.flatnonzero(motion.alive).tolist()
-            acc = np.zeros((slots, steps_per_output))
-            vacc = np.zeros((slots, steps_per_output))
-            for slot in live:
-                k = run_in[slot]
-                # times from the step count, not accumulated: the trajectory then does not
-                # depend on how the steps are grouped into output intervals (contact stick/slip
-                # decisions amplify round-off differences)
-                times = start_time + dt * (steps_done[k] + np.arange(steps_per_output))
-                acc[slot] = grounds[k].acceleration(times)
-                vacc[slot] = verticals[k].acceleration(times)
-            clock = time.perf_counter()
-            state.advance(steps_per_output, dt, blend, stiffness, acc, vacc)
-            share = (time.perf_counter() - clock) / len(live)
-            for slot in live:
-                k = run_in[slot]
-                walls[k] += share
-                done = int(motion.done[slot])
-                if done < steps_per_output:
-                    t_k = start_time + (steps_done[k] + done) * dt
-                    reasons[k] = (
-                        f"{BLOW_UP} at t = {t_k:.4g} s: the state stopped being "
-                        f"finite (dt = {dt:.3g} s too large for the contact or collar "
-                        "stiffness?)"
-                    )
-                    steps_done[k] += done
-                    yield finish(slot)
-                    yield from refill(slot)
-                    continue
-                steps_done[k] += steps_per_output
-                outputs[k] += 1
-                credit(k, steps_per_output * dt)
-                if not record(slot):
-                    yield finish(slot)
-                    yield from refill(slot)
-            if checkpoint is not None and time.monotonic() - last_save >= checkpoint.interval:
-                save_part()
-        if checkpoint is not None and ended_since:  # the batch's end: a rerun yields it at once
-            save_part()
-    finally:
-        bar.close()
 
 
 def turned_about_toe(model: Model, x: np.ndarray, tilt: float, angular_velocity: float):
