@@ -1566,22 +1566,27 @@ class _Recorder:
         return None
 
     def record(self, t: float, state, r: int) -> dict:
-        """The output row of state r of a batch (a _BatchState) at time t."""
-        model, mesh = self.model, self.model.mesh
+        """The output row of state r of a batch (a _BatchState) at time t; its frames kept,
+        its base pressures written."""
         motion = state.motion
-        x, v, frames = motion.x[r], motion.v[r], motion.frames[r]
-        base_fn, base_ft, base_fc = (
-            state.base_state.fn[r],
-            state.base_state.ft[r],
-            state.base_state.fc[r],
-        )
-        collar_out, collar_state = state.collars.out[r], state.collars.plastic[r]
-        energies, tallies, X = motion.energies[r], motion.tallies[r], model.X
+        x, frames = motion.x[r], motion.frames[r]
+        base_fn = state.base_state.fn[r]
         passes = [
             (c.ft[r], c.fn[r], c.fc[r])
             for c, p in zip(state.crack_states, state.cracks)
             if p.nodes.size
         ]
+        row = self._motion_columns(t, x, frames)
+        self._toe_columns(row, state.edge, r, base_fn)
+        self._force_columns(row, x, frames, base_fn, passes)
+        self._collar_columns(row, state.collars.out[r], state.collars.plastic[r])
+        self._energy_columns(row, motion.energies[r], motion.tallies[r])
+        self._keep_frames(t, state, r, passes)
+        return row
+
+    def _motion_columns(self, t: float, x, frames) -> dict:
+        """t, the bodies' rotations and translations, the centre of mass, the toes' uplift."""
+        model, mesh = self.model, self.model.mesh
         theta = -frames[:, 2]
         row = {"t": t, "theta_left": theta[0], "theta_right": theta[-1]}
         for b in range(mesh.n_bodies):
@@ -1595,8 +1600,12 @@ class _Recorder:
         row["_toe_x_right"] = float(x[2 * self.toe_right])
         row["uplift_left"] = max(x[2 * self.toe_left + 1], 0.0)
         row["uplift_right"] = max(x[2 * self.toe_right + 1], 0.0)
+        return row
+
+    def _toe_columns(self, row: dict, edge, r: int, base_fn) -> None:
+        """Each toe's stress (the peak over the output interval), force, contact run and
+        resolved pressure."""
         # peak over the output interval ending at t (every step of it), not a sample at t
-        edge = state.edge
         for e, name in enumerate(self.edge_names):
             peak = float(edge.peak[r, e]) if self.rows else float(edge.weights[e] @ base_fn)
             row[f"edge_stress_{name}"] = peak / self.edge_area
@@ -1619,6 +1628,10 @@ class _Recorder:
             row[f"toe_resultant_offset_{name}"] = (
                 float(base_fn[run] @ self.toe_distance[name]) / force if force > 0.0 else 0.0
             )
+
+    def _force_columns(self, row: dict, x, frames, base_fn, passes) -> None:
+        """The base's normal force per body; the crack's normal force, opening and slip."""
+        model, mesh = self.model, self.model.mesh
         body_of_base = mesh.node_body[model.base_nodes]
         for b in range(mesh.n_bodies):
             row[f"base_normal_force_{b + 1}"] = float(base_fn[body_of_base == b].sum())
@@ -1632,7 +1645,10 @@ class _Recorder:
             slip = -s * d[:, 0] + c * d[:, 1]
             row["crack_opening_max"] = float(opening.max())
             row["crack_slip_max"] = float(np.abs(slip).max())
-        for k, collar in enumerate(model.collars, start=1):
+
+    def _collar_columns(self, row: dict, collar_out, collar_state) -> None:
+        """Each collar's forces, stress, utilisation and strains (its hinges if plastic)."""
+        for k, collar in enumerate(self.model.collars, start=1):
             N, M1, M2 = collar_out[k - 1, :3]
             moment = max(abs(M1), abs(M2))
             if collar.local_law == "fibre":  # its largest fibre stress (0 once broken)
@@ -1652,6 +1668,9 @@ class _Recorder:
                     row[f"collar_{k}_rotation_{side}"] = collar_out[k - 1, 6 + end]
                     row[f"collar_{k}_hinge_rotation_{side}"] = collar_state[k - 1, 3 + end]
                 row[f"collar_{k}_fractured"] = collar_state[k - 1, FRACTURED]
+
+    def _energy_columns(self, row: dict, energies, tallies) -> None:
+        """The energies and the dissipated energy's parts (J)."""
         kinetic, gravity = energies[5], energies[4]
         row.update(
             energy_kinetic=kinetic,
@@ -1671,6 +1690,17 @@ class _Recorder:
         row["energy_total"] = (
             kinetic + energies[0] + gravity + energies[1] + energies[2] + energies[3]
         )
+
+    def _keep_frames(self, t: float, state, r: int, passes) -> None:
+        """The displacement, velocity and contact frames at t; the base's pressures written."""
+        motion = state.motion
+        x, v, X = motion.x[r], motion.v[r], self.model.X
+        base_fn, base_ft, base_fc = (
+            state.base_state.fn[r],
+            state.base_state.ft[r],
+            state.base_state.fc[r],
+        )
+        collar_state = state.collars.plastic[r]
         self.frames.append((t, (x - X).reshape(-1, 2).copy()))
         self.velocity_frames.append((t, v.reshape(-1, 2).copy()))
         self.contact_frames.append(
@@ -1695,7 +1725,6 @@ class _Recorder:
                 delimiter=",",
             )
             self.pressure_csv.flush()
-        return row
 
     def finish_row(self, row, energy0):
         self.peak_tilt = max(self.peak_tilt, abs(row["theta_left"]), abs(row["theta_right"]))
