@@ -803,8 +803,9 @@ class MultibodyOutcome:
     the largest |theta| of any body over every step (rad; pi/2 once overturned), the column's
     impacts (the most of any body; None where impacts_needed was False), the largest collar
     utilisation over every step's midpoint (None without collars), the steps taken and
-    skipped at rest, the kernel's wall time, and when the run stopped because no answer could
-    change any more (s; None: it ran to its duration or overturned)."""
+    skipped at rest, the kernel's wall time, when the run stopped because no answer could
+    change any more (s; None: it ran to its duration or overturned) and when it overturned
+    (s; None: it did not)."""
 
     overturned: bool
     max_abs_theta: float
@@ -813,6 +814,7 @@ class MultibodyOutcome:
     steps: int
     wall_seconds: float
     decided_at: float | None = None
+    overturned_at: float | None = None
 
 
 def multibody_outcome(
@@ -885,7 +887,7 @@ def multibody_outcome(
     )
     bodies, contacts, collar_elements = column.kernel_bundles()
     start = time.perf_counter()
-    status, steps, _rows, n_imp, reason, _t, peak, _it, util, _pl, _w = K.simulate(
+    status, steps, _rows, n_imp, reason, t_over, peak, _it, util, _pl, _w = K.simulate(
         q, v, bodies, contacts, collar_elements, kernel_ground, settings, out, impacts
     )
     wall = time.perf_counter() - start
@@ -903,6 +905,7 @@ def multibody_outcome(
         steps=int(steps),
         wall_seconds=wall,
         decided_at=steps * dt if status == K.SETTLED else None,
+        overturned_at=float(t_over) if overturned else None,
     )
 
 
