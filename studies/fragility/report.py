@@ -12,7 +12,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ...rigid.multibody import COLLAR_STEP_FRACTION
-from ..output import write_csv
+from ..output import CSV_FORMAT, write_csv
 from ..report import figure, legend_beside, render_page
 from .analysis import LIMIT_STATES
 from .models import MODEL_NAMES
@@ -50,6 +50,7 @@ def write_report(out: Path) -> Path:
         figs=[f for f in figs if f is not None],
         design_rows=design_rows(s),
         collar_rows=collar_rows(s),
+        overturn_rows=overturn_rows(s),
         extrapolated=extrapolated_rows(s),
         fit_rows=fit_rows(s),
         im_rows=im_rows(s),
@@ -346,30 +347,123 @@ def model_label(s: dict, model: str) -> str:
     return f"{MODEL_NAMES[model]} ({short})"
 
 
+# the strip right of the IDA axes where a run that overturned is marked (x / the axis' cap): it
+# has no largest |theta| / alpha, its run stopped there (issue 48)
+OVERTURNED_STRIP = (1.05, 1.32)
+OVERTURNED_MARK = 1.13
+RUN_OVERTURNED = "a run that overturned (no peak: it stopped)"
+
+
+def overturn_times(s: dict, model: str) -> np.ndarray:
+    """The records x levels table of when each run of ``model`` overturned (s; NaN where it
+    stood or the summary has no times: summary.json's runs[model].overturned_at)."""
+    runs = s["runs"][model]
+    times = runs.get("overturned_at")
+    if times is None:
+        return np.full(np.shape(runs["overturned"]), np.nan)
+    return np.array([[np.nan if v is None else v for v in row] for row in times], dtype=float)
+
+
+def overturn_rows(s: dict) -> list[dict]:
+    """Per model, each record that overturned at a level: at how many levels, the first (its
+    IDA capacity) and, in place of its largest |theta| / alpha there, "not applicable: ...
+    overturned at t = ..." (:func:`colonna.studies.outcome.overturned_at`: a run that
+    overturned stopped there, its peak is the stopping angle)."""
+    from ..outcome import not_applicable, overturned_at
+
+    rows = []
+    levels = s["levels"]
+    for model in s["models"]:
+        over = np.array(s["runs"][model]["overturned"], dtype=bool)
+        times = overturn_times(s, model)
+        for i in np.flatnonzero(over.any(axis=1)):
+            j = int(np.argmax(over[i]))
+            t = None if np.isnan(times[i, j]) else float(times[i, j])
+            rows.append(
+                {
+                    "model": MODEL_NAMES[model],
+                    "record": s["records"][i]["name"],
+                    "levels": f"{int(over[i].sum())} of {len(levels)}",
+                    "first": f"{levels[j]:.4g}",
+                    "peak": not_applicable(overturned_at(f"the {MODEL_NAMES[model]}", True, t)),
+                }
+            )
+    return rows
+
+
+def write_csv_blank(path: Path, columns: dict) -> None:
+    """:func:`..output.write_csv`'s table with an empty cell where a value is NaN (a run that
+    gives no number), not "nan"."""
+    names = list(columns)
+    table = np.column_stack([np.asarray(columns[n], dtype=float) for n in names])
+    lines = [",".join(names)] + [
+        ",".join("" if np.isnan(v) else CSV_FORMAT % v for v in row) for row in table
+    ]
+    path.write_text("\n".join(lines) + "\n")
+
+
 def _ida(out: Path, s: dict, label: str) -> dict | None:
-    """The IDA curves: each record's largest |theta| / alpha over the levels, per model; an
-    overturning drawn at the right edge, the first one of each record marked."""
+    """The IDA curves: each record's largest |theta| / alpha over the levels where its run
+    stood, per model; a run that overturned has none (its run stopped there) and is marked in
+    a strip beside the axes, the first one of each record as its capacity. figures/ida.csv:
+    each run's peak (empty where it overturned) and when it overturned (empty where it
+    stood)."""
     models = s["models"]
     levels = np.array(s["levels"])
     cap = max(2.0, 2.0 * s["theta_ratio"])
+    mark = OVERTURNED_MARK * cap
     fig = Figure(figsize=(4.0 * len(models) + 1.8, 3.6))
     axes = np.atleast_1d(fig.subplots(1, len(models), sharey=True, squeeze=False)).ravel()
     data: dict = {"im": levels}
+    past_cap = False
     for ax, model in zip(axes, models):
         peak = np.array(s["runs"][model]["peak_ratio"], dtype=float)
         over = np.array(s["runs"][model]["overturned"], dtype=bool)
-        shown = np.where(over, cap, np.minimum(peak, cap))
-        for i in range(shown.shape[0]):
-            ax.plot(shown[i], levels, color="0.55", lw=0.8)
-            data[f"{model}_record{i}"] = shown[i]
+        times = overturn_times(s, model)
+        stood = np.where(over, np.nan, peak)
+        past_cap |= bool(np.any(stood > cap))
+        ax.axvspan(OVERTURNED_STRIP[0] * cap, OVERTURNED_STRIP[1] * cap, color="0.92", lw=0)
+        ax.text(
+            0.5 * (OVERTURNED_MARK + OVERTURNED_STRIP[1]) * cap,
+            0.5,
+            "overturned",
+            transform=ax.get_xaxis_transform(),
+            rotation=90,
+            ha="left",
+            va="center",
+            fontsize=8,
+            color="0.3",
+        )
+        for i in range(stood.shape[0]):
+            ax.plot(
+                np.minimum(stood[i], cap),
+                levels,
+                ".-",
+                color="0.55",
+                lw=0.8,
+                ms=2.5,
+                gid=f"record{i}",
+            )
+            data[f"{model}_record{i}"] = stood[i]
+            data[f"{model}_record{i}_overturned_at_s"] = np.where(over[i], times[i], np.nan)
             if over[i].any():
+                ax.plot(
+                    np.full(int(over[i].sum()), mark),
+                    levels[over[i]],
+                    ">",
+                    color="0.35",
+                    ms=3.5,
+                    label=RUN_OVERTURNED,
+                    gid=f"record{i}-overturned",
+                )
                 j = int(np.argmax(over[i]))
-                ax.plot([cap], [levels[j]], "x", color="C3", ms=7, label="first overturning")
+                ax.plot([mark], [levels[j]], "x", color="C3", ms=7, label="first overturning")
         ax.axvline(s["theta_ratio"], color="C1", ls="--", lw=1.0, label="rotation threshold")
         ax.axhline(s["design_intensity"], color="k", ls=":", lw=1.0, label="design intensity")
-        ax.set_xlim(0.0, cap * 1.05)
+        ax.set_xlim(0.0, OVERTURNED_STRIP[1] * cap)
+        ax.set_xticks([x for x in ax.get_xticks() if 0.0 <= x <= cap + 1e-9])
         ax.set_title(model_label(s, model), fontsize=10)
-        ax.set_xlabel(r"largest $|\theta| / \alpha$ (right edge: overturned)")
+        ax.set_xlabel(r"largest $|\theta| / \alpha$ of a run that stood")
     axes[0].set_ylabel(label)
     handles, labels = axes[-1].get_legend_handles_labels()
     for ax in axes:
@@ -380,14 +474,19 @@ def _ida(out: Path, s: dict, label: str) -> dict | None:
     unique = dict(zip(labels, handles))
     legend_beside(axes[-1], handles=list(unique.values()), labels=list(unique))
     fig.tight_layout()
-    write_csv(out / "figures" / "ida.csv", data)
+    write_csv_blank(out / "figures" / "ida.csv", data)
     return figure(
         out,
         "ida",
         fig,
-        "IDA curves: each record's largest |theta| / alpha (alpha of "
-        + "the rocking block) at each level; an overturning is drawn at the right edge, a record's "
-        "capacity is its first overturning (x), even where it survives a higher level",
+        "IDA curves: each record's largest |theta| / alpha (alpha of the rocking block) at "
+        "each level where its run stood"
+        + (f" (drawn at {cap:g} where larger)" if past_cap else "")
+        + "; a run that overturned has none, its run stopped there (a stopping convention, "
+        "not a result): it is marked in the grey strip, a record's capacity is its first "
+        "overturning (x), even where it survives a higher level. The data give each run's "
+        "peak, empty where it overturned, and beside it when it overturned "
+        "(RECORD_overturned_at_s, s)",
     )
 
 
