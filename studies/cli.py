@@ -19,7 +19,6 @@ inputs and a run whose numbers are not an answer (:data:`EXIT_STATUS`).
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import importlib
 import json
 import math
@@ -32,13 +31,12 @@ from pathlib import Path
 import numpy as np
 
 from ..core.collar import Collar
-from ..core.constants import STANDARD_GRAVITY, STEEL_E, STEEL_FY
+from ..core.constants import STEEL_E, STEEL_FY
 from ..core.errors import (
     ColonnaError,
     InputError,
     NumericalFailure,
     StaleResultsError,
-    require_range,
 )
 from ..core.ground import (
     NO_MOTION,
@@ -48,10 +46,10 @@ from ..core.ground import (
     read_record,
     weak_record_note,
 )
-from ..rigid.block import MODELS, Block, pulse_from_ratios
+from ..rigid.block import pulse_from_ratios
 from . import schema
+from .options import add_block_options, add_collar_option, block_from_args, collars_from_args
 from .output import write_csv, write_json
-from .schema import read_collars
 from .units import unit_of
 
 
@@ -63,98 +61,6 @@ class _Parser(argparse.ArgumentParser):
 
 
 # --- shared option groups ---------------------------------------------------------------------
-
-
-def _add_block_options(parser: argparse.ArgumentParser) -> None:
-    g = parser.add_argument_group("block (give --p and --alpha, or --b and --h)")
-    g.add_argument("--p", type=float, help="frequency parameter p (rad/s)")
-    g.add_argument("--alpha", type=float, help="slenderness angle alpha (rad), in (0, pi/2)")
-    g.add_argument("--b", type=float, help="half width b of the rocking block (m)")
-    g.add_argument("--h", type=float, help="half height h of the rocking block (m)")
-    g.add_argument("--mass", type=float, help="block mass (kg); needed with collars")
-    g.add_argument("--density", type=float, help="stone density (kg/m^3), instead of --mass")
-    g.add_argument(
-        "--thickness",
-        type=float,
-        help="out-of-plane thickness (m) with --density (default pi b: the mass of a "
-        "half circular column)",
-    )
-    g.add_argument(
-        "--restitution",
-        type=float,
-        help="coefficient of restitution nu (default Housner's 1 - 1.5 sin^2 alpha)",
-    )
-    g.add_argument(
-        "--model",
-        choices=MODELS + ("multibody",),
-        default="nonlinear",
-        help="linear or nonlinear: the SDOF rocking equation; multibody: rigid "
-        "bodies with contact and friction (default nonlinear)",
-    )
-    g.add_argument(
-        "--g",
-        type=float,
-        default=STANDARD_GRAVITY,
-        help=f"gravity (m/s^2), default {STANDARD_GRAVITY:g}",
-    )
-    g.add_argument(
-        "--top-load",
-        type=float,
-        default=0.0,
-        help="dead load on the top of the block (N, default 0; needs --mass or "
-        "--density): an architrave or arch springing, without mass",
-    )
-
-
-def _block_from_args(args) -> Block:
-    by_ratio = args.p is not None or args.alpha is not None
-    by_size = args.b is not None or args.h is not None
-    if by_ratio and by_size:
-        raise InputError("give either --p and --alpha or --b and --h, not both")
-    if by_ratio:
-        if args.p is None or args.alpha is None:
-            raise InputError("--p and --alpha must be given together")
-        block = Block.from_dimensionless(args.p, args.alpha, restitution=args.restitution, g=args.g)
-        b, h = block.b, block.h
-    elif by_size:
-        if args.b is None or args.h is None:
-            raise InputError("--b and --h must be given together")
-        b, h = args.b, args.h
-        # the study file's hard ranges of a column (width 4b, height 2h)
-        low, high = schema.hard_range(schema.Column, "width")
-        require_range("--b", b, low / 4.0, high / 4.0, closed_low=True, closed_high=True)
-        low, high = schema.hard_range(schema.Column, "height")
-        require_range("--h", h, low / 2.0, high / 2.0, closed_low=True, closed_high=True)
-    else:
-        raise InputError("the block is not given: use --p and --alpha, or --b and --h")
-    if args.mass is not None and args.density is not None:
-        raise InputError("give either --mass or --density, not both")
-    if args.density is not None:
-        # as a study file's stone.density: past it the mass overflows
-        low, high = schema.hard_range(schema.Stone, "density")
-        require_range("--density", args.density, low, high, closed_low=True, closed_high=True)
-        thickness = args.thickness if args.thickness is not None else math.pi * b
-        block = Block.from_density(
-            b, h, args.density, thickness, restitution=args.restitution, g=args.g
-        )
-        return dataclasses.replace(block, top_load=args.top_load)
-    return Block(
-        b=b, h=h, mass=args.mass, restitution=args.restitution, g=args.g, top_load=args.top_load
-    )
-
-
-def _add_collar_option(parser) -> None:
-    parser.add_argument(
-        "--collars",
-        type=Path,
-        help="TOML file with [[collar]] tables, the keys of a study file's [[collar]] ("
-        + ", ".join(schema.Collar.model_fields)
-        + "; docs/study-file.md); the block is then one half of the cracked column",
-    )
-
-
-def _collars_from_args(args):
-    return read_collars(args.collars) if args.collars else ()
 
 
 def _add_multibody_options(parser) -> None:
@@ -288,8 +194,8 @@ def _emit(args, summary: dict | None) -> None:
 def _cmd_rigid(args) -> dict:
     from ..rigid.solve import rock
 
-    block = _block_from_args(args)
-    collars = _collars_from_args(args)
+    block = block_from_args(args)
+    collars = collars_from_args(args)
     sdof_model = "linear" if args.model == "linear" else "nonlinear"  # a_uplift of the ratios
     if args.record is not None:
         if args.omega_ratio is not None or args.amplitude_ratio is not None:
@@ -363,8 +269,8 @@ def _cmd_rigid(args) -> dict:
 def _cmd_spectrum(args) -> dict:
     from ..rigid.spectrum import overturning_spectrum, parse_range
 
-    block = _block_from_args(args)
-    collars = _collars_from_args(args)
+    block = block_from_args(args)
+    collars = collars_from_args(args)
     omegas = parse_range(args.omega_ratios, "--omega-ratios")
     amplitudes = parse_range(args.amplitude_ratios, "--amplitude-ratios")
     multibody = _multibody_options(args)
@@ -434,7 +340,7 @@ def _check_plausible_collar(args) -> None:
 def _cmd_design(args) -> dict:
     from ..rigid.design import design_chart, design_collars
 
-    block = _block_from_args(args)
+    block = block_from_args(args)
     block.require_mass("the collar design (give --mass or --density)")
     _check_plausible_collar(args)
     collar = Collar(
@@ -707,7 +613,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="rocking time history of a rigid block, or of a cracked column's two halves with "
         "collars (SDOF or multibody)",
     )
-    _add_block_options(p)
+    add_block_options(p)
     g = p.add_argument_group("ground motion")
     g.add_argument("--pulse", choices=PULSE_KINDS, default="sine")
     g.add_argument("--omega-ratio", type=float, help="Omega / p")
@@ -730,7 +636,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--vertical-scale", type=float, default=1.0, help="scale factor on the vertical record"
     )
     p.add_argument("--duration", type=float, help="end time (s); default end of motion + 20/p")
-    _add_collar_option(p)
+    add_collar_option(p)
     _add_multibody_options(p)
     p.add_argument(
         "--out", type=Path, help="write history.csv, impacts.csv, summary.json, history.png here"
@@ -741,18 +647,18 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser(
         "spectrum", help="overturning spectrum (mode map) of a rigid block, with or without collars"
     )
-    _add_block_options(p)
+    add_block_options(p)
     p.add_argument("--pulse", choices=PULSE_KINDS, default="sine")
     p.add_argument("--omega-ratios", required=True, help="START:STOP:N of Omega / p")
     p.add_argument("--amplitude-ratios", required=True, help="START:STOP:M of a_p / a_uplift")
-    _add_collar_option(p)
+    add_collar_option(p)
     _add_multibody_options(p)
     p.add_argument("--out", type=Path, help="write spectrum.json, spectrum.png, CSV here")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_spectrum)
 
     p = sub.add_parser("design", help="collar design (corrected Eq. 22-24)")
-    _add_block_options(p)
+    add_block_options(p)
     g = p.add_argument_group("collar section and design pulse")
     g.add_argument("--collar-t", type=float, required=True, help="section thickness t_c (m)")
     g.add_argument("--collar-h", type=float, required=True, help="section height h_c (m)")
@@ -877,9 +783,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_validate)
 
     for name, kind in KINDS.items():  # a kind's own command (studies/kinds.py, its package)
-        if kind.command:
+        command = kind.command_module()
+        if command is not None:
             p = sub.add_parser(name, help=kind.command)
-            command = importlib.import_module(f"{kind.module().__name__}.command")
             command.add_arguments(p)
             p.set_defaults(func=command.run_command)
     return parser

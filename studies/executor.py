@@ -413,9 +413,9 @@ def study_file_key(path: str) -> str:
     if match is None:
         return path
     if match.group(1) not in STUDY_FILE_KEYS:  # a study dict shaped as the file: its table's key
-        from .schema import StudyFile
+        from .schema import table_names
 
-        return path[len("study.") :] if match.group(1) in StudyFile.model_fields else path
+        return path[len("study.") :] if match.group(1) in table_names() else path
     field, rest = match.groups()
     sub = rest.lstrip(".").split(".")[0]
     if field == "bed" and sub:

@@ -122,7 +122,7 @@ def input_tables(inputs: dict) -> list[dict]:
 
     kind = KINDS.get(inputs["study"]["kind"])
     tables = []
-    for name in INPUT_TABLES + (kind.tables if kind is not None else ()):
+    for name in INPUT_TABLES + (tuple(kind.tables) if kind is not None else ()):
         if inputs.get(name) in (None, [], {}):
             continue
         model = schema.table_model(name)

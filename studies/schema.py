@@ -15,7 +15,7 @@ from __future__ import annotations
 import copy
 import difflib
 import math
-from typing import Annotated, Any, Literal, get_origin
+from typing import TYPE_CHECKING, Annotated, Any, Literal, get_origin
 
 from pydantic import (
     BaseModel,
@@ -23,6 +23,7 @@ from pydantic import (
     Field,
     TypeAdapter,
     ValidationError,
+    create_model,
     field_validator,
     model_validator,
 )
@@ -37,10 +38,9 @@ from ..fem.solver import EDGE_TIME, REPLICAS
 from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
 from ..rigid.block import OMEGA_RATIO_RANGE
-from .kinds import DEFAULT_KIND, KIND_TABLES, KINDS
+from .kinds import DEFAULT_KIND, KINDS, kind_tables
 
 G = STANDARD_GRAVITY  # m/s^2, the gravity of every study
-STUDY_KINDS = tuple(KINDS)  # the registered kinds (studies/kinds.py)
 
 
 FAILED = object()  # in a table's view (Table.across): a key whose value failed its own check
@@ -367,8 +367,8 @@ class Collar(Table):
         """The hardening modulus below E; a plastic collar's ultimate strain above its yield
         strain; the pretension at most the yield force."""
         found = []
-        force = c["fy"] * c["t"] * c["h"] if _known(c["fy"], c["t"], c["h"]) else None
-        if _known(c["pretension"]) and force is not None and c["pretension"] > force:
+        force = c["fy"] * c["t"] * c["h"] if known(c["fy"], c["t"], c["h"]) else None
+        if known(c["pretension"]) and force is not None and c["pretension"] > force:
             found.append(
                 (
                     f"pretension = {c['pretension']:g} N must be at most the yield force "
@@ -376,7 +376,7 @@ class Collar(Table):
                     (),
                 )
             )
-        if c["Eh"] is not None and _known(c["Eh"], c["E"]) and c["Eh"] >= c["E"]:
+        if c["Eh"] is not None and known(c["Eh"], c["E"]) and c["Eh"] >= c["E"]:
             found.append((f"Eh = {c['Eh']:g} Pa must be below E = {c['E']:g} Pa", ()))
         if c["section"] == "fibre" and c["plastic"] is False:
             found.append(
@@ -388,7 +388,7 @@ class Collar(Table):
             )
         if (
             c["plastic"] is True
-            and _known(c["eps_u"], c["fy"], c["E"])
+            and known(c["eps_u"], c["fy"], c["E"])
             and c["eps_u"] <= c["fy"] / c["E"]
         ):
             found.append(
@@ -600,7 +600,7 @@ def _none_of(given: set, keys, why: str) -> list[tuple[str, tuple]]:
     return [(f"ground.{key} has no meaning {why}", ()) for key in sorted(given & set(keys))]
 
 
-def _known(*values) -> bool:
+def known(*values) -> bool:
     """Whether none of the values failed its own check (a check across keys may read them)."""
     return all(value is not FAILED for value in values)
 
@@ -671,7 +671,7 @@ class Contact(Table):
                 (),
             )
             for key in ("penalty_factor", "penalty")
-            if key in given and _known(c[key])
+            if key in given and known(c[key])
         ]
 
 
@@ -723,7 +723,7 @@ class Base(Table):
     def across(b: dict, given: set) -> list[tuple[str, tuple]]:
         """A range goes with a given stiffness and lies around it, within 1e6-1e18 N/m^3."""
         value, k = b["stiffness_range"], b["stiffness"]
-        if not _known(value, k) or value is None:
+        if not known(value, k) or value is None:
             return []
         if k is None:
             return [("base.stiffness_range goes with a given base.stiffness", ())]
@@ -782,7 +782,7 @@ class Mesh(Table):
         """The toe refinements: powers of two from 1."""
         value = m["toe_refinements"]
         if (
-            _known(value)
+            known(value)
             and value
             and (len(value) < 3 or value[-1] > 16 or value != [2**k for k in range(len(value))])
         ):
@@ -848,7 +848,7 @@ class Run(Table):
     def across(r: dict, given: set) -> list[tuple[str, tuple]]:
         """An output interval no longer than the run (the run ends on a whole interval)."""
         d, k = r["duration"], r["output_interval"]
-        if d is not None and k is not None and _known(d, k) and k > d:
+        if d is not None and k is not None and known(d, k) and k > d:
             return [
                 (
                     f"output_interval = {k:g} s must be at most duration = {d:g} s "
@@ -891,7 +891,7 @@ class StudyInfo(Table):
     revision: str | None = Field(
         None, description='Revision of the document, e.g. "A" or "1", in the title block.'
     )
-    kind: Literal[STUDY_KINDS] = Field(  # type: ignore[valid-type]
+    kind: str = Field(  # one of the registered kinds (study_model)
         DEFAULT_KIND, description="Which study to run."
     )
     intended: list[str] = Field(
@@ -913,259 +913,16 @@ def pair(default, description: str, unit: str = "-") -> Any:
     )
 
 
-class Grid(Table):
-    """[grid] (spectrum-crosscheck): the pulses of the grid, each a [start, stop] range."""
-
-    omega_ratios: (
-        list[Annotated[float, Field(ge=OMEGA_RATIO_RANGE[0], le=OMEGA_RATIO_RANGE[1])]] | None
-    ) = pair(None, "Omega / p range, inclusive (pulses; default [1, 8]); as ground.omega_ratio.")
-    amplitude_ratios: list[Annotated[float, Field(ge=1, le=1000)]] = pair(
-        [1.2, 6.0], "a_p / (g tan alpha) range, inclusive; as ground.amplitude_ratio."
-    )
-    time_scales: list[Annotated[float, Field(ge=1e-3, le=1000)]] | None = pair(
-        None,
-        "Record time-scale range (records, in place of omega_ratios; default [0.5, 2]); as "
-        "ground.time_scale.",
-    )
-    points: list[Annotated[int, Field(ge=1, le=10000)]] = pair(
-        [6, 5],
-        "Number of points along the first axis x number of amplitude ratios, each at most "
-        "10000 (the FEM work of the grid is bounded too: see --long).",
-    )
-
-    @staticmethod
-    def across(g: dict, given: set) -> list[tuple[str, tuple]]:
-        """Each range [start, stop] with start <= stop."""
-        return [
-            (f"grid.{key} = {g[key]!r} must be [start, stop] with start <= stop", ())
-            for key in ("omega_ratios", "amplitude_ratios", "time_scales")
-            if g[key] is not None and _known(g[key]) and not g[key][0] <= g[key][1]
-        ]
-
-
-class Convergence(Table):
-    """[convergence] (mesh-convergence): the mesh sizes, given or from levels and ratio."""
-
-    sizes: list[Annotated[float, Field(gt=0)]] | None = Field(
-        None,
-        min_length=3,
-        description="Three or more decreasing mesh sizes.",
-        json_schema_extra={"unit": "m"},
-    )
-    levels: int = quantity(
-        "-", "Number of meshes ..., r^2 h, r h, h, the finest h = mesh.size.", 3, ge=3
-    )
-    ratio: float = quantity("-", "Refinement ratio r between meshes.", 2.0, gt=1)
-
-    @staticmethod
-    def across(c: dict, given: set) -> list[tuple[str, tuple]]:
-        """Sizes, or levels and ratio; the sizes decreasing by one ratio (the Richardson
-        estimate and the observed order assume it)."""
-        sizes = c["sizes"]
-        if sizes is None or not _known(sizes):
-            return []
-        if not all(b < a for a, b in zip(sizes, sizes[1:])):
-            return [(f"convergence.sizes = {sizes!r} must decrease", ())]
-        if given & {"levels", "ratio"}:
-            return [("convergence.sizes goes without levels and ratio (it sets both)", ())]
-        ratios = [a / b for a, b in zip(sizes, sizes[1:])]
-        if max(ratios) - min(ratios) > 1e-6 * ratios[0]:
-            return [
-                (
-                    f"convergence.sizes = {sizes!r} must refine by one ratio (here "
-                    + ", ".join(f"{r:.4g}" for r in ratios)
-                    + "): the convergence rate and the Richardson estimate assume it",
-                    (),
-                )
-            ]
-        return []
-
-
-class FreeRocking(Table):
-    """[free_rocking] (free-rocking): release tilts and the FEM variants to try."""
-
-    tilt_fractions: list[Annotated[float, Field(gt=0, lt=1)]] = Field(
-        [0.5],
-        min_length=1,
-        description="Release tilts, fractions of alpha, in (0, 1).",
-        json_schema_extra={"unit": "-"},
-    )
-    damping: list[Annotated[float, Field(ge=0, lt=1)]] = Field(
-        [0.0, 0.2],
-        min_length=1,
-        description="Extra contact dampings to try, in [0, 1).",
-        json_schema_extra={"unit": "-"},
-    )
-    mesh_sizes: list[Annotated[float, Field(gt=0)]] | None = Field(
-        None,
-        min_length=1,
-        description="Extra mesh sizes to try, at most the width of a half "
-        "(default: twice the study's).",
-        json_schema_extra={"unit": "m"},
-    )
-
-
-INTENSITY_MEASURES = {  # [fragility] intensity: the IMs a record is scaled by, and their units
-    "pga": "m/s^2",
-    "pgv": "m/s",
-    "sa": "m/s^2",
-    "pga_rocking": "-",
-    "pgv_rocking": "-",
-}
-FRAGILITY_MODELS = ("sdof", "multibody", "fem")
-
-
-class Fragility(Table):
-    """[fragility] (fragility): a record suite scaled over intensity levels through the models:
-    IDA (a ladder of levels, each record's capacity at its first exceedance) or multiple-stripe
-    analysis (given levels); lognormal fits with bootstrap bands."""
-
-    suite: str = Field(
-        min_length=1,
-        description="Record suite: a folder of records or a TOML list of them ([[record]] "
-        "file, scale, units), relative to the study file.",
-    )
-    intensity: Literal[tuple(INTENSITY_MEASURES)] = Field(  # type: ignore[valid-type]
-        "pga_rocking",
-        description="Intensity measure the records are scaled by and the curves are drawn "
-        "against: pga (m/s^2), pgv (m/s), sa (5 %-damped Sa(period), m/s^2), pga_rocking "
-        "(PGA / (g tan alpha)), pgv_rocking (PGV p / (g tan alpha)) of the rocking block.",
-    )
-    period: float | None = quantity(
-        "s", "Period of Sa (intensity = sa only), 0.01 to 20 s.", ge=0.01, le=20
-    )
-    analysis: Literal["ida", "msa"] = Field(
-        "ida",
-        description="ida: every record over the ladder (capacity at the first exceedance); "
-        "msa: every record at the given levels (stripes).",
-    )
-    ladder: list[Annotated[float, Field(gt=0, le=1e4)]] | None = pair(
-        None, "[start, stop] of the IDA ladder, inclusive, in the intensity's unit.", "IM"
-    )
-    steps: int = quantity("-", "Levels of the IDA ladder, 2 to 1000.", 20, ge=2, le=1000)
-    levels: list[Annotated[float, Field(gt=0, le=1e4)]] | None = Field(
-        None,
-        min_length=2,
-        max_length=1000,
-        description="The MSA stripes, increasing, in the intensity's unit.",
-        json_schema_extra={"unit": "IM"},
-    )
-    models: list[Literal[FRAGILITY_MODELS]] = Field(  # type: ignore[valid-type]
-        ["sdof", "multibody"],
-        min_length=1,
-        description="Models to run: sdof (the paper's half block with collar springs), "
-        "multibody (rigid bodies with the FEM's contacts), fem (the study's mesh, one run per "
-        "record and level, stopped once settled).",
-    )
-    theta_ratio: float = quantity(
-        "-", "Threshold of the rotation limit state |theta| / alpha, (0, 100].", 0.5, gt=0, le=100
-    )
-    fit: Literal["lognormal", "shifted"] = Field(
-        "lognormal",
-        description="The fitted curve: lognormal, or shifted (a lognormal of IM - x0, 0 up to "
-        "the origin x0 at the uplift intensity: the least level at which a record of the suite "
-        "lifts the rocking block, PGA = g tan alpha).",
-    )
-    design_intensity: float = Field(
-        description="The site's design intensity, in the intensity's unit, within the levels "
-        "run (the ladder's [start, stop], or the first to the last stripe): the report opens "
-        "with each limit state's probability there.",
-        json_schema_extra={"unit": "IM"},
-        gt=0,
-        le=1e4,
-    )
-    bootstrap: int = quantity(
-        "-",
-        "Bootstrap resamples of the records for the bands, 10 to 100000.",
-        500,
-        ge=10,
-        le=100000,
-    )
-    confidence: float = quantity(
-        "-", "Two-sided level of the bootstrap intervals, (0, 1).", 0.9, gt=0, lt=1
-    )
-    seed: int = quantity("-", "Seed of the bootstrap (numpy PCG64).", 0, ge=0)
-    sdof_rtol: float = quantity(
-        "-",
-        "Relative tolerance of the SDOF runs, 1e-12 to 1e-3 (the single SDOF run's is 1e-10).",
-        1e-6,
-        ge=1e-12,
-        le=1e-3,
-    )
-    multibody_step: float = quantity(
-        "-",
-        "Step of the multibody runs where the collars set it, as a fraction of their explicit "
-        "stability limit 2/omega, 0.01 to 0.25 (a single multibody run's is 0.125, whose crack "
-        "tolerance the runs keep; at 0.5 the answers move by 5-25 %: docs/fragility.md).",
-        0.25,
-        ge=0.01,
-        le=0.25,
-    )
-
-    @staticmethod
-    def across(f: dict, given: set) -> list[tuple[str, tuple]]:
-        """The ladder with IDA, the levels with MSA, the period with Sa; the design intensity
-        within the levels run (:meth:`_design_within`)."""
-        found: list[tuple[str, tuple]] = []
-        if f["analysis"] == "ida":
-            if f["ladder"] is None:
-                found.append(
-                    ("fragility.ladder = [start, stop] is required with analysis = 'ida'", ())
-                )
-            elif _known(f["ladder"]) and not f["ladder"][0] <= f["ladder"][1]:
-                found.append((f"fragility.ladder = {f['ladder']!r} must have start <= stop", ()))
-            else:
-                found += Fragility._design_within(f, "ladder")
-            if f["levels"] is not None:
-                found.append(("fragility.levels goes with analysis = 'msa' (use ladder)", ()))
-        elif f["analysis"] == "msa":
-            if f["levels"] is None:
-                found.append(("fragility.levels is required with analysis = 'msa'", ()))
-            elif _known(f["levels"]) and any(b <= a for a, b in zip(f["levels"], f["levels"][1:])):
-                found.append((f"fragility.levels = {f['levels']!r} must increase", ()))
-            else:
-                found += Fragility._design_within(f, "levels")
-            if f["ladder"] is not None or "steps" in given:
-                found.append(("fragility.ladder and steps go with analysis = 'ida'", ()))
-        if f["intensity"] == "sa" and f["period"] is None:
-            found.append(("fragility.period is required with intensity = 'sa'", ()))
-        if f["intensity"] not in ("sa", FAILED) and f["period"] is not None:
-            found.append(("fragility.period goes with intensity = 'sa' only", ()))
-        return found
-
-    @staticmethod
-    def _design_within(f: dict, key: str) -> list[tuple[str, tuple]]:
-        """The design intensity within the levels run (``key``: ladder or levels), else
-        refused, before anything runs. Refused rather than reported as extrapolated: outside
-        the levels a probability is the fitted lognormal's tail, not the records' answer (a
-        design PGV p / (g tan alpha) of 245 over a ladder of 0.5-8 gave every P = 1), such a
-        value is most often an IM in another unit, and the remedy (a ladder or a stripe that
-        reaches it) is one key and gives data where the answer is read."""
-        levels, design = f[key], f["design_intensity"]
-        if not _known(levels, design, f["intensity"]) or design is None:
-            return []
-        low, high = min(levels), max(levels)
-        if low <= design <= high:
-            return []
-        unit = INTENSITY_MEASURES.get(f["intensity"], "")
-        unit = f"{f['intensity']}, no unit" if unit == "-" else f"{f['intensity']} in {unit}"
-        where = "above the highest" if design > high else "below the lowest"
-        return [
-            (
-                f"fragility.design_intensity = {design:g} lies {where} level run: "
-                f"fragility.{key} spans {low:g} to {high:g} ({unit}); a probability there "
-                "would be the fitted curve's extrapolation, not the records' answer: "
-                + ("extend the ladder" if key == "ladder" else "add a stripe")
-                + " to reach it, or give it in the intensity's unit",
-                (),
-            )
-        ]
-
-
 class StudyFile(Table):
     """A colonna study file (TOML). SI units throughout."""
 
+    # the shared tables; a study's model (study_model) adds [study] kind's choices and the
+    # kinds' own tables (studies/kinds.py), as attributes of the same names
     model_config = ConfigDict(title="colonna study file")
+
+    if TYPE_CHECKING:  # a kind's table: study.spec.fragility
+
+        def __getattr__(self, name: str) -> Any: ...
 
     study: StudyInfo = StudyInfo()
     column: Column | None = Field(
@@ -1182,18 +939,15 @@ class StudyFile(Table):
     mesh: Mesh = Mesh()
     run: Run = Run()
     rigid: Rigid = Rigid()
-    grid: Grid = Grid()
-    convergence: Convergence = Convergence()
-    free_rocking: FreeRocking = FreeRocking()
-    fragility: Fragility | None = None
 
-    @staticmethod
-    def across(s: dict, given: set) -> list[tuple[str, tuple]]:
+    @classmethod
+    def across(cls, s: dict, given: set) -> list[tuple[str, tuple]]:
         """The tables against each other (:meth:`_tables`), then every value against its
-        plausible range, but those of the keys in [study] intended (:func:`implausible`)."""
+        plausible range, but those of the keys in [study] intended (:func:`implausible`), of
+        the study's model ``cls`` (:func:`study_model`: with its kind's tables)."""
         info = s["study"]
         intended = info["intended"] if isinstance(info, dict) else FAILED
-        return StudyFile._tables(s, given) + implausible(StudyFile, s, intended, "[study] intended")
+        return StudyFile._tables(s, given) + implausible(cls, s, intended, "[study] intended")
 
     @staticmethod
     def _tables(s: dict, given: set) -> list[tuple[str, tuple]]:
@@ -1202,7 +956,7 @@ class StudyFile(Table):
         kind = s["study"]["kind"] if isinstance(s["study"], dict) else FAILED
         c, ground = s["column"], s["ground"]
         found: list[tuple[str, tuple]] = []
-        for table in KIND_TABLES:  # a table no code of this kind would read
+        for table in kind_tables():  # a table no code of this kind would read
             if table in given and isinstance(kind, str) and table not in KINDS[kind].tables:
                 readers = [name for name, k in KINDS.items() if table in k.tables]
                 found.append(
@@ -1247,9 +1001,9 @@ class StudyFile(Table):
                     )
         if not isinstance(c, dict):
             return found
-        collars = s["collar"] if _known(s["collar"]) else []
+        collars = s["collar"] if known(s["collar"]) else []
         for i, collar in enumerate(collars, start=1):
-            if _known(collar, c["height"]) and _known(collar["y"]) and collar["y"] > c["height"]:
+            if known(collar, c["height"]) and known(collar["y"]) and collar["y"] > c["height"]:
                 found.append(
                     (
                         f"collar[{i}].y = {collar['y']:.10g} m is outside the allowed range "
@@ -1258,12 +1012,12 @@ class StudyFile(Table):
                     )
                 )
         mesh = s["mesh"]
-        if not _known(c["width"], c["cracked"], mesh):
+        if not known(c["width"], c["cracked"], mesh):
             return found
         half = c["width"] / (2.0 if c["cracked"] else 1.0)
         for key in ("size", "edge_length"):
             value = mesh[key]
-            if value is not None and _known(value) and value > half:
+            if value is not None and known(value) and value > half:
                 found.append(
                     (
                         f"mesh.{key} = {value:g} m is outside the allowed range "
@@ -1272,6 +1026,74 @@ class StudyFile(Table):
                     )
                 )
         return found
+
+
+_MODELS: dict[tuple, type[StudyFile]] = {}  # study_model's, by kind and registry
+
+
+def study_model(
+    kind: str | None = DEFAULT_KIND, *, given=(), every: bool = False
+) -> type[StudyFile]:
+    """The model of a study file of kind ``kind`` (a name of :data:`studies.kinds.KINDS`;
+    None where the file's is none of them): the shared tables (:class:`StudyFile`), ``[study]
+    kind`` one of the registered kinds, and the tables that kinds register
+    (``StudyKind.tables``, each a model of its package's module ``schema``): ``kind``'s own
+    and those ``given`` in the file checked by their models (another kind's table is refused
+    too: :meth:`StudyFile._tables`), the others' not imported. ``every``: every kind's tables
+    (the schema as documented: :func:`json_schema`, :func:`markdown`). Built on first use, and
+    again once the registry has changed."""
+    checked = tuple(
+        name
+        for name, k in KINDS.items()
+        if every or name == kind or any(table in given for table in k.tables)
+    )
+    key = (checked, tuple((name, id(k)) for name, k in KINDS.items()))
+    if key not in _MODELS:
+        _MODELS[key] = _study_model(checked)
+    return _MODELS[key]
+
+
+def _study_model(checked: tuple[str, ...]) -> type[StudyFile]:
+    """:func:`study_model` of the kinds whose tables are ``checked``, built (pydantic's
+    create_model on :class:`StudyFile`)."""
+    choices: Any = Literal[tuple(KINDS)]  # [study] kind: a registered kind
+    info = create_model(
+        "StudyInfo",
+        __base__=StudyInfo,
+        __doc__=StudyInfo.__doc__,
+        kind=(choices, StudyInfo.model_fields["kind"]),
+    )
+    without = " or ".join(f'"{name}"' for name, k in KINDS.items() if not k.column)
+    fields: dict[str, Any] = {
+        "study": (info, info()),
+        "column": (
+            Column | None,
+            Field(None, description=f"Required, except for kind = {without}."),
+        ),
+    }
+    own: dict[str, type[Table]] = {}
+    for name in checked:
+        own.update(KINDS[name].table_models())
+    for table in kind_tables():
+        if table in StudyFile.model_fields:
+            raise TypeError(f"a study kind registers [{table}], a shared table of the study file")
+        model = own.get(table)
+        if model is None:  # not given: a study that gives it is refused (StudyFile._tables)
+            readers = " or ".join(name for name, k in KINDS.items() if table in k.tables)
+            fields[table] = (
+                dict[str, Any] | None,
+                Field(None, description=f"Read by studies of kind {readers}."),
+            )
+        elif all(not f.is_required() for f in model.model_fields.values()):
+            fields[table] = (model, model())
+        else:  # a table with required keys: given, or none
+            fields[table] = (model | None, None)
+    return create_model("StudyFile", __base__=StudyFile, __doc__=StudyFile.__doc__, **fields)
+
+
+def table_names() -> tuple[str, ...]:
+    """The tables of a study file: the shared ones, then those of the kinds."""
+    return (*StudyFile.model_fields, *kind_tables())
 
 
 REMOVED = object()  # in variant(): leave this key or table out
@@ -1298,8 +1120,12 @@ def variant(data: dict, changes: dict[str, Any], source: str = "study") -> dict:
 
 def parse(data: dict, source: str = "study") -> StudyFile:
     """The validated study, or an :class:`InputError` of one line per error, each naming its
-    key."""
-    return _validate(StudyFile, data, source)
+    key: the model of its kind (:func:`study_model`), the kind its [study] kind names."""
+    info = data.get("study") if isinstance(data, dict) else None
+    kind = info.get("kind", DEFAULT_KIND) if isinstance(info, dict) else DEFAULT_KIND
+    registered = isinstance(kind, str) and kind in KINDS
+    given = tuple(data) if isinstance(data, dict) else ()
+    return _validate(study_model(kind if registered else None, given=given), data, source)
 
 
 class CollarFile(Table):
@@ -1319,7 +1145,7 @@ def plausible_keys(model: type[Table] | None = None) -> dict[str, dict]:
     """The keys with a plausible range ('stone.E' -> its range, the unit it is shown in, of
     what, and its SI unit), of a study file (or of the file ``model``)."""
     found: dict[str, dict] = {}
-    for table, field in (model or StudyFile).model_fields.items():
+    for table, field in (model or study_model(every=True)).model_fields.items():
         inner = _find_model(field.annotation)
         for key, sub in (inner.model_fields if inner is not None else {}).items():
             extra = sub.json_schema_extra
@@ -1412,43 +1238,55 @@ def read_collars(path) -> tuple[rigid_collars.Collar, ...]:
     return tuple(rigid_collars.Collar(**c.model_dump()) for c in spec.collar)
 
 
+def _reader(name: str) -> str | None:
+    """The first kind that registers the table ``name``, None for a shared table."""
+    return next((kind for kind, k in KINDS.items() if name in k.tables), None)
+
+
 def table_model(name: str) -> type[BaseModel]:
-    """The model of a study file's table (``column``, ``collar``: one [[collar]], ...)."""
-    return _model_of(StudyFile.model_fields[name].annotation)
+    """The model of a study file's table (``column``, ``collar``: one [[collar]], ``grid``:
+    a kind's own, from its package: :func:`study_model`)."""
+    return _model_of(study_model(_reader(name)).model_fields[name].annotation)
 
 
 def parse_table(name: str, table, source: str = "study"):
     """One table of a study file (``grid``, ``convergence``, ...) checked on its own."""
-    return _validate(
-        _model_of(StudyFile.model_fields[name].annotation), table, source, within=(name,)
-    )
+    root = study_model(_reader(name))
+    model = _model_of(root.model_fields[name].annotation)
+    return _validate(model, table, source, within=(name,), root=root)
 
 
-def _validate(model: type[Table], data, source: str, within: tuple = ()):
+def _validate(model: type[Table], data, source: str, within: tuple = (), root=None):
     """``model`` validated from ``data``, or an :class:`InputError` of one line per error
-    (:func:`_error_lines`). ``within``: the key path of ``data`` in the study file."""
+    (:func:`_error_lines`). ``within``: the key path of ``data`` in the study file, whose
+    model is ``root`` (``model`` itself where None and it is a study's, else a study of the
+    default kind's)."""
     try:
         return model.model_validate(data)
     except ValidationError as exc:
         errors = exc.errors()
-    raise InputError(
-        "\n".join(f"{source}: {line}" for line in _error_lines(model, data, errors, within))
-    )
+    if root is None:
+        root = model if issubclass(model, StudyFile) else study_model()
+    lines = _error_lines(model, data, errors, within, root)
+    raise InputError("\n".join(f"{source}: {line}" for line in lines))
 
 
-def _error_lines(model: type[Table], data, errors: list, within: tuple = ()) -> list[str]:
+def _error_lines(
+    model: type[Table], data, errors: list, within: tuple = (), root=None
+) -> list[str]:
     """Every error of ``data``, one line each: pydantic's (the first bad item of a list of
     numbers only), then the checks across keys that it skipped because a key of their table
     failed (:func:`_view`). A key reported missing where an unknown key of its table looks like
     it is left out: the unknown key is its misspelling, one mistake."""
+    root = root or study_model()
     found, lists = [], set()  # (line, unknown key path, key paths it asks for)
     for error in errors:
         loc = tuple(p for p in (*within, *error["loc"]) if not str(p).startswith("function"))
-        if loc and isinstance(loc[-1], int) and _model_at(loc[:-1]) is None:
+        if loc and isinstance(loc[-1], int) and _model_at(loc[:-1], root) is None:
             if loc[:-1] in lists:
                 continue
             lists.add(loc[:-1])
-        line = _one_line({**error, "loc": loc})
+        line = _one_line({**error, "loc": loc}, root)
         unknown = _path(loc) if error["type"] == "extra_forbidden" else None
         wanted = (_path(loc),) if error["type"] == "missing" else ()
         where = error["type"] == "value_error" and loc and isinstance(loc[-1], int)
@@ -1521,17 +1359,18 @@ def _path(loc) -> str:
     return text
 
 
-def _one_line(error: dict) -> str:
+def _one_line(error: dict, root: type[BaseModel]) -> str:
+    """One error as a line naming its key path in the file of model ``root``."""
     kind, loc = error["type"], tuple(p for p in error["loc"] if not str(p).startswith("function"))
     if kind == "value_error":  # a model validator's own message names its keys
         return str(error["ctx"]["error"])
     if kind == "extra_forbidden":
-        model = _model_at(loc[:-1])
+        model = _model_at(loc[:-1], root)
         where = f"[{_path(loc[:-1])}]" if loc[:-1] else "the study file"
         allowed = ", ".join(model.model_fields) if model else ""
         what = "table" if not loc[:-1] else "key"
         return f"unknown {what} {_path(loc)} (allowed in {where}: {allowed})"
-    field = _field_at(loc)
+    field = _field_at(loc, root)
     allowed = describe(field) if field is not None else error["msg"].lower()
     if kind == "missing":
         return f"{_path(loc)} is required: {allowed}"
@@ -1550,8 +1389,8 @@ def _one_line(error: dict) -> str:
     return text
 
 
-def _model_at(loc) -> type[BaseModel] | None:
-    model: type[BaseModel] = StudyFile
+def _model_at(loc, root: type[BaseModel]) -> type[BaseModel] | None:
+    model = root
     for part in loc:
         if isinstance(part, int):
             continue
@@ -1582,9 +1421,9 @@ def _find_model(annotation) -> type[Table] | None:
     return None
 
 
-def _field_at(loc):
+def _field_at(loc, root: type[BaseModel]):
     names = [p for p in loc if not isinstance(p, int)]
-    model = _model_at(loc[:-1] if not isinstance(loc[-1], int) else loc[:-2]) if loc else None
+    model = _model_at(loc[:-1] if not isinstance(loc[-1], int) else loc[:-2], root) if loc else None
     if model is None or not names:
         return None
     return model.model_fields.get(names[-1])
@@ -1683,8 +1522,9 @@ def range_text(schema: dict) -> str:
 
 
 def json_schema() -> dict:
-    """The JSON Schema of a study file (draft 2020-12), with a ``unit`` on every quantity."""
-    schema = StudyFile.model_json_schema()
+    """The JSON Schema of a study file (draft 2020-12), with a ``unit`` on every quantity: every
+    kind's tables (:func:`study_model`)."""
+    schema = study_model(every=True).model_json_schema()
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "$id": "https://github.com/colonna/colonna/study-file.schema.json",
@@ -1702,7 +1542,7 @@ def markdown() -> str:
         "interval notation; `-` means dimensionless.",
         "",
     ]
-    for name, field in StudyFile.model_fields.items():
+    for name, field in study_model(every=True).model_fields.items():
         model = _model_of(field.annotation)
         header = f"[[{name}]]" if name == "collar" else f"[{name}]"
         about = " ".join((model.__doc__ or "").split()).split(": ", 1)[-1]

@@ -105,11 +105,11 @@ class Study:
         And the study file's name and SHA-256, the colonna version and the command-line
         ``options``. The run's date, machine and wall time are added beside the results
         (:func:`studies.output.record_inputs`)."""
-        from .kinds import KIND_TABLES, KINDS
+        from .kinds import KINDS, kind_tables
 
         inputs = self.spec.model_dump(mode="json")
         resolved: dict[str, str] = {}
-        for name in KIND_TABLES:
+        for name in kind_tables():
             if name not in KINDS[self.kind].tables:
                 inputs.pop(name, None)
         if inputs.get("column") is not None:

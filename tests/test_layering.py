@@ -127,7 +127,7 @@ def test_the_study_kinds_have_one_registry():
     runner and a report writer."""
     from colonna.studies import driver, kinds, schema
 
-    allowed = schema.StudyFile.model_json_schema()["$defs"]["StudyInfo"]["properties"]["kind"]
+    allowed = schema.json_schema()["$defs"]["StudyInfo"]["properties"]["kind"]
     assert tuple(allowed["enum"]) == tuple(kinds.KINDS)
     assert driver.KINDS is kinds.KINDS
     for kind in kinds.KINDS.values():

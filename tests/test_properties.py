@@ -27,7 +27,7 @@ BASE = tomllib.loads(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.6))
 # every key of every table of the study file, from the schema itself
 TABLES = {
     name: sorted(schema.table_model(name).model_fields)
-    for name in schema.StudyFile.model_fields
+    for name in schema.table_names()
     if name != "collar"
 }
 TABLES["collar"] = sorted(schema.Collar.model_fields)

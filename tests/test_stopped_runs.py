@@ -24,8 +24,9 @@ import tomllib
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
-from tiny_study import TINY_STUDY
+from tiny_study import TINY_FRAGILITY, TINY_STUDY, write_pulse_suite
 
 from colonna.fem.ensemble import band
 from colonna.studies.crosscheck import runner as crosscheck
@@ -75,7 +76,12 @@ def _stood(summary: dict, path: str) -> bool:
     """Whether the value at ``path`` is of a run that stayed up (an SDOF that rocks beside an
     FEM that overturns): a dict on its way says ``overturned`` false in no replica, or its
     ``motion`` is not an overturning; or the leaf's own model (``fem_``, ``rigid_`` ...) says
-    ``<model>_overturned`` false beside it."""
+    ``<model>_overturned`` false beside it; a fragility's records x levels table
+    (``runs.<model>.<key>.<i>.<j>``): ``runs.<model>.overturned[i][j]`` false."""
+    table = re.fullmatch(r"runs\.(\w+)\.\w+\.(\d+)\.(\d+)", path)
+    if table and summary.get("kind") == "fragility":
+        model, i, j = table.group(1), int(table.group(2)), int(table.group(3))
+        return not summary["runs"][model]["overturned"][i][j]
     node = summary
     parts = path.split(".")
     for part in parts[:-1]:
@@ -372,6 +378,38 @@ def test_the_terminal_says_the_caveats():
     assert "local spalling of the corner possible" in printed["Does the toe crush?"]
 
 
+def test_a_fragility_run_says_when_it_overturned():
+    """Each fragility run (studies.fragility.models) of a free block carries when it
+    overturned, as the model's own run says (rock's and rock_multibody's overturn_time), and
+    None where it stood: the report's "not applicable: ... overturned at t = ..." in place of
+    its largest |theta| / alpha, which is the stopping angle."""
+    import math
+
+    from colonna.core.ground import Record
+    from colonna.rigid.multibody import rock_multibody
+    from colonna.rigid.solve import rock
+    from colonna.studies.fragility.models import FREE_TIME_P, multibody_runs, sdof_runs
+
+    study = replace(_study(), collars=(), cracked=False)
+    block = study.rocking_block
+    omega = 3.0 * block.p
+    t = np.linspace(0.0, 2.0 * math.pi / omega, 201)
+    record = Record(t, np.sin(omega * t), "pulse")
+    uplift = block.g * math.tan(block.alpha)
+    scales = [1.05 * uplift, 6.0 * uplift]  # stands; overturns
+    duration = record.end_time + FREE_TIME_P / block.p
+    ground = record.scaled(scales[1])
+    sdof = rock(block, ground, model="nonlinear", duration=duration).overturn_time
+    multibody = rock_multibody(block, ground, duration=duration).summary()["overturn_time"]
+    for runs, when in (
+        (sdof_runs(study, record, scales), sdof),
+        (multibody_runs(study, record, scales), multibody),
+    ):
+        assert [r["overturned"] for r in runs] == [False, True]
+        assert runs[0]["overturned_at"] is None
+        assert runs[1]["overturned_at"] == pytest.approx(when, rel=1e-3)
+
+
 # --- slow: every kind on a column that overturns ----------------------------------------------
 
 BASE = TINY_STUDY.format(amplitude_ratio=4.0, duration=1.0).replace("[run]", "[run]\nreplicas = 2")
@@ -399,15 +437,21 @@ OVERTURNING = {
     .replace("t = 0.004\nh = 0.02", "t = 0.0002\nh = 0.001")
     .replace('name = "tiny"', 'name = "tiny"\nintended = ["collar.t", "collar.h"]')
     + "[free_rocking]\ntilt_fractions = [0.95]\ndamping = [0.05]\nmesh_sizes = [0.1]\n",
+    # the SDOF and the multibody of an uncracked 0.6 x 4 m column over four one-cycle pulses
+    # (tiny_study.write_pulse_suite), eight levels: in each model it overturns at some and
+    # stands at others
+    "fragility": TINY_FRAGILITY.replace(
+        'models = ["sdof"]', 'models = ["sdof", "multibody"]'
+    ).replace("steps = 24", "steps = 8"),
 }
 
 
 def test_every_kind_with_a_column_is_covered():
     from colonna.studies.kinds import KINDS
 
-    # fragility (its own engineer's: studies/fragility) and zhang-makris (no column: its
-    # histories are pinned by test_zhang_makris_histories_of_overturned_blocks) aside
-    assert set(KINDS) - set(OVERTURNING) == {"fragility", "zhang-makris"}
+    # zhang-makris aside (no column: its histories are pinned by
+    # test_zhang_makris_histories_of_overturned_blocks)
+    assert set(KINDS) - set(OVERTURNING) == {"zhang-makris"}
 
 
 def _pdf_text(pdf: Path) -> str:
@@ -420,14 +464,18 @@ def _pdf_text(pdf: Path) -> str:
 @pytest.mark.parametrize("kind", list(OVERTURNING))
 def test_no_number_from_a_stopped_run_in_any_kind(kind, tmp_path):
     """The kind's study of a column that overturns (the premise, checked: its FEM overturns in
-    every replica; free rocking: its FEM released from the tilt) gives no number of a stopped
-    run in summary.json, its report, its terminal lines or (where Chromium and pdftotext are
-    installed) its PDF; it says "not applicable: ... overturned at t = ..." where one stood."""
+    every replica; free rocking: its FEM released from the tilt; fragility: each model at some
+    levels, not all) gives no number of a stopped run in summary.json, its report, its terminal
+    lines or (where Chromium and pdftotext are installed) its PDF; it says "not applicable:
+    ... overturned at t = ..." where one stood (the fragility: :func:`_assert_fragility_says_
+    each_overturning`)."""
     study = tmp_path / "study.toml"
     study.write_text(OVERTURNING[kind])
+    if kind == "fragility":
+        write_pulse_suite(tmp_path)
     out = tmp_path / "out"
     pdf = (
-        kind == "cross-check"
+        kind in ("cross-check", "fragility")
         and shutil.which("pdftotext") is not None
         and any(shutil.which(b) for b in ("chromium", "chromium-browser", "google-chrome"))
     )
@@ -447,6 +495,10 @@ def test_no_number_from_a_stopped_run_in_any_kind(kind, tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     if kind == "free-rocking":
         assert summary["tilts"][0]["fem"]["status"].startswith("overturned"), "the premise"
+    elif kind == "fragility":
+        for model in summary["models"]:  # the premise: it overturns at some levels, not all
+            over = np.array(summary["runs"][model]["overturned"], dtype=bool)
+            assert over.any() and not over.all(), model
     else:
         assert _stays_up(summary) == "no", "the premise: the FEM overturns"
     text = _pdf_text(out / "report.pdf") if pdf else ""
@@ -458,6 +510,8 @@ def test_no_number_from_a_stopped_run_in_any_kind(kind, tmp_path):
         assert "not applicable:" in text
     if kind == "cross-check":  # the first screen's caveats on a real run (issue 48)
         _assert_first_screen_caveats(summary, done.stdout)
+    if kind == "fragility":
+        _assert_fragility_says_each_overturning(out, summary, pdf)
 
 
 def _assert_first_screen_caveats(summary: dict, terminal: str) -> None:
@@ -477,6 +531,73 @@ def _assert_first_screen_caveats(summary: dict, terminal: str) -> None:
     toe = next(a for a in summary["outcome"]["answers"] if a["key"] == "toe_crushes")
     assert toe["local"]["ratio"] == pytest.approx(summary["bed"]["winkler_run_ratio_max"])
     assert toe["averaged"]["stress"] == pytest.approx(toe["median"] * summary["stone_fc"])
+
+
+def _assert_fragility_says_each_overturning(out: Path, summary: dict, pdf: bool) -> None:
+    """A fragility's run that overturned gives no largest |theta| / alpha but when it
+    overturned: summary.json's peak_ratio null and overturned_at a time there (and only
+    there); figures/ida.csv's peak empty beside its RECORD_overturned_at_s; the report's "Runs
+    that overturned" says "not applicable: the <model> overturned at t = ..." for each record
+    at its first overturning (and the PDF the same words); the IDA figure draws no such run
+    as a value (its record's line has no point there) but a marker in the strip beside the
+    axes, past its largest tick."""
+    from matplotlib.figure import Figure
+
+    from colonna.studies.fragility import report
+    from colonna.studies.fragility.models import MODEL_NAMES
+
+    levels = np.array(summary["levels"])
+    with open(out / "figures" / "ida.csv") as fh:
+        header = fh.readline().strip().split(",")
+        rows = [line.rstrip("\n").split(",") for line in fh]
+    csv = {name: [row[k] for row in rows] for k, name in enumerate(header)}
+    page = _text((out / "index.html").read_text())
+    said = 0
+    for model in summary["models"]:
+        runs = summary["runs"][model]
+        over = np.array(runs["overturned"], dtype=bool)
+        for i, row in enumerate(over):
+            for j, o in enumerate(row):
+                peak, t = runs["peak_ratio"][i][j], runs["overturned_at"][i][j]
+                assert (peak is None, t is not None and t > 0) == (o, o), (model, i, j)
+                shown = csv[f"{model}_record{i}"][j]
+                assert shown == "" if o else float(shown) == pytest.approx(peak)
+                when = csv[f"{model}_record{i}_overturned_at_s"][j]
+                assert when == "" if not o else float(when) == pytest.approx(t)
+            if row.any():
+                j = int(np.argmax(row))
+                words = f"not applicable: the {MODEL_NAMES[model]} overturned at t = "
+                assert f"{words}{runs['overturned_at'][i][j]:.4g} s" in page, (model, i)
+                said += 1
+    assert said and page.count("not applicable: the ") == said
+    if pdf:  # (in reading order: a table cell's lines together)
+        read = subprocess.run(
+            ["pdftotext", str(out / "report.pdf"), "-"], capture_output=True, text=True, check=True
+        ).stdout
+        assert " ".join(read.split()).count("not applicable: the ") == said
+    # the IDA figure, drawn again in this process
+    drawn = {}
+    keep = Figure.savefig
+
+    def spy(fig, fname, *args, **kwargs):
+        if isinstance(fname, (str, Path)):
+            drawn.setdefault(Path(fname).stem, fig)
+        return keep(fig, fname, *args, **kwargs)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(Figure, "savefig", spy)
+        report.write_report(out)
+    for ax, model in zip(drawn["ida"].axes, summary["models"]):
+        over = np.array(summary["runs"][model]["overturned"], dtype=bool)
+        lines = {line.get_gid(): line for line in ax.get_lines() if line.get_gid()}
+        edge = max(ax.get_xticks())
+        for i, row in enumerate(over):
+            x = np.asarray(lines[f"record{i}"].get_xdata(), dtype=float)
+            assert np.array_equal(np.isnan(x), row) and np.all(x[~row] <= edge), (model, i)
+            if row.any():
+                marks = lines[f"record{i}-overturned"]
+                assert np.array_equal(marks.get_ydata(), levels[row])
+                assert np.all(np.asarray(marks.get_xdata()) > edge)
 
 
 def test_zhang_makris_histories_of_overturned_blocks():

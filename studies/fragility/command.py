@@ -22,8 +22,8 @@ SHIPPED = Path(__file__).resolve().parents[1]  # the shipped study files
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The command's options (the block and collar options are ``colonna rigid``'s)."""
-    from ..cli import _add_block_options, _add_collar_option
-    from ..schema import INTENSITY_MEASURES
+    from ..options import add_block_options, add_collar_option
+    from .schema import INTENSITY_MEASURES
 
     parser.add_argument(
         "study",
@@ -31,8 +31,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="a fragility study file, or the name of a shipped one: its column, suite and "
         "[fragility] table (or give --suite, the block and --ladder or --levels)",
     )
-    _add_block_options(parser)
-    _add_collar_option(parser)
+    add_block_options(parser)
+    add_collar_option(parser)
     g = parser.add_argument_group("suite and intensity levels (without a study file)")
     g.add_argument("--suite", type=Path, help="a folder of records or a TOML list of them")
     g.add_argument(
@@ -112,13 +112,13 @@ def run_command(args) -> dict | None:
         names = [entry.name for entry in s.suite]
         intensity = s.intensity
     else:
-        from ..cli import _block_from_args, _collars_from_args
+        from ..options import block_from_args, collars_from_args
 
         try:
             spec = schema.parse_table("fragility", _table_from_flags(args), "flags")
         except InputError as exc:
             raise InputError(_as_flags(str(exc))) from None
-        block, collars = _block_from_args(args), _collars_from_args(args)
+        block, collars = block_from_args(args), collars_from_args(args)
         suite = load_suite(spec.suite, g=block.g)
         records = tuple(entry.scaled for entry in suite)
         names = [entry.name for entry in suite]
@@ -163,7 +163,7 @@ def run_command(args) -> dict | None:
         write_json(Path(args.out) / "fragility.json", summary)
     if args.json:
         return summary
-    from ..schema import INTENSITY_MEASURES
+    from .schema import INTENSITY_MEASURES
 
     unit = INTENSITY_MEASURES[spec.intensity]
     unit = "" if unit == "-" else f" {unit}"

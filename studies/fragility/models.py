@@ -66,10 +66,11 @@ def sdof_runs(study, record: Record, scales, *, rtol: float = SDOF_RTOL) -> list
     runs = []
     for scale in scales:
         P, rec_t, rec_a = kernel_params(block, record.scaled(float(scale)), collars, "nonlinear")
-        status, n_imp, max_theta, _, _, _ = K.rk_run(
+        status, n_imp, max_theta, _, _, t_end = K.rk_run(
             P, rec_t, rec_a, duration, rtol, SDOF_ATOL, bool(collars), 0.0, out, impacts
         )
         overturned = status == K.OVERTURNED
+        t_over = float(t_end) if overturned else None
         peak = 0.5 * math.pi if overturned else float(max_theta)
         utilisation = None
         if collars:
@@ -86,6 +87,7 @@ def sdof_runs(study, record: Record, scales, *, rtol: float = SDOF_RTOL) -> list
                 "collar_fractured": None,
                 "toe_ratio": None,
                 "impacts": int(n_imp),
+                "overturned_at": t_over,
             }
         )
     return runs
@@ -128,6 +130,7 @@ def multibody_runs(study, record: Record, scales, collar_step: float | None = No
                 "collar_fractured": bool(s.get("collar_fractured")) if plastic else None,
                 "toe_ratio": None,
                 "impacts": int(s["impacts"]),
+                "overturned_at": s.get("overturn_time") if s["overturned"] else None,
             }
         )
     return runs
@@ -199,6 +202,7 @@ def multibody_point(study, outcome) -> dict:
         "collar_fractured": None,
         "toe_ratio": None,
         "impacts": outcome.impacts,
+        "overturned_at": outcome.overturned_at,
     }
 
 
@@ -222,6 +226,8 @@ def fem_point(study, fem) -> dict:
         "collar_utilisation": s["collar_max_utilisation"] if study.collars else None,
         "collar_fractured": bool(s.get("collar_fractured")) if plastic else None,
         "toe_ratio": s["edge_stress_ratio"],
+        # where it overturned: its run's stop (the overturning rule), as fem_stop reads it
+        "overturned_at": s["t_end"] if s["overturned"] else None,
         # what the guard reads (studies.guard.fem_runs): a run that is not an answer stops
         "status_fem": s["status"],
         "energy_error_fem": s["energy_error_max"],

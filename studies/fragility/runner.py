@@ -278,7 +278,14 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
     return summary
 
 
-RUN_TABLES = ("overturned", "peak_ratio", "uplift", "collar_utilisation", "toe_ratio")
+RUN_TABLES = (
+    "overturned",
+    "peak_ratio",
+    "uplift",
+    "collar_utilisation",
+    "toe_ratio",
+    "overturned_at",
+)
 
 
 def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
@@ -351,7 +358,8 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
         "model_seconds": seconds,
         "layout": "runs[model][key][i][j]: i indexes records, j indexes levels; null where a "
         "run gives none, and a run that overturned has no peak_ratio (its peak is where the run "
-        "stopped), nor an SDOF's collar_utilisation (computed at that angle)",
+        "stopped), nor an SDOF's collar_utilisation (computed at that angle), but overturned_at "
+        "(s; null where it stood)",
     }
 
 

@@ -27,7 +27,7 @@ from ..sweep import run_sweep
 
 
 def mesh_sizes(study: Study) -> list[float]:
-    """The sizes (m) of [convergence] (:class:`studies.schema.Convergence`): given, or levels
+    """The sizes (m) of [convergence] (:class:`.schema.Convergence`): given, or levels
     from [mesh] size refined by ratio."""
     conv = study.spec.convergence
     if conv.sizes is not None:

@@ -47,6 +47,7 @@ from ..guard import check_fem_results, halved_steps
 from ..outcome import QUESTIONS, count_answer, grid_outcome, not_assessed, outcome
 from ..output import write_json
 from ..study import Study
+from .schema import Grid
 
 DEFAULT_X_RANGE = {"omega_ratios": [1.0, 8.0], "time_scales": [0.5, 2.0]}
 MODES = ("safe", "after-impact", "without-impact")
@@ -66,13 +67,13 @@ def parse_grid_size(text: str) -> tuple[int, int]:
 
 
 def grid_of(
-    grid: schema.Grid,
+    grid: Grid,
     size: tuple[int, int] | None = None,
     record: bool = False,
     source: str = "study",
 ):
     """(omega ratios, or time scales for a record; amplitude ratios) of the study's validated
-    [grid] (:class:`studies.schema.Grid`), ``size`` overriding the counts."""
+    [grid] (:class:`.schema.Grid`), ``size`` overriding the counts."""
     x_key = "time_scales" if record else "omega_ratios"
     other = "omega_ratios" if record else "time_scales"
     if getattr(grid, other) is not None:
