@@ -2,7 +2,7 @@
 
 The study file is a column file (column, stone, collars, contact, mesh, run, rigid) without a
 ground motion of its own ([ground] pulse = "none": the suite's records are the motions) and a
-[fragility] table (:class:`studies.schema.Fragility`):
+[fragility] table (:class:`.schema.Fragility`):
 
     [fragility]
     suite = "suites/synthetic"      # a folder of records, or a TOML list (colonna.core.suite)
@@ -34,7 +34,6 @@ from pathlib import Path
 import numpy as np
 
 from ...core.errors import InputError
-from .. import schema
 from ..executor import RunOptions, run_cases
 from ..fem_study import FemStudy, FemWork, case_of, column_of, study_of_case
 from ..guard import check_fem_results
@@ -50,6 +49,7 @@ from .models import (
     sdof_runs,
     unreachable,
 )
+from .schema import Fragility
 
 FEM_TAIL = 1.5  # s of free motion the FEM follows after a record (as a study's default)
 FEWER = ", fewer records, levels (fragility.steps, levels) or models (fragility.models)"
@@ -70,7 +70,7 @@ class Setup:
     records (each times its suite scale), every record's IMs and the one it is scaled by, and
     the intensity levels."""
 
-    spec: schema.Fragility
+    spec: Fragility
     column: FemStudy
     suite: tuple
     records: tuple
@@ -429,7 +429,7 @@ def suite_spectra(records) -> dict:
     }
 
 
-def limit_state_fits(exceeded: dict, levels, spec: schema.Fragility, origin: float = 0.0) -> dict:
+def limit_state_fits(exceeded: dict, levels, spec: Fragility, origin: float = 0.0) -> dict:
     """Per limit state, its fits (:func:`.analysis.fit_limit_state`) with the [fragility]
     table's design intensity, bootstrap and analysis, shifted by ``origin`` (IM unit) where
     > 0."""
@@ -459,6 +459,6 @@ def answer_fit(entry: dict) -> dict | None:
 
 
 def _unit(intensity: str) -> str:
-    from ..schema import INTENSITY_MEASURES
+    from .schema import INTENSITY_MEASURES
 
     return INTENSITY_MEASURES[intensity]
