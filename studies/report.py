@@ -102,6 +102,7 @@ INPUT_TABLES = (
     "mesh",
     "run",
     "rigid",
+    "hazard",
 )
 
 
@@ -232,6 +233,24 @@ def render_page(out: Path, template: str, summary: dict, title: str, **context) 
     return _write_page(out, text)
 
 
+def one_figure_report(out: Path, package: str, title: str, draw, **context) -> Path:
+    """The report of a kind whose page is one table and one figure (mesh convergence, solid vs
+    cracked): summary.json into its package's template ``<package>/report.html.j2``, titled
+    ``colonna <title>: <study>``, with the figure ``draw(out, summary)`` and ``context`` (its
+    table)."""
+    out = Path(out)
+    s = json.loads((out / "summary.json").read_text())
+    (out / "figures").mkdir(exist_ok=True)
+    return render_page(
+        out,
+        f"{package}/report.html.j2",
+        s,
+        f"colonna {title}: {s['study']}",
+        figs=[draw(out, s)],
+        **context,
+    )
+
+
 def _legend_entries(fig) -> list[str]:
     """The texts of every legend of the figure (figure legends and axes legends), a wrapped
     entry's lines joined by a space."""
@@ -310,6 +329,11 @@ def image(path: Path, caption: str, name: str | None = None) -> dict:
         "data": base64.b64encode(path.read_bytes()).decode(),
         "data_file": None,
     }
+
+
+# an overturning spectrum's outcomes as the codes its maps are drawn in (the order of
+# colonna.rigid.plotting's MODE_COLOURS and MODE_LABELS)
+MODE_CODES = {"safe": 0, "after-impact": 1, "without-impact": 2}
 
 
 # curves that may lie on top of each other (collars with one history, ...): each its own

@@ -3,7 +3,6 @@ Richardson estimate, and its figure (presentation only: the numbers are summary.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
@@ -12,22 +11,18 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import NullFormatter
 
 from ..output import write_csv
-from ..report import figure, render_page, wrap
+from ..report import figure, one_figure_report, wrap
 from ..units import shown_unit
 
 
 def write_report(out: Path) -> Path:
     """The mesh-convergence study: the table of each quantity over the meshes, its figure."""
-    out = Path(out)
-    s = json.loads((out / "summary.json").read_text())
-    (out / "figures").mkdir(exist_ok=True)
-    return render_page(
+    return one_figure_report(
         out,
-        "mesh_convergence/report.html.j2",
-        s,
-        f"colonna mesh convergence: {s['study']}",
+        "mesh_convergence",
+        "mesh convergence",
+        _convergence_figure,
         quantities=CONVERGENCE_QUANTITIES,
-        figs=[_convergence_figure(out, s)],
     )
 
 

@@ -3,28 +3,19 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
 
 from ..output import read_csv, write_csv
-from ..report import distinct, figure, legend_beside, render_page
+from ..report import distinct, figure, legend_beside, one_figure_report
 
 
 def write_report(out: Path) -> Path:
     """The solid / cracked / cracked-with-collars study."""
-    out = Path(out)
-    s = json.loads((out / "summary.json").read_text())
-    (out / "figures").mkdir(exist_ok=True)
-    return render_page(
-        out,
-        "solid_vs_cracked/report.html.j2",
-        s,
-        f"colonna solid vs cracked: {s['study']}",
-        fields=VARIANT_FIELDS,
-        figs=[_variants_figure(out, s)],
+    return one_figure_report(
+        out, "solid_vs_cracked", "solid vs cracked", _variants_figure, fields=VARIANT_FIELDS
     )
 
 
