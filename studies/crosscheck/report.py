@@ -21,6 +21,7 @@ from ...core.constants import DUCTILITY_LIMIT
 from ..output import read_csv, write_csv
 from ..report import (
     LINE_STYLES,
+    MODE_CODES,
     distinct,
     figure,
     has,
@@ -63,89 +64,85 @@ def write_report(out: Path) -> Path:
     base pressure, the renders and the Numbers table (``out/index.html``)."""
     out = Path(out)
     summary = json.loads((out / "summary.json").read_text())
-    fem_h = read_csv(out / "cases" / "fem" / "history.csv")
-    rigid_h = read_csv(out / "cases" / "rigid" / "history.csv")
-    mono_h = read_csv(out / "cases" / "monolith" / "history.csv")
-    mb_h = read_csv(out / "cases" / "multibody" / "history.csv")
-    mb_names = ("left", "right") if "theta_left" in mb_h else ("column", "column")
+    runs = _histories(out)
     spectrum_file = out / "cases" / "spectrum" / "spectrum.json"  # pulses only
     spectrum = json.loads(spectrum_file.read_text()) if spectrum_file.exists() else None
     (out / "figures").mkdir(exist_ok=True)
-    figs = []
+    figs: list = []
     sdof = _sdof_block(summary)
+    _rotation_figure(out, summary, runs, figs)
+    # the deformed column at peak rotation: crack, collars, toe pressure
+    state = drawn_state(out, runs["fem"])
+    _deformed_figure(out, runs["fem"], figs, state)
+    if spectrum is not None:  # a record has no place on the rigid spectrum
+        _spectrum_figure(out, spectrum, figs, sdof)
+    _collar_stress_figure(out, summary, runs, figs)
+    _collar_hinge_figure(out, summary, runs["fem"], figs)
+    _toe_stress_figure(out, summary, runs["fem"], figs)
+    _base_pressure_figure(out, summary, state, figs)
+    renders, renders_error = _renders(out)
+    return render_page(
+        out,
+        "crosscheck/report.html.j2",
+        summary,
+        f"colonna cross-check: {summary['study']}",
+        figs=figs,
+        renders=renders,
+        renders_error=renders_error,
+        rows=[
+            (label.replace("_{sdof}", f"_{sdof}"), key, unit)
+            for label, key, unit in CROSSCHECK_NUMBERS
+            if has(summary, key)
+        ],
+        toe={"refined": REFINED, "study_mesh": STUDY_MESH, "window": toe_window(summary)},
+    )
 
-    # 1. rotations, FEM vs the rigid models (the CSV on the FEM's times, where all ran)
+
+def _histories(out: Path) -> dict:
+    """The history.csv of each model's run: ``fem`` (replica 0), ``rigid`` (the SDOF half
+    block with collars), ``monolith`` (the whole-column SDOF) and ``multibody``."""
+    return {
+        name: read_csv(out / "cases" / name / "history.csv")
+        for name in ("fem", "rigid", "monolith", "multibody")
+    }
+
+
+def _on_times(t, h: dict, key: str):
+    """A history's column at the times ``t`` (NaN after its run ended)."""
+    return np.interp(t, h["t"], h[key], right=np.nan)
+
+
+def _rotation_figure(out: Path, summary: dict, runs: dict, figs: list) -> None:
+    """The rotation of each half, the FEM's (with the band of its replicas) against the rigid
+    multibody model and the two SDOF models; its CSV on the FEM's times, where all ran."""
+    fem_h, mb_h = runs["fem"], runs["multibody"]
+    mb_names = ("left", "right") if "theta_left" in mb_h else ("column", "column")
     t = fem_h["t"]
-
-    def on_fem_times(h, key):
-        return np.interp(t, h["t"], h[key], right=np.nan)
-
     write_csv(
         out / "figures" / "theta.csv",
         {
             "t": t,
             "theta_fem_left": fem_h["theta_left"],
             "theta_fem_right": fem_h["theta_right"],
-            "theta_multibody_left": on_fem_times(mb_h, f"theta_{mb_names[0]}"),
-            "theta_multibody_right": on_fem_times(mb_h, f"theta_{mb_names[1]}"),
-            "theta_rigid_half_with_collars": on_fem_times(rigid_h, "theta"),
-            "theta_rigid_monolith": on_fem_times(mono_h, "theta"),
+            "theta_multibody_left": _on_times(t, mb_h, f"theta_{mb_names[0]}"),
+            "theta_multibody_right": _on_times(t, mb_h, f"theta_{mb_names[1]}"),
+            "theta_rigid_half_with_collars": _on_times(t, runs["rigid"], "theta"),
+            "theta_rigid_monolith": _on_times(t, runs["monolith"], "theta"),
         },
     )
     fig = Figure(figsize=(8, 3.6))
     ax = fig.subplots()
-    replicas = _replica_histories(out / "cases" / "fem", summary["fem"].get("replicas", 1))
-    if len(replicas) > 1:  # the band the replicas span (chaotic after the first landing)
-        envelope = [
-            np.vstack([np.interp(t, h["t"], h[key], right=np.nan) for h in replicas])
-            for key in ("theta_left", "theta_right")
-        ]
-        low = np.fmin(*(np.nanmin(e, axis=0) for e in envelope))
-        high = np.fmax(*(np.nanmax(e, axis=0) for e in envelope))
-        ax.fill_between(
-            t,
-            low,
-            high,
-            color="C0",
-            alpha=0.25,
-            lw=0,
-            label=f"FEM, range over {len(replicas)} replicas",
-        )
+    _replica_band(ax, out, summary, t)
     ax.plot(t, fem_h["theta_left"], color="C0", lw=1.6, label="FEM, left half")
     ax.plot(t, fem_h["theta_right"], "--", color="C0", lw=1.6, label="FEM, right half")
-    m = mb_h["t"] <= t[-1]
-    ax.plot(
-        mb_h["t"][m],
-        mb_h[f"theta_{mb_names[0]}"][m],
-        color="C3",
-        lw=1.0,
-        label="rigid multibody, left half",
-    )
-    ax.plot(
-        mb_h["t"][m],
-        mb_h[f"theta_{mb_names[1]}"][m],
-        "--",
-        color="C3",
-        lw=1.0,
-        label="rigid multibody, right half",
-    )
-    m = rigid_h["t"] <= t[-1]
-    ax.plot(
-        rigid_h["t"][m],
-        rigid_h["theta"][m],
-        color="C1",
-        lw=1.0,
-        label="SDOF, half block + collars (paper)",
-    )
-    m = mono_h["t"] <= t[-1]
-    ax.plot(
-        mono_h["t"][m],
-        mono_h["theta"][m],
-        ":",
-        color="C2",
-        lw=1.2,
-        label="SDOF, whole column (monolith)",
-    )
+    for h, key, style, label in (
+        (mb_h, f"theta_{mb_names[0]}", ("-", "C3", 1.0), "rigid multibody, left half"),
+        (mb_h, f"theta_{mb_names[1]}", ("--", "C3", 1.0), "rigid multibody, right half"),
+        (runs["rigid"], "theta", ("-", "C1", 1.0), "SDOF, half block + collars (paper)"),
+        (runs["monolith"], "theta", (":", "C2", 1.2), "SDOF, whole column (monolith)"),
+    ):
+        m = h["t"] <= t[-1]
+        ax.plot(h["t"][m], h[key][m], ls=style[0], color=style[1], lw=style[2], label=label)
     ax.set_xlabel("t (s)")
     ax.set_ylabel(r"$\theta$ (rad)")
     ax.legend(fontsize=8)
@@ -160,70 +157,91 @@ def write_report(out: Path) -> Path:
         )
     )
 
-    # 1b. the deformed column at peak rotation: crack, collars, toe pressure
-    state = drawn_state(out, fem_h)
-    _deformed_figure(out, fem_h, figs, state)
 
-    # 2. where the pulse sits on the rigid spectrum (a record has no place on it)
-    if spectrum is not None:
-        _spectrum_figure(out, spectrum, figs, sdof)
+def _replica_band(ax, out: Path, summary: dict, t) -> None:
+    """The band the FEM replicas' rotations span, both halves (chaotic after the first
+    landing); nothing for a single run."""
+    replicas = _replica_histories(out / "cases" / "fem", summary["fem"].get("replicas", 1))
+    if len(replicas) <= 1:
+        return
+    envelope = [
+        np.vstack([_on_times(t, h, key) for h in replicas]) for key in ("theta_left", "theta_right")
+    ]
+    low = np.fmin(*(np.nanmin(e, axis=0) for e in envelope))
+    high = np.fmax(*(np.nanmax(e, axis=0) for e in envelope))
+    ax.fill_between(
+        t,
+        low,
+        high,
+        color="C0",
+        alpha=0.25,
+        lw=0,
+        label=f"FEM, range over {len(replicas)} replicas",
+    )
 
-    # 3. collar stress against f_y
+
+def _collar_stress_figure(out: Path, summary: dict, runs: dict, figs: list) -> None:
+    """Each collar's extreme-fibre stress against f_y over time, the FEM's (replica 0) and,
+    dotted, the rigid multibody model's; nothing without collars."""
+    fem_h, mb_h = runs["fem"], runs["multibody"]
+    t = fem_h["t"]
     collar_cols = sorted(k for k in fem_h if k.startswith("collar_") and k.endswith("_stress"))
-    if collar_cols:
-        mb_cols = [k for k in collar_cols if k in mb_h]  # the rigid multibody's, where it ran
-        write_csv(
-            out / "figures" / "collars.csv",
-            {
-                "t": t,
-                **{k: fem_h[k] for k in collar_cols},
-                **{f"multibody_{k}": on_fem_times(mb_h, k) for k in mb_cols},
-            },
+    if not collar_cols:
+        return
+    mb_cols = [k for k in collar_cols if k in mb_h]  # the rigid multibody's, where it ran
+    write_csv(
+        out / "figures" / "collars.csv",
+        {
+            "t": t,
+            **{k: fem_h[k] for k in collar_cols},
+            **{f"multibody_{k}": _on_times(t, mb_h, k) for k in mb_cols},
+        },
+    )
+    fig = Figure(figsize=(9.5, 3.4))
+    ax = fig.subplots()
+    for j, k in enumerate(collar_cols):  # collars of one history stay apart
+        ax.plot(
+            t,
+            fem_h[k] / 1e6,
+            color=f"C{j}",
+            **distinct(j, len(collar_cols)),
+            label=f"FEM {k.replace('_stress', '').replace('_', ' ')}",
         )
-        fig = Figure(figsize=(9.5, 3.4))
-        ax = fig.subplots()
-        for j, k in enumerate(collar_cols):  # collars of one history stay apart
-            ax.plot(
-                t,
-                fem_h[k] / 1e6,
-                color=f"C{j}",
-                **distinct(j, len(collar_cols)),
-                label=f"FEM {k.replace('_stress', '').replace('_', ' ')}",
-            )
-        m = mb_h["t"] <= t[-1]
-        for j, k in enumerate(mb_cols):  # thin and dark beside the FEM's: the rigid reference
-            ax.plot(
-                mb_h["t"][m],
-                mb_h[k][m] / 1e6,
-                color=f"C{j}",
-                ls=(0, (1, 1.5)),
-                lw=1.0,
-                alpha=0.9,
-                label=f"rigid multibody {k.replace('_stress', '').replace('_', ' ')}",
-            )
-        fy = summary["collar_fy"][0]
-        ax.axhline(fy / 1e6, color="k", ls="--", lw=1, label="f_y (yield stress)")
-        ax.set_xlabel("t (s)")
-        ax.set_ylabel("extreme-fibre stress (MPa)")
-        legend_beside(ax)
-        fig.tight_layout()
-        figs.append(
-            figure(
-                out,
-                "collars",
-                fig,
-                "Collar extreme-fibre stress against the yield stress: the FEM's "
-                "(replica 0) and, dotted, the rigid multibody model's, collar by collar "
-                "(collars with the same history drawn on top of each other, each "
-                "with its own dashes and markers)" + _until_caption(summary),
-            )
+    m = mb_h["t"] <= t[-1]
+    for j, k in enumerate(mb_cols):  # thin and dark beside the FEM's: the rigid reference
+        ax.plot(
+            mb_h["t"][m],
+            mb_h[k][m] / 1e6,
+            color=f"C{j}",
+            ls=(0, (1, 1.5)),
+            lw=1.0,
+            alpha=0.9,
+            label=f"rigid multibody {k.replace('_stress', '').replace('_', ' ')}",
         )
+    fy = summary["collar_fy"][0]
+    ax.axhline(fy / 1e6, color="k", ls="--", lw=1, label="f_y (yield stress)")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("extreme-fibre stress (MPa)")
+    legend_beside(ax)
+    fig.tight_layout()
+    figs.append(
+        figure(
+            out,
+            "collars",
+            fig,
+            "Collar extreme-fibre stress against the yield stress: the FEM's "
+            "(replica 0) and, dotted, the rigid multibody model's, collar by collar "
+            "(collars with the same history drawn on top of each other, each "
+            "with its own dashes and markers)" + _until_caption(summary),
+        )
+    )
 
-    # 3b. plastic collars: the end hinges of the most strained one, its plastic strain along
-    # the band, and the times of first yield and fracture
-    _collar_hinge_figure(out, summary, fem_h, figs)
 
-    # 4. toe stress against f_c
+def _toe_stress_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> None:
+    """The toe stress at each toe of the study mesh (replica 0) against f_c, with the
+    study-mesh peak of the Numbers table and, where the toe windows were refined, the refined
+    peak that "Does the toe crush?" quotes."""
+    t = fem_h["t"]
     edge_cols = [k for k in fem_h if k.startswith("edge_stress_")]
     write_csv(out / "figures" / "toe_stress.csv", {"t": t, **{k: fem_h[k] for k in edge_cols}})
     fig = Figure(figsize=(9.5, 3.4))
@@ -282,8 +300,11 @@ def write_report(out: Path) -> Path:
         )
     )
 
-    # 5. base contact pressure at the deformed column's instant (its peak rotation, or where
-    # the run overturned its largest rotation before overturning: drawn_state)
+
+def _base_pressure_figure(out: Path, summary: dict, state: dict, figs: list) -> None:
+    """The base contact pressure at the nodes (replica 0, not averaged) at rest and at the
+    deformed column's instant (its peak rotation, or where the run overturned its largest
+    rotation before overturning: :func:`drawn_state`)."""
     pressure = read_csv(out / "cases" / "fem" / "base_pressure.csv")
     names = [k for k in pressure if k != "t"]
     x = np.array([float(n.split("_x=")[1]) for n in names])
@@ -311,23 +332,6 @@ def write_report(out: Path) -> Path:
             f"{_state_note(state)}: the toe stress is its average over the toe window "
             f"({toe_window(summary)})",
         )
-    )
-
-    renders, renders_error = _renders(out)
-    return render_page(
-        out,
-        "crosscheck/report.html.j2",
-        summary,
-        f"colonna cross-check: {summary['study']}",
-        figs=figs,
-        renders=renders,
-        renders_error=renders_error,
-        rows=[
-            (label.replace("_{sdof}", f"_{sdof}"), key, unit)
-            for label, key, unit in CROSSCHECK_NUMBERS
-            if has(summary, key)
-        ],
-        toe={"refined": REFINED, "study_mesh": STUDY_MESH, "window": toe_window(summary)},
     )
 
 
@@ -398,17 +402,8 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
     if not plastic:
         return
     t = fem_h["t"]
-    peaks = {k: float(np.max(fem_h[f"collar_{k}_fibre_strain"])) for k in plastic}
-    # a collar that broke reached eps_u, whatever its history sampled before the break
-    k = max(plastic, key=lambda j: (bool(np.any(fem_h[f"collar_{j}_fractured"] > 0.0)), peaks[j]))
+    k, peak = _most_strained_collar(summary, fem_h, plastic)
     c = collars[k - 1]
-    # the largest fibre strain over every step (the run's state), where this collar has the
-    # run's largest: the history samples only the output times, and after a fracture it is 0
-    peak = peaks[k]
-    values = summary["fem"].get("bands", {}).get("collar_max_fibre_strain", {}).get("values")
-    every = [float(np.max(fem_h[key])) for key in fem_h if key.endswith("_fibre_strain")]
-    if values and values[0] is not None and peak >= max(every):
-        peak = max(peak, float(values[0]))
     yielded = _first_time(t, fem_h[f"collar_{k}_utilisation"] >= 1.0)
     fractured = _first_time(t, fem_h[f"collar_{k}_fractured"] > 0.0)
     fibre = c.get("section") == "fibre"  # a fibre section: no lumped-hinge profile to draw
@@ -421,20 +416,66 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
         fig = Figure(figsize=(9.5, 6.2))
         ax_m, ax_t = fig.subplots(2, 1)
     else:
-        axial = float(fem_h[f"collar_{k}_plastic_strain"][-1])
-        left, right = (float(fem_h[f"collar_{k}_hinge_rotation_{side}"][-1]) for side in SIDES)
-        x, profile = hinge_strain_profile(
-            c["span"], c["hinge_length"], c["h"], axial, (left, right)
-        )
-        write_csv(
-            out / "figures" / "collar_hinge_profile.csv",
-            {"x": x, "plastic_fibre_strain": profile},
-        )
+        x, profile = _residual_hinge_profile(out, c, fem_h, k)
         top = max(top, 1e3 * 1.5 * float(np.max(profile)))
         fig = Figure(figsize=(9.5, 9.0))
         ax_m, ax_p, ax_t = fig.subplots(3, 1)
-    # (a) moment against rotation at both ends, kN m against mrad, up to a fracture (the
-    # broken band's ends turn on carrying nothing)
+    _moment_rotation_panel(ax_m, c, fem_h, k, fractured)
+    eps_y = 1e3 * c["yield_strain"]
+    if not fibre:
+        _hinge_profile_panel(ax_p, c, x, profile, peak, eps_y, top, k)
+    _fibre_strain_panel(ax_t, c, fem_h, plastic, k, (yielded, fractured), (eps_y, top))
+    ax_t.set_title(
+        f"({'b' if fibre else 'c'}) the plastic collars' fibre strain over time", fontsize=9
+    )
+    fig.tight_layout()
+    figs.append(
+        figure(
+            out,
+            "collar_hinge",
+            fig,
+            _collar_hinge_caption(c, k, yielded, fractured),
+            data_file="figures/collar_hinge.csv"
+            + ("" if fibre else ", figures/collar_hinge_profile.csv"),
+        )
+    )
+
+
+def _most_strained_collar(summary: dict, fem_h: dict, plastic: list) -> tuple[int, float]:
+    """The plastic collar with the largest extreme-fibre strain (a broken one first: it
+    reached eps_u, whatever its history sampled before the break) and that strain: the run's
+    largest over every step (the ensemble's band of replica 0) where this collar has the
+    run's largest, since the history samples only the output times and after a fracture is
+    0."""
+    peaks = {k: float(np.max(fem_h[f"collar_{k}_fibre_strain"])) for k in plastic}
+    k = max(plastic, key=lambda j: (bool(np.any(fem_h[f"collar_{j}_fractured"] > 0.0)), peaks[j]))
+    peak = peaks[k]
+    values = summary["fem"].get("bands", {}).get("collar_max_fibre_strain", {}).get("values")
+    every = [float(np.max(fem_h[key])) for key in fem_h if key.endswith("_fibre_strain")]
+    if values and values[0] is not None and peak >= max(every):
+        peak = max(peak, float(values[0]))
+    return k, peak
+
+
+def _residual_hinge_profile(out: Path, c: dict, fem_h: dict, k: int):
+    """Collar k's plastic fibre strain along its span at the end of the run (its axial
+    plastic strain and end hinges, :func:`colonna.core.collar.hinge_strain_profile`), also
+    written as figures/collar_hinge_profile.csv: (x, strain)."""
+    axial = float(fem_h[f"collar_{k}_plastic_strain"][-1])
+    left, right = (float(fem_h[f"collar_{k}_hinge_rotation_{side}"][-1]) for side in SIDES)
+    x, profile = hinge_strain_profile(c["span"], c["hinge_length"], c["h"], axial, (left, right))
+    write_csv(
+        out / "figures" / "collar_hinge_profile.csv",
+        {"x": x, "plastic_fibre_strain": profile},
+    )
+    return x, profile
+
+
+def _moment_rotation_panel(ax_m, c: dict, fem_h: dict, k: int, fractured: float | None) -> None:
+    """Panel (a) of the collar hinge figure: collar k's end moment against its end rotation,
+    kN m against mrad, at both ends up to a fracture (the broken band's ends turn on carrying
+    nothing), with +-M_y and +-M_p."""
+    t = fem_h["t"]
     held = t < fractured if fractured is not None else np.ones(t.size, dtype=bool)
     ends = [
         (
@@ -478,11 +519,14 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
     ax_m.set_ylabel("end moment (kN m)")
     ax_m.set_title(f"(a) collar {k} (y = {c['y']:g} m): end moment against rotation", fontsize=9)
     legend_beside(ax_m)
-    # (b) the plastic strain along the span at the end of the run, per mille
-    eps_y = 1e3 * c["yield_strain"]
-    if not fibre:
-        _hinge_profile_panel(ax_p, c, x, profile, peak, eps_y, top, k)
-    # (c) fibre strain over time, first yield and fracture
+
+
+def _fibre_strain_panel(ax_t, c: dict, fem_h: dict, plastic: list, k: int, times, limits) -> None:
+    """The last panel of the collar hinge figure: every plastic collar's extreme-fibre strain
+    over time, per mille, against eps_u and eps_y, with collar k's first yield and fracture
+    (``times``, None where it does not); ``limits``: eps_y (per mille) and the axis top."""
+    eps_y, top = limits
+    t = fem_h["t"]
     for j, n in enumerate(plastic):
         ax_t.plot(
             t,
@@ -493,7 +537,7 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
         )
     ax_t.axhline(1e3 * c["eps_u"], color="k", ls="--", lw=1, label="eps_u (fracture)")
     ax_t.axhline(eps_y, color="0.5", ls=":", lw=1, label="eps_y = f_y / E")
-    for when, colour, name in ((yielded, "C1", "first yield"), (fractured, "C3", "fracture")):
+    for when, colour, name in zip(times, ("C1", "C3"), ("first yield", "fracture")):
         if when is not None:
             ax_t.axvline(when, color=colour, lw=1.2, label=f"collar {k}: {name}, t = {when:.4g} s")
     ax_t.set_yscale("symlog", linthresh=eps_y)
@@ -501,12 +545,13 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
     ax_t.set_ylim(0.0, top)
     ax_t.set_xlabel("t (s)")
     ax_t.set_ylabel("extreme-fibre strain (per mille)")
-    ax_t.set_title(
-        f"({'b' if fibre else 'c'}) the plastic collars' fibre strain over time", fontsize=9
-    )
     legend_beside(ax_t)
-    fig.tight_layout()
-    caption = (
+
+
+def _collar_hinge_caption(c: dict, k: int, yielded: float | None, fractured: float | None) -> str:
+    """The collar hinge figure's caption: when collar k first yields and fractures, and what
+    its panels show for its section (fibre or resultant law with lumped hinges)."""
+    return (
         f"Plastic collars, FEM replica 0: collar {k}, the most strained, "
         + (f"first yields at t = {yielded:.4g} s" if yielded is not None else "does not yield")
         + (
@@ -519,22 +564,12 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
             f"{c.get('n_fibres')} layers at {c.get('n_sections')} sections: its fibres yield "
             "from M_y, the moment nears M_p, hardening may carry it past, and the axial force "
             "lowers it), and the collars' largest surface strain over time"
-            if fibre
+            if c.get("section") == "fibre"
             else "; its end hinges' moment-rotation loops against M_y and M_p (the hinges "
             "harden slightly past M_p, and the moment falls with the axial force on the N-M "
             "surface), and its residual plastic strain along the band: the axial plastic "
             "strain everywhere plus each hinge's plastic rotation spread over its length L_p = "
             f"{1e3 * c['hinge_length']:.3g} mm"
-        )
-    )
-    figs.append(
-        figure(
-            out,
-            "collar_hinge",
-            fig,
-            caption,
-            data_file="figures/collar_hinge.csv"
-            + ("" if fibre else ", figures/collar_hinge_profile.csv"),
         )
     )
 
@@ -910,55 +945,8 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list, state: dict | None = No
     t_drawn = state["t"]
     fig = Figure(figsize=(7.0, 6.4))
     ax = fig.subplots()
-    handles: list[Artist] = []
-    for b in np.unique(cell_body):
-        polys = drawn[quads[cell_body == b]]
-        colour = ("C0", "C1")[min(int(b), 1)]
-        ax.add_collection(
-            PolyCollection(polys, facecolors=colour, edgecolors="w", linewidths=0.2, alpha=0.6)
-        )
-        handles.append(
-            Patch(
-                facecolor=colour,
-                alpha=0.6,
-                label=("left half", "right half")[min(int(b), 1)]
-                if cell_body.max() > 0
-                else "column",
-            )
-        )
-    outline = np.array(
-        [
-            [X[:, 0].min(), 0.0],
-            [X[:, 0].max(), 0.0],
-            [X[:, 0].max(), height],
-            [X[:, 0].min(), height],
-            [X[:, 0].min(), 0.0],
-        ]
-    )
-    handles += ax.plot(outline[:, 0], outline[:, 1], color="0.6", ls=":", lw=1.0, label="at rest")
-    for number in range(1, collar_end.max() + 1):
-        ends = np.flatnonzero(collar_end == number)
-        ax.plot(drawn[ends, 0], drawn[ends, 1], color="C3", lw=2.0)
-    if collar_end.max() > 0:
-        handles.append(Line2D([], [], color="C3", lw=2.0, label="collars"))
-    pressure_file = fem / "base_pressure.csv"
-    if pressure_file.exists():
-        with open(pressure_file) as fh:
-            names = fh.readline().strip().split(",")[1:]
-            rows = np.loadtxt(fh, delimiter=",", ndmin=2)
-        row = rows[int(np.argmin(np.abs(rows[:, 0] - t_drawn)))]
-        xs = np.array([float(n.split("=")[1]) for n in names])
-        pressure = row[1:] / 1e6
-        scale = 0.12 * height / max(pressure.max(), 1e-12)
-        order = np.argsort(xs, kind="stable")
-        ax.fill_between(xs[order], 0.0, -scale * pressure[order], color="k", alpha=0.35, step=None)
-        handles.append(
-            Patch(
-                facecolor="k",
-                alpha=0.35,
-                label=wrap(f"{AT_NODES} (max {pressure.max():.3g} MPa)", 28),
-            )
-        )
+    handles = _draw_column(ax, X, drawn, quads, cell_body, collar_end)
+    handles += _draw_base_pressure(ax, fem / "base_pressure.csv", t_drawn, height)
     ax.axhline(0.0, color="k", lw=0.8)
     ax.set_aspect("equal")
     ax.set_anchor("W")  # the narrow column to the left, its legend's room to the right
@@ -991,6 +979,67 @@ def _deformed_figure(out: Path, fem_h: dict, figs: list, state: dict | None = No
     )
 
 
+def _draw_column(ax, X, drawn, quads, cell_body, collar_end) -> list[Artist]:
+    """The deformed column's halves (``drawn``: the nodes' drawn positions) as filled
+    elements, its outline at rest (``X``) and its collars between their attachment nodes;
+    their legend handles."""
+    height = float(np.ptp(X[:, 1]))
+    handles: list[Artist] = []
+    for b in np.unique(cell_body):
+        polys = drawn[quads[cell_body == b]]
+        colour = ("C0", "C1")[min(int(b), 1)]
+        ax.add_collection(
+            PolyCollection(polys, facecolors=colour, edgecolors="w", linewidths=0.2, alpha=0.6)
+        )
+        handles.append(
+            Patch(
+                facecolor=colour,
+                alpha=0.6,
+                label=("left half", "right half")[min(int(b), 1)]
+                if cell_body.max() > 0
+                else "column",
+            )
+        )
+    outline = np.array(
+        [
+            [X[:, 0].min(), 0.0],
+            [X[:, 0].max(), 0.0],
+            [X[:, 0].max(), height],
+            [X[:, 0].min(), height],
+            [X[:, 0].min(), 0.0],
+        ]
+    )
+    handles += ax.plot(outline[:, 0], outline[:, 1], color="0.6", ls=":", lw=1.0, label="at rest")
+    for number in range(1, collar_end.max() + 1):
+        ends = np.flatnonzero(collar_end == number)
+        ax.plot(drawn[ends, 0], drawn[ends, 1], color="C3", lw=2.0)
+    if collar_end.max() > 0:
+        handles.append(Line2D([], [], color="C3", lw=2.0, label="collars"))
+    return handles
+
+
+def _draw_base_pressure(ax, pressure_file: Path, t_drawn: float, height: float) -> list[Artist]:
+    """The base contact pressure at the nodes at the output nearest ``t_drawn``, drawn below
+    the base at 12 % of the column height for its largest value; its legend handle (none
+    without base_pressure.csv)."""
+    if not pressure_file.exists():
+        return []
+    with open(pressure_file) as fh:
+        names = fh.readline().strip().split(",")[1:]
+        rows = np.loadtxt(fh, delimiter=",", ndmin=2)
+    row = rows[int(np.argmin(np.abs(rows[:, 0] - t_drawn)))]
+    xs = np.array([float(n.split("=")[1]) for n in names])
+    pressure = row[1:] / 1e6
+    scale = 0.12 * height / max(pressure.max(), 1e-12)
+    order = np.argsort(xs, kind="stable")
+    ax.fill_between(xs[order], 0.0, -scale * pressure[order], color="k", alpha=0.35, step=None)
+    return [
+        Patch(
+            facecolor="k", alpha=0.35, label=wrap(f"{AT_NODES} (max {pressure.max():.3g} MPa)", 28)
+        )
+    ]
+
+
 def _spectrum_figure(out: Path, spectrum: dict, figs: list, block: str = "half") -> None:
     """The study's pulse on the rigid overturning spectra: the SDOF half block with collars as a
     map and, where spectrum.json holds it (key ``multibody``), the rigid multibody model, the
@@ -999,8 +1048,7 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list, block: str = "half")
 
     from ...rigid.plotting import MODE_COLOURS, MODE_LABELS, grid_markers
 
-    code = {"safe": 0, "after-impact": 1, "without-impact": 2}
-    codes = np.array([[code[c] for c in row] for row in spectrum["mode"]])
+    codes = np.array([[MODE_CODES[c] for c in row] for row in spectrum["mode"]])
     w = np.array(spectrum["omega_ratios"])
     a = np.array(spectrum["amplitude_ratios"])
     write_csv(
@@ -1035,25 +1083,7 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list, block: str = "half")
         ax.contour(w, a, yields, levels=[0.5], colors="k", linewidths=0.8)
         handles.append(Line2D([], [], color="k", lw=0.8, label="SDOF: a collar reaches f_y above"))
     if mb is not None:
-        mb_codes = np.array([[code[c] for c in row] for row in mb["mode"]])
-        mb_w, mb_a = np.array(mb["omega_ratios"]), np.array(mb["amplitude_ratios"])
-        columns = {
-            "omega_ratio": np.tile(mb_w, mb_a.size),
-            "amplitude_ratio": np.repeat(mb_a, mb_w.size),
-            "mode_code": mb_codes.ravel(),
-        }
-        if "collar_yields" in mb:
-            columns["collar_yield"] = np.array(mb["collar_yields"], dtype=int).ravel()
-        write_csv(out / "figures" / "spectrum_multibody.csv", columns)
-        handles += grid_markers(
-            ax,
-            mb_w,
-            mb_a,
-            mb_codes,
-            always=True,
-            size=60,
-            labels=[f"rigid multibody: {m}" for m in MODE_LABELS],
-        )
+        handles += _multibody_markers(out, ax, mb)
     handles += ax.plot(
         spectrum["study_omega_ratio"],
         spectrum["study_amplitude_ratio"],
@@ -1075,29 +1105,55 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list, block: str = "half")
         fontsize=10,
     )
     fig.tight_layout()
-    if mb is not None:
-        caption = (
-            "The study's pulse (red star) on the rigid overturning spectra. The verdict "
-            "relies on the rigid multibody model (two rigid halves, ground and crack "
-            "contact with friction, collars as frames): its outcome at each pulse of a "
-            "coarser grid through the study's pulse is a marker. The map beneath is the "
-            "paper's SDOF half block with collars, a simplification of it, with the line "
-            "above which a collar reaches its yield stress; where the two differ, the "
-            "markers are the rigid reference"
-        )
-    else:
-        caption = (
-            "The study's pulse on the rigid overturning spectrum of the SDOF half block "
-            "with collars: outcome of each pulse (legend), and where a collar reaches its "
-            "yield stress. The verdict relies on the rigid multibody model, whose "
-            "spectrum this run does not hold; the SDOF map is a simplification of it"
-        )
     figs.append(
         figure(
             out,
             "spectrum",
             fig,
-            caption,
+            SPECTRUM_CAPTIONS[mb is not None],
             data_file="figures/spectrum*.csv" if mb is not None else "",
         )
     )
+
+
+def _multibody_markers(out: Path, ax, mb: dict) -> list[Artist]:
+    """The rigid multibody model's outcome at each pulse of its coarse grid (spectrum.json's
+    ``multibody``) as a marker, also written as figures/spectrum_multibody.csv; the legend
+    handles."""
+    from ...rigid.plotting import MODE_LABELS, grid_markers
+
+    mb_codes = np.array([[MODE_CODES[c] for c in row] for row in mb["mode"]])
+    mb_w, mb_a = np.array(mb["omega_ratios"]), np.array(mb["amplitude_ratios"])
+    columns = {
+        "omega_ratio": np.tile(mb_w, mb_a.size),
+        "amplitude_ratio": np.repeat(mb_a, mb_w.size),
+        "mode_code": mb_codes.ravel(),
+    }
+    if "collar_yields" in mb:
+        columns["collar_yield"] = np.array(mb["collar_yields"], dtype=int).ravel()
+    write_csv(out / "figures" / "spectrum_multibody.csv", columns)
+    return grid_markers(
+        ax,
+        mb_w,
+        mb_a,
+        mb_codes,
+        always=True,
+        size=60,
+        labels=[f"rigid multibody: {m}" for m in MODE_LABELS],
+    )
+
+
+# the spectrum figure's caption, with (True) and without (False) the multibody's markers
+SPECTRUM_CAPTIONS = {
+    True: "The study's pulse (red star) on the rigid overturning spectra. The verdict "
+    "relies on the rigid multibody model (two rigid halves, ground and crack "
+    "contact with friction, collars as frames): its outcome at each pulse of a "
+    "coarser grid through the study's pulse is a marker. The map beneath is the "
+    "paper's SDOF half block with collars, a simplification of it, with the line "
+    "above which a collar reaches its yield stress; where the two differ, the "
+    "markers are the rigid reference",
+    False: "The study's pulse on the rigid overturning spectrum of the SDOF half block "
+    "with collars: outcome of each pulse (legend), and where a collar reaches its "
+    "yield stress. The verdict relies on the rigid multibody model, whose "
+    "spectrum this run does not hold; the SDOF map is a simplification of it",
+}
