@@ -713,57 +713,20 @@ def _stops(fem: dict, results: dict) -> dict:
 def assemble_summary(study, results: dict, criteria: dict) -> dict:
     """summary.json of the cross-check; ``criteria`` from :func:`verdict_criteria`."""
     fem = results["fem"]["summary"]
-    rigid, monolith, multibody = results["rigid"], results["monolith"], results["multibody"]
-    fem_peak = max(fem["max_abs_theta_left"], fem["max_abs_theta_right"])
-    # the multibody and FEM runs stop at the same overturning rule: compare the rotations
-    # they reached, not the pi/2 of a block lying down
-    mb_peak = max(multibody["max_abs_theta_left"], multibody["max_abs_theta_right"])
+    multibody = results["multibody"]
     # a ratio of peak rotations compares columns that stay up: an overturned block's peak is
     # where its run stopped (pi/2 for the SDOF model, by convention), not a rotation it reached
     # (a run that stopped in any replica: its ensemble's median mixes stopping angles), in
     # its place the words that say which run stopped when
     stops = _stops(fem, results)
-    ratio = unless_stopped(
-        _peak_ratio(fem_peak, rigid["max_abs_theta"]), stops["fem"], stops["rigid"]
-    )
-    ratio_monolith = unless_stopped(
-        _peak_ratio(fem_peak, monolith["max_abs_theta"]), stops["fem"], stops["monolith"]
-    )
-    ratio_multibody = unless_stopped(
-        _peak_ratio(fem_peak, mb_peak), stops["fem"], stops["multibody"]
-    )
-    block = study.rocking_block
-    # a column that no model uplifts: the SDOF model agrees with the multibody one whatever
-    # the ratio of their (elastic, contact-compliance) rotations, and it does not rock at all
-    fem_at_rest = motion_word(fem["overturned"], fem_peak, study.rocking_alpha) == "no uplift"
-    sdof_at_rest = (
-        motion_word(rigid["overturned"], rigid["max_abs_theta"], rigid["alpha"])
-        == motion_word(multibody["overturned"], mb_peak, study.rocking_alpha)
-        == "no uplift"
-    )
+    ratios = _peak_ratios(results, stops)
+    sdof_at_rest = _sdof_at_rest(study, results)
     answers = crosscheck_outcome(study, results, criteria)
-    words = {a["key"]: a["answer"] for a in answers["answers"]}
     sdof_model = next(m for m in answers["models"] if m["model"] == SDOF_HALF)
     return {
         "study": study.name,
         "outcome": answers,
-        "verdict": {
-            "rigid_assumption_ok": words["rigid_assumption_ok"],
-            "sdof_half_model_ok": _word(
-                sdof_at_rest
-                or _same_answer(
-                    rigid["overturned"],
-                    _peak_ratio(rigid["max_abs_theta"], mb_peak),
-                    multibody["overturned"],
-                )
-            ),
-            "collars_yield": words["collars_yield"],
-            "toe_crushes": words["toe_crushes"],
-            "rocks_as_one_block": NOT_APPLICABLE
-            if is_stopped(ratio) or is_stopped(ratio_monolith) or fem_at_rest
-            else _word(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
-            "overturns_fem": fem["overturned_answer"],
-        },
+        "verdict": _verdict(study, results, answers, ratios, sdof_at_rest),
         # a verdict that rests on a model outside its validity: why (the SDOF's elastic
         # collars past f_y), said beside its word
         "verdict_caveats": {
@@ -780,19 +743,123 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
             "multibody_left": unless_stopped(multibody["max_abs_theta_left"], stops["multibody"]),
             "multibody_right": unless_stopped(multibody["max_abs_theta_right"], stops["multibody"]),
         },
-        "collar_heights": [c.y for c in study.collars],
-        "collar_fy": [c.fy for c in study.collars],  # Pa
-        "collars": [_collar_section(study, c) for c in study.collars],
-        # largest fibre strain / yield strain a collar may reach (EN 1993-1-1: eps_u >= 15 eps_y)
-        "collar_ductility_limit": DUCTILITY_LIMIT,
-        "stone_fc": study.stone.fc,  # Pa
+        **_limits(study),
         "toe_stress": _toe_stress(study, results),
         "bed": _bed(study, results),
         # the multibody run's summary, as its typed result selects it for the cross-check
         "rigid_multibody": without_stopping_angles(
             selected(multibody, MultibodySummary, MULTIBODY_KEYS), stops["multibody"]
         ),
-        # an overturned block's max_abs_theta is the pi/2 of its stopping rule: not shown
+        **_sdof_runs(results, stops),
+        "theta_peak_ratio_fem_over_multibody": ratios["fem_over_multibody"],
+        "fem_vs_multibody": _fem_vs_multibody(results["fem"], multibody),
+        "verdict_criteria": criteria,
+        "theta_peak_ratio_fem_over_rigid": ratios["fem_over_rigid"],
+        "theta_peak_ratio_fem_over_monolith": ratios["fem_over_monolith"],
+        # an overturned SDOF block reports pi/2 by convention: no rotation to compare
+        "theta_peak_ratio_rigid_over_multibody": ratios["rigid_over_multibody"],
+        "theta_peak_ratio_monolith_over_multibody": ratios["monolith_over_multibody"],
+        # the velocity ratio of the impacts after the ground motion (free rocking), where
+        # there are any: FEM median and band, multibody; of a run that overturned the rotation
+        # peak after its last impact is the angle it stopped at, so none
+        "restitution_after_motion_fem": unless_stopped(
+            fem["restitution_after_motion"], stops["fem"]
+        ),
+        "restitution_after_motion_multibody": unless_stopped(
+            multibody.get("restitution_after_motion"), stops["multibody"]
+        ),
+        "restitution_housner": study.rocking_block.restitution_housner,
+        "pulse": _pulse_summary(study, results),
+        "peak_tolerance": PEAK_TOLERANCE,
+        "convergence": _uncertainty(results),
+    }
+
+
+def _two_halves_peak(summary: dict) -> float:
+    """The larger of a two-half run's peak rotations (left, right); the multibody and FEM runs
+    stop at the same overturning rule: the rotations they reached, not the pi/2 of a block
+    lying down."""
+    return max(summary["max_abs_theta_left"], summary["max_abs_theta_right"])
+
+
+def _peak_ratios(results: dict, stops: dict) -> dict:
+    """The ratios of the models' peak rotations (``fem_over_rigid``, ``fem_over_monolith``,
+    ``fem_over_multibody``, ``rigid_over_multibody``, ``monolith_over_multibody``), each the
+    words of :func:`_stops` in its place where either run stopped."""
+    fem_peak = _two_halves_peak(results["fem"]["summary"])
+    mb_peak = _two_halves_peak(results["multibody"])
+    rigid, monolith = results["rigid"]["max_abs_theta"], results["monolith"]["max_abs_theta"]
+    return {
+        name: unless_stopped(_peak_ratio(value, reference), stops[model], stops[base])
+        for name, value, model, reference, base in (
+            ("fem_over_rigid", fem_peak, "fem", rigid, "rigid"),
+            ("fem_over_monolith", fem_peak, "fem", monolith, "monolith"),
+            ("fem_over_multibody", fem_peak, "fem", mb_peak, "multibody"),
+            ("rigid_over_multibody", rigid, "rigid", mb_peak, "multibody"),
+            ("monolith_over_multibody", monolith, "monolith", mb_peak, "multibody"),
+        )
+    }
+
+
+def _sdof_at_rest(study, results: dict) -> bool:
+    """Neither the SDOF half block nor the multibody model uplifts the column: the SDOF model
+    agrees with the multibody one whatever the ratio of their (elastic, contact-compliance)
+    rotations."""
+    rigid, multibody = results["rigid"], results["multibody"]
+    return (
+        motion_word(rigid["overturned"], rigid["max_abs_theta"], rigid["alpha"])
+        == motion_word(multibody["overturned"], _two_halves_peak(multibody), study.rocking_alpha)
+        == "no uplift"
+    )
+
+
+def _verdict(study, results: dict, answers: dict, ratios: dict, sdof_at_rest: bool) -> dict:
+    """The verdict's words: the outcome's answers, whether the paper's SDOF half block agrees
+    with the multibody model, whether the halves rock as one block (not applicable where a
+    run stopped or the FEM column does not uplift) and whether the FEM overturns."""
+    fem, rigid, multibody = results["fem"]["summary"], results["rigid"], results["multibody"]
+    words = {a["key"]: a["answer"] for a in answers["answers"]}
+    ratio, ratio_monolith = ratios["fem_over_rigid"], ratios["fem_over_monolith"]
+    fem_peak = _two_halves_peak(fem)
+    fem_at_rest = motion_word(fem["overturned"], fem_peak, study.rocking_alpha) == "no uplift"
+    return {
+        "rigid_assumption_ok": words["rigid_assumption_ok"],
+        "sdof_half_model_ok": _word(
+            sdof_at_rest
+            or _same_answer(
+                rigid["overturned"],
+                _peak_ratio(rigid["max_abs_theta"], _two_halves_peak(multibody)),
+                multibody["overturned"],
+            )
+        ),
+        "collars_yield": words["collars_yield"],
+        "toe_crushes": words["toe_crushes"],
+        "rocks_as_one_block": NOT_APPLICABLE
+        if is_stopped(ratio) or is_stopped(ratio_monolith) or fem_at_rest
+        else _word(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
+        "overturns_fem": fem["overturned_answer"],
+    }
+
+
+def _limits(study) -> dict:
+    """The collars' heights, yield stresses and sections, the ductility limit and the stone's
+    strength: what the stresses and strains are judged against."""
+    return {
+        "collar_heights": [c.y for c in study.collars],
+        "collar_fy": [c.fy for c in study.collars],  # Pa
+        "collars": [_collar_section(study, c) for c in study.collars],
+        # largest fibre strain / yield strain a collar may reach (EN 1993-1-1: eps_u >= 15 eps_y)
+        "collar_ductility_limit": DUCTILITY_LIMIT,
+        "stone_fc": study.stone.fc,  # Pa
+    }
+
+
+def _sdof_runs(results: dict, stops: dict) -> dict:
+    """The SDOF runs' summaries, ``rigid`` (the half block with collars) and
+    ``rigid_monolith`` (the whole column): an overturned block's max_abs_theta is the pi/2
+    of its stopping rule, not shown."""
+    rigid, monolith = results["rigid"], results["monolith"]
+    return {
         "rigid": {
             "overturned": rigid["overturned"],
             "mode": rigid["mode"],
@@ -811,31 +878,6 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
             "overturn_time": monolith.get("overturn_time"),
             "impacts": monolith["impacts"],
         },
-        "theta_peak_ratio_fem_over_multibody": ratio_multibody,
-        "fem_vs_multibody": _fem_vs_multibody(results["fem"], multibody),
-        "verdict_criteria": criteria,
-        "theta_peak_ratio_fem_over_rigid": ratio,
-        "theta_peak_ratio_fem_over_monolith": ratio_monolith,
-        # an overturned SDOF block reports pi/2 by convention: no rotation to compare
-        "theta_peak_ratio_rigid_over_multibody": unless_stopped(
-            _peak_ratio(rigid["max_abs_theta"], mb_peak), stops["rigid"], stops["multibody"]
-        ),
-        "theta_peak_ratio_monolith_over_multibody": unless_stopped(
-            _peak_ratio(monolith["max_abs_theta"], mb_peak), stops["monolith"], stops["multibody"]
-        ),
-        # the velocity ratio of the impacts after the ground motion (free rocking), where
-        # there are any: FEM median and band, multibody; of a run that overturned the rotation
-        # peak after its last impact is the angle it stopped at, so none
-        "restitution_after_motion_fem": unless_stopped(
-            fem["restitution_after_motion"], stops["fem"]
-        ),
-        "restitution_after_motion_multibody": unless_stopped(
-            multibody.get("restitution_after_motion"), stops["multibody"]
-        ),
-        "restitution_housner": block.restitution_housner,
-        "pulse": _pulse_summary(study, results),
-        "peak_tolerance": PEAK_TOLERANCE,
-        "convergence": _uncertainty(results),
     }
 
 
