@@ -870,6 +870,78 @@ class Rigid(Table):
     )
 
 
+HAZARD_MEASURES = ("pga", "pgv", "sa")  # a power-law hazard's intensity (colonna.core.hazard)
+
+
+class Hazard(Table):
+    """[hazard] (optional, shared): the site's hazard curve, a table file or a power law; a
+    fragility study gives with it each limit state's mean annual frequency and its probability
+    in hazard.years (colonna.core.risk); other kinds do not read it yet."""
+
+    file: str | None = Field(
+        None,
+        min_length=1,
+        description="Hazard table, a CSV relative to the study file: a header naming the "
+        "intensity measure and unit, then annual_frequency (e.g. pga_g,annual_frequency; pga_m_s2, "
+        "pgv_m_s, sa_0.5s_g, ...), one row per return period; interpolated log-log. "
+        "Or the power law k0, k.",
+    )
+    intensity: Literal[HAZARD_MEASURES] | None = Field(  # type: ignore[valid-type]
+        None,
+        description="The power law's intensity measure: pga (m/s^2), pgv (m/s), sa (m/s^2, with "
+        "period); a table's header names its own.",
+    )
+    period: float | None = quantity(
+        "s", "Period of Sa (the power law with intensity = sa), 0.01 to 20 s.", ge=0.01, le=20
+    )
+    k0: float | None = quantity(
+        "1/year",
+        "Power law lambda = k0 IM^-k (IM in SI): its k0, the frequency at IM = 1.",
+        gt=0,
+        le=1e6,
+    )
+    k: float | None = quantity("-", "Power law's exponent k, (0, 20].", gt=0, le=20)
+    years: float = quantity(
+        "year", "Period T of the probability 1 - exp(-lambda T), (0, 10000].", 50.0, gt=0, le=1e4
+    )
+    beyond: Literal["extrapolate", "truncate"] = Field(
+        "extrapolate",
+        description="A table above its highest intensity: extrapolate (the power law of its "
+        "last segment) or truncate (every exceedance of the highest counted there: a lower "
+        "bound); below its lowest it is held at that frequency (a lower bound). The report says "
+        "how much of each lambda lies beyond either end.",
+    )
+
+    @staticmethod
+    def across(h: dict, given: set) -> list[tuple[str, tuple]]:
+        """A file, or the power law k0, k and intensity (with period for Sa), not both."""
+        law = given & {"k0", "k", "intensity", "period"}
+        if h["file"] is not None:
+            if law:
+                return [
+                    (
+                        f"hazard.file goes without {', '.join(f'hazard.{k}' for k in sorted(law))}"
+                        " (the file's header names its intensity measure)",
+                        (),
+                    )
+                ]
+            return []
+        found: list[tuple[str, tuple]] = []
+        missing = [k for k in ("k0", "k", "intensity") if h[k] is None]
+        if missing:
+            found.append(
+                (
+                    "give hazard.file, or the power law hazard.k0, hazard.k and hazard.intensity",
+                    tuple(f"hazard.{k}" for k in missing),
+                )
+            )
+        if h["intensity"] == "sa" and h["period"] is None:
+            found.append(("hazard.period is required with hazard.intensity = 'sa'", ()))
+        if h["intensity"] not in ("sa", FAILED) and h["period"] is not None:
+            found.append(("hazard.period goes with hazard.intensity = 'sa' only", ()))
+        return found
+
+
 class StudyInfo(Table):
     """[study]: what the file is."""
 
@@ -939,6 +1011,7 @@ class StudyFile(Table):
     mesh: Mesh = Mesh()
     run: Run = Run()
     rigid: Rigid = Rigid()
+    hazard: Hazard | None = None
 
     @classmethod
     def across(cls, s: dict, given: set) -> list[tuple[str, tuple]]:

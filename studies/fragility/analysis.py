@@ -27,10 +27,13 @@ their bootstrap bands over records are :mod:`colonna.core.fragility`'s.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
 from ...core import fragility as fits
+from ...core import hazard as hazards
+from ...core import risk
 from ...core.errors import InputError
 
 # the limit states, in the order a report lists them, with their words
@@ -129,11 +132,14 @@ def fit_limit_state(
     level: float,
     ida: bool,
     origin: float = 0.0,
+    hazard: hazards.HazardCurve | None = None,
+    years: float = 50.0,
 ) -> dict:
     """The fits of one limit state's exceedances (records x levels): the multiple-stripe
     binomial MLE with its bootstrap band (always), and with ``ida`` the IDA capacities' fit
     (first exceedance, censored at the top) and its band; each with P at the ``design``
-    intensity and its interval. A limit state no run reached (or every run did) has no
+    intensity and its interval, and with a ``hazard`` (in the fits' measure) its ``risk``
+    (:func:`risk_entry`). A limit state no run reached (or every run did) has no
     curve: its fractions are given and its fit is None, with the reason. ``origin`` > 0: both
     fits are the shifted lognormal of IM - origin (0 up to the origin)."""
     exceeded = np.asarray(exceeded, dtype=bool)
@@ -163,7 +169,10 @@ def fit_limit_state(
                 level=level,
                 origin=origin,
                 at=at,
-            )
+            ),
+            hazard,
+            years,
+            levels,
         ),
         levels,
     )
@@ -184,7 +193,10 @@ def fit_limit_state(
                         level=level,
                         origin=origin,
                         at=at,
-                    )
+                    ),
+                    hazard,
+                    years,
+                    levels,
                 ),
                 levels,
             )
@@ -238,16 +250,24 @@ def curve_grid(levels, design: float, points: int = 60) -> np.ndarray:
     return np.linspace(0.0, top, points + 1)[1:]
 
 
-def _band_entry(make) -> dict | None:
+def _band_entry(
+    make,
+    hazard: hazards.HazardCurve | None = None,
+    years: float = 50.0,
+    levels=None,
+) -> dict | None:
     """A fit with its bootstrap band as plain data: the fit, its intervals, P at the design
     intensity (the band's first IM) with its interval, and the curve and band at the rest
-    (:func:`curve_grid`); ``fit`` None where the data hold no curve."""
+    (:func:`curve_grid`); with a ``hazard``, its ``risk`` over the ``levels`` run
+    (:func:`risk_entry`); ``fit`` None where the data hold no curve."""
     try:
         band = make()
     except InputError as exc:
         return {"fit": None, "why": str(exc)}
     fit = band.fit
+    found = {} if hazard is None else {"risk": risk_entry(band, hazard, years, levels)}
     return {
+        **found,
         "fit": fit.to_dict(),
         "median_interval": list(band.median_interval),
         "beta_interval": list(band.beta_interval),
@@ -307,3 +327,138 @@ def past_yield(runs: list[list[dict]]) -> dict | None:
         "largest_utilisation": float(np.max(utilisation[survived])),
         "levels": past.any(axis=0).tolist(),
     }
+
+
+# --- risk: the fits against the site's hazard ([hazard], colonna.core.risk) ---------------------
+
+# the hazard measure each fragility intensity is (a multiple of): colonna.core.hazard.in_measure
+HAZARD_MEASURE = {
+    "pga": "pga",
+    "pga_rocking": "pga",
+    "pgv": "pgv",
+    "pgv_rocking": "pgv",
+    "sa": "sa",
+}
+BEYOND_SHARE = 0.01  # a part of lambda (or of the capacities) beyond the table said in words
+
+
+def site_hazard(table, intensity: str, period: float | None, unit: str, block, base: Path):
+    """The study's [hazard] (:class:`studies.schema.Hazard`, None: none) as a hazard curve in
+    the fragility's ``intensity`` (unit ``unit``): the file's table or the power law, its
+    intensity times 1 / a_up for pga_rocking and p / a_up for pgv_rocking (a_up the rocking
+    ``block``'s uplift acceleration, as the records' IMs are normalised); an InputError naming
+    both keys where the hazard's measure is not the fragility's."""
+    if table is None:
+        return None
+    if table.file is not None:
+        curve = hazards.read_hazard(Path(base) / table.file, beyond=table.beyond)
+        key = f"hazard.file = {table.file!r}"
+    else:
+        curve = hazards.power_law(table.k0, table.k, table.intensity, period=table.period)
+        key = f"hazard.intensity = {table.intensity!r}"
+    measure = HAZARD_MEASURE[intensity]
+    uplift = block.uplift_acceleration()
+    factor = {"pga_rocking": 1.0 / uplift, "pgv_rocking": block.p / uplift}.get(intensity, 1.0)
+    try:
+        return hazards.in_measure(curve, intensity, measure, factor, unit, period=period)
+    except InputError as exc:
+        same = [name for name, m in HAZARD_MEASURE.items() if m == curve.intensity]
+        raise InputError(
+            f"{key} and fragility.intensity = {intensity!r}: {exc}: give a hazard of "
+            f"{measure.upper()}{f'({period:g} s)' if measure == 'sa' else ''}, or set "
+            f"fragility.intensity to {' or '.join(repr(n) for n in same)}"
+        ) from None
+
+
+def risk_entry(band: fits.Band, hazard: hazards.HazardCurve, years: float, levels=None) -> dict:
+    """A fit's risk at the site (:func:`colonna.core.risk.limit_state_frequency`): the mean
+    annual frequency of the limit state, its return period and its probability in ``years``
+    (1 - exp(-lambda T)), each with the bootstrap's interval (lambda of every replica's fit,
+    the band's percentiles: P and the return period are monotonic in lambda); the shares of
+    lambda from capacities below and above a hazard table (``below``, ``above``) and below and
+    above the ``levels`` run (``below_levels``, ``above_levels``: read on the fit's
+    extrapolation), and what is read beyond either in words (``beyond``)."""
+    fit = band.fit
+    within = None if levels is None else (float(np.min(levels)), float(np.max(levels)))
+    best = risk.limit_state_frequency(hazard, fit.median, fit.beta, fit.origin, within)
+    replicas = np.array(
+        [
+            risk.limit_state_frequency(hazard, m, b, fit.origin).value
+            for m, b in zip(band.medians, band.betas)
+        ]
+    )
+    tail = 50.0 * (1.0 - band.level)
+    ends = [tail, 100.0 - tail]
+    if np.isfinite(replicas).all():
+        low, high = (float(v) for v in np.percentile(replicas, ends))
+    else:  # (a replica's lambda past the largest double is inf: no interpolation with it)
+        low, high = (float(v) for v in np.percentile(replicas, ends, method="inverted_cdf"))
+    p, p_low, p_high = (float(v) for v in risk.probability_in([best.value, low, high], years))
+    return {
+        "frequency": best.value,
+        "frequency_interval": [low, high],
+        "return_period": _period(best.value),
+        "return_period_interval": [_period(high), _period(low)],
+        "years": years,
+        "probability": p,
+        "probability_interval": [p_low, p_high],
+        "below": best.below,
+        "above": best.above,
+        "below_levels": best.below_within,
+        "above_levels": best.above_within,
+        "beyond": beyond_words(hazard, fit, best, within),
+        "level": band.level,
+        "draws": int(replicas.size),
+    }
+
+
+def _period(frequency: float) -> float | None:
+    """1 / lambda (years); None where lambda is 0 (never)."""
+    return 1.0 / frequency if frequency > 0.0 else None
+
+
+def beyond_words(
+    hazard: hazards.HazardCurve,
+    fit: fits.LognormalFit,
+    best: risk.LimitStateFrequency,
+    within: tuple[float, float] | None = None,
+) -> list[str]:
+    """What of a fit's lambda (``best``) is read beyond the levels run (``within``: on the
+    fit's extrapolation) or beyond a hazard table, in words (more than :data:`BEYOND_SHARE` of
+    it): outside the levels, its share; below the table, the share of lambda from capacities
+    there, whose frequency is held at the lowest point's (a lower bound); above it,
+    extrapolated, the share of lambda from capacities there and the power law used; truncated,
+    the fraction of capacities above it, never exceeded (a lower bound)."""
+    words = []
+    if within is not None:
+        for share, where, at in (
+            (best.below_within, "below the lowest", within[0]),
+            (best.above_within, "above the highest", within[1]),
+        ):
+            if share > BEYOND_SHARE:
+                words.append(
+                    f"{100 * share:.0f} % of lambda comes from capacities {where} level run, "
+                    f"{at:.4g}: the fitted curve's extrapolation there, not the records' answer"
+                )
+    if not hazard.tabulated:
+        return words
+    low, high = hazard.range
+    if best.below > BEYOND_SHARE:
+        words.append(
+            f"{100 * best.below:.0f} % of lambda comes from capacities below the hazard "
+            f"table's lowest intensity, {low:.4g}, where its frequency is held at the lowest "
+            "point's (the table gives none below it): lambda is a lower bound"
+        )
+    if hazard.beyond == "extrapolate" and best.above > BEYOND_SHARE:
+        words.append(
+            f"{100 * best.above:.0f} % of lambda comes from capacities above the hazard "
+            f"table's highest intensity, {high:.4g}: extrapolated there by the power law of "
+            f"its last segment (k = {hazard.slopes()[-1]:.3g})"
+        )
+    above = 1.0 - float(fit.probability(high))
+    if hazard.beyond == "truncate" and above > BEYOND_SHARE:
+        words.append(
+            f"{100 * above:.0f} % of the capacities lie above the hazard table's highest "
+            f"intensity, {high:.4g}: truncated, never exceeded (lambda is a lower bound)"
+        )
+    return words

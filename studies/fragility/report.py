@@ -42,6 +42,7 @@ def write_report(out: Path) -> Path:
         _ida(out, s, label),
         _spectra(out, s),
     ]
+    hazard_figure = _hazard(out, s, label) if s.get("hazard") else None
     return render_page(
         out,
         "fragility/report.html.j2",
@@ -49,6 +50,8 @@ def write_report(out: Path) -> Path:
         f"colonna fragility: {s['study']}",
         figs=[f for f in figs if f is not None],
         design_rows=design_rows(s),
+        risk_rows=risk_rows(s),
+        hazard_figure=hazard_figure,
         collar_rows=collar_rows(s),
         overturn_rows=overturn_rows(s),
         extrapolated=extrapolated_rows(s),
@@ -107,6 +110,59 @@ def design_rows(s: dict) -> list[dict]:
         if any(c["key"] is not None or c["text"] != "not assessed" for c in cells):
             rows.append({"state": words, "cells": cells})
     return rows
+
+
+def risk_rows(s: dict) -> list[dict]:
+    """With a hazard: per limit state and model, the risk of the fit its probability is read
+    from (summary.json's limit_states[model][state][fit].risk): lambda per year, the return
+    period and the probability in the hazard's years, each with its bootstrap interval, and
+    what of lambda is read beyond the hazard table; a limit state without a fit says why."""
+    if not s.get("hazard"):
+        return []
+    rows = []
+    for state, words in LIMIT_STATES.items():
+        for model in s["models"]:
+            entry = s["limit_states"][model].get(state)
+            why = s.get("unreachable", {}).get(model, {}).get(state)
+            if entry is None and why is None:
+                continue
+            row: dict = {"state": words, "model": MODEL_NAMES[model]}
+            which, fit = _answer(entry) if entry is not None else ("", None)
+            if why is not None or fit is None:
+                row["text"] = UNREACHABLE if why is not None else entry.get("why", "no curve")
+                rows.append(row)
+                continue
+            r = fit["risk"]
+            low, high = r["frequency_interval"]
+            period = r["return_period"]
+            p_low, p_high = r["probability_interval"]
+            row.update(
+                key=f"risk.lambda({state})_{model}",
+                fit=FIT_NAMES[which],
+                frequency=f"{r['frequency']:.2e} [{low:.2e}, {high:.2e}]",
+                period="never" if period is None else f"{period:.3g}",
+                probability=f"{r['probability']:.3g} [{p_low:.3g}, {p_high:.3g}]",
+                beyond=_beyond_text(s["hazard"], r),
+                qualified=bool(r["beyond"]),
+            )
+            rows.append(row)
+    return rows
+
+
+def _beyond_text(hazard: dict, r: dict) -> str:
+    """What of a lambda is read beyond the data, said always: the shares of lambda from
+    capacities below and above the levels run (the fit's extrapolation) and the hazard table
+    (held below it; extrapolated or truncated above), then the words where they matter."""
+    levels = (
+        f"levels run {100 * r['below_levels']:.2g} % below, {100 * r['above_levels']:.2g} % above"
+    )
+    if hazard["form"] == "table":
+        how = "extrapolated" if hazard["beyond"] == "extrapolate" else "truncated"
+        levels += (
+            f"; hazard table {100 * r['below']:.2g} % below (held), "
+            f"{100 * r['above']:.2g} % above ({how})"
+        )
+    return levels + (": " + "; ".join(r["beyond"]) if r["beyond"] else "")
 
 
 def rests_note(s: dict, model: str, state: str) -> str | None:
@@ -517,4 +573,104 @@ def _spectra(out: Path, s: dict) -> dict | None:
         fig,
         "The suite's 5 %-damped pseudo-spectral accelerations (each record times its suite "
         "scale, before the study scales it to a level)",
+    )
+
+
+def _hazard(out: Path, s: dict, label: str) -> dict:
+    """The site's hazard curve in the fragility's measure (log-log: the table's points, its
+    interpolation, held below it and extrapolated or truncated above it; or the power law),
+    beside where each limit state's lambda comes from: d lambda_LS / d ln IM = lambda_IM(x)
+    dP / d ln x (the answer fit's: :mod:`colonna.core.risk`'s integrand; its area over ln IM
+    is lambda), per limit state, of the first model with a fit; the levels run shaded, the
+    table's ends marked."""
+    from ...core.fragility import LognormalFit
+    from ...core.hazard import HazardCurve, annual_frequency
+
+    h = s["hazard"]
+    curve = HazardCurve(
+        h["intensity"],
+        h["unit"],
+        im=tuple(h["im"]),
+        frequency=tuple(h["frequency"]),
+        k0=h["k0"],
+        k=h["k"],
+        period=h["period"],
+        beyond=h["beyond"],
+    )
+    levels = np.array(s["levels"], dtype=float)
+    ends = [levels.min(), levels.max()] + (list(curve.range) if curve.tabulated else [])
+    x = np.geomspace(0.3 * min(ends), 3.0 * max(ends), 400)
+    fig = Figure(figsize=(10.0, 4.4))
+    left, right = fig.subplots(1, 2)
+    lam = annual_frequency(curve, x)
+    data: dict = {"im": x, "hazard_frequency": lam}
+    if curve.tabulated:
+        low, high = curve.range
+        left.loglog(
+            np.where((x >= low) & (x <= high), x, np.nan),
+            lam,
+            color="k",
+            label="hazard: its table, log-log between the points (o)",
+        )
+        left.loglog(curve.im, curve.frequency, "o", color="k", ms=4)
+        left.loglog(
+            np.where(x < low, x, np.nan),
+            lam,
+            color="k",
+            ls=":",
+            label="hazard below the table: held at its lowest frequency",
+        )
+        if curve.beyond == "extrapolate":
+            left.loglog(
+                np.where(x > high, x, np.nan),
+                lam,
+                color="k",
+                ls="--",
+                label="hazard above the table: its last segment's power law",
+            )
+        for ax in (left, right):
+            for end in (low, high):
+                ax.axvline(end, color="0.5", ls=":", lw=0.8)
+        right.plot([], [], color="0.5", ls=":", lw=0.8, label="the hazard table's ends")
+    else:
+        left.loglog(x, lam, color="k", label=f"hazard: {h['source']}")
+    for ax in (left, right):
+        ax.axvspan(levels.min(), levels.max(), color="C0", alpha=0.08, lw=0)
+        ax.set_xlabel(label)
+    left.plot([], [], color="C0", alpha=0.3, lw=6, label="the levels run")
+    left.set_ylabel("annual frequency of exceedance (1/year)")
+    for k, state in enumerate(LIMIT_STATES):
+        for model in s["models"]:
+            entry = s["limit_states"][model].get(state)
+            _, fit = _answer(entry) if entry is not None else ("", None)
+            if fit is None or fit["fit"]["beta"] == 0.0:
+                continue
+            f = fit["fit"]
+            lognormal = LognormalFit(f["median"], f["beta"], f.get("origin", 0.0))
+            density = lam * np.gradient(lognormal.probability(x), np.log(x))
+            right.semilogx(
+                x, density, color=f"C{k + 1}", label=f"{LIMIT_STATES[state]} ({MODEL_NAMES[model]})"
+            )
+            data[f"{state}_{model}_dlambda_dlnim"] = density
+            break
+    right.set_ylabel("d lambda_LS / d ln IM (1/year)")
+    right.set_ylim(bottom=0.0)
+    seen: dict = {}
+    for ax in (left, right):
+        for handle, text in zip(*ax.get_legend_handles_labels()):
+            seen.setdefault(text, handle)
+    fig.legend(list(seen.values()), list(seen), loc="lower center", ncol=2, fontsize=8)
+    fig.tight_layout(rect=(0, 0.05 + 0.045 * ((len(seen) + 1) // 2), 1, 1))
+    write_csv(out / "figures" / "hazard.csv", data)
+    source = Path(h["source"]).name if curve.tabulated else h["source"]
+    return figure(
+        out,
+        "hazard",
+        fig,
+        "Left: the site's hazard, the annual frequency at which the intensity is exceeded "
+        f"({source}, in the fragility's measure), and the levels run (shaded). Right: "
+        "where each limit state's mean annual frequency comes from, the integrand of "
+        "lambda_LS = int lambda_IM dP[LS | IM] per unit of ln IM (the answer fit of the first "
+        "model that has one): the area under a curve is its lambda; outside the hazard "
+        "table's ends (dotted lines) it rests on the hazard as the left panel draws it there",
     )

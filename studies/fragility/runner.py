@@ -30,6 +30,7 @@ import dataclasses
 import re
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -78,6 +79,8 @@ class Setup:
     intensity: np.ndarray
     levels: np.ndarray
     origin: float = 0.0  # the fits' origin x0 (IM unit): the uplift intensity with fit = "shifted"
+    hazard: Any = None  # [hazard] in the intensity's measure (colonna.core.hazard.HazardCurve)
+    years: float = 50.0  # [hazard] years: the probability's period
 
 
 def setup(study: Study) -> Setup:
@@ -125,7 +128,14 @@ def setup(study: Study) -> Setup:
     if spec.fit == "shifted":
         pga = np.array([im.pga for im in ims])
         origin = uplift_intensity(spec.intensity, intensity, pga, block.uplift_acceleration())
-    return Setup(spec, column, tuple(suite), records, ims, intensity, levels, origin)
+    table = study.spec.hazard
+    try:
+        unit = _unit(spec.intensity)
+        hazard = analysis.site_hazard(table, spec.intensity, spec.period, unit, block, study.base)
+    except InputError as exc:
+        raise InputError(f"{source}: {exc}") from None
+    years = table.years if table is not None else 50.0
+    return Setup(spec, column, tuple(suite), records, ims, intensity, levels, origin, hazard, years)
 
 
 def uplift_intensity(name: str, intensity, pga, uplift: float) -> float:
@@ -298,7 +308,9 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
     exceeded: dict[str, dict] = {}
     for model, table in runs.items():
         exceeded[model] = analysis.exceedances(table, spec.theta_ratio)
-        states[model] = limit_state_fits(exceeded[model], s.levels, spec, s.origin)
+        states[model] = limit_state_fits(
+            exceeded[model], s.levels, spec, s.origin, s.hazard, s.years
+        )
     tests: dict[str, dict] = {}
     if "fem" in exceeded:
         for model in exceeded:
@@ -310,10 +322,14 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
                         value, exceeded["fem"][name], s.levels, origin=s.origin
                     )
     probability: dict[str, float | None] = {}
+    frequency: dict[str, float | None] = {}
     for model, fitted in states.items():
         for name, entry in fitted.items():
             best = answer_fit(entry)
             probability[f"P({name})_{model}"] = None if best is None else best["probability"]
+            if s.hazard is not None:
+                found = None if best is None else best["risk"]["frequency"]
+                frequency[f"lambda({name})_{model}"] = found
     return {
         "study": s.column.name,
         "kind": study.kind,
@@ -350,6 +366,8 @@ def assemble(study: Study, s: Setup, runs: dict, seconds: dict) -> dict:
         "runs": {model: run_tables(model, table) for model, table in runs.items()},
         "limit_states": states,
         "design": probability,
+        "hazard": None if s.hazard is None else {**s.hazard.to_dict(), "years": s.years},
+        "risk": frequency if s.hazard is not None else None,
         "collars": collar_summary(s.column, runs, probability),
         "unreachable": {model: unreachable(s.column, model) for model in runs},
         "same_curve": tests,
@@ -429,10 +447,17 @@ def suite_spectra(records) -> dict:
     }
 
 
-def limit_state_fits(exceeded: dict, levels, spec: Fragility, origin: float = 0.0) -> dict:
+def limit_state_fits(
+    exceeded: dict,
+    levels,
+    spec: Fragility,
+    origin: float = 0.0,
+    hazard=None,
+    years: float = 50.0,
+) -> dict:
     """Per limit state, its fits (:func:`.analysis.fit_limit_state`) with the [fragility]
     table's design intensity, bootstrap and analysis, shifted by ``origin`` (IM unit) where
-    > 0."""
+    > 0, and with a ``hazard`` (in its measure) each fit's risk in ``years``."""
     return {
         name: analysis.fit_limit_state(
             value,
@@ -443,6 +468,8 @@ def limit_state_fits(exceeded: dict, levels, spec: Fragility, origin: float = 0.
             level=spec.confidence,
             ida=spec.analysis == "ida",
             origin=origin,
+            hazard=hazard,
+            years=years,
         )
         for name, value in exceeded.items()
     }
