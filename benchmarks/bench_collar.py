@@ -80,9 +80,10 @@ def fem_step() -> float:
 
     from colonna.fem.model import stable_time_step
     from colonna.fem.solver import run
-    from colonna.studies.fem_study import build, load
+    from colonna.studies.models import build
+    from colonna.studies.study import load
 
-    study = load(Path(__file__).resolve().parents[1] / "studies" / "default.toml")
+    study = load(Path(__file__).resolve().parents[1] / "studies" / "default.toml").fem
     model = build(study)
     dt = stable_time_step(model, study.safety).dt
     run(model, study.ground, 10 * dt, progress=False, output_interval=10 * dt)

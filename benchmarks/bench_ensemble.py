@@ -18,7 +18,8 @@ import numpy as np
 
 from colonna.fem.model import stable_time_step
 from colonna.fem.solver import run_ensemble
-from colonna.studies.fem_study import build, load
+from colonna.studies.models import build
+from colonna.studies.study import load
 
 STUDY = Path(__file__).resolve().parents[1] / "studies" / "default.toml"
 STEPS = 4000
@@ -33,7 +34,7 @@ def _seconds(model, study, replicas: int, duration: float) -> float:
 
 
 def main() -> None:
-    study = load(STUDY)
+    study = load(STUDY).fem
     model = build(study)
     dt = stable_time_step(model, study.safety).dt
     duration = STEPS * dt

@@ -17,13 +17,14 @@ import numpy as np
 
 from colonna.fem.model import build_model, stable_time_step
 from colonna.fem.solver import run
-from colonna.studies.fem_study import build, load
+from colonna.studies.models import build
+from colonna.studies.study import load
 
 STUDY = Path(__file__).resolve().parents[1] / "studies" / "default.toml"
 
 
 def main() -> None:
-    study = load(STUDY)
+    study = load(STUDY).fem
     base = build(study)
     models = {
         enforcement: build_model(

@@ -215,7 +215,7 @@ def _full_runs(column, record, scales, duration) -> list[dict]:
     import dataclasses
     import math
 
-    from colonna.studies.fem_study import run_multibody
+    from colonna.studies.models import run_multibody
 
     alpha = column.rocking_block.alpha
     runs = []
@@ -332,8 +332,8 @@ def fem(folder: Path, cores: int) -> None:
 def _fem_dt(study: Path) -> float:
     """The FEM's time step (s) of a study file's column."""
     from colonna.fem.model import stable_time_step
-    from colonna.studies.fem_study import build
     from colonna.studies.fragility.runner import setup
+    from colonna.studies.models import build
     from colonna.studies.study import load
 
     column = setup(load(study)).column

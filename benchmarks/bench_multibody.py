@@ -19,14 +19,14 @@ import numpy as np
 from colonna.rigid import Block, pulse_from_ratios
 from colonna.rigid.multibody import multibody_spectrum, rock_multibody
 from colonna.studies.cli import resolve_study
-from colonna.studies.fem_study import load
+from colonna.studies.study import load
 
 TARGET_HISTORY = 0.2
 TARGET_SPECTRUM = 60.0
 
 
 def main() -> None:
-    study = load(resolve_study("default"))
+    study = load(resolve_study("default")).fem
     start = time.perf_counter()
     rock_multibody(
         study.rocking_block,

@@ -30,7 +30,8 @@ from colonna.meshes import column_mesh
 from colonna.rigid import _multibody as MK
 from colonna.rigid.block import Block
 from colonna.rigid.multibody import build_column
-from colonna.studies.fem_study import build, load
+from colonna.studies.models import build
+from colonna.studies.study import load
 
 STUDY = Path(__file__).resolve().parents[1] / "studies" / "default.toml"
 CALLS = 200_000
@@ -98,7 +99,7 @@ def _element_calls(law: str, offset: float) -> tuple[float, float]:
 
 
 def main() -> None:
-    study = load(STUDY)
+    study = load(STUDY).fem
     steps = 5000
     for law in LAWS:
         _per_step(study, law, 10)  # compilation

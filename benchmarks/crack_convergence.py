@@ -29,7 +29,7 @@ from colonna.fem.model import build_model
 from colonna.fem.solver import run, run_ensemble
 from colonna.meshes import column_mesh
 from colonna.rigid.multibody import rock_multibody
-from colonna.studies.fem_study import load
+from colonna.studies.study import load
 
 STUDY = Path(__file__).resolve().parents[1] / "studies" / "default.toml"
 DURATION = 1.0  # s: past the first peak of every setting (0.70-0.78 s)
@@ -240,7 +240,7 @@ def main() -> None:
     for a in sys.argv[1:]:
         if a.startswith("--sizes="):
             sizes = [float(v) for v in a.split("=", 1)[1].split(",")]
-    study = load(STUDY)
+    study = load(STUDY).fem
     if "--replicas" in sys.argv[1:]:
         rows = []
         for label, size, safety, tolerance, contact in REPLICA_SETTINGS:

@@ -19,7 +19,7 @@ estimates say so.
 Measured on that machine (2 cores): group 2.3 us + 11.3 ns a node per state-step, single 5.0 us
 + 29.4 ns, an output row 148 us + 12 ns a node a state (the fit within 10 % of each of the 12
 measurements). A study's estimate adds its cases' runs
-(:class:`studies.fem_study.FemWork`); runs that stop early (overturned, settled) cost less.
+(:class:`studies.work.FemWork`); runs that stop early (overturned, settled) cost less.
 """
 
 from __future__ import annotations

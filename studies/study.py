@@ -76,9 +76,10 @@ class Study:
     @cached_property
     def model(self) -> dict | None:
         """The FEM model of the study's own mesh as its runs build it
-        (:func:`studies.fem_study.model_record`: nodes, stable step, step used, penalties), built
+        (:func:`studies.models.model_record`: nodes, stable step, step used, penalties), built
         once; None for a kind that runs no FEM (its package has no ``fem_work``)."""
-        from .fem_study import column_of, model_record
+        from .fem_study import column_of
+        from .models import model_record
 
         if self.spec.column is None or not _runs_fem(self.kind):
             return None
@@ -99,7 +100,7 @@ class Study:
         A re-run is keyed by the file (study.toml, byte for byte), not by this record.
 
         ``model``: the FEM model of the study's mesh as built (nodes, elements, stable step,
-        penalties: :func:`studies.fem_study.model_record`); ``ground_motion``: the motion as
+        penalties: :func:`studies.models.model_record`); ``ground_motion``: the motion as
         applied (SI; a record's file by its SHA-256, its peak as read and as applied).
 
         And the study file's name and SHA-256, the colonna version and the command-line

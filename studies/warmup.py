@@ -126,7 +126,8 @@ def calibrate(repeats: int = 2) -> tuple[CostModel, list[dict]]:
 
     from ..fem.model import stable_time_step
     from .cost import fit
-    from .fem_study import build, from_dict, iter_fem
+    from .fem_study import from_dict
+    from .models import build, iter_fem
 
     data = tomllib.loads((Path(__file__).parent / "default.toml").read_text())
     measurements = []

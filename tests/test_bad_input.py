@@ -673,8 +673,8 @@ def test_every_shipped_study_is_well_within_the_work_limit(path):
     """The work limit refuses no shipped study: each asks for at most half of it (the largest,
     mesh-convergence, about 40 min of CPU), and for no more memory than a run may have."""
     from colonna.studies.driver import fem_work_of
-    from colonna.studies.fem_study import WORK_LIMIT_SECONDS, memory_limit
     from colonna.studies.study import load
+    from colonna.studies.work import WORK_LIMIT_SECONDS, memory_limit
 
     study = load(path)
     work = fem_work_of(study)
@@ -689,8 +689,8 @@ def test_the_spectrum_grids_on_either_side_of_the_work_limit():
     """The spectrum cross-check's --grid 16x16 (about 300 s on 2 cores) is well within the
     limit; 1000x1000 is not, and is found so without building its million points."""
     from colonna.studies.driver import fem_work_of
-    from colonna.studies.fem_study import WORK_LIMIT_SECONDS
     from colonna.studies.study import load
+    from colonna.studies.work import WORK_LIMIT_SECONDS
 
     path = ROOT / "studies" / "spectrum-crosscheck.toml"
     assert fem_work_of(load(path, {"grid": (16, 16)})).seconds <= 0.5 * WORK_LIMIT_SECONDS
@@ -699,7 +699,7 @@ def test_the_spectrum_grids_on_either_side_of_the_work_limit():
 
 def test_long_lifts_the_work_limit_but_not_the_memory_limit():
     from colonna.core.errors import InputError
-    from colonna.studies.fem_study import (
+    from colonna.studies.work import (
         NODE_STEP_SECONDS,
         WORK_LIMIT_SECONDS,
         FemWork,
@@ -718,9 +718,11 @@ def test_long_lifts_the_work_limit_but_not_the_memory_limit():
 
 def test_the_estimate_counts_the_steps_the_run_takes(tmp_path):
     """fem_work's state-steps are those of the run: its steps (summary) x its replicas."""
-    from colonna.studies.fem_study import fem_work, load, run_fem
+    from colonna.studies.models import run_fem
+    from colonna.studies.study import load
+    from colonna.studies.work import fem_work
 
-    study = load(_study(tmp_path, TINY))
+    study = load(_study(tmp_path, TINY)).fem
     result = run_fem(study, replicas=1)[0]
     work = fem_work(study, 3)
     assert work.state_steps == 3 * result.summary["steps"]

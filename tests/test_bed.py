@@ -257,7 +257,8 @@ def test_a_study_can_grade_its_mesh_to_the_toe():
     """[mesh] toe_size grades the study's own mesh at the base corners (its runs then resolve
     the toe, at a shorter step); the bed's springs still add up to k t width; the toe element
     can be no larger than the toe window."""
-    from colonna.studies.fem_study import build, from_dict
+    from colonna.studies.fem_study import from_dict
+    from colonna.studies.models import build
 
     data = {
         "column": {"height": 1.0, "width": 0.2},

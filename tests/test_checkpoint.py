@@ -25,7 +25,8 @@ import pytest
 
 from colonna.fem import checkpoint as ck
 from colonna.fem import solver
-from colonna.studies.fem_study import build, from_dict
+from colonna.studies.fem_study import from_dict
+from colonna.studies.models import build
 
 DEFAULT = Path(__file__).parents[1] / "studies" / "default.toml"
 DURATION = 0.8  # s: the pulse and some rocking after it

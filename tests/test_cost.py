@@ -11,7 +11,7 @@ import pytest
 
 from colonna.studies import cost
 from colonna.studies.cost import CostModel, fit
-from colonna.studies.fem_study import FemRun, FemWork
+from colonna.studies.work import FemRun, FemWork
 
 TRUE = CostModel(
     group_step=2e-6,
@@ -159,7 +159,7 @@ def test_the_cross_check_expects_its_fem_runs_to_stop_where_its_rigid_model_over
     duration's either way."""
     from colonna.studies.crosscheck.runner import expected_stop, fem_work
     from colonna.studies.driver import expected_work_of
-    from colonna.studies.fem_study import run_multibody
+    from colonna.studies.models import run_multibody
     from colonna.studies.study import load
 
     study = load(Path(__file__).parents[1] / "studies" / "default.toml")

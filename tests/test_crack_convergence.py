@@ -164,9 +164,9 @@ def _first_swing_medians(size, replicas=8, safety=0.9, **contact):
     study's bed) of its first peak of |theta| (rad) under the default pulse, and the replicas'
     (min, max)."""
     from colonna.fem.solver import run_ensemble
-    from colonna.studies.fem_study import load
+    from colonna.studies.study import load
 
-    study = load("studies/default.toml")
+    study = load("studies/default.toml").fem
     mesh = column_mesh(study.width, study.height, size, cracked=True, grading=study.grading)
     settings = dataclasses.replace(study.contact, **contact)
     model = build_model(mesh, study.stone, study.thickness, (), settings, bed=study.bed)

@@ -217,7 +217,7 @@ def test_multibody_default_top_load_with_fibre_collars_runs_to_its_overturning()
     import dataclasses
     from pathlib import Path
 
-    from colonna.studies.fem_study import run_multibody
+    from colonna.studies.models import run_multibody
     from colonna.studies.study import load
 
     study = load(Path(__file__).resolve().parents[1] / "studies" / "default-top-load.toml").fem

@@ -24,9 +24,10 @@ from colonna.fem.solver import (
     weak_ground_level,
     weak_tail_start,
 )
-from colonna.studies.fem_study import build, from_dict, iter_fem, run_fem
+from colonna.studies.fem_study import from_dict
 from colonna.studies.fragility import analysis
 from colonna.studies.fragility.models import fem_point
+from colonna.studies.models import build, iter_fem, run_fem
 
 # a small cracked column with one collar, cheap to run (66 nodes)
 COLUMN = """

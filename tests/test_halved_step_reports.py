@@ -1,11 +1,11 @@
 """Every study kind whose FEM ensembles can be rerun at half their step says so (issue 47).
 
 The cross-check's report says "Its step was halved" (tests/test_stable_step.py); the other
-kinds that run FEM ensembles through studies.fem_study.run_fem (collar design, mesh
+kinds that run FEM ensembles through studies.models.run_fem (collar design, mesh
 convergence, solid vs cracked, free rocking) keep each halved run's step_halvings, step_note
 and step in their summary.json (``halved_steps``) and say so in their report's opening data
 paragraph. The spectrum cross-check and the fragility study run their FEM points batched
-(studies.fem_study.iter_fem), which does not rerun them: a failed point stops the study.
+(studies.models.iter_fem), which does not rerun them: a failed point stops the study.
 
 As there: the tiny study on a lead bed with the onset limit lifted to 2.0, so that its FEM
 runs fail their balance at the first step and answer at half of it; two replicas, short runs."""

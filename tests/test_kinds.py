@@ -10,7 +10,7 @@ from pathlib import Path
 
 from tiny_study import TINY_STUDY
 
-from colonna.studies.fem_study import run_sdof
+from colonna.studies.models import run_sdof
 from colonna.studies.study import load
 
 KINDS_FOLDER = Path(__file__).parent / "data" / "kinds"

@@ -70,8 +70,14 @@ def test_the_import_reader_sees_every_form(tmp_path):
     assert imported_packages(module, "x") == {"rigid", "studies", "fem", "meshes", "core"}
 
 
-FEM_RUNS = {"run", "run_ensemble", "run_batch", "iter_batch"}
-RIGID_RUNS = {"rock", "rock_multibody"}
+FEM_RUNS = {"run", "run_ensemble", "run_batch", "iter_batch", "refine_window"}
+RIGID_RUNS = {
+    "rock",
+    "rock_multibody",
+    "multibody_outcome",
+    "overturning_spectrum",
+    "multibody_spectrum",
+}
 
 
 def _importers(module_suffixes: tuple[str, ...], names: set) -> dict:
@@ -100,23 +106,34 @@ def _importers(module_suffixes: tuple[str, ...], names: set) -> dict:
 
 
 def test_every_fem_run_of_a_study_goes_through_one_function():
-    """studies/ reaches the FEM solver's run functions in one place, fem_study (run_fem, and
-    iter_fem for a batch of pulses on one model), so the kinds cannot drift apart on the
-    arguments of one computation (issue 17)."""
-    callers = _importers(("solver",), FEM_RUNS)
-    assert set(callers) == {"fem_study.py:run_fem", "fem_study.py:iter_fem"}, callers
+    """studies/ reaches the FEM solver's run functions in one place, the gateway studies/models.py
+    (run_fem, iter_fem for a batch of pulses on one model, refine_toe_window for the
+    cross-check's toe windows), so the kinds cannot drift apart on the arguments of one
+    computation (issues 17, 49)."""
+    callers = _importers(("solver", "toe_stress"), FEM_RUNS)
+    assert set(callers) == {
+        "models.py:run_fem",
+        "models.py:iter_fem",
+        "models.py:refine_toe_window",
+    }, callers
 
 
 def test_every_rigid_run_of_a_study_goes_through_one_function():
-    """The rigid models of a study's column run in one place each, fem_study's run_sdof and
-    run_multibody, so that every kind starts them as its FEM (tilt, angular velocity, vertical
-    motion). Elsewhere only the command line (a block from flags, no study) and the Zhang &
-    Makris validation (the paper's dimensionless block) call them."""
-    callers = _importers(("solve", "multibody"), RIGID_RUNS)
+    """The rigid models of a study's column run in one place each, the gateway's (studies/
+    models.py) run_sdof and run_multibody, their fast paths without histories (the fragility's:
+    sdof_outcome on the kernel, run_multibody_outcome) and their spectra, so that every kind
+    starts them as its FEM (tilt, angular velocity, vertical motion). Elsewhere only the
+    command line (a block from flags, no study) and the Zhang & Makris validation (the paper's
+    dimensionless block) call them."""
+    callers = _importers(("solve", "multibody", "spectrum"), RIGID_RUNS)
     assert set(callers) == {
-        "fem_study.py:run_sdof",
-        "fem_study.py:run_multibody",
+        "models.py:run_sdof",
+        "models.py:run_multibody",
+        "models.py:run_multibody_outcome",
+        "models.py:sdof_spectrum",
+        "models.py:multibody_spectrum",
         "cli.py:_cmd_rigid",
+        "cli.py:_cmd_spectrum",
         "zhang_makris/runner.py:<module>",
     }, callers
 
@@ -134,6 +151,36 @@ def test_the_study_kinds_have_one_registry():
         module = kind.module()
         assert callable(module.run) and callable(module.write_report)
         assert module.__name__ == f"colonna.studies.{kind.package}"
+
+
+# the modules outside a kind's package that import it, each with why (docs/contributing.md): the
+# registry loads every kind by name (kinds.py, through importlib)
+KIND_IMPORTERS = {
+    ("colonna.studies.collar_design.runner", "crosscheck"): "runs the cross-check's cases",
+    ("colonna.studies.sweep", "crosscheck"): "the sweeps run the cross-check's cases",
+    ("colonna.studies.cli", "spectrum_crosscheck"): "the --grid option's parser",
+    ("colonna.studies.cli", "zhang_makris"): "colonna validate runs its validation",
+    ("colonna.studies.cli", "fragility"): "the fragility command's first screen in words",
+}
+
+
+def test_a_kind_package_is_imported_only_where_the_list_says():
+    """docs/contributing.md: "no other module names a kind"; its code is imported by name only
+    by the registry and by :data:`KIND_IMPORTERS` (a new importer is a decision: add it there
+    with its reason). An import that goes away may leave the list."""
+    from test_imports import import_graph
+
+    from colonna.studies.kinds import KINDS
+
+    packages = {f"colonna.studies.{kind.package}": kind.package for kind in KINDS.values()}
+    found = set()
+    for importer, imported in import_graph().items():
+        for module in imported:
+            for dotted, package in packages.items():
+                inside = importer == dotted or importer.startswith(dotted + ".")
+                if (module == dotted or module.startswith(dotted + ".")) and not inside:
+                    found.add((importer, package))
+    assert found <= set(KIND_IMPORTERS), sorted(found - set(KIND_IMPORTERS))
 
 
 # --- extension points: what adding a ground motion or a study kind touches (issue 34) -----------
@@ -212,3 +259,172 @@ def test_a_kind_is_named_only_in_its_package_and_the_registry():
                 if _names_kind(text, name) and folder not in path.parents:
                     found.append(f"{path.relative_to(ROOT)}:{lineno} names {name!r}")
     assert not found, "\n".join(found)
+
+
+# --- one gateway to the models (issue 49) -------------------------------------------------------
+
+
+def _dotted(name: str, path: Path) -> str:
+    """The package a module's relative imports are read from."""
+    return name if path.name == "__init__.py" else name.rpartition(".")[0]
+
+
+def private_imports(path: Path, name: str, modules: dict[str, Path]) -> list[str]:
+    """The private modules (a dotted part ``_x``, not ``__init__``) of colonna that module
+    ``name`` at ``path`` imports: by ``import``, ``from ... import`` (the module or a name of
+    it) or ``importlib.import_module`` with a literal string."""
+    from test_imports import imports_of
+
+    targets = imports_of(name, path, modules) | importlib_imports(name, path, modules)
+    return sorted(
+        t
+        for t in targets
+        if any(part.startswith("_") and not part.startswith("__") for part in t.split("."))
+    )
+
+
+def _literal_module(node: ast.Call, package: str, modules: dict[str, Path]) -> set[str]:
+    """The colonna modules an ``import_module(...)`` call can name: a literal string (relative
+    to ``package`` with a second argument), an f-string of ``__package__`` / ``__name__`` and
+    literal parts, or an f-string whose head is not known and whose literal tail ends a module
+    name (``f"{kind.module().__name__}.command"``: every module that ends so)."""
+    if not node.args:
+        return set()
+    arg = node.args[0]
+    if len(node.args) > 1 and isinstance(node.args[1], ast.Constant):
+        package = str(node.args[1].value)
+    if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
+        text = arg.value
+        if text.startswith("."):
+            dots = len(text) - len(text.lstrip("."))
+            base = package.split(".")
+            base = base[: len(base) - (dots - 1)]
+            text = ".".join(base + ([text.lstrip(".")] if text.lstrip(".") else []))
+        return {text} & set(modules)
+    if isinstance(arg, ast.JoinedStr):
+        parts, known = [], True
+        for value in arg.values:
+            if isinstance(value, ast.Constant):
+                parts.append(str(value.value))
+            elif ast.unparse(value.value) == "__package__":
+                parts.append(package)
+            else:
+                known = False
+                parts = []
+        text = "".join(parts)
+        if known:
+            return {text} & set(modules)
+        if text.startswith("."):
+            return {m for m in modules if m.endswith(text)}
+    return set()
+
+
+def importlib_imports(name: str, path: Path, modules: dict[str, Path]) -> set[str]:
+    """The colonna modules that module ``name`` imports through ``importlib.import_module``
+    (:func:`_literal_module`)."""
+    package = _dotted(name, path)
+    found: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Call) and (
+            getattr(node.func, "attr", None) == "import_module"
+            or getattr(node.func, "id", None) == "import_module"
+        ):
+            found |= _literal_module(node, package, modules)
+    return found - {name}
+
+
+GATEWAY = "colonna.studies.models"  # the one study module that reaches the kernels
+
+
+def test_no_study_module_imports_a_private_module():
+    """studies/ runs the solvers through their public functions, every run of a model through
+    studies/models.py (the gateway, the one module that may): no other study module imports a
+    private module of fem/, rigid/, meshes/ or core/ (``fem._kernels``, ``rigid._kernels``,
+    ``rigid._multibody``), not even to list the kernels a study compiles (the gateway names
+    them: ``models.kernels``)."""
+    from test_imports import module_names
+
+    modules = module_names()
+    found = {}
+    for name, path in modules.items():
+        if name.startswith("colonna.studies") and name != GATEWAY:
+            private = private_imports(path, name, modules)
+            if private:
+                found[str(path.relative_to(ROOT))] = private
+    assert not found, f"studies/ imports private modules (ask studies/models.py): {found}"
+
+
+def test_the_private_import_reader_sees_every_form(tmp_path):
+    """The scan above would pass vacuously if it missed an import form."""
+    from test_imports import module_names
+
+    modules = module_names()
+    forms = {
+        "from ..fem import _kernels\n": ["colonna.fem._kernels"],
+        "def f():\n    from ..rigid import _multibody as K\n": ["colonna.rigid._multibody"],
+        "from ..rigid._kernels import rk_run\n": ["colonna.rigid._kernels"],
+        "import colonna.fem._kernels\n": ["colonna.fem._kernels"],
+        "import importlib\nimportlib.import_module('colonna.rigid._kernels')\n": [
+            "colonna.rigid._kernels"
+        ],
+        "from importlib import import_module\nimport_module('._multibody', 'colonna.rigid')\n": [
+            "colonna.rigid._multibody"
+        ],
+        "from ..rigid.solve import rock\n": [],
+    }
+    for text, expected in forms.items():
+        path = tmp_path / "x.py"
+        path.write_text(text)
+        modules["colonna.studies.x"] = path  # read from tmp_path, as a study module
+        assert private_imports(path, "colonna.studies.x", modules) == expected, text
+
+
+# Import edges through importlib that close a cycle, allowed while their owners remove them;
+# each names why (as tests/test_imports.ALLOWED_CYCLE_EDGES for plain imports).
+# (cli -(importlib)-> fragility.command -> cli was one until the block and collar options left
+# cli.py for studies/options.py, issue 49)
+ALLOWED_IMPORTLIB_CYCLE_EDGES: dict[tuple[str, str], str] = {}
+
+
+# the registry of study kinds loads each kind's package (and its schema and command modules) by
+# name on first use: that is what it is for, and a kind's package imports the shared modules
+# that read the registry; its loads are not edges (a plugin, not a cycle of the tree's own)
+REGISTRY = "colonna.studies.kinds"
+
+
+def test_no_import_cycle_through_importlib():
+    """No import cycle, counting the modules loaded by ``importlib.import_module`` with a
+    literal name (or an f-string of literal parts, or one whose literal tail names a module:
+    a kind's ``command`` module), which the plain-import graph (tests/test_imports.py) does not
+    see: cli.py loads ``fragility.command`` so, and that module imported cli's private option
+    helpers. The registry's own loads of the kinds aside (:data:`REGISTRY`)."""
+    from test_imports import ALLOWED_CYCLE_EDGES, cycles, import_graph, module_names
+
+    modules = module_names()
+    graph = import_graph()
+    for name, path in modules.items():
+        if name != REGISTRY:
+            graph[name] |= importlib_imports(name, path, modules)
+    for importer, imported in {**ALLOWED_CYCLE_EDGES, **ALLOWED_IMPORTLIB_CYCLE_EDGES}:
+        graph[importer].discard(imported)
+    found = [" -> ".join(m.removeprefix("colonna.") for m in c) for c in cycles(graph)]
+    assert not found, "import cycles through importlib:\n" + "\n".join(found)
+
+
+def test_the_importlib_reader_resolves_literal_names(tmp_path):
+    """The cycle scan above would pass vacuously if it missed the forms colonna uses."""
+    from test_imports import module_names
+
+    modules = module_names()
+    path = tmp_path / "cli.py"
+    path.write_text(
+        "import importlib\n"
+        "a = importlib.import_module('colonna.studies.kinds')\n"
+        "b = importlib.import_module(f'{__package__}.collar_bench')\n"
+        "c = importlib.import_module(f'{kind.module().__name__}.command')\n"
+        "d = importlib.import_module(name)\n"
+    )
+    found = importlib_imports("colonna.studies.cli", path, modules)
+    commands = {m for m in modules if m.endswith(".command")}
+    assert commands and "colonna.studies.fragility.command" in commands
+    assert found == {"colonna.studies.kinds", "colonna.studies.collar_bench"} | commands

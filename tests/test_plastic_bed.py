@@ -140,7 +140,8 @@ def test_a_run_on_a_yielding_bed_closes_its_energy_balance_with_the_plastic_work
     lead; the column at rest presses 0.1 MPa): the bed's plastic work is a real share of what
     the run dissipates, the balance closes within 1 % of its scale, and no base node's pressure
     ever exceeds 1 MPa."""
-    from colonna.studies.fem_study import from_dict, run_fem
+    from colonna.studies.fem_study import from_dict
+    from colonna.studies.models import run_fem
 
     study = from_dict(_default_on_lead(0.225, yield_pressure=1e6))
     result = run_fem(study, replicas=1)[0]
@@ -170,7 +171,8 @@ def test_lead_yields_by_default_and_its_yield_is_stated():
 
 
 def test_a_bed_that_yields_under_the_column_at_rest_is_refused():
-    from colonna.studies.fem_study import from_dict, run_fem
+    from colonna.studies.fem_study import from_dict
+    from colonna.studies.models import run_fem
 
     data = _default_on_lead(0.225, yield_pressure=1e5)  # below the 0.5 MPa a bed plausibly has
     data["study"] = {"intended": ["base.yield_pressure"]}
@@ -183,7 +185,8 @@ def test_a_slot_starts_with_its_own_indentation_not_the_last_run_s():
     """A batch with fewer slots than runs puts the next run in the slot of one that ended: its
     bed starts from the start's indentation (none, or a restart's), not the last run's."""
     from colonna.fem.solver import _BatchState, _initial_state
-    from colonna.studies.fem_study import build, from_dict
+    from colonna.studies.fem_study import from_dict
+    from colonna.studies.models import build
 
     model = build(from_dict(_default_on_lead(0.225)))
     state = _BatchState(model, 2, 1, np.zeros((1, model.base_nodes.size)))

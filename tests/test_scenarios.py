@@ -262,10 +262,10 @@ def outcome_class(summary: dict, study_path: Path, out: Path) -> str:
     ends first) stays below the uplift threshold (1e-4 alpha,
     :func:`colonna.rigid.solve.motion_word`): elastic sway, no rocking."""
     from colonna.rigid.solve import UPLIFT_THRESHOLD
-    from colonna.studies.fem_study import load
     from colonna.studies.output import read_csv
+    from colonna.studies.study import load
 
-    study = load(study_path)
+    study = load(study_path).fem
     motion_end = max(study.ground.end_time, study.vertical.end_time)
     fem_model = summary["outcome"]["models"][0]
     assert fem_model["model"].startswith("FEM")

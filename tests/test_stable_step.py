@@ -17,7 +17,8 @@ import pytest
 
 from colonna.fem.model import CONTACT_ONSET_LIMIT, contact_frequency, stable_time_step
 from colonna.fem.solver import run
-from colonna.studies.fem_study import build, from_dict, run_fem
+from colonna.studies.fem_study import from_dict
+from colonna.studies.models import build, run_fem
 
 DEFAULT = Path(__file__).parents[1] / "studies" / "default.toml"
 
@@ -152,7 +153,7 @@ def test_batched_runs_are_rerun_at_half_their_step_as_an_ensemble_is():
     lead case at the linear bound's step alone (as above: it fails, and closes at half of it)
     under two pulses, batched."""
     from colonna.fem.solver import run_ensemble
-    from colonna.studies.fem_study import _run_settings, iter_fem
+    from colonna.studies.models import _run_settings, iter_fem
 
     data = _default_on(0.225, bed="lead", plastic=False)
     data["run"]["duration"] = 1.5

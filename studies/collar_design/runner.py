@@ -21,9 +21,9 @@ from ...rigid.design import (
 )
 from ..crosscheck.runner import fem_case
 from ..executor import RunOptions, run_cases
-from ..fem_study import FemWork, case_of, run_multibody, study_of_case
-from ..fem_study import fem_work as estimate_work
+from ..fem_study import case_of, study_of_case
 from ..guard import check_fem_results, halved_steps
+from ..models import run_multibody
 from ..outcome import (
     fem_answers,
     fem_model,
@@ -34,6 +34,8 @@ from ..outcome import (
 )
 from ..output import write_csv, write_json
 from ..study import Study
+from ..work import FemWork
+from ..work import fem_work as estimate_work
 
 ALPHAS = np.linspace(0.03, 0.4, 38)
 RATIOS = np.linspace(0.05, 1.0, 39)

@@ -32,19 +32,11 @@ from ...fem.solver import unreliable_reason
 from ...rigid.impacts import half_cycles, impact_ratios_from_peaks
 from ...rigid.multibody import MultibodySummary
 from ...rigid.solve import motion_word
-from ...rigid.spectrum import overturning_spectrum
 from ..executor import RunOptions, run_cases
-from ..fem_study import (
-    FemWork,
-    case_of,
-    mesh_uncertainty_sizes,
-    run_multibody,
-    run_sdof,
-    study_of_case,
-)
-from ..fem_study import fem_work as estimate_work
+from ..fem_study import case_of, mesh_uncertainty_sizes, study_of_case
 from ..guard import check_fem_results
 from ..kinds import kind_of_package
+from ..models import multibody_spectrum, run_multibody, run_sdof, sdof_spectrum
 from ..outcome import (
     QUESTIONS,
     collars_hold,
@@ -63,6 +55,8 @@ from ..outcome import (
 )
 from ..output import read_csv, write_csv, write_json
 from ..study import Study
+from ..work import FemWork
+from ..work import fem_work as estimate_work
 
 NOT_APPLICABLE = "not applicable"
 SDOF_HALF = "SDOF half block with collars (the paper's)"  # the model's name in the outcome
@@ -83,14 +77,14 @@ def fem_case(case: dict, directory: str) -> dict:
     ``[run] replicas``): ``summary`` is :func:`colonna.fem.ensemble.ensemble_summary` of the
     replicas' (landing-dependent numbers as median and band), ``replica_summaries`` each
     replica's own. The ensemble saves checkpoints in the case's folder as it goes, and a rerun
-    of an interrupted case goes on from the last (:func:`studies.fem_study.case_checkpoint`).
+    of an interrupted case goes on from the last (:func:`studies.models.case_checkpoint`).
     With ``toe_refinement`` it also saves where the toe stress's refinement
     starts (:func:`colonna.fem.toe_stress.refinement_start` of the replica whose toe stress is
     the median) as ``toe_start.npz``, and says so under ``toe_start`` (the replica and the
     state's SHA-256, :func:`colonna.fem.toe_stress.start_digest`): the refined windows are
     cases of their own (:func:`toe_case`)."""
     from ...fem.ensemble import ensemble_summary, median_replica
-    from ..fem_study import case_checkpoint, run_fem
+    from ..models import case_checkpoint, run_fem
 
     study = study_of_case(case)
     replicas = run_fem(
@@ -132,22 +126,16 @@ def toe_case(case: dict, directory: str) -> dict:
     """One window of the toe stress's refinement: the study's mesh with its toe zones refined
     ``case["refinement"]`` times, restarted from the state the FEM case saved in its folder
     (beside this case's: ``cases/fem``), whose SHA-256 ``case["start"]`` is an input of this
-    case, over the impact window (:func:`colonna.fem.toe_stress.refine_window`)."""
-    from ...fem.toe_stress import read_start, refine_window, start_digest
-    from ..fem_study import build, toe_mesh
+    case, over the impact window (:func:`studies.models.refine_toe_window`)."""
+    from ...fem.toe_stress import read_start, start_digest
+    from ..models import refine_toe_window
 
     study = study_of_case(case)
     path = Path(directory).parent / "fem" / TOE_START
     start = read_start(path)
     if start_digest(start) != case["start"]:
         raise StaleResultsError(f"{path} is not the state the FEM case saved: run with --force")
-    return refine_window(
-        build(study),
-        start,
-        toe_mesh(study, case["refinement"]),
-        study.ground,
-        vertical=study.vertical,
-    )
+    return refine_toe_window(study, start, case["refinement"])
 
 
 def refine_toe_stress(study, fem: dict, out: Path, options: RunOptions) -> dict | None:
@@ -274,8 +262,6 @@ def spectrum_case(case: dict, directory: str) -> dict:
     fine grid, and under ``multibody`` the rigid multibody model (the verdict's rigid
     reference) on a coarse grid over the same range (``case["multibody_grid"]``: omega ratios
     x amplitude ratios, default 7 x 6; its nodes nearest the study's pulse moved onto it)."""
-    from ...rigid.multibody import multibody_spectrum
-
     study = study_of_case(case)
     block = study.rocking_block
     omega_ratio = study.ground.omega / block.p
@@ -284,9 +270,7 @@ def spectrum_case(case: dict, directory: str) -> dict:
     amplitude_range = (1.0, max(2.0 * amplitude_ratio, 4.0))
     omegas = np.linspace(*omega_range, 60)
     amplitudes = np.linspace(*amplitude_range, 50)
-    spec = overturning_spectrum(
-        block, omegas, amplitudes, study.collars, model="nonlinear", pulse=study.ground.kind
-    )
+    spec = sdof_spectrum(study, omegas, amplitudes)
     data = spec.to_dict()
     data.update(study_omega_ratio=omega_ratio, study_amplitude_ratio=amplitude_ratio)
 
@@ -298,15 +282,11 @@ def spectrum_case(case: dict, directory: str) -> dict:
 
     n_omega, n_amplitude = case.get("multibody_grid", (7, 6))
     mb = multibody_spectrum(
-        block,
+        study,
         through_study(omega_range, n_omega, omega_ratio),
         through_study(
             amplitude_range, n_amplitude, amplitude_ratio, lowest=1.0
         ),  # below 1 the column does not rock
-        study.collars,
-        cracked=study.cracked,
-        friction=study.contact.friction,
-        pulse=study.ground.kind,
     )
     data["multibody"] = dict(mb.to_dict(), cracked=study.cracked, friction=study.contact.friction)
     write_json(Path(directory) / "spectrum.json", data)
@@ -457,7 +437,7 @@ MULTIBODY_SECONDS_PER_SECOND = 0.75
 def rigid_work(fem) -> FemWork:
     """The rigid cases as work of the study's first stage (for its wall time): the multibody
     runs and, with a pulse, the spectra."""
-    from ..fem_study import FemRun
+    from ..work import FemRun
 
     runs = [
         FemRun(0, 0, 0, 0, "multibody", other_seconds=MULTIBODY_SECONDS_PER_SECOND * fem.duration)
@@ -478,7 +458,8 @@ def toe_window_work(fem) -> FemWork:
     a mesh file)."""
     from ...fem.model import stable_time_step
     from ...fem.toe_stress import model_on
-    from ..fem_study import FemRun, build, toe_mesh
+    from ..models import build, toe_mesh
+    from ..work import FemRun
 
     if fem.mesh_file is not None or not fem.toe_refinements:
         return FemWork()
@@ -1286,7 +1267,8 @@ def _bed(study, results: dict) -> dict:
     peak rotation and whether it overturned."""
     import numpy as np
 
-    from ..fem_study import toe_mesh, toe_resolution
+    from ..fem_study import toe_resolution
+    from ..models import toe_mesh
 
     rule = toe_resolution(study)
 

@@ -3,13 +3,14 @@
 What each run gives is :data:`studies.fragility.analysis.RUN_KEYS`, the same for every model:
 
 * SDOF (:func:`sdof_runs`): the paper's half block with its collar springs, nonlinear, from
-  rest, as :func:`studies.fem_study.run_sdof` runs it (:func:`colonna.rigid.solve.rock`'s
+  rest, as :func:`studies.models.run_sdof` runs it (:func:`colonna.rigid.solve.rock`'s
   kernel, the same parameters from :func:`colonna.rigid.solve.kernel_params`), without the
-  history: a fragility needs a run's outcome, its largest |theta| and the collars' largest
-  stress, and the springs' stress grows with |theta| (:func:`colonna.rigid.collars.
-  collar_yield_rotation`), so the largest stress is the stress at the largest |theta|. Each run
-  lasts the record plus 20 / p (rock's default): the largest |theta| after the motion is the
-  swing in progress when it ends (each later swing starts from an impact with less energy).
+  history (:func:`studies.models.sdof_outcome`): a fragility needs a run's outcome, its
+  largest |theta| and the collars' largest stress, and the springs' stress grows with |theta|
+  (:func:`colonna.rigid.collars.collar_yield_rotation`), so the largest stress is the stress
+  at the largest |theta|. Each run lasts the record plus 20 / p (rock's default): the largest
+  |theta| after the motion is the swing in progress when it ends (each later swing starts
+  from an impact with less energy).
   With collars a run ends once, after the record, it can no longer overturn (the kernel's
   early exit, which takes that swing's peak from its turning point: the same answer, 37 %
   less time); without collars it runs the whole tail (the kernel's early exit there may stop
@@ -22,11 +23,11 @@ What each run gives is :data:`studies.fragility.analysis.RUN_KEYS`, the same for
   (rock_multibody's model without histories, the steps at rest skipped, the contact
   problem's exact solve by Gaussian elimination: the answers within the contact solver's own
   scatter, docs/fragility.md); with plastic collars, vertical motion or an initial tilt,
-  :func:`studies.fem_study.run_multibody` itself. Its step, where the collars set it, is the
+  :func:`studies.models.run_multibody` itself. Its step, where the collars set it, is the
   study's ``multibody_step`` of their stability limit (:func:`multibody_steps`: by default a
   quarter, twice the single run's eighth), the crack contacts' touching tolerance the single
   run's (the fits at an eighth and a sixteenth are within a few % of it, docs/fragility.md).
-* FEM (:func:`fem_point`): :func:`studies.fem_study.iter_fem` on the study's mesh, settled-stop
+* FEM (:func:`fem_point`): :func:`studies.models.iter_fem` on the study's mesh, settled-stop
   (a run ends once it can no longer overturn), one run per record and level, the runs of one
   model batched on one kernel.
 """
@@ -53,24 +54,19 @@ FREE_TIME_P = 20.0  # s x p: how long the rigid runs follow free rocking after t
 
 def sdof_runs(study, record: Record, scales, *, rtol: float = SDOF_RTOL) -> list[dict]:
     """The SDOF runs of ``record`` times each of ``scales`` (:mod:`module notes <.models>`)."""
-    from ...rigid import _kernels as K
     from ...rigid.collars import collar_response
-    from ...rigid.solve import kernel_params
+    from ..models import sdof_outcome
 
     block = study.rocking_block
     collars = study.collars
     alpha = block.alpha
     duration = record.end_time + FREE_TIME_P / block.p
-    out = np.zeros((1, 3))
-    impacts = np.zeros((1, 3))
     runs = []
     for scale in scales:
-        P, rec_t, rec_a = kernel_params(block, record.scaled(float(scale)), collars, "nonlinear")
-        status, n_imp, max_theta, _, _, t_end = K.rk_run(
-            P, rec_t, rec_a, duration, rtol, SDOF_ATOL, bool(collars), 0.0, out, impacts
+        ground = record.scaled(float(scale))
+        overturned, n_imp, max_theta, t_over = sdof_outcome(
+            study, ground, duration, rtol=rtol, atol=SDOF_ATOL
         )
-        overturned = status == K.OVERTURNED
-        t_over = float(t_end) if overturned else None
         peak = 0.5 * math.pi if overturned else float(max_theta)
         utilisation = None
         if collars:
@@ -96,11 +92,11 @@ def sdof_runs(study, record: Record, scales, *, rtol: float = SDOF_RTOL) -> list
 def multibody_runs(study, record: Record, scales, collar_step: float | None = None) -> list[dict]:
     """The multibody runs of ``record`` times each of ``scales``: with elastic collars (or
     none) :func:`colonna.rigid.multibody.multibody_outcome` (no histories, the steps at rest
-    skipped), else :func:`studies.fem_study.run_multibody`'s full run (a plastic collar's
+    skipped), else :func:`studies.models.run_multibody`'s full run (a plastic collar's
     fracture is read from its history). ``collar_step``: the step where the collars set it,
     as a fraction of their stability limit 2/omega, with the single run's crack tolerance
     (:func:`multibody_steps`; None: the single run's step)."""
-    from ..fem_study import run_multibody
+    from ..models import run_multibody
 
     block = study.rocking_block
     duration = record.end_time + FREE_TIME_P / block.p
@@ -169,25 +165,22 @@ def outcome_run(
     touching_dt: float | None = None,
 ):
     """:func:`colonna.rigid.multibody.multibody_outcome` of the study's column under ``record``
-    times ``scale`` from rest (the settings of :func:`studies.fem_study.run_multibody`);
+    times ``scale`` from rest (the settings of :func:`studies.models.run_multibody`);
     ``stop_when_decided``: as multibody_outcome's (False runs the free tail to its end); ``dt``
     and ``touching_dt``: its step and the crack's tolerance (s; None: the single run's,
     :func:`multibody_steps`). The
     fragility's limit states do not use the impact count: the run does not keep it
-    (impacts_needed False: its stop need not wait for the last impact; impacts None)."""
-    from ...rigid.multibody import multibody_outcome
+    (impacts_needed False: its stop need not wait for the last impact; impacts None). Run
+    through the gateway, :func:`studies.models.run_multibody_outcome`."""
+    from ..models import run_multibody_outcome
 
-    return multibody_outcome(
-        study.rocking_block,
+    return run_multibody_outcome(
+        study,
         record.scaled(float(scale)),
-        study.collars,
-        cracked=study.cracked,
-        friction=study.contact.friction,
-        duration=duration,
+        duration,
+        stop_when_decided=stop_when_decided,
         dt=dt,
         touching_dt=touching_dt,
-        stop_when_decided=stop_when_decided,
-        impacts_needed=False,
     )
 
 

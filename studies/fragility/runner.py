@@ -36,10 +36,11 @@ import numpy as np
 
 from ...core.errors import InputError
 from ..executor import RunOptions, run_cases
-from ..fem_study import FemStudy, FemWork, case_of, column_of, study_of_case
+from ..fem_study import FemStudy, case_of, column_of, study_of_case
 from ..guard import check_fem_results
 from ..output import write_json
 from ..study import Study
+from ..work import FemWork
 from . import analysis
 from .models import (
     FREE_TIME_P,
@@ -175,10 +176,10 @@ def rigid_case(case: dict, directory: str) -> dict:
 
 def fem_cases(cases: list[dict], directories: list[str]):
     """FEM runs of records at levels (one each), those of one model batched on one kernel
-    (:func:`studies.fem_study.iter_fem`, settled-stop, also in a record's weak tail:
+    (:func:`studies.models.iter_fem`, settled-stop, also in a record's weak tail:
     :func:`colonna.fem.solver.iter_batch`'s ``stop_in_weak_tail``). Yields (index in cases,
     result)."""
-    from ..fem_study import iter_fem
+    from ..models import iter_fem
 
     studies = [study_of_case(case) for case in cases]
     for index, fem in iter_fem(studies, stop_in_weak_tail=True):
@@ -209,7 +210,7 @@ def fem_work(study: Study) -> FemWork:
     """The FEM work of a fragility study (:func:`studies.driver.check_work`): one run per
     record and level, each the record's duration (a settled-stop run costs less)."""
     from ...fem.solver import BATCH_SLOTS
-    from ..fem_study import fem_work as estimate_work
+    from ..work import fem_work as estimate_work
 
     spec = study.spec.fragility
     if spec is not None and "fem" not in spec.models:

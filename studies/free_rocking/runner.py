@@ -30,12 +30,14 @@ from ...core.errors import InputError
 from ...rigid.block import Block
 from ...rigid.impacts import impact_ratios_from_peaks
 from ..executor import RunOptions, run_cases
-from ..fem_study import FemStudy, FemWork, case_of, from_spec, run_multibody, study_of_case
-from ..fem_study import fem_work as estimate_work
+from ..fem_study import FemStudy, case_of, from_spec, study_of_case
 from ..guard import check_fem_results, halved_steps, reliability
+from ..models import run_multibody
 from ..outcome import none_assessed, not_applicable, overturned_at
 from ..output import write_csv, write_json
 from ..study import Study
+from ..work import FemWork
+from ..work import fem_work as estimate_work
 
 
 def defaults(data: dict) -> dict:
@@ -54,7 +56,7 @@ def free_rocking_case(case: dict, directory: str) -> dict:
     tilt = case["tilt_fraction"] * alpha
     if case["kind"] == "fem":
         from ...fem.ensemble import band
-        from ..fem_study import run_fem
+        from ..models import run_fem
 
         replicas = run_fem(replace(study, initial_tilt=tilt))
         result = replicas[0]

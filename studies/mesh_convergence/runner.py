@@ -9,8 +9,7 @@ from pathlib import Path
 
 from ...fem.convergence import convergence_table
 from ..executor import RunOptions
-from ..fem_study import FemStudy, FemWork, case_of
-from ..fem_study import fem_work as estimate_work
+from ..fem_study import FemStudy, case_of
 from ..guard import halved_steps
 from ..outcome import (
     fem_answers,
@@ -24,6 +23,8 @@ from ..outcome import (
 )
 from ..study import Study
 from ..sweep import run_sweep
+from ..work import FemWork
+from ..work import fem_work as estimate_work
 
 
 def mesh_sizes(study: Study) -> list[float]:

@@ -8,8 +8,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from ..executor import RunOptions
-from ..fem_study import FemStudy, FemWork, case_of, from_spec, rocking_alpha
-from ..fem_study import fem_work as estimate_work
+from ..fem_study import FemStudy, case_of, from_spec, rocking_alpha
 from ..guard import halved_steps
 from ..outcome import (
     fem_answers,
@@ -23,6 +22,8 @@ from ..outcome import (
 )
 from ..study import Study
 from ..sweep import run_sweep
+from ..work import FemWork
+from ..work import fem_work as estimate_work
 
 # each variant: (cracked, with the study's collars)
 VARIANTS = {

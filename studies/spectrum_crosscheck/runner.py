@@ -33,20 +33,14 @@ from ...fem.ensemble import NO, YES
 from ...rigid.impacts import half_cycles
 from .. import schema
 from ..executor import RunOptions, run_cases
-from ..fem_study import (
-    FemStudy,
-    FemWork,
-    case_of,
-    from_spec,
-    run_multibody,
-    run_sdof,
-    study_of_case,
-)
-from ..fem_study import fem_work as estimate_work
+from ..fem_study import FemStudy, case_of, from_spec, study_of_case
 from ..guard import check_fem_results, halved_steps
+from ..models import run_multibody, run_sdof
 from ..outcome import QUESTIONS, count_answer, grid_outcome, not_assessed, outcome
 from ..output import write_json
 from ..study import Study
+from ..work import FemWork
+from ..work import fem_work as estimate_work
 from .schema import Grid
 
 DEFAULT_X_RANGE = {"omega_ratios": [1.0, 8.0], "time_scales": [0.5, 2.0]}
@@ -91,7 +85,7 @@ def grid_of(
 def grid_point_case(case: dict, directory: str) -> dict:
     """One pulse through the FEM, multibody and SDOF models, alone: modes and the FEM's
     safety numbers (what :func:`grid_points_case` gives for the same point in a batch)."""
-    from ..fem_study import run_fem
+    from ..models import run_fem
 
     study = _point_study(case)
     return _point_result(case, study, run_fem(study, replicas=1)[0])
@@ -99,11 +93,11 @@ def grid_point_case(case: dict, directory: str) -> dict:
 
 def grid_points_case(cases: list[dict], directories: list[str]):
     """Grid points through the FEM, multibody and SDOF models, the FEM runs of the points that
-    share a model advancing together on the batched kernel (:func:`studies.fem_study.iter_fem`,
+    share a model advancing together on the batched kernel (:func:`studies.models.iter_fem`,
     a full group of the kernel per pass through the stiffness; a pulse that ends leaves its
     slot to the next). Yields (index in cases, result) as each point completes; a point's
     result is the same as :func:`grid_point_case`'s for it alone."""
-    from ..fem_study import iter_fem
+    from ..models import iter_fem
 
     studies = [_point_study(case) for case in cases]
     for index, fem in iter_fem(studies):
@@ -234,7 +228,7 @@ def fem_work(study: Study) -> FemWork:
     large even at the shortest point's duration is given as that (a lower bound), without
     building every column of it."""
     from ...fem.solver import BATCH_SLOTS
-    from ..fem_study import WORK_LIMIT_SECONDS
+    from ..work import WORK_LIMIT_SECONDS
 
     points = Points(study)
     models: dict = {}  # the model of each mesh, built once

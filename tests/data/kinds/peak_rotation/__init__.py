@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from colonna.studies.fem_study import run_sdof
+from colonna.studies.models import run_sdof
 from colonna.studies.outcome import model_outcome, none_assessed, outcome
 from colonna.studies.output import write_json
 from colonna.studies.report import render_page
