@@ -156,22 +156,21 @@ def _announce_compilation(kernels, what: str, seconds: int) -> None:
 
 
 def _multibody_kernels(spectrum: bool = False) -> list:
-    from .models import kernels
+    from ..rigid import _multibody as K
 
-    return kernels("multibody spectrum" if spectrum else "multibody")
+    return [K.spectrum_modes if spectrum else K.simulate]
 
 
 def _study_kernels(study) -> tuple[list, str]:
     """The numba kernels a study runs, announced before their first compilation, and their
     name: the FEM's and the multibody's, a fragility's only those of its models (an SDOF-only
-    one none of them, so that no run announces a compilation it never does): the gateway to the
-    models names them (:func:`studies.models.kernels`)."""
-    from .models import kernels as of_models
+    one none of them, so that no run announces a compilation it never does)."""
+    from ..fem import _kernels as fem_kernels
 
     fragility = study.spec.fragility
     fem = fragility is None or "fem" in fragility.models
     multibody = fragility is None or "multibody" in fragility.models
-    kernels = of_models(*(m for m, used in (("fem", fem), ("multibody", multibody)) if used))
+    kernels = ([fem_kernels.advance] if fem else []) + (_multibody_kernels() if multibody else [])
     names = [name for name, used in (("FEM", fem), ("multibody", multibody)) if used]
     return kernels, " and ".join(names) + " kernels"
 
@@ -407,13 +406,11 @@ def resolve_study(name_or_path: str) -> Path:
 
 def _cmd_fem(args) -> dict:
     from ..fem.solver import unreliable_reason
-    from .models import run_fem
-    from .study import load
-    from .work import fem_work, require_bounded_work
+    from .fem_study import fem_work, load, require_bounded_work, run_fem
 
     # (no compile notice here: the run's own checks (stable step, mesh, output folder) come
     # inside run_fem, and a notice must not come before an input error)
-    study = load(resolve_study(args.study)).fem
+    study = load(resolve_study(args.study))
     require_bounded_work(fem_work(study), long=args.long, what=f"{args.study}: this run")
     result = run_fem(study, replicas=1, out_dir=args.out, progress=True)[0]
     why = unreliable_reason([result.summary])  # a blow-up, or a balance past its limit
@@ -431,8 +428,7 @@ def _cmd_fem(args) -> dict:
 def _cmd_study(args) -> dict:
     from .driver import check_study_file, run_study_file
     from .executor import available_cores, default_workers
-    from .kinds import KINDS
-    from .spectrum_crosscheck import parse_grid_size
+    from .kinds import KINDS, study_options, take_options
 
     study = check_study_file(resolve_study(args.study))  # read and validated once, here
     kind = KINDS[study.kind]
@@ -443,7 +439,8 @@ def _cmd_study(args) -> dict:
             f"--workers = {workers} is outside 1..{cores} "
             f"(this machine has {cores} core{'s' if cores > 1 else ''})"
         )
-    grid = parse_grid_size(args.grid) if args.grid is not None else None
+    given = {name: getattr(args, name.replace("-", "_")) for name in study_options()}
+    options = take_options(study.kind, {k: v for k, v in given.items() if v is not None})
     if args.paper is not None and not args.pdf:
         raise InputError("--paper sets the PDF's paper: give it with --pdf")
     if args.pdf:
@@ -465,8 +462,8 @@ def _cmd_study(args) -> dict:
             workers=workers,
             scheduler=args.scheduler,
             force=args.force,
-            grid=grid,
             long=args.long,
+            options=options,
         )
     if args.pdf:
         from .pdf import write_pdf
@@ -591,7 +588,7 @@ def _cmd_warmup(args) -> None:
 
 
 def _add_long_option(parser) -> None:
-    from .work import WORK_LIMIT_SECONDS
+    from .fem_study import WORK_LIMIT_SECONDS
 
     parser.add_argument(
         "--long",
@@ -710,7 +707,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_long_option(p)
     p.set_defaults(func=_cmd_fem)
 
-    from .kinds import DEFAULT_KIND, KINDS
+    from .kinds import DEFAULT_KIND, KINDS, study_options
 
     what = (
         f"run a study file of any kind, the one its [study] kind names ({', '.join(KINDS)}; "
@@ -733,11 +730,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="local worker processes, 1 to the cores this machine has (default: the cores, "
         "at most 8)",
     )
-    p.add_argument(
-        "--grid",
-        help="NxM: the spectrum cross-check's grid, N omega ratios by M "
-        "amplitude ratios (overrides [grid] points)",
-    )
+    for name, text in study_options().items():  # a kind's own (studies/kinds.py: options)
+        p.add_argument(f"--{name}", help=text)
     p.add_argument(
         "--pdf",
         action="store_true",

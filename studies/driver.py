@@ -18,7 +18,7 @@ import numpy as np
 
 from ..core.errors import InputError
 from .executor import RunOptions, StudyClock, before_computing, study_clock
-from .kinds import KINDS
+from .kinds import KINDS, take_options
 from .output import record_inputs, write_csv
 from .study import Study, load
 
@@ -43,24 +43,22 @@ def run_study_file(
     force: bool = False,
     grid: tuple[int, int] | None = None,
     long: bool = False,
+    options: dict | None = None,
 ) -> dict:
     """Run (or resume) a study (a :class:`Study`, or the path of its file, then read and
     validated once: :func:`studies.study.load`) into ``out`` and write its report; returns the
-    summary. Options that only some kinds take (``grid``) are refused for the others. A study
+    summary. Options that only some kinds take (``grid``; ``options``: any of them, as values
+    or as the command line's texts) are refused for the others. A study
     whose FEM runs ask for more than the work limit is refused before anything is written
     (:func:`check_work`), unless ``long``."""
-    given = {k: v for k, v in {"grid": grid}.items() if v is not None}
+    given = {k: v for k, v in {"grid": grid, **(options or {})}.items() if v is not None}
     if not isinstance(study, Study):
         study = load(study, given)
     elif given:
         study = replace(study, options={**study.options, **given})
     kind = KINDS[study.kind]
-    for option in study.options:
-        if option not in kind.options:
-            takers = [name for name, k in KINDS.items() if option in k.options]
-            raise InputError(
-                f"--{option} applies to studies of kind {' or '.join(takers)}, not {study.kind!r}"
-            )
+    if study.options:  # each read by its kind, or refused for another kind's
+        study = replace(study, options=take_options(study.kind, study.options))
     work = check_work(study, long=long)
     clock = StudyClock()
 
@@ -107,7 +105,7 @@ def work_estimate(work, workers: int | None) -> str:
     machine's ``workers`` (:func:`wall_estimate`), from its cost model (calibrated here by
     ``colonna warmup``, or not: the line says which), and the FEM work behind it."""
     from .cost import cost_model
-    from .units import duration_text as _hours
+    from .fem_study import _hours
 
     share = max(1, workers or 1)
     source = (
@@ -125,12 +123,12 @@ def work_estimate(work, workers: int | None) -> str:
 
 def check_work(study: Study, *, long: bool = False):
     """Refuse, before anything runs or is written, a study whose FEM runs ask for more work
-    than :data:`studies.work.WORK_LIMIT_SECONDS` of CPU (unless ``long``) or more memory
-    than one run may have (:func:`studies.work.require_bounded_work`). The work is the
+    than :data:`studies.fem_study.WORK_LIMIT_SECONDS` of CPU (unless ``long``) or more memory
+    than one run may have (:func:`studies.fem_study.require_bounded_work`). The work is the
     kind's own estimate (its package's ``fem_work(study)``, with ``FEWER``: its ways to ask for
     less); a study its kind would refuse for another reason is left to the kind, which says
     why in its own words. Returns the work (none where the kind left it)."""
-    from .work import FemWork, require_bounded_work
+    from .fem_study import FemWork, require_bounded_work
 
     try:
         work = fem_work_of(study)
@@ -152,10 +150,10 @@ def expected_work_of(study: Study, work):
 
 
 def fem_work_of(study: Study):
-    """The FEM work (:class:`studies.work.FemWork`) of a study: its kind's own estimate
+    """The FEM work (:class:`studies.fem_study.FemWork`) of a study: its kind's own estimate
     (its package's ``fem_work``: every FEM run it makes, as its runner makes them), nothing
     for a kind without FEM runs."""
-    from .work import FemWork
+    from .fem_study import FemWork
 
     estimate = getattr(KINDS[study.kind].module(), "fem_work", None)
     return FemWork() if estimate is None else estimate(study)

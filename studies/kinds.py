@@ -41,8 +41,10 @@ class StudyKind:
     fragility's probabilities at the design intensity; studies.cli.short_summary), whether its
     [ground] is one motion (``ground_motion``; not a grid of them, nor none), the tables of
     its own it reads (``tables``: the table's name -> its model, a class of the package's module
-    ``schema``; a study of another kind may not give them), the command-line options it takes
-    (``options``), whether it needs a [column] (``column``) and whether it sets the pulse's
+    ``schema``; a study of another kind may not give them), the options of ``colonna study``
+    it takes (``options``: the option's name -> its help; its package's ``parse_option(name,
+    text)``, where it has one, reads its value: :func:`take_options`), whether it needs a
+    [column] (``column``) and whether it sets the pulse's
     amplitude and frequency itself (``sets_pulse``: a study file gives only its shape);
     ``command``: the help line of a
     command of its own, ``colonna <kind>``, whose options its package's ``add_arguments(parser)``
@@ -53,7 +55,7 @@ class StudyKind:
     short: tuple[str, ...] = ()
     ground_motion: bool = True
     tables: Mapping[str, str] = field(default_factory=dict)
-    options: tuple[str, ...] = ()
+    options: Mapping[str, str] = field(default_factory=dict)
     column: bool = True
     sets_pulse: bool = False
     command: str = ""  # the help of a fast command of its own (colonna <kind>), if it has one
@@ -92,7 +94,10 @@ KINDS = {
         ("outcome",),
         ground_motion=False,
         tables={"grid": "Grid"},
-        options=("grid",),
+        options={
+            "grid": "NxM: the spectrum cross-check's grid, N omega ratios by M amplitude "
+            "ratios (overrides [grid] points)"
+        },
         sets_pulse=True,
     ),
     "free-rocking": StudyKind(
@@ -126,6 +131,36 @@ def register(name: str, kind: StudyKind) -> None:
     if name in KINDS:
         raise ValueError(f"a study kind {name!r} is registered already")
     KINDS[name] = kind
+
+
+def study_options() -> dict[str, str]:
+    """The options of ``colonna study`` that kinds take (``--grid``): name -> its help, in the
+    order of the registry."""
+    found: dict[str, str] = {}
+    for kind in KINDS.values():
+        for name, text in kind.options.items():
+            found.setdefault(name, text)
+    return found
+
+
+def take_options(name: str, given: dict) -> dict:
+    """The options ``given`` to a study of kind ``name`` (option -> the command line's text, or
+    a value from Python), each read by the kind's ``parse_option(option, text)`` where it is a
+    text and the package has one (``--grid 8x8`` -> (8, 8)); an InputError for an option that
+    the kind does not take, naming the kinds that do."""
+    from ..core.errors import InputError
+
+    kind = KINDS[name]
+    values = {}
+    for option, value in given.items():
+        if option not in kind.options:
+            takers = [other for other, k in KINDS.items() if option in k.options]
+            raise InputError(
+                f"--{option} applies to studies of kind {' or '.join(takers)}, not {name!r}"
+            )
+        parse = getattr(kind.module(), "parse_option", None)
+        values[option] = parse(option, value) if parse and isinstance(value, str) else value
+    return values
 
 
 def kind_tables() -> tuple[str, ...]:

@@ -10,4 +10,11 @@ writes ``index.html`` from it; ``grid_of`` and ``parse_grid_size`` give its grid
 from .report import write_report
 from .runner import FEWER, fem_work, grid_of, parse_grid_size, run
 
-__all__ = ["FEWER", "fem_work", "grid_of", "parse_grid_size", "run", "write_report"]
+
+def parse_option(name: str, text: str):
+    """Its option of ``colonna study`` (studies/kinds.py: ``options``) from the command line:
+    --grid NxM, the grid's counts (:func:`.runner.parse_grid_size`)."""
+    return parse_grid_size(text)
+
+
+__all__ = ["FEWER", "fem_work", "grid_of", "parse_grid_size", "parse_option", "run", "write_report"]
