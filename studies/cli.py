@@ -428,7 +428,8 @@ def _cmd_fem(args) -> dict:
 def _cmd_study(args) -> dict:
     from .driver import check_study_file, run_study_file
     from .executor import available_cores, default_workers
-    from .kinds import KINDS, study_options, take_options
+    from .kinds import KINDS
+    from .spectrum_crosscheck import parse_grid_size
 
     study = check_study_file(resolve_study(args.study))  # read and validated once, here
     kind = KINDS[study.kind]
@@ -439,8 +440,7 @@ def _cmd_study(args) -> dict:
             f"--workers = {workers} is outside 1..{cores} "
             f"(this machine has {cores} core{'s' if cores > 1 else ''})"
         )
-    given = {name: getattr(args, name.replace("-", "_")) for name in study_options()}
-    options = take_options(study.kind, {k: v for k, v in given.items() if v is not None})
+    grid = parse_grid_size(args.grid) if args.grid is not None else None
     if args.paper is not None and not args.pdf:
         raise InputError("--paper sets the PDF's paper: give it with --pdf")
     if args.pdf:
@@ -462,8 +462,8 @@ def _cmd_study(args) -> dict:
             workers=workers,
             scheduler=args.scheduler,
             force=args.force,
+            grid=grid,
             long=args.long,
-            options=options,
         )
     if args.pdf:
         from .pdf import write_pdf
@@ -524,15 +524,18 @@ INTENSITY_WORDS = {
 
 def _design_probabilities(summary: dict) -> dict:
     """A fragility's first screen in words: per limit state, the question 'Probability of
-    ... at IM = x?' and each model's answer as its report's table gives it."""
-    from .fragility.report import MODEL_NAMES, design_rows
+    ... at IM = x?' and each model's answer as its report's table gives it; with a hazard,
+    then 'Mean annual frequency of ... at the site?' and each model's lambda, return period
+    and probability in T years with their intervals and what of lambda lies beyond the data,
+    as its risk table gives them (issue 50)."""
+    from .fragility.report import MODEL_NAMES, design_rows, risk_rows
 
     unit = summary.get("intensity_unit")
     at = (
         f"{INTENSITY_WORDS.get(summary['intensity'], summary['intensity'])} = "
         f"{summary['design_intensity']:.4g}{f' {unit}' if unit and unit != '-' else ''}"
     )
-    return {
+    short = {
         f"Probability of {row['state']} at {at}?": "; ".join(
             f"{MODEL_NAMES.get(model, model)}: {cell['text']}"
             + (f" ({cell['note']})" if cell.get("note") else "")
@@ -540,6 +543,18 @@ def _design_probabilities(summary: dict) -> dict:
         )
         for row in design_rows(summary)
     }
+    for row in risk_rows(summary):
+        years = f"{summary['hazard']['years']:g}"
+        answer = row.get("text") or (
+            f"{row['frequency']} per year, return period {row['period']} years, "
+            f"P in {years} years {row['probability']}"
+            + (f" ({'; '.join(row['words'])})" if row["words"] else "")
+        )
+        question = f"Mean annual frequency of {row['state']} at the site?"
+        short[question] = "; ".join(
+            w for w in (short.get(question), f"{row['model']}: {answer}") if w
+        )
+    return short
 
 
 # --- colonna schema ------------------------------------------------------------------------------
@@ -707,7 +722,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_long_option(p)
     p.set_defaults(func=_cmd_fem)
 
-    from .kinds import DEFAULT_KIND, KINDS, study_options
+    from .kinds import DEFAULT_KIND, KINDS
 
     what = (
         f"run a study file of any kind, the one its [study] kind names ({', '.join(KINDS)}; "
@@ -730,8 +745,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="local worker processes, 1 to the cores this machine has (default: the cores, "
         "at most 8)",
     )
-    for name, text in study_options().items():  # a kind's own (studies/kinds.py: options)
-        p.add_argument(f"--{name}", help=text)
+    p.add_argument(
+        "--grid",
+        help="NxM: the spectrum cross-check's grid, N omega ratios by M "
+        "amplitude ratios (overrides [grid] points)",
+    )
     p.add_argument(
         "--pdf",
         action="store_true",

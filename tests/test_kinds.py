@@ -13,7 +13,7 @@ from tiny_study import TINY_STUDY
 
 from colonna.studies import kinds, schema
 from colonna.studies.cli import main
-from colonna.studies.fem_study import run_sdof
+from colonna.studies.models import run_sdof
 from colonna.studies.study import load
 
 KINDS_FOLDER = Path(__file__).parent / "data" / "kinds"

@@ -191,6 +191,22 @@ def test_the_report_opens_with_the_risk_table_beside_the_probabilities(with_haza
     assert (out / "figures" / "hazard.png").exists()
 
 
+def test_the_command_line_prints_the_risk_as_the_report_s_first_screen(with_hazard):
+    """`colonna study`'s printed first screen: after the probabilities at the design
+    intensity, each limit state's lambda at the site per model, as the report's risk table,
+    with what of it lies beyond the data."""
+    from colonna.studies.cli import short_summary
+
+    out, s = with_hazard
+    short = short_summary(("design",), s, out / "index.html")
+    questions = [q for q in short if q.startswith("Mean annual frequency of")]
+    assert questions and list(short)[-len(questions) :] == questions  # after the probabilities
+    answer = short["Mean annual frequency of overturning at the site?"]
+    over = s["limit_states"]["sdof"]["overturning"]["ida"]["risk"]
+    assert answer.startswith(f"SDOF half block: {over['frequency']:.2e} [")
+    assert "P in 50 years" in answer and "extrapolated" in answer
+
+
 def test_a_hazard_of_another_measure_than_the_fragility_s_is_refused(tmp_path, capsys):
     write_pulse_suite(tmp_path)
     text = TINY_FRAGILITY.replace('intensity = "pga_rocking"', 'intensity = "pgv_rocking"')

@@ -144,6 +144,7 @@ def risk_rows(s: dict) -> list[dict]:
                 probability=f"{r['probability']:.3g} [{p_low:.3g}, {p_high:.3g}]",
                 beyond=_beyond_text(s["hazard"], r),
                 qualified=bool(r["beyond"]),
+                words=r["beyond"],
             )
             rows.append(row)
     return rows
