@@ -428,8 +428,7 @@ def _cmd_fem(args) -> dict:
 def _cmd_study(args) -> dict:
     from .driver import check_study_file, run_study_file
     from .executor import available_cores, default_workers
-    from .kinds import KINDS
-    from .spectrum_crosscheck import parse_grid_size
+    from .kinds import KINDS, study_options, take_options
 
     study = check_study_file(resolve_study(args.study))  # read and validated once, here
     kind = KINDS[study.kind]
@@ -440,7 +439,8 @@ def _cmd_study(args) -> dict:
             f"--workers = {workers} is outside 1..{cores} "
             f"(this machine has {cores} core{'s' if cores > 1 else ''})"
         )
-    grid = parse_grid_size(args.grid) if args.grid is not None else None
+    given = {name: getattr(args, name.replace("-", "_")) for name in study_options()}
+    options = take_options(study.kind, {k: v for k, v in given.items() if v is not None})
     if args.paper is not None and not args.pdf:
         raise InputError("--paper sets the PDF's paper: give it with --pdf")
     if args.pdf:
@@ -462,8 +462,8 @@ def _cmd_study(args) -> dict:
             workers=workers,
             scheduler=args.scheduler,
             force=args.force,
-            grid=grid,
             long=args.long,
+            options=options,
         )
     if args.pdf:
         from .pdf import write_pdf
@@ -722,7 +722,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_long_option(p)
     p.set_defaults(func=_cmd_fem)
 
-    from .kinds import DEFAULT_KIND, KINDS
+    from .kinds import DEFAULT_KIND, KINDS, study_options
 
     what = (
         f"run a study file of any kind, the one its [study] kind names ({', '.join(KINDS)}; "
@@ -745,11 +745,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="local worker processes, 1 to the cores this machine has (default: the cores, "
         "at most 8)",
     )
-    p.add_argument(
-        "--grid",
-        help="NxM: the spectrum cross-check's grid, N omega ratios by M "
-        "amplitude ratios (overrides [grid] points)",
-    )
+    for name, text in study_options().items():  # a kind's own (studies/kinds.py: options)
+        p.add_argument(f"--{name}", help=text)
     p.add_argument(
         "--pdf",
         action="store_true",
