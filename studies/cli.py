@@ -156,21 +156,22 @@ def _announce_compilation(kernels, what: str, seconds: int) -> None:
 
 
 def _multibody_kernels(spectrum: bool = False) -> list:
-    from ..rigid import _multibody as K
+    from .models import kernels
 
-    return [K.spectrum_modes if spectrum else K.simulate]
+    return kernels("multibody spectrum" if spectrum else "multibody")
 
 
 def _study_kernels(study) -> tuple[list, str]:
     """The numba kernels a study runs, announced before their first compilation, and their
     name: the FEM's and the multibody's, a fragility's only those of its models (an SDOF-only
-    one none of them, so that no run announces a compilation it never does)."""
-    from ..fem import _kernels as fem_kernels
+    one none of them, so that no run announces a compilation it never does): the gateway to the
+    models names them (:func:`studies.models.kernels`)."""
+    from .models import kernels as of_models
 
     fragility = study.spec.fragility
     fem = fragility is None or "fem" in fragility.models
     multibody = fragility is None or "multibody" in fragility.models
-    kernels = ([fem_kernels.advance] if fem else []) + (_multibody_kernels() if multibody else [])
+    kernels = of_models(*(m for m, used in (("fem", fem), ("multibody", multibody)) if used))
     names = [name for name, used in (("FEM", fem), ("multibody", multibody)) if used]
     return kernels, " and ".join(names) + " kernels"
 
@@ -406,11 +407,13 @@ def resolve_study(name_or_path: str) -> Path:
 
 def _cmd_fem(args) -> dict:
     from ..fem.solver import unreliable_reason
-    from .fem_study import fem_work, load, require_bounded_work, run_fem
+    from .models import run_fem
+    from .study import load
+    from .work import fem_work, require_bounded_work
 
     # (no compile notice here: the run's own checks (stable step, mesh, output folder) come
     # inside run_fem, and a notice must not come before an input error)
-    study = load(resolve_study(args.study))
+    study = load(resolve_study(args.study)).fem
     require_bounded_work(fem_work(study), long=args.long, what=f"{args.study}: this run")
     result = run_fem(study, replicas=1, out_dir=args.out, progress=True)[0]
     why = unreliable_reason([result.summary])  # a blow-up, or a balance past its limit
@@ -603,7 +606,7 @@ def _cmd_warmup(args) -> None:
 
 
 def _add_long_option(parser) -> None:
-    from .fem_study import WORK_LIMIT_SECONDS
+    from .work import WORK_LIMIT_SECONDS
 
     parser.add_argument(
         "--long",

@@ -105,7 +105,7 @@ def work_estimate(work, workers: int | None) -> str:
     machine's ``workers`` (:func:`wall_estimate`), from its cost model (calibrated here by
     ``colonna warmup``, or not: the line says which), and the FEM work behind it."""
     from .cost import cost_model
-    from .fem_study import _hours
+    from .units import duration_text as _hours
 
     share = max(1, workers or 1)
     source = (
@@ -123,12 +123,12 @@ def work_estimate(work, workers: int | None) -> str:
 
 def check_work(study: Study, *, long: bool = False):
     """Refuse, before anything runs or is written, a study whose FEM runs ask for more work
-    than :data:`studies.fem_study.WORK_LIMIT_SECONDS` of CPU (unless ``long``) or more memory
-    than one run may have (:func:`studies.fem_study.require_bounded_work`). The work is the
+    than :data:`studies.work.WORK_LIMIT_SECONDS` of CPU (unless ``long``) or more memory
+    than one run may have (:func:`studies.work.require_bounded_work`). The work is the
     kind's own estimate (its package's ``fem_work(study)``, with ``FEWER``: its ways to ask for
     less); a study its kind would refuse for another reason is left to the kind, which says
     why in its own words. Returns the work (none where the kind left it)."""
-    from .fem_study import FemWork, require_bounded_work
+    from .work import FemWork, require_bounded_work
 
     try:
         work = fem_work_of(study)
@@ -150,10 +150,10 @@ def expected_work_of(study: Study, work):
 
 
 def fem_work_of(study: Study):
-    """The FEM work (:class:`studies.fem_study.FemWork`) of a study: its kind's own estimate
+    """The FEM work (:class:`studies.work.FemWork`) of a study: its kind's own estimate
     (its package's ``fem_work``: every FEM run it makes, as its runner makes them), nothing
     for a kind without FEM runs."""
-    from .fem_study import FemWork
+    from .work import FemWork
 
     estimate = getattr(KINDS[study.kind].module(), "fem_work", None)
     return FemWork() if estimate is None else estimate(study)
