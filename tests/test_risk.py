@@ -191,6 +191,34 @@ def test_the_report_opens_with_the_risk_table_beside_the_probabilities(with_haza
     assert (out / "figures" / "hazard.png").exists()
 
 
+def test_the_hazard_figure_keeps_its_texts_inside_and_the_page_draws_it(
+    with_hazard, tmp_path, monkeypatch
+):
+    """The report written again with every saved figure checked once drawn (no label, legend
+    or tick cut at its edge: studies.report.texts_outside), then every figure of the page
+    drawn in a headless browser (skipped where there is none)."""
+    from matplotlib.figure import Figure
+
+    from colonna.studies.fragility.report import write_report
+    from colonna.studies.report import texts_outside
+
+    out, _ = with_hazard
+    keep = Figure.savefig
+    checked = {}
+
+    def spy(fig, fname, *args, **kwargs):
+        checked.setdefault(str(fname), texts_outside(fig))
+        return keep(fig, fname, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", spy)
+    write_report(out)
+    hazard = [name for name in checked if name.endswith("hazard.png")]
+    assert hazard and checked[hazard[0]] == []
+    from browser import assert_every_figure_drawn
+
+    assert_every_figure_drawn(out / "index.html", tmp_path, at_least=4)
+
+
 def test_the_command_line_prints_the_risk_as_the_report_s_first_screen(with_hazard):
     """`colonna study`'s printed first screen: after the probabilities at the design
     intensity, each limit state's lambda at the site per model, as the report's risk table,
