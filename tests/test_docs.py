@@ -151,3 +151,47 @@ def test_the_readme_python_example_prints_what_it_says():
     namespace: dict = {}
     exec("\n".join(body), namespace)
     assert repr(eval(expression, namespace)) == shown
+
+
+def _layout_entry(folder: str, text: str | None = None) -> str:
+    """The text of one folder's entry in docs/layout.md's tree (or in ``text``): its first line
+    starts with the folder's name, its next lines are indented past it."""
+    text = (DOCS / "layout.md").read_text() if text is None else text
+    block = text.split("\n\n")[1]
+    entry = re.search(rf"^    {re.escape(folder)}\s.*?(?=^    \S|\Z)", block, flags=re.S | re.M)
+    assert entry is not None, folder
+    return entry.group(0)
+
+
+def _core_modules_named(text: str | None = None) -> set[str]:
+    """The modules of colonna/core that the layout's ``colonna/`` entry names (``name.py``)."""
+    core = _layout_entry("colonna/", text).split("core/", 1)[1]
+    return set(re.findall(r"\b(\w+)\.py\b", core)) - {"__init__"}
+
+
+def test_the_layout_lists_every_core_module_and_every_kind():
+    """docs/layout.md names each module of the shared core (colonna/core) and each study kind's
+    package, and only those that are there (issue 49: 7 of 15 core modules and the fragility
+    kind were missing)."""
+    from colonna.studies.kinds import KINDS
+
+    present = {p.stem for p in (ROOT / "colonna" / "core").glob("*.py")} - {"__init__"}
+    named = _core_modules_named()
+    assert named == present, (sorted(present - named), sorted(named - present))
+    studies = _layout_entry("studies/")
+    kinds = re.search(r"one package per study kind \((.*?):", studies, flags=re.S)
+    assert kinds is not None
+    listed = set(re.findall(r"(\w+)/", kinds.group(1)))
+    assert listed == {kind.package for kind in KINDS.values()}, listed
+
+
+def test_the_layout_reader_sees_a_missing_module():
+    """The check above would pass vacuously if the reader found nothing: in a layout whose
+    core lists two modules, it finds those two (the file's own lists the core's errors.py)."""
+    text = (
+        "# Layout\n\n    pyproject.toml\n    colonna/    __init__.py: the package;\n"
+        "                core/, errors (errors.py), ground (ground.py)\n"
+        "    rigid/      block\n"
+    )
+    assert _core_modules_named(text) == {"errors", "ground"}
+    assert "errors" in _core_modules_named()
