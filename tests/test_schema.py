@@ -440,3 +440,22 @@ def test_every_error_at_once_includes_the_implausible_values():
     assert "column.height = -1.0" in lines[0]
     assert "stone.E = 50000.0" in lines[1] and "did you mean 50000 MPa (5e10 Pa)?" in lines[1]
     assert "stone.fc = 110 Pa" in lines[2] and "did you mean 110 MPa (1.1e8 Pa)?" in lines[2]
+
+
+def test_each_kind_s_own_table_lives_in_its_package():
+    """studies/schema.py holds the tables every kind shares; a kind's own table is a model of
+    its package's schema.py, named by its registry line (issue 49), and a study of the kind is
+    checked against it through the registry."""
+    shared = {
+        name
+        for name, obj in vars(schema).items()
+        if isinstance(obj, type) and issubclass(obj, schema.Table)
+    }
+    tables = 0
+    for name, kind in KINDS.items():
+        for table, model in kind.table_models().items():
+            assert model.__module__ == f"{kind.module().__name__}.schema", (name, table)
+            assert model.__name__ not in shared and table not in schema.StudyFile.model_fields
+            assert schema.study_model(name).model_fields[table].annotation in (model, model | None)
+            tables += 1
+    assert tables >= 4  # grid, free_rocking, convergence, fragility
