@@ -135,12 +135,13 @@ def risk_rows(s: dict) -> list[dict]:
             r = fit["risk"]
             low, high = r["frequency_interval"]
             period = r["return_period"]
+            short, long = r["return_period_interval"]
             p_low, p_high = r["probability_interval"]
             row.update(
                 key=f"risk.lambda({state})_{model}",
                 fit=FIT_NAMES[which],
                 frequency=f"{r['frequency']:.2e} [{low:.2e}, {high:.2e}]",
-                period="never" if period is None else f"{period:.3g}",
+                period=f"{_years(period)} [{_years(short)}, {_years(long)}]",
                 probability=f"{r['probability']:.3g} [{p_low:.3g}, {p_high:.3g}]",
                 beyond=_beyond_text(s["hazard"], r),
                 qualified=bool(r["beyond"]),
@@ -150,18 +151,27 @@ def risk_rows(s: dict) -> list[dict]:
     return rows
 
 
+def _years(period: float | None) -> str:
+    """A return period in years as people write it: 1790, 45.2; "never" for none."""
+    if period is None:
+        return "never"
+    return f"{period:.0f}" if period >= 100.0 else f"{period:.3g}"
+
+
+def _share(fraction: float) -> str:
+    """A share of lambda in per cent: 16 %, 0.12 %, "< 0.1 %"."""
+    return f"{100 * fraction:.2g} %" if fraction >= 1e-3 else "< 0.1 %"
+
+
 def _beyond_text(hazard: dict, r: dict) -> str:
     """What of a lambda is read beyond the data, said always: the shares of lambda from
     capacities below and above the levels run (the fit's extrapolation) and the hazard table
     (held below it; extrapolated or truncated above), then the words where they matter."""
-    levels = (
-        f"levels run {100 * r['below_levels']:.2g} % below, {100 * r['above_levels']:.2g} % above"
-    )
+    levels = f"levels run {_share(r['below_levels'])} below, {_share(r['above_levels'])} above"
     if hazard["form"] == "table":
         how = "extrapolated" if hazard["beyond"] == "extrapolate" else "truncated"
         levels += (
-            f"; hazard table {100 * r['below']:.2g} % below (held), "
-            f"{100 * r['above']:.2g} % above ({how})"
+            f"; hazard table {_share(r['below'])} below (held), {_share(r['above'])} above ({how})"
         )
     return levels + (": " + "; ".join(r["beyond"]) if r["beyond"] else "")
 
