@@ -246,6 +246,30 @@ def test_a_hazard_of_another_measure_than_the_fragility_s_is_refused(tmp_path, c
     assert "fragility.intensity = 'pgv_rocking'" in err and "give a hazard of PGV" in err
 
 
+def test_the_study_reads_its_hazard_relative_to_itself_in_the_fragility_s_measure(tmp_path):
+    """[hazard] file relative to the study file, read when the study is set up (before any
+    run), in PGA / a_up; the power law's k0 becomes k0 a_up^k; a missing or bad file is one
+    error naming the study and the file."""
+    from colonna.studies.fragility.runner import setup
+    from colonna.studies.study import load
+
+    write_pulse_suite(tmp_path)
+    (tmp_path / "site.csv").write_text(EXAMPLE.read_text())
+    study = tmp_path / "study.toml"
+    study.write_text(TINY_FRAGILITY + '\n[hazard]\nfile = "site.csv"\nyears = 100\n')
+    s = setup(load(study))
+    a_up = s.column.rocking_block.uplift_acceleration()
+    table = read_hazard(EXAMPLE)
+    assert s.years == 100 and s.hazard.intensity == "pga_rocking"
+    np.testing.assert_allclose(s.hazard.im, np.array(table.im) / a_up, rtol=1e-12)
+    study.write_text(TINY_FRAGILITY + '\n[hazard]\nk0 = 2e-4\nk = 2.5\nintensity = "pga"\n')
+    s = setup(load(study))
+    assert s.hazard.k0 == pytest.approx(2e-4 * a_up**-2.5) and s.years == 50
+    study.write_text(TINY_FRAGILITY + '\n[hazard]\nfile = "none.csv"\n')
+    with pytest.raises(InputError, match=r"study.toml: .*none.csv: cannot be read"):
+        setup(load(study))
+
+
 @pytest.mark.parametrize(
     ("table", "words"),
     [
