@@ -158,7 +158,6 @@ def test_the_study_kinds_have_one_registry():
 KIND_IMPORTERS = {
     ("colonna.studies.collar_design.runner", "crosscheck"): "runs the cross-check's cases",
     ("colonna.studies.sweep", "crosscheck"): "the sweeps run the cross-check's cases",
-    ("colonna.studies.cli", "spectrum_crosscheck"): "the --grid option's parser",
     ("colonna.studies.cli", "zhang_makris"): "colonna validate runs its validation",
     ("colonna.studies.cli", "fragility"): "the fragility command's first screen in words",
 }
