@@ -68,10 +68,13 @@ def write_report(out: Path) -> Path:
     spectrum_file = out / "cases" / "spectrum" / "spectrum.json"  # pulses only
     spectrum = json.loads(spectrum_file.read_text()) if spectrum_file.exists() else None
     (out / "figures").mkdir(exist_ok=True)
+    # the figures in the page's order, each appended by its function where it has something
+    # to draw (collars, a plastic collar, a field file, a pulse's spectrum)
     figs: list = []
     sdof = _sdof_block(summary)
     _rotation_figure(out, summary, runs, figs)
-    # the deformed column at peak rotation: crack, collars, toe pressure
+    # the deformed column and the base pressure at one instant: its peak rotation, or where
+    # the run overturned its largest rotation before overturning
     state = drawn_state(out, runs["fem"])
     _deformed_figure(out, runs["fem"], figs, state)
     if spectrum is not None:  # a record has no place on the rigid spectrum
