@@ -485,7 +485,8 @@ def short_summary(keys, summary: dict, report: Path) -> dict:
     words (``keys``, a kind's ``short``): "outcome", each model's motion, then each question
     with its answer and qualifier (a stress answer of a column that overturns reads 'no
     (until overturning at t = ...)', never a bare 'no'); "design", the fragility's probability
-    of each limit state at the design intensity, per model. Internal keys stay in
+    of each limit state at the design intensity, per model; "answer", the collar layout's
+    question and its one-sentence answer. Internal keys stay in
     summary.json."""
     short: dict = {"report": str(report)}
     for key in keys:
@@ -509,6 +510,8 @@ def short_summary(keys, summary: dict, report: Path) -> dict:
                 )
         elif key == "design" and value:
             short.update(_design_probabilities(summary))
+        elif key == "answer" and value:  # the collar layout: its question, its sentence
+            short["Which collars does this column need?"] = value
     return short
 
 

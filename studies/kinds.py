@@ -119,6 +119,9 @@ KINDS = {
         tables={"fragility": "Fragility"},
         command="fragility of the SDOF alone over a record suite (IDA or stripes), fast: the fits",
     ),
+    "collar-layout": StudyKind(
+        "collar_layout", ("answer",), ground_motion=False, tables={"layout": "Layout"}
+    ),
 }
 
 DEFAULT_KIND = "cross-check"  # a study file without [study] kind

@@ -885,7 +885,11 @@ def test_every_kind_prints_its_first_screen_in_words():
     from colonna.studies.kinds import KINDS
 
     for name, kind in KINDS.items():
-        assert kind.short in (("outcome",), ("design",)), name
+        assert kind.short in (("outcome",), ("design",), ("answer",)), name
+    layout = short_summary(
+        ("answer",), {"answer": "2 x 8 x 60 mm S275 at 0.50, 3.50 m: ..."}, Path("r")
+    )
+    assert layout["Which collars does this column need?"].startswith("2 x 8 x 60 mm S275")
     summary = {
         "intensity": "pga_rocking",
         "intensity_unit": "-",

@@ -160,6 +160,9 @@ KIND_IMPORTERS = {
     ("colonna.studies.sweep", "crosscheck"): "the sweeps run the cross-check's cases",
     ("colonna.studies.cli", "zhang_makris"): "colonna validate runs its validation",
     ("colonna.studies.cli", "fragility"): "the fragility command's first screen in words",
+    ("colonna.studies.collar_layout.runner", "fragility"): "each layout's fragility is the "
+    "fragility kind's: its records' IMs, ladder, multibody runs, FEM stripe and risk entry",
+    ("colonna.studies.collar_layout.schema", "fragility"): "the same intensity measures",
 }
 
 

@@ -1,0 +1,768 @@
+"""The collar-layout study: which collars does this column need, against its site's risk?
+
+Each layout of the catalogue ([layout] counts x sections x grades, the collars evenly spaced) is
+judged by the mean annual frequency of overturning at the site, lambda = int P[overturn | im]
+|d lambda_IM(im)| (:mod:`colonna.core.risk`), P from the IDA capacities of the record suite
+(each record's first exceedance on the ladder, :func:`studies.fragility.analysis.first_exceedance`)
+through the rigid multibody model.
+
+1. **Screening, elastic collars** (:func:`elastic_walk`): the collars' stiffness sets the
+   elastic model's motion, not their grade, so each count x section is run once per record,
+   up the ladder to its first overturning, with the collars' largest stress at every level. A
+   plastic collar follows the elastic one exactly until it first yields, so for each grade a
+   record whose run overturned before any collar reached f_y has that capacity in the plastic
+   model too; one whose collars yielded first has its capacity at or above the first level
+   at which they did. That gives each layout a bracket of lambda (:func:`bracket`): the
+   upper end with every such record's capacity at its first yield, the lower end with it
+   never overturning. Layouts whose lower end misses the target fail here.
+2. **Refinement, plastic collars** (:func:`plastic_walk`): the lightest layouts still in play,
+   up to [layout] shortlist, have those records run with plastic collars from their first
+   yield up to the first overturning: their lambda (with its bootstrap band) and the share of
+   records that fracture a collar at the design intensity.
+3. **Confirmation, FEM** (:func:`fem_stripe`): the chosen layout's FEM runs of every record at
+   the design intensity (the hazard's at [layout] design_return_period), against the multibody
+   model's stripe there.
+The lightest layout that meets the target, with no more records fracturing a collar at the
+design intensity than [layout] fracture_fraction allows, is the answer."""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ...core import fragility as fits
+from ...core import risk
+from ...core.errors import InputError
+from ...core.hazard import HazardCurve, annual_frequency, log_annual_frequency
+from ..executor import RunOptions, run_cases
+from ..fem_study import FemStudy, case_of, column_of, study_of_case
+from ..fragility import analysis
+from ..fragility.models import FREE_TIME_P, multibody_runs
+from ..fragility.runner import _unit, intensity_of
+from ..guard import check_fem_results
+from ..output import write_json
+from ..study import Study
+from .schema import STEEL_GRADES, Layout
+
+STEEL_DENSITY = 7850.0  # kg/m^3 (EN 1991-1-1, Table A.4)
+FEWER = ", fewer layout.counts, sections or grades, a shorter ladder, or layout.fem = false"
+
+
+def defaults(data: dict) -> dict:
+    """The study file's tables with this kind's defaults: [ground] pulse = "none" (the suite's
+    records are the motions; a copy)."""
+    data = copy.deepcopy(data)
+    data.setdefault("ground", {"pulse": "none"})
+    return data
+
+
+@dataclasses.dataclass(frozen=True)
+class Candidate:
+    """One layout of the catalogue: ``count`` collars of a t x h (m) flat bar of ``grade``,
+    evenly spaced; its steel mass (kg)."""
+
+    count: int
+    t: float
+    h: float
+    grade: str
+    mass: float
+
+    @property
+    def fy(self) -> float:
+        """Pa (no collars: inf, nothing to yield)."""
+        return STEEL_GRADES.get(self.grade, math.inf)
+
+    @property
+    def section(self) -> tuple[int, float, float]:
+        """What the elastic screening runs it as (the grade does not change it)."""
+        return (self.count, self.t, self.h)
+
+    @property
+    def label(self) -> str:
+        if self.count == 0:
+            return "no collars"
+        return f"{self.count} x {self.t * 1e3:g} x {self.h * 1e3:g} mm {self.grade}"
+
+
+@dataclasses.dataclass(frozen=True)
+class Setup:
+    """What a collar-layout study runs, read once from the validated study."""
+
+    spec: Layout
+    column: FemStudy  # without collars
+    suite: tuple
+    records: tuple
+    intensity: np.ndarray  # each record's IM
+    levels: np.ndarray  # the ladder with the design intensity
+    design: float  # the design intensity (the hazard's at the design return period)
+    design_level: int  # its index in levels
+    hazard: HazardCurve  # in the layout's measure
+    years: float
+    target: float  # the target mean annual frequency of overturning (1/year)
+    heights: dict  # count -> the collars' heights (m)
+    candidates: tuple  # Candidate, lightest first
+
+
+def collar_heights(height: float, count: int, end_distance: float) -> list[float]:
+    """The heights (m) of ``count`` evenly spaced collars: the lowest and highest
+    ``end_distance`` from the shaft's ends, the others evenly between; one at mid-height."""
+    if count == 0:
+        return []
+    if count == 1:
+        return [0.5 * height]
+    return list(np.linspace(end_distance, height - end_distance, count))
+
+
+def catalogue(spec: Layout, ring_length: float) -> tuple[Candidate, ...]:
+    """Every layout of the catalogue (no collars once, if counts holds 0), lightest first."""
+    found = []
+    for count in sorted(set(spec.counts)):
+        if count == 0:
+            found.append(Candidate(0, 0.0, 0.0, "", 0.0))
+            continue
+        for t, h in spec.sections:
+            for grade in spec.grades:
+                mass = count * t * h * ring_length * STEEL_DENSITY
+                found.append(Candidate(count, t, h, grade, mass))
+    return tuple(sorted(found, key=lambda c: (c.mass, c.count, c.fy)))
+
+
+def intensity_at_return_period(hazard, period: float, ladder) -> float:
+    """The intensity whose annual frequency of exceedance is 1 / ``period`` on the hazard curve
+    (log-log, bisection on ln IM); an InputError where the curve does not reach it within a
+    factor 1000 of the ladder."""
+    target = -math.log(period)
+    low, high = math.log(min(ladder) / 1e3), math.log(max(ladder) * 1e3)
+    f_low, f_high = (float(log_annual_frequency(hazard, np.array([x]))[0]) for x in (low, high))
+    if not f_high <= target <= f_low:
+        raise InputError(
+            f"layout.design_return_period = {period:g} years: the hazard's annual frequencies "
+            f"span {math.exp(f_high):.3g} to {math.exp(f_low):.3g} per year over "
+            f"{math.exp(low):.3g} to {math.exp(high):.3g}: 1 / {period:g} lies outside"
+        )
+    for _ in range(200):
+        mid = 0.5 * (low + high)
+        if float(log_annual_frequency(hazard, np.array([mid]))[0]) > target:
+            low = mid
+        else:
+            high = mid
+    return math.exp(0.5 * (low + high))
+
+
+def setup(study: Study) -> Setup:
+    """The :class:`Setup` of a collar-layout study (an InputError naming the key where it cannot
+    be run)."""
+    from ...core.intensity import intensity_measures
+    from ...core.suite import load_suite
+
+    source = study.source
+    spec = study.spec.layout
+    if spec is None:
+        raise InputError(
+            f"{source}: a collar-layout study needs a [layout] table (suite, a target, the "
+            "catalogue)"
+        )
+    if study.spec.collar:
+        raise InputError(
+            f"{source}: a collar-layout study chooses the collars itself: leave [[collar]] out "
+            "(the catalogue is [layout] counts, sections and grades)"
+        )
+    if study.spec.hazard is None:
+        raise InputError(
+            f"{source}: a collar-layout study needs the site's [hazard] (file, or k0 and k with "
+            "intensity): its target is a risk at the site"
+        )
+    ground = study.data.get("ground", {})
+    if set(ground) - {"pulse"} or ground.get("pulse", "none") != "none":
+        raise InputError(
+            f"{source}: [ground] of a collar-layout study is the suite's records "
+            "(layout.suite): leave [ground] out or set pulse = 'none'"
+        )
+    column = column_of(study.spec, source, study.base)
+    try:
+        suite = load_suite(study.base / spec.suite)
+    except InputError as exc:
+        raise InputError(f"{source}: layout.suite = {spec.suite!r}: {exc}") from None
+    if len(suite) < 3:
+        raise InputError(
+            f"{source}: layout.suite = {spec.suite!r} holds {len(suite)} records: a fragility "
+            "needs three or more"
+        )
+    records = tuple(entry.scaled for entry in suite)
+    block = column.rocking_block
+    ims = [intensity_measures(r, periods=[], block=block) for r in records]
+    intensity = np.array([intensity_of(im, spec.intensity, None) for im in ims])
+    table = study.spec.hazard
+    try:
+        hazard = analysis.site_hazard(
+            table, spec.intensity, None, _unit(spec.intensity), block, study.base
+        )
+    except InputError as exc:
+        raise InputError(f"{source}: {str(exc).replace('fragility.', 'layout.')}") from None
+    years = table.years
+    design = intensity_at_return_period(hazard, spec.design_return_period, spec.ladder)
+    ladder = analysis.ladder(spec.ladder[0], spec.ladder[1], spec.steps)
+    if not ladder[0] <= design <= ladder[-1]:
+        raise InputError(
+            f"{source}: the design intensity, {design:.4g} {_unit(spec.intensity)} (the "
+            f"hazard's at layout.design_return_period = {spec.design_return_period:g} years), "
+            f"lies outside layout.ladder = {spec.ladder}: extend the ladder to reach it"
+        )
+    levels = np.unique(np.concatenate([ladder, [design]]))
+    for entry, value in zip(suite, intensity):
+        analysis.scales_for(levels, value, entry.name)  # a record without motion: refused
+    if spec.target_frequency is not None:
+        target = spec.target_frequency
+    else:
+        target = -math.log1p(-spec.target_probability) / years
+    end = spec.end_distance if spec.end_distance is not None else column.height / 8.0
+    if not 0.0 < end <= 0.5 * column.height:
+        raise InputError(
+            f"{source}: layout.end_distance = {end:g} m must be in (0, height / 2 = "
+            f"{0.5 * column.height:g}] m"
+        )
+    heights = {n: collar_heights(column.height, n, end) for n in set(spec.counts)}
+    ring = spec.ring_length if spec.ring_length is not None else math.pi * column.width
+    return Setup(
+        spec,
+        column,
+        tuple(suite),
+        records,
+        intensity,
+        levels,
+        design,
+        int(np.argmin(np.abs(levels - design))),
+        hazard,
+        years,
+        target,
+        heights,
+        catalogue(spec, ring),
+    )
+
+
+def layout_column(column: FemStudy, heights, t: float, h: float, fy: float, plastic: bool):
+    """The column with collars of t x h (m) at ``heights``, yield stress ``fy`` (Pa)."""
+    from ...core.collar import Collar
+
+    collars = tuple(Collar(y=float(y), t=t, h=h, fy=fy, plastic=plastic) for y in heights)
+    return dataclasses.replace(column, collars=collars)
+
+
+# f_y of the collars of the elastic screening: any value serves (an elastic collar's stress
+# does not depend on it); the runs' utilisations are read back as stresses with it
+SCREEN_FY = STEEL_GRADES["S235"]
+
+
+def elastic_walk(case: dict, directory: str) -> dict:
+    """One record up the ladder (``case["scales"]``) with elastic collars, to its first
+    overturning: per level run, overturned and the collars' largest stress (Pa)."""
+    study = study_of_case(case)
+    start = time.perf_counter()
+    walk = []
+    for scale in case["scales"]:
+        run = multibody_runs(study, study.ground, [scale])[0]
+        utilisation = run["collar_utilisation"]
+        walk.append(
+            {
+                "overturned": run["overturned"],
+                "stress": None if utilisation is None else utilisation * SCREEN_FY,
+            }
+        )
+        if run["overturned"]:
+            break
+    return {"walk": walk, "seconds": time.perf_counter() - start}
+
+
+def plastic_walk(case: dict, directory: str) -> dict:
+    """One record up the ladder from ``case["first"]`` with plastic collars, to its first
+    overturning: per level run, overturned and fractured."""
+    study = study_of_case(case)
+    start = time.perf_counter()
+    walk = []
+    for scale in case["scales"][case["first"] :]:
+        run = multibody_runs(study, study.ground, [scale])[0]
+        walk.append({"overturned": run["overturned"], "fractured": bool(run["collar_fractured"])})
+        if run["overturned"]:
+            break
+    return {"walk": walk, "seconds": time.perf_counter() - start}
+
+
+def screening(s: Setup, out: Path, options: RunOptions) -> dict:
+    """The elastic walks of every count x section and record: {section: [walk per record]}."""
+    scales = [analysis.scales_for(s.levels, im).tolist() for im in s.intensity]
+    cases = []
+    sections = sorted({c.section for c in s.candidates})
+    for section in sections:
+        count, t, h = section
+        one = layout_column(s.column, s.heights[count], t, h, SCREEN_FY, plastic=False)
+        for i, record in enumerate(s.records):
+            duration = record.end_time + FREE_TIME_P / one.rocking_block.p
+            cases.append(
+                case_of(
+                    dataclasses.replace(one, ground=record, duration=duration),
+                    key=f"elastic-{count}x{t * 1e3:g}x{h * 1e3:g}-{i:03d}",
+                    section=list(section),
+                    record=i,
+                    scales=scales[i],
+                    cost=len(scales[i]),
+                )
+            )
+    results = run_cases(
+        elastic_walk, cases, out, **options.for_cases(), stage="screening (elastic collars)"
+    )
+    walks: dict = {section: [None] * len(s.records) for section in sections}
+    for case in cases:
+        walks[tuple(case["section"])][case["record"]] = results[case["key"]]["walk"]
+    seconds = float(sum(results[c["key"]]["seconds"] for c in cases))
+    return {
+        "walks": walks,
+        "seconds": seconds,
+        "runs": sum(len(w["walk"]) for w in results.values()),
+    }
+
+
+def first_levels(walk: list[dict], fy: float) -> tuple[int | None, int | None]:
+    """(first overturning level, first level whose collars reached ``fy``) of an elastic walk,
+    None where none."""
+    overturn = next((j for j, run in enumerate(walk) if run["overturned"]), None)
+    yielded = next(
+        (j for j, run in enumerate(walk) if run["stress"] is not None and run["stress"] >= fy),
+        None,
+    )
+    return overturn, yielded
+
+
+def record_bounds(walk: list[dict], fy: float, top: int) -> dict:
+    """A record's overturning capacity (a level index) with collars of yield stress ``fy``:
+    ``exact`` where the elastic walk settles it (it overturned before they yielded, or it
+    reached the top with neither), else the bracket from the first yield (``low``) to never
+    (``high`` None) and ``from`` the level the plastic walk starts at."""
+    overturn, yielded = first_levels(walk, fy)
+    if yielded is None or (overturn is not None and overturn < yielded):
+        return {"exact": overturn}  # None: never overturned up to the top
+    return {"exact": "open", "low": yielded, "from": yielded}
+
+
+def frequency_of(capacities: list[int | None], s: Setup, band: bool = False) -> dict:
+    """lambda of overturning from per-record capacities (level indices; None: never up to the
+    ladder's top, censored there): the IDA fit's risk at the site; with fewer than two records
+    overturning, no fit: the bound lambda <= lambda_IM(lowest capacity, or the ladder's top)."""
+    levels = s.levels
+    exact = [c for c in capacities if c is not None]
+    if len(exact) < 2:
+        return _bound(capacities, s, f"{len(exact)} of {len(capacities)} records overturned")
+    capacity = np.array([levels[c] if c is not None else levels[-1] for c in capacities])
+    censored = np.array([c is None for c in capacities])
+    spec = s.spec
+    try:
+        fits.fit_capacities(capacity, censored=censored)
+    except InputError as exc:  # no dispersion: every record overturned at one level
+        return _bound(capacities, s, str(exc).removeprefix("capacities: "))
+    if not band:
+        fit = fits.fit_capacities(capacity, censored=censored)
+        value = risk.limit_state_frequency(s.hazard, fit.median, fit.beta).value
+        return {"frequency": value, "bound": False, "median": fit.median, "beta": fit.beta}
+    found = fits.bootstrap_capacities(
+        capacity,
+        censored=censored,
+        draws=spec.bootstrap,
+        seed=spec.seed,
+        level=spec.confidence,
+        at=[s.design],
+    )
+    entry = analysis.risk_entry(found, s.hazard, s.years, levels)
+    return {
+        "frequency": entry["frequency"],
+        "bound": False,
+        "median": found.fit.median,
+        "beta": found.fit.beta,
+        "risk": entry,
+        "probability_at_design": float(found.fit.probability(s.design)),
+        "probability_at_design_interval": [float(found.low[0]), float(found.high[0])],
+    }
+
+
+def _bound(capacities: list[int | None], s: Setup, why: str) -> dict:
+    """lambda <= lambda_IM(the lowest capacity, or the ladder's top): P[overturn | im] <= 1
+    above it, and no record overturned below it; for capacities that hold no fit."""
+    exact = [c for c in capacities if c is not None]
+    x = s.levels[min(exact)] if exact else s.levels[-1]
+    return {
+        "frequency": float(annual_frequency(s.hazard, np.array([x]))[0]),
+        "bound": True,
+        "why": f"{why}: no lognormal fit; lambda is at most the hazard's frequency at the "
+        f"lowest capacity, {x:.3g}",
+    }
+
+
+def bracket(candidate: Candidate, walks: dict, s: Setup) -> dict:
+    """The layout's lambda bracket from the elastic screening (:mod:`module notes <.runner>`)
+    and the records the plastic refinement must run (``open``)."""
+    top = len(s.levels) - 1
+    per = [record_bounds(walk, candidate.fy, top) for walk in walks[candidate.section]]
+    open_records = [i for i, b in enumerate(per) if b["exact"] == "open"]
+    upper = [b["low"] if b["exact"] == "open" else b["exact"] for b in per]
+    lower = [None if b["exact"] == "open" else b["exact"] for b in per]
+    high = frequency_of(upper, s)
+    low = frequency_of(lower, s) if open_records else high
+    return {"upper": high, "lower": low, "open": open_records, "records": per}
+
+
+def refine(candidates: list[Candidate], brackets: dict, s: Setup, out, options) -> dict:
+    """The plastic walks of the open records of ``candidates``: {label: [walk or None]}."""
+    scales = [analysis.scales_for(s.levels, im).tolist() for im in s.intensity]
+    cases = []
+    for c in candidates:
+        one = layout_column(s.column, s.heights[c.count], c.t, c.h, c.fy, plastic=True)
+        for i in brackets[c.label]["open"]:
+            record = s.records[i]
+            duration = record.end_time + FREE_TIME_P / one.rocking_block.p
+            first = brackets[c.label]["records"][i]["from"]
+            cases.append(
+                case_of(
+                    dataclasses.replace(one, ground=record, duration=duration),
+                    key=f"plastic-{_slug(c.label)}-{i:03d}",
+                    label=c.label,
+                    record=i,
+                    scales=scales[i],
+                    first=first,
+                    cost=len(scales[i]) - first,
+                )
+            )
+    if not cases:
+        return {c.label: [None] * len(s.records) for c in candidates}
+    results = run_cases(
+        plastic_walk, cases, out, **options.for_cases(), stage="refinement (plastic collars)"
+    )
+    walks: dict[str, list[dict | None]] = {c.label: [None] * len(s.records) for c in candidates}
+    for case in cases:
+        walks[case["label"]][case["record"]] = {
+            "first": case["first"],
+            "walk": results[case["key"]]["walk"],
+            "seconds": results[case["key"]]["seconds"],
+        }
+    return walks
+
+
+def _slug(label: str) -> str:
+    return label.replace(" x ", "x").replace(" mm ", "-").replace(" ", "-")
+
+
+def plastic_capacities(candidate: Candidate, found: dict, plastic: list, s: Setup):
+    """The layout's capacities (level indices, None: never) with plastic collars, and the
+    records whose collars fracture at the design level (True/False; None where the run
+    overturned below it)."""
+    capacities, fractured = [], []
+    d = s.design_level
+    for i, b in enumerate(found["records"]):
+        if b["exact"] != "open":
+            capacities.append(b["exact"])
+            fractured.append(False if b["exact"] is None or b["exact"] >= d else None)
+            continue
+        run = plastic[i]
+        walk, first = run["walk"], run["first"]
+        over = next((first + j for j, r in enumerate(walk) if r["overturned"]), None)
+        capacities.append(over)
+        if d < first:
+            fractured.append(False)  # elastic up to the design level: no yield, no fracture
+        elif d - first < len(walk):
+            fractured.append(walk[d - first]["fractured"])
+        else:
+            fractured.append(None)  # overturned below the design level
+    return capacities, fractured
+
+
+def decide(s: Setup, screened: dict, out: Path, options: RunOptions) -> dict:
+    """Every layout, the lightest first, until one meets the target: its lambda from the
+    elastic screening where no collar yields before the column overturns (exact: a plastic
+    collar follows the elastic one until it yields), else from the plastic refinement of its
+    open records, up to [layout] shortlist refined layouts; the chosen layout. The screening's
+    range (:func:`bracket`) is shown, never used to decide: a lognormal fit's lambda is not
+    monotonic in the capacities (a censored record changes its dispersion)."""
+    spec = s.spec
+    brackets = {c.label: bracket(c, screened["walks"], s) for c in s.candidates}
+    rows = []
+    chosen = None
+    refined = 0
+    plastic_seconds = 0.0
+    plastic_runs = 0
+    for c in s.candidates:
+        b = brackets[c.label]
+        row = {
+            "label": c.label,
+            "count": c.count,
+            "t": c.t,
+            "h": c.h,
+            "grade": c.grade,
+            "fy": c.fy if c.count else None,
+            "mass": c.mass,
+            "heights": s.heights[c.count],
+            "upper": b["upper"]["frequency"],
+            "lower": b["lower"]["frequency"],
+            "upper_is_bound": b["upper"]["bound"],
+            "open_records": len(b["open"]),
+        }
+        rows.append(row)
+        if chosen is not None:
+            row["decision"] = "heavier than the chosen layout"
+            continue
+        if b["open"]:
+            if refined >= spec.shortlist:
+                row["decision"] = "not refined"
+                row["why"] = (
+                    f"beyond the shortlist of {spec.shortlist} refined layouts (its collars "
+                    f"yield before it overturns in {len(b['open'])} records)"
+                )
+                continue
+            refined += 1
+            plastic = refine([c], brackets, s, out, options)[c.label]
+        else:  # no collar yields before the column overturns: the elastic runs are the answer
+            plastic = [None] * len(s.records)
+        for run in plastic:
+            if run is not None:
+                plastic_seconds += run["seconds"]
+                plastic_runs += len(run["walk"])
+        capacities, fractured = plastic_capacities(c, b, plastic, s)
+        frequency = frequency_of(capacities, s, band=True)
+        counted = [f for f in fractured if f is not None]
+        share = sum(counted) / len(fractured)
+        row.update(
+            frequency=frequency["frequency"],
+            frequency_entry=frequency,
+            capacities=[None if k is None else float(s.levels[k]) for k in capacities],
+            fractured_at_design=fractured,
+            fracture_share=share,
+        )
+        if frequency["frequency"] > s.target:
+            row["decision"] = "fails"
+            row["why"] = (
+                f"lambda = {frequency['frequency']:.3g} per year with plastic collars, above "
+                f"the target {s.target:.3g}"
+            )
+        elif share > spec.fracture_fraction:
+            row["decision"] = "fails"
+            row["why"] = (
+                f"{sum(counted)} of {len(fractured)} records fracture a collar at the design "
+                f"intensity (at most {spec.fracture_fraction:.0%} allowed)"
+            )
+        else:
+            row["decision"] = "chosen"
+            chosen = row
+    return {
+        "rows": rows,
+        "chosen": chosen,
+        "refined": refined,
+        "plastic_seconds": plastic_seconds,
+        "plastic_runs": plastic_runs,
+    }
+
+
+def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
+    """The chosen layout's FEM runs of every record at the design intensity (settled-stop,
+    plastic collars), against its multibody stripe there."""
+    from ..fragility.runner import _fem_study, _interval, fem_cases
+
+    one = layout_column(
+        s.column, chosen["heights"], chosen["t"], chosen["h"], chosen["fy"], plastic=True
+    )
+    interval = _interval(one, s.records)
+    cases = []
+    for i, record in enumerate(s.records):
+        scale = float(analysis.scales_for(np.array([s.design]), s.intensity[i])[0])
+        study = _fem_study(one, record, scale, interval)
+        cases.append(case_of(study, cost=study.duration, key=f"fem-{i:03d}", record=i, level=0))
+    results = run_cases(fem_cases, cases, out, **options.for_cases(), batched=True, stage="FEM")
+    check_fem_results(results, out)
+    runs = [results[c["key"]] for c in cases]
+    overturned = [bool(r["overturned"]) for r in runs]
+    fractured = [bool(r.get("collar_fractured")) for r in runs]
+    n = len(runs)
+    k = sum(overturned)
+    interval_ = analysis.clopper_pearson(np.array([k]), n, s.spec.confidence)[0].tolist()
+    multibody = chosen["frequency_entry"]
+    p_mb = multibody.get("probability_at_design")
+    confirmed = p_mb is None or (interval_[0] <= p_mb <= interval_[1])
+    fracture_share = sum(fractured) / n
+    return {
+        "overturned": overturned,
+        "fractured": fractured,
+        "fraction": k / n,
+        "fraction_interval": interval_,
+        "multibody_probability": p_mb,
+        "multibody_probability_interval": multibody.get("probability_at_design_interval"),
+        "fracture_share": fracture_share,
+        "confirmed": bool(confirmed and fracture_share <= s.spec.fracture_fraction),
+        "seconds": float(sum(r.get("fem_seconds", 0.0) for r in runs)),
+        # an overturned run's peak is where it stopped (a convention, not a rotation): none
+        "runs": [
+            {
+                "overturned": r["overturned"],
+                "overturned_at": r.get("overturned_at"),
+                "peak_ratio": None if r["overturned"] else r.get("peak_ratio"),
+                "collar_utilisation": r.get("collar_utilisation"),
+            }
+            for r in runs
+        ],
+    }
+
+
+def run(study: Study, out: Path, options: RunOptions) -> dict:
+    """Run (or resume) a collar-layout study into ``out``: ``summary.json``."""
+    s = setup(study)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    start = time.perf_counter()
+    screened = screening(s, out, options)
+    decided = decide(s, screened, out, options)
+    fem = None
+    if s.spec.fem and decided["chosen"] is not None:
+        fem = fem_stripe(s, decided["chosen"], out, options)
+    summary = assemble(study, s, screened, decided, fem)
+    summary["wall_seconds"] = time.perf_counter() - start
+    write_json(out / "summary.json", summary)
+    return summary
+
+
+def assemble(study: Study, s: Setup, screened: dict, decided: dict, fem: dict | None) -> dict:
+    """summary.json of the collar-layout study."""
+    chosen = decided["chosen"]
+    lighter = [r for r in decided["rows"] if chosen is None or r["mass"] < chosen["mass"]]
+    return {
+        "study": s.column.name,
+        "kind": study.kind,
+        "answer": answer_text(s, chosen, fem),
+        "chosen": chosen,
+        "target": {
+            "frequency": s.target,
+            "probability": s.spec.target_probability,
+            "years": s.years,
+            "given": "probability" if s.spec.target_probability is not None else "frequency",
+        },
+        "intensity": s.spec.intensity,
+        "intensity_unit": _unit(s.spec.intensity),
+        "levels": s.levels.tolist(),
+        "design_intensity": s.design,
+        "design_return_period": s.spec.design_return_period,
+        "hazard": {**s.hazard.to_dict(), "years": s.years},
+        "layouts": decided["rows"],
+        "lighter_all_fail": all(r["decision"] == "fails" for r in lighter),
+        "catalogue_size": len(s.candidates),
+        "confidence": s.spec.confidence,
+        "refined": decided["refined"],
+        "fem": fem,
+        "records": [
+            {"name": entry.name, "sha256": entry.sha256, "intensity": float(value)}
+            for entry, value in zip(s.suite, s.intensity)
+        ],
+        "model_seconds": {
+            "screening": screened["seconds"],
+            "refinement": decided["plastic_seconds"],
+            "fem": None if fem is None else fem["seconds"],
+        },
+        "runs": {"screening": screened["runs"], "refinement": decided["plastic_runs"]},
+    }
+
+
+def answer_text(s: Setup, chosen: dict | None, fem: dict | None) -> str:
+    """The study's answer in one sentence (the report's first line)."""
+    years = s.years
+    target = f"target {s.target:.2g} per year"
+    if s.spec.target_probability is not None:
+        target = f"target {s.spec.target_probability:.2%} in {years:g} years"
+    if chosen is None:
+        return (
+            f"No layout of the catalogue meets the {target}: the heaviest refined still "
+            "misses it (see the trade-off)."
+        )
+    lam = chosen["frequency"]
+    p = 1.0 - math.exp(-lam * years)
+    heights = ", ".join(f"{y:.2f}" for y in chosen["heights"])
+    text = (
+        f"{chosen['label']} at {heights} m: overturning {lam:.2g} per year, "
+        f"{p:.2%} in {years:g} years, {target}"
+    )
+    if fem is not None:
+        text += (
+            "; the FEM stripe at the design intensity confirms it"
+            if fem["confirmed"]
+            else "; the FEM stripe at the design intensity does NOT confirm it (see the FEM check)"
+        )
+    return text + "."
+
+
+# CPU seconds of a multibody run of the screening (elastic collars, the fragility's fast path,
+# a 20 s record and its free tail: docs/speed.md, the multibody fragility) and of the
+# refinement (plastic collars: the full run with its history, about ten times as long), per
+# simulated second; a walk is taken to climb half the ladder, a refined record three levels
+ELASTIC_SECONDS_PER_SECOND = 0.008
+PLASTIC_SECONDS_PER_SECOND = 0.1
+PLASTIC_LEVELS = 3
+
+
+def fem_work(study: Study):
+    """The FEM work of the study (:func:`studies.driver.check_work`): the confirmation's one run
+    per record at the design intensity, with the catalogue's most collars (their nodes and
+    step are the chosen layout's within a few %), none with layout.fem = false."""
+    from ..fragility.runner import _fem_study, _interval
+    from ..work import FemWork
+    from ..work import fem_work as estimate_work
+
+    spec = study.spec.layout
+    if spec is None or not spec.fem:
+        return FemWork()
+    s = setup(study)
+    heaviest = s.candidates[-1]
+    one = layout_column(
+        s.column, s.heights[heaviest.count], heaviest.t, heaviest.h, heaviest.fy, plastic=True
+    )
+    interval = _interval(one, s.records)
+    models: dict = {}
+    work = FemWork()
+    for record in s.records:
+        work += estimate_work(
+            _fem_study(one, record, 1.0, interval), 1, models=models, case="fem", stage=2
+        )
+    return work
+
+
+def expected_work(study: Study):
+    """The study's work as it is expected to run, for its estimate of time: the screening's
+    walks (stage 0), the refinement of the shortlist (stage 1) and the FEM confirmation
+    (stage 2; :func:`fem_work`)."""
+    from ..work import FemRun, FemWork
+
+    s = setup(study)
+    runs = []
+    sections = {c.section for c in s.candidates}
+    refined = min(s.spec.shortlist, sum(1 for c in s.candidates if c.count))
+    for i, record in enumerate(s.records):
+        seconds = record.end_time + FREE_TIME_P / s.column.rocking_block.p
+        for section in sections:
+            runs.append(
+                FemRun(
+                    0,
+                    0,
+                    0,
+                    0,
+                    f"elastic-{section}-{i}",
+                    other_seconds=0.5 * len(s.levels) * ELASTIC_SECONDS_PER_SECOND * seconds,
+                )
+            )
+        for k in range(refined):
+            runs.append(
+                FemRun(
+                    0,
+                    0,
+                    0,
+                    0,
+                    f"plastic-{k}-{i}",
+                    stage=1,
+                    other_seconds=PLASTIC_LEVELS * PLASTIC_SECONDS_PER_SECOND * seconds,
+                )
+            )
+    return FemWork(runs=tuple(runs)) + fem_work(study)

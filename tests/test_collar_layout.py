@@ -1,0 +1,159 @@
+"""The collar-layout study kind (issue 50): its catalogue, the design intensity from the hazard,
+the screening's reading of an elastic walk, and (slow) a whole study that names a layout."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from colonna.core.hazard import annual_frequency, power_law
+from colonna.studies.collar_layout.runner import (
+    STEEL_DENSITY,
+    catalogue,
+    collar_heights,
+    frequency_of,
+    intensity_at_return_period,
+    record_bounds,
+)
+from colonna.studies.collar_layout.schema import Layout
+
+
+def test_collars_are_evenly_spaced_between_their_end_distances():
+    assert collar_heights(4.0, 0, 0.5) == []
+    assert collar_heights(4.0, 1, 0.5) == [2.0]
+    assert np.allclose(collar_heights(4.0, 3, 0.5), [0.5, 2.0, 3.5])
+    assert np.allclose(np.diff(collar_heights(6.0, 5, 0.75)), 1.125)
+
+
+def test_the_catalogue_is_every_count_section_and_grade_lightest_first():
+    spec = Layout(
+        suite="s",
+        counts=[0, 1, 3],
+        sections=[[0.006, 0.05], [0.010, 0.08]],
+        grades=["S235", "S355"],
+        target_frequency=1e-3,
+    )
+    ring = math.pi * 0.45
+    found = catalogue(spec, ring)
+    assert len(found) == 1 + 2 * 2 * 2  # no collars once
+    assert [c.mass for c in found] == sorted(c.mass for c in found)
+    three = next(c for c in found if c.count == 3 and c.t == 0.010 and c.grade == "S355")
+    assert three.mass == pytest.approx(3 * 0.010 * 0.08 * ring * STEEL_DENSITY, rel=1e-12)
+    assert three.fy == 355e6
+    assert found[0].count == 0 and found[0].mass == 0.0
+
+
+def test_one_target_is_required():
+    with pytest.raises(ValueError, match="target_frequency .* or layout.target_probability"):
+        Layout(suite="s")
+    with pytest.raises(ValueError, match="one of them"):
+        Layout(suite="s", target_frequency=1e-3, target_probability=0.02)
+
+
+@pytest.mark.parametrize("k0, k, period", [(1e-4, 2.5, 475.0), (3e-3, 1.8, 2475.0)])
+def test_the_design_intensity_is_the_hazards_at_the_return_period(k0, k, period):
+    """On a power law lambda = k0 x^-k the intensity at lambda = 1 / T is (k0 T)^(1/k)."""
+    hazard = power_law(k0, k, "pga")
+    closed = (k0 * period) ** (1.0 / k)
+    found = intensity_at_return_period(hazard, period, [0.5 * closed, 2.0 * closed])
+    assert found == pytest.approx(closed, rel=1e-9)
+    assert float(annual_frequency(hazard, np.array([found]))[0]) == pytest.approx(1.0 / period)
+
+
+def _walk(*runs):
+    return [{"overturned": o, "stress": s} for o, s in runs]
+
+
+def test_a_record_that_overturns_before_its_collars_yield_has_its_capacity_exactly():
+    walk = _walk((False, 100e6), (False, 200e6), (True, 230e6))
+    assert record_bounds(walk, 235e6, 11) == {"exact": 2}
+    # the same walk with a weaker grade: the collars yield first, at level 1: open from there
+    assert record_bounds(walk, 200e6, 11) == {"exact": "open", "low": 1, "from": 1}
+
+
+def test_a_record_that_neither_overturns_nor_yields_is_censored_exactly():
+    walk = _walk(*[(False, 50e6)] * 12)
+    assert record_bounds(walk, 235e6, 11) == {"exact": None}
+    assert record_bounds(_walk(*[(False, None)] * 12), 235e6, 11) == {"exact": None}
+
+
+def test_too_few_overturnings_for_a_fit_give_the_hazards_bound():
+    """With one record overturning no dispersion can be fitted: lambda is bounded by the
+    hazard's frequency at the lowest capacity (P <= 1 above it)."""
+
+    class Setup:
+        levels = np.array([1.0, 2.0, 4.0])
+        hazard = power_law(1e-3, 2.0, "pga")
+
+    found = frequency_of([1, None, None], Setup)
+    assert found["bound"] is True
+    assert found["frequency"] == pytest.approx(1e-3 / 4.0)
+    found = frequency_of([None, None, None], Setup)
+    assert found["frequency"] == pytest.approx(1e-3 / 16.0)
+
+
+TINY_LAYOUT = """
+[study]
+name = "tiny-layout"
+kind = "collar-layout"
+[column]
+height = 4.0
+width = 0.6
+cracked = true
+[mesh]
+size = 0.1
+[run]
+output_interval = 0.01
+[hazard]
+k0 = 1.5e-2
+k = 2.5
+intensity = "pga"
+[layout]
+suite = "suite.toml"
+ladder = [1.1, 8.0]
+steps = 10
+counts = [0, 1, 2]
+sections = [[0.004, 0.03], [0.010, 0.08]]
+grades = ["S235", "S355"]
+target_frequency = {target}
+design_return_period = 475
+shortlist = 8
+bootstrap = 40
+"""
+
+
+@pytest.mark.slow
+def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsys):
+    """The tiny column over the four-pulse suite: the chosen layout meets the target, every
+    lighter one fails or was not refined and says why, the report opens with the answer and
+    the FEM stripe at the design intensity is on record."""
+    from tiny_study import write_pulse_suite
+
+    from colonna.studies.cli import main
+
+    write_pulse_suite(tmp_path)
+    study = tmp_path / "layout.toml"
+    study.write_text(TINY_LAYOUT.format(target=3.2e-3))
+    out = tmp_path / "out"
+    assert main(["study", str(study), "--out", str(out), "--workers", "1"]) in (0, None)
+    s = json.loads((out / "summary.json").read_text())
+    chosen = s["chosen"]
+    assert chosen is not None, s["answer"]
+    assert chosen["frequency"] <= s["target"]["frequency"]
+    lighter = [r for r in s["layouts"] if r["mass"] < chosen["mass"]]
+    for row in lighter:
+        assert row["decision"] in ("fails", "not refined") and row["why"], row
+    failed = [r for r in lighter if r["decision"] == "fails" and r.get("frequency") is not None]
+    for row in failed:  # a refined layout that fails: its frequency above the target or fracture
+        assert row["frequency"] > s["target"]["frequency"] or row["fracture_share"] > 0
+    assert s["fem"] is not None and len(s["fem"]["overturned"]) == 4
+    for run in s["fem"]["runs"]:  # an overturned run's stop is no peak
+        assert run["peak_ratio"] is None or not run["overturned"]
+    html = (out / "index.html").read_text()
+    first = html.index('id="answer-text"')
+    assert s["answer"].split(":")[0] in html[first : first + 400]
+    assert "Why each lighter layout fails" in html
+    assert "Which collars does this column need?" in capsys.readouterr().out
