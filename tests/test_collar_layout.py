@@ -157,3 +157,26 @@ def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsy
     assert s["answer"].split(":")[0] in html[first : first + 400]
     assert "Why each lighter layout fails" in html
     assert "Which collars does this column need?" in capsys.readouterr().out
+
+
+def test_the_pareto_front_keeps_the_layouts_no_lighter_one_beats():
+    from colonna.studies.collar_layout.runner import pareto_front
+
+    def row(label, mass, frequency, bound=False):
+        return {
+            "label": label,
+            "mass": mass,
+            "frequency": frequency,
+            "frequency_entry": {"bound": bound},
+        }
+
+    rows = [
+        row("none", 0.0, 4e-3),
+        row("a", 1.0, 5e-3),  # heavier and worse than none: off the front
+        row("b", 2.0, 2e-3),
+        row("c", 3.0, 1e-3, bound=True),  # a bound decides nothing
+        row("d", 4.0, 1.5e-3),
+        {"label": "e", "mass": 5.0, "frequency": None},  # not refined
+        row("f", 6.0, 1e-3),
+    ]
+    assert pareto_front(rows) == ["none", "b", "d", "f"]

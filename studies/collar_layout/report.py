@@ -128,6 +128,17 @@ def _trade_off(out: Path, s: dict) -> dict:
         columns["lambda_high"].append(high)
         columns["lambda"].append(value if value is not None else math.nan)
         columns["decision"].append(r["decision"])
+    front = [r for r in rows if r["label"] in set(s.get("pareto", ()))]
+    if len(front) > 1:
+        ax.step(
+            [r["mass"] for r in front],
+            [r["frequency"] for r in front],
+            where="post",
+            color="tab:green",
+            lw=1.0,
+            alpha=0.6,
+            label="Pareto front",
+        )
     ax.axhline(s["target"]["frequency"], color="k", ls="--", lw=1.0, label="target")
     ax.set_yscale("log")
     ax.set_xlabel("steel mass of the collars (kg)")

@@ -635,7 +635,7 @@ def assemble(study: Study, s: Setup, screened: dict, decided: dict, fem: dict | 
     return {
         "study": s.column.name,
         "kind": study.kind,
-        "answer": answer_text(s, chosen, fem),
+        "answer": answer_text(s, chosen, fem, decided["rows"]),
         "chosen": chosen,
         "target": {
             "frequency": s.target,
@@ -650,6 +650,7 @@ def assemble(study: Study, s: Setup, screened: dict, decided: dict, fem: dict | 
         "design_return_period": s.spec.design_return_period,
         "hazard": {**s.hazard.to_dict(), "years": s.years},
         "layouts": decided["rows"],
+        "pareto": pareto_front(decided["rows"]),
         "lighter_all_fail": all(r["decision"] == "fails" for r in lighter),
         "catalogue_size": len(s.candidates),
         "confidence": s.spec.confidence,
@@ -668,16 +669,35 @@ def assemble(study: Study, s: Setup, screened: dict, decided: dict, fem: dict | 
     }
 
 
-def answer_text(s: Setup, chosen: dict | None, fem: dict | None) -> str:
+def pareto_front(rows: list[dict]) -> list[str]:
+    """The labels of the layouts no lighter (or equally heavy) layout beats on overturning
+    frequency, among those whose frequency was decided (exact or refined, not a bound),
+    lightest first: the trade-off of risk against steel."""
+    front: list[str] = []
+    best = math.inf
+    decided = [r for r in rows if r.get("frequency") is not None]
+    for r in sorted(decided, key=lambda r: (r["mass"], r["frequency"])):
+        if r["frequency_entry"].get("bound"):
+            continue
+        if r["frequency"] < best:
+            front.append(r["label"])
+            best = r["frequency"]
+    return front
+
+
+def answer_text(s: Setup, chosen: dict | None, fem: dict | None, rows: list[dict]) -> str:
     """The study's answer in one sentence (the report's first line)."""
     years = s.years
     target = f"target {s.target:.2g} per year"
     if s.spec.target_probability is not None:
         target = f"target {s.spec.target_probability:.2%} in {years:g} years"
     if chosen is None:
-        return (
-            f"No layout of the catalogue meets the {target}: the heaviest refined still "
-            "misses it (see the trade-off)."
+        skipped = sum(1 for r in rows if r["decision"] == "not refined")
+        return f"No layout of the catalogue meets the {target}" + (
+            f": {skipped} layouts were not refined (beyond layout.shortlist = "
+            f"{s.spec.shortlist}); raise it to decide them."
+            if skipped
+            else ": every layout misses it (see the trade-off)."
         )
     lam = chosen["frequency"]
     p = 1.0 - math.exp(-lam * years)
