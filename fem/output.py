@@ -1,5 +1,6 @@
-"""Files of a FEM run: summary.json, VTU snapshots and an XDMF time series for ParaView.
-(history.csv is streamed by the solver while it runs.)"""
+"""Files of a FEM run: history.csv and base_pressure.csv streamed as it runs
+(:class:`HistoryFiles`), summary.json, VTU snapshots and an XDMF time series for ParaView. The
+one module of fem/ that writes a run's files: the solver hands it its rows and results."""
 
 from __future__ import annotations
 
@@ -119,3 +120,122 @@ def write_outputs(result, out: Path) -> None:
         out / "fields.xdmf", mesh, [t for t, _ in chosen], lambda k: {"displacement": chosen[k][1]}
     )
     write_summary(out / "summary.json", result.summary)
+
+
+class HistoryFiles:
+    """The files a run streams while it runs, one row per output time, so that an interrupted
+    run keeps every row it computed: ``history.csv`` (the history's columns) and
+    ``base_pressure.csv`` (the contact pressure at every base node, Pa). Rows go to
+    ``*.part`` files, renamed to their names when the run ends (:meth:`close`); a run resumed
+    from a checkpoint cuts them back to their sizes then and appends (:meth:`resume`)."""
+
+    def __init__(self, out_dir, base_x=None, base_bodies=None, *, append: bool = False):
+        out = Path(out_dir)
+        out.mkdir(parents=True, exist_ok=True)
+        self.history_path = out / "history.csv"
+        self.pressure_path = out / "base_pressure.csv"
+        history, pressure = self.part_files(out)
+        self.history = open(history, "a" if append else "w")
+        self.pressure = open(pressure, "a" if append else "w")
+        if not append:
+            self.pressure.write(
+                "t," + ",".join(f"p_body{b}_x={v:.6f}" for b, v in zip(base_bodies, base_x)) + "\n"
+            )
+
+    @staticmethod
+    def part_files(out_dir) -> tuple[Path, Path]:
+        """The files a run streams its rows to while it runs."""
+        return Path(out_dir) / "history.csv.part", Path(out_dir) / "base_pressure.csv.part"
+
+    def write_header(self, header: list[str]) -> None:
+        self.history.write(",".join(header) + "\n")
+
+    def write_row(self, values) -> None:
+        """One history row (numbers in the header's order), to the last digit."""
+        np.savetxt(
+            self.history, np.asarray(values, dtype=float)[None, :], fmt="%.17g", delimiter=","
+        )
+        self.history.flush()
+
+    def write_pressure(self, t: float, pressure: np.ndarray) -> None:
+        """The base nodes' contact pressures (Pa) at time t."""
+        np.savetxt(
+            self.pressure, np.concatenate(([t], pressure))[None, :], fmt="%.17g", delimiter=","
+        )
+        self.pressure.flush()
+
+    def sizes(self) -> tuple[int, int] | None:
+        """The .part files' sizes (bytes) now, for a checkpoint; None once closed."""
+        if self.history.closed:
+            return None
+        self.history.flush()
+        self.pressure.flush()
+        return (os.fstat(self.history.fileno()).st_size, os.fstat(self.pressure.fileno()).st_size)
+
+    def close(self) -> None:
+        """The run has ended: the .part files become history.csv and base_pressure.csv."""
+        self.history.close()
+        Path(self.history.name).replace(self.history_path)
+        self.pressure.close()
+        Path(self.pressure.name).replace(self.pressure_path)
+
+    @classmethod
+    def resume(cls, out_dir, sizes: tuple[int, int]) -> HistoryFiles:
+        """The files of a run resumed from a checkpoint: cut back to ``sizes`` and appended to."""
+        for part, size in zip(cls.part_files(out_dir), sizes, strict=True):
+            os.truncate(part, size)
+        return cls(out_dir, append=True)
+
+    @classmethod
+    def can_resume(cls, out_dir, sizes: tuple[int, int] | None) -> bool:
+        """Whether the files in ``out_dir`` hold at least ``sizes`` (bytes)."""
+        if sizes is None:
+            return False
+        return all(
+            part.is_file() and part.stat().st_size >= size
+            for part, size in zip(cls.part_files(out_dir), sizes, strict=True)
+        )
+
+
+def write_run(result, out_dir, first: bool) -> None:
+    """A finished run's files besides its history: the first run of a batch (replica 0) its
+    field files and summary (:func:`write_outputs`), the others their summary.json."""
+    if first:
+        write_outputs(result, Path(out_dir))
+    else:
+        write_summary(Path(out_dir) / "summary.json", result.summary)
+
+
+def write_start(path, start: dict) -> None:
+    """``start`` (:func:`colonna.fem.toe_stress.refinement_start`) as one ``.npz`` file (arrays
+    bit for bit, the numbers as 0-d arrays, the toe's name as a string), written whole or not
+    at all."""
+    from .toe_stress import _flat_start
+
+    path = Path(path)
+    partial = path.with_name(path.name + ".partial")
+    with open(partial, "wb") as f:
+        np.savez(f, **_flat_start(start))
+    os.replace(partial, path)
+
+
+def read_start(path) -> dict:
+    """The ``start`` dict that :func:`write_start` saved."""
+    from .toe_stress import START_ARRAYS
+
+    with np.load(path) as data:
+        start: dict = {"contact": {}}
+        for name in data.files:
+            value = data[name]
+            if not name.startswith("contact."):
+                start[name] = value if name in START_ARRAYS else value.item()
+                continue
+            _, key, *part = name.split(".")
+            if part:
+                start["contact"].setdefault(key, {})[int(part[0])] = value
+            else:
+                start["contact"][key] = value
+    for key, value in start["contact"].items():
+        if isinstance(value, dict):
+            start["contact"][key] = [value[p] for p in sorted(value)]
+    return start

@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
 import sys
 import time
 from collections import deque
@@ -48,6 +47,7 @@ from ..core.quantities import quantity, to_dict, typed_result
 from . import _kernels as K
 from .checkpoint import Checkpoint, clear, read_parts, write_part
 from .model import Model, coincident_nodes, collar_stiffness, contact_stiffness, stable_time_step
+from .output import HistoryFiles, write_run, write_summary
 
 BLOW_UP = "numerical blow-up"  # how the status of a run stopped as unstable begins
 
@@ -454,8 +454,6 @@ def run_ensemble(
         options["dt"] = 0.5 * results[0].summary["dt"]
         results = attempt(halvings)
         results = [_with_halvings(r, halvings, reason) for r in results]
-        from .output import write_summary
-
         for result, folder in zip(results, out_dirs, strict=True):
             if folder is not None:
                 write_summary(Path(folder) / "summary.json", result.summary)
@@ -980,14 +978,8 @@ class _Batch:
         )
         if self.checkpoint is not None:  # for the next part: what a rerun needs to yield it
             self.ended_since[k] = {"tail": recorder.snapshot(), "summary": summary, "typed": typed}
-        folder = plan.out_dirs[k]
-        if folder is not None:
-            from .output import write_outputs, write_summary
-
-            if k == 0:
-                write_outputs(result, Path(folder))
-            else:
-                write_summary(Path(folder) / "summary.json", summary)
+        if plan.out_dirs[k] is not None:
+            write_run(result, plan.out_dirs[k], first=k == 0)
         self.credit(k, plan.durations[k])  # the rest of a run that ended early
         return k, result
 
@@ -1458,8 +1450,9 @@ def edge_weights(model: Model, edge_length: float) -> dict:
 
 
 class _Recorder:
-    """Recovers the outputs of one state of a batch at each output time and streams them to
-    history.csv."""
+    """Recovers the outputs of one state of a batch at each output time, and hands them to its
+    run's :class:`colonna.fem.output.HistoryFiles` (history.csv, base_pressure.csv) where it
+    has an output folder."""
 
     def __init__(self, model: Model, edge_length: float, edge_names: list, out_dir):
         self.model = model
@@ -1493,18 +1486,12 @@ class _Recorder:
         if mesh.cracked:
             left, right = mesh.crack_nodes
             self.crack_pairs = (left, coincident_nodes(mesh, left, right))
-        self.csv = None
+        self.files: HistoryFiles | None = None
         if out_dir is not None:
-            out = Path(out_dir)
-            out.mkdir(parents=True, exist_ok=True)
-            self.csv_path = out / "history.csv"
-            self.csv = open(self.csv_path.with_name("history.csv.part"), "w")
-            self.pressure_path = out / "base_pressure.csv"
-            self.pressure_csv = open(out / "base_pressure.csv.part", "w")
-            xb = mesh.points[0, model.base_nodes]
-            bodies = mesh.node_body[model.base_nodes] + 1
-            self.pressure_csv.write(
-                "t," + ",".join(f"p_body{b}_x={v:.6f}" for b, v in zip(bodies, xb)) + "\n"
+            self.files = HistoryFiles(
+                out_dir,
+                mesh.points[0, model.base_nodes],
+                mesh.node_body[model.base_nodes] + 1,
             )
         self.header = None
         self.saved_rows = 0  # rows already in a checkpoint part (snapshot)
@@ -1716,15 +1703,8 @@ class _Recorder:
                 },
             )
         )
-        if self.csv is not None:  # contact pressure along the base (Pa), one row per output
-            pressure = base_fn / self.base_area
-            np.savetxt(
-                self.pressure_csv,
-                np.concatenate(([t], pressure))[None, :],
-                fmt="%.17g",
-                delimiter=",",
-            )
-            self.pressure_csv.flush()
+        if self.files is not None:  # contact pressure along the base (Pa), one row per output
+            self.files.write_pressure(t, base_fn / self.base_area)
 
     def finish_row(self, row, energy0):
         self.peak_tilt = max(self.peak_tilt, abs(row["theta_left"]), abs(row["theta_right"]))
@@ -1734,24 +1714,15 @@ class _Recorder:
         )
         row["energy_error"] = imbalance / self.scale
         self.rows.append(row)
-        if self.csv is not None:
+        if self.files is not None:
             if self.header is None:
                 self.header = [key for key in row if not key.startswith("_")]
-                self.csv.write(",".join(self.header) + "\n")
-            np.savetxt(
-                self.csv,
-                np.array([[float(row[h]) for h in self.header]]),
-                fmt="%.17g",
-                delimiter=",",
-            )
-            self.csv.flush()
+                self.files.write_header(self.header)
+            self.files.write_row([float(row[h]) for h in self.header])
 
     def close(self) -> dict:
-        if self.csv is not None:
-            self.csv.close()
-            Path(self.csv.name).replace(self.csv_path)
-            self.pressure_csv.close()
-            Path(self.pressure_csv.name).replace(self.pressure_path)
+        if self.files is not None:
+            self.files.close()
         return _history(self.rows)
 
     # what changes as the run goes: the rest is the model's and the toes' (see __init__)
@@ -1762,14 +1733,7 @@ class _Recorder:
         (:mod:`colonna.fem.checkpoint`): the rows and frames, its running scalars, and the sizes
         of its .part files (bytes; None without files)."""
         n, self.saved_rows = self.saved_rows, len(self.rows)
-        files = None
-        if self.csv is not None and not self.csv.closed:
-            self.csv.flush()
-            self.pressure_csv.flush()
-            files = (
-                os.fstat(self.csv.fileno()).st_size,
-                os.fstat(self.pressure_csv.fileno()).st_size,
-            )
+        files = None if self.files is None else self.files.sizes()
         return {
             "rows": self.rows[n:],
             "frames": self.frames[n:],
@@ -1789,32 +1753,13 @@ class _Recorder:
         for name in self.SNAPSHOT_SCALARS:
             setattr(self, name, last[name])
         self.saved_rows = len(self.rows)
-        if out_dir is None:
-            return
-        out = Path(out_dir)
-        self.csv_path, self.pressure_path = out / "history.csv", out / "base_pressure.csv"
-        parts = self.part_files(out_dir)
-        for part, size in zip(parts, last["files"], strict=True):
-            os.truncate(part, size)
-        self.csv = open(parts[0], "a")
-        self.pressure_csv = open(parts[1], "a")
+        if out_dir is not None:
+            self.files = HistoryFiles.resume(out_dir, last["files"])
 
     @staticmethod
-    def part_files(out_dir) -> tuple[Path, Path]:
-        """The files a run streams its rows to while it runs."""
-        return Path(out_dir) / "history.csv.part", Path(out_dir) / "base_pressure.csv.part"
-
-    @classmethod
-    def can_resume(cls, snapshot: dict, out_dir) -> bool:
+    def can_resume(snapshot: dict, out_dir) -> bool:
         """Whether the files in ``out_dir`` hold at least what they held at ``snapshot``."""
-        if out_dir is None:
-            return True
-        if snapshot["files"] is None:
-            return False
-        return all(
-            part.is_file() and part.stat().st_size >= size
-            for part, size in zip(cls.part_files(out_dir), snapshot["files"], strict=True)
-        )
+        return out_dir is None or HistoryFiles.can_resume(out_dir, snapshot["files"])
 
 
 def _history(rows: list[dict]) -> dict:

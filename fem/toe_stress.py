@@ -81,8 +81,8 @@ def refinement_start(result: FemResult, lead: float = LEAD_TIME, tail: float = T
     state there. Returns toe, t_start, t_end, t_peak (s); interval (s, the output interval);
     original_peak (Pa, the run's own peak over the window); edge_length (m) and edge_time (s);
     displacement and velocity (n_nodes, 2) and contact (a ``contact_frames`` entry) at
-    t_start. Plain arrays and numbers: it can be saved (:func:`write_start`) and the windows
-    run elsewhere (:func:`refine_window`)."""
+    t_start. Plain arrays and numbers: it can be saved (:func:`colonna.fem.output.write_start`)
+    and the windows run elsewhere (:func:`refine_window`)."""
     history = result.history
     toe, t_start, t_end, t_peak = impact_window(history, lead, tail)
     times = np.array([t for t, _ in result.displacement_frames])
@@ -114,8 +114,8 @@ START_ARRAYS = ("displacement", "velocity")
 def _flat_start(start: dict) -> dict[str, Any]:
     """``start`` as one flat mapping of names to arrays: the contact's entries as
     ``contact.<key>`` (``contact.<key>.<pass>`` for one array per crack pass), the numbers and
-    the toe's name as 0-d arrays (what :func:`write_start` saves and :func:`start_digest`
-    hashes; :func:`read_start` undoes it)."""
+    the toe's name as 0-d arrays (what :func:`colonna.fem.output.write_start` saves and
+    :func:`start_digest` hashes; :func:`colonna.fem.output.read_start` undoes it)."""
     flat: dict[str, Any] = {}
     for key, value in start.items():
         if key != "contact":
@@ -127,19 +127,6 @@ def _flat_start(start: dict) -> dict[str, Any]:
         else:
             flat[f"contact.{key}"] = np.asarray(value)
     return flat
-
-
-def write_start(path, start: dict) -> None:
-    """``start`` (:func:`refinement_start`) as one ``.npz`` file (arrays bit for bit, the
-    numbers as 0-d arrays, the toe's name as a string), written whole or not at all."""
-    import os
-    from pathlib import Path
-
-    path = Path(path)
-    partial = path.with_name(path.name + ".partial")
-    with open(partial, "wb") as f:
-        np.savez(f, **_flat_start(start))
-    os.replace(partial, path)
 
 
 def start_digest(start: dict) -> str:
@@ -155,26 +142,6 @@ def start_digest(start: dict) -> str:
         digest.update(f"{key}:{value.dtype.str}:{value.shape}:".encode())
         digest.update(np.ascontiguousarray(value).tobytes())
     return digest.hexdigest()
-
-
-def read_start(path) -> dict:
-    """The ``start`` dict that :func:`write_start` saved."""
-    with np.load(path) as data:
-        start: dict = {"contact": {}}
-        for name in data.files:
-            value = data[name]
-            if not name.startswith("contact."):
-                start[name] = value if name in START_ARRAYS else value.item()
-                continue
-            _, key, *part = name.split(".")
-            if part:
-                start["contact"].setdefault(key, {})[int(part[0])] = value
-            else:
-                start["contact"][key] = value
-    for key, value in start["contact"].items():
-        if isinstance(value, dict):
-            start["contact"][key] = [value[p] for p in sorted(value)]
-    return start
 
 
 def model_on(model, mesh: ColumnMesh):

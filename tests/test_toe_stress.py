@@ -11,16 +11,15 @@ from colonna.core.errors import InputError
 from colonna.core.ground import NoMotion, sine_pulse
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model, stable_time_step
+from colonna.fem.output import read_start, write_start
 from colonna.fem.solver import run
 from colonna.fem.toe_stress import (
     impact_window,
-    read_start,
     refine_window,
     refinement_start,
     refinement_summary,
     start_digest,
     toe_stress_refinement,
-    write_start,
 )
 from colonna.fem.transfer import transfer_contact, transfer_state
 from colonna.meshes import column_mesh

@@ -107,12 +107,8 @@ def fem_case(case: dict, directory: str) -> dict:
         and study.toe_refinements
         and unreliable_reason(summaries) is None  # no landing to refine in a broken run
     ):
-        from ...fem.toe_stress import (
-            check_refinements,
-            refinement_start,
-            start_digest,
-            write_start,
-        )
+        from ...fem.output import write_start
+        from ...fem.toe_stress import check_refinements, refinement_start, start_digest
 
         check_refinements(study.toe_refinements)
         m = median_replica([s["edge_stress_max"] for s in summaries])
@@ -127,7 +123,8 @@ def toe_case(case: dict, directory: str) -> dict:
     ``case["refinement"]`` times, restarted from the state the FEM case saved in its folder
     (beside this case's: ``cases/fem``), whose SHA-256 ``case["start"]`` is an input of this
     case, over the impact window (:func:`studies.models.refine_toe_window`)."""
-    from ...fem.toe_stress import read_start, start_digest
+    from ...fem.output import read_start
+    from ...fem.toe_stress import start_digest
     from ..models import refine_toe_window
 
     study = study_of_case(case)
@@ -144,7 +141,8 @@ def refine_toe_stress(study, fem: dict, out: Path, options: RunOptions) -> dict 
     are, each saved as it completes), then :func:`colonna.fem.toe_stress.refinement_summary`
     with the replica's number. None when the FEM case saved no start (a mesh file, or no
     refinements asked for)."""
-    from ...fem.toe_stress import read_start, refinement_summary
+    from ...fem.output import read_start
+    from ...fem.toe_stress import refinement_summary
 
     start = fem.get("toe_start")
     if start is None:
