@@ -38,7 +38,7 @@ PLANES = ("strain", "stress")
 def tada_edge_crack_factor(a_over_w: float) -> float:
     """F(a/W) = 1.12 - 0.231 (a/W) + 10.55 (a/W)^2 - 21.72 (a/W)^3 + 30.39 (a/W)^4 of a single
     edge crack in a strip under uniform end tension (Tada, Paris & Irwin, The Stress Analysis of
-    Cracks Handbook, 3rd ed., 2000, p. 52; from Brown & Srawley 1966): within 0.5 % for
+    Cracks Handbook, 3rd ed., 2000; from Brown & Srawley's boundary collocation): within 0.5 % for
     a/W <= 0.6."""
     s = require_range("crack length a / W", a_over_w, 0.0, 0.6, closed_low=True, closed_high=True)
     return 1.12 - 0.231 * s + 10.55 * s**2 - 21.72 * s**3 + 30.39 * s**4
