@@ -611,6 +611,63 @@ def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
     }
 
 
+CROSSCHECK_FILE = "chosen-crosscheck.toml"
+# the study file's tables a cross-check of the chosen layout keeps (the column as studied)
+KEPT_TABLES = ("column", "stone", "base", "contact", "rigid")
+
+
+def crosscheck_study(study: Study, s: Setup, chosen: dict) -> tuple[str, str] | None:
+    """The text of a cross-check study file of the chosen layout under the record whose
+    capacity (with the chosen collars) is the suite's median, scaled to the design intensity,
+    on the study's column at the cross-check's own defaults (mesh, replicas), and the
+    record's name; None where that record's file has no units of its own (a two-column file:
+    a study's [ground] record cannot give them)."""
+    from ...core.suite import _toml_value
+
+    capacities = chosen["capacities"]
+    order = sorted(
+        range(len(capacities)),
+        key=lambda i: math.inf if capacities[i] is None else capacities[i],
+    )
+    i = order[len(order) // 2]
+    entry = s.suite[i]
+    if entry.path.suffix.lower() not in (".at2", ".asc"):
+        return None
+    scale = entry.scale * s.design / float(s.intensity[i])
+    lines = [
+        f"# The cross-check of the layout chosen by the collar-layout study {s.column.name!r}:",
+        f"# {chosen['label']}, under {entry.name} (the record of median capacity) scaled to "
+        f"the design intensity {s.design:.4g}.",
+        "",
+        "[study]",
+        f"name = {_toml_value(s.column.name + '-chosen')}",
+        'kind = "cross-check"',
+    ]
+    for table in KEPT_TABLES:
+        values = study.data.get(table)
+        if values:
+            lines += ["", f"[{table}]"]
+            lines += [f"{k} = {_toml_value(v)}" for k, v in values.items()]
+    for y in chosen["heights"]:
+        lines += [
+            "",
+            "[[collar]]",
+            f"y = {_toml_value(float(y))}",
+            f"t = {_toml_value(chosen['t'])}",
+            f"h = {_toml_value(chosen['h'])}",
+            f"fy = {_toml_value(chosen['fy'])}",
+            "plastic = true",
+        ]
+    lines += [
+        "",
+        "[ground]",
+        'pulse = "record"',
+        f"record = {_toml_value(str(entry.path))}",
+        f"scale = {_toml_value(scale)}",
+    ]
+    return "\n".join(lines) + "\n", entry.name
+
+
 def run(study: Study, out: Path, options: RunOptions) -> dict:
     """Run (or resume) a collar-layout study into ``out``: ``summary.json``."""
     s = setup(study)
@@ -623,6 +680,12 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
     if s.spec.fem and decided["chosen"] is not None:
         fem = fem_stripe(s, decided["chosen"], out, options)
     summary = assemble(study, s, screened, decided, fem)
+    summary["crosscheck"] = None
+    if decided["chosen"] is not None:
+        found = crosscheck_study(study, s, decided["chosen"])
+        if found is not None:
+            (out / CROSSCHECK_FILE).write_text(found[0])
+            summary["crosscheck"] = {"file": CROSSCHECK_FILE, "record": found[1]}
     summary["wall_seconds"] = time.perf_counter() - start
     write_json(out / "summary.json", summary)
     return summary
