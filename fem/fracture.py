@@ -88,6 +88,58 @@ def extrapolate_to_tip(
     return float(intercept), float(slope)
 
 
+def face_jumps(
+    points: np.ndarray,
+    displacement: np.ndarray,
+    face_a: np.ndarray,
+    face_b: np.ndarray,
+    tip: np.ndarray,
+    normal: np.ndarray,
+    ahead: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(r, opening, sliding) at a crack's face node pairs, on any mesh with split face nodes
+    (the column's partial crack as well as the strip): ``face_a`` / ``face_b`` paired node
+    indices (2, n) columns of ``points`` and ``displacement``; ``tip`` the tip's coordinates;
+    ``normal`` the unit normal from face a's body into face b's; ``ahead`` the unit vector from
+    the crack into the ligament. r = (tip - x_a) . ahead, opening = (u_b - u_a) . normal (> 0
+    open), sliding = (u_b - u_a) . ahead.
+
+    >>> pts = np.array([[0.0, 0.0], [1.0, 1.0]])  # a vertical crack, one node pair at (0, 1)
+    >>> u = np.array([[-1e-6, 2e-6], [0.0, 5e-7]])  # the right face (b) moves right and up
+    >>> r, dn, ds = face_jumps(pts, u, np.array([0]), np.array([1]), np.array([0.0, 0.4]),
+    ...                        normal=np.array([1.0, 0.0]), ahead=np.array([0.0, -1.0]))
+    >>> r.tolist(), dn.tolist(), ds.tolist()  # a crack from the top down to y = 0.4
+    ([0.6], [3e-06], [-5e-07])
+    """
+    points, u = np.asarray(points, dtype=float), np.asarray(displacement, dtype=float)
+    n, t = np.asarray(normal, dtype=float), np.asarray(ahead, dtype=float)
+    if not (math.isclose(n @ n, 1.0) and math.isclose(t @ t, 1.0) and abs(n @ t) < 1e-9):
+        raise InputError(
+            f"crack normal {n.tolist()} and direction ahead {t.tolist()} are not allowed: two "
+            "orthogonal unit vectors"
+        )
+    jump = u[:, face_b] - u[:, face_a]
+    r = (np.asarray(tip, dtype=float)[:, None] - points[:, face_a]).T @ t
+    return r, n @ jump, t @ jump
+
+
+def stress_intensities(
+    r: np.ndarray,
+    opening: np.ndarray,
+    sliding: np.ndarray,
+    E_prime: float,
+    r_min: float,
+    r_max: float,
+) -> tuple[float, float]:
+    """(K_I, K_II) by displacement correlation: K* = E' / 8 sqrt(2 pi / r) times the opening
+    (mode I) or the sliding (mode II: delta_s = (8 K_II / E') sqrt(r / 2 pi) likewise),
+    extrapolated to r = 0 over r_min <= r <= r_max. K_I < 0 means the faces press on each other
+    at the tip (no mode-I intensity: the crack is closed there)."""
+    K_I, _ = extrapolate_to_tip(r, apparent_stress_intensity(r, opening, E_prime), r_min, r_max)
+    K_II, _ = extrapolate_to_tip(r, apparent_stress_intensity(r, sliding, E_prime), r_min, r_max)
+    return K_I, K_II
+
+
 @dataclass(frozen=True)
 class CrackTipSolution:
     """A static solve of the edge-cracked strip: the face nodes' distance behind the tip r (m,
@@ -179,9 +231,17 @@ def solve_edge_crack(
     upper = mesh.crack_upper
     if mesh.crack_lower is None:
         opening = 2.0 * uy[upper]
+        r = crack_length - mesh.points[0, upper]
     else:
-        opening = uy[upper] - uy[mesh.crack_lower]
-    r = crack_length - mesh.points[0, upper]
+        r, opening, _ = face_jumps(
+            mesh.points,
+            u[dofs],
+            mesh.crack_lower,
+            upper,
+            mesh.points[:, mesh.tip],
+            normal=np.array([0.0, 1.0]),
+            ahead=np.array([1.0, 0.0]),
+        )
     k_star = apparent_stress_intensity(r, opening, E_prime)
     h = mesh.tip_element_size
     K_I, _ = extrapolate_to_tip(
@@ -200,6 +260,8 @@ def solve_edge_crack(
 
 __all__ = [
     "CrackTipSolution",
+    "face_jumps",
+    "stress_intensities",
     "apparent_stress_intensity",
     "edge_crack_stress_intensity",
     "effective_modulus",

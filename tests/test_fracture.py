@@ -12,7 +12,9 @@ from colonna.fem.fracture import (
     edge_crack_stress_intensity,
     effective_modulus,
     extrapolate_to_tip,
+    face_jumps,
     solve_edge_crack,
+    stress_intensities,
     tada_edge_crack_factor,
 )
 from colonna.meshes.crack_tip import edge_crack_mesh, tip_element_count
@@ -93,6 +95,34 @@ def test_mesh_grades_to_square_tip_elements():
     assert m.tip_element_size == pytest.approx(0.002, rel=1e-6)
     x = np.unique(m.points[0])
     assert x[0] == 0.0 and x[-1] == W and np.any(np.isclose(x, 0.4 * W))
+
+
+def test_general_extraction_on_a_turned_strip():
+    """face_jumps and stress_intensities, for any crack direction (the column's crack is
+    vertical): the full strip turned by 90 degrees gives the strip's K_I and no K_II, with the
+    faces named either way round; a pure sliding field gives K_II alone."""
+    s = solve_edge_crack(W, 0.4 * W, SIGMA, full=True, refine=1)
+    m = s.mesh
+    turn = np.array([[0.0, -1.0], [1.0, 0.0]])
+    pts, u, tip = turn @ m.points, turn @ s.displacement, turn @ m.points[:, m.tip]
+    E_prime = effective_modulus(50e9, 0.2, "strain")
+    window = (4 * m.tip_element_size * (1 - 1e-9), 0.2 * 0.4 * W)
+    for a, b, normal in (
+        (m.crack_lower, m.crack_upper, [-1.0, 0.0]),
+        (m.crack_upper, m.crack_lower, [1.0, 0.0]),
+    ):
+        r, dn, ds = face_jumps(pts, u, a, b, tip, np.array(normal), np.array([0.0, 1.0]))
+        np.testing.assert_allclose(r, s.r, rtol=1e-12)
+        K_I, K_II = stress_intensities(r, dn, ds, E_prime, *window)
+        assert K_I == pytest.approx(s.K_I, rel=1e-9)
+        assert abs(K_II) < 1e-6 * K_I
+    # a sliding field delta_s = (8 K_II / E') sqrt(r / 2 pi) (1 + r), no opening
+    r = np.geomspace(1e-4, 1e-2, 10)
+    slide = 8 * 1e6 / E_prime * np.sqrt(r / (2 * math.pi)) * (1 + r)
+    K_I, K_II = stress_intensities(r, 0 * r, slide, E_prime, 0.0, 1.0)
+    assert K_I == pytest.approx(0.0, abs=1e-6) and K_II == pytest.approx(1e6, rel=1e-9)
+    with pytest.raises(InputError, match="orthogonal unit vectors"):
+        face_jumps(pts, u, a, b, tip, np.array([1.0, 0.0]), np.array([1.0, 0.0]))
 
 
 @pytest.mark.parametrize(
