@@ -74,7 +74,10 @@ def onset_and_final(
     if delta_n <= 0.0:  # contact: mode II only
         return ds0, 2.0 * G_II / s
     dn0 = f_t / K
-    B = delta_s * delta_s / (delta_n * delta_n + delta_s * delta_s)
+    dm2 = delta_n * delta_n + delta_s * delta_s
+    if dm2 <= 0.0:  # an opening so small that its square underflows: mode I
+        return dn0, 2.0 * G_I / f_t
+    B = delta_s * delta_s / dm2
     Beta = B**eta
     d0 = math.sqrt(dn0 * dn0 + (ds0 * ds0 - dn0 * dn0) * Beta)
     return d0, 2.0 * (G_I + (G_II - G_I) * Beta) / (K * d0)

@@ -108,6 +108,12 @@ def test_fully_damaged_interface_carries_contact_and_friction_only():
     assert t_s == pytest.approx(-MU * abs(t_n))
 
 
+def test_vanishing_opening_is_mode_one():
+    """An opening whose square underflows takes the mode-I onset, not 0 / 0."""
+    assert onset_and_final(1e-200, 0.0, K, FT, S, GI, GII, ETA) == (FT / K, 2 * GI / FT)
+    assert law(1e-200, 0.0, 0.0, 0.0) == (K * 1e-200, 0.0, 0.0, 0.0)
+
+
 def test_intact_interface_in_compression_is_not_damaged_by_pressure():
     tn, ts, d = pull(np.linspace(0.0, -50 * FT / K, 200))
     assert np.all(d == 0.0) and tn[-1] == pytest.approx(-50 * FT)
