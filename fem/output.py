@@ -8,6 +8,7 @@ import json
 import math
 import os
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -206,23 +207,40 @@ def write_run(result, out_dir, first: bool) -> None:
         write_summary(Path(out_dir) / "summary.json", result.summary)
 
 
+START_ARRAYS = ("displacement", "velocity")
+
+
+def flat_start(start: dict) -> dict[str, Any]:
+    """``start`` as one flat mapping of names to arrays: the contact's entries as
+    ``contact.<key>`` (``contact.<key>.<pass>`` for one array per crack pass), the numbers and
+    the toe's name as 0-d arrays (what :func:`write_start` saves and
+    :func:`colonna.fem.toe_stress.start_digest` hashes; :func:`read_start` undoes it)."""
+    flat: dict[str, Any] = {}
+    for key, value in start.items():
+        if key != "contact":
+            flat[key] = np.asarray(value)
+    for key, value in start["contact"].items():
+        if isinstance(value, list):  # one array per crack pass
+            for p, part in enumerate(value):
+                flat[f"contact.{key}.{p}"] = np.asarray(part)
+        else:
+            flat[f"contact.{key}"] = np.asarray(value)
+    return flat
+
+
 def write_start(path, start: dict) -> None:
     """``start`` (:func:`colonna.fem.toe_stress.refinement_start`) as one ``.npz`` file (arrays
     bit for bit, the numbers as 0-d arrays, the toe's name as a string), written whole or not
     at all."""
-    from .toe_stress import _flat_start
-
     path = Path(path)
     partial = path.with_name(path.name + ".partial")
     with open(partial, "wb") as f:
-        np.savez(f, **_flat_start(start))
+        np.savez(f, **flat_start(start))
     os.replace(partial, path)
 
 
 def read_start(path) -> dict:
     """The ``start`` dict that :func:`write_start` saved."""
-    from .toe_stress import START_ARRAYS
-
     with np.load(path) as data:
         start: dict = {"contact": {}}
         for name in data.files:

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any
 
 import numpy as np
 
@@ -32,6 +31,7 @@ from ..core.ground import NO_MOTION, GroundMotion
 from ..meshes.column import ColumnMesh
 from .convergence import convergence_table
 from .model import build_model
+from .output import flat_start
 from .solver import FemResult, run
 
 LEAD_TIME = 0.01  # s before the toe's last airborne output time at which the window opens
@@ -108,27 +108,6 @@ def refinement_start(result: FemResult, lead: float = LEAD_TIME, tail: float = T
     }
 
 
-START_ARRAYS = ("displacement", "velocity")
-
-
-def _flat_start(start: dict) -> dict[str, Any]:
-    """``start`` as one flat mapping of names to arrays: the contact's entries as
-    ``contact.<key>`` (``contact.<key>.<pass>`` for one array per crack pass), the numbers and
-    the toe's name as 0-d arrays (what :func:`colonna.fem.output.write_start` saves and
-    :func:`start_digest` hashes; :func:`colonna.fem.output.read_start` undoes it)."""
-    flat: dict[str, Any] = {}
-    for key, value in start.items():
-        if key != "contact":
-            flat[key] = np.asarray(value)
-    for key, value in start["contact"].items():
-        if isinstance(value, list):  # one array per crack pass
-            for p, part in enumerate(value):
-                flat[f"contact.{key}.{p}"] = np.asarray(part)
-        else:
-            flat[f"contact.{key}"] = np.asarray(value)
-    return flat
-
-
 def start_digest(start: dict) -> str:
     """SHA-256 of a ``start`` (:func:`refinement_start`): of its numbers and of its arrays'
     bytes, shapes and types, in a fixed order. The same state gives the same digest, however
@@ -136,7 +115,7 @@ def start_digest(start: dict) -> str:
     import hashlib
 
     digest = hashlib.sha256()
-    flat = _flat_start(start)
+    flat = flat_start(start)
     for key in sorted(flat):
         value = flat[key]
         digest.update(f"{key}:{value.dtype.str}:{value.shape}:".encode())

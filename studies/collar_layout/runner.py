@@ -45,6 +45,7 @@ from ..fragility import analysis
 from ..fragility.models import FREE_TIME_P, multibody_runs
 from ..fragility.runner import _unit, intensity_of
 from ..guard import check_fem_results
+from ..kinds import kind_of_package
 from ..output import write_json
 from ..study import Study
 from .schema import STEEL_GRADES, Layout
@@ -641,7 +642,7 @@ def crosscheck_study(study: Study, s: Setup, chosen: dict) -> tuple[str, str] | 
         "",
         "[study]",
         f"name = {_toml_value(s.column.name + '-chosen')}",
-        'kind = "cross-check"',
+        f"kind = {_toml_value(kind_of_package('crosscheck'))}",
     ]
     for table in KEPT_TABLES:
         values = study.data.get(table)
