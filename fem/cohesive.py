@@ -1,7 +1,7 @@
 """A cohesive law for the intact stone of a partially cracked column's mid-plane (issue 51).
 
 Scalar functions (floats in, floats out, ``math`` only, no Python objects), compiled with
-``numba.njit`` (no on-disk cache: a kernel that caches its machine code with them must join
+``numba.njit`` and cached with the other kernel modules (one unit:
 ``colonna.core.jit_cache.KERNEL_MODULES``), so that a compiled kernel calls them per interface
 node pair and Python gets the same numbers. Inputs are checked once, in Python, by
 :func:`check_parameters`; the scalar functions trust them.
@@ -55,9 +55,12 @@ import math
 from numba import njit
 
 from ..core.errors import InputError, require_non_negative, require_positive, require_range
+from ..core.jit_cache import ensure_fresh
+
+ensure_fresh()  # cached kernels compiled from other sources are dropped (jit_cache)
 
 
-@njit
+@njit(cache=True)
 def onset_and_final(
     delta_n: float,
     delta_s: float,
@@ -83,7 +86,7 @@ def onset_and_final(
     return d0, 2.0 * (G_I + (G_II - G_I) * Beta) / (K * d0)
 
 
-@njit
+@njit(cache=True)
 def damage(
     delta_n: float,
     delta_s: float,
@@ -105,7 +108,7 @@ def damage(
     return d if d > d_old else d_old
 
 
-@njit
+@njit(cache=True)
 def traction(
     delta_n: float,
     delta_s: float,

@@ -24,6 +24,7 @@ KERNEL_MODULES = (
     ("colonna.core", "collar_law"),
     ("colonna.core", "fibre"),
     ("colonna.fem", "_kernels"),
+    ("colonna.fem", "cohesive"),
     ("colonna.rigid", "_kernels"),
     ("colonna.rigid", "_multibody"),
 )

@@ -1,9 +1,9 @@
 """The collar-layout study kind: the lightest collar layout of a catalogue that meets a target
 risk of overturning at the site (:mod:`.runner`), and its report (:mod:`.report`)."""
 
-from .runner import FEWER, defaults, run
+from .runner import FEWER, defaults, expected_work, fem_work, run
 
-__all__ = ["FEWER", "defaults", "run", "write_report"]
+__all__ = ["FEWER", "defaults", "expected_work", "fem_work", "run", "write_report"]
 
 
 def write_report(out):

@@ -757,11 +757,19 @@ def answer_text(s: Setup, chosen: dict | None, fem: dict | None, rows: list[dict
         target = f"target {s.spec.target_probability:.2%} in {years:g} years"
     if chosen is None:
         skipped = sum(1 for r in rows if r["decision"] == "not refined")
-        return f"No layout of the catalogue meets the {target}" + (
-            f": {skipped} layouts were not refined (beyond layout.shortlist = "
-            f"{s.spec.shortlist}); raise it to decide them."
+        decided = [r for r in rows if r.get("frequency") is not None]
+        text = f"No layout of the catalogue meets the {target}"
+        if decided:
+            best = min(decided, key=lambda r: (r["frequency"], r["mass"]))
+            text += (
+                f": the lowest overturning frequency decided is {best['frequency']:.2g} per "
+                f"year ({best['label']})"
+            )
+        return text + (
+            f"; {skipped} layouts were not refined (beyond layout.shortlist = "
+            f"{s.spec.shortlist}): raise it to decide them."
             if skipped
-            else ": every layout misses it (see the trade-off)."
+            else "; every layout misses it (see the trade-off)."
         )
     lam = chosen["frequency"]
     p = 1.0 - math.exp(-lam * years)
