@@ -40,10 +40,10 @@ from ...core import risk
 from ...core.errors import InputError
 from ...core.hazard import HazardCurve, annual_frequency, log_annual_frequency
 from ..executor import RunOptions, run_cases
-from ..fem_study import FemStudy, case_of, column_of, study_of_case
+from ..fem_study import FemStudy, case_of, study_of_case
 from ..fragility import analysis
 from ..fragility.models import FREE_TIME_P, multibody_runs
-from ..fragility.runner import _unit, intensity_of
+from ..fragility.runner import _unit, suite_column
 from ..guard import check_fem_results
 from ..kinds import kind_of_package
 from ..output import write_json
@@ -158,9 +158,6 @@ def intensity_at_return_period(hazard, period: float, ladder) -> float:
 def setup(study: Study) -> Setup:
     """The :class:`Setup` of a collar-layout study (an InputError naming the key where it cannot
     be run)."""
-    from ...core.intensity import intensity_measures
-    from ...core.suite import load_suite
-
     source = study.source
     spec = study.spec.layout
     if spec is None:
@@ -178,26 +175,10 @@ def setup(study: Study) -> Setup:
             f"{source}: a collar-layout study needs the site's [hazard] (file, or k0 and k with "
             "intensity): its target is a risk at the site"
         )
-    ground = study.data.get("ground", {})
-    if set(ground) - {"pulse"} or ground.get("pulse", "none") != "none":
-        raise InputError(
-            f"{source}: [ground] of a collar-layout study is the suite's records "
-            "(layout.suite): leave [ground] out or set pulse = 'none'"
-        )
-    column = column_of(study.spec, source, study.base)
-    try:
-        suite = load_suite(study.base / spec.suite)
-    except InputError as exc:
-        raise InputError(f"{source}: layout.suite = {spec.suite!r}: {exc}") from None
-    if len(suite) < 3:
-        raise InputError(
-            f"{source}: layout.suite = {spec.suite!r} holds {len(suite)} records: a fragility "
-            "needs three or more"
-        )
-    records = tuple(entry.scaled for entry in suite)
+    column, suite, records, _, intensity = suite_column(
+        study, "layout", spec.suite, spec.intensity, None, least=3
+    )
     block = column.rocking_block
-    ims = [intensity_measures(r, periods=[], block=block) for r in records]
-    intensity = np.array([intensity_of(im, spec.intensity, None) for im in ims])
     table = study.spec.hazard
     try:
         hazard = analysis.site_hazard(

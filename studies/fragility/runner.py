@@ -87,8 +87,6 @@ class Setup:
 def setup(study: Study) -> Setup:
     """The :class:`Setup` of a fragility study (an InputError naming the key where it cannot
     be run)."""
-    from ...core.intensity import intensity_measures
-    from ...core.suite import load_suite
 
     source = study.source
     spec = study.spec.fragility
@@ -97,27 +95,10 @@ def setup(study: Study) -> Setup:
             f"{source}: a fragility study needs a [fragility] table (suite, ladder or levels, "
             "design_intensity)"
         )
-    ground = study.data.get("ground", {})
-    if set(ground) - {"pulse"} or ground.get("pulse", "none") != "none":
-        raise InputError(
-            f"{source}: [ground] of a fragility study is the suite's records "
-            "(fragility.suite): leave [ground] out or set pulse = 'none'"
-        )
-    column = column_of(study.spec, source, study.base)
-    try:
-        suite = load_suite(study.base / spec.suite)
-    except InputError as exc:
-        raise InputError(f"{source}: fragility.suite = {spec.suite!r}: {exc}") from None
-    if len(suite) < 2:
-        raise InputError(
-            f"{source}: fragility.suite = {spec.suite!r} holds {len(suite)} record: a "
-            "fragility needs two or more"
-        )
-    records = tuple(entry.scaled for entry in suite)
-    periods = [spec.period] if spec.intensity == "sa" else []
+    column, suite, records, ims, intensity = suite_column(
+        study, "fragility", spec.suite, spec.intensity, spec.period
+    )
     block = column.rocking_block
-    ims = tuple(intensity_measures(r, periods=periods, block=block) for r in records)
-    intensity = np.array([intensity_of(im, spec.intensity, spec.period) for im in ims])
     if spec.analysis == "ida":
         assert spec.ladder is not None  # the schema asks for it with analysis = "ida"
         levels = analysis.ladder(spec.ladder[0], spec.ladder[1], spec.steps)
@@ -137,6 +118,40 @@ def setup(study: Study) -> Setup:
         raise InputError(f"{source}: {exc}") from None
     years = table.years if table is not None else 50.0
     return Setup(spec, column, tuple(suite), records, ims, intensity, levels, origin, hazard, years)
+
+
+def suite_column(study: Study, table: str, given: str, intensity: str, period, least: int = 2):
+    """What a kind that runs a record suite on a column reads of its study: the column
+    (:func:`studies.fem_study.column_of`), the suite ``given`` in ``[table] suite`` (each record
+    times its suite scale), every record's IMs and its ``intensity``; InputErrors naming the
+    keys where [ground] is given (the suite's records are the motions) or the suite holds fewer
+    than ``least`` records."""
+    from ...core.intensity import intensity_measures
+    from ...core.suite import load_suite
+
+    source = study.source
+    ground = study.data.get("ground", {})
+    if set(ground) - {"pulse"} or ground.get("pulse", "none") != "none":
+        raise InputError(
+            f"{source}: [ground] of a {study.kind} study is the suite's records "
+            f"({table}.suite): leave [ground] out or set pulse = 'none'"
+        )
+    column = column_of(study.spec, source, study.base)
+    try:
+        suite = load_suite(study.base / given)
+    except InputError as exc:
+        raise InputError(f"{source}: {table}.suite = {given!r}: {exc}") from None
+    if len(suite) < least:
+        raise InputError(
+            f"{source}: {table}.suite = {given!r} holds {len(suite)} record"
+            f"{'' if len(suite) == 1 else 's'}: a fragility needs {least} or more"
+        )
+    records = tuple(entry.scaled for entry in suite)
+    periods = [period] if intensity == "sa" else []
+    block = column.rocking_block
+    ims = tuple(intensity_measures(r, periods=periods, block=block) for r in records)
+    values = np.array([intensity_of(im, intensity, period) for im in ims])
+    return column, tuple(suite), records, ims, values
 
 
 def uplift_intensity(name: str, intensity, pga, uplift: float) -> float:
