@@ -520,11 +520,16 @@ def decide(s: Setup, screened: dict, out: Path, options: RunOptions) -> dict:
             fractured_at_design=fractured,
             fracture_share=share,
         )
+        how = (
+            "with plastic collars"
+            if b["open"]
+            else "(the elastic screening's: no collar yields before the column overturns)"
+        )
         if frequency["frequency"] > s.target:
             row["decision"] = "fails"
             row["why"] = (
-                f"lambda = {frequency['frequency']:.3g} per year with plastic collars, above "
-                f"the target {s.target:.3g}"
+                f"lambda = {frequency['frequency']:.4g} per year {how}, above the target "
+                f"{s.target:.4g}"
             )
         elif share > spec.fracture_fraction:
             row["decision"] = "fails"
