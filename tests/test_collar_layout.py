@@ -126,7 +126,7 @@ bootstrap = 40
 
 
 @pytest.mark.slow
-def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsys):
+def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsys, monkeypatch):
     """The tiny column over the four-pulse suite: the chosen layout meets the target, every
     lighter one fails or was not refined and says why, the report opens with the answer and
     the FEM stripe at the design intensity is on record."""
@@ -160,6 +160,25 @@ def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsy
     assert s["answer"].split(":")[0] in html[first : first + 400]
     assert "Why each lighter layout fails" in html
     assert "Which collars does this column need?" in capsys.readouterr().out
+    # the page in a headless browser: its figure drawn, every number with its unit, the
+    # trade-off figure's texts inside it once drawn
+    from browser import assert_every_figure_drawn, assert_table_numbers_have_units
+    from matplotlib.figure import Figure
+
+    from colonna.studies.collar_layout.report import write_report
+    from colonna.studies.report import texts_outside
+
+    keep, checked = Figure.savefig, {}
+
+    def spy(fig, fname, *args, **kwargs):
+        checked.setdefault(str(fname), texts_outside(fig))
+        return keep(fig, fname, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", spy)
+    write_report(out)
+    assert checked and all(found == [] for found in checked.values()), checked
+    assert_table_numbers_have_units(html)
+    assert_every_figure_drawn(out / "index.html", tmp_path, at_least=1)
 
 
 def test_the_pareto_front_keeps_the_layouts_no_lighter_one_beats():
