@@ -2,8 +2,9 @@
 
 Plane-stress halves in scikit-fem treated co-rotationally, penalty frictional contact at the base
 and along the crack, collars as co-rotational frame elements, explicit central-difference time
-stepping from the static gravity state (:mod:`colonna.fem.solver`). Study files build and run it
-(:mod:`colonna.studies.fem_study`).
+stepping from the static gravity state (:mod:`colonna.fem.solver`); a run's files are written by
+:mod:`colonna.fem.output`. Studies build and run it through their gateway to the models
+(:mod:`colonna.studies.models`).
 """
 
 from typing import TYPE_CHECKING
