@@ -585,10 +585,9 @@ def run_cases(
         raise StudyInterrupted(signum, len(saved), total, Path(out) / "cases") from None
 
 
-def _run_cases(
-    function, cases, out, workers, scheduler, progress, force, batched, stage="cases", announce=()
-) -> dict:
-    """:func:`run_cases` without its translation of an interrupt."""
+def _clear_stale(cases, out, force) -> dict:
+    """Each case's inputs record by key (unique keys); the cases in ``out`` saved from other
+    inputs are deleted with ``force`` and refused without it."""
     keys = [c["key"] for c in cases]
     if len(set(keys)) != len(keys):
         raise ValueError("case keys must be unique")
@@ -605,6 +604,11 @@ def _run_cases(
         )
     for key in stale:
         shutil.rmtree(case_dir(out, key))
+    return inputs
+
+
+def _split_done(cases, out) -> tuple[dict, list]:
+    """The results of the cases already saved in ``out`` by key, and the cases still to run."""
     results = {}
     todo = []
     for case in cases:
@@ -613,17 +617,14 @@ def _run_cases(
             results[case["key"]] = done
         else:
             todo.append(case)
-    if not todo:
-        return results
-    client = _connect(scheduler) if scheduler else None  # before any folder is made
-    for callback in announce:
-        callback()
-    for case in todo:
-        case_dir(out, case["key"]).mkdir(parents=True, exist_ok=True)
-    # a progress bar on a terminal, nothing in a log (cases already done count as done)
-    bar = tqdm(
-        total=len(cases),
-        initial=len(results),
+    return results, todo
+
+
+def _progress_bar(total: int, initial: int, stage: str, progress: bool):
+    """A progress bar on a terminal, nothing in a log (cases already done count as done)."""
+    return tqdm(
+        total=total,
+        initial=initial,
         desc=f"[study] {stage}",
         unit="case",
         disable=not (progress and sys.stderr.isatty()),
@@ -631,6 +632,62 @@ def _run_cases(
         # the time left is the study's (its postfix), not this stage's rate of cases
         bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}{postfix}]",
     )
+
+
+def _run_here(function, todo, out, batched, finish) -> None:
+    """The cases ``todo`` in this process, each saved as it completes."""
+    if batched:
+        folders = [str(case_dir(out, c["key"])) for c in todo]
+        for index, result in function(todo, folders):
+            finish(todo[index], result)
+    else:
+        for case in todo:
+            finish(case, function(case, str(case_dir(out, case["key"]))))
+
+
+def _run_in_pool(function, todo, out, workers, batched, saving, finish_all) -> None:
+    """The cases ``todo`` in ``workers`` local processes; an interrupt or a case's error
+    stops every worker."""
+    forkserver = multiprocessing.get_start_method() == "forkserver"
+    pool = ProcessPoolExecutor(
+        max_workers=workers,
+        initializer=_worker_start,
+        initargs=(None if forkserver else os.getpid(),),
+    )
+    try:
+        if batched:
+            shares = _deal(todo, workers or 1)
+            futures = {
+                pool.submit(_run_share, function, share, saving(share)): share for share in shares
+            }
+        else:
+            futures = {
+                pool.submit(function, case, str(case_dir(out, case["key"]))): [case]
+                for case in todo
+            }
+        for future in as_completed(futures):
+            # a share's worker saved each of its cases already (same machine)
+            finish_all(futures[future], future.result(), batched, saved=batched)
+    except BaseException:  # an interrupt, or a case's error: no worker goes on
+        _stop_pool(pool)
+        raise
+    pool.shutdown()
+
+
+def _run_cases(
+    function, cases, out, workers, scheduler, progress, force, batched, stage="cases", announce=()
+) -> dict:
+    """:func:`run_cases` without its translation of an interrupt."""
+    inputs = _clear_stale(cases, out, force)
+    results, todo = _split_done(cases, out)
+    if not todo:
+        return results
+    client = _connect(scheduler) if scheduler else None  # before any folder is made
+    for callback in announce:
+        callback()
+    for case in todo:
+        case_dir(out, case["key"]).mkdir(parents=True, exist_ok=True)
+    bar = _progress_bar(len(cases), len(results), stage, progress)
 
     clock = _STUDY_CLOCK.get()
     last_key = [""]
@@ -676,39 +733,9 @@ def _run_cases(
         if client is not None:
             _run_on_dask(client, scheduler, function, todo, out, batched, saving, finish_all)
         elif (workers or 1) <= 1 or len(todo) == 1:
-            if batched:  # in this process: each case saved as it completes
-                folders = [str(case_dir(out, c["key"])) for c in todo]
-                for index, result in function(todo, folders):
-                    finish(todo[index], result)
-            else:
-                for case in todo:
-                    finish(case, function(case, str(case_dir(out, case["key"]))))
+            _run_here(function, todo, out, batched, finish)
         else:
-            forkserver = multiprocessing.get_start_method() == "forkserver"
-            pool = ProcessPoolExecutor(
-                max_workers=workers,
-                initializer=_worker_start,
-                initargs=(None if forkserver else os.getpid(),),
-            )
-            try:
-                if batched:
-                    shares = _deal(todo, workers or 1)
-                    futures = {
-                        pool.submit(_run_share, function, share, saving(share)): share
-                        for share in shares
-                    }
-                else:
-                    futures = {
-                        pool.submit(function, case, str(case_dir(out, case["key"]))): [case]
-                        for case in todo
-                    }
-                for future in as_completed(futures):
-                    # a share's worker saved each of its cases already (same machine)
-                    finish_all(futures[future], future.result(), batched, saved=batched)
-            except BaseException:  # an interrupt, or a case's error: no worker goes on
-                _stop_pool(pool)
-                raise
-            pool.shutdown()
+            _run_in_pool(function, todo, out, workers, batched, saving, finish_all)
     finally:
         ticking.set()
         bar.close()
