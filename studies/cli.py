@@ -619,16 +619,8 @@ def _add_long_option(parser) -> None:
     )
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="colonna", description=__doc__.split("\n\n")[0])
-    parser.add_argument(
-        "--version",
-        action="version",
-        version=f"colonna {importlib.import_module('colonna').__version__}",
-        help="print the version of colonna (the one every report and inputs.json records)",
-    )
-    sub = parser.add_subparsers(dest="command", required=True)
-
+def _add_rigid_parser(sub) -> None:
+    """`colonna rigid`: one rocking time history (SDOF or multibody)."""
     p = sub.add_parser(
         "rigid",
         help="rocking time history of a rigid block, or of a cracked column's two halves with "
@@ -665,6 +657,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_cmd_rigid)
 
+
+def _add_spectrum_parser(sub) -> None:
+    """`colonna spectrum`: an overturning spectrum (mode map)."""
     p = sub.add_parser(
         "spectrum", help="overturning spectrum (mode map) of a rigid block, with or without collars"
     )
@@ -678,6 +673,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_spectrum)
 
+
+def _add_design_parser(sub) -> None:
+    """`colonna design`: the collar design (corrected Eq. 22-24)."""
     p = sub.add_parser("design", help="collar design (corrected Eq. 22-24)")
     add_block_options(p)
     g = p.add_argument_group("collar section and design pulse")
@@ -707,11 +705,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_design)
 
+
+def _add_collar_parser(sub) -> None:
+    """`colonna collar`: the collar bench (studies/collar_bench.py)."""
     p = sub.add_parser("collar", help="one collar through imposed end displacements (bench)")
     collar_bench = importlib.import_module(f"{__package__}.collar_bench")
     collar_bench.add_arguments(p)
     p.set_defaults(func=collar_bench.run_command)
 
+
+def _add_fem_parser(sub) -> None:
+    """`colonna fem`: one FEM run of a study file, without a report."""
     p = sub.add_parser(
         "fem",
         help="one 2D finite-element contact run of a study file's column and ground motion, "
@@ -728,6 +732,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_long_option(p)
     p.set_defaults(func=_cmd_fem)
 
+
+def _add_study_parser(sub) -> None:
+    """`colonna study`: a study file of any kind, with its kind's own options."""
     from .kinds import DEFAULT_KIND, KINDS, study_options
 
     what = (
@@ -773,6 +780,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_long_option(p)
     p.set_defaults(func=_cmd_study)
 
+
+def _add_tool_parsers(sub) -> None:
+    """`colonna schema`, `colonna warmup` and `colonna validate`."""
     p = sub.add_parser(
         "schema",
         help="the study file's JSON Schema (keys, types, ranges, units, defaults), for editors",
@@ -800,12 +810,40 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_validate)
 
-    for name, kind in KINDS.items():  # a kind's own command (studies/kinds.py, its package)
+
+def _add_kind_commands(sub) -> None:
+    """A kind's own command (studies/kinds.py, its package), one sub-command each."""
+    from .kinds import KINDS
+
+    for name, kind in KINDS.items():
         command = kind.command_module()
         if command is not None:
             p = sub.add_parser(name, help=kind.command)
             command.add_arguments(p)
             p.set_defaults(func=command.run_command)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="colonna", description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "--version",
+        action="version",
+        version=f"colonna {importlib.import_module('colonna').__version__}",
+        help="print the version of colonna (the one every report and inputs.json records)",
+    )
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    for add in (
+        _add_rigid_parser,
+        _add_spectrum_parser,
+        _add_design_parser,
+        _add_collar_parser,
+        _add_fem_parser,
+        _add_study_parser,
+        _add_tool_parsers,
+        _add_kind_commands,
+    ):
+        add(sub)
     return parser
 
 
