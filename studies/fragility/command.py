@@ -88,83 +88,68 @@ def _table_from_flags(args) -> dict:
     return table
 
 
-def run_command(args) -> dict | None:
-    """Run the SDOF over the suite and print (or return, with --json) the fits."""
+def _inputs_from_study(args) -> tuple:
+    """(spec, block, collars, records, levels, record names, intensity) from a study file."""
+    from ..study import load
+    from .runner import setup
+
+    given = [f"--{k}" for k in ("suite", "ladder", "levels", "design") if getattr(args, k)]
+    if given:
+        raise InputError(f"{', '.join(given)}: the study file gives them")
+    path = Path(args.study)
+    if not path.exists() and (SHIPPED / f"{args.study}.toml").exists():
+        path = SHIPPED / f"{args.study}.toml"
+    s = setup(load(path))
+    spec, block, collars = s.spec, s.column.rocking_block, s.column.collars
+    records, levels = s.records, s.levels
+    names = [entry.name for entry in s.suite]
+    intensity = s.intensity
+    return spec, block, collars, records, levels, names, intensity
+
+
+def _inputs_from_flags(args) -> tuple:
+    """(spec, block, collars, records, levels, record names, intensity) from the flags:
+    the [fragility] table they make, the block, its collars and the suite's intensities."""
     from ...core.intensity import intensity_measures
     from ...core.suite import load_suite
     from .. import schema
+    from ..options import block_from_args, collars_from_args
     from . import analysis
-    from .models import collar_law, sdof_runs, unreachable
-    from .runner import answer_fit, intensity_of, limit_state_fits, setup
+    from .runner import intensity_of
 
-    if args.study is not None:
-        from ..study import load
-
-        given = [f"--{k}" for k in ("suite", "ladder", "levels", "design") if getattr(args, k)]
-        if given:
-            raise InputError(f"{', '.join(given)}: the study file gives them")
-        path = Path(args.study)
-        if not path.exists() and (SHIPPED / f"{args.study}.toml").exists():
-            path = SHIPPED / f"{args.study}.toml"
-        s = setup(load(path))
-        spec, block, collars = s.spec, s.column.rocking_block, s.column.collars
-        records, levels = s.records, s.levels
-        names = [entry.name for entry in s.suite]
-        intensity = s.intensity
+    try:
+        spec = schema.parse_table("fragility", _table_from_flags(args), "flags")
+    except InputError as exc:
+        raise InputError(_as_flags(str(exc))) from None
+    block, collars = block_from_args(args), collars_from_args(args)
+    suite = load_suite(spec.suite, g=block.g)
+    records = tuple(entry.scaled for entry in suite)
+    names = [entry.name for entry in suite]
+    periods = [spec.period] if spec.intensity == "sa" else []
+    intensity = np.array(
+        [
+            intensity_of(
+                intensity_measures(r, periods=periods, block=block), spec.intensity, spec.period
+            )
+            for r in records
+        ]
+    )
+    if spec.analysis == "ida":
+        assert spec.ladder is not None
+        levels = analysis.ladder(spec.ladder[0], spec.ladder[1], spec.steps)
     else:
-        from ..options import block_from_args, collars_from_args
+        levels = np.array(spec.levels, dtype=float)
+    return spec, block, collars, records, levels, names, intensity
 
-        try:
-            spec = schema.parse_table("fragility", _table_from_flags(args), "flags")
-        except InputError as exc:
-            raise InputError(_as_flags(str(exc))) from None
-        block, collars = block_from_args(args), collars_from_args(args)
-        suite = load_suite(spec.suite, g=block.g)
-        records = tuple(entry.scaled for entry in suite)
-        names = [entry.name for entry in suite]
-        periods = [spec.period] if spec.intensity == "sa" else []
-        intensity = np.array(
-            [
-                intensity_of(
-                    intensity_measures(r, periods=periods, block=block), spec.intensity, spec.period
-                )
-                for r in records
-            ]
-        )
-        if spec.analysis == "ida":
-            assert spec.ladder is not None
-            levels = analysis.ladder(spec.ladder[0], spec.ladder[1], spec.steps)
-        else:
-            levels = np.array(spec.levels, dtype=float)
-    study = _Sdof(block, collars)
-    start = time.perf_counter()
-    runs = [
-        sdof_runs(study, r, analysis.scales_for(levels, im, name), rtol=spec.sdof_rtol)
-        for r, im, name in zip(records, intensity, names)
-    ]
-    seconds = time.perf_counter() - start
-    fits = limit_state_fits(analysis.exceedances(runs, spec.theta_ratio), levels, spec)
-    law = collar_law(study, "sdof")
-    law["past_fy"] = analysis.past_yield(runs) if collars else None
-    summary = {
-        "intensity": spec.intensity,
-        "design_intensity": spec.design_intensity,
-        "levels": levels.tolist(),
-        "records": names,
-        "runs": len(records) * levels.size,
-        "seconds": seconds,
-        "limit_states": fits,
-        "collars": law,
-        "unreachable": unreachable(study, "sdof"),
-    }
-    if args.out is not None:
-        from ..output import write_json
 
-        write_json(Path(args.out) / "fragility.json", summary)
-    if args.json:
-        return summary
+def _print_fits(spec, summary: dict, collars, levels) -> None:
+    """The fits of :func:`run_command` as a table, one line a limit state."""
+    from . import analysis
+    from .runner import answer_fit
     from .schema import INTENSITY_MEASURES
 
+    records, seconds = summary["records"], summary["seconds"]
+    fits, law = summary["limit_states"], summary["collars"]
     unit = INTENSITY_MEASURES[spec.intensity]
     unit = "" if unit == "-" else f" {unit}"
     print(
@@ -212,6 +197,44 @@ def run_command(args) -> dict | None:
         )
     for name, why in summary["unreachable"].items():
         print(f"{state_names[name]:24s} cannot be reached by this model ({why})")
+
+
+def run_command(args) -> dict | None:
+    """Run the SDOF over the suite and print (or return, with --json) the fits."""
+    from . import analysis
+    from .models import collar_law, sdof_runs, unreachable
+    from .runner import limit_state_fits
+
+    inputs = _inputs_from_study(args) if args.study is not None else _inputs_from_flags(args)
+    spec, block, collars, records, levels, names, intensity = inputs
+    study = _Sdof(block, collars)
+    start = time.perf_counter()
+    runs = [
+        sdof_runs(study, r, analysis.scales_for(levels, im, name), rtol=spec.sdof_rtol)
+        for r, im, name in zip(records, intensity, names)
+    ]
+    seconds = time.perf_counter() - start
+    fits = limit_state_fits(analysis.exceedances(runs, spec.theta_ratio), levels, spec)
+    law = collar_law(study, "sdof")
+    law["past_fy"] = analysis.past_yield(runs) if collars else None
+    summary = {
+        "intensity": spec.intensity,
+        "design_intensity": spec.design_intensity,
+        "levels": levels.tolist(),
+        "records": names,
+        "runs": len(records) * levels.size,
+        "seconds": seconds,
+        "limit_states": fits,
+        "collars": law,
+        "unreachable": unreachable(study, "sdof"),
+    }
+    if args.out is not None:
+        from ..output import write_json
+
+        write_json(Path(args.out) / "fragility.json", summary)
+    if args.json:
+        return summary
+    _print_fits(spec, summary, collars, levels)
     return None
 
 
