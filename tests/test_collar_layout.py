@@ -69,15 +69,15 @@ def _walk(*runs):
 
 def test_a_record_that_overturns_before_its_collars_yield_has_its_capacity_exactly():
     walk = _walk((False, 100e6), (False, 200e6), (True, 230e6))
-    assert record_bounds(walk, 235e6, 11) == {"exact": 2}
+    assert record_bounds(walk, 235e6) == {"exact": 2}
     # the same walk with a weaker grade: the collars yield first, at level 1: open from there
-    assert record_bounds(walk, 200e6, 11) == {"exact": "open", "low": 1, "from": 1}
+    assert record_bounds(walk, 200e6) == {"exact": "open", "from": 1}
 
 
 def test_a_record_that_neither_overturns_nor_yields_is_censored_exactly():
     walk = _walk(*[(False, 50e6)] * 12)
-    assert record_bounds(walk, 235e6, 11) == {"exact": None}
-    assert record_bounds(_walk(*[(False, None)] * 12), 235e6, 11) == {"exact": None}
+    assert record_bounds(walk, 235e6) == {"exact": None}
+    assert record_bounds(_walk(*[(False, None)] * 12), 235e6) == {"exact": None}
 
 
 def test_too_few_overturnings_for_a_fit_give_the_hazards_bound():

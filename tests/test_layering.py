@@ -163,6 +163,7 @@ KIND_IMPORTERS = {
     ("colonna.studies.collar_layout.runner", "fragility"): "each layout's fragility is the "
     "fragility kind's: its records' IMs, ladder, multibody runs, FEM stripe and risk entry",
     ("colonna.studies.collar_layout.schema", "fragility"): "the same intensity measures",
+    ("colonna.studies.collar_layout", "fragility"): "the same defaults: the suite's records",
 }
 
 

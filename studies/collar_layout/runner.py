@@ -6,7 +6,7 @@ judged by the mean annual frequency of overturning at the site, lambda = int P[o
 (each record's first exceedance on the ladder, :func:`studies.fragility.analysis.first_exceedance`)
 through the rigid multibody model.
 
-1. **Screening, elastic collars** (:func:`elastic_walk`): the collars' stiffness sets the
+1. **Screening, elastic collars** (:func:`ladder_walk`): the collars' stiffness sets the
    elastic model's motion, not their grade, so each count x section is run once per record,
    up the ladder to its first overturning, with the collars' largest stress at every level. A
    plastic collar follows the elastic one exactly until it first yields, so for each grade a
@@ -15,7 +15,7 @@ through the rigid multibody model.
    at which they did. That gives each layout a bracket of lambda (:func:`bracket`): the
    upper end with every such record's capacity at its first yield, the lower end with it
    never overturning. Layouts whose lower end misses the target fail here.
-2. **Refinement, plastic collars** (:func:`plastic_walk`): the lightest layouts still in play,
+2. **Refinement, plastic collars** (:func:`ladder_walk`): the lightest layouts still in play,
    up to [layout] shortlist, have those records run with plastic collars from their first
    yield up to the first overturning: their lambda (with its bootstrap band) and the share of
    records that fracture a collar at the design intensity.
@@ -27,7 +27,6 @@ design intensity than [layout] fracture_fraction allows, is the answer."""
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import math
 import time
@@ -52,14 +51,6 @@ from .schema import STEEL_GRADES, Layout
 
 STEEL_DENSITY = 7850.0  # kg/m^3 (EN 1991-1-1, Table A.4)
 FEWER = ", fewer layout.counts, sections or grades, a shorter ladder, or layout.fem = false"
-
-
-def defaults(data: dict) -> dict:
-    """The study file's tables with this kind's defaults: [ground] pulse = "none" (the suite's
-    records are the motions; a copy)."""
-    data = copy.deepcopy(data)
-    data.setdefault("ground", {"pulse": "none"})
-    return data
 
 
 @dataclasses.dataclass(frozen=True)
@@ -240,35 +231,25 @@ def layout_column(column: FemStudy, heights, t: float, h: float, fy: float, plas
 SCREEN_FY = STEEL_GRADES["S235"]
 
 
-def elastic_walk(case: dict, directory: str) -> dict:
-    """One record up the ladder (``case["scales"]``) with elastic collars, to its first
-    overturning: per level run, overturned and the collars' largest stress (Pa)."""
+def ladder_walk(case: dict, directory: str) -> dict:
+    """One record up the ladder (``case["scales"]``, from level ``case["first"]``, else 0)
+    to its first overturning: per level run, overturned, the collars' largest stress (Pa,
+    read back from the utilisation at the collars' f_y; None without collars) and whether one
+    fractured (plastic collars)."""
     study = study_of_case(case)
+    fy = study.collars[0].fy if study.collars else math.nan
     start = time.perf_counter()
     walk = []
-    for scale in case["scales"]:
+    for scale in case["scales"][case.get("first", 0) :]:
         run = multibody_runs(study, study.ground, [scale])[0]
         utilisation = run["collar_utilisation"]
         walk.append(
             {
                 "overturned": run["overturned"],
-                "stress": None if utilisation is None else utilisation * SCREEN_FY,
+                "stress": None if utilisation is None else utilisation * fy,
+                "fractured": bool(run["collar_fractured"]),
             }
         )
-        if run["overturned"]:
-            break
-    return {"walk": walk, "seconds": time.perf_counter() - start}
-
-
-def plastic_walk(case: dict, directory: str) -> dict:
-    """One record up the ladder from ``case["first"]`` with plastic collars, to its first
-    overturning: per level run, overturned and fractured."""
-    study = study_of_case(case)
-    start = time.perf_counter()
-    walk = []
-    for scale in case["scales"][case["first"] :]:
-        run = multibody_runs(study, study.ground, [scale])[0]
-        walk.append({"overturned": run["overturned"], "fractured": bool(run["collar_fractured"])})
         if run["overturned"]:
             break
     return {"walk": walk, "seconds": time.perf_counter() - start}
@@ -295,7 +276,7 @@ def screening(s: Setup, out: Path, options: RunOptions) -> dict:
                 )
             )
     results = run_cases(
-        elastic_walk, cases, out, **options.for_cases(), stage="screening (elastic collars)"
+        ladder_walk, cases, out, **options.for_cases(), stage="screening (elastic collars)"
     )
     walks: dict = {section: [None] * len(s.records) for section in sections}
     for case in cases:
@@ -319,15 +300,15 @@ def first_levels(walk: list[dict], fy: float) -> tuple[int | None, int | None]:
     return overturn, yielded
 
 
-def record_bounds(walk: list[dict], fy: float, top: int) -> dict:
+def record_bounds(walk: list[dict], fy: float) -> dict:
     """A record's overturning capacity (a level index) with collars of yield stress ``fy``:
     ``exact`` where the elastic walk settles it (it overturned before they yielded, or it
-    reached the top with neither), else the bracket from the first yield (``low``) to never
-    (``high`` None) and ``from`` the level the plastic walk starts at."""
+    reached the top with neither), else open: between the first yield, ``from`` (where the
+    plastic walk starts), and never."""
     overturn, yielded = first_levels(walk, fy)
     if yielded is None or (overturn is not None and overturn < yielded):
         return {"exact": overturn}  # None: never overturned up to the top
-    return {"exact": "open", "low": yielded, "from": yielded}
+    return {"exact": "open", "from": yielded}
 
 
 def frequency_of(capacities: list[int | None], s: Setup, band: bool = False) -> dict:
@@ -342,11 +323,10 @@ def frequency_of(capacities: list[int | None], s: Setup, band: bool = False) -> 
     censored = np.array([c is None for c in capacities])
     spec = s.spec
     try:
-        fits.fit_capacities(capacity, censored=censored)
+        fit = fits.fit_capacities(capacity, censored=censored)
     except InputError as exc:  # no dispersion: every record overturned at one level
         return _bound(capacities, s, str(exc).removeprefix("capacities: "))
     if not band:
-        fit = fits.fit_capacities(capacity, censored=censored)
         value = risk.limit_state_frequency(s.hazard, fit.median, fit.beta).value
         return {"frequency": value, "bound": False, "median": fit.median, "beta": fit.beta}
     found = fits.bootstrap_capacities(
@@ -385,10 +365,9 @@ def _bound(capacities: list[int | None], s: Setup, why: str) -> dict:
 def bracket(candidate: Candidate, walks: dict, s: Setup) -> dict:
     """The layout's lambda bracket from the elastic screening (:mod:`module notes <.runner>`)
     and the records the plastic refinement must run (``open``)."""
-    top = len(s.levels) - 1
-    per = [record_bounds(walk, candidate.fy, top) for walk in walks[candidate.section]]
+    per = [record_bounds(walk, candidate.fy) for walk in walks[candidate.section]]
     open_records = [i for i, b in enumerate(per) if b["exact"] == "open"]
-    upper = [b["low"] if b["exact"] == "open" else b["exact"] for b in per]
+    upper = [b["from"] if b["exact"] == "open" else b["exact"] for b in per]
     lower = [None if b["exact"] == "open" else b["exact"] for b in per]
     high = frequency_of(upper, s)
     low = frequency_of(lower, s) if open_records else high
@@ -419,7 +398,7 @@ def refine(candidates: list[Candidate], brackets: dict, s: Setup, out, options) 
     if not cases:
         return {c.label: [None] * len(s.records) for c in candidates}
     results = run_cases(
-        plastic_walk, cases, out, **options.for_cases(), stage="refinement (plastic collars)"
+        ladder_walk, cases, out, **options.for_cases(), stage="refinement (plastic collars)"
     )
     walks: dict[str, list[dict | None]] = {c.label: [None] * len(s.records) for c in candidates}
     for case in cases:
@@ -786,14 +765,22 @@ def fem_work(study: Study):
     """The FEM work of the study (:func:`studies.driver.check_work`): the confirmation's one run
     per record at the design intensity, with the catalogue's most collars (their nodes and
     step are the chosen layout's within a few %), none with layout.fem = false."""
-    from ..fragility.runner import _fem_study, _interval
     from ..work import FemWork
-    from ..work import fem_work as estimate_work
 
     spec = study.spec.layout
     if spec is None or not spec.fem:
         return FemWork()
-    s = setup(study)
+    return _fem_stripe_work(setup(study))
+
+
+def _fem_stripe_work(s: Setup):
+    """:func:`fem_work` of a study's :class:`Setup`."""
+    from ..fragility.runner import _fem_study, _interval
+    from ..work import FemWork
+    from ..work import fem_work as estimate_work
+
+    if not s.spec.fem:
+        return FemWork()
     heaviest = s.candidates[-1]
     one = layout_column(
         s.column, s.heights[heaviest.count], heaviest.t, heaviest.h, heaviest.fy, plastic=True
@@ -843,4 +830,4 @@ def expected_work(study: Study):
                     other_seconds=PLASTIC_LEVELS * PLASTIC_SECONDS_PER_SECOND * seconds,
                 )
             )
-    return FemWork(runs=tuple(runs)) + fem_work(study)
+    return FemWork(runs=tuple(runs)) + _fem_stripe_work(s)

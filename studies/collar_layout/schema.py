@@ -8,7 +8,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field
 
-from ..fragility.schema import INTENSITY_MEASURES
+from ..fragility.schema import INTENSITY_MEASURES, SUITE
 from ..schema import Table, known, pair, quantity
 
 # EN 10025-2:2019, Table 7: f_y of the non-alloy structural steels for t <= 16 mm, Pa
@@ -31,16 +31,12 @@ class Layout(Table):
     overturning at the site ([hazard]) meets a target, screened over a record suite with the
     rigid multibody model, refined with its plastic collars and confirmed by FEM stripes."""
 
-    suite: str = Field(
-        min_length=1,
-        description="Record suite: a folder of records or a TOML list of them ([[record]] "
-        "file, scale, units), relative to the study file.",
-    )
+    suite: str = SUITE
     intensity: Literal[tuple(INTENSITY_MEASURES)] = Field(  # type: ignore[valid-type]
         "pga_rocking",
         description="Intensity measure the records are scaled by (as [fragility] intensity; "
         "sa is not offered here): pga (m/s^2), pgv (m/s), pga_rocking, pgv_rocking (of the "
-        "uncracked column's rocking block). The [hazard] must be of the same measure.",
+        "rocking block: the half of a cracked column). The [hazard] must be of the same measure.",
     )
     ladder: list[Annotated[float, Field(gt=0, le=1e4)]] = pair(
         [0.5, 8.0], "[start, stop] of the IDA ladder, inclusive, in the intensity's unit.", "IM"

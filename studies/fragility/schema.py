@@ -18,6 +18,11 @@ INTENSITY_MEASURES = {  # [fragility] intensity: the IMs a record is scaled by, 
     "pgv_rocking": "-",
 }
 FRAGILITY_MODELS = ("sdof", "multibody", "fem")
+SUITE_TEXT = (
+    "Record suite: a folder of records or a TOML list of them ([[record]] file, scale, "
+    "units), relative to the study file."
+)
+SUITE = Field(min_length=1, description=SUITE_TEXT)  # a kind's suite key (also [layout])
 
 
 class Fragility(Table):
@@ -25,11 +30,7 @@ class Fragility(Table):
     IDA (a ladder of levels, each record's capacity at its first exceedance) or multiple-stripe
     analysis (given levels); lognormal fits with bootstrap bands."""
 
-    suite: str = Field(
-        min_length=1,
-        description="Record suite: a folder of records or a TOML list of them ([[record]] "
-        "file, scale, units), relative to the study file.",
-    )
+    suite: str = SUITE
     intensity: Literal[tuple(INTENSITY_MEASURES)] = Field(  # type: ignore[valid-type]
         "pga_rocking",
         description="Intensity measure the records are scaled by and the curves are drawn "
