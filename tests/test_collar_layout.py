@@ -95,42 +95,12 @@ def test_too_few_overturnings_for_a_fit_give_the_hazards_bound():
     assert found["frequency"] == pytest.approx(1e-3 / 16.0)
 
 
-TINY_LAYOUT = """
-[study]
-name = "tiny-layout"
-kind = "collar-layout"
-[column]
-height = 4.0
-width = 0.6
-cracked = true
-[mesh]
-size = 0.1
-[run]
-output_interval = 0.01
-[hazard]
-k0 = 1.5e-2
-k = 2.5
-intensity = "pga"
-[layout]
-suite = "suite.toml"
-ladder = [1.1, 8.0]
-steps = 10
-counts = [0, 1, 2]
-sections = [[0.004, 0.03], [0.010, 0.08]]
-grades = ["S235", "S355"]
-target_frequency = {target}
-design_return_period = 475
-shortlist = 8
-bootstrap = 40
-"""
-
-
 @pytest.mark.slow
 def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsys, monkeypatch):
     """The tiny column over the four-pulse suite: the chosen layout meets the target, every
     lighter one fails or was not refined and says why, the report opens with the answer and
     the FEM stripe at the design intensity is on record."""
-    from tiny_study import write_pulse_suite
+    from tiny_study import TINY_LAYOUT, write_pulse_suite
 
     from colonna.studies.cli import main
 

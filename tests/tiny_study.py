@@ -43,6 +43,38 @@ design_intensity = 3.0
 bootstrap = 40
 """
 
+# the collar-layout kind on the same column, cracked, over the same suite: a small catalogue
+# (none, one or two collars of two sections and two grades), a power-law hazard whose 475-year
+# intensity lies inside the ladder; ``target`` (1/year) to fill in
+TINY_LAYOUT = """
+[study]
+name = "tiny-layout"
+kind = "collar-layout"
+[column]
+height = 4.0
+width = 0.6
+cracked = true
+[mesh]
+size = 0.1
+[run]
+output_interval = 0.01
+[hazard]
+k0 = 1.5e-2
+k = 2.5
+intensity = "pga"
+[layout]
+suite = "suite.toml"
+ladder = [1.1, 8.0]
+steps = 10
+counts = [0, 1, 2]
+sections = [[0.004, 0.03], [0.010, 0.08]]
+grades = ["S235", "S355"]
+target_frequency = {target}
+design_return_period = 475
+shortlist = 8
+bootstrap = 40
+"""
+
 # (shape, Omega / p) of the four pulses: the cosine at 2.5 p overturns from a low level,
 # survives a band of higher ones and overturns again
 PULSES = (("cos", 2.5), ("cos", 2.0), ("sin", 3.5), ("sin", 6.0))
