@@ -210,3 +210,20 @@ def test_collars_far_below_yield_give_the_elastic_screenings_capacities():
     shifts = [first[i, True] - first[i, False] for i in (0, 2, 5, 7, 9)]
     assert all(abs(d) <= 1 for d in shifts), shifts
     assert sum(d == 0 for d in shifts) >= 3, shifts
+
+
+def test_the_answer_says_when_no_collars_are_needed():
+    """The lightest layout that meets the target may be none: the answer says so in words, not
+    as a layout of no collars at no heights."""
+    from types import SimpleNamespace
+
+    from colonna.studies.collar_layout.runner import answer_text
+
+    s = SimpleNamespace(
+        years=50.0, target=1e-3, spec=SimpleNamespace(target_probability=None, shortlist=4)
+    )
+    none = {"count": 0, "label": "no collars", "heights": [], "frequency": 2.3e-4}
+    text = answer_text(s, none, None, [none])
+    assert text.startswith("No collars are needed: overturning 0.00023 per year"), text
+    two = {"count": 2, "label": "2 x 8 x 60 mm S275", "heights": [0.5, 3.5], "frequency": 9e-4}
+    assert answer_text(s, two, None, [two]).startswith("2 x 8 x 60 mm S275 at 0.50, 3.50 m:")

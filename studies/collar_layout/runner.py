@@ -739,10 +739,8 @@ def answer_text(s: Setup, chosen: dict | None, fem: dict | None, rows: list[dict
     lam = chosen["frequency"]
     p = 1.0 - math.exp(-lam * years)
     heights = ", ".join(f"{y:.2f}" for y in chosen["heights"])
-    text = (
-        f"{chosen['label']} at {heights} m: overturning {lam:.2g} per year, "
-        f"{p:.2%} in {years:g} years, {target}"
-    )
+    layout = f"{chosen['label']} at {heights} m" if chosen["count"] else "No collars are needed"
+    text = f"{layout}: overturning {lam:.2g} per year, {p:.2%} in {years:g} years, {target}"
     if fem is not None:
         text += (
             "; the FEM stripe at the design intensity confirms it"
