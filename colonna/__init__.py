@@ -13,7 +13,7 @@ The names below are the public API.
 >>> import colonna
 >>> block = colonna.Block.from_dimensionless(p=2.14, alpha=0.25, restitution=0.9)
 >>> pulse = colonna.pulse_from_ratios(block, "sine", 5.0, 3.0, "linear")
->>> colonna.rock(block, pulse, model="linear").mode
+>>> colonna.rock(block, colonna.Motion(pulse), model="linear").mode
 'safe'
 """
 
@@ -42,10 +42,13 @@ _PUBLIC = {
     "ColonnaError": ".core.errors",
     "HarmonicPulse": ".core.ground",
     "InputError": ".core.errors",
+    "Motion": ".core.motion",
     "MultibodyResult": ".rigid.multibody",
     "NumericalFailure": ".core.errors",
     "Record": ".core.ground",
+    "Release": ".core.motion",
     "RockingResult": ".rigid.solve",
+    "SdofSettings": ".rigid.solve",
     "Spectrum": ".rigid.spectrum",
     "StaleResultsError": ".core.errors",
     "housner_restitution": ".rigid.block",
@@ -65,10 +68,13 @@ __all__ = [
     "ColonnaError",
     "HarmonicPulse",
     "InputError",
+    "Motion",
     "MultibodyResult",
     "NumericalFailure",
     "Record",
+    "Release",
     "RockingResult",
+    "SdofSettings",
     "Spectrum",
     "StaleResultsError",
     "__version__",
@@ -86,9 +92,10 @@ if TYPE_CHECKING:  # what the names are, for type checkers (nothing is imported 
     from .core.collar import Collar
     from .core.errors import ColonnaError, InputError, NumericalFailure, StaleResultsError
     from .core.ground import HarmonicPulse, Record, read_record
+    from .core.motion import Motion, Release
     from .rigid.block import Block, housner_restitution, pulse_from_ratios
     from .rigid.multibody import MultibodyResult, multibody_spectrum, rock_multibody
-    from .rigid.solve import RockingResult, rock
+    from .rigid.solve import RockingResult, SdofSettings, rock
     from .rigid.spectrum import Spectrum, overturning_spectrum
     from .studies.schema import read_collars
 

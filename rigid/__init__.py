@@ -17,9 +17,12 @@ _PUBLIC = {
     "Collar": "..core.collar",
     "HarmonicPulse": "..core.ground",
     "InputError": "..core.errors",
+    "Motion": "..core.motion",
     "NoMotion": "..core.ground",
     "Record": "..core.ground",
+    "Release": "..core.motion",
     "RockingResult": ".solve",
+    "SdofSettings": ".solve",
     "cosine_pulse": "..core.ground",
     "housner_restitution": ".block",
     "pulse_from_ratios": ".block",
@@ -43,8 +46,9 @@ if TYPE_CHECKING:  # what the names are, for type checkers (nothing is imported 
         read_two_column,
         sine_pulse,
     )
+    from ..core.motion import Motion, Release
     from .block import Block, housner_restitution, pulse_from_ratios
-    from .solve import RockingResult, rock
+    from .solve import RockingResult, SdofSettings, rock
 
 __getattr__, __dir__ = lazy_exports(globals(), _PUBLIC)
 
@@ -53,9 +57,12 @@ __all__ = [
     "Collar",
     "HarmonicPulse",
     "InputError",
+    "Motion",
     "NoMotion",
     "Record",
+    "Release",
     "RockingResult",
+    "SdofSettings",
     "cosine_pulse",
     "housner_restitution",
     "pulse_from_ratios",

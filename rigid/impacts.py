@@ -16,9 +16,10 @@ Two measures of the angular-velocity ratio nu = |theta' after| / |theta' before|
   crossing. This works under a pulse too, but a deformable body's vibration enters the slopes.
 
 >>> import numpy as np
->>> from colonna.rigid import Block, NoMotion, rock
+>>> from colonna.rigid import Block, Motion, Release, SdofSettings, rock
 >>> blk = Block.from_dimensionless(p=2.0, alpha=0.2)
->>> r = rock(blk, NoMotion(), model="nonlinear", initial_tilt=0.1, duration=4.0, dt_out=1e-4)
+>>> r = rock(blk, Motion(duration=4.0), model="nonlinear", release=Release(tilt=0.1),
+...          settings=SdofSettings(dt_out=1e-4))
 >>> m = impact_ratios_from_peaks(r.time, r.theta, blk.alpha)
 >>> bool(np.allclose(m.ratios, blk.restitution_housner, rtol=1e-3))
 True

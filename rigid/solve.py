@@ -24,6 +24,7 @@ import numpy as np
 
 from ..core.errors import InputError, require_history_rows, require_positive, require_range
 from ..core.ground import NO_MOTION, GroundMotion, kernel_tables, require_motion
+from ..core.motion import Motion, Release
 from ..core.quantities import quantity, to_dict, typed_result
 from . import _kernels as K
 from .block import Block, check_model
@@ -35,6 +36,7 @@ UPLIFT_THRESHOLD = 1e-4  # rotations up to 1e-4 alpha are no uplift (multibody c
 
 DEFAULT_RTOL = 1e-10
 DEFAULT_ATOL = 1e-12
+AT_REST = Release()  # the default start: upright at rest
 
 
 def motion_word(overturned: bool, max_abs_theta: float, alpha: float) -> str:
@@ -323,14 +325,14 @@ def kernel_params(
     P[K.P_NHREC] = n_horizontal
     P[K.P_VERT] = 1.0 if has_vertical else 0.0
     require_range(
-        "initial tilt (rad)",
+        "release.tilt (rad)",
         initial_tilt,
         -0.5 * math.pi,
         0.5 * math.pi,
         range_text="(-pi/2, pi/2)",
     )
     P[K.P_TH0] = initial_tilt
-    P[K.P_OM0] = _as_finite("initial angular velocity (rad/s)", initial_angular_velocity)
+    P[K.P_OM0] = _as_finite("release.angular_velocity (rad/s)", initial_angular_velocity)
     return P, rec_t, rec_a
 
 
@@ -341,31 +343,55 @@ def _as_finite(name: str, value) -> float:
     return value
 
 
+@dataclass(frozen=True)
+class SdofSettings:
+    """How the SDOF rocking equation is integrated and stored (the model itself is ``rock``'s
+    ``model``).
+
+    dt_out:  output interval, s (None: 1/200 of the shortest of 1/p and 2 pi/Omega);
+    rtol, atol: the DOPRI5 integrator's relative and absolute error tolerances (the closed form
+             of the linear model needs none);
+    max_impacts_stored: how many impacts keep their time and velocities (all are counted).
+    """
+
+    dt_out: float | None = None
+    rtol: float = DEFAULT_RTOL
+    atol: float = DEFAULT_ATOL
+    max_impacts_stored: int = 20_000
+
+
+def require_parameter_object(name: str, value, kind: type):
+    """``value`` itself, or an InputError naming the parameter and the object it takes."""
+    if not isinstance(value, kind):
+        raise InputError(f"{name} = {value!r} is not a colonna.{kind.__name__}")
+    return value
+
+
 def rock(
     block: Block,
-    ground,
+    motion: Motion,
     collars=(),
     *,
     model: str = "linear",
-    duration: float | None = None,
-    dt_out: float | None = None,
-    rtol: float = DEFAULT_RTOL,
-    atol: float = DEFAULT_ATOL,
-    initial_tilt: float = 0.0,
-    initial_angular_velocity: float = 0.0,
-    max_impacts_stored: int = 20_000,
-    vertical: GroundMotion = NO_MOTION,
+    release: Release = AT_REST,
+    settings: SdofSettings = SdofSettings(),
 ) -> RockingResult:
-    """Rocking response of ``block`` to ``ground`` (a pulse, a record, or NoMotion(): free rocking;
-    any colonna.core.ground.GroundMotion: a sine_form is solved exactly, any other motion is read
-    from its acceleration_table), starting at rest upright, or released at t = 0 from
-    ``initial_tilt`` (rad) with ``initial_angular_velocity`` (rad/s). ``vertical``: the vertical
-    ground acceleration (upward positive; a pulse or a record), which scales the weight by
-    (g + vg'') / g and the uplift level with it (Eq. 1-2).
-
-    duration: end of the computed history, s (default: end of the ground motion + 20 / p).
-    dt_out:   output interval, s (default: 1/200 of the shortest of 1/p and 2 pi/Omega).
+    """Rocking response of ``block`` to ``motion.ground`` (a pulse, a record, or NoMotion(): free
+    rocking; any colonna.core.ground.GroundMotion: a sine_form is solved exactly, any other motion
+    is read from its acceleration_table), starting at rest upright, or released at t = 0 from
+    ``release.tilt`` (rad) with ``release.angular_velocity`` (rad/s). ``motion.vertical``: the
+    vertical ground acceleration (upward positive; a pulse or a record), which scales the weight
+    by (g + vg'') / g and the uplift level with it (Eq. 1-2). ``motion.duration``: end of the
+    computed history, s (default: end of the ground motion + 20 / p). ``settings``: the output
+    interval, tolerances and impact storage (:class:`SdofSettings`).
     """
+    require_parameter_object("motion", motion, Motion)
+    require_parameter_object("release", release, Release)
+    require_parameter_object("settings", settings, SdofSettings)
+    ground, duration, vertical = motion.ground, motion.duration, motion.vertical
+    initial_tilt, initial_angular_velocity = release.tilt, release.angular_velocity
+    dt_out, rtol, atol = settings.dt_out, settings.rtol, settings.atol
+    max_impacts_stored = settings.max_impacts_stored
     check_model(model)
     collars = validate_collars(collars, block)
     P, rec_t, rec_a = kernel_params(

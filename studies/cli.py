@@ -46,6 +46,7 @@ from ..core.ground import (
     read_record,
     weak_record_note,
 )
+from ..core.motion import Motion
 from ..rigid.block import pulse_from_ratios
 from . import schema
 from .options import add_block_options, add_collar_option, block_from_args, collars_from_args
@@ -236,7 +237,10 @@ def _cmd_rigid(args) -> dict:
         columns = history_columns(result)
     else:
         result = rock(
-            block, ground, collars, model=args.model, duration=args.duration, vertical=vertical
+            block,
+            Motion(ground, duration=args.duration, vertical=vertical),
+            collars,
+            model=args.model,
         )
         columns = {"t": result.time, "theta": result.theta, "theta_dot": result.theta_dot}
         for k, hist in enumerate(result.collar_histories, start=1):

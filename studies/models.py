@@ -195,6 +195,7 @@ def run_sdof(study: FemStudy, *, whole_column: bool = False):
     half (or the whole, if not cracked) with the study's collars, the paper's model; with
     ``whole_column`` the uncracked column without collars (the monolith). Every study kind's
     SDOF run goes through here, as for :func:`run_fem`."""
+    from ..core.motion import Motion, Release
     from ..rigid.solve import rock
 
     if whole_column:
@@ -203,13 +204,10 @@ def run_sdof(study: FemStudy, *, whole_column: bool = False):
         block, collars = study.rocking_block, study.collars
     return rock(
         block,
-        study.ground,
+        Motion(study.ground, duration=study.duration, vertical=study.vertical),
         collars,
         model="nonlinear",
-        duration=study.duration,
-        vertical=study.vertical,
-        initial_tilt=study.initial_tilt,
-        initial_angular_velocity=study.initial_angular_velocity,
+        release=Release(tilt=study.initial_tilt, angular_velocity=study.initial_angular_velocity),
     )
 
 

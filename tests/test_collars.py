@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from colonna.core.motion import Motion
 from colonna.rigid import Block, Collar, InputError, pulse_from_ratios, rock
 from colonna.rigid import _kernels as K
 from colonna.rigid.collars import (
@@ -93,7 +94,7 @@ def test_collar_history_first_yield(half_column):
     collars = (Collar(y=1.0, t=0.01, h=0.05),)
     result = rock(
         half_column,
-        pulse_from_ratios(half_column, "sine", 2.0, 3.0, "nonlinear"),
+        Motion(pulse_from_ratios(half_column, "sine", 2.0, 3.0, "nonlinear")),
         collars,
         model="nonlinear",
     )
@@ -112,7 +113,7 @@ def test_sdof_summary_says_its_collars_are_elastic_and_what_that_leaves_out(half
     stress past f_y is not one the steel can carry and what is not modelled (the verdict
     says elastic collars were assumed); where none passed f_y there is no note."""
     pulse = pulse_from_ratios(half_column, "sine", 2.0, 3.0, "nonlinear")
-    weak = rock(half_column, pulse, (Collar(y=1.0, t=0.01, h=0.05),), model="nonlinear")
+    weak = rock(half_column, Motion(pulse), (Collar(y=1.0, t=0.01, h=0.05),), model="nonlinear")
     s = weak.summary()
     assert s["collar_law"] == "elastic" and s["collar_max_utilisation"] > 1.0
     note = s["collar_note"]
@@ -120,11 +121,13 @@ def test_sdof_summary_says_its_collars_are_elastic_and_what_that_leaves_out(half
     assert f"utilisation {s['collar_max_utilisation']:.3g})" in note
     assert "not in this model" in note and "plastic = true" in note
     assert "elastic collars assumed" in s["verdict"]
-    strong = rock(half_column, pulse, (Collar(y=1.0, t=0.01, h=0.05, fy=1e11),), model="nonlinear")
+    strong = rock(
+        half_column, Motion(pulse), (Collar(y=1.0, t=0.01, h=0.05, fy=1e11),), model="nonlinear"
+    )
     s = strong.summary()
     assert s["collar_law"] == "elastic" and s["collar_max_utilisation"] < 1.0
     assert "collar_note" not in s and "elastic collars assumed" not in s["verdict"]
-    bare = rock(half_column, pulse, model="nonlinear").summary()
+    bare = rock(half_column, Motion(pulse), model="nonlinear").summary()
     assert "collar_law" not in bare and "collar_note" not in bare
 
 
@@ -189,7 +192,7 @@ def test_collar_above_column_top_is_rejected(half_column, tmp_path):
     with pytest.raises(InputError, match="collar 1 y"):
         rock(
             half_column,
-            pulse_from_ratios(half_column, "sine", 2.0, 2.0, "nonlinear"),
+            Motion(pulse_from_ratios(half_column, "sine", 2.0, 2.0, "nonlinear")),
             (Collar(y=5.0, t=0.01, h=0.05),),
             model="nonlinear",
         )
@@ -207,7 +210,7 @@ def test_collars_need_mass():
     with pytest.raises(InputError, match="mass"):
         rock(
             blk,
-            pulse_from_ratios(blk, "sine", 2.0, 2.0, "nonlinear"),
+            Motion(pulse_from_ratios(blk, "sine", 2.0, 2.0, "nonlinear")),
             (Collar(y=1.0, t=0.01, h=0.05),),
             model="nonlinear",
         )

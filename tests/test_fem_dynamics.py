@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from colonna.core.collar_law import OUT_SIZE, STATE_SIZE
+from colonna.core.motion import Motion
 from colonna.fem import _kernels as K
 from colonna.fem.assembly import Stone
 from colonna.fem.bed import stone_bed
@@ -14,6 +15,7 @@ from colonna.fem.model import ContactSettings, build_model, stable_time_step
 from colonna.fem.solver import run
 from colonna.meshes.column import column_mesh
 from colonna.rigid import Block, Collar, InputError, NoMotion, Record, pulse_from_ratios, rock
+from colonna.rigid.solve import SdofSettings
 
 STILL = Record(np.array([0.0, 100.0]), np.zeros(2))
 
@@ -287,7 +289,7 @@ def test_stiff_solid_column_follows_rigid_solution(E, tolerance):
     W, H = 0.4, 2.0
     blk = Block(b=W / 2, h=H / 2)
     pulse = pulse_from_ratios(blk, "sine", 3.0, 3.0, "nonlinear")
-    rigid = rock(blk, pulse, model="nonlinear", dt_out=1e-3)
+    rigid = rock(blk, Motion(pulse), model="nonlinear", settings=SdofSettings(dt_out=1e-3))
     t_impact = rigid.impact_times[0]
     mesh = column_mesh(W, H, 0.1, cracked=False, grading=0.3)
     model = build_model(
@@ -323,7 +325,7 @@ def test_overturning_is_detected_and_stops_the_run():
     W, H = 0.2, 2.0
     blk = Block(b=W / 2, h=H / 2)
     pulse = pulse_from_ratios(blk, "sine", 1.0, 3.0, "nonlinear")
-    rigid = rock(blk, pulse, model="nonlinear")
+    rigid = rock(blk, Motion(pulse), model="nonlinear")
     assert rigid.overturned
     model = build_model(
         column_mesh(W, H, 0.05, cracked=False), Stone(), 0.2, contact=ContactSettings(friction=1.0)

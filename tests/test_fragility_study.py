@@ -21,6 +21,7 @@ from tiny_study import TINY_FRAGILITY, write_pulse_suite
 from colonna.core.errors import InputError
 from colonna.core.ground import Record
 from colonna.core.intensity import intensity_measures
+from colonna.core.motion import Motion
 from colonna.core.suite import load_suite
 from colonna.rigid.block import Block
 from colonna.studies.cli import main
@@ -107,7 +108,7 @@ def test_the_sdof_path_gives_the_answers_of_rock(suite):
     study = types.SimpleNamespace(rocking_block=block, collars=collars)
     runs = sdof_runs(study, record, scales, rtol=1e-10)
     for scale, run in zip(scales, runs):
-        r = rock(block, record.scaled(scale), collars, model="nonlinear")
+        r = rock(block, Motion(record.scaled(scale)), collars, model="nonlinear")
         assert run["overturned"] == r.overturned
         assert run["peak_ratio"] == pytest.approx(r.max_abs_theta / block.alpha, rel=1e-9)
         if not r.overturned:

@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from colonna.core.motion import Motion, Release
 from colonna.rigid import (
     InputError,
     NoMotion,
@@ -108,7 +109,10 @@ def test_none_is_not_a_ground_motion():
     assert not NO_MOTION.acceleration([0.0, 1.0]).any()
     block = Block.from_dimensionless(p=2.0, alpha=0.2)
     with pytest.raises(InputError, match="ground = None is not a ground motion"):
-        rock(block, None, initial_tilt=0.1)
+        rock(block, Motion(None), release=Release(tilt=0.1))
+    # issue 49: the run functions take parameter objects; a bare motion is refused by name
+    with pytest.raises(InputError, match=r"motion = NoMotion\(.*\) is not a colonna.Motion"):
+        rock(block, NoMotion(), release=Release(tilt=0.1))
     with pytest.raises(InputError, match="vertical = None is not a ground motion"):
         rock_multibody(block, NoMotion(), initial_tilt=0.1, vertical=None)
 

@@ -32,8 +32,10 @@ from colonna.core.ground import (
     peak_acceleration,
     sine_pulse,
 )
+from colonna.core.motion import Motion
 from colonna.rigid import Block, InputError, pulse_from_ratios, rock
 from colonna.rigid.multibody import rock_multibody
+from colonna.rigid.solve import SdofSettings
 
 ROOT = Path(__file__).resolve().parents[1]
 STICK = 2.0  # a friction coefficient that forbids sliding of these blocks
@@ -290,13 +292,13 @@ def test_a_new_class_equal_to_a_harmonic_pulse_gives_its_answers_bit_for_bit():
     vertical = HarmonicPulse("sine", 0.2 * 9.81, 9.0, 0.0, 2.0)
     fields = ["time", "theta", "theta_dot", "impact_times", "impact_velocity_after"]
     for model in ("linear", "nonlinear"):
-        a = rock(blk, pulse, model=model, duration=5.0)
-        b = rock(blk, twin, model=model, duration=5.0)
+        a = rock(blk, Motion(pulse, duration=5.0), model=model)
+        b = rock(blk, Motion(twin, duration=5.0), model=model)
         assert a.solver == b.solver and a.mode == b.mode and a.impacts == b.impacts > 0
         arrays_equal(a, b, fields)
     # and as a vertical motion (read from its table)
-    a = rock(blk, pulse, model="nonlinear", duration=3.0, vertical=vertical)
-    b = rock(blk, pulse, model="nonlinear", duration=3.0, vertical=one_sine(vertical))
+    a = rock(blk, Motion(pulse, duration=3.0, vertical=vertical), model="nonlinear")
+    b = rock(blk, Motion(pulse, duration=3.0, vertical=one_sine(vertical)), model="nonlinear")
     arrays_equal(a, b, fields)
     a = rock_multibody(blk, pulse, friction=STICK, duration=4.0)
     b = rock_multibody(blk, twin, friction=STICK, duration=4.0)
@@ -315,14 +317,16 @@ def test_a_new_motion_read_from_its_table_moves_the_rigid_models():
     as_record = Record(*strong.acceleration_table(), name="ricker")
     fields = ["time", "theta", "theta_dot", "impact_times"]
     for model in ("linear", "nonlinear"):
-        a = rock(blk, strong, model=model, duration=6.0)
-        b = rock(blk, as_record, model=model, duration=6.0)
+        a = rock(blk, Motion(strong, duration=6.0), model=model)
+        b = rock(blk, Motion(as_record, duration=6.0), model=model)
         assert a.solver == "dopri5" and a.impacts > 0
         arrays_equal(a, b, fields)
-    weak = rock(blk, Ricker(0.9 * uplift, strong.frequency, 1.5), model="nonlinear")
+    weak = rock(blk, Motion(Ricker(0.9 * uplift, strong.frequency, 1.5)), model="nonlinear")
     assert not weak.theta.any() and weak.summary()["motion"] == "no uplift"
 
-    sdof = rock(blk, strong, model="nonlinear", duration=6.0, dt_out=1e-3)
+    sdof = rock(
+        blk, Motion(strong, duration=6.0), model="nonlinear", settings=SdofSettings(dt_out=1e-3)
+    )
     mb = rock_multibody(blk, strong, friction=STICK, duration=6.0, dt_out=1e-3)
     same = rock_multibody(blk, as_record, friction=STICK, duration=6.0, dt_out=1e-3)
     arrays_equal(mb, same, ["time", "theta", "theta_dot", "impacts_table"])

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from colonna.core.collar_law import OUT_SIZE, STATE_SIZE
+from colonna.core.motion import Motion
 from colonna.rigid import (
     Block,
     Collar,
@@ -19,6 +20,7 @@ from colonna.rigid import (
 )
 from colonna.rigid import _multibody as K
 from colonna.rigid.multibody import build_column, default_step, multibody_spectrum, rock_multibody
+from colonna.rigid.solve import SdofSettings
 
 STICK = 2.0  # a friction coefficient that forbids sliding of these blocks
 
@@ -52,7 +54,9 @@ def assert_energy_closes(result, tol=1e-2):
 def test_solid_block_follows_nonlinear_sdof_to_the_third_impact(omega_ratio, amplitude_ratio):
     blk = zm_block()
     pulse = pulse_from_ratios(blk, "sine", omega_ratio, amplitude_ratio, "nonlinear")
-    ref = rock(blk, pulse, model="nonlinear", duration=8.0, dt_out=1e-3)
+    ref = rock(
+        blk, Motion(pulse, duration=8.0), model="nonlinear", settings=SdofSettings(dt_out=1e-3)
+    )
     mb = rock_multibody(blk, pulse, friction=STICK, duration=8.0, dt_out=1e-3)
     assert ref.impacts >= 3 and mb.impacts >= 3
     assert theta_error(mb, ref, ref.impact_times[2]) < 1e-3
@@ -66,7 +70,9 @@ def _sdof_boundaries(blk, omega_ratio, low, high, n=60):
 
     def over(a):
         return rock(
-            blk, pulse_from_ratios(blk, "sine", omega_ratio, a, "nonlinear"), model="nonlinear"
+            blk,
+            Motion(pulse_from_ratios(blk, "sine", omega_ratio, a, "nonlinear")),
+            model="nonlinear",
         ).overturned
 
     grid = np.linspace(low, high, n)
@@ -90,7 +96,7 @@ def test_overturning_classification_matches_sdof_on_both_sides_of_zhang_makris_b
     for boundary in boundaries:
         for side in (0.99, 1.01):
             pulse = pulse_from_ratios(blk, "sine", 5.0, side * boundary, "nonlinear")
-            ref = rock(blk, pulse, model="nonlinear")
+            ref = rock(blk, Motion(pulse), model="nonlinear")
             mb = rock_multibody(blk, pulse, friction=STICK)
             assert mb.mode == ref.mode, (boundary, side)
 
@@ -131,7 +137,9 @@ def test_time_step_convergence():
     than monotonic): refining the step or the impact substeps both reduce it."""
     blk = zm_block()
     pulse = pulse_from_ratios(blk, "sine", 5.0, 2.0, "nonlinear")
-    ref = rock(blk, pulse, model="nonlinear", duration=4.0, dt_out=1e-5)
+    ref = rock(
+        blk, Motion(pulse, duration=4.0), model="nonlinear", settings=SdofSettings(dt_out=1e-5)
+    )
     t3 = ref.impact_times[2]
 
     def error(dt, refine=32):
@@ -328,7 +336,9 @@ def test_halves_with_frictionless_crack_rock_as_independent_half_blocks():
     2b (1 - cos theta)): the half that leans on the other is held back slightly."""
     half = marble_half()
     pulse = pulse_from_ratios(half, "sine", 5.0, 2.0, "nonlinear")
-    ref = rock(half, pulse, model="nonlinear", duration=6.0, dt_out=1e-3)
+    ref = rock(
+        half, Motion(pulse, duration=6.0), model="nonlinear", settings=SdofSettings(dt_out=1e-3)
+    )
     mb = rock_multibody(
         half, pulse, cracked=True, friction=STICK, crack_friction=0.0, duration=6.0, dt_out=1e-3
     )
@@ -346,7 +356,9 @@ def test_stiff_collars_and_crack_friction_lock_the_halves_into_the_whole_column_
     half = marble_half()
     whole = Block(b=2.0 * half.b, h=half.h, mass=2.0 * half.mass)
     pulse = pulse_from_ratios(half, "sine", 3.0, 3.0, "nonlinear")
-    ref = rock(whole, pulse, model="nonlinear", duration=5.0, dt_out=1e-3)
+    ref = rock(
+        whole, Motion(pulse, duration=5.0), model="nonlinear", settings=SdofSettings(dt_out=1e-3)
+    )
     t1 = ref.impact_times[0]
     errors = []
     for stiffening in (1.0, 10.0, 100.0):
@@ -464,7 +476,7 @@ def test_spectrum_points_equal_single_histories_and_the_sdof_away_from_boundarie
         for j, om in enumerate(omegas):
             pulse = pulse_from_ratios(blk, "sine", om, a, "nonlinear")
             single = rock_multibody(blk, pulse, friction=STICK)
-            ref = rock(blk, pulse, model="nonlinear")
+            ref = rock(blk, Motion(pulse), model="nonlinear")
             assert spec.modes[i][j] == single.mode == ref.mode, (a, om)
 
 

@@ -10,6 +10,7 @@ import math
 import pytest
 
 from colonna.core import quantities
+from colonna.core.motion import Motion, Release
 from colonna.core.quantities import quantity, selected, to_dict, to_json, typed_result, units_of
 from colonna.fem.assembly import Stone
 from colonna.fem.ensemble import EnsembleTally, ensemble_summary
@@ -74,9 +75,9 @@ def _rock_runs():
     gentle = pulse_from_ratios(LOADED, "sine", 3.0, 1.2, "nonlinear")
     stiff = (Collar(y=1.0, t=0.02, h=0.08),)
     return {
-        "solid": rock(BLOCK, pulse_from_ratios(BLOCK, "sine", 3.0, 2.5, "linear")),
-        "collars yield": rock(LOADED, pulse, COLLARS, model="nonlinear"),
-        "collars elastic": rock(LOADED, gentle, stiff, model="nonlinear", duration=3.0),
+        "solid": rock(BLOCK, Motion(pulse_from_ratios(BLOCK, "sine", 3.0, 2.5, "linear"))),
+        "collars yield": rock(LOADED, Motion(pulse), COLLARS, model="nonlinear"),
+        "collars elastic": rock(LOADED, Motion(gentle, duration=3.0), stiff, model="nonlinear"),
     }
 
 
@@ -208,7 +209,7 @@ def test_declared_units_pin_the_physics():
     assert units_of(RockingSummary)["p"] == "rad/s"
     assert units_of(MultibodySummary)["max_uplift"] == "m"
     R = math.hypot(BLOCK.b, BLOCK.h)
-    p = rock(BLOCK, NoMotion(), initial_tilt=0.05, duration=0.5).summary()["p"]
+    p = rock(BLOCK, Motion(NoMotion(), duration=0.5), release=Release(tilt=0.05)).summary()["p"]
     assert p == pytest.approx(math.sqrt(3.0 * 9.81 / (4.0 * R)), rel=1e-12)
     tilt = 0.05
     for cracked, width in ((False, 2.0 * BLOCK.b), (True, 4.0 * BLOCK.b)):

@@ -7,9 +7,10 @@ import numpy as np
 import pytest
 from reference import reference_rocking, sine_pulse_over_g
 
+from colonna.core.motion import Motion, Release
 from colonna.rigid import Block, Collar, InputError, NoMotion, Record, pulse_from_ratios, rock
 from colonna.rigid import _kernels as K
-from colonna.rigid.solve import kernel_params
+from colonna.rigid.solve import SdofSettings, kernel_params
 
 CASES = [(5.0, 3.0), (5.0, 4.5), (2.0, 2.0), (8.0, 6.0), (1.0, 1.5), (5.0, 7.3)]
 
@@ -42,7 +43,7 @@ def _ref_theta(pieces, t):
 @pytest.mark.parametrize("omega_ratio, amplitude_ratio", CASES)
 def test_history_matches_reference_integration(zm_block, model, omega_ratio, amplitude_ratio):
     pulse = pulse_from_ratios(zm_block, "sine", omega_ratio, amplitude_ratio, model)
-    result = rock(zm_block, pulse, model=model)
+    result = rock(zm_block, Motion(pulse), model=model)
     overturned, impacts, max_theta, impact_times, pieces = _reference(zm_block, pulse, model)
     assert result.overturned == overturned
     assert result.impacts == impacts
@@ -62,7 +63,7 @@ def test_history_matches_reference_integration(zm_block, model, omega_ratio, amp
 def test_closed_form_and_dopri5_agree(zm_block):
     """The exact linear closed form and the DOPRI5 integration of the same linear equation."""
     pulse = pulse_from_ratios(zm_block, "sine", 4.0, 3.5, "linear")
-    exact = rock(zm_block, pulse, model="linear")
+    exact = rock(zm_block, Motion(pulse), model="linear")
     P, rec_t, rec_a = kernel_params(zm_block, pulse, (), "linear")
     out = np.zeros((exact.time.size + 10, 3))
     impacts = np.zeros((1000, 3))
@@ -79,7 +80,9 @@ def test_closed_form_and_dopri5_agree(zm_block):
 
 @pytest.mark.parametrize("model", ["linear", "nonlinear"])
 def test_restitution_applied_at_every_impact(zm_block, model):
-    result = rock(zm_block, pulse_from_ratios(zm_block, "sine", 5.0, 2.8, model), model=model)
+    result = rock(
+        zm_block, Motion(pulse_from_ratios(zm_block, "sine", 5.0, 2.8, model)), model=model
+    )
     assert not result.overturned and result.impacts >= 3
     np.testing.assert_allclose(
         result.impact_velocity_after, 0.9 * result.impact_velocity_before, rtol=1e-14
@@ -119,7 +122,7 @@ def _flights_with_constant_energy(result, energy, t_free, rel_tol):
 @pytest.mark.parametrize("model", ["linear", "nonlinear"])
 def test_energy_conserved_between_impacts_after_pulse(zm_block, model):
     pulse = pulse_from_ratios(zm_block, "sine", 5.0, 2.8, model)
-    result = rock(zm_block, pulse, model=model)
+    result = rock(zm_block, Motion(pulse), model=model)
     assert not result.overturned
     energy = _energy_per_j0(result.theta, result.theta_dot, zm_block, model)
     assert _flights_with_constant_energy(result, energy, pulse.duration, 1e-8) >= 3
@@ -133,7 +136,7 @@ def test_energy_conserved_with_collars(half_column):
     impacts once the ground is still."""
     collars = (Collar(y=1.0, t=0.004, h=0.03), Collar(y=3.0, t=0.004, h=0.03))
     pulse = pulse_from_ratios(half_column, "sine", 3.0, 3.0, "nonlinear")
-    result = rock(half_column, pulse, collars, model="nonlinear")
+    result = rock(half_column, Motion(pulse), collars, model="nonlinear")
     P, *_ = kernel_params(half_column, pulse, collars, "nonlinear")
     energy = _energy_per_j0(
         result.theta, result.theta_dot, half_column, "nonlinear", P[K.P_KA], P[K.P_KL]
@@ -145,8 +148,8 @@ def test_energy_conserved_with_collars(half_column):
 def test_mirror_symmetry(zm_block, model):
     pulse = pulse_from_ratios(zm_block, "sine", 4.0, 3.3, model)
     mirrored = type(pulse)(pulse.kind, -pulse.amplitude, pulse.omega, pulse.phase, pulse.duration)
-    a = rock(zm_block, pulse, model=model)
-    b = rock(zm_block, mirrored, model=model)
+    a = rock(zm_block, Motion(pulse), model=model)
+    b = rock(zm_block, Motion(mirrored), model=model)
     assert a.theta.min() < 0 < b.theta.max()  # positive ground push rocks to negative theta
     np.testing.assert_allclose(b.theta, -a.theta, atol=1e-12)
     assert a.mode == b.mode and a.impacts == b.impacts
@@ -158,17 +161,22 @@ def test_record_path_reproduces_the_pulse(zm_block):
     pulse = pulse_from_ratios(zm_block, "sine", 3.0, 2.2, "nonlinear")
     t = np.linspace(0.0, pulse.duration, 20001)
     record = Record(t, pulse.acceleration(t))
-    a = rock(zm_block, pulse, model="nonlinear", duration=pulse.duration + 5.0)
-    b = rock(zm_block, record, model="nonlinear", duration=pulse.duration + 5.0, dt_out=a.time[1])
+    a = rock(zm_block, Motion(pulse, duration=pulse.duration + 5.0), model="nonlinear")
+    b = rock(
+        zm_block,
+        Motion(record, duration=pulse.duration + 5.0),
+        model="nonlinear",
+        settings=SdofSettings(dt_out=a.time[1]),
+    )
     assert a.impacts == b.impacts
     n = min(a.time.size, b.time.size)
     np.testing.assert_allclose(b.theta[:n], a.theta[:n], atol=2e-5 * zm_block.alpha)
 
 
 def test_overturning_modes_named_in_words(zm_block):
-    after = rock(zm_block, pulse_from_ratios(zm_block, "sine", 5.0, 4.0, "linear"))
-    without = rock(zm_block, pulse_from_ratios(zm_block, "sine", 5.0, 9.0, "linear"))
-    safe = rock(zm_block, pulse_from_ratios(zm_block, "sine", 5.0, 2.0, "linear"))
+    after = rock(zm_block, Motion(pulse_from_ratios(zm_block, "sine", 5.0, 4.0, "linear")))
+    without = rock(zm_block, Motion(pulse_from_ratios(zm_block, "sine", 5.0, 9.0, "linear")))
+    safe = rock(zm_block, Motion(pulse_from_ratios(zm_block, "sine", 5.0, 2.0, "linear")))
     assert (after.mode, without.mode, safe.mode) == ("after-impact", "without-impact", "safe")
     assert after.impacts >= 1 and without.impacts == 0
     assert after.max_abs_theta == pytest.approx(math.pi / 2)
@@ -178,7 +186,7 @@ def test_overturning_modes_named_in_words(zm_block):
 def test_cosine_pulse_starts_rocking_at_once(zm_block):
     pulse = pulse_from_ratios(zm_block, "cosine", 3.0, 2.0, "nonlinear")
     assert pulse.acceleration(0.0) == pytest.approx(2.0 * zm_block.uplift_acceleration())
-    result = rock(zm_block, pulse, model="nonlinear")
+    result = rock(zm_block, Motion(pulse), model="nonlinear")
     assert abs(result.theta[5]) > 0.0 and result.theta[5] < 0.0
     overturned, impacts, *_ = reference_rocking(
         zm_block.p,
@@ -197,13 +205,15 @@ def test_block_stays_put_below_uplift(zm_block):
         np.linspace(0, 2, 201),
         0.5 * zm_block.uplift_acceleration() * np.sin(np.linspace(0, 2, 201) * 5),
     )
-    result = rock(zm_block, weak, model="nonlinear")
+    result = rock(zm_block, Motion(weak), model="nonlinear")
     assert result.max_abs_theta == 0.0 and result.impacts == 0 and not result.overturned
 
 
 def test_housner_default_restitution_used():
     blk = Block(b=0.25, h=2.0)
-    result = rock(blk, pulse_from_ratios(blk, "sine", 3.0, 2.5, "nonlinear"), model="nonlinear")
+    result = rock(
+        blk, Motion(pulse_from_ratios(blk, "sine", 3.0, 2.5, "nonlinear")), model="nonlinear"
+    )
     np.testing.assert_allclose(
         result.impact_velocity_after / result.impact_velocity_before,
         1 - 1.5 * math.sin(blk.alpha) ** 2,
@@ -217,7 +227,7 @@ def test_release_from_a_tilt_reaches_the_vertical_at_the_corrected_eq13_time(mod
     at arccosh(1 / (1 - theta0/alpha)) / p exactly (corrected Eq. 13); the nonlinear one within
     alpha^2; each impact then keeps Housner's ratio."""
     blk = Block.from_dimensionless(p=2.0, alpha=0.2)
-    result = rock(blk, NoMotion(), model=model, initial_tilt=-0.1, duration=3.0)
+    result = rock(blk, Motion(NoMotion(), duration=3.0), model=model, release=Release(tilt=-0.1))
     expected = blk.time_to_vertical(0.1)
     rel = 1e-9 if model == "linear" else 0.2**2
     assert result.impact_times[0] == pytest.approx(expected, rel=rel)
@@ -234,10 +244,16 @@ def test_release_with_an_outward_spin_above_the_barrier_overturns_without_impact
     blk = Block.from_dimensionless(p=2.0, alpha=0.2)
     barrier = blk.p * math.sqrt(2.0 * (1.0 - math.cos(blk.alpha)))
     over = rock(
-        blk, NoMotion(), model="nonlinear", initial_angular_velocity=1.01 * barrier, duration=10.0
+        blk,
+        Motion(NoMotion(), duration=10.0),
+        model="nonlinear",
+        release=Release(angular_velocity=1.01 * barrier),
     )
     back = rock(
-        blk, NoMotion(), model="nonlinear", initial_angular_velocity=0.99 * barrier, duration=10.0
+        blk,
+        Motion(NoMotion(), duration=10.0),
+        model="nonlinear",
+        release=Release(angular_velocity=0.99 * barrier),
     )
     assert over.mode == "without-impact" and back.mode == "safe" and back.impacts >= 1
 
@@ -245,7 +261,7 @@ def test_release_with_an_outward_spin_above_the_barrier_overturns_without_impact
 def test_no_ground_motion_and_no_initial_state_is_an_error():
     blk = Block.from_dimensionless(p=2.0, alpha=0.2)
     with pytest.raises(InputError, match="stays at rest"):
-        rock(blk, NoMotion(), model="nonlinear")
+        rock(blk, Motion(NoMotion()), model="nonlinear")
 
 
 def test_a_record_that_only_touches_the_uplift_level_leaves_the_block_at_rest(zm_block):

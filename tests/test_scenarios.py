@@ -25,6 +25,8 @@ import numpy as np
 import pytest
 from browser import assert_opens_with_the_outcome, assert_report_says_what_summary_says
 
+from colonna.core.motion import Motion, Release
+from colonna.rigid.solve import SdofSettings
 from colonna.studies.cli import main
 
 RECORD = Path(__file__).parent / "data" / "synthetic.AT2"
@@ -429,11 +431,10 @@ def test_a_column_that_lands_after_the_pulse_has_a_restitution(tmp_path):
     block = Block(b=0.1, h=1.0, restitution=0.9)
     result = rock(
         block,
-        NoMotion(),
+        Motion(NoMotion(), duration=3.0),
         model="nonlinear",
-        initial_tilt=0.5 * block.alpha,
-        duration=3.0,
-        dt_out=0.002,
+        release=Release(tilt=0.5 * block.alpha),
+        settings=SdofSettings(dt_out=0.002),
     )
     study = type(
         "S",

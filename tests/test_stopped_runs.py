@@ -28,6 +28,7 @@ import numpy as np
 import pytest
 from tiny_study import TINY_FRAGILITY, TINY_LAYOUT, TINY_STUDY, write_pulse_suite
 
+from colonna.core.motion import Motion
 from colonna.fem.ensemble import band
 from colonna.studies.crosscheck import runner as crosscheck
 from colonna.studies.fem_study import from_dict
@@ -399,7 +400,7 @@ def test_a_fragility_run_says_when_it_overturned():
     scales = [1.05 * uplift, 6.0 * uplift]  # stands; overturns
     duration = record.end_time + FREE_TIME_P / block.p
     ground = record.scaled(scales[1])
-    sdof = rock(block, ground, model="nonlinear", duration=duration).overturn_time
+    sdof = rock(block, Motion(ground, duration=duration), model="nonlinear").overturn_time
     multibody = rock_multibody(block, ground, duration=duration).summary()["overturn_time"]
     for runs, when in (
         (sdof_runs(study, record, scales), sdof),
@@ -621,7 +622,7 @@ def test_zhang_makris_histories_of_overturned_blocks():
         x: runner.history_entry(
             rock(
                 block,
-                pulse_from_ratios(block, "sine", runner.OMEGA_RATIO, x, "linear"),
+                Motion(pulse_from_ratios(block, "sine", runner.OMEGA_RATIO, x, "linear")),
                 model="linear",
             )
         )

@@ -9,9 +9,10 @@ from scipy.integrate import solve_ivp
 
 from colonna.core.errors import InputError
 from colonna.core.ground import NoMotion, sine_pulse
+from colonna.core.motion import Motion, Release
 from colonna.rigid.block import Block
 from colonna.rigid.multibody import rock_multibody
-from colonna.rigid.solve import rock
+from colonna.rigid.solve import SdofSettings, rock
 
 MASS = 500.0
 LOAD_RATIO = 1.5
@@ -65,7 +66,7 @@ def test_uplift_acceleration_grows_with_the_load(model):
     assert uplift == pytest.approx(9.81 * slope * (1.0 + LOAD_RATIO), rel=1e-12)
     for factor, rocks in ((0.999, False), (1.001, True)):
         pulse = sine_pulse(factor * uplift, 3.0 * blk.p, blk.g * slope)
-        result = rock(blk, pulse, model=model, duration=3.0)
+        result = rock(blk, Motion(pulse, duration=3.0), model=model)
         assert (result.max_abs_theta > 0.0) == rocks
 
 
@@ -76,11 +77,10 @@ def test_free_rocking_with_a_top_load_follows_an_independent_integration():
     t_vertical = reference.t_events[0][0]
     result = rock(
         blk,
-        NoMotion(),
+        Motion(NoMotion(), duration=1.2 * t_vertical),
         model="nonlinear",
-        initial_tilt=tilt,
-        duration=1.2 * t_vertical,
-        dt_out=t_vertical / 200,
+        release=Release(tilt=tilt),
+        settings=SdofSettings(dt_out=t_vertical / 200),
     )
     inside = result.time < t_vertical
     expected = reference.sol(result.time[inside])[0]
@@ -97,7 +97,7 @@ def test_linear_model_with_a_top_load_is_the_equivalent_free_block():
     alpha_eq = blk.alpha * (1.0 + LOAD_RATIO) / (1.0 + 2.0 * LOAD_RATIO)
     assert blk.critical_angle("linear") == pytest.approx(alpha_eq, rel=1e-14)
     tilt = 0.4 * alpha_eq
-    result = rock(blk, NoMotion(), model="linear", initial_tilt=tilt, duration=2.0)
+    result = rock(blk, Motion(NoMotion(), duration=2.0), model="linear", release=Release(tilt=tilt))
     expected = math.acosh(1.0 / (1.0 - tilt / alpha_eq)) / p_eq
     assert result.impact_times[0] == pytest.approx(expected, rel=1e-9)
 
@@ -111,7 +111,12 @@ def test_the_load_lowers_the_unstable_equilibrium(model):
     assert tc < 0.8 * blk.alpha
     for factor, falls in ((0.99, False), (1.01, True)):
         if model == "nonlinear":
-            r = rock(blk, NoMotion(), model="nonlinear", initial_tilt=factor * tc, duration=6.0)
+            r = rock(
+                blk,
+                Motion(NoMotion(), duration=6.0),
+                model="nonlinear",
+                release=Release(tilt=factor * tc),
+            )
         else:
             r = rock_multibody(
                 blk, NoMotion(), friction=1.0, initial_tilt=factor * tc, duration=6.0
@@ -134,7 +139,7 @@ def test_multibody_block_with_a_load_follows_the_nonlinear_sdof():
     blk = _block()
     a_up = blk.uplift_acceleration("nonlinear")
     pulse = sine_pulse(1.5 * a_up, 8.0 * blk.p, a_up)  # 5 impacts, theta up to 0.5 theta_c
-    sdof = rock(blk, pulse, model="nonlinear", duration=2.5)
+    sdof = rock(blk, Motion(pulse, duration=2.5), model="nonlinear")
     # (the load makes the impact timing more sensitive to the step than without: at the
     # default step the error to the third impact is 5e-3 alpha, 0.9e-3 without a load)
     mb = rock_multibody(blk, pulse, friction=1.0, duration=2.5, dt=5e-5)
@@ -194,7 +199,9 @@ def test_fem_column_with_a_top_load_rocks_like_the_rigid_block():
     weight = stone.density * width * height * thickness * 9.81
     blk = Block(b=width / 2, h=height / 2, mass=weight / 9.81, top_load=2.0 * weight)
     tilt = 0.5 * blk.critical_angle()
-    rigid = rock(blk, NoMotion(), model="nonlinear", initial_tilt=tilt, duration=1.0)
+    rigid = rock(
+        blk, Motion(NoMotion(), duration=1.0), model="nonlinear", release=Release(tilt=tilt)
+    )
     model = build_model(
         column_mesh(width, height, 0.1, cracked=False, grading=0.3),
         stone,

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from colonna.core.ground import NoMotion, Record, cosine_pulse
+from colonna.core.motion import Motion, Release
 from colonna.rigid.block import Block
 from colonna.rigid.multibody import rock_multibody
 from colonna.rigid.solve import rock
@@ -33,7 +34,10 @@ def test_free_fall_of_the_support_leaves_no_restoring_moment(model):
             theta = r.theta[:, 0]
         else:
             r = rock(
-                blk, NoMotion(), model=model, initial_tilt=tilt, duration=1.0, vertical=vertical
+                blk,
+                Motion(NoMotion(), duration=1.0, vertical=vertical),
+                model=model,
+                release=Release(tilt=tilt),
             )
             theta = r.theta
         if moves:
@@ -55,7 +59,7 @@ def test_uplift_level_follows_eq_2_with_vertical_acceleration(model, vertical_g)
         vertical = _constant(vertical_g * G, 5.0)
         for factor, rocks in ((0.999, False), (1.001, True)):
             pulse = cosine_pulse(factor * level, 4.0 * blk.p, 0.5 * factor * level)
-            r = rock(blk, pulse, model=model, duration=3.0, vertical=vertical)
+            r = rock(blk, Motion(pulse, duration=3.0, vertical=vertical), model=model)
             assert (r.max_abs_theta > 0.0) == rocks, (load_ratio, factor)
 
 
@@ -70,9 +74,9 @@ def test_multibody_with_vertical_shaking_follows_the_nonlinear_sdof():
     omega = 6.0 * blk.p
     pulse = sine_pulse(1.5 * a_up, omega, a_up)
     vertical = HarmonicPulse("sine", 0.4 * G, 2.0 * omega, 0.0, pulse.duration)
-    sdof = rock(blk, pulse, model="nonlinear", duration=2.0, vertical=vertical)
+    sdof = rock(blk, Motion(pulse, duration=2.0, vertical=vertical), model="nonlinear")
     mb = rock_multibody(blk, pulse, friction=1.0, duration=2.0, dt=5e-5, vertical=vertical)
-    plain = rock(blk, pulse, model="nonlinear", duration=2.0)
+    plain = rock(blk, Motion(pulse, duration=2.0), model="nonlinear")
     assert sdof.impacts >= 2
     end = sdof.impact_times[1]
     t = mb.time[mb.time < end]

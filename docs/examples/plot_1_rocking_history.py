@@ -10,14 +10,14 @@ published overturning boundary at this frequency lies between a_p = 3.00 and 3.0
 
 import matplotlib.pyplot as plt
 
-from colonna import Block, pulse_from_ratios, rock
+from colonna import Block, Motion, pulse_from_ratios, rock
 
 block = Block.from_dimensionless(p=2.14, alpha=0.25, restitution=0.9)
 
 fig, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
 for ratio in (2.99, 3.03):
     pulse = pulse_from_ratios(block, "sine", 5.0, ratio, "linear")
-    result = rock(block, pulse, model="linear", duration=8.0)
+    result = rock(block, Motion(pulse, duration=8.0), model="linear")
     print(f"a_p = {ratio} g alpha: {result.mode}, {result.impacts} impacts")
     label = f"a_p / (g alpha) = {ratio}: {result.mode}"
     ax.plot(result.time, result.theta / block.alpha, label=label)

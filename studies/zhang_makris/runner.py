@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from ...core.collar import Collar
+from ...core.motion import Motion
 from ...rigid.block import Block, pulse_from_ratios
 from ...rigid.solve import rock
 from ...rigid.spectrum import overturning_spectrum
@@ -55,7 +56,10 @@ def mode_boundaries(
 
     def mode(x):
         return rock(
-            block, pulse_from_ratios(block, "sine", omega_ratio, x, model), collars, model=model
+            block,
+            Motion(pulse_from_ratios(block, "sine", omega_ratio, x, model)),
+            collars,
+            model=model,
         ).mode
 
     found = []
@@ -100,7 +104,9 @@ def zhang_makris_validation(out: Path, progress: bool = True) -> dict:
     say("time histories at the paper's amplitudes (linear model, Omega/p = 5)")
     for x in PAPER_AMPLITUDES:
         result = rock(
-            block, pulse_from_ratios(block, "sine", OMEGA_RATIO, x, "linear"), model="linear"
+            block,
+            Motion(pulse_from_ratios(block, "sine", OMEGA_RATIO, x, "linear")),
+            model="linear",
         )
         tag = f"{x:.2f}".replace(".", "_")
         write_csv(
