@@ -30,6 +30,7 @@ from matplotlib.figure import Figure
 
 from .kinds import KINDS
 from .output import read_csv
+from .sections import Resolved
 from .units import DISPLAY_UNITS, input_unit
 
 # the shared pieces (base.html.j2, macros.html.j2) in studies/templates; each kind's page in its
@@ -74,8 +75,10 @@ def num(
 ) -> Markup:
     """summary.json's value at a dotted key, in a span naming the key, then its unit. A unit of
     DISPLAY_UNITS shows the SI value scaled (MPa from Pa, kN from N, mm from m), the span
-    carrying the factor in ``data-scale``."""
-    value = get(summary, dotted)
+    carrying the factor in ``data-scale``. A key of a typed table (studies.sections.Resolved)
+    brings its value, read by attribute from the typed summary."""
+    value = dotted.value if isinstance(dotted, Resolved) else get(summary, dotted)
+    dotted = str(dotted)
     number = not isinstance(value, (bool, str)) and value is not None
     scale = DISPLAY_UNITS.get(unit) if number else None
     if scale is not None:

@@ -6,7 +6,9 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from matplotlib.artist import Artist
@@ -24,12 +26,13 @@ from ..report import (
     MODE_CODES,
     distinct,
     figure,
-    has,
     image,
     legend_beside,
     render_page,
     wrap,
 )
+from ..sections import Ref, table
+from .summary import CrosscheckSummary, load
 
 SIDES = ("left", "right")  # a collar's ends in the FEM history
 
@@ -49,12 +52,12 @@ STUDY_MESH = "study-mesh peak"
 AT_NODES = "base contact pressure at the nodes"
 
 
-def toe_window(summary: dict) -> str:
+def toe_window(summary: CrosscheckSummary) -> str:
     """What the toe stress is, in words with this run's window."""
-    fem = summary["fem"]
-    text = f"base contact pressure averaged over the first {1e3 * fem['edge_length']:.3g} mm"
-    if fem.get("edge_time"):
-        text += f" from the toe and over {1e3 * fem['edge_time']:.3g} ms"
+    fem = summary.fem
+    text = f"base contact pressure averaged over the first {1e3 * fem.edge_length:.3g} mm"
+    if fem.edge_time:
+        text += f" from the toe and over {1e3 * fem.edge_time:.3g} ms"
     return text
 
 
@@ -64,6 +67,7 @@ def write_report(out: Path) -> Path:
     base pressure, the renders and the Numbers table (``out/index.html``)."""
     out = Path(out)
     summary = json.loads((out / "summary.json").read_text())
+    typed = load(summary)  # a key the report reads that the file lacks fails here, named
     runs = _histories(out)
     spectrum_file = out / "cases" / "spectrum" / "spectrum.json"  # pulses only
     spectrum = json.loads(spectrum_file.read_text()) if spectrum_file.exists() else None
@@ -81,8 +85,8 @@ def write_report(out: Path) -> Path:
         _spectrum_figure(out, spectrum, figs, sdof)
     _collar_stress_figure(out, summary, runs, figs)
     _collar_hinge_figure(out, summary, runs["fem"], figs)
-    _toe_stress_figure(out, summary, runs["fem"], figs)
-    _base_pressure_figure(out, summary, state, figs)
+    _toe_stress_figure(out, typed, runs["fem"], figs)
+    _base_pressure_figure(out, typed, state, figs)
     renders, renders_error = _renders(out)
     return render_page(
         out,
@@ -94,10 +98,9 @@ def write_report(out: Path) -> Path:
         renders_error=renders_error,
         rows=[
             (label.replace("_{sdof}", f"_{sdof}"), key, unit)
-            for label, key, unit in CROSSCHECK_NUMBERS
-            if has(summary, key)
+            for label, key, unit in table(CROSSCHECK_NUMBERS, typed)
         ],
-        toe={"refined": REFINED, "study_mesh": STUDY_MESH, "window": toe_window(summary)},
+        toe={"refined": REFINED, "study_mesh": STUDY_MESH, "window": toe_window(typed)},
     )
 
 
@@ -235,12 +238,12 @@ def _collar_stress_figure(out: Path, summary: dict, runs: dict, figs: list) -> N
             "Collar extreme-fibre stress against the yield stress: the FEM's "
             "(replica 0) and, dotted, the rigid multibody model's, collar by collar "
             "(collars with the same history drawn on top of each other, each "
-            "with its own dashes and markers)" + _until_caption(summary),
+            "with its own dashes and markers)" + _until_caption(summary.get("outcome", {})),
         )
     )
 
 
-def _toe_stress_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> None:
+def _toe_stress_figure(out: Path, summary: CrosscheckSummary, fem_h: dict, figs: list) -> None:
     """The toe stress at each toe of the study mesh (replica 0) against f_c, with the
     study-mesh peak of the Numbers table and, where the toe windows were refined, the refined
     peak that "Does the toe crush?" quotes."""
@@ -257,9 +260,9 @@ def _toe_stress_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> Non
             **distinct(j, len(edge_cols)),
             label=k.replace("edge_stress_", "toe ").replace("_", " "),
         )
-    fc = summary["stone_fc"]
+    fc = summary.stone_fc
     ax.axhline(fc / 1e6, color="k", ls="--", lw=1, label="f_c (stone strength)")
-    study_mesh = summary["fem"].get("edge_stress_max")
+    study_mesh = summary.fem.edge_stress_max
     if study_mesh is not None:
         ax.axhline(
             study_mesh / 1e6,
@@ -268,18 +271,18 @@ def _toe_stress_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> Non
             lw=1.2,
             label=f"{STUDY_MESH}, median of the replicas: {study_mesh / 1e6:.4g} MPa",
         )
-    toe = summary.get("toe_stress")
+    toe = summary.toe_stress
     if toe:
         ax.plot(
-            [toe["t_peak"]],
-            [toe["stress"] / 1e6],
+            [toe.t_peak],
+            [toe.stress / 1e6],
             ls="none",
             marker="*",
             ms=14,
             mfc="none",
             mec="C3",
             mew=1.6,
-            label=f"{REFINED} (the answer's): {toe['stress'] / 1e6:.4g} MPa",
+            label=f"{REFINED} (the answer's): {toe.stress / 1e6:.4g} MPa",
         )
     ax.set_yscale("symlog", linthresh=1.0)
     ax.set_xlabel("t (s)")
@@ -288,8 +291,8 @@ def _toe_stress_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> Non
     fig.tight_layout()
     answer = (
         f'the star is the {REFINED} that "Does the toe crush?" quotes '
-        f"({toe['ratio']:.3g} f_c, toe windows rerun on refined meshes from replica "
-        f"{toe['replica']}), the dotted line the {STUDY_MESH} of the Numbers table"
+        f"({toe.ratio:.3g} f_c, toe windows rerun on refined meshes from replica "
+        f"{toe.replica}), the dotted line the {STUDY_MESH} of the Numbers table"
         if toe
         else f'the answer to "Does the toe crush?" is the {STUDY_MESH}, dotted'
     )
@@ -299,12 +302,12 @@ def _toe_stress_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> Non
             "toe_stress",
             fig,
             f"Toe stress against the stone strength: the {toe_window(summary)}, at each "
-            f"toe of the study mesh, replica 0; {answer}" + _until_caption(summary),
+            f"toe of the study mesh, replica 0; {answer}" + _until_caption(summary.outcome),
         )
     )
 
 
-def _base_pressure_figure(out: Path, summary: dict, state: dict, figs: list) -> None:
+def _base_pressure_figure(out: Path, summary: CrosscheckSummary, state: dict, figs: list) -> None:
     """The base contact pressure at the nodes (replica 0, not averaged) at rest and at the
     deformed column's instant (its peak rotation, or where the run overturned its largest
     rotation before overturning: :func:`drawn_state`)."""
@@ -347,10 +350,10 @@ def _sdof_block(summary: dict) -> str:
     return "half"
 
 
-def _until_caption(summary: dict) -> str:
-    """Where the FEM overturns, what a stress figure's curves stop at (the outcome's qualifier,
-    :func:`colonna.studies.outcome.outcome`); empty otherwise."""
-    for a in summary.get("outcome", {}).get("answers", []):
+def _until_caption(outcome: dict) -> str:
+    """Where the FEM overturns, what a stress figure's curves stop at (the ``outcome``'s
+    qualifier, :func:`colonna.studies.outcome.outcome`); empty otherwise."""
+    for a in outcome.get("answers", []):
         if a.get("qualifier"):
             return f"; the stresses hold {a['qualifier']} (the FEM run stops there)"
     return ""
@@ -577,196 +580,230 @@ def _collar_hinge_caption(c: dict, k: int, yielded: float | None, fractured: flo
     )
 
 
-# the Numbers table of the cross-check: (label, summary key, unit; "-" a ratio, "" words)
-CROSSCHECK_NUMBERS = [
+def _at(get: Callable[[CrosscheckSummary], Any]) -> Ref[CrosscheckSummary]:
+    """A quantity of the cross-check's summary, named by attribute (checked by the type checker
+    and when this module is imported: studies.sections.Ref)."""
+    return Ref(CrosscheckSummary, get)
+
+
+# the Numbers table of the cross-check: (label, quantity, unit; "-" a ratio, "" words)
+CROSSCHECK_NUMBERS: list[tuple[str, Ref[CrosscheckSummary], str]] = [
     (
         "FEM largest rotation, left half (not applicable where the run overturned)",
-        "peak_rotations.fem_left",
+        _at(lambda s: s.peak_rotations.fem_left),
         "rad",
     ),
     (
         "FEM largest rotation, right half (not applicable where the run overturned)",
-        "peak_rotations.fem_right",
+        _at(lambda s: s.peak_rotations.fem_right),
         "rad",
     ),
     (
         "multibody largest rotation, left half (not applicable where the run overturned)",
-        "peak_rotations.multibody_left",
+        _at(lambda s: s.peak_rotations.multibody_left),
         "rad",
     ),
     (
         "multibody largest rotation, right half (not applicable where the run overturned)",
-        "peak_rotations.multibody_right",
+        _at(lambda s: s.peak_rotations.multibody_right),
         "rad",
     ),
-    ("multibody mode", "rigid_multibody.mode", ""),
-    ("multibody status", "rigid_multibody.status", ""),
-    ("multibody crack slip max", "rigid_multibody.max_abs_crack_slip", "mm"),
+    ("multibody mode", _at(lambda s: s.rigid_multibody.mode), ""),
+    ("multibody status", _at(lambda s: s.rigid_multibody.status), ""),
+    ("multibody crack slip max", _at(lambda s: s.rigid_multibody.max_abs_crack_slip), "mm"),
     (
         "multibody collar utilisation max, sigma / f_y",
-        "rigid_multibody.collar_max_utilisation",
+        _at(lambda s: s.rigid_multibody.collar_max_utilisation),
         "-",
     ),
     (
         "multibody collar ductility demand, largest fibre strain / (f_y / E) "
         f"(limit {DUCTILITY_LIMIT:g}: EN 1993-1-1 eps_u >= 15 eps_y)",
-        "rigid_multibody.collar_ductility_demand",
+        _at(lambda s: s.rigid_multibody.collar_ductility_demand),
         "-",
     ),
     (
         "multibody first collar fracture (n/a: the collars hold)",
-        "rigid_multibody.collar_fracture_time",
+        _at(lambda s: s.rigid_multibody.collar_fracture_time),
         "s",
     ),
-    ("multibody energy balance error (max, relative)", "rigid_multibody.energy_error_max", "-"),
-    ("multibody wall time", "rigid_multibody.wall_seconds", "s"),
-    ("SDOF peak rotation, half + collars (n/a where it overturns)", "rigid.max_abs_theta", "rad"),
-    ("SDOF overturning mode, half + collars (safe: it does not overturn)", "rigid.mode", ""),
+    (
+        "multibody energy balance error (max, relative)",
+        _at(lambda s: s.rigid_multibody.energy_error_max),
+        "-",
+    ),
+    ("multibody wall time", _at(lambda s: s.rigid_multibody.wall_seconds), "s"),
+    (
+        "SDOF peak rotation, half + collars (n/a where it overturns)",
+        _at(lambda s: s.rigid.max_abs_theta),
+        "rad",
+    ),
+    (
+        "SDOF overturning mode, half + collars (safe: it does not overturn)",
+        _at(lambda s: s.rigid.mode),
+        "",
+    ),
     (
         "SDOF collar state, half + collars (elastic collars: yielded means sigma reached f_y)",
-        "rigid.collar_state",
+        _at(lambda s: s.rigid.collar_state),
         "",
     ),
     (
         "SDOF peak rotation, whole column (n/a where it overturns)",
-        "rigid_monolith.max_abs_theta",
+        _at(lambda s: s.rigid_monolith.max_abs_theta),
         "rad",
     ),
     (
         "SDOF collars: elastic springs; where one passed f_y, what that leaves out",
-        "rigid.collar_note",
+        _at(lambda s: s.rigid.collar_note),
         "",
     ),
-    ("halves rock as one block", "verdict.rocks_as_one_block", ""),
-    ("FEM status", "fem.status", ""),
+    ("halves rock as one block", _at(lambda s: s.verdict.rocks_as_one_block), ""),
+    ("FEM status", _at(lambda s: s.fem.status), ""),
     (
         f"toe stress, {REFINED} (the answer's; base contact pressure averaged over the toe window)",
-        "toe_stress.stress",
+        _at(lambda s: s.toe_stress and s.toe_stress.stress),
         "MPa",
     ),
     (
         f"toe stress, {STUDY_MESH} (base contact pressure averaged over the toe window; median "
         "of the replicas)",
-        "fem.edge_stress_max",
+        _at(lambda s: s.fem.edge_stress_max),
         "MPa",
     ),
     (
         "toe window: length from the toe over which the toe stress is averaged",
-        "fem.edge_length",
+        _at(lambda s: s.fem.edge_length),
         "mm",
     ),
-    ("toe window: time over which the toe stress is averaged", "fem.edge_time", "s"),
-    ("energy balance error (max, relative)", "fem.energy_error_max", "-"),
-    ("time step", "fem.dt", "s"),
-    ("stable-step reduction by contact", "fem.stable_step_reduction_by_contact", "-"),
-    ("steps", "fem.steps", "-"),
-    ("dofs", "fem.dofs", "-"),
-    ("FEM wall time", "fem.wall_seconds", "s"),
-    ("pulse Omega/p_{sdof} (n/a for a record)", "pulse.omega_ratio", "-"),
-    ("peak ground acceleration", "pulse.amplitude", "m/s^2"),
+    ("toe window: time over which the toe stress is averaged", _at(lambda s: s.fem.edge_time), "s"),
+    ("energy balance error (max, relative)", _at(lambda s: s.fem.energy_error_max), "-"),
+    ("time step", _at(lambda s: s.fem.dt), "s"),
+    (
+        "stable-step reduction by contact",
+        _at(lambda s: s.fem.stable_step_reduction_by_contact),
+        "-",
+    ),
+    ("steps", _at(lambda s: s.fem.steps), "-"),
+    ("dofs", _at(lambda s: s.fem.dofs), "-"),
+    ("FEM wall time", _at(lambda s: s.fem.wall_seconds), "s"),
+    ("pulse Omega/p_{sdof} (n/a for a record)", _at(lambda s: s.pulse.omega_ratio), "-"),
+    ("peak ground acceleration", _at(lambda s: s.pulse.amplitude), "m/s^2"),
     (
         "pulse a_p / a_uplift (a_uplift = g tan alpha_{sdof} (1 + lambda), lambda = top load / "
         "weight of the SDOF block)",
-        "pulse.amplitude_ratio",
+        _at(lambda s: s.pulse.amplitude_ratio),
         "-",
     ),
-    ("top load on the capital", "fem.top_load", "kN"),
-    ("collar plastic strain max, FEM", "fem.collar_max_plastic_strain", "-"),
-    ("collar plastic work, FEM", "fem.collar_plastic_work", "J"),
+    ("top load on the capital", _at(lambda s: s.fem.top_load), "kN"),
+    ("collar plastic strain max, FEM", _at(lambda s: s.fem.collar_max_plastic_strain), "-"),
+    ("collar plastic work, FEM", _at(lambda s: s.fem.collar_plastic_work), "J"),
     (
         "collar extreme-fibre strain max, FEM: a fibre section's surface strain (resultant "
         "law: axial + bending + hinge rotation over L_p; median of the replicas)",
-        "fem.collar_max_fibre_strain",
+        _at(lambda s: s.fem.collar_max_fibre_strain),
         "per mille",
     ),
     (
         "collar ductility demand, FEM: largest fibre strain / (f_y / E) "
         f"(limit {DUCTILITY_LIMIT:g}: EN 1993-1-1 eps_u >= 15 eps_y)",
-        "fem.collar_ductility_demand",
+        _at(lambda s: s.fem.collar_ductility_demand),
         "-",
     ),
     (
         "first collar fracture, FEM (median over the replicas; n/a: the collars hold in half "
         "of them or more)",
-        "fem.collar_fracture_time",
+        _at(lambda s: s.fem.collar_fracture_time),
         "s",
     ),
-    ("FEM replicas in which a collar fractured", "fem.collar_fractured_replicas", "-"),
-    ("crack slip left at the end of the run, FEM", "fem.crack_slip_residual", "mm"),
-    ("static base reaction, FEM: weight + top load", "fem.base_reaction_static", "kN"),
+    (
+        "FEM replicas in which a collar fractured",
+        _at(lambda s: s.fem.collar_fractured_replicas),
+        "-",
+    ),
+    ("crack slip left at the end of the run, FEM", _at(lambda s: s.fem.crack_slip_residual), "mm"),
+    (
+        "static base reaction, FEM: weight + top load",
+        _at(lambda s: s.fem.base_reaction_static),
+        "kN",
+    ),
     # contact diagnostics (the run's own, replica 0): a chattering crack or an unresolved toe
     # is seen here, not guessed (n/a: a solid column has no crack)
     (
         "crack normal force, FEM: mean over the output samples",
-        "fem.crack_normal_force_mean",
+        _at(lambda s: s.fem.crack_normal_force_mean),
         "kN",
     ),
     (
         "crack normal force, FEM: mean over the samples with the halves in contact",
-        "fem.crack_normal_force_mean_closed",
+        _at(lambda s: s.fem.crack_normal_force_mean_closed),
         "kN",
     ),
-    ("crack normal force, FEM: largest sample", "fem.crack_normal_force_max", "kN"),
+    ("crack normal force, FEM: largest sample", _at(lambda s: s.fem.crack_normal_force_max), "kN"),
     (
         "fraction of the output samples with the crack faces in contact, FEM",
-        "fem.crack_closed_fraction",
+        _at(lambda s: s.fem.crack_closed_fraction),
         "-",
     ),
-    ("friction work along the crack, FEM", "fem.friction_work_crack", "J"),
-    ("friction work at the base, FEM", "fem.friction_work_base", "J"),
-    ("contact damping work (base and crack), FEM", "fem.contact_damping_work", "J"),
+    ("friction work along the crack, FEM", _at(lambda s: s.fem.friction_work_crack), "J"),
+    ("friction work at the base, FEM", _at(lambda s: s.fem.friction_work_base), "J"),
+    ("contact damping work (base and crack), FEM", _at(lambda s: s.fem.contact_damping_work), "J"),
     (
         "largest elastic energy in the contact penalty springs, FEM",
-        "fem.contact_penalty_energy_max",
+        _at(lambda s: s.fem.contact_penalty_energy_max),
         "J",
     ),
     (
         "toe contact length, FEM, at the output sample of the largest toe force: the base nodes "
         "in contact from the toe, their tributary lengths (one node: the zone is not resolved)",
-        "fem.toe_contact_length",
+        _at(lambda s: s.fem.toe_contact_length),
         "mm",
     ),
     (
         "base nodes in contact from the toe, FEM, at the output sample of the largest toe force",
-        "fem.toe_contact_nodes",
+        _at(lambda s: s.fem.toe_contact_nodes),
         "-",
     ),
-    ("base node spacing at the toe, FEM", "fem.toe_node_spacing", "mm"),
+    ("base node spacing at the toe, FEM", _at(lambda s: s.fem.toe_node_spacing), "mm"),
     # the bed and the resolved toe (issue 38)
-    ("bed stiffness per unit area k (held on every mesh)", "bed.stiffness", "GPa/m"),
-    ("bed stiffness, softest of its range", "bed.low", "GPa/m"),
-    ("bed stiffness, stiffest of its range", "bed.high", "GPa/m"),
-    ("bed: where its stiffness comes from", "bed.source", ""),
+    ("bed stiffness per unit area k (held on every mesh)", _at(lambda s: s.bed.stiffness), "GPa/m"),
+    ("bed stiffness, softest of its range", _at(lambda s: s.bed.low), "GPa/m"),
+    ("bed stiffness, stiffest of its range", _at(lambda s: s.bed.high), "GPa/m"),
+    ("bed: where its stiffness comes from", _at(lambda s: s.bed.source), ""),
     (
         "Winkler contact length at half the rocking body's slenderness, "
         "c = sqrt(2 W / (k t theta))",
-        "bed.contact_length",
+        _at(lambda s: s.bed.contact_length),
         "mm",
     ),
-    ("toe element size that resolves it (c / 4)", "bed.toe_size", "mm"),
+    ("toe element size that resolves it (c / 4)", _at(lambda s: s.bed.toe_size), "mm"),
     (
         "Winkler toe pressure at half the rocking body's slenderness, 2 W / (t c)",
-        "bed.pressure",
+        _at(lambda s: s.bed.pressure),
         "MPa",
     ),
-    ("the same, softest bed of the range", "bed.pressure_low", "MPa"),
-    ("the same, stiffest bed of the range", "bed.pressure_high", "MPa"),
+    ("the same, softest bed of the range", _at(lambda s: s.bed.pressure_low), "MPa"),
+    ("the same, stiffest bed of the range", _at(lambda s: s.bed.pressure_high), "MPa"),
     (
         "largest sampled nodal base pressure, FEM (resolved only with several nodes across c)",
-        "fem.toe_pressure_max",
+        _at(lambda s: s.fem.toe_pressure_max),
         "MPa",
     ),
     (
         "Winkler toe pressure of the FEM's sampled base force and tilt",
-        "fem.toe_pressure_winkler",
+        _at(lambda s: s.fem.toe_pressure_winkler),
         "MPa",
     ),
     (
         "base force of the toe's body at the output sample of the largest toe force, FEM",
-        "fem.toe_resultant",
+        _at(lambda s: s.fem.toe_resultant),
         "kN",
     ),
-    ("its point of application: distance from the toe, FEM", "fem.toe_resultant_offset", "mm"),
+    (
+        "its point of application: distance from the toe, FEM",
+        _at(lambda s: s.fem.toe_resultant_offset),
+        "mm",
+    ),
 ]
 
 

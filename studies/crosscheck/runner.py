@@ -54,9 +54,18 @@ from ..outcome import (
     without_stopping_angles,
 )
 from ..output import read_csv, write_csv, write_json
+from ..sections import ABSENT, keys_of, written
 from ..study import Study
 from ..work import FemWork
 from ..work import fem_work as estimate_work
+from .summary import (
+    MultibodySection,
+    PeakRotations,
+    Pulse,
+    SdofColumnSection,
+    SdofHalfSection,
+    Verdict,
+)
 
 NOT_APPLICABLE = "not applicable"
 SDOF_HALF = "SDOF half block with collars (the paper's)"  # the model's name in the outcome
@@ -716,12 +725,16 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         # the FEM's summary, its rotations (the angle it stopped at) not given where it overturned
         "fem": without_stopping_angles(fem, stops["fem"]),
         # each model's largest rotation, a rotation it reached where it stayed up
-        "peak_rotations": {
-            "fem_left": unless_stopped(fem["max_abs_theta_left"], stops["fem"]),
-            "fem_right": unless_stopped(fem["max_abs_theta_right"], stops["fem"]),
-            "multibody_left": unless_stopped(multibody["max_abs_theta_left"], stops["multibody"]),
-            "multibody_right": unless_stopped(multibody["max_abs_theta_right"], stops["multibody"]),
-        },
+        "peak_rotations": written(
+            PeakRotations(
+                fem_left=unless_stopped(fem["max_abs_theta_left"], stops["fem"]),
+                fem_right=unless_stopped(fem["max_abs_theta_right"], stops["fem"]),
+                multibody_left=unless_stopped(multibody["max_abs_theta_left"], stops["multibody"]),
+                multibody_right=unless_stopped(
+                    multibody["max_abs_theta_right"], stops["multibody"]
+                ),
+            )
+        ),
         **_limits(study),
         "toe_stress": _toe_stress(study, results),
         "bed": _bed(study, results),
@@ -801,9 +814,9 @@ def _verdict(study, results: dict, answers: dict, ratios: dict, sdof_at_rest: bo
     ratio, ratio_monolith = ratios["fem_over_rigid"], ratios["fem_over_monolith"]
     fem_peak = _two_halves_peak(fem)
     fem_at_rest = motion_word(fem["overturned"], fem_peak, study.rocking_alpha) == "no uplift"
-    return {
-        "rigid_assumption_ok": words["rigid_assumption_ok"],
-        "sdof_half_model_ok": _word(
+    verdict = Verdict(
+        rigid_assumption_ok=words["rigid_assumption_ok"],
+        sdof_half_model_ok=_word(
             sdof_at_rest
             or _same_answer(
                 rigid["overturned"],
@@ -811,13 +824,14 @@ def _verdict(study, results: dict, answers: dict, ratios: dict, sdof_at_rest: bo
                 multibody["overturned"],
             )
         ),
-        "collars_yield": words["collars_yield"],
-        "toe_crushes": words["toe_crushes"],
-        "rocks_as_one_block": NOT_APPLICABLE
+        collars_yield=words["collars_yield"],
+        toe_crushes=words["toe_crushes"],
+        rocks_as_one_block=NOT_APPLICABLE
         if is_stopped(ratio) or is_stopped(ratio_monolith) or fem_at_rest
         else _word(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
-        "overturns_fem": fem["overturned_answer"],
-    }
+        overturns_fem=fem["overturned_answer"],
+    )
+    return written(verdict)
 
 
 def _limits(study) -> dict:
@@ -839,54 +853,35 @@ def _sdof_runs(results: dict, stops: dict) -> dict:
     of its stopping rule, not shown."""
     rigid, monolith = results["rigid"], results["monolith"]
     return {
-        "rigid": {
-            "overturned": rigid["overturned"],
-            "mode": rigid["mode"],
-            "max_abs_theta": unless_stopped(rigid["max_abs_theta"], stops["rigid"]),
-            "overturn_time": rigid.get("overturn_time"),
-            "collar_max_utilisation": rigid.get("collar_max_utilisation"),
-            "collar_state": rigid.get("collar_state"),
-            "impacts": rigid["impacts"],
-            # "elastic" springs, and where a collar passed f_y, what that leaves out
-            **{key: rigid[key] for key in ("collar_law", "collar_note") if key in rigid},
-        },
-        "rigid_monolith": {
-            "overturned": monolith["overturned"],
-            "mode": monolith["mode"],
-            "max_abs_theta": unless_stopped(monolith["max_abs_theta"], stops["monolith"]),
-            "overturn_time": monolith.get("overturn_time"),
-            "impacts": monolith["impacts"],
-        },
+        "rigid": written(
+            SdofHalfSection(
+                overturned=rigid["overturned"],
+                mode=rigid["mode"],
+                max_abs_theta=unless_stopped(rigid["max_abs_theta"], stops["rigid"]),
+                overturn_time=rigid.get("overturn_time"),
+                collar_max_utilisation=rigid.get("collar_max_utilisation"),
+                collar_state=rigid.get("collar_state"),
+                impacts=rigid["impacts"],
+                # "elastic" springs, and where a collar passed f_y, what that leaves out
+                collar_law=rigid.get("collar_law", ABSENT),
+                collar_note=rigid.get("collar_note", ABSENT),
+            )
+        ),
+        "rigid_monolith": written(
+            SdofColumnSection(
+                overturned=monolith["overturned"],
+                mode=monolith["mode"],
+                max_abs_theta=unless_stopped(monolith["max_abs_theta"], stops["monolith"]),
+                overturn_time=monolith.get("overturn_time"),
+                impacts=monolith["impacts"],
+            )
+        ),
     }
 
 
-# what the summary keeps of the rigid multibody run (its run summary has more: p, alpha, ...)
-MULTIBODY_KEYS = (
-    "overturned",
-    "mode",
-    "status",
-    "impacts",
-    "max_abs_theta_left",
-    "max_abs_theta_right",
-    "overturn_time",
-    "max_abs_crack_slip",
-    "max_crack_opening",
-    "max_uplift",
-    "collar_max_utilisation",
-    "collar_first_yield_time",
-    "collar_max_fibre_strain",
-    "collar_ductility_demand",
-    "collar_fractured",
-    "collar_fracture_time",
-    "collar_max_plastic_strain",
-    "collar_plastic_work",
-    "impact_velocity_ratio_mean",
-    "energy_error_max",
-    "friction",
-    "dt",
-    "steps",
-    "wall_seconds",
-)
+# what the summary keeps of the rigid multibody run (its run summary has more: p, alpha, ...):
+# the keys of its section, the one declaration the report reads too
+MULTIBODY_KEYS = keys_of(MultibodySection)
 
 
 def _collar_section(study, collar) -> dict:
@@ -921,20 +916,22 @@ def _pulse_summary(study, results: dict) -> dict:
     """Where the ground motion sits: a pulse's Omega/p and a_p / a_uplift; a record's peak
     acceleration (m/s^2, after its scale factor) over a_uplift, and its name."""
     if "spectrum" in results:
-        return {
-            "omega_ratio": results["spectrum"]["omega_ratio"],
-            "amplitude_ratio": results["spectrum"]["amplitude_ratio"],
-            "amplitude": study.ground.amplitude,
-            "omega": study.ground.omega,
-        }
-    peak = float(study.ground.peak_acceleration)
-    return {
-        "omega_ratio": None,
-        "amplitude_ratio": peak / study.rocking_block.uplift_acceleration("nonlinear"),
-        "amplitude": peak,
-        "omega": None,
-        "record": study.ground.name,
-    }
+        pulse = Pulse(
+            omega_ratio=results["spectrum"]["omega_ratio"],
+            amplitude_ratio=results["spectrum"]["amplitude_ratio"],
+            amplitude=study.ground.amplitude,
+            omega=study.ground.omega,
+        )
+    else:
+        peak = float(study.ground.peak_acceleration)
+        pulse = Pulse(
+            omega_ratio=None,
+            amplitude_ratio=peak / study.rocking_block.uplift_acceleration("nonlinear"),
+            amplitude=peak,
+            omega=None,
+            record=study.ground.name,
+        )
+    return written(pulse)
 
 
 def _fem_vs_multibody(fem_case_result: dict, multibody: dict) -> dict:

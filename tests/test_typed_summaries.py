@@ -1,0 +1,93 @@
+"""The reports read summary.json through typed sections (studies.sections): a table's row names
+its quantity by attribute, a wrong name fails when the report module is imported, a key the file
+lacks fails at load naming it, and each row's display unit is its field's SI unit scaled. The
+rows against a real summary of each kind: tests/test_study.py (the cross-check's tiny run)."""
+
+from dataclasses import dataclass
+
+import pytest
+
+from colonna.core.errors import StaleResultsError
+from colonna.core.quantities import quantity
+from colonna.studies.crosscheck.report import CROSSCHECK_NUMBERS
+from colonna.studies.crosscheck.summary import CrosscheckSummary
+from colonna.studies.report import num
+from colonna.studies.sections import ABSENT, Ref, absent, read, section, table
+
+# a display unit of a report table and the SI unit of its field (studies.units.DISPLAY_UNITS)
+SI_OF = {
+    "MPa": "Pa",
+    "GPa/m": "N/m^3",
+    "kN": "N",
+    "kN m": "N m",
+    "kN/m": "N/m",
+    "mm": "m",
+    "per mille": "-",
+    "kJ": "J",
+}
+
+TABLES = {"crosscheck": CROSSCHECK_NUMBERS}
+
+
+@dataclass(frozen=True, kw_only=True)
+class _Inner:
+    stress: float = quantity("Pa", "a stress")
+    note: str = absent("", "a note, only where there is one")
+
+
+@dataclass(frozen=True, kw_only=True)
+class _Outer:
+    name: str = quantity("", "a name")
+    inner: _Inner = section(_Inner, "the inner section")
+    maybe: _Inner | None = section(_Inner, "a section a run may not give", optional=True)
+
+
+@pytest.mark.parametrize("kind", sorted(TABLES))
+def test_each_row_shows_its_fields_si_unit_scaled(kind):
+    """A row in MPa reads a field in Pa, mm a field in m, "-" a ratio or a count: a row whose
+    unit does not match its quantity's would show a number off by its factor."""
+    wrong = []
+    for label, ref, unit in TABLES[kind]:
+        si = SI_OF.get(unit, unit)
+        if not (ref.unit == si or (unit == "-" and ref.unit in ("", "-"))):
+            wrong.append(f"{ref.key}: shown in {unit!r}, declared in {ref.unit!r} ({label})")
+    assert not wrong, wrong
+
+
+def test_a_wrong_name_fails_when_the_table_is_made():
+    with pytest.raises(AttributeError, match="declares no 'edge_stres_max'"):
+        Ref(CrosscheckSummary, lambda s: s.fem.edge_stres_max)  # type: ignore[attr-defined]
+    with pytest.raises(AttributeError, match="is a quantity, not a section"):
+        Ref(CrosscheckSummary, lambda s: s.fem.status.words)
+    assert Ref(CrosscheckSummary, lambda s: s.fem.edge_stress_max).key == "fem.edge_stress_max"
+    assert Ref(CrosscheckSummary, lambda s: s.fem.edge_stress_max).unit == "Pa"
+
+
+def test_a_missing_key_fails_at_load_named_and_a_left_out_one_is_absent():
+    with pytest.raises(StaleResultsError, match="'inner.stress'"):
+        read(_Outer, {"name": "a", "inner": {}, "maybe": None})
+    with pytest.raises(StaleResultsError, match="'maybe'"):
+        read(_Outer, {"name": "a", "inner": {"stress": 1.0}})
+    s = read(_Outer, {"name": "a", "inner": {"stress": 2e6}, "maybe": None, "extra": 1})
+    assert s.inner.stress == 2e6 and s.inner.note is ABSENT and s.maybe is None
+
+
+def test_rows_left_out_where_the_summary_has_no_value_and_none_shown_na():
+    """A key left out (a note where there is none) or under a section the run did not give
+    drops its row; a null value (JSON None) keeps it, shown n/a."""
+    rows = [
+        ("stress", Ref(_Outer, lambda s: s.inner.stress), "MPa"),
+        ("note", Ref(_Outer, lambda s: s.inner.note), ""),
+        ("maybe", Ref(_Outer, lambda s: s.maybe and s.maybe.stress), "MPa"),
+    ]
+    s = read(_Outer, {"name": "a", "inner": {"stress": None}, "maybe": None})
+    shown = table(rows, s)
+    assert [label for label, _, _ in shown] == ["stress"]
+    assert num({}, shown[0][1], 4, "MPa") == '<span data-key="inner.stress">n/a</span>'
+    s = read(_Outer, {"name": "a", "inner": {"stress": 2.5e6, "note": "x"}, "maybe": None})
+    shown = table(rows, s)
+    assert [label for label, _, _ in shown] == ["stress", "note"]
+    # the value read by attribute, scaled to the row's unit, the key named for the page's check
+    assert num({}, shown[0][1], 4, "MPa") == (
+        '<span data-key="inner.stress" data-scale="1e-06">2.5</span>&nbsp;MPa'
+    )
