@@ -43,7 +43,7 @@ from ..core.collar_law import FIBRE_STRAIN, FRACTURED, OUT_SIZE
 from ..core.errors import InputError, require_positive, require_range
 from ..core.fibre import STRESS as FIBRE_STRESS
 from ..core.ground import NO_MOTION, GroundMotion, require_motion
-from ..core.quantities import quantity, to_dict, typed_result
+from ..core.quantities import quantity, shared, to_dict, typed_result
 from . import _kernels as K
 from .checkpoint import Checkpoint, clear, read_parts, write_part
 from .model import Model, coincident_nodes, collar_stiffness, contact_stiffness, stable_time_step
@@ -98,16 +98,15 @@ class FemResult:
 @dataclass(frozen=True, kw_only=True)
 class FemRunSummary:
     """What a FEM run answers, SI units (the history's quantities: see the module); the
-    collars' strain keys only with collars. ``FemResult.summary`` is its dict, in this order."""
+    collars' strain keys only with collars. ``FemResult.summary`` is its dict, in this order
+    (the keys the models share: colonna.core.quantities.SHARED)."""
 
-    overturned: bool = quantity("", "whether the column overturned")
-    status: str = quantity("", "how the run ended: completed, overturned: ..., or a blow-up")
-    max_abs_theta_left: float = quantity("rad", "largest |theta| of the left half")
-    max_abs_theta_right: float = quantity("rad", "largest |theta| of the right half")
-    collar_max_utilisation: float = quantity("-", "largest utilisation of any collar (0: none)")
-    collar_first_yield_time: float | None = quantity(
-        "s", "first output time any collar reached f_y (None: none did)"
-    )
+    overturned: bool = shared("overturned")
+    status: str = shared("status")
+    max_abs_theta_left: float = shared("max_abs_theta_left")
+    max_abs_theta_right: float = shared("max_abs_theta_right")
+    collar_max_utilisation: float = shared("collar_max_utilisation")
+    collar_first_yield_time: float | None = shared("collar_first_yield_time")
     edge_stress_max: float = quantity("Pa", "largest toe stress (compression positive)")
     edge_stress_ratio: float = quantity("-", "largest toe stress over the stone's f_c")
     edge_length: float = quantity("m", "length from the outer toe the toe stress averages over")
@@ -118,24 +117,19 @@ class FemRunSummary:
         "N", "the base's normal force at t = 0 from the static state (None: no static start)"
     )
     # plastic collars: the largest |plastic strain| reached, and the work done yielding
-    collar_max_plastic_strain: float = quantity("-", "largest |plastic strain| of any collar")
-    collar_plastic_work: float = quantity("J", "work done yielding the collars")
+    collar_max_plastic_strain: float = shared("collar_max_plastic_strain")
+    collar_plastic_work: float = shared("collar_plastic_work")
     # the largest fibre strain is the state's running maximum over every step; a fracture time
     # is the first output at which the break is recorded
-    collar_max_fibre_strain: float | None = quantity(
-        "-", "largest extreme-fibre strain of any collar", omit_when_none=True, default=None
+    collar_max_fibre_strain: float | None = shared(
+        "collar_max_fibre_strain", omit_when_none=True, default=None
     )
-    collar_ductility_demand: float | None = quantity(
-        "-", "largest fibre strain over f_y / E of any collar", omit_when_none=True, default=None
+    collar_ductility_demand: float | None = shared(
+        "collar_ductility_demand", omit_when_none=True, default=None
     )
-    collar_fractured: bool | None = quantity(
-        "", "whether a collar broke", omit_when_none=True, default=None
-    )
-    collar_fracture_time: float | None = quantity(
-        "s",
-        "first output time a collar is recorded broken (None: none broke)",
-        present_with="collar_fractured",
-        default=None,
+    collar_fractured: bool | None = shared("collar_fractured", omit_when_none=True, default=None)
+    collar_fracture_time: float | None = shared(
+        "collar_fracture_time", present_with="collar_fractured", default=None
     )
     crack_slip_residual: float = quantity("m", "crack slip at the end of the run")
     # contact diagnostics (issue 38): whether an interface chatters or is resolved. The crack's
@@ -221,21 +215,21 @@ class FemRunSummary:
         "the bed's plastic work over the run (its indentation, on a bed that yields)",
         default=0.0,
     )
-    top_load: float = quantity("N", "dead load on the capital")
-    energy_error_max: float = quantity("-", "largest energy balance error / energy scale")
+    top_load: float = shared("top_load")
+    energy_error_max: float = shared("energy_error_max")
     energy_error_limit: float = quantity("-", "the balance error past which a run is unreliable")
     # a run stopped as blown up is never reliable, whatever its last balance said
     energy_reliable: bool = quantity("", "balance within its limit and no blow-up")
-    dt: float = quantity("s", "time step")
+    dt: float = shared("dt")
     dt_critical: float = quantity("s", "stable time step estimate (contact and collars in)")
     dt_critical_elastic: float = quantity("s", "stable time step of the stone alone")
     stable_step_reduction_by_contact: float = quantity(
         "-", "dt_critical / dt_critical_elastic: how much contact and collars shorten it"
     )
     penalty_base_mean: float = quantity("N/m", "mean normal penalty stiffness of a base node")
-    steps: int = quantity("", "time steps taken")
+    steps: int = shared("steps")
     dofs: int = quantity("", "degrees of freedom of the mesh")
-    wall_seconds: float = quantity("s", "wall-clock time of the run")
+    wall_seconds: float = shared("wall_seconds")
     t_end: float = quantity("s", "time of the last output")
     batch_size: int = quantity("", "runs that advanced together in the kernel")
     step_halvings: int = quantity(

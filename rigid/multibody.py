@@ -45,7 +45,7 @@ from ..core.errors import (
 )
 from ..core.fibre import STRESS as FIBRE_STRESS
 from ..core.ground import NO_MOTION, GroundMotion, kernel_tables, require_motion
-from ..core.quantities import quantity, to_dict, typed_result
+from ..core.quantities import CollarPeaks, quantity, shared, to_dict, typed_result
 from . import _multibody as K
 from .block import Block
 from .collars import validate_collars
@@ -496,15 +496,10 @@ class MultibodyResult:
 
 @typed_result
 @dataclass(frozen=True, kw_only=True)
-class MultibodyCollarSummary:
-    """One collar of the multibody model's summary (the FEM's frame element and law)."""
+class MultibodyCollarSummary(CollarPeaks):
+    """One collar of the multibody model's summary (the FEM's frame element and law): the
+    peaks every rigid model's collar gives (CollarPeaks), then its strains."""
 
-    y: float = quantity("m", "height of the collar above the base")
-    max_stress: float = quantity("Pa", "largest extreme-fibre stress of the collar")
-    max_utilisation: float = quantity("-", "largest extreme-fibre stress over f_y")
-    first_yield_time: float | None = quantity(
-        "s", "first time the stress reached f_y (None: never)"
-    )
     max_fibre_strain: float | None = quantity("-", "largest extreme-fibre strain reached")
     ductility_demand: float | None = quantity("-", "largest fibre strain over f_y / E")
     fracture_time: float | None = quantity("s", "time the collar broke (None: it holds)")
@@ -514,28 +509,29 @@ class MultibodyCollarSummary:
 @dataclass(frozen=True, kw_only=True)
 class MultibodySummary:
     """What a run of the rigid multibody model (:func:`rock_multibody`) answers, SI units; the
-    collar keys only with collars. ``MultibodyResult.summary()`` is its dict, in this order."""
+    collar keys only with collars. ``MultibodyResult.summary()`` is its dict, in this order
+    (the keys the models share: colonna.core.quantities.SHARED)."""
 
     # the keys the cross-check reports of its rigid reference, in its summary's order
     # first: what a person reads first
-    verdict: str = quantity("", "the motion and, with collars, their state, in words")
+    verdict: str = shared("verdict")
     model: str = quantity("", "the model: multibody")
-    overturned: bool = quantity("", "whether the column overturned")
-    mode: str = quantity("", "safe, after-impact or without-impact (overturning)")
-    motion: str = quantity("", "no uplift, rocking or overturned")
-    status: str = quantity("", "how the run ended, in words")
-    impacts: int = quantity("", "impacts (a body's rotation through zero)")
-    max_abs_theta: float = quantity("rad", "largest |theta| of any body (pi/2: overturned)")
-    max_abs_theta_over_alpha: float = quantity("-", "largest |theta| over alpha")
-    max_abs_theta_left: float = quantity("rad", "largest |theta| of the left half (or column)")
-    max_abs_theta_right: float = quantity("rad", "largest |theta| of the right half (or column)")
-    overturn_time: float | None = quantity("s", "time of overturning (None: it stands)")
+    overturned: bool = shared("overturned")
+    mode: str = shared("mode")
+    motion: str = shared("motion")
+    status: str = shared("status")
+    impacts: int = shared("impacts")
+    max_abs_theta: float = shared("max_abs_theta")
+    max_abs_theta_over_alpha: float = shared("max_abs_theta_over_alpha")
+    max_abs_theta_left: float = shared("max_abs_theta_left")
+    max_abs_theta_right: float = shared("max_abs_theta_right")
+    overturn_time: float | None = shared("overturn_time")
     cracked: bool = quantity("", "two half blocks split by the crack (else one body)")
     friction: float = quantity("-", "Coulomb friction coefficient at the base")
     crack_friction: float = quantity("-", "Coulomb friction coefficient between the crack faces")
-    p: float = quantity("rad/s", "frequency parameter p = sqrt(m g R / J0)")
-    alpha: float = quantity("rad", "slenderness angle alpha = atan(b / h)")
-    restitution_housner: float = quantity("-", "Housner's nu = 1 - 1.5 sin^2 alpha")
+    p: float = shared("p")
+    alpha: float = shared("alpha")
+    restitution_housner: float = shared("restitution_housner")
     impact_velocity_ratio_mean: float | None = quantity(
         "-", "mean |theta' after / theta' before| of the left body's impacts (None: none)"
     )
@@ -544,49 +540,39 @@ class MultibodySummary:
     max_abs_crack_slip: float = quantity("m", "largest |slip| along the crack (0 uncracked)")
     energy_dissipated: float = quantity("J", "energy dissipated by contact, to the end")
     energy_external_work: float = quantity("J", "work of the ground motion, to the end")
-    energy_error_max: float = quantity("-", "largest energy balance error / energy scale")
-    dt: float = quantity("s", "time step")
-    steps: int = quantity("", "time steps taken")
-    wall_seconds: float = quantity("s", "wall-clock time of the run")
+    energy_error_max: float = shared("energy_error_max")
+    dt: float = shared("dt")
+    steps: int = shared("steps")
+    wall_seconds: float = shared("wall_seconds")
     collars: tuple[MultibodyCollarSummary, ...] | None = quantity(
         "",
         "per collar (MultibodyCollarSummary); only with collars",
         omit_when_none=True,
         default=None,
     )
-    collar_max_utilisation: float | None = quantity(
-        "-", "largest utilisation of any collar", present_with="collars", default=None
+    collar_max_utilisation: float | None = shared(
+        "collar_max_utilisation", present_with="collars", default=None
     )
-    collar_first_yield_time: float | None = quantity(
-        "s",
-        "first time any collar reached f_y (None: none did)",
-        present_with="collars",
-        default=None,
+    collar_first_yield_time: float | None = shared(
+        "collar_first_yield_time", present_with="collars", default=None
     )
-    collar_max_plastic_strain: float | None = quantity(
-        "-",
-        "largest |plastic strain| of a plastic collar's axial law",
-        present_with="collars",
-        default=None,
+    collar_max_plastic_strain: float | None = shared(
+        "collar_max_plastic_strain", present_with="collars", default=None
     )
-    collar_plastic_work: float | None = quantity(
-        "J", "work done yielding the collars", present_with="collars", default=None
+    collar_plastic_work: float | None = shared(
+        "collar_plastic_work", present_with="collars", default=None
     )
-    collar_max_fibre_strain: float | None = quantity(
-        "-", "largest extreme-fibre strain of any collar", present_with="collars", default=None
+    collar_max_fibre_strain: float | None = shared(
+        "collar_max_fibre_strain", present_with="collars", default=None
     )
-    collar_ductility_demand: float | None = quantity(
-        "-", "largest fibre strain over f_y / E of any collar", present_with="collars", default=None
+    collar_ductility_demand: float | None = shared(
+        "collar_ductility_demand", present_with="collars", default=None
     )
-    collar_fractured: bool | None = quantity(
-        "", "whether a collar broke", present_with="collars", default=None
+    collar_fractured: bool | None = shared("collar_fractured", present_with="collars", default=None)
+    collar_fracture_time: float | None = shared(
+        "collar_fracture_time", present_with="collars", default=None
     )
-    collar_fracture_time: float | None = quantity(
-        "s", "time the first collar broke (None: none did)", present_with="collars", default=None
-    )
-    collar_state: str | None = quantity(
-        "", "elastic, yielded or fractured", present_with="collars", default=None
-    )
+    collar_state: str | None = shared("collar_state", present_with="collars", default=None)
 
 
 def history_columns(result: MultibodyResult) -> dict:

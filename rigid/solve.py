@@ -25,7 +25,7 @@ import numpy as np
 from ..core.errors import InputError, require_history_rows, require_positive, require_range
 from ..core.ground import NO_MOTION, GroundMotion, kernel_tables, require_motion
 from ..core.motion import Motion, Release
-from ..core.quantities import quantity, to_dict, typed_result
+from ..core.quantities import CollarPeaks, quantity, shared, to_dict, typed_result
 from . import _kernels as K
 from .block import Block, check_model
 from .collars import Collar, collar_kernel_constants, collar_response, validate_collars
@@ -211,15 +211,10 @@ class RockingResult:
 
 @typed_result
 @dataclass(frozen=True, kw_only=True)
-class RockingCollarSummary:
-    """One collar of a rocking block's summary (its elastic springs, paper Eq. 14-15)."""
+class RockingCollarSummary(CollarPeaks):
+    """One collar of a rocking block's summary (its elastic springs, paper Eq. 14-15): the
+    peaks every model's collar gives (CollarPeaks), then its springs."""
 
-    y: float = quantity("m", "height of the collar above the base")
-    max_stress: float = quantity("Pa", "largest extreme-fibre stress of the collar")
-    max_utilisation: float = quantity("-", "largest extreme-fibre stress over f_y")
-    first_yield_time: float | None = quantity(
-        "s", "first time the stress reached f_y (None: never)"
-    )
     axial_stiffness: float = quantity("N/m", "axial spring K_a = E A / L (Eq. 14)")
     lateral_stiffness: float = quantity("N/m", "lateral spring K_l = 12 E I / L^3 (Eq. 15)")
 
@@ -228,36 +223,33 @@ class RockingCollarSummary:
 @dataclass(frozen=True, kw_only=True)
 class RockingSummary:
     """What a rocking-block run (:func:`rock`) answers, SI units; the collar keys only with
-    collars. ``RockingResult.summary()`` is its dict, in this order."""
+    collars. ``RockingResult.summary()`` is its dict, in this order (the keys the models share:
+    colonna.core.quantities.SHARED)."""
 
     # first: what a person reads first
-    verdict: str = quantity("", "the motion and, with collars, their state, in words")
-    overturned: bool = quantity("", "whether the block overturned")
-    mode: str = quantity("", "safe, after-impact or without-impact (overturning)")
-    motion: str = quantity("", "no uplift, rocking or overturned")
-    impacts: int = quantity("", "impacts (theta through zero)")
-    max_abs_theta: float = quantity("rad", "largest |theta| reached")
-    max_abs_theta_over_alpha: float = quantity("-", "largest |theta| over alpha")
-    overturn_time: float | None = quantity("s", "time of overturning (None: it stands)")
+    verdict: str = shared("verdict")
+    overturned: bool = shared("overturned")
+    mode: str = shared("mode")
+    motion: str = shared("motion")
+    impacts: int = shared("impacts")
+    max_abs_theta: float = shared("max_abs_theta")
+    max_abs_theta_over_alpha: float = shared("max_abs_theta_over_alpha")
+    overturn_time: float | None = shared("overturn_time")
     model: str = quantity("", "linear or nonlinear equation of motion")
     solver: str = quantity("", "the solver used (closed form or Dormand-Prince)")
-    p: float = quantity("rad/s", "frequency parameter p = sqrt(m g R / J0)")
-    alpha: float = quantity("rad", "slenderness angle alpha = atan(b / h)")
+    p: float = shared("p")
+    alpha: float = shared("alpha")
     restitution: float = quantity("-", "coefficient of restitution nu used at impacts")
-    restitution_housner: float = quantity("-", "Housner's nu = 1 - 1.5 sin^2 alpha")
-    top_load: float = quantity("N", "dead load on the top of the block")
+    restitution_housner: float = shared("restitution_housner")
+    top_load: float = shared("top_load")
     critical_angle: float = quantity("rad", "rotation of the free block's unstable equilibrium")
     collars: tuple[RockingCollarSummary, ...] | None = quantity(
         "", "per collar (RockingCollarSummary); only with collars", omit_when_none=True
     )
-    collar_max_utilisation: float | None = quantity(
-        "-", "largest utilisation of any collar", present_with="collars"
-    )
-    collar_state: str | None = quantity(
-        "", "elastic or yielded (any collar's stress reached f_y)", present_with="collars"
-    )
-    collar_first_yield_time: float | None = quantity(
-        "s", "first time any collar reached f_y (None: none did)", present_with="collars"
+    collar_max_utilisation: float | None = shared("collar_max_utilisation", present_with="collars")
+    collar_state: str | None = shared("collar_state", present_with="collars")
+    collar_first_yield_time: float | None = shared(
+        "collar_first_yield_time", present_with="collars"
     )
     collar_law: str | None = quantity(
         "", "the collars' law: elastic (the SDOF springs never yield)", present_with="collars"

@@ -71,6 +71,75 @@ def quantity(
     return dataclasses.field(default=default, metadata=metadata)
 
 
+# The quantities the model runs' summaries share (the rigid SDOF block's RockingSummary, the
+# multibody model's MultibodySummary, the FEM's FemRunSummary), each unit and meaning declared
+# once here; a summary class declares its field (name, type, place, presence) with shared(key).
+SHARED: dict[str, tuple[str, str]] = {
+    "verdict": ("", "the motion and, with collars, their state, in words"),
+    "overturned": ("", "whether the column (or block) overturned"),
+    "mode": ("", "safe, after-impact or without-impact (overturning)"),
+    "motion": ("", "no uplift, rocking or overturned"),
+    "status": ("", "how the run ended, in words: completed, overturned: ..., or a blow-up"),
+    "impacts": ("", "impacts (a body's rotation through zero)"),
+    "max_abs_theta": ("rad", "largest |theta| reached (pi/2: overturned)"),
+    "max_abs_theta_over_alpha": ("-", "largest |theta| over alpha"),
+    "max_abs_theta_left": ("rad", "largest |theta| of the left half (or column)"),
+    "max_abs_theta_right": ("rad", "largest |theta| of the right half (or column)"),
+    "overturn_time": ("s", "time of overturning (None: it stands)"),
+    "p": ("rad/s", "frequency parameter p = sqrt(m g R / J0)"),
+    "alpha": ("rad", "slenderness angle alpha = atan(b / h)"),
+    "restitution_housner": ("-", "Housner's nu = 1 - 1.5 sin^2 alpha"),
+    "top_load": ("N", "dead load on the capital (the top of the block)"),
+    "collar_max_utilisation": ("-", "largest utilisation of any collar (0: no collars)"),
+    "collar_first_yield_time": (
+        "s",
+        "first time any collar reached f_y (None: none did; the FEM's: an output time)",
+    ),
+    "collar_state": ("", "elastic, yielded or fractured (any collar's)"),
+    "collar_max_plastic_strain": ("-", "largest |plastic strain| of any collar"),
+    "collar_plastic_work": ("J", "work done yielding the collars"),
+    "collar_max_fibre_strain": ("-", "largest extreme-fibre strain of any collar"),
+    "collar_ductility_demand": ("-", "largest fibre strain over f_y / E of any collar"),
+    "collar_fractured": ("", "whether a collar broke"),
+    "collar_fracture_time": (
+        "s",
+        "time the first collar broke (None: none did; the FEM's: an output time)",
+    ),
+    "energy_error_max": ("-", "largest energy balance error / energy scale"),
+    "dt": ("s", "time step"),
+    "steps": ("", "time steps taken"),
+    "wall_seconds": ("s", "wall-clock time of the run"),
+}
+
+
+def shared(
+    key: str,
+    *,
+    omit_when_none: bool = False,
+    present_with: str | None = None,
+    default: Any = dataclasses.MISSING,
+) -> Any:
+    """The :func:`quantity` of a key the models' summaries share (:data:`SHARED`: its unit and
+    meaning), with this summary's presence rule and default."""
+    unit, doc = SHARED[key]
+    return quantity(
+        unit, doc, omit_when_none=omit_when_none, present_with=present_with, default=default
+    )
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class CollarPeaks:
+    """What a rigid model's per-collar summary opens with (the SDOF block's springs, the
+    multibody model's frame collars), in this order."""
+
+    y: float = quantity("m", "height of the collar above the base")
+    max_stress: float = quantity("Pa", "largest extreme-fibre stress of the collar")
+    max_utilisation: float = quantity("-", "largest extreme-fibre stress over f_y")
+    first_yield_time: float | None = quantity(
+        "s", "first time the stress reached f_y (None: never)"
+    )
+
+
 def typed_result(cls: _Class) -> _Class:
     """Register the units of ``cls``, a frozen dataclass whose every field is a
     :func:`quantity` (a key of two registered classes has one unit, or this raises TypeError)."""
