@@ -16,8 +16,9 @@ import time
 
 import numpy as np
 
+from colonna.core.motion import Motion
 from colonna.rigid import Block, pulse_from_ratios
-from colonna.rigid.multibody import multibody_spectrum, rock_multibody
+from colonna.rigid.multibody import MultibodyContact, multibody_spectrum, rock_multibody
 from colonna.studies.cli import resolve_study
 from colonna.studies.study import load
 
@@ -30,14 +31,12 @@ def main() -> None:
     start = time.perf_counter()
     rock_multibody(
         study.rocking_block,
-        study.ground,
+        Motion(study.ground, duration=0.1),
         study.collars,
-        cracked=True,
-        friction=study.contact.friction,
-        duration=0.1,
+        contact=MultibodyContact(cracked=True, friction=study.contact.friction),
     )
     block = Block.from_dimensionless(p=2.14, alpha=0.25)
-    multibody_spectrum(block, [5.0], [2.0], friction=2.0)
+    multibody_spectrum(block, [5.0], [2.0], contact=MultibodyContact(friction=2.0))
     print(f"cores: {os.cpu_count()}, compile/warm-up: {time.perf_counter() - start:.1f} s")
 
     walls, result = [], None
@@ -45,11 +44,9 @@ def main() -> None:
         start = time.perf_counter()
         result = rock_multibody(
             study.rocking_block,
-            study.ground,
+            Motion(study.ground, duration=study.duration),
             study.collars,
-            cracked=True,
-            friction=study.contact.friction,
-            duration=study.duration,
+            contact=MultibodyContact(cracked=True, friction=study.contact.friction),
         )
         walls.append(time.perf_counter() - start)
     wall = statistics.median(walls)
@@ -62,7 +59,7 @@ def main() -> None:
 
     omegas = np.linspace(0.5, 15.0, 200)
     amplitudes = np.linspace(1.0, 20.0, 100)
-    spec = multibody_spectrum(block, omegas, amplitudes, friction=2.0)
+    spec = multibody_spectrum(block, omegas, amplitudes, contact=MultibodyContact(friction=2.0))
     verdict = "ok" if spec.seconds <= TARGET_SPECTRUM else "SLOWER THAN TARGET"
     print(
         f"solid-block spectrum: {spec.codes.size} pulses in {spec.seconds:.1f} s "
@@ -70,7 +67,7 @@ def main() -> None:
         f"{verdict}"
     )
     pulse = pulse_from_ratios(block, "sine", 5.0, 3.0, "nonlinear")
-    one = rock_multibody(block, pulse, friction=2.0)
+    one = rock_multibody(block, Motion(pulse), contact=MultibodyContact(friction=2.0))
     print(
         f"  (one pulse of it, Omega/p = 5, a_p = 3 g tan(alpha): {one.steps} steps, "
         f"{one.wall_seconds * 1e3:.1f} ms)"

@@ -24,11 +24,12 @@ from pathlib import Path
 
 import numpy as np
 
+from colonna.core.motion import Motion
 from colonna.fem import solver
 from colonna.fem.model import build_model
 from colonna.fem.solver import run, run_ensemble
 from colonna.meshes import column_mesh
-from colonna.rigid.multibody import rock_multibody
+from colonna.rigid.multibody import MultibodyContact, rock_multibody
 from colonna.studies.study import load
 
 STUDY = Path(__file__).resolve().parents[1] / "studies" / "default.toml"
@@ -105,11 +106,10 @@ def rigid_rows(study) -> list[dict]:
     for crack_friction in (study.contact.friction, 0.0):
         r = rock_multibody(
             study.rocking_block,
-            study.ground,
-            cracked=True,
-            friction=study.contact.friction,
-            crack_friction=crack_friction,
-            duration=DURATION,
+            Motion(study.ground, duration=DURATION),
+            contact=MultibodyContact(
+                cracked=True, friction=study.contact.friction, crack_friction=crack_friction
+            ),
         )
         theta = np.abs(r.theta).max(axis=1)
         k = first_peak(theta)

@@ -43,7 +43,9 @@ _PUBLIC = {
     "HarmonicPulse": ".core.ground",
     "InputError": ".core.errors",
     "Motion": ".core.motion",
+    "MultibodyContact": ".rigid.multibody",
     "MultibodyResult": ".rigid.multibody",
+    "MultibodySettings": ".rigid.multibody",
     "NumericalFailure": ".core.errors",
     "Record": ".core.ground",
     "Release": ".core.motion",
@@ -69,7 +71,9 @@ __all__ = [
     "HarmonicPulse",
     "InputError",
     "Motion",
+    "MultibodyContact",
     "MultibodyResult",
+    "MultibodySettings",
     "NumericalFailure",
     "Record",
     "Release",
@@ -94,7 +98,13 @@ if TYPE_CHECKING:  # what the names are, for type checkers (nothing is imported 
     from .core.ground import HarmonicPulse, Record, read_record
     from .core.motion import Motion, Release
     from .rigid.block import Block, housner_restitution, pulse_from_ratios
-    from .rigid.multibody import MultibodyResult, multibody_spectrum, rock_multibody
+    from .rigid.multibody import (
+        MultibodyContact,
+        MultibodyResult,
+        MultibodySettings,
+        multibody_spectrum,
+        rock_multibody,
+    )
     from .rigid.solve import RockingResult, SdofSettings, rock
     from .rigid.spectrum import Spectrum, overturning_spectrum
     from .studies.schema import read_collars

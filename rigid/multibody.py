@@ -45,14 +45,17 @@ from ..core.errors import (
 )
 from ..core.fibre import STRESS as FIBRE_STRESS
 from ..core.ground import NO_MOTION, GroundMotion, kernel_tables, require_motion
+from ..core.motion import Motion, Release
 from ..core.quantities import CollarPeaks, quantity, shared, to_dict, typed_result
 from . import _multibody as K
 from .block import Block
 from .collars import validate_collars
 from .solve import (
+    AT_REST,
     CollarHistory,
     collar_state,
     motion_word,
+    require_parameter_object,
     verdict,
 )
 
@@ -322,7 +325,7 @@ def tilted_state(column: MultibodyColumn, tilt: float, angular_velocity: float =
     """Positions and velocities of the column turned rigidly by ``tilt`` (rad, theta sign:
     > 0 toward +x) about the outer toe it tips on, spinning at ``angular_velocity`` (rad/s)."""
     require_range(
-        "initial tilt (rad)", tilt, -0.5 * math.pi, 0.5 * math.pi, range_text="(-pi/2, pi/2)"
+        "release.tilt (rad)", tilt, -0.5 * math.pi, 0.5 * math.pi, range_text="(-pi/2, pi/2)"
     )
     q = column.q_rest.copy()
     v = np.zeros_like(q)
@@ -663,47 +666,78 @@ def touching_scale(dt: float, touching_dt: float | None) -> float:
     return float((touching_dt / dt) ** 2)
 
 
+@dataclass(frozen=True)
+class MultibodyContact:
+    """The multibody column's contacts: ``cracked``, two half bodies with contacts along the
+    crack (False: one solid body); ``friction``, the Coulomb coefficient at the base corners
+    (and at the crack where ``crack_friction`` is None); ``crack_friction``, the crack faces'
+    own; ``restitution_normal``, Newton's e_n in [0, 1] (0: plastic impacts, which give
+    Housner's ratio)."""
+
+    cracked: bool = False
+    friction: float = DEFAULT_FRICTION
+    crack_friction: float | None = None
+    restitution_normal: float = 0.0
+
+
+@dataclass(frozen=True)
+class MultibodySettings:
+    """How the multibody equations are stepped and stored: ``dt``, the time step (s; None:
+    :func:`default_step`); ``dt_out``, the output interval (s; None: 1/200 of 1/p, at least
+    dt); ``refine``, a step in which a contact closes is redone as that many substeps (1: plain
+    Moreau-Jean, first order at impacts); ``touching_dt``, the step (s) whose midpoint drift
+    g touching_dt^2 is the crack contacts' touching tolerance (None: dt's own;
+    :func:`touching_scale`); ``max_impacts_stored``, how many impacts keep their record (all
+    are counted)."""
+
+    dt: float | None = None
+    dt_out: float | None = None
+    refine: int = IMPACT_REFINEMENT
+    touching_dt: float | None = None
+    max_impacts_stored: int = 10_000
+
+
+MOTIONLESS = Motion()  # no ground motion: free rocking from a Release
+SOLID_CONTACT = MultibodyContact()
+MULTIBODY_SETTINGS = MultibodySettings()
+
+
+def _not_applicable(settings: MultibodySettings, names: tuple[str, ...], where: str) -> None:
+    """An InputError where one of ``names`` is set to other than its default: ``where`` does
+    not use it (a field silently ignored would read as applied)."""
+    for name in names:
+        if getattr(settings, name) != getattr(MULTIBODY_SETTINGS, name):
+            raise InputError(f"settings.{name} does not apply to {where}: leave it at its default")
+
+
 def rock_multibody(
     block: Block,
-    ground: GroundMotion = NO_MOTION,
+    motion: Motion = MOTIONLESS,
     collars=(),
     *,
-    cracked: bool = False,
-    friction: float = DEFAULT_FRICTION,
-    crack_friction: float | None = None,
-    restitution_normal: float = 0.0,
-    duration: float | None = None,
-    dt: float | None = None,
-    dt_out: float | None = None,
-    initial_tilt: float = 0.0,
-    initial_angular_velocity: float = 0.0,
-    refine: int = IMPACT_REFINEMENT,
-    max_impacts_stored: int = 10_000,
-    vertical: GroundMotion = NO_MOTION,
-    touching_dt: float | None = None,
+    contact: MultibodyContact = SOLID_CONTACT,
+    release: Release = AT_REST,
+    settings: MultibodySettings = MULTIBODY_SETTINGS,
 ) -> MultibodyResult:
-    """Time history of the rigid multibody column under ``ground`` (a pulse, a record, or
-    NoMotion(), the default, for free rocking from ``initial_tilt``).
-
-    duration: s (default: end of the ground motion + 20 / p); dt: time step (s, default
-    :func:`default_step`); dt_out: output interval (s, default 1/200 of 1/p, at least dt).
-    ``restitution_normal`` is Newton's e_n (0: plastic impacts, which give Housner's ratio).
-    ``refine``: a step in which a contact closes is redone as that many substeps (1: plain
-    Moreau-Jean, first order at impacts). ``vertical``: the vertical ground acceleration
-    (upward positive; a pulse or a record), applied to every body as -m vg''.
-    ``touching_dt``: the step (s) whose midpoint drift g touching_dt^2 is the crack contacts'
-    touching tolerance (None: dt's own; :func:`touching_scale`)."""
+    """Time history of the rigid multibody column under ``motion.ground`` (a pulse, a record,
+    or NoMotion(), the default, for free rocking from ``release``) and ``motion.vertical`` (the
+    vertical ground acceleration, upward positive, applied to every body as -m vg'').
+    ``motion.duration``: s (default: end of the ground motion + 20 / p). ``contact``:
+    :class:`MultibodyContact`; ``settings``: :class:`MultibodySettings`."""
+    require_parameter_object("motion", motion, Motion)
+    require_parameter_object("contact", contact, MultibodyContact)
+    require_parameter_object("release", release, Release)
+    require_parameter_object("settings", settings, MultibodySettings)
+    ground, duration, vertical = motion.ground, motion.duration, motion.vertical
+    cracked, friction = contact.cracked, contact.friction
+    crack_friction, restitution_normal = contact.crack_friction, contact.restitution_normal
+    dt, dt_out, refine = settings.dt, settings.dt_out, settings.refine
+    touching_dt, max_impacts_stored = settings.touching_dt, settings.max_impacts_stored
+    initial_tilt, initial_angular_velocity = release.tilt, release.angular_velocity
     column = build_column(
         block, cracked=cracked, collars=collars, friction=friction, crack_friction=crack_friction
     )
-    require_range(
-        "restitution_normal (Newton's e_n)",
-        restitution_normal,
-        0.0,
-        1.0,
-        closed_low=True,
-        closed_high=True,
-    )
+    _check_restitution(restitution_normal)
     kernel_ground = _ground_arrays(ground, block.g, vertical)
     if duration is None:
         duration = kernel_ground.end + 20.0 / block.p
@@ -728,7 +762,7 @@ def rock_multibody(
     out = np.zeros((n_steps // out_every + 3, n_cols))
     impacts = np.zeros((max_impacts_stored, 4))
     energy_scale = max(column.rocking_energy(), 1e-300)
-    settings = K.Settings(
+    kernel_settings = K.Settings(
         h=float(dt),
         n_steps=n_steps,
         refine=_check_refine(refine),
@@ -746,7 +780,7 @@ def rock_multibody(
     bodies, contacts, collar_elements = column.kernel_bundles()
     start = time.perf_counter()
     status, steps, rows, n_imp, reason, t_over, _peak, iters, _util, plastic, work = K.simulate(
-        q, v, bodies, contacts, collar_elements, kernel_ground, settings, out, impacts
+        q, v, bodies, contacts, collar_elements, kernel_ground, kernel_settings, out, impacts
     )
     wall = time.perf_counter() - start
     if status == K.UNSTABLE:
@@ -805,17 +839,14 @@ class MultibodyOutcome:
 
 def multibody_outcome(
     block: Block,
-    ground: GroundMotion,
+    motion: Motion,
     collars=(),
     *,
-    cracked: bool = False,
-    friction: float = DEFAULT_FRICTION,
-    duration: float | None = None,
-    dt: float | None = None,
+    contact: MultibodyContact = SOLID_CONTACT,
+    settings: MultibodySettings = MULTIBODY_SETTINGS,
     fast: bool = True,
     stop_when_decided: bool = True,
     impacts_needed: bool = True,
-    touching_dt: float | None = None,
 ) -> MultibodyOutcome:
     """The outcome of :func:`rock_multibody`'s run from rest (same column, step, contact solver
     and impact refinement) without its histories: what a fragility needs of a run. The peak
@@ -834,12 +865,30 @@ def multibody_outcome(
     fragility's limit states are uplift, rotation, overturning and the collars'), so the stop
     need not keep it exact: it stops once the other answers cannot change (the impact
     threshold, 1e-4 alpha, was the least of its bounds by far) and ``impacts`` is None.
-    ``touching_dt``: as rock_multibody's. Elastic collars only (a plastic collar's fracture is
-    read from its history: rock_multibody)."""
+    ``motion``, ``contact`` and ``settings`` as rock_multibody's (``settings.dt_out`` does not
+    apply: no history is kept). Elastic collars only (a plastic collar's fracture is read from
+    its history: rock_multibody)."""
+    require_parameter_object("motion", motion, Motion)
+    require_parameter_object("contact", contact, MultibodyContact)
+    require_parameter_object("settings", settings, MultibodySettings)
+    _not_applicable(settings, ("dt_out",), "multibody_outcome (it keeps no history)")
     if any(c.plastic for c in collars):
         raise InputError("multibody_outcome: plastic collars need rock_multibody's history")
-    column = build_column(block, cracked=cracked, collars=collars, friction=friction)
-    kernel_ground = _ground_arrays(ground, block.g)
+    ground, duration, dt, touching_dt = (
+        motion.ground,
+        motion.duration,
+        settings.dt,
+        settings.touching_dt,
+    )
+    column = build_column(
+        block,
+        cracked=contact.cracked,
+        collars=collars,
+        friction=contact.friction,
+        crack_friction=contact.crack_friction,
+    )
+    _check_restitution(contact.restitution_normal)
+    kernel_ground = _ground_arrays(ground, block.g, motion.vertical)
     if duration is None:
         duration = kernel_ground.end + 20.0 / block.p
     require_positive("duration (s)", duration)
@@ -852,12 +901,12 @@ def multibody_outcome(
     q, v = column.q_rest.copy(), np.zeros_like(column.q_rest)
     # the initial row only (the kernel writes one whole row: N_COLLAR_COLS per collar)
     out = np.zeros((1, K.history_columns(column.n_bodies, column.col_a.size)))
-    impacts = np.zeros((10_000, 4))
-    settings = K.Settings(
+    impacts = np.zeros((settings.max_impacts_stored, 4))
+    kernel_settings = K.Settings(
         h=float(dt),
         n_steps=n_steps,
-        refine=IMPACT_REFINEMENT,
-        e_n=0.0,
+        refine=_check_refine(settings.refine),
+        e_n=float(contact.restitution_normal),
         out_every=n_steps + 1,
         free_halves=bool(column.cracked and not column.collars),
         barrier=float(column.overturning_barrier()),
@@ -874,7 +923,7 @@ def multibody_outcome(
     bodies, contacts, collar_elements = column.kernel_bundles()
     start = time.perf_counter()
     status, steps, _rows, n_imp, reason, t_over, peak, _it, util, _pl, _w = K.simulate(
-        q, v, bodies, contacts, collar_elements, kernel_ground, settings, out, impacts
+        q, v, bodies, contacts, collar_elements, kernel_ground, kernel_settings, out, impacts
     )
     wall = time.perf_counter() - start
     if status == K.UNSTABLE:
@@ -892,6 +941,17 @@ def multibody_outcome(
         wall_seconds=wall,
         decided_at=steps * dt if status == K.SETTLED else None,
         overturned_at=float(t_over) if overturned else None,
+    )
+
+
+def _check_restitution(restitution_normal: float) -> None:
+    require_range(
+        "restitution_normal (Newton's e_n)",
+        restitution_normal,
+        0.0,
+        1.0,
+        closed_low=True,
+        closed_high=True,
     )
 
 
@@ -1081,13 +1141,9 @@ def multibody_spectrum(
     amplitude_ratios,
     collars=(),
     *,
-    cracked: bool = False,
-    friction: float = DEFAULT_FRICTION,
-    crack_friction: float | None = None,
+    contact: MultibodyContact = SOLID_CONTACT,
+    settings: MultibodySettings = MULTIBODY_SETTINGS,
     pulse: str = "sine",
-    restitution_normal: float = 0.0,
-    dt: float | None = None,
-    refine: int = IMPACT_REFINEMENT,
     free_time: float | None = None,
 ):
     """Overturning spectrum of the multibody column: mode code per (amplitude ratio, omega
@@ -1095,27 +1151,33 @@ def multibody_spectrum(
     parallel over the cores; each run stops once its fate is certain (overturned, or after the
     pulse with less energy than any part needs to overturn). With collars, ``collar_yields``
     maps where a collar's extreme-fibre stress reaches f_y. Returns a
-    :class:`rigid.spectrum.Spectrum` (model "multibody")."""
+    :class:`rigid.spectrum.Spectrum` (model "multibody"). ``contact`` as rock_multibody's;
+    ``settings``: ``dt``, the largest step (each pulse's is at most 1/400 of its period), and
+    ``refine`` (the others do not apply). ``free_time``: how long (s) free rocking is followed
+    after the pulse when the column's fate is not settled earlier (default 50 / p)."""
     from .spectrum import Spectrum, check_spectrum_grid
 
+    require_parameter_object("contact", contact, MultibodyContact)
+    require_parameter_object("settings", settings, MultibodySettings)
+    _not_applicable(
+        settings, ("dt_out", "touching_dt", "max_impacts_stored"), "a multibody spectrum"
+    )
     omega_ratios, amplitude_ratios = check_spectrum_grid(omega_ratios, amplitude_ratios, pulse)
     column = build_column(
-        block, cracked=cracked, collars=collars, friction=friction, crack_friction=crack_friction
+        block,
+        cracked=contact.cracked,
+        collars=collars,
+        friction=contact.friction,
+        crack_friction=contact.crack_friction,
     )
-    require_range(
-        "restitution_normal (Newton's e_n)",
-        restitution_normal,
-        0.0,
-        1.0,
-        closed_low=True,
-        closed_high=True,
-    )
+    restitution_normal, dt, refine = contact.restitution_normal, settings.dt, settings.refine
+    _check_restitution(restitution_normal)
     h_max = dt if dt is not None else default_step(column)
     require_positive("dt (s)", h_max)
     if free_time is None:
         free_time = 50.0 / block.p
     uplift = block.uplift_acceleration("nonlinear")
-    settings = K.Settings(
+    kernel_settings = K.Settings(
         h=float(h_max),  # each pulse's step: at most 1/400 of its period
         n_steps=0,  # each pulse's own
         refine=_check_refine(refine),
@@ -1141,7 +1203,7 @@ def multibody_spectrum(
         uplift,
         pulse == "cosine",
         float(free_time),
-        settings,
+        kernel_settings,
     )
     seconds = time.perf_counter() - start
     yields = utilisation >= 1.0 if column.collars else None

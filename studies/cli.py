@@ -81,8 +81,9 @@ def _add_multibody_options(parser) -> None:
     )
 
 
-def _multibody_options(args) -> dict:
-    """Keyword arguments of the multibody solvers; an error if given for another model."""
+def _multibody_options(args):
+    """The multibody solvers' contact (:class:`colonna.rigid.multibody.MultibodyContact`), None
+    for another model; an error if a contact option is given for another model."""
     given = [
         name
         for name in ("cracked", "friction", "crack_friction")
@@ -94,14 +95,14 @@ def _multibody_options(args) -> dict:
                 f"--{given[0].replace('_', '-')} applies to --model multibody "
                 f"only (the {args.model} model has no contact)"
             )
-        return {}
-    from ..rigid.multibody import DEFAULT_FRICTION
+        return None
+    from ..rigid.multibody import DEFAULT_FRICTION, MultibodyContact
 
-    return {
-        "cracked": bool(args.cracked or args.collars),
-        "friction": DEFAULT_FRICTION if args.friction is None else args.friction,
-        "crack_friction": args.crack_friction,
-    }
+    return MultibodyContact(
+        cracked=bool(args.cracked or args.collars),
+        friction=DEFAULT_FRICTION if args.friction is None else args.friction,
+        crack_friction=args.crack_friction,
+    )
 
 
 SIGNIFICANT_DIGITS = 4
@@ -226,13 +227,16 @@ def _cmd_rigid(args) -> dict:
         )
         if note is not None:
             warnings.warn(note, RecordNote, stacklevel=1)
-    multibody = _multibody_options(args)
-    if multibody:
+    contact = _multibody_options(args)
+    if contact is not None:
         from ..rigid.multibody import history_columns, rock_multibody
 
         _announce_compilation(_multibody_kernels(), "multibody kernels", 30)
         result = rock_multibody(
-            block, ground, collars, duration=args.duration, vertical=vertical, **multibody
+            block,
+            Motion(ground, duration=args.duration, vertical=vertical),
+            collars,
+            contact=contact,
         )
         columns = history_columns(result)
     else:
@@ -258,7 +262,7 @@ def _cmd_rigid(args) -> dict:
             "theta_dot_before": result.impact_velocity_before,
             "theta_dot_after": result.impact_velocity_after,
         }
-        if multibody:
+        if contact is not None:
             impacts["body"] = result.impact_bodies
         write_csv(out / "impacts.csv", impacts)
         write_json(out / "summary.json", summary)
@@ -278,13 +282,13 @@ def _cmd_spectrum(args) -> dict:
     collars = collars_from_args(args)
     omegas = parse_range(args.omega_ratios, "--omega-ratios")
     amplitudes = parse_range(args.amplitude_ratios, "--amplitude-ratios")
-    multibody = _multibody_options(args)
-    if multibody:
+    contact = _multibody_options(args)
+    if contact is not None:
         from ..rigid.multibody import multibody_spectrum
 
         _announce_compilation(_multibody_kernels(spectrum=True), "multibody kernels", 30)
         spectrum = multibody_spectrum(
-            block, omegas, amplitudes, collars, pulse=args.pulse, **multibody
+            block, omegas, amplitudes, collars, contact=contact, pulse=args.pulse
         )
     else:
         spectrum = overturning_spectrum(

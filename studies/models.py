@@ -173,20 +173,16 @@ def run_multibody(study: FemStudy, dt: float | None = None, touching_dt: float |
     multibody run goes through here (the cross-check, the design study, the spectrum's grid
     points, free rocking): a variant is a changed study (``dataclasses.replace``), as for
     :func:`run_fem`."""
-    from ..rigid.multibody import rock_multibody
+    from ..core.motion import Motion, Release
+    from ..rigid.multibody import MultibodyContact, MultibodySettings, rock_multibody
 
     return rock_multibody(
         study.rocking_block,
-        study.ground,
+        Motion(study.ground, duration=study.duration, vertical=study.vertical),
         study.collars,
-        cracked=study.cracked,
-        friction=study.contact.friction,
-        duration=study.duration,
-        vertical=study.vertical,
-        initial_tilt=study.initial_tilt,
-        initial_angular_velocity=study.initial_angular_velocity,
-        dt=dt,
-        touching_dt=touching_dt,
+        contact=MultibodyContact(cracked=study.cracked, friction=study.contact.friction),
+        release=Release(tilt=study.initial_tilt, angular_velocity=study.initial_angular_velocity),
+        settings=MultibodySettings(dt=dt, touching_dt=touching_dt),
     )
 
 
@@ -387,19 +383,17 @@ def run_multibody_outcome(
     ``dt`` and ``touching_dt``: its step and the crack's tolerance (s; None: the single run's).
     The run does not keep its impact count (impacts_needed False: its stop need not wait for
     the last impact; impacts None)."""
-    from ..rigid.multibody import multibody_outcome
+    from ..core.motion import Motion
+    from ..rigid.multibody import MultibodyContact, MultibodySettings, multibody_outcome
 
     return multibody_outcome(
         study.rocking_block,
-        ground,
+        Motion(ground, duration=duration),
         study.collars,
-        cracked=study.cracked,
-        friction=study.contact.friction,
-        duration=duration,
-        dt=dt,
-        touching_dt=touching_dt,
         stop_when_decided=stop_when_decided,
         impacts_needed=False,
+        contact=MultibodyContact(cracked=study.cracked, friction=study.contact.friction),
+        settings=MultibodySettings(dt=dt, touching_dt=touching_dt),
     )
 
 
@@ -422,6 +416,7 @@ def sdof_spectrum(study: FemStudy, omega_ratios, amplitude_ratios):
 def multibody_spectrum(study: FemStudy, omega_ratios, amplitude_ratios):
     """The overturning spectrum of the study's rigid multibody column under its pulse's shape
     (:func:`colonna.rigid.multibody.multibody_spectrum`, the ratios as :func:`sdof_spectrum`'s)."""
+    from ..rigid.multibody import MultibodyContact
     from ..rigid.multibody import multibody_spectrum as spectrum
 
     return spectrum(
@@ -429,8 +424,7 @@ def multibody_spectrum(study: FemStudy, omega_ratios, amplitude_ratios):
         omega_ratios,
         amplitude_ratios,
         study.collars,
-        cracked=study.cracked,
-        friction=study.contact.friction,
+        contact=MultibodyContact(cracked=study.cracked, friction=study.contact.friction),
         pulse=study.ground.kind,
     )
 

@@ -6,6 +6,8 @@ from pathlib import Path
 
 import pytest
 
+from colonna.core.motion import Motion
+from colonna.rigid.multibody import MultibodyContact
 from colonna.studies.cli import main, resolve_study
 
 
@@ -224,7 +226,9 @@ def test_rigid_multibody_json_contract_matches_the_python_api(capsys):
     data = json.loads(out)
     blk = Block.from_dimensionless(p=2.14, alpha=0.25)
     direct = rock_multibody(
-        blk, pulse_from_ratios(blk, "sine", 5.0, 3.0, "nonlinear"), friction=2.0
+        blk,
+        Motion(pulse_from_ratios(blk, "sine", 5.0, 3.0, "nonlinear")),
+        contact=MultibodyContact(friction=2.0),
     )
     assert data["overturned"] is direct.overturned and data["mode"] == direct.mode
     assert data["impacts"] == direct.impacts

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from colonna.core.collar_law import OUT_SIZE, STATE_SIZE
-from colonna.core.motion import Motion
+from colonna.core.motion import Motion, Release
 from colonna.fem import _kernels as K
 from colonna.fem.assembly import Stone
 from colonna.fem.bed import stone_bed
@@ -15,6 +15,7 @@ from colonna.fem.model import ContactSettings, build_model, stable_time_step
 from colonna.fem.solver import run
 from colonna.meshes.column import column_mesh
 from colonna.rigid import Block, Collar, InputError, NoMotion, Record, pulse_from_ratios, rock
+from colonna.rigid.multibody import MultibodyContact
 from colonna.rigid.solve import SdofSettings
 
 STILL = Record(np.array([0.0, 100.0]), np.zeros(2))
@@ -445,7 +446,10 @@ def test_free_rocking_impact_loss_of_the_fem_approaches_housner_as_the_stone_sti
     corners = bands("corners", STIFFENING[1])["values"]
     chaos.assert_mean_below_other(corners, stiff, "corner base against meshed base")
     rigid = rock_multibody(
-        blk, NoMotion(), friction=1.0, initial_tilt=0.5 * blk.alpha, duration=0.8
+        blk,
+        Motion(NoMotion(), duration=0.8),
+        contact=MultibodyContact(friction=1.0),
+        release=Release(tilt=0.5 * blk.alpha),
     )
     assert rigid.impact_velocity_ratios()[0] == pytest.approx(housner, rel=1e-3)
 

@@ -10,6 +10,7 @@ import pytest
 from colonna.core.collar_law import FIBRE_STRAIN, FRACTURED
 from colonna.core.fibre import STRESS
 from colonna.core.ground import NoMotion, sine_pulse
+from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model
 from colonna.fem.solver import run
@@ -17,7 +18,7 @@ from colonna.fem.transfer import transfer_state
 from colonna.meshes import column_mesh
 from colonna.rigid.block import Block
 from colonna.rigid.collars import Collar
-from colonna.rigid.multibody import history_columns, rock_multibody
+from colonna.rigid.multibody import MultibodyContact, history_columns, rock_multibody
 
 BAND = dict(y=1.0, t=0.004, h=0.03, plastic=True)  # 30 x 4 mm: yields in the tests below
 FEW = dict(n_fibres=8)  # fewer fibres than the default 20 (the tests' speed), 10 sections
@@ -139,7 +140,9 @@ def _rocking(collar, amplitude=3.0):
     half = Block(b=0.1125, h=2.0, mass=858.0)
     a_up = half.uplift_acceleration()
     pulse = sine_pulse(amplitude * a_up, 3.0 * half.p, a_up)
-    return rock_multibody(half, pulse, (collar,), cracked=True, duration=2.0)
+    return rock_multibody(
+        half, Motion(pulse, duration=2.0), (collar,), contact=MultibodyContact(cracked=True)
+    )
 
 
 @pytest.mark.chaotic

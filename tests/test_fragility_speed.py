@@ -25,9 +25,15 @@ import numpy as np
 import pytest
 
 from colonna.core.ground import Record
+from colonna.core.motion import Motion
 from colonna.rigid.block import Block
 from colonna.rigid.collars import Collar
-from colonna.rigid.multibody import multibody_outcome, rock_multibody
+from colonna.rigid.multibody import (
+    MultibodyContact,
+    MultibodySettings,
+    multibody_outcome,
+    rock_multibody,
+)
 from colonna.studies.cli import main
 from colonna.studies.fragility.runner import uplift_intensity
 
@@ -53,8 +59,12 @@ def test_a_column_at_rest_under_a_motion_below_uplift_stays_at_rest():
     full run and the fast one both leave the column at rest (|theta| at the contact
     solver's round-off, far below the uplift threshold 1e-4 alpha), collars unstrained."""
     record = _record([(2.0, 0.8, 0.4)])
-    full = rock_multibody(HALF, record, COLLARS, cracked=True, duration=2.5).summary()
-    fast = multibody_outcome(HALF, record, COLLARS, cracked=True, duration=2.5)
+    full = rock_multibody(
+        HALF, Motion(record, duration=2.5), COLLARS, contact=MultibodyContact(cracked=True)
+    ).summary()
+    fast = multibody_outcome(
+        HALF, Motion(record, duration=2.5), COLLARS, contact=MultibodyContact(cracked=True)
+    )
     assert not full["overturned"] and not fast.overturned
     assert full["max_abs_theta"] < 1e-8 * HALF.alpha
     assert fast.max_abs_theta < 1e-8 * HALF.alpha
@@ -72,8 +82,16 @@ def test_the_outcome_path_is_rock_multibody_s_run_without_its_history():
     at least as large, the same to 1e-5) and the collars' utilisation (at the steps'
     midpoints against the rows: to 1e-3)."""
     record = _record(ROCKS)
-    full = rock_multibody(HALF, record, COLLARS, cracked=True, duration=4.0).summary()
-    path = multibody_outcome(HALF, record, COLLARS, cracked=True, duration=4.0, fast=False)
+    full = rock_multibody(
+        HALF, Motion(record, duration=4.0), COLLARS, contact=MultibodyContact(cracked=True)
+    ).summary()
+    path = multibody_outcome(
+        HALF,
+        Motion(record, duration=4.0),
+        COLLARS,
+        fast=False,
+        contact=MultibodyContact(cracked=True),
+    )
     assert full["max_abs_theta"] > 0.5 * HALF.alpha  # it rocked
     assert path.overturned == full["overturned"]
     assert path.impacts == full["impacts"]
@@ -93,10 +111,9 @@ def _outcome_ensemble(record, **options) -> list:
             runs.append(
                 multibody_outcome(
                     HALF,
-                    chaos.perturbed(record, seed),
+                    Motion(chaos.perturbed(record, seed), duration=4.0),
                     COLLARS,
-                    cracked=True,
-                    duration=4.0,
+                    contact=MultibodyContact(cracked=True),
                     **options,
                 )
             )
@@ -116,7 +133,12 @@ def test_the_fast_path_stays_within_the_contact_solver_s_own_scatter(parts):
     not compared: they follow landings."""
     record = _record(parts)
     runs = _outcome_ensemble(record, fast=False)  # the fast path is one more draw of these
-    fast = multibody_outcome(HALF, chaos.perturbed(record, 0), COLLARS, cracked=True, duration=4.0)
+    fast = multibody_outcome(
+        HALF,
+        Motion(chaos.perturbed(record, 0), duration=4.0),
+        COLLARS,
+        contact=MultibodyContact(cracked=True),
+    )
     for key in ("max_abs_theta", "collar_max_utilisation"):
         values = [getattr(r, key) for r in runs]
         chaos.assert_in_band(getattr(fast, key), values, key)
@@ -130,7 +152,12 @@ def test_the_outcome_path_refuses_plastic_collars():
 
     plastic = (Collar(y=2.0, t=0.008, h=0.06, plastic=True),)
     with pytest.raises(InputError, match="plastic"):
-        multibody_outcome(HALF, _record([(0.5, 0.5, 0.25)]), plastic, cracked=True)
+        multibody_outcome(
+            HALF,
+            Motion(_record([(0.5, 0.5, 0.25)])),
+            plastic,
+            contact=MultibodyContact(cracked=True),
+        )
 
 
 # --- the shifted lognormal ------------------------------------------------------------------
@@ -216,8 +243,16 @@ def test_a_run_stopped_once_decided_answers_what_the_whole_run_does():
     is the whole run's (overturning and impacts equal, the peak |theta| and the collars'
     largest utilisation to 1e-12)."""
     record = _record(SETTLES_EARLY)
-    stopped = multibody_outcome(HALF, record, COLLARS, cracked=True)
-    whole = multibody_outcome(HALF, record, COLLARS, cracked=True, stop_when_decided=False)
+    stopped = multibody_outcome(
+        HALF, Motion(record), COLLARS, contact=MultibodyContact(cracked=True)
+    )
+    whole = multibody_outcome(
+        HALF,
+        Motion(record),
+        COLLARS,
+        stop_when_decided=False,
+        contact=MultibodyContact(cracked=True),
+    )
     assert whole.max_abs_theta > 1e-2 * HALF.alpha and whole.impacts > 10  # it rocked
     assert whole.decided_at is None
     assert stopped.decided_at is not None
@@ -237,9 +272,20 @@ def test_a_column_that_overturns_after_the_record_is_not_stopped(impacts_needed)
     so the run is not stopped, with the impact count or without it (the fragility's): the
     same steps and answers as without the stop."""
     record = _record([(1.0, 2.7, 1.0)])
-    stopped = multibody_outcome(HALF, record, COLLARS, cracked=True, impacts_needed=impacts_needed)
+    stopped = multibody_outcome(
+        HALF,
+        Motion(record),
+        COLLARS,
+        impacts_needed=impacts_needed,
+        contact=MultibodyContact(cracked=True),
+    )
     whole = multibody_outcome(
-        HALF, record, COLLARS, cracked=True, stop_when_decided=False, impacts_needed=impacts_needed
+        HALF,
+        Motion(record),
+        COLLARS,
+        stop_when_decided=False,
+        impacts_needed=impacts_needed,
+        contact=MultibodyContact(cracked=True),
     )
     dt = _default_dt()
     assert whole.overturned and stopped.overturned
@@ -399,10 +445,11 @@ def test_a_run_that_needs_no_impact_count_stops_while_it_rocks_with_the_whole_ru
     if case == "rocking block":
         block, record, kw = STOCKY, _stocky_record([(0.6, 1.6, 0.6)]), {}
     else:
-        block, record, kw = HALF, _record(SETTLES_EARLY), {"cracked": True, "collars": COLLARS}
-    whole = multibody_outcome(block, record, stop_when_decided=False, **kw)
-    counted = multibody_outcome(block, record, **kw)
-    stopped = multibody_outcome(block, record, impacts_needed=False, **kw)
+        block, record = HALF, _record(SETTLES_EARLY)
+        kw = {"contact": MultibodyContact(cracked=True), "collars": COLLARS}
+    whole = multibody_outcome(block, Motion(record), stop_when_decided=False, **kw)
+    counted = multibody_outcome(block, Motion(record), **kw)
+    stopped = multibody_outcome(block, Motion(record), impacts_needed=False, **kw)
     assert whole.max_abs_theta > 1e-2 * block.alpha and whole.impacts > 10  # it rocked
     assert stopped.impacts is None and counted.impacts == whole.impacts
     assert stopped.decided_at is not None
@@ -439,12 +486,10 @@ def test_the_collared_column_s_energy_error_falls_as_the_step_squared_up_to_the_
     for fraction in (0.0625, 0.125, 0.25):
         run = rock_multibody(
             HALF,
-            record,
+            Motion(record, duration=2.5),
             COLLARS,
-            cracked=True,
-            duration=2.5,
-            dt=fraction * limit,
-            touching_dt=0.125 * limit,  # the crack's tolerance a single run's, as a fragility's
+            contact=MultibodyContact(cracked=True),
+            settings=MultibodySettings(dt=fraction * limit, touching_dt=0.125 * limit),
         ).summary()
         assert run["max_abs_theta"] > 0.5 * HALF.alpha  # it rocked
         errors.append(run["energy_error_max"])
@@ -470,7 +515,9 @@ def test_at_twice_the_step_with_a_single_run_s_crack_tolerance_the_answers_stay(
     h = default_step(build_column(HALF, cracked=True, collars=COLLARS))
 
     def ensemble(factor, touching_dt):
-        runs = _outcome_ensemble(record, dt=factor * h, touching_dt=touching_dt)
+        runs = _outcome_ensemble(
+            record, settings=MultibodySettings(dt=factor * h, touching_dt=touching_dt)
+        )
         assert {r.overturned for r in runs} == {False}
         return {
             key: [getattr(r, key) for r in runs]

@@ -114,7 +114,7 @@ def test_none_is_not_a_ground_motion():
     with pytest.raises(InputError, match=r"motion = NoMotion\(.*\) is not a colonna.Motion"):
         rock(block, NoMotion(), release=Release(tilt=0.1))
     with pytest.raises(InputError, match="vertical = None is not a ground motion"):
-        rock_multibody(block, NoMotion(), initial_tilt=0.1, vertical=None)
+        rock_multibody(block, Motion(NoMotion(), vertical=None), release=Release(tilt=0.1))
 
 
 # --- issue 33: records are never silently misread ------------------------------------------

@@ -34,7 +34,7 @@ from colonna.core.ground import (
 )
 from colonna.core.motion import Motion
 from colonna.rigid import Block, InputError, pulse_from_ratios, rock
-from colonna.rigid.multibody import rock_multibody
+from colonna.rigid.multibody import MultibodyContact, MultibodySettings, rock_multibody
 from colonna.rigid.solve import SdofSettings
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -300,8 +300,8 @@ def test_a_new_class_equal_to_a_harmonic_pulse_gives_its_answers_bit_for_bit():
     a = rock(blk, Motion(pulse, duration=3.0, vertical=vertical), model="nonlinear")
     b = rock(blk, Motion(pulse, duration=3.0, vertical=one_sine(vertical)), model="nonlinear")
     arrays_equal(a, b, fields)
-    a = rock_multibody(blk, pulse, friction=STICK, duration=4.0)
-    b = rock_multibody(blk, twin, friction=STICK, duration=4.0)
+    a = rock_multibody(blk, Motion(pulse, duration=4.0), contact=MultibodyContact(friction=STICK))
+    b = rock_multibody(blk, Motion(twin, duration=4.0), contact=MultibodyContact(friction=STICK))
     assert a.dt == b.dt and a.impacts == b.impacts > 0
     arrays_equal(a, b, ["time", "theta", "theta_dot", "impacts_table"])
 
@@ -327,8 +327,18 @@ def test_a_new_motion_read_from_its_table_moves_the_rigid_models():
     sdof = rock(
         blk, Motion(strong, duration=6.0), model="nonlinear", settings=SdofSettings(dt_out=1e-3)
     )
-    mb = rock_multibody(blk, strong, friction=STICK, duration=6.0, dt_out=1e-3)
-    same = rock_multibody(blk, as_record, friction=STICK, duration=6.0, dt_out=1e-3)
+    mb = rock_multibody(
+        blk,
+        Motion(strong, duration=6.0),
+        contact=MultibodyContact(friction=STICK),
+        settings=MultibodySettings(dt_out=1e-3),
+    )
+    same = rock_multibody(
+        blk,
+        Motion(as_record, duration=6.0),
+        contact=MultibodyContact(friction=STICK),
+        settings=MultibodySettings(dt_out=1e-3),
+    )
     arrays_equal(mb, same, ["time", "theta", "theta_dot", "impacts_table"])
     sel = mb.time <= sdof.impact_times[0]
     reference = np.interp(mb.time[sel], sdof.time, sdof.theta)

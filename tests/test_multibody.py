@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from colonna.core.collar_law import OUT_SIZE, STATE_SIZE
-from colonna.core.motion import Motion
+from colonna.core.motion import Motion, Release
 from colonna.rigid import (
     Block,
     Collar,
@@ -19,7 +19,15 @@ from colonna.rigid import (
     rock,
 )
 from colonna.rigid import _multibody as K
-from colonna.rigid.multibody import build_column, default_step, multibody_spectrum, rock_multibody
+from colonna.rigid.multibody import (
+    MultibodyContact,
+    MultibodySettings,
+    build_column,
+    default_step,
+    multibody_outcome,
+    multibody_spectrum,
+    rock_multibody,
+)
 from colonna.rigid.solve import SdofSettings
 
 STICK = 2.0  # a friction coefficient that forbids sliding of these blocks
@@ -57,7 +65,12 @@ def test_solid_block_follows_nonlinear_sdof_to_the_third_impact(omega_ratio, amp
     ref = rock(
         blk, Motion(pulse, duration=8.0), model="nonlinear", settings=SdofSettings(dt_out=1e-3)
     )
-    mb = rock_multibody(blk, pulse, friction=STICK, duration=8.0, dt_out=1e-3)
+    mb = rock_multibody(
+        blk,
+        Motion(pulse, duration=8.0),
+        contact=MultibodyContact(friction=STICK),
+        settings=MultibodySettings(dt_out=1e-3),
+    )
     assert ref.impacts >= 3 and mb.impacts >= 3
     assert theta_error(mb, ref, ref.impact_times[2]) < 1e-3
     np.testing.assert_allclose(mb.impacts_table[:3, 0], ref.impact_times[:3], atol=2e-3)
@@ -97,7 +110,7 @@ def test_overturning_classification_matches_sdof_on_both_sides_of_zhang_makris_b
         for side in (0.99, 1.01):
             pulse = pulse_from_ratios(blk, "sine", 5.0, side * boundary, "nonlinear")
             ref = rock(blk, Motion(pulse), model="nonlinear")
-            mb = rock_multibody(blk, pulse, friction=STICK)
+            mb = rock_multibody(blk, Motion(pulse), contact=MultibodyContact(friction=STICK))
             assert mb.mode == ref.mode, (boundary, side)
 
 
@@ -106,7 +119,12 @@ def test_plastic_impact_gives_housners_ratio(alpha):
     """e_n = 0 and no slip: angular momentum about the new pivot is conserved, which is
     Housner's 1 - 1.5 sin^2(alpha); nothing in the model imposes it."""
     blk = Block.from_dimensionless(p=2.0, alpha=alpha)
-    mb = rock_multibody(blk, NoMotion(), friction=STICK, duration=4.0, initial_tilt=0.5 * alpha)
+    mb = rock_multibody(
+        blk,
+        Motion(NoMotion(), duration=4.0),
+        contact=MultibodyContact(friction=STICK),
+        release=Release(tilt=0.5 * alpha),
+    )
     ratios = mb.impact_velocity_ratios(0)
     assert ratios.size >= 2
     np.testing.assert_allclose(ratios[:3], housner_restitution(alpha), rtol=5e-3)
@@ -117,7 +135,12 @@ def test_free_rocking_from_rest_reaches_the_vertical_at_the_closed_form_time():
     """Corrected Eq. 13 (linearised): t = arccosh(1 / (1 - theta0/alpha)) / p; the nonlinear
     block of small alpha is within alpha^2 of it."""
     blk = Block.from_dimensionless(p=2.0, alpha=0.05)
-    mb = rock_multibody(blk, NoMotion(), friction=STICK, duration=2.0, initial_tilt=0.5 * 0.05)
+    mb = rock_multibody(
+        blk,
+        Motion(NoMotion(), duration=2.0),
+        contact=MultibodyContact(friction=STICK),
+        release=Release(tilt=0.5 * 0.05),
+    )
     assert mb.impacts_table[0, 0] == pytest.approx(blk.time_to_vertical(0.025), rel=5e-3)
 
 
@@ -126,8 +149,10 @@ def test_mirror_symmetry():
     blk = zm_block()
     pulse = pulse_from_ratios(blk, "sine", 4.0, 2.5, "nonlinear")
     mirrored = type(pulse)(pulse.kind, -pulse.amplitude, pulse.omega, pulse.phase, pulse.duration)
-    a = rock_multibody(blk, pulse, friction=STICK, duration=3.0)
-    b = rock_multibody(blk, mirrored, friction=STICK, duration=3.0)
+    a = rock_multibody(blk, Motion(pulse, duration=3.0), contact=MultibodyContact(friction=STICK))
+    b = rock_multibody(
+        blk, Motion(mirrored, duration=3.0), contact=MultibodyContact(friction=STICK)
+    )
     np.testing.assert_allclose(a.theta, -b.theta, atol=1e-9 * blk.alpha)
 
 
@@ -144,7 +169,10 @@ def test_time_step_convergence():
 
     def error(dt, refine=32):
         mb = rock_multibody(
-            blk, pulse, friction=STICK, duration=4.0, dt=dt, dt_out=dt, refine=refine
+            blk,
+            Motion(pulse, duration=4.0),
+            contact=MultibodyContact(friction=STICK),
+            settings=MultibodySettings(dt=dt, dt_out=dt, refine=refine),
         )
         return theta_error(mb, ref, t3)
 
@@ -188,7 +216,11 @@ def test_cracked_column_onset_converges_with_the_step(from_rest):
 
     def theta(factor):
         r = rock_multibody(
-            blk, pulse, COLLARS, cracked=True, friction=0.7, duration=0.35, dt=step * factor
+            blk,
+            Motion(pulse, duration=0.35),
+            COLLARS,
+            contact=MultibodyContact(cracked=True, friction=0.7),
+            settings=MultibodySettings(dt=step * factor),
         )
         return np.interp(0.3, r.time, r.theta[:, 0])
 
@@ -298,7 +330,12 @@ def test_block_on_tilted_ground_slides_exactly_when_tilt_exceeds_friction_angle(
     blk = Block(b=1.0, h=0.5, mass=100.0)
     g = blk.g
     a = factor * mu * g
-    mb = rock_multibody(blk, constant_ground(a, 2.0), friction=mu, duration=1.0, dt_out=1e-2)
+    mb = rock_multibody(
+        blk,
+        Motion(constant_ground(a, 2.0), duration=1.0),
+        contact=MultibodyContact(friction=mu),
+        settings=MultibodySettings(dt_out=1e-2),
+    )
     x = mb.centroid[:, 0, 0]
     if factor < 1.0:
         assert np.max(np.abs(x)) < 1e-9
@@ -316,8 +353,12 @@ def test_slender_block_slides_instead_of_rocking_when_mu_is_below_tan_alpha():
     blk = zm_block()
     pulse = pulse_from_ratios(blk, "sine", 3.0, 3.0, "nonlinear")
     tan_alpha = math.tan(blk.alpha)
-    slides = rock_multibody(blk, pulse, friction=0.8 * tan_alpha, duration=2.0)
-    rocks = rock_multibody(blk, pulse, friction=1.2 * tan_alpha, duration=2.0)
+    slides = rock_multibody(
+        blk, Motion(pulse, duration=2.0), contact=MultibodyContact(friction=0.8 * tan_alpha)
+    )
+    rocks = rock_multibody(
+        blk, Motion(pulse, duration=2.0), contact=MultibodyContact(friction=1.2 * tan_alpha)
+    )
     assert slides.max_abs_theta < 1e-4 * blk.alpha and slides.impacts == 0
     assert np.max(np.abs(slides.centroid[:, 0, 0])) > 0.05  # metres of sliding
     assert slides.summary()["energy_dissipated"] > 0.0
@@ -340,7 +381,10 @@ def test_halves_with_frictionless_crack_rock_as_independent_half_blocks():
         half, Motion(pulse, duration=6.0), model="nonlinear", settings=SdofSettings(dt_out=1e-3)
     )
     mb = rock_multibody(
-        half, pulse, cracked=True, friction=STICK, crack_friction=0.0, duration=6.0, dt_out=1e-3
+        half,
+        Motion(pulse, duration=6.0),
+        contact=MultibodyContact(cracked=True, friction=STICK, crack_friction=0.0),
+        settings=MultibodySettings(dt_out=1e-3),
     )
     t1 = ref.impact_times[0]
     leading = theta_error(mb, ref, t1, body=0)
@@ -365,13 +409,10 @@ def test_stiff_collars_and_crack_friction_lock_the_halves_into_the_whole_column_
         collars = tuple(Collar(y=y, t=0.008, h=0.06, E=206e9 * stiffening) for y in (0.5, 2.0, 3.5))
         mb = rock_multibody(
             half,
-            pulse,
+            Motion(pulse, duration=t1 + 0.05),
             collars,
-            cracked=True,
-            friction=STICK,
-            crack_friction=0.7,
-            duration=t1 + 0.05,
-            dt_out=1e-3,
+            contact=MultibodyContact(cracked=True, friction=STICK, crack_friction=0.7),
+            settings=MultibodySettings(dt_out=1e-3),
         )
         errors.append(max(theta_error(mb, ref, t1, body=b, alpha=whole.alpha) for b in (0, 1)))
         assert_energy_closes(mb)
@@ -471,11 +512,11 @@ def test_spectrum_points_equal_single_histories_and_the_sdof_away_from_boundarie
     blk = zm_block()
     omegas = np.array([2.0, 5.0, 9.0])
     amplitudes = np.array([1.5, 4.0, 12.0])
-    spec = multibody_spectrum(blk, omegas, amplitudes, friction=STICK)
+    spec = multibody_spectrum(blk, omegas, amplitudes, contact=MultibodyContact(friction=STICK))
     for i, a in enumerate(amplitudes):
         for j, om in enumerate(omegas):
             pulse = pulse_from_ratios(blk, "sine", om, a, "nonlinear")
-            single = rock_multibody(blk, pulse, friction=STICK)
+            single = rock_multibody(blk, Motion(pulse), contact=MultibodyContact(friction=STICK))
             ref = rock(blk, Motion(pulse), model="nonlinear")
             assert spec.modes[i][j] == single.mode == ref.mode, (a, om)
 
@@ -489,7 +530,7 @@ def test_solid_block_spectrum_equals_the_nonlinear_sdof_spectrum():
     blk = zm_block()
     omegas = np.linspace(1.0, 12.0, 12)
     amplitudes = np.linspace(1.2, 16.0, 10)
-    mb = multibody_spectrum(blk, omegas, amplitudes, friction=STICK)
+    mb = multibody_spectrum(blk, omegas, amplitudes, contact=MultibodyContact(friction=STICK))
     sdof = overturning_spectrum(blk, omegas, amplitudes, model="nonlinear")
     assert set(np.unique(sdof.codes)) == {0, 1, 2}
     assert np.mean(mb.codes == sdof.codes) >= 0.98
@@ -500,12 +541,20 @@ def test_collar_yield_map_of_the_spectrum_is_that_of_the_histories():
     half = marble_half()
     collars = (Collar(y=2.0, t=0.008, h=0.06),)
     omegas, amplitudes = np.array([3.0]), np.array([1.2, 3.0])
-    spec = multibody_spectrum(half, omegas, amplitudes, collars, cracked=True)
+    spec = multibody_spectrum(
+        half, omegas, amplitudes, collars, contact=MultibodyContact(cracked=True)
+    )
     assert spec.collar_yields is not None
     assert spec.collar_yields.tolist() == [[False], [True]]
     for i, a in enumerate(amplitudes):
         pulse = pulse_from_ratios(half, "sine", 3.0, a, "nonlinear")
-        one = rock_multibody(half, pulse, collars, cracked=True, dt_out=1e-4)
+        one = rock_multibody(
+            half,
+            Motion(pulse),
+            collars,
+            contact=MultibodyContact(cracked=True),
+            settings=MultibodySettings(dt_out=1e-4),
+        )
         assert spec.modes[i][0] == one.mode
         util = one.summary()["collar_max_utilisation"]
         if abs(util - 1.0) > 0.05:
@@ -515,26 +564,48 @@ def test_collar_yield_map_of_the_spectrum_is_that_of_the_histories():
 @pytest.mark.parametrize(
     "kwargs, word",
     [
-        ({"friction": -0.1}, "friction"),
-        ({"crack_friction": float("nan"), "cracked": True}, "crack friction"),
-        ({"restitution_normal": 1.5}, "restitution_normal"),
-        ({"dt": 0.0}, "dt"),
-        ({"refine": 0}, "refine"),
-        ({"initial_tilt": 2.0}, "initial tilt"),
+        ({"contact": MultibodyContact(friction=-0.1)}, "friction"),
+        (
+            {"contact": MultibodyContact(cracked=True, crack_friction=float("nan"))},
+            "crack friction",
+        ),
+        ({"contact": MultibodyContact(restitution_normal=1.5)}, "restitution_normal"),
+        ({"settings": MultibodySettings(dt=0.0)}, "dt"),
+        ({"settings": MultibodySettings(refine=0)}, "refine"),
+        ({"release": Release(tilt=2.0)}, r"release\.tilt"),
         ({"collars": (Collar(y=1.0, t=0.01, h=0.05),)}, "cracked"),
+        ({"contact": {"friction": 0.5}}, "contact = .* is not a colonna.MultibodyContact"),
     ],
 )
 def test_bad_input_is_named(kwargs, word):
     blk = Block(b=0.2, h=2.0, mass=800.0)
     with pytest.raises(InputError, match=word):
-        rock_multibody(blk, NoMotion(), duration=0.1, **kwargs)
+        rock_multibody(blk, Motion(NoMotion(), duration=0.1), **kwargs)
+
+
+def test_a_setting_a_run_does_not_use_is_refused_by_name():
+    """The outcome keeps no history and a spectrum steps each pulse on its own (issue 49): a
+    field of MultibodySettings they would ignore is an error naming it, never silently
+    dropped."""
+    blk = Block(b=0.2, h=2.0, mass=800.0)
+    pulse = pulse_from_ratios(blk, "sine", 3.0, 2.0, "nonlinear")
+    with pytest.raises(InputError, match="settings.dt_out does not apply to multibody_outcome"):
+        multibody_outcome(blk, Motion(pulse), settings=MultibodySettings(dt_out=1e-3))
+    with pytest.raises(InputError, match="settings.touching_dt does not apply"):
+        multibody_spectrum(blk, [2.0], [2.0], settings=MultibodySettings(touching_dt=1e-4))
 
 
 def test_a_step_above_the_collars_stable_step_is_refused():
     half = marble_half()
     collars = (Collar(y=2.0, t=0.008, h=0.06),)
     with pytest.raises(InputError, match="stable step"):
-        rock_multibody(half, NoMotion(), collars, cracked=True, dt=1e-2, duration=0.1)
+        rock_multibody(
+            half,
+            Motion(NoMotion(), duration=0.1),
+            collars,
+            contact=MultibodyContact(cracked=True),
+            settings=MultibodySettings(dt=1e-2),
+        )
 
 
 def test_a_collar_law_without_an_answer_stops_the_run_and_says_so(monkeypatch):
@@ -557,7 +628,9 @@ def test_a_collar_law_without_an_answer_stops_the_run_and_says_so(monkeypatch):
     record = Record(np.array([0.0, 0.5]), np.array([0.0, 0.0]), "still")
     for run in (multibody.rock_multibody, multibody.multibody_outcome):
         with pytest.raises(InputError, match="a collar's law gave no answer") as raised:
-            run(block, record, collars, cracked=True, duration=0.1)
+            run(
+                block, Motion(record, duration=0.1), collars, contact=MultibodyContact(cracked=True)
+            )
         assert "t = 0.000" in str(raised.value)  # its first step
     state = multibody._unstable(K.UNSTABLE_STATE, 1.25, 1e-4)
     assert "went unstable at t = 1.25 s" in str(state) and "lower dt" in str(state)

@@ -9,11 +9,13 @@ import pytest
 from colonna.core.collar_law import FIBRE_STRAIN, FRACTURED, OUT_SIZE, STATE_SIZE
 from colonna.core.errors import InputError
 from colonna.core.ground import NoMotion
+from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model
 from colonna.fem.solver import run
 from colonna.meshes import column_mesh
 from colonna.rigid.collars import Collar
+from colonna.rigid.multibody import MultibodyContact
 
 
 def _pulled_apart(collar, duration=0.006, speed=0.4):
@@ -149,10 +151,9 @@ def test_multibody_rocking_with_plastic_collars_keeps_its_energy_balance():
     runs = {
         plastic: rock_multibody(
             half,
-            pulse,
+            Motion(pulse, duration=2.0),
             (Collar(**thin, plastic=plastic, section="resultant" if plastic else None),),
-            cracked=True,
-            duration=2.0,
+            contact=MultibodyContact(cracked=True),
         )
         for plastic in (False, True)
     }
@@ -443,7 +444,12 @@ def test_multibody_collar_breaks_and_reports_it():
     pulse = sine_pulse(3.0 * a_up, 3.0 * half.p, a_up)
     thin = dict(y=2.0, t=0.002, h=0.02, plastic=True, section="resultant")
     holds, breaks = (
-        rock_multibody(half, pulse, (Collar(**thin, eps_u=eps_u),), cracked=True, duration=2.0)
+        rock_multibody(
+            half,
+            Motion(pulse, duration=2.0),
+            (Collar(**thin, eps_u=eps_u),),
+            contact=MultibodyContact(cracked=True),
+        )
         for eps_u in (0.15, 0.003)
     )
     s = breaks.summary()
@@ -477,7 +483,10 @@ def test_the_multibody_history_has_the_fem_histories_collar_columns():
     half = Block(b=0.1125, h=2.0, mass=858.0)
     a_up = half.uplift_acceleration()
     result = rock_multibody(
-        half, sine_pulse(3.0 * a_up, 3.0 * half.p, a_up), (collar,), cracked=True, duration=2.0
+        half,
+        Motion(sine_pulse(3.0 * a_up, 3.0 * half.p, a_up), duration=2.0),
+        (collar,),
+        contact=MultibodyContact(cracked=True),
     )
     columns = history_columns(result)
     fem = _flung_up(
@@ -499,7 +508,7 @@ def test_the_multibody_history_has_the_fem_histories_collar_columns():
     assert np.array_equal(columns["collar_1_fibre_strain"], hist.fibre_strain)
     band = Collar(y=2.0, t=0.008, h=0.06)
     gentle = sine_pulse(1.5 * a_up, 3.0 * half.p, a_up)
-    elastic = rock_multibody(half, gentle, (band,), cracked=True)
+    elastic = rock_multibody(half, Motion(gentle), (band,), contact=MultibodyContact(cracked=True))
     assert {k for k in history_columns(elastic) if k.startswith("collar_")} == {
         f"collar_1_{name}"
         for name in ("axial_force", "moment", "stress", "utilisation", "fibre_strain")

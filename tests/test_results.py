@@ -18,7 +18,7 @@ from colonna.fem.model import build_model
 from colonna.fem.solver import FemRunSummary, run, run_ensemble
 from colonna.meshes.column import column_mesh
 from colonna.rigid import Block, Collar, NoMotion, pulse_from_ratios, rock
-from colonna.rigid.multibody import MultibodySummary, rock_multibody
+from colonna.rigid.multibody import MultibodyContact, MultibodySummary, rock_multibody
 from colonna.rigid.solve import RockingSummary
 from colonna.studies.crosscheck.runner import MULTIBODY_KEYS as CROSSCHECK_KEYS
 from colonna.studies.output import _plain
@@ -84,12 +84,15 @@ def _rock_runs():
 def _multibody_runs():
     pulse = pulse_from_ratios(LOADED, "sine", 3.0, 2.5, "nonlinear")
     return {
-        "solid": rock_multibody(BLOCK, pulse, duration=1.0),
+        "solid": rock_multibody(BLOCK, Motion(pulse, duration=1.0)),
         "cracked, collars": rock_multibody(
-            LOADED, pulse, COLLARS, cracked=True, crack_friction=0.5, duration=1.0
+            LOADED,
+            Motion(pulse, duration=1.0),
+            COLLARS,
+            contact=MultibodyContact(cracked=True, crack_friction=0.5),
         ),
         "cracked, plastic collar": rock_multibody(
-            LOADED, pulse, PLASTIC, cracked=True, duration=1.0
+            LOADED, Motion(pulse, duration=1.0), PLASTIC, contact=MultibodyContact(cracked=True)
         ),
     }
 
@@ -214,7 +217,10 @@ def test_declared_units_pin_the_physics():
     tilt = 0.05
     for cracked, width in ((False, 2.0 * BLOCK.b), (True, 4.0 * BLOCK.b)):
         summary = rock_multibody(
-            BLOCK, NoMotion(), initial_tilt=tilt, duration=0.2, cracked=cracked, friction=2.0
+            BLOCK,
+            Motion(NoMotion(), duration=0.2),
+            contact=MultibodyContact(cracked=cracked, friction=2.0),
+            release=Release(tilt=tilt),
         ).summary()
         assert summary["max_uplift"] == pytest.approx(width * math.sin(tilt), rel=1e-9)
         assert summary["p"] == pytest.approx(p, rel=1e-12)

@@ -401,7 +401,7 @@ def test_a_fragility_run_says_when_it_overturned():
     duration = record.end_time + FREE_TIME_P / block.p
     ground = record.scaled(scales[1])
     sdof = rock(block, Motion(ground, duration=duration), model="nonlinear").overturn_time
-    multibody = rock_multibody(block, ground, duration=duration).summary()["overturn_time"]
+    multibody = rock_multibody(block, Motion(ground, duration=duration)).summary()["overturn_time"]
     for runs, when in (
         (sdof_runs(study, record, scales), sdof),
         (multibody_runs(study, record, scales), multibody),

@@ -11,7 +11,7 @@ from colonna.core.errors import InputError
 from colonna.core.ground import NoMotion, sine_pulse
 from colonna.core.motion import Motion, Release
 from colonna.rigid.block import Block
-from colonna.rigid.multibody import rock_multibody
+from colonna.rigid.multibody import MultibodyContact, MultibodySettings, rock_multibody
 from colonna.rigid.solve import SdofSettings, rock
 
 MASS = 500.0
@@ -119,7 +119,10 @@ def test_the_load_lowers_the_unstable_equilibrium(model):
             )
         else:
             r = rock_multibody(
-                blk, NoMotion(), friction=1.0, initial_tilt=factor * tc, duration=6.0
+                blk,
+                Motion(NoMotion(), duration=6.0),
+                contact=MultibodyContact(friction=1.0),
+                release=Release(tilt=factor * tc),
             )
         assert r.overturned == falls
 
@@ -130,7 +133,10 @@ def test_a_massless_load_keeps_housners_restitution():
     for load_ratio in (0.0, LOAD_RATIO):
         blk = _block(load_ratio)
         r = rock_multibody(
-            blk, NoMotion(), friction=1.0, initial_tilt=0.5 * blk.critical_angle(), duration=1.5
+            blk,
+            Motion(NoMotion(), duration=1.5),
+            contact=MultibodyContact(friction=1.0),
+            release=Release(tilt=0.5 * blk.critical_angle()),
         )
         assert r.impact_velocity_ratios()[0] == pytest.approx(blk.restitution_housner, rel=1e-3)
 
@@ -142,7 +148,12 @@ def test_multibody_block_with_a_load_follows_the_nonlinear_sdof():
     sdof = rock(blk, Motion(pulse, duration=2.5), model="nonlinear")
     # (the load makes the impact timing more sensitive to the step than without: at the
     # default step the error to the third impact is 5e-3 alpha, 0.9e-3 without a load)
-    mb = rock_multibody(blk, pulse, friction=1.0, duration=2.5, dt=5e-5)
+    mb = rock_multibody(
+        blk,
+        Motion(pulse, duration=2.5),
+        contact=MultibodyContact(friction=1.0),
+        settings=MultibodySettings(dt=5e-5),
+    )
     assert sdof.impacts >= 2 and mb.impacts >= 2
     end = sdof.impact_times[2] if sdof.impacts > 2 else 2.5
     t = mb.time[mb.time < end]

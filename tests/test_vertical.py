@@ -9,7 +9,7 @@ import pytest
 from colonna.core.ground import NoMotion, Record, cosine_pulse
 from colonna.core.motion import Motion, Release
 from colonna.rigid.block import Block
-from colonna.rigid.multibody import rock_multibody
+from colonna.rigid.multibody import MultibodyContact, MultibodySettings, rock_multibody
 from colonna.rigid.solve import rock
 
 G = 9.81
@@ -29,7 +29,10 @@ def test_free_fall_of_the_support_leaves_no_restoring_moment(model):
     for vertical, moves in ((_constant(-G, 2.0), False), (NoMotion(), True)):
         if model == "multibody":
             r = rock_multibody(
-                blk, NoMotion(), friction=1.0, initial_tilt=tilt, duration=1.0, vertical=vertical
+                blk,
+                Motion(NoMotion(), duration=1.0, vertical=vertical),
+                contact=MultibodyContact(friction=1.0),
+                release=Release(tilt=tilt),
             )
             theta = r.theta[:, 0]
         else:
@@ -75,7 +78,12 @@ def test_multibody_with_vertical_shaking_follows_the_nonlinear_sdof():
     pulse = sine_pulse(1.5 * a_up, omega, a_up)
     vertical = HarmonicPulse("sine", 0.4 * G, 2.0 * omega, 0.0, pulse.duration)
     sdof = rock(blk, Motion(pulse, duration=2.0, vertical=vertical), model="nonlinear")
-    mb = rock_multibody(blk, pulse, friction=1.0, duration=2.0, dt=5e-5, vertical=vertical)
+    mb = rock_multibody(
+        blk,
+        Motion(pulse, duration=2.0, vertical=vertical),
+        contact=MultibodyContact(friction=1.0),
+        settings=MultibodySettings(dt=5e-5),
+    )
     plain = rock(blk, Motion(pulse, duration=2.0), model="nonlinear")
     assert sdof.impacts >= 2
     end = sdof.impact_times[1]

@@ -11,12 +11,14 @@ the halves lock together through the crack friction and the collars and rock as 
 
 import matplotlib.pyplot as plt
 
-from colonna import Block, Collar, pulse_from_ratios, rock_multibody
+from colonna import Block, Collar, Motion, MultibodyContact, pulse_from_ratios, rock_multibody
 
 half = Block.from_density(b=0.1125, h=2.0, density=2700.0, thickness=0.3534)
 collars = [Collar(y=y, t=0.008, h=0.06) for y in (0.5, 2.0, 3.5)]
 pulse = pulse_from_ratios(half, "sine", 3.0, 3.0, "nonlinear")
-run = rock_multibody(half, pulse, collars, cracked=True, friction=0.7)
+run = rock_multibody(
+    half, Motion(pulse), collars, contact=MultibodyContact(cracked=True, friction=0.7)
+)
 print(f"{run.mode}, overturning at t = {run.overturn_time} s; {run.impacts} impacts")
 
 fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 5), layout="constrained", sharex=True)

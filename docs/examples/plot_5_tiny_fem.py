@@ -15,10 +15,12 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from colonna import Block, Collar, pulse_from_ratios, rock_multibody
+from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model
 from colonna.fem.solver import run
 from colonna.meshes import column_mesh
+from colonna.rigid.multibody import MultibodyContact
 
 width, height = 0.45, 4.0
 collars = [Collar(y=y, t=0.008, h=0.06) for y in (0.5, 2.0, 3.5)]
@@ -35,7 +37,9 @@ print(
     f"{s['collar_max_utilisation']:.2f}, toe stress {s['edge_stress_max'] / 1e6:.2f} MPa"
 )
 
-rigid = rock_multibody(half, pulse, collars, cracked=True, friction=0.7, duration=0.8)
+rigid = rock_multibody(
+    half, Motion(pulse, duration=0.8), collars, contact=MultibodyContact(cracked=True, friction=0.7)
+)
 
 fig, ax = plt.subplots(figsize=(7, 3.5), layout="constrained")
 ax.plot(fem.history["t"], fem.history["theta_left"], label="FEM, left half")
