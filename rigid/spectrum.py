@@ -22,7 +22,10 @@ from ..core.ground import PULSE_KINDS
 from . import _kernels as K
 from .block import Block, check_model
 from .collars import collar_kernel_constants, collar_yield_rotation, validate_collars
-from .solve import DEFAULT_ATOL, MODE_NAMES, kernel_block_constants
+from .solve import MODE_NAMES, SdofSettings, kernel_block_constants, require_parameter_object
+
+# a spectrum's default tolerances: rtol 1e-9 (rock()'s is 1e-10); it keeps no history
+SPECTRUM_SETTINGS = SdofSettings(rtol=1e-9)
 
 LAYOUT = "mode[i][j]: i indexes amplitude_ratios (rows), j indexes omega_ratios (columns)"
 
@@ -74,14 +77,20 @@ def overturning_spectrum(
     model: str = "linear",
     pulse: str = "sine",
     free_time: float | None = None,
-    rtol: float = 1e-9,
-    atol: float = DEFAULT_ATOL,
+    settings: SdofSettings = SPECTRUM_SETTINGS,
 ) -> Spectrum:
     """Mode of every (amplitude ratio, omega ratio) pair.
 
     free_time: how long (s) free rocking is followed after the pulse when the block's fate is
     not settled earlier (default 50 / p).
+    settings: the integrator's tolerances ``rtol``, ``atol`` (default :data:`SPECTRUM_SETTINGS`,
+    rtol 1e-9); ``dt_out`` and ``max_impacts_stored`` do not apply (no history is kept).
     """
+    require_parameter_object("settings", settings, SdofSettings)
+    for name in ("dt_out", "max_impacts_stored"):
+        if getattr(settings, name) != getattr(SPECTRUM_SETTINGS, name):
+            raise InputError(f"settings.{name} does not apply to a spectrum: it keeps no history")
+    rtol, atol = settings.rtol, settings.atol
     check_model(model)
     omega_ratios, amplitude_ratios = check_spectrum_grid(omega_ratios, amplitude_ratios, pulse)
     collars = validate_collars(collars, block)

@@ -114,6 +114,17 @@ def test_spectrum_rejects_amplitude_below_uplift(zm_block):
         overturning_spectrum(zm_block, [1.0], [0.5])
 
 
+def test_spectrum_settings_are_its_tolerances_and_a_history_setting_is_refused(zm_block):
+    """The spectrum takes SdofSettings for rtol and atol (issue 49); it keeps no history, so an
+    output interval given to it is an error naming the field, not silently dropped."""
+    from colonna.rigid.solve import SdofSettings
+    from colonna.rigid.spectrum import SPECTRUM_SETTINGS
+
+    assert (SPECTRUM_SETTINGS.rtol, SPECTRUM_SETTINGS.atol) == (1e-9, 1e-12)
+    with pytest.raises(InputError, match="settings.dt_out does not apply to a spectrum"):
+        overturning_spectrum(zm_block, [2.0], [2.0], settings=SdofSettings(dt_out=1e-3))
+
+
 def _collared_block_and_collars():
     """The benchmark's cracked block (Zhang & Makris geometry, granite mass) with two collars."""
     from colonna.rigid import Block
