@@ -24,6 +24,8 @@ from numba import njit
 
 from colonna.core.collar import Collar
 from colonna.core.collar_law import frame_local_law, state_size
+from colonna.core.motion import Motion
+from colonna.fem.settings import FemSettings
 
 L = 0.45
 BAND = dict(y=1.0, t=0.008, h=0.06, length=L, fy=235e6, plastic=True, eps_u=0.15)
@@ -86,8 +88,12 @@ def fem_step() -> float:
     study = load(Path(__file__).resolve().parents[1] / "studies" / "default.toml").fem
     model = build(study)
     dt = stable_time_step(model, study.safety).dt
-    run(model, study.ground, 10 * dt, progress=False, output_interval=10 * dt)
-    result = run(model, study.ground, 3000 * dt, progress=False, output_interval=3000 * dt)
+    run(model, Motion(study.ground, 10 * dt), FemSettings(progress=False, output_interval=10 * dt))
+    result = run(
+        model,
+        Motion(study.ground, 3000 * dt),
+        FemSettings(progress=False, output_interval=3000 * dt),
+    )
     return result.summary["wall_seconds"] / result.summary["steps"]
 
 

@@ -16,7 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
+from colonna.core.motion import Motion
 from colonna.fem.model import stable_time_step
+from colonna.fem.settings import FemSettings
 from colonna.fem.solver import run_ensemble
 from colonna.studies.models import build
 from colonna.studies.study import load
@@ -28,7 +30,10 @@ STEPS = 4000
 def _seconds(model, study, replicas: int, duration: float) -> float:
     start = time.perf_counter()
     run_ensemble(
-        model, study.ground, duration, replicas, progress=False, output_interval=duration / 20
+        model,
+        Motion(study.ground, duration),
+        FemSettings(progress=False, output_interval=duration / 20),
+        replicas=replicas,
     )
     return time.perf_counter() - start
 

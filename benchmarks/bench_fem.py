@@ -15,7 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
+from colonna.core.motion import Motion
 from colonna.fem.model import build_model, stable_time_step
+from colonna.fem.settings import FemSettings
 from colonna.fem.solver import run
 from colonna.studies.models import build
 from colonna.studies.study import load
@@ -43,7 +45,7 @@ def main() -> None:
     dts = {}
     for name, model in models.items():
         dts[name] = stable_time_step(model, study.safety).dt
-        run(model, study.ground, 1e-3, progress=False)  # compilation
+        run(model, Motion(study.ground, 1e-3), FemSettings(progress=False))  # compilation
     # interleave the measurements and take medians: this machine's timings are noisy
     matvecs: list[float] = []
     per_steps: dict[str, list[float]] = {name: [] for name in models}
@@ -54,7 +56,11 @@ def main() -> None:
         matvecs.append((time.perf_counter() - start) / 2000)
         for name, model in models.items():
             duration = steps * dts[name]
-            result = run(model, study.ground, duration, progress=False, output_interval=duration)
+            result = run(
+                model,
+                Motion(study.ground, duration),
+                FemSettings(progress=False, output_interval=duration),
+            )
             per_steps[name].append(result.summary["wall_seconds"] / result.summary["steps"])
     matvec = float(np.median(matvecs))
     print(

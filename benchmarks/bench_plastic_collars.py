@@ -22,9 +22,11 @@ import numpy as np
 from colonna.core.collar import Collar
 from colonna.core.collar_law import OUT_SIZE, state_size
 from colonna.core.ground import NoMotion
+from colonna.core.motion import Motion
 from colonna.fem import _kernels as FK
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model, stable_time_step
+from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import run
 from colonna.meshes import column_mesh
 from colonna.rigid import _multibody as MK
@@ -48,7 +50,11 @@ def _per_step(study, law: str, steps: int) -> float:
     collars = tuple(dataclasses.replace(c, **LAWS[law]) for c in study.collars)
     model = build(dataclasses.replace(study, collars=collars))
     dt = stable_time_step(model, study.safety).dt
-    result = run(model, study.ground, steps * dt, progress=False, output_interval=steps * dt)
+    result = run(
+        model,
+        Motion(study.ground, steps * dt),
+        FemSettings(progress=False, output_interval=steps * dt),
+    )
     return result.summary["wall_seconds"] / result.summary["steps"]
 
 
@@ -61,12 +67,9 @@ def _bent_per_step(law: str) -> float:
     v0[mesh.node_body == 1, 1] = 1.0
     result = run(
         model,
-        NoMotion(),
-        0.03,
-        output_interval=0.03,
-        initial_velocity=v0,
-        progress=False,
-        stop_on_overturn=False,
+        Motion(NoMotion(), 0.03),
+        FemSettings(output_interval=0.03, progress=False, stop_on_overturn=False),
+        FemStart(velocity=v0),
     )
     return result.summary["wall_seconds"] / result.summary["steps"]
 

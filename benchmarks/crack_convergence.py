@@ -27,6 +27,7 @@ import numpy as np
 from colonna.core.motion import Motion
 from colonna.fem import solver
 from colonna.fem.model import build_model
+from colonna.fem.settings import FemSettings
 from colonna.fem.solver import run, run_ensemble
 from colonna.meshes import column_mesh
 from colonna.rigid.multibody import MultibodyContact, rock_multibody
@@ -75,7 +76,11 @@ def fem_row(study, size, label, enforcement, factor, damping, friction_filter, s
         enforcement=enforcement,
     )
     model = build_model(mesh, study.stone, study.thickness, (), contact)
-    r = run(model, study.ground, DURATION, output_interval=1e-3, safety=safety, progress=False)
+    r = run(
+        model,
+        Motion(study.ground, DURATION),
+        FemSettings(output_interval=1e-3, safety=safety, progress=False),
+    )
     h, s = r.history, r.summary
     theta = np.maximum(np.abs(h["theta_left"]), np.abs(h["theta_right"]))
     k = first_peak(theta)
@@ -193,7 +198,10 @@ def replica_row(study, label, size, safety, tolerance, contact, replicas=8) -> d
         model = build_model(mesh, study.stone, study.thickness, (), settings, bed=study.bed)
         clock = time.perf_counter()
         runs = run_ensemble(
-            model, study.ground, 0.9, replicas, output_interval=1e-3, safety=safety, progress=False
+            model,
+            Motion(study.ground, 0.9),
+            FemSettings(output_interval=1e-3, safety=safety, progress=False),
+            replicas=replicas,
         )
         wall = time.perf_counter() - clock
     finally:
@@ -260,9 +268,8 @@ def main() -> None:
             (),
             study.contact,
         ),
-        study.ground,
-        1e-3,
-        progress=False,
+        Motion(study.ground, 1e-3),
+        FemSettings(progress=False),
     )
     for size in sizes:
         for setting in SETTINGS:

@@ -16,7 +16,10 @@ from ..core import lazy_exports
 _PUBLIC = {
     "ContactSettings": ".model",
     "FemResult": ".solver",
+    "FemSettings": ".settings",
+    "FemStart": ".settings",
     "Model": ".model",
+    "Replicas": ".settings",
     "Stone": ".assembly",
     "assemble": ".assembly",
     "build_model": ".model",
@@ -28,6 +31,7 @@ _PUBLIC = {
 if TYPE_CHECKING:  # what the names are, for type checkers (nothing is imported at run time)
     from .assembly import Stone, assemble
     from .model import ContactSettings, Model, build_model, stable_time_step
+    from .settings import FemSettings, FemStart, Replicas
     from .solver import FemResult, run, static_state
 
 __getattr__, __dir__ = lazy_exports(globals(), _PUBLIC)
@@ -35,7 +39,10 @@ __getattr__, __dir__ = lazy_exports(globals(), _PUBLIC)
 __all__ = [
     "ContactSettings",
     "FemResult",
+    "FemSettings",
+    "FemStart",
     "Model",
+    "Replicas",
     "Stone",
     "assemble",
     "build_model",

@@ -166,28 +166,40 @@ FIT_FROM_TIP_ELEMENTS = 4.0
 FIT_TO_CRACK_FRACTION = 0.2
 
 
+@dataclass(frozen=True)
+class EdgeCrackStrip:
+    """The single-edge-cracked strip of :func:`solve_edge_crack`: ``width`` W (m), crack length
+    a (m, ``crack_length``, from one edge), uniform end tension ``sigma`` (Pa), the stone's
+    ``E`` (Pa) and ``nu``, ``plane`` ("strain" or "stress") and the strip's ``half_height`` (m;
+    None: 1.5 W, the strip 3 W tall; at least that, Tada's F(a/W) being for a long strip)."""
+
+    width: float
+    crack_length: float
+    sigma: float
+    E: float = 50e9
+    nu: float = 0.2
+    plane: str = "strain"
+    half_height: float | None = None
+
+
 def solve_edge_crack(
-    width: float,
-    crack_length: float,
-    sigma: float,
+    strip: EdgeCrackStrip,
     *,
-    E: float = 50e9,
-    nu: float = 0.2,
-    plane: str = "strain",
-    half_height: float | None = None,
     tip_size: float | None = None,
     growth: float = 1.25,
     refine: int = 0,
     full: bool = False,
 ) -> CrackTipSolution:
-    """Linear-elastic static solve of the single-edge-cracked strip under uniform end tension
-    ``sigma`` (Pa), K_I by displacement correlation (module docstring). Half model (symmetry on the
+    """Linear-elastic static solve of the single-edge-cracked ``strip`` under its uniform end
+    tension, K_I by displacement correlation (module docstring). Half model (symmetry on the
     ligament: u_y = 0, the crack face free) or, with ``full``, the whole strip with the crack
-    faces' nodes split. ``half_height`` defaults to 1.5 W (the strip 3 W tall); the mesh
-    (:func:`colonna.meshes.crack_tip.edge_crack_mesh`) to a tip element a / 50."""
+    faces' nodes split. The mesh (:func:`colonna.meshes.crack_tip.edge_crack_mesh`, its
+    ``tip_size``, ``growth`` and ``refine``) defaults to a tip element a / 50."""
     from skfem import Basis, ElementQuad1, ElementVector, asm, condense, solve
     from skfem.models.elasticity import lame_parameters, linear_elasticity, plane_stress
 
+    width, crack_length, sigma = strip.width, strip.crack_length, strip.sigma
+    E, nu, plane, half_height = strip.E, strip.nu, strip.plane, strip.half_height
     require_positive("strip width W (m)", width)
     require_positive("end tension sigma (Pa)", sigma)
     require_range("stone E (Pa)", E, 1e6, 1e14, closed_low=True, closed_high=True)
@@ -260,6 +272,7 @@ def solve_edge_crack(
 
 __all__ = [
     "CrackTipSolution",
+    "EdgeCrackStrip",
     "face_jumps",
     "stress_intensities",
     "apparent_stress_intensity",

@@ -42,24 +42,30 @@ from ..core.collar import collar_strain_summary
 from ..core.collar_law import FIBRE_STRAIN, FRACTURED, OUT_SIZE
 from ..core.errors import InputError, require_positive, require_range
 from ..core.fibre import STRESS as FIBRE_STRESS
-from ..core.ground import NO_MOTION, GroundMotion, require_motion
+from ..core.ground import require_motion
+from ..core.motion import Motion, Release
 from ..core.quantities import quantity, shared, to_dict, typed_result
 from . import _kernels as K
 from .checkpoint import Checkpoint, clear, read_parts, write_part
 from .model import Model, coincident_nodes, collar_stiffness, contact_stiffness, stable_time_step
 from .output import HistoryFiles, write_run, write_summary
+from .settings import (
+    AT_REST,
+    DEFAULT_SETTINGS,
+    EDGE_TIME,
+    REPLICA_PERTURBATION,
+    REPLICAS,
+    FemSettings,
+    FemStart,
+    Replicas,
+)
 
 BLOW_UP = "numerical blow-up"  # how the status of a run stopped as unstable begins
 
-EDGE_TIME = 2.5e-4  # s: default averaging time of the toe stress (see run)
 # energy balance error (relative to the energy scale, see the module) past which a run is
 # unreliable; a correct run closes to about 1e-2 (tests), undamped frictionless penalty
 # contact gains tens of per cent
 ENERGY_ERROR_LIMIT = 0.05
-REPLICAS = 8  # default size of an ensemble (run_ensemble; [run] replicas)
-# replicas start from positions moved by this fraction of the column height (standard normal
-# offsets): far below anything physical, far above the last bit of a position
-REPLICA_PERTURBATION = 1e-12
 # runs that advance together when a batch of many runs is streamed through iter_batch: one
 # group of the kernel (its cost per state is lowest at a full group)
 BATCH_SLOTS = K.GROUP
@@ -88,7 +94,7 @@ class FemResult:
     displacement_frames: list = field(repr=False)  # (t, u (n_nodes, 2)) at output times
     model: Model = field(repr=False)
     velocity_frames: list = field(default_factory=list, repr=False)  # (t, v (n_nodes, 2))
-    # (t, contact state: dict of base_ft, base_fc, crack_ft, crack_fc; see run's initial_contact)
+    # (t, contact state: dict of base_ft, base_fc, crack_ft, crack_fc; see FemStart.contact)
     contact_frames: list = field(default_factory=list, repr=False)
     # the summary with the unit of every value
     typed_summary: FemRunSummary | None = field(default=None, repr=False)
@@ -278,67 +284,23 @@ def static_state(model: Model):
 
 def run(
     model: Model,
-    ground,
-    duration: float,
-    *,
-    dt: float | None = None,
-    safety: float = 0.9,
-    output_interval: float | None = None,
-    edge_length: float | None = None,
-    edge_time: float | None = None,
+    motion: Motion,
+    settings: FemSettings = DEFAULT_SETTINGS,
+    start: Release = AT_REST,
     out_dir=None,
-    progress: bool = True,
-    stop_on_overturn: bool = True,
-    initial_velocity: np.ndarray | None = None,
-    check_dt: bool = True,
-    initial_tilt: float = 0.0,
-    initial_angular_velocity: float = 0.0,
-    start_time: float = 0.0,
-    initial_state: tuple | None = None,
-    initial_contact: dict | None = None,
-    vertical: GroundMotion = NO_MOTION,
 ) -> FemResult:
-    """Run the model under ``ground`` (a HarmonicPulse, Record or NoMotion: colonna.core.ground)
-    for ``duration`` seconds from gravity equilibrium. ``dt`` (s) may be set by hand but not above
-    the stable step (``check_dt=False`` lifts that guard, for tests of the estimate).
-    ``initial_velocity``: nodal velocities (n_nodes, 2) added at t = 0. ``initial_tilt`` (rad,
-    > 0 toward +x) and ``initial_angular_velocity`` (rad/s): the column released at t = 0 turned
-    rigidly by that angle about the outer toe it tips on, spinning about it at that rate; its
-    elastic state is the upright static state, turned with it.
-
-    ``initial_state`` = (x, v): node positions and velocities (m, m/s; flat, 2 per node) to
-    start from instead of the static state, at ``start_time`` (s; the ground motion is read at
-    start_time + t): a restart, for instance of another mesh's state transferred by
-    :func:`colonna.fem.transfer.transfer_state`. ``initial_contact``: the contact state it
-    starts with (zero if left out), a dict as in ``FemResult.contact_frames`` or from
-    :func:`colonna.fem.transfer.transfer_contact`: base_ft, base_fc (tangential and filtered
-    normal force per base node, N), crack_ft, crack_fc (lists, one array per crack pass).
-    ``vertical``: the vertical ground acceleration (upward positive; a pulse or a record of
-    colonna.core.ground), applied as the body force -rho vg'' in y.
+    """Run the model under ``motion`` (:class:`colonna.core.motion.Motion`: the horizontal
+    ground acceleration, a HarmonicPulse, Record or NoMotion of colonna.core.ground; the
+    vertical one, upward positive, applied as the body force -rho vg'' in y; the run's
+    ``duration``, s, which a FEM run needs) from ``start`` (:class:`colonna.fem.settings.
+    FemStart` or a plain :class:`~colonna.core.motion.Release`; default the static state under
+    gravity), stepping, recording and stopping as ``settings`` say
+    (:class:`colonna.fem.settings.FemSettings`). ``out_dir``: where the run writes its files
+    (None: nowhere).
 
     One run is a batch of one: :func:`run_ensemble` runs replicas of it, :func:`run_batch`
     other ground motions on the same model, each through the same compiled step."""
-    return run_batch(
-        model,
-        [ground],
-        duration,
-        verticals=[vertical],
-        dt=dt,
-        safety=safety,
-        output_interval=output_interval,
-        edge_length=edge_length,
-        edge_time=edge_time,
-        out_dirs=[out_dir],
-        progress=progress,
-        stop_on_overturn=stop_on_overturn,
-        initial_velocity=initial_velocity,
-        check_dt=check_dt,
-        initial_tilt=initial_tilt,
-        initial_angular_velocity=initial_angular_velocity,
-        start_time=start_time,
-        initial_state=initial_state,
-        initial_contact=initial_contact,
-    )[0]
+    return run_batch(model, [motion], settings, start, out_dirs=[out_dir])[0]
 
 
 def unreliable_reason(summaries: list[dict]) -> str | None:
@@ -387,66 +349,55 @@ def replica_perturbation(
 
 def run_ensemble(
     model: Model,
-    ground,
-    duration: float,
-    replicas: int = REPLICAS,
+    motion: Motion,
+    settings: FemSettings = DEFAULT_SETTINGS,
+    start: Release = AT_REST,
     *,
-    perturbation: float = REPLICA_PERTURBATION,
+    replicas: Replicas | int = REPLICAS,
     out_dir=None,
-    vertical: GroundMotion = NO_MOTION,
     checkpoint: Checkpoint | None = None,
-    **options,
 ) -> list[FemResult]:
-    """``replicas`` runs of the model that differ only at round-off level: replica r starts
-    from the initial state of :func:`run` moved by :func:`replica_perturbation` (1e-12 of the
-    column height by default; replica 0 is unperturbed). Penalty contact with friction is
-    chaotic at landings: a last-bit difference there becomes another landing, so a number that
-    depends on landings is a band over the replicas (:mod:`colonna.fem.ensemble`), not one
-    sample. The replicas advance together, one pass through the stiffness per step for all.
+    """``replicas`` (:class:`colonna.fem.settings.Replicas`; an int n: Replicas(n)) runs of
+    the model that differ only at round-off level: replica r starts from the initial state of
+    :func:`run` moved by :func:`replica_perturbation` (1e-12 of the column height by default;
+    replica 0 is unperturbed). Penalty contact with friction is chaotic at landings: a
+    last-bit difference there becomes another landing, so a number that depends on landings is
+    a band over the replicas (:mod:`colonna.fem.ensemble`), not one sample. The replicas
+    advance together, one pass through the stiffness per step for all.
 
     ``out_dir``: replica 0 writes the files of :func:`run` there, replica r its history.csv and
     summary.json under ``out_dir/replicas/r``. ``checkpoint``: the ensemble saves its state
     there as it goes (:func:`iter_batch`; each rerun at a halved step in a folder of its own
-    under it), goes on from it when run again, and removes it once done. ``options``: those of
-    :func:`run`."""
-    replicas = int(replicas)
-    if replicas < 1:
-        raise InputError(f"run replicas = {replicas} must be at least 1")
-    require_range(
-        "replica perturbation (relative)",
-        perturbation,
-        0.0,
-        1e-6,
-        closed_low=True,
-        closed_high=True,
-        range_text="[0, 1e-6]",
-    )
-    out_dirs: list[Path | None] = [None] * replicas
+    under it), goes on from it when run again, and removes it once done. ``motion``,
+    ``settings``, ``start``: as in :func:`run`."""
+    ensemble = replicas if isinstance(replicas, Replicas) else Replicas(int(replicas))
+    count = int(ensemble.count)
+    out_dirs: list[Path | None] = [None] * count
     if out_dir is not None:
         out_dirs = [Path(out_dir)]
-        out_dirs += [Path(out_dir) / "replicas" / str(r) for r in range(1, replicas)]
-    offsets = [replica_perturbation(model, r, perturbation) for r in range(replicas)]
+        out_dirs += [Path(out_dir) / "replicas" / str(r) for r in range(1, count)]
+    offsets = [replica_perturbation(model, r, ensemble.perturbation) for r in range(count)]
 
-    def attempt(halvings: int) -> list[FemResult]:
-        """The ensemble at options["dt"] (None: the stable step), halved ``halvings`` times."""
+    def attempt(halvings: int, settings: FemSettings) -> list[FemResult]:
+        """The ensemble at settings.dt (None: the stable step), halved ``halvings`` times."""
         return run_batch(
             model,
-            [ground] * replicas,
-            duration,
-            verticals=[vertical] * replicas,
+            [motion] * count,
+            settings,
+            start,
             out_dirs=out_dirs,
             offsets=offsets,
+            slots=ensemble.slots,
             checkpoint=None if checkpoint is None else checkpoint.sub(f"dt-{halvings}", "ensemble"),
-            **options,
         )
 
-    results = attempt(0)
+    results = attempt(0, settings)
     for halvings in range(1, STEP_HALVINGS + 1):
         reason = unreliable_reason([r.summary for r in results])
         if reason is None:
             break
-        options["dt"] = 0.5 * results[0].summary["dt"]
-        results = attempt(halvings)
+        settings = dataclasses.replace(settings, dt=0.5 * results[0].summary["dt"])
+        results = attempt(halvings, settings)
         results = [_with_halvings(r, halvings, reason) for r in results]
         for result, folder in zip(results, out_dirs, strict=True):
             if folder is not None:
@@ -468,46 +419,37 @@ def _with_halvings(result: FemResult, halvings: int, reason: str) -> FemResult:
     return result
 
 
-def run_batch(model: Model, grounds: list, duration, **options) -> list[FemResult]:
-    """One run of the model per ground motion in ``grounds``, advanced together
-    (:func:`iter_batch`), as a list in the order of ``grounds``."""
-    results: list = [None] * len(grounds)
-    for k, result in iter_batch(model, grounds, duration, **options):
+def run_batch(
+    model: Model,
+    motions: list[Motion],
+    settings: FemSettings = DEFAULT_SETTINGS,
+    start: Release = AT_REST,
+    **batch,
+) -> list[FemResult]:
+    """One run of the model per ground motion in ``motions``, advanced together
+    (:func:`iter_batch`, ``batch`` its keywords), as a list in the order of ``motions``."""
+    results: list = [None] * len(motions)
+    for k, result in iter_batch(model, motions, settings, start, **batch):
         results[k] = result
     return results
 
 
 def iter_batch(
     model: Model,
-    grounds: list,
-    duration,
+    motions: list[Motion],
+    settings: FemSettings = DEFAULT_SETTINGS,
+    start: Release = AT_REST,
     *,
-    verticals: list | None = None,
     out_dirs: list | None = None,
     offsets: list | None = None,
     slots: int | None = None,
-    dt: float | None = None,
-    safety: float = 0.9,
-    output_interval: float | None = None,
-    edge_length: float | None = None,
-    edge_time: float | None = None,
-    progress: bool = True,
-    stop_on_overturn: bool = True,
-    initial_velocity: np.ndarray | None = None,
-    check_dt: bool = True,
-    initial_tilt: float = 0.0,
-    initial_angular_velocity: float = 0.0,
-    start_time: float = 0.0,
-    initial_state: tuple | None = None,
-    initial_contact: dict | None = None,
-    stop_when_settled: bool = False,
-    stop_in_weak_tail: bool = False,
     checkpoint: Checkpoint | None = None,
 ):
-    """One run of the model per ground motion in ``grounds`` (with ``verticals[k]``, None for
-    none), advanced together: the runs share the model and its stable step, and each step
-    reads the stiffness once for all the states in the kernel. Yields (k, FemResult of run k)
-    as each run ends.
+    """One run of the model per motion in ``motions`` (:class:`colonna.core.motion.Motion`:
+    the ground motion, the vertical one and the duration of each run), advanced together: the
+    runs share the model, its stable step, ``settings`` and ``start`` (as in :func:`run`), and
+    each step reads the stiffness once for all the states in the kernel. Yields (k, FemResult
+    of run k) as each run ends.
 
     ``slots``: how many runs advance at once (default: all). With fewer slots than runs, a run
     that ends (overturned, at rest past its duration, or blown up) leaves its slot to the next
@@ -515,23 +457,23 @@ def iter_batch(
     depend on its slot nor on its companions (the kernel computes each state alone, in strict
     arithmetic): run k of a batch is the same bits as run k alone.
 
-    ``duration``: seconds, one for all or one per run (then ``output_interval`` is required:
-    the runs share it). ``offsets[k]``: initial position offsets (m, flat) of run k (replicas,
-    see :func:`run_ensemble`). ``out_dirs[k]``: where run k writes its files (None: nowhere;
-    only run 0 writes field files).
+    Runs of different durations need ``settings.output_interval`` (the runs share it).
+    ``offsets[k]``: initial position offsets (m, flat) of run k (replicas, see
+    :func:`run_ensemble`). ``out_dirs[k]``: where run k writes its files (None: nowhere; only
+    run 0 writes field files).
 
-    ``stop_when_settled``: a run from the static state stops once its fate is settled: after
-    the ground motion, every body short of its toe (|theta| below its slenderness angle) and
-    the mechanical energy above the start (plus the balance error) below half the work that
-    tips one body onto its toe. Energy only leaves the column once the ground is still
-    (contact damping, friction, plastic work), so it can no longer reach a toe, let alone
-    overturn, and every later swing is smaller than that energy allows (for maps of outcomes,
-    such as the spectrum's grid points).
+    ``settings.stop_when_settled``: a run from the static state stops once its fate is
+    settled: after the ground motion, every body short of its toe (|theta| below its
+    slenderness angle) and the mechanical energy above the start (plus the balance error)
+    below half the work that tips one body onto its toe. Energy only leaves the column once
+    the ground is still (contact damping, friction, plastic work), so it can no longer reach a
+    toe, let alone overturn, and every later swing is smaller than that energy allows (for
+    maps of outcomes, such as the spectrum's grid points).
 
-    ``stop_in_weak_tail`` (with ``stop_when_settled``): such a run also stops during the
-    motion, in its weak tail: from the first output at which (1) the ground the kernel reads
-    stays below :func:`weak_ground_level` (a body's uplift acceleration g tan alpha_b over
-    :data:`WEAK_TAIL_MARGIN`, less with vertical motion) at every later step
+    ``settings.stop_in_weak_tail`` (with ``stop_when_settled``): such a run also stops during
+    the motion, in its weak tail: from the first output at which (1) the ground the kernel
+    reads stays below :func:`weak_ground_level` (a body's uplift acceleration g tan alpha_b
+    over :data:`WEAK_TAIL_MARGIN`, less with vertical motion) at every later step
     (:func:`weak_tail_start`), (2) the column is seated (every body's |theta| below
     :data:`SEATED_TILT` alpha_b at every output over the last period of free rocking at that
     amplitude, 4 acosh(1 / (1 - SEATED_TILT)) / p_b) after it has rocked (a body's |theta|
@@ -548,43 +490,13 @@ def iter_batch(
     every ``checkpoint.interval`` s of wall time and when it ends, and a batch started with the
     parts of an earlier one of the same key goes on from the last part (its ended runs yielded
     at once, the others restored bit for bit: the same numbers as uninterrupted runs), saying so
-    on stderr. Other arguments as in :func:`run`."""
-    static_start = (
-        initial_state is None
-        and initial_tilt == 0.0
-        and initial_angular_velocity == 0.0
-        and initial_velocity is None
-    )
+    on stderr."""
+    start = FemStart.of(start)
     plan = _plan_batch(
-        model,
-        grounds,
-        duration,
-        verticals=verticals,
-        out_dirs=out_dirs,
-        offsets=offsets,
-        slots=slots,
-        dt=dt,
-        safety=safety,
-        check_dt=check_dt,
-        output_interval=output_interval,
-        edge_length=edge_length,
-        edge_time=edge_time,
-        initial_tilt=initial_tilt,
-        start_time=start_time,
-        stop_on_overturn=stop_on_overturn,
-        settled_stop=stop_when_settled and static_start,
-        weak_stop=stop_in_weak_tail and stop_when_settled and static_start,
-        static_start=static_start,
+        model, motions, settings, start, out_dirs=out_dirs, offsets=offsets, slots=slots
     )
-    start = _initial_state(
-        model,
-        initial_state,
-        initial_contact,
-        initial_tilt,
-        initial_angular_velocity,
-        initial_velocity,
-    )
-    yield from _Batch(model, plan, start, checkpoint, progress).run()
+    state = _initial_state(model, start)
+    yield from _Batch(model, plan, state, checkpoint, settings.progress).run()
 
 
 @dataclass(frozen=True)
@@ -631,36 +543,27 @@ class _BatchPlan:
         }
 
 
-def _plan_batch(model: Model, grounds: list, duration, **inputs) -> _BatchPlan:
-    """The checked inputs of :func:`iter_batch` (its keywords) as a :class:`_BatchPlan`."""
-    batch = len(grounds)
+def _plan_batch(
+    model: Model, motions: list, settings: FemSettings, start: FemStart, *, out_dirs, offsets, slots
+) -> _BatchPlan:
+    """The checked inputs of :func:`iter_batch` as a :class:`_BatchPlan`."""
+    batch = len(motions)
     if batch < 1:
         raise InputError("run_batch: no ground motion given")
-    verticals, out_dirs, durations = _batch_lists(
-        grounds, duration, inputs["verticals"], inputs["out_dirs"], inputs["offsets"]
-    )
-    slots = batch if inputs["slots"] is None else int(inputs["slots"])
+    verticals, out_dirs, durations = _batch_lists(motions, out_dirs, offsets)
+    slots = batch if slots is None else int(slots)
     if slots < 1:
         raise InputError(f"run_batch slots = {slots} must be at least 1")
-    require_range(
-        "run initial_tilt (rad)",
-        inputs["initial_tilt"],
-        -0.25 * math.pi,
-        0.25 * math.pi,
-        range_text="(-pi/4, pi/4)",
-    )
-    step, dt = _batch_step(model, inputs["dt"], inputs["safety"], inputs["check_dt"])
-    steps_per_output, n_outputs = _output_steps(durations, inputs["output_interval"], dt)
-    edge_length, edge_time = _edge_settings(model, inputs["edge_length"], inputs["edge_time"])
-    start_time = inputs["start_time"]
-    if not math.isfinite(start_time):
-        raise InputError(f"run start_time = {start_time!r} s must be finite")
+    step, dt = _batch_step(model, settings.dt, settings.safety, settings.check_dt)
+    steps_per_output, n_outputs = _output_steps(durations, settings.output_interval, dt)
+    edge_length, edge_time = _edge_settings(model, settings.edge_length, settings.edge_time)
+    static_start = start.static
     return _BatchPlan(
-        grounds=list(grounds),
+        grounds=[m.ground for m in motions],
         verticals=verticals,
         out_dirs=out_dirs,
         durations=durations,
-        offsets=inputs["offsets"],
+        offsets=offsets,
         slots=min(slots, batch),
         step=step,
         dt=dt,
@@ -668,32 +571,33 @@ def _plan_batch(model: Model, grounds: list, duration, **inputs) -> _BatchPlan:
         n_outputs=n_outputs,
         edge_length=edge_length,
         edge_time=edge_time,
-        start_time=start_time,
-        static_start=inputs["static_start"],
-        stop_on_overturn=inputs["stop_on_overturn"],
-        settled_stop=inputs["settled_stop"],
-        weak_stop=inputs["weak_stop"],
+        start_time=start.time,
+        static_start=static_start,
+        stop_on_overturn=settings.stop_on_overturn,
+        settled_stop=settings.stop_when_settled and static_start,
+        weak_stop=settings.stop_in_weak_tail and settings.stop_when_settled and static_start,
     )
 
 
-def _batch_lists(grounds, duration, verticals, out_dirs, offsets):
-    """The batch's vertical motions, output folders and durations, one per ground motion."""
-    batch = len(grounds)
-    verticals = [NO_MOTION] * batch if verticals is None else list(verticals)
-    for k, (g, vg) in enumerate(zip(grounds, verticals)):
-        require_motion(f"ground motion {k + 1}", g)
-        require_motion(f"vertical ground motion {k + 1}", vg)
+def _batch_lists(motions: list, out_dirs, offsets):
+    """The batch's vertical motions, output folders and durations, one per motion, checked."""
+    batch = len(motions)
+    for k, motion in enumerate(motions):
+        if not isinstance(motion, Motion):
+            raise InputError(
+                f"run motion {k + 1}: a colonna.core.motion.Motion is needed, "
+                f"not {type(motion).__name__}"
+            )
+        require_motion(f"ground motion {k + 1}", motion.ground)
+        require_motion(f"vertical ground motion {k + 1}", motion.vertical)
+        if motion.duration is None:
+            raise InputError(f"run motion {k + 1}: a FEM run needs its duration (s)")
+    verticals = [m.vertical for m in motions]
+    durations = [m.duration for m in motions]
     out_dirs = [None] * batch if out_dirs is None else list(out_dirs)
-    durations = [duration] * batch if np.ndim(duration) == 0 else list(duration)
-    if (
-        len(verticals) != batch
-        or len(out_dirs) != batch
-        or len(durations) != batch
-        or (offsets is not None and len(offsets) != batch)
-    ):
+    if len(out_dirs) != batch or (offsets is not None and len(offsets) != batch):
         raise InputError(
-            f"run_batch: {batch} ground motions but {len(verticals)} vertical "
-            f"motions, {len(out_dirs)} output folders, {len(durations)} durations"
+            f"run_batch: {batch} motions but {len(out_dirs)} output folders"
             + ("" if offsets is None else f", {len(offsets)} offsets")
         )
     for d in durations:
@@ -1109,37 +1013,23 @@ def turned_about_toe(model: Model, x: np.ndarray, tilt: float, angular_velocity:
     return (pivot + turned).ravel(), v.ravel()
 
 
-def _initial_state(
-    model: Model,
-    initial_state,
-    initial_contact,
-    initial_tilt,
-    initial_angular_velocity,
-    initial_velocity,
-) -> dict:
+def _initial_state(model: Model, start: FemStart) -> dict:
     """The state a run starts from: x, v (flat) and the contact state (base_ft, base_fc,
     crack_ft, crack_fc lists, collar_state), checked."""
-    if initial_contact is not None and initial_state is None:
-        raise InputError("run initial_contact needs initial_state (a restart)")
     contact = {
         "base_fc": np.zeros(model.base_nodes.size),
         "crack_fc": [np.zeros(p[0].size) for p in model.crack_passes],
         "collar_state": model.collar_rest_state(),
     }
-    if initial_state is not None:
-        if initial_tilt != 0.0 or initial_angular_velocity != 0.0:
-            raise InputError(
-                "run: give either initial_state or initial_tilt / "
-                "initial_angular_velocity, not both"
-            )
-        x, v = (np.array(a, dtype=float).reshape(-1) for a in initial_state)
+    if start.state is not None:
+        x, v = (np.array(a, dtype=float).reshape(-1) for a in start.state)
         if x.size != model.n_dofs or v.size != model.n_dofs:
             raise InputError(
-                f"run initial_state: x and v need {model.n_dofs} values each "
+                f"run start.state: x and v need {model.n_dofs} values each "
                 f"(2 per node), got {x.size} and {v.size}"
             )
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-            raise InputError("run initial_state: x and v must be finite")
+            raise InputError("run start.state: x and v must be finite")
         contact["base_ft"] = np.zeros(model.base_nodes.size)
         contact["crack_ft"] = [np.zeros(p[0].size) for p in model.crack_passes]
     else:
@@ -1147,13 +1037,13 @@ def _initial_state(
         x = model.X + u0
         v = np.zeros_like(x)
         contact["base_ft"], contact["crack_ft"] = base_ft, list(crack_ft)
-    if initial_tilt != 0.0 or initial_angular_velocity != 0.0:
-        x, v = turned_about_toe(model, x, initial_tilt, initial_angular_velocity)
+    if not start.at_rest:
+        x, v = turned_about_toe(model, x, start.tilt, start.angular_velocity)
         contact["base_ft"] = np.zeros(model.base_nodes.size)  # only the toe touches: no friction
-    if initial_velocity is not None:
-        v = v + np.asarray(initial_velocity, dtype=float).reshape(-1)
-    if initial_contact is not None:
-        contact.update(_restore_contact(model, initial_contact))
+    if start.velocity is not None:
+        v = v + np.asarray(start.velocity, dtype=float).reshape(-1)
+    if start.contact is not None:
+        contact.update(_restore_contact(model, start.contact))
     return {"x": x, "v": v, **contact}
 
 
@@ -1167,18 +1057,18 @@ def _restore_contact(model, state: dict) -> dict:
         ]
     except (KeyError, TypeError, ValueError) as err:
         raise InputError(
-            f"run initial_contact: needs base_ft, base_fc, crack_ft, crack_fc ({err})"
+            f"run start.contact: needs base_ft, base_fc, crack_ft, crack_fc ({err})"
         ) from None
     expected = [(model.base_nodes.size,)] * 2 + [(p[0].size,) for p in model.crack_passes] * 2
     given = [a.shape for a in base] + [a.shape for a in passes[0] + passes[1]]
     if given != expected:
-        raise InputError(f"run initial_contact: expected arrays of shapes {expected}, got {given}")
+        raise InputError(f"run start.contact: expected arrays of shapes {expected}, got {given}")
     out = {"base_ft": base[0], "base_fc": base[1], "crack_ft": passes[0], "crack_fc": passes[1]}
     if state.get("base_indentation") is not None:  # the bed's plastic indentation (m)
         indentation = np.array(state["base_indentation"], dtype=float)
         if indentation.shape != (model.base_nodes.size,):
             raise InputError(
-                f"run initial_contact: base_indentation must have shape "
+                f"run start.contact: base_indentation must have shape "
                 f"({model.base_nodes.size},), got {indentation.shape}"
             )
         out["base_indentation"] = indentation
@@ -1187,7 +1077,7 @@ def _restore_contact(model, state: dict) -> dict:
         shape = (model.collar_nodes.shape[0], model.collar_state_size)
         if collar_state.shape != shape:
             raise InputError(
-                f"run initial_contact: collar_state must have shape {shape} (per collar: "
+                f"run start.contact: collar_state must have shape {shape} (per collar: "
                 f"plastic elongation, accumulated plastic strain, plastic work, two hinge "
                 f"rotations, largest fibre strain, fractured, then what its law keeps), "
                 f"got {collar_state.shape}"

@@ -28,10 +28,12 @@ import numpy as np
 
 from ..core.errors import InputError
 from ..core.ground import NO_MOTION, GroundMotion
+from ..core.motion import Motion
 from ..meshes.column import ColumnMesh
 from .convergence import convergence_table
 from .model import build_model
 from .output import flat_start
+from .settings import FemSettings, FemStart
 from .solver import FemResult, run
 
 LEAD_TIME = 0.01  # s before the toe's last airborne output time at which the window opens
@@ -158,17 +160,19 @@ def refine_window(
     t_start, t_end = start["t_start"], start["t_end"]
     window = run(
         fine,
-        ground,
-        t_end - t_start,
-        start_time=t_start,
-        initial_state=transfer_state(model.mesh, mesh, start["displacement"], start["velocity"]),
-        initial_contact=transfer_contact(model, fine, start["contact"]),
-        output_interval=start["interval"],
-        edge_length=start["edge_length"],
-        edge_time=start["edge_time"],
-        progress=progress,
-        stop_on_overturn=False,
-        vertical=vertical,
+        Motion(ground, t_end - t_start, vertical),
+        FemSettings(
+            output_interval=start["interval"],
+            edge_length=start["edge_length"],
+            edge_time=start["edge_time"],
+            progress=progress,
+            stop_on_overturn=False,
+        ),
+        FemStart(
+            state=transfer_state(model.mesh, mesh, start["displacement"], start["velocity"]),
+            contact=transfer_contact(model, fine, start["contact"]),
+            time=t_start,
+        ),
     )
     if window.summary["status"] != "completed":
         raise InputError(

@@ -16,11 +16,16 @@ changed study (``dataclasses.replace``), never another argument set.
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from ..core.errors import InputError
+from ..core.motion import Motion, Release
 from .fem_study import FemStudy
+
+if TYPE_CHECKING:
+    from ..fem.settings import FemSettings
 
 
 def toe_mesh(study: FemStudy, refinement: int):
@@ -142,17 +147,14 @@ def run_fem(
     :func:`case_checkpoint`)."""
     from ..fem.solver import run_ensemble
 
-    model = build(study)
     return run_ensemble(
-        model,
-        study.ground,
-        study.duration,
-        study.replicas if replicas is None else replicas,
+        build(study),
+        _motion(study),
+        _run_settings(study, progress=progress),
+        _release(study),
+        replicas=study.replicas if replicas is None else replicas,
         out_dir=out_dir,
-        vertical=study.vertical,
-        progress=progress,
         checkpoint=checkpoint,
-        **_run_settings(study),
     )
 
 
@@ -207,19 +209,36 @@ def run_sdof(study: FemStudy, *, whole_column: bool = False):
     )
 
 
-def _run_settings(study: FemStudy) -> dict:
-    """The solver's run settings of a study (those of :data:`SHARED_BY_A_BATCH` that are not
-    the model's): one place for run_fem and iter_fem."""
-    return {
+def _run_settings(study: FemStudy, **changes) -> FemSettings:
+    """The FEM solver's settings of a study (those of :data:`SHARED_BY_A_BATCH` that are not
+    the model's nor its release), with ``changes`` (more of FemSettings' fields): one place
+    for run_fem and iter_fem."""
+    from ..fem.settings import FemSettings
+
+    settings = {
         "dt": study.dt,
         "safety": study.safety,
         "output_interval": study.output_interval,
         "edge_length": study.edge_length,
         "edge_time": study.edge_time,
-        "initial_tilt": study.initial_tilt,
-        "initial_angular_velocity": study.initial_angular_velocity,
         "stop_when_settled": study.stop_when_settled,
+        "progress": False,
     }
+    return FemSettings(**(settings | changes))
+
+
+def _motion(study: FemStudy, ground=None, duration: float | None = None) -> Motion:
+    """The study's motion (its ``ground``, ``duration`` where given), for the solvers."""
+    return Motion(
+        study.ground if ground is None else ground,
+        study.duration if duration is None else duration,
+        study.vertical,
+    )
+
+
+def _release(study: FemStudy) -> Release:
+    """How the study's runs start: upright at rest, or released tilted and spinning."""
+    return Release(study.initial_tilt, study.initial_angular_velocity)
 
 
 # the keys of a FemStudy that make its model and time step (build, stable_time_step)
@@ -262,7 +281,8 @@ def iter_fem(studies: list[FemStudy], *, slots: int | None = None, **options):
     studies, FemResult) as each run ends; each is the same bits as ``run_fem(study,
     replicas=1)``, a run whose energy balance fails rerun at half the step up to
     :data:`colonna.fem.solver.STEP_HALVINGS` times as there (the failed runs of a batch
-    together). ``options``: more of iter_batch's (its ``stop_in_weak_tail``)."""
+    together). ``options``: more of :class:`colonna.fem.settings.FemSettings`' fields (its
+    ``stop_in_weak_tail``)."""
     from ..fem.solver import (
         BATCH_SLOTS,
         STEP_HALVINGS,
@@ -287,17 +307,15 @@ def iter_fem(studies: list[FemStudy], *, slots: int | None = None, **options):
         members.sort(key=lambda i: -studies[i].duration)
         first = studies[members[0]]
         model = build(first)
-        settings = {**_run_settings(first), **options}
+        settings = _run_settings(first, **options)
         halvings = 0
         while members:
             runs = iter_batch(
                 model,
-                [studies[i].ground for i in members],
-                [studies[i].duration for i in members],
-                verticals=[studies[i].vertical for i in members],
+                [_motion(studies[i]) for i in members],
+                settings,
+                _release(first),
                 slots=BATCH_SLOTS if slots is None else slots,
-                progress=False,
-                **settings,
             )
             failed: list[tuple[int, float]] = []  # (index in studies, its step)
             for k, result in runs:
@@ -312,7 +330,7 @@ def iter_fem(studies: list[FemStudy], *, slots: int | None = None, **options):
             members = [i for i, _ in failed]
             if failed:
                 halvings += 1
-                settings["dt"] = 0.5 * failed[0][1]
+                settings = dataclasses.replace(settings, dt=0.5 * failed[0][1])
 
 
 def refine_toe_window(study: FemStudy, start: dict, refinement: int):

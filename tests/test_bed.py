@@ -8,6 +8,7 @@ import pytest
 
 from colonna.core.errors import InputError
 from colonna.core.ground import NoMotion
+from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
 from colonna.fem.bed import (
     BED_PRESETS,
@@ -21,6 +22,7 @@ from colonna.fem.bed import (
     winkler_toe_pressure,
 )
 from colonna.fem.model import ContactSettings, build_model
+from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import run
 from colonna.meshes import column_mesh
 from colonna.studies import schema
@@ -127,7 +129,7 @@ def test_a_column_at_rest_on_its_bed_presses_it_evenly():
     raised by the elastic block's edge effect on its bed by a few per cent (measured 3.9 %)."""
     mesh = column_mesh(WIDTH, HEIGHT, 0.1, cracked=False, toe_zone=0.02, toe_size=0.005)
     model = build_model(mesh, Stone(), THICKNESS, bed=bed_of("mortar"))
-    r = run(model, NoMotion(), 0.01, output_interval=1e-3, progress=False)
+    r = run(model, Motion(NoMotion(), 0.01), FemSettings(output_interval=1e-3, progress=False))
     s = r.summary
     weight = model.node_mass.sum() * model.g
     mean = weight / (THICKNESS * WIDTH)
@@ -236,11 +238,9 @@ def test_a_block_dropping_onto_its_toe_presses_the_bed_as_the_closed_form_says()
         model = build_model(mesh, Stone(), THICKNESS, bed=Bed(k, k, k, "a soft bed"))
         h = run(
             model,
-            NoMotion(),
-            0.045,
-            output_interval=2e-3,
-            initial_tilt=0.5 * alpha,
-            progress=False,
+            Motion(NoMotion(), 0.045),
+            FemSettings(output_interval=2e-3, progress=False),
+            FemStart(tilt=0.5 * alpha),
         ).history
         i = int(np.argmax(h["base_normal_force_1"]))
         force, tilt = h["base_normal_force_1"][i], h["theta_left"][i]

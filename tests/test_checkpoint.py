@@ -23,8 +23,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from colonna.core.motion import Motion
 from colonna.fem import checkpoint as ck
 from colonna.fem import solver
+from colonna.fem.settings import FemSettings, Replicas
 from colonna.studies.fem_study import from_dict
 from colonna.studies.models import build
 
@@ -46,12 +48,10 @@ def _ensemble(model_and_ground, out, checkpoint=None):
     model, ground = model_and_ground
     return solver.run_ensemble(
         model,
-        ground,
-        DURATION,
-        REPLICAS,
-        progress=False,
+        Motion(ground, DURATION),
+        FemSettings(progress=False),
+        replicas=Replicas(REPLICAS, slots=SLOTS),
         out_dir=out,
-        slots=SLOTS,
         checkpoint=checkpoint,
     )
 

@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 
 from colonna.core.ground import NoMotion
+from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model
+from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import ENERGY_ERROR_LIMIT, run
 from colonna.meshes import column_mesh
 from colonna.rigid.block import Block
@@ -28,7 +30,7 @@ def test_a_solid_column_at_rest_stands_on_its_whole_base_and_dissipates_nothing(
     mesh = _mesh(cracked=False)
     load = 1.0 * WEIGHT
     model = build_model(mesh, STONE, THICKNESS, top_load=load)
-    r = run(model, NoMotion(), 0.02, output_interval=1e-3, progress=False)
+    r = run(model, Motion(NoMotion(), 0.02), FemSettings(output_interval=1e-3, progress=False))
     s, h = r.summary, r.history
     np.testing.assert_allclose(h["base_normal_force_1"], WEIGHT + load, rtol=1e-6)
     assert s["toe_contact_length"] == pytest.approx(WIDTH, rel=1e-12)
@@ -53,7 +55,7 @@ def test_the_closed_cracks_force_is_the_statics_of_a_half(load_ratio):
     never opens and no sample is below zero."""
     mesh = _mesh(cracked=True)
     model = build_model(mesh, STONE, THICKNESS, top_load=load_ratio * WEIGHT)
-    r = run(model, NoMotion(), 0.02, output_interval=1e-3, progress=False)
+    r = run(model, Motion(NoMotion(), 0.02), FemSettings(output_interval=1e-3, progress=False))
     s, h = r.summary, r.history
     left = mesh.node_body[model.base_nodes] == 0
     base_friction = np.mean([frame["base_ft"][left].sum() for _, frame in r.contact_frames])
@@ -77,11 +79,9 @@ def rocking():
         model = build_model(mesh, STONE, THICKNESS, contact=ContactSettings(friction=mu))
         runs[mu] = run(
             model,
-            NoMotion(),
-            0.3,
-            output_interval=1e-3,
-            initial_tilt=0.5 * half.critical_angle(),
-            progress=False,
+            Motion(NoMotion(), 0.3),
+            FemSettings(output_interval=1e-3, progress=False),
+            FemStart(tilt=0.5 * half.critical_angle()),
         )
     return runs
 

@@ -19,8 +19,10 @@ import numpy as np
 import pytest
 
 from colonna.core.ground import NoMotion, Record
+from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model
+from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import ENERGY_ERROR_LIMIT, run
 from colonna.meshes import column_mesh
 
@@ -39,7 +41,7 @@ def test_the_closed_cracks_force_is_the_statics_of_a_half(enforcement):
     mesh = column_mesh(width, height, 0.1, cracked=True, grading=0.3)
     contact = ContactSettings(enforcement=enforcement)
     model = build_model(mesh, STONE, thickness, contact=contact, top_load=2.0 * weight)
-    r = run(model, NoMotion(), 0.02, output_interval=1e-3, progress=False)
+    r = run(model, Motion(NoMotion(), 0.02), FemSettings(output_interval=1e-3, progress=False))
     s, h = r.summary, r.history
     left = mesh.node_body[model.base_nodes] == 0
     base_friction = np.mean([frame["base_ft"][left].sum() for _, frame in r.contact_frames])
@@ -65,7 +67,7 @@ def test_a_block_slips_on_the_base_when_the_ground_exceeds_mu_g():
     final slip within 1 %, and the base's friction work mu m g s within 1 %."""
     mu = 0.3
     model, ramp, T, A = _sliding_block(mu)
-    r = run(model, ramp, 0.08, output_interval=5e-4, progress=False)
+    r = run(model, Motion(ramp, 0.08), FemSettings(output_interval=5e-4, progress=False))
     h, s = r.history, r.summary
     t_slip = mu * G * T / A
     slip_T = A / T * (T - t_slip) ** 3 / 6.0
@@ -95,11 +97,9 @@ def _half_sliding_down_the_crack(enforcement):
     push = Record(np.array([0.0, tau, 1.0]), np.array([0.0, a, a]), name="ramp")
     r = run(
         model,
-        push,
-        duration,
-        output_interval=2.5e-4,
-        initial_state=(x, np.zeros_like(x)),
-        progress=False,
+        Motion(push, duration),
+        FemSettings(output_interval=2.5e-4, progress=False),
+        FemStart(state=(x, np.zeros_like(x))),
     )
     return r, model.mass[2 * right].sum(), mu, (tau, a), duration
 
@@ -171,7 +171,10 @@ def _first_swing_medians(size, replicas=8, safety=0.9, **contact):
     settings = dataclasses.replace(study.contact, **contact)
     model = build_model(mesh, study.stone, study.thickness, (), settings, bed=study.bed)
     runs = run_ensemble(
-        model, study.ground, 0.9, replicas, output_interval=1e-3, safety=safety, progress=False
+        model,
+        Motion(study.ground, 0.9),
+        FemSettings(output_interval=1e-3, safety=safety, progress=False),
+        replicas=replicas,
     )
     peaks = []
     for r in runs:
@@ -257,7 +260,12 @@ def test_the_exact_crack_contact_is_action_and_reaction():
     v[2 * right] = -0.5
     v[2 * right + 1] = -0.1
     duration = 0.008  # the halves meet at 2 ms, land at 20 ms
-    r = run(model, NoMotion(), duration, output_interval=1e-4, initial_state=(x, v), progress=False)
+    r = run(
+        model,
+        Motion(NoMotion(), duration),
+        FemSettings(output_interval=1e-4, progress=False),
+        FemStart(state=(x, v)),
+    )
     h, s = r.history, r.summary
     mass = model.mass[0::2]
     momentum = np.array([(mass @ u[:, 0], mass @ u[:, 1]) for _, u in r.velocity_frames])

@@ -4,9 +4,11 @@ import math
 
 import pytest
 
+from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
 from colonna.fem.convergence import convergence_table, observed_order, richardson
 from colonna.fem.model import ContactSettings, build_model
+from colonna.fem.settings import FemSettings
 from colonna.fem.solver import run
 from colonna.meshes.column import column_mesh
 from colonna.rigid import Block, pulse_from_ratios
@@ -36,7 +38,11 @@ def test_peak_rotation_and_toe_stress_converge():
             0.3,
             contact=ContactSettings(friction=1.0),
         )
-        r = run(model, pulse, 0.7, progress=False, output_interval=1e-3, edge_length=0.04)
+        r = run(
+            model,
+            Motion(pulse, 0.7),
+            FemSettings(progress=False, output_interval=1e-3, edge_length=0.04),
+        )
         peaks.append(float(abs(r.history["theta_left"]).max()))
         toes.append(float(r.history["edge_stress_left"].max()))
     rotation, toe = convergence_table(peaks), convergence_table(toes)

@@ -12,6 +12,7 @@ from colonna.fem import _kernels as K
 from colonna.fem.assembly import Stone
 from colonna.fem.bed import stone_bed
 from colonna.fem.model import ContactSettings, build_model, stable_time_step
+from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import run
 from colonna.meshes.column import column_mesh
 from colonna.rigid import Block, Collar, InputError, NoMotion, Record, pulse_from_ratios, rock
@@ -33,7 +34,12 @@ def test_gravity_start_is_static_and_base_pressure_is_rho_g_h(tmp_path):
     model = build_model(
         column_mesh(W, H, 0.05, cracked=True), stone, T, contact=ContactSettings(friction=0.0)
     )
-    r = run(model, STILL, 0.01, progress=False, output_interval=0.002, out_dir=tmp_path)
+    r = run(
+        model,
+        Motion(STILL, 0.01),
+        FemSettings(progress=False, output_interval=0.002),
+        out_dir=tmp_path,
+    )
     h = r.history
     # contact pressure rho g H along the base, away from the corners (2 %)
     from colonna.studies.output import read_csv
@@ -69,7 +75,12 @@ def test_crack_is_not_welded():
     assert A[dofs(left)][:, dofs(right)].nnz == 0
     v0 = np.zeros((model.mesh.n_nodes, 2))
     v0[left, 0], v0[right, 0] = -0.1, 0.1
-    r = run(model, STILL, 0.01, progress=False, initial_velocity=v0, output_interval=0.001)
+    r = run(
+        model,
+        Motion(STILL, 0.01),
+        FemSettings(progress=False, output_interval=0.001),
+        FemStart(velocity=v0),
+    )
     h = r.history
     separation = h["translation_x_2"] - h["translation_x_1"]
     # once the faces have let go of the gravity (Poisson) contact pressure, nothing holds them
@@ -92,7 +103,9 @@ def test_block_slides_exactly_when_tilt_exceeds_friction(ratio, slides):
         0.5,
         contact=ContactSettings(friction=mu),
     )
-    r = run(model, constant_ground(a), 0.2, progress=False, output_interval=0.005)
+    r = run(
+        model, Motion(constant_ground(a), 0.2), FemSettings(progress=False, output_interval=0.005)
+    )
     t, slip = r.history["t"], -r.history["translation_x_1"]  # pushed toward -x
     if slides:
         relative_acceleration = 2.0 * np.polyfit(t[4:], slip[4:], 2)[0]
@@ -181,7 +194,7 @@ def test_energy_conserved_without_contact_damping():
         0.3,
         contact=ContactSettings(friction=1.0, damping=0.0),
     )
-    r = run(model, pulse, 1.5, progress=False, output_interval=2e-3)
+    r = run(model, Motion(pulse, 1.5), FemSettings(progress=False, output_interval=2e-3))
     assert r.summary["max_abs_theta_left"] > 0.5 * blk.alpha  # it really rocked
     assert r.summary["energy_error_max"] < 0.01
 
@@ -264,20 +277,21 @@ def test_time_step_above_the_stable_one_is_rejected_and_the_estimate_runs():
     step = stable_time_step(model, safety=1.0)
     assert step.critical < step.critical_elastic  # contact shortens it, reported
     with pytest.raises(InputError, match="run dt"):
-        run(model, STILL, 0.002, dt=1.1 * step.dt, safety=1.0, progress=False)
-    at = run(model, STILL, 0.01, dt=step.dt, safety=1.0, progress=False, output_interval=1e-4)
+        run(model, Motion(STILL, 0.002), FemSettings(dt=1.1 * step.dt, safety=1.0, progress=False))
+    at = run(
+        model,
+        Motion(STILL, 0.01),
+        FemSettings(dt=step.dt, safety=1.0, progress=False, output_interval=1e-4),
+    )
     assert at.summary["status"] == "completed"
     # far above it (guard lifted) the run goes unstable: stopped and reported as a blow-up,
     # not mistaken for overturning
     wild = run(
         model,
-        STILL,
-        0.01,
-        dt=3.0 * step.critical,
-        safety=1.0,
-        check_dt=False,
-        progress=False,
-        output_interval=1e-4,
+        Motion(STILL, 0.01),
+        FemSettings(
+            dt=3.0 * step.critical, safety=1.0, check_dt=False, progress=False, output_interval=1e-4
+        ),
     )
     assert "blow-up" in wild.summary["status"] and not wild.summary["overturned"]
     assert np.max(np.abs(at.history["energy_kinetic"])) < 1e-6
@@ -300,7 +314,7 @@ def test_stiff_solid_column_follows_rigid_solution(E, tolerance):
         contact=ContactSettings(friction=1.0, damping=0.0),
         bed=stone_bed(mesh, E),  # the base stiffens with the stone
     )
-    r = run(model, pulse, t_impact, progress=False, output_interval=1e-3)
+    r = run(model, Motion(pulse, t_impact), FemSettings(progress=False, output_interval=1e-3))
     h = r.history
     reference = np.interp(h["t"], rigid.time, rigid.theta)
     error = np.max(np.abs(h["theta_left"] - reference)) / np.max(np.abs(reference))
@@ -331,7 +345,11 @@ def test_overturning_is_detected_and_stops_the_run():
     model = build_model(
         column_mesh(W, H, 0.05, cracked=False), Stone(), 0.2, contact=ContactSettings(friction=1.0)
     )
-    r = run(model, pulse, pulse.duration + 3.0, progress=False, output_interval=5e-3)
+    r = run(
+        model,
+        Motion(pulse, pulse.duration + 3.0),
+        FemSettings(progress=False, output_interval=5e-3),
+    )
     assert r.summary["overturned"] and "overturned" in r.summary["status"]
     assert r.summary["t_end"] < pulse.duration + 3.0
 
@@ -358,13 +376,10 @@ def _first_impact_ratios(model, blk, tilt, replicas=8):
     for fraction in STEP_FRACTIONS:
         runs = run_ensemble(
             model,
-            NoMotion(),
-            1.2,
-            replicas,
-            progress=False,
-            output_interval=1e-3,
-            initial_tilt=tilt,
-            dt=0.9 * fraction * stable,
+            Motion(NoMotion(), 1.2),
+            FemSettings(progress=False, output_interval=1e-3, dt=0.9 * fraction * stable),
+            FemStart(tilt=tilt),
+            replicas=replicas,
         )
         for r in runs:
             measured = impact_ratios_from_peaks(r.history["t"], r.history["theta_left"], blk.alpha)

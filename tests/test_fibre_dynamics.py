@@ -13,6 +13,7 @@ from colonna.core.ground import NoMotion, sine_pulse
 from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model
+from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import run
 from colonna.fem.transfer import transfer_state
 from colonna.meshes import column_mesh
@@ -32,12 +33,9 @@ def _fem(collar, velocity, duration=0.01):
     model = build_model(mesh, Stone(), 0.3, (collar,), ContactSettings(friction=0.0, damping=0.0))
     result = run(
         model,
-        NoMotion(),
-        duration,
-        output_interval=1e-4,
-        initial_velocity=velocity(mesh),
-        progress=False,
-        stop_on_overturn=False,
+        Motion(NoMotion(), duration),
+        FemSettings(output_interval=1e-4, progress=False, stop_on_overturn=False),
+        FemStart(velocity=velocity(mesh)),
     )
     return result, model
 
@@ -190,9 +188,9 @@ def test_fem_restart_carries_a_fibre_collars_state():
     collar = Collar(**BAND, **FEW)
     mesh = column_mesh(0.4, 2.0, 0.1, cracked=True, grading=0.0, pinned_heights=[1.0])
     model = build_model(mesh, Stone(), 0.3, (collar,), ContactSettings(friction=0.0, damping=0.0))
-    options = dict(progress=False, stop_on_overturn=False, dt=2e-6, output_interval=1e-3)
-    whole = run(model, NoMotion(), 0.012, initial_velocity=_up(mesh), **options)
-    first = run(model, NoMotion(), 0.006, initial_velocity=_up(mesh), **options)
+    options = FemSettings(progress=False, stop_on_overturn=False, dt=2e-6, output_interval=1e-3)
+    whole = run(model, Motion(NoMotion(), 0.012), options, FemStart(velocity=_up(mesh)))
+    first = run(model, Motion(NoMotion(), 0.006), options, FemStart(velocity=_up(mesh)))
     t, contact = first.contact_frames[-1]
     assert contact["collar_state"].shape == (1, model.collar_state_size)
     assert contact["collar_state"][0, FIBRE_STRAIN] > collar.yield_strain
@@ -202,12 +200,9 @@ def test_fem_restart_carries_a_fibre_collars_state():
     )
     second = run(
         model,
-        NoMotion(),
-        0.006,
-        start_time=t,
-        initial_state=state,
-        initial_contact=contact,
-        **options,
+        Motion(NoMotion(), 0.006),
+        options,
+        FemStart(state=state, contact=contact, time=t),
     )
     for key in ("collar_1_axial_force", "collar_1_moment", "collar_1_fibre_strain"):
         assert second.history[key][-1] == pytest.approx(whole.history[key][-1], rel=1e-6)

@@ -8,6 +8,7 @@ import pytest
 
 from colonna.core.errors import InputError
 from colonna.fem.fracture import (
+    EdgeCrackStrip,
     apparent_stress_intensity,
     edge_crack_stress_intensity,
     effective_modulus,
@@ -48,7 +49,7 @@ def test_correlation_recovers_the_williams_opening():
 
 @pytest.mark.parametrize("a_over_w", [0.2, 0.4, 0.5])
 def test_edge_crack_within_5_percent_on_the_refined_mesh(a_over_w):
-    s = solve_edge_crack(W, a_over_w * W, SIGMA, refine=2)
+    s = solve_edge_crack(EdgeCrackStrip(W, a_over_w * W, SIGMA), refine=2)
     assert s.K_closed_form == pytest.approx(edge_crack_stress_intensity(SIGMA, a_over_w * W, W))
     # measured -2.44 %, -1.92 %, -2.41 % (docs/physics.md): under 5 %, and not exact by accident
     assert 0.005 < abs(s.relative_error) < 0.05, s.relative_error
@@ -56,7 +57,10 @@ def test_edge_crack_within_5_percent_on_the_refined_mesh(a_over_w):
 
 
 def test_error_decreases_over_three_refinements():
-    errors = [abs(solve_edge_crack(W, 0.4 * W, SIGMA, refine=k).relative_error) for k in range(4)]
+    errors = [
+        abs(solve_edge_crack(EdgeCrackStrip(W, 0.4 * W, SIGMA), refine=k).relative_error)
+        for k in range(4)
+    ]
     # measured 4.65, 2.94, 1.92, 1.12 %: each bisection of the mesh cuts the error by about 0.6
     assert all(e1 < 0.8 * e0 for e0, e1 in zip(errors, errors[1:])), errors
     assert errors[-1] < 0.02, errors
@@ -65,8 +69,10 @@ def test_error_decreases_over_three_refinements():
 def test_plane_stress_gives_the_same_k():
     """K_I of the strip depends on neither E nor nu: plane stress (E' = E) and plane strain
     (E' = E / (1 - nu^2)) agree; with the other plane's E' they would differ by 1 - nu^2."""
-    strain = solve_edge_crack(W, 0.4 * W, SIGMA, nu=0.3, plane="strain", refine=1)
-    stress = solve_edge_crack(W, 0.4 * W, SIGMA, nu=0.3, plane="stress", refine=1, E=20e9)
+    strain = solve_edge_crack(EdgeCrackStrip(W, 0.4 * W, SIGMA, nu=0.3, plane="strain"), refine=1)
+    stress = solve_edge_crack(
+        EdgeCrackStrip(W, 0.4 * W, SIGMA, nu=0.3, plane="stress", E=20e9), refine=1
+    )
     assert stress.K_I == pytest.approx(strain.K_I, rel=2e-3)  # measured 1.2e-4
 
 
@@ -82,8 +88,8 @@ def test_full_model_with_split_crack_nodes_matches_the_half_model():
     assert full.points.shape[1] == 2 * n_half - full.ligament.size
     assert tip_element_count(half) == 2 and tip_element_count(full) == 4
     assert full.to_skfem().nelements == 2 * half.cells.shape[1]  # a valid (ccw) mesh
-    s_full = solve_edge_crack(W, 0.4 * W, SIGMA, full=True, refine=1)
-    s_half = solve_edge_crack(W, 0.4 * W, SIGMA, refine=1)
+    s_full = solve_edge_crack(EdgeCrackStrip(W, 0.4 * W, SIGMA), full=True, refine=1)
+    s_half = solve_edge_crack(EdgeCrackStrip(W, 0.4 * W, SIGMA), refine=1)
     assert s_full.K_I == pytest.approx(s_half.K_I, rel=1e-9)
     # the faces open symmetrically: the upper face moves up as much as the lower moves down
     uy = s_full.displacement[1]
@@ -101,7 +107,7 @@ def test_general_extraction_on_a_turned_strip():
     """face_jumps and stress_intensities, for any crack direction (the column's crack is
     vertical): the full strip turned by 90 degrees gives the strip's K_I and no K_II, with the
     faces named either way round; a pure sliding field gives K_II alone."""
-    s = solve_edge_crack(W, 0.4 * W, SIGMA, full=True, refine=1)
+    s = solve_edge_crack(EdgeCrackStrip(W, 0.4 * W, SIGMA), full=True, refine=1)
     m = s.mesh
     turn = np.array([[0.0, -1.0], [1.0, 0.0]])
     pts, u, tip = turn @ m.points, turn @ s.displacement, turn @ m.points[:, m.tip]
@@ -130,7 +136,7 @@ def test_general_extraction_on_a_turned_strip():
     [
         (lambda: tada_edge_crack_factor(0.7), "a / W"),
         (lambda: effective_modulus(1e9, 0.2, "plate"), "plane"),
-        (lambda: solve_edge_crack(W, 0.4 * W, SIGMA, half_height=W), "half-height"),
+        (lambda: solve_edge_crack(EdgeCrackStrip(W, 0.4 * W, SIGMA, half_height=W)), "half-height"),
         (lambda: edge_crack_mesh(W, 1.2 * W, W), "a / W"),
         (lambda: edge_crack_mesh(W, 0.4 * W, W, tip_size=0.5), "tip element size"),
         (lambda: extrapolate_to_tip(np.array([1.0]), np.array([1.0]), 0.0, 2.0), "window"),
@@ -144,5 +150,5 @@ def test_bad_input_names_the_parameter(call, words):
 @pytest.mark.slow
 @pytest.mark.parametrize("a_over_w", [0.2, 0.4, 0.5])
 def test_edge_crack_within_2_percent_at_the_third_refinement(a_over_w):
-    s = solve_edge_crack(W, a_over_w * W, SIGMA, refine=3)
+    s = solve_edge_crack(EdgeCrackStrip(W, a_over_w * W, SIGMA), refine=3)
     assert abs(s.relative_error) < 0.02, s.relative_error  # measured 1.70, 1.12, 1.57 %

@@ -33,6 +33,7 @@ from colonna.core.ground import (
     sine_pulse,
 )
 from colonna.core.motion import Motion
+from colonna.fem.settings import FemSettings
 from colonna.rigid import Block, InputError, pulse_from_ratios, rock
 from colonna.rigid.multibody import MultibodyContact, MultibodySettings, rock_multibody
 from colonna.rigid.solve import SdofSettings
@@ -364,8 +365,8 @@ def test_a_new_motion_moves_the_fem_column():
         contact=ContactSettings(friction=1.0),
     )
     pulse = pulse_from_ratios(blk, "sine", 3.0, 3.0, "nonlinear")
-    a = run(model, pulse, 0.25, progress=False, output_interval=1e-2)
-    b = run(model, one_sine(pulse), 0.25, progress=False, output_interval=1e-2)
+    a = run(model, Motion(pulse, 0.25), FemSettings(progress=False, output_interval=1e-2))
+    b = run(model, Motion(one_sine(pulse), 0.25), FemSettings(progress=False, output_interval=1e-2))
     assert a.history.keys() == b.history.keys()
     for key in a.history:
         assert np.array_equal(a.history[key], b.history[key]), key
@@ -375,7 +376,7 @@ def test_a_new_motion_moves_the_fem_column():
     peaks = {}
     for ratio in (0.5, 3.0):
         ricker = Ricker(ratio * uplift, 2.0, 0.3)
-        r = run(model, ricker, 0.45, progress=False, output_interval=1e-2)
+        r = run(model, Motion(ricker, 0.45), FemSettings(progress=False, output_interval=1e-2))
         peaks[ratio] = max(r.summary["max_abs_theta_left"], r.summary["max_abs_theta_right"])
     assert peaks[0.5] < 1e-3 * blk.alpha  # elastic sway only
     assert peaks[3.0] > 100.0 * peaks[0.5]

@@ -184,13 +184,14 @@ def test_a_bed_that_yields_under_the_column_at_rest_is_refused():
 def test_a_slot_starts_with_its_own_indentation_not_the_last_run_s():
     """A batch with fewer slots than runs puts the next run in the slot of one that ended: its
     bed starts from the start's indentation (none, or a restart's), not the last run's."""
+    from colonna.fem.settings import FemStart
     from colonna.fem.solver import _BatchState, _initial_state
     from colonna.studies.fem_study import from_dict
     from colonna.studies.models import build
 
     model = build(from_dict(_default_on_lead(0.225)))
     state = _BatchState(model, 2, 1, np.zeros((1, model.base_nodes.size)))
-    start = _initial_state(model, None, None, 0.0, 0.0, None)
+    start = _initial_state(model, FemStart())
     state.base_state.indentation[:] = 1e-3  # what a run that ended left
     state.reset(0, start)
     assert np.all(state.base_state.indentation[0] == 0.0)

@@ -12,6 +12,7 @@ from colonna.core.ground import NoMotion
 from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model
+from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import run
 from colonna.meshes import column_mesh
 from colonna.rigid.collars import Collar
@@ -29,12 +30,9 @@ def _pulled_apart(collar, duration=0.006, speed=0.4):
     v0[mesh.node_body == 1, 0] = speed
     return run(
         model,
-        NoMotion(),
-        duration,
-        output_interval=1e-5,
-        initial_velocity=v0,
-        progress=False,
-        stop_on_overturn=False,
+        Motion(NoMotion(), duration),
+        FemSettings(output_interval=1e-5, progress=False, stop_on_overturn=False),
+        FemStart(velocity=v0),
     )
 
 
@@ -353,12 +351,9 @@ def _flung_up(collar, duration=0.03):
     v0[mesh.node_body == 1, 1] = 1.0
     return run(
         model,
-        NoMotion(),
-        duration,
-        output_interval=1e-5,
-        initial_velocity=v0,
-        progress=False,
-        stop_on_overturn=False,
+        Motion(NoMotion(), duration),
+        FemSettings(output_interval=1e-5, progress=False, stop_on_overturn=False),
+        FemStart(velocity=v0),
     )
 
 

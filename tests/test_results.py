@@ -15,6 +15,7 @@ from colonna.core.quantities import quantity, selected, to_dict, to_json, typed_
 from colonna.fem.assembly import Stone
 from colonna.fem.ensemble import EnsembleTally, ensemble_summary
 from colonna.fem.model import build_model
+from colonna.fem.settings import FemSettings
 from colonna.fem.solver import FemRunSummary, run, run_ensemble
 from colonna.meshes.column import column_mesh
 from colonna.rigid import Block, Collar, NoMotion, pulse_from_ratios, rock
@@ -109,10 +110,10 @@ def fem_runs():
         top_load=1000.0,
     )
     solid = build_model(column_mesh(0.4, 2.0, 0.1, cracked=False), Stone(), 0.3)
-    options = dict(progress=False, output_interval=2e-3)
+    settings = FemSettings(progress=False, output_interval=2e-3)
     return {
-        "cracked, collar": run_ensemble(cracked, pulse, 0.02, 2, **options),
-        "solid": [run(solid, pulse, 0.02, **options)],
+        "cracked, collar": run_ensemble(cracked, Motion(pulse, 0.02), settings, replicas=2),
+        "solid": [run(solid, Motion(pulse, 0.02), settings)],
     }
 
 

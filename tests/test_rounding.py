@@ -25,6 +25,8 @@ CASE = textwrap.dedent("""
     import json, math
     from colonna.fem.assembly import Stone
     from colonna.fem.model import ContactSettings, build_model
+    from colonna.core.motion import Motion
+    from colonna.fem.settings import FemSettings, Replicas
     from colonna.fem.solver import run_ensemble
     from colonna.meshes import column_mesh
     from colonna.rigid.block import Block
@@ -38,8 +40,9 @@ CASE = textwrap.dedent("""
     half = Block(b=width / 4, h=height / 2, mass=1.0)
     uplift = half.uplift_acceleration("nonlinear")
     pulse = sine_pulse(2.5 * uplift, 3.0 * half.p, uplift)
-    runs = run_ensemble(model, pulse, 0.6, 8, output_interval=0.005, edge_length=0.01,
-                        progress=False, perturbation=PERTURBATION)
+    settings = FemSettings(output_interval=0.005, edge_length=0.01, progress=False)
+    runs = run_ensemble(model, Motion(pulse, 0.6), settings,
+                        replicas=Replicas(8, perturbation=PERTURBATION))
     print(json.dumps([{key: r.summary[key] for key in KEYS} | {
         "crack_slip_max": float(max(r.history["crack_slip_max"]))} for r in runs]))
 """)

@@ -15,7 +15,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from colonna.core.motion import Motion
 from colonna.fem.model import CONTACT_ONSET_LIMIT, contact_frequency, stable_time_step
+from colonna.fem.settings import FemSettings
 from colonna.fem.solver import run
 from colonna.studies.fem_study import from_dict
 from colonna.studies.models import build, run_fem
@@ -67,7 +69,11 @@ def test_the_default_column_on_lead_is_reliable_at_the_default_safety(mesh):
     assert result.summary["energy_error_max"] < 5e-3
     step = stable_time_step(build(study), study.safety)
     before = step.safety * step.critical_linear * (math.sqrt(1 + 0.05**2) - 0.05)
-    old = run(build(study), study.ground, 1.5, dt=before, check_dt=False, progress=False)
+    old = run(
+        build(study),
+        Motion(study.ground, 1.5),
+        FemSettings(dt=before, check_dt=False, progress=False),
+    )
     assert old.summary["energy_error_max"] > 0.05
 
 
@@ -101,7 +107,11 @@ def test_an_unreliable_ensemble_is_rerun_at_half_its_step_and_says_so(tmp_path):
     step = stable_time_step(model, study.safety)
     before = step.safety * step.critical_linear * (math.sqrt(1 + 0.05**2) - 0.05)
     runs = run_ensemble(
-        model, study.ground, 1.5, 2, dt=before, check_dt=False, progress=False, out_dir=tmp_path
+        model,
+        Motion(study.ground, 1.5),
+        FemSettings(dt=before, check_dt=False, progress=False),
+        replicas=2,
+        out_dir=tmp_path,
     )
     for r in runs:
         assert r.summary["energy_reliable"]
@@ -112,7 +122,7 @@ def test_an_unreliable_ensemble_is_rerun_at_half_its_step_and_says_so(tmp_path):
 
     saved = json.loads((tmp_path / "replicas" / "1" / "summary.json").read_text())
     assert saved["step_halvings"] == 1 and saved["step_note"] == runs[1].summary["step_note"]
-    calm = run_ensemble(model, study.ground, 0.05, 2, progress=False)
+    calm = run_ensemble(model, Motion(study.ground, 0.05), FemSettings(progress=False), replicas=2)
     assert all(r.summary["step_halvings"] == 0 and r.summary["step_note"] is None for r in calm)
 
 
@@ -152,8 +162,10 @@ def test_batched_runs_are_rerun_at_half_their_step_as_an_ensemble_is():
     run alone through run_ensemble, which reruns the same way, its note the same. The elastic
     lead case at the linear bound's step alone (as above: it fails, and closes at half of it)
     under two pulses, batched."""
+    from dataclasses import replace
+
     from colonna.fem.solver import run_ensemble
-    from colonna.studies.models import _run_settings, iter_fem
+    from colonna.studies.models import _release, _run_settings, iter_fem
 
     data = _default_on(0.225, bed="lead", plastic=False)
     data["run"]["duration"] = 1.5
@@ -165,8 +177,9 @@ def test_batched_runs_are_rerun_at_half_their_step_as_an_ensemble_is():
     before = step.safety * step.critical_linear * (math.sqrt(1 + 0.05**2) - 0.05)
     batched = dict(iter_fem(studies, dt=before, check_dt=False))
     for k, study in enumerate(studies):
-        settings = {**_run_settings(study), "dt": before, "check_dt": False}
-        alone = run_ensemble(model, study.ground, 1.5, 1, progress=False, **settings)[0]
+        settings = replace(_run_settings(study), dt=before, check_dt=False)
+        motion = Motion(study.ground, 1.5)
+        alone = run_ensemble(model, motion, settings, _release(study), replicas=1)[0]
         result = batched[k]
         assert result.summary["step_halvings"] == alone.summary["step_halvings"] >= 1
         assert result.summary["step_note"] == alone.summary["step_note"]

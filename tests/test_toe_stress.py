@@ -9,9 +9,11 @@ import pytest
 
 from colonna.core.errors import InputError
 from colonna.core.ground import NoMotion, sine_pulse
+from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model, stable_time_step
 from colonna.fem.output import read_start, write_start
+from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import run
 from colonna.fem.toe_stress import (
     impact_window,
@@ -61,7 +63,10 @@ def rocking_ensemble():
     from colonna.fem.solver import run_ensemble
 
     return run_ensemble(
-        _model(_mesh()), _pulse(), 0.6, 8, output_interval=0.005, edge_length=0.01, progress=False
+        _model(_mesh()),
+        Motion(_pulse(), 0.6),
+        FemSettings(output_interval=0.005, edge_length=0.01, progress=False),
+        replicas=8,
     )
 
 
@@ -77,7 +82,9 @@ def test_replica_zero_is_the_plain_run(rocking_run, rocking_ensemble):
     mat-vec (the same bits on some processors, not on all), which the contact amplifies as it
     amplifies the replicas' 1e-12: it strays from the plain run no more than the replicas do."""
     plain = run(
-        _model(_mesh()), _pulse(), 0.6, output_interval=0.005, edge_length=0.01, progress=False
+        _model(_mesh()),
+        Motion(_pulse(), 0.6),
+        FemSettings(output_interval=0.005, edge_length=0.01, progress=False),
     )
     for key in ("theta_left", "collar_1_stress"):
         strays = max(
@@ -164,7 +171,11 @@ def test_toe_stress_peak_does_not_depend_on_the_output_interval():
     model = _model(_mesh())
     dt = stable_time_step(model, 0.9).dt
     runs = [
-        run(model, _pulse(), 0.6, output_interval=steps * dt, edge_length=0.01, progress=False)
+        run(
+            model,
+            Motion(_pulse(), 0.6),
+            FemSettings(output_interval=steps * dt, edge_length=0.01, progress=False),
+        )
         for steps in (2000, 50)
     ]
     # the same trajectory (the ground is read at times counted in steps) ...
@@ -182,12 +193,8 @@ def test_time_averaging_leaves_a_steady_toe_stress_unchanged_and_lowers_a_landin
     still = [
         run(
             model,
-            NoMotion(),
-            0.01,
-            output_interval=0.005,
-            edge_length=0.01,
-            edge_time=tau,
-            progress=False,
+            Motion(NoMotion(), 0.01),
+            FemSettings(output_interval=0.005, edge_length=0.01, edge_time=tau, progress=False),
         ).history
         for tau in (0.0, 1e-3)
     ]
@@ -198,12 +205,8 @@ def test_time_averaging_leaves_a_steady_toe_stress_unchanged_and_lowers_a_landin
     rocking = [
         run(
             model,
-            _pulse(),
-            0.6,
-            output_interval=0.005,
-            edge_length=0.01,
-            edge_time=tau,
-            progress=False,
+            Motion(_pulse(), 0.6),
+            FemSettings(output_interval=0.005, edge_length=0.01, edge_time=tau, progress=False),
         ).summary["edge_stress_max"]
         for tau in (0.0, 1e-3)
     ]
@@ -223,14 +226,9 @@ def test_restart_from_a_recorded_state_continues_the_run(rocking_run, rocking_en
     state = transfer_state(r.model.mesh, r.model.mesh, u, r.velocity_frames[k][1])
     again = run(
         r.model,
-        _pulse(),
-        0.6 - t0,
-        start_time=t0,
-        initial_state=state,
-        initial_contact=r.contact_frames[k][1],
-        output_interval=0.005,
-        edge_length=0.01,
-        progress=False,
+        Motion(_pulse(), 0.6 - t0),
+        FemSettings(output_interval=0.005, edge_length=0.01, progress=False),
+        FemStart(time=t0, state=state, contact=r.contact_frames[k][1]),
     )
     n = again.history["t"].size
     assert np.allclose(again.history["t"], r.history["t"][k : k + n], atol=1e-12)
@@ -259,18 +257,21 @@ def test_restart_from_a_recorded_state_continues_the_run(rocking_run, rocking_en
 def test_restart_input_is_checked(rocking_run):
     model = rocking_run.model
     x = model.X.copy()
-    with pytest.raises(InputError, match="initial_state"):
-        run(model, NoMotion(), 0.01, initial_state=(x[:-2], x[:-2]), progress=False)
-    with pytest.raises(InputError, match="initial_contact"):
-        run(model, NoMotion(), 0.01, initial_contact={}, progress=False)
-    with pytest.raises(InputError, match="initial_contact"):
+    with pytest.raises(InputError, match="start.state"):
         run(
             model,
-            NoMotion(),
-            0.01,
-            initial_state=(x, 0 * x),
-            initial_contact={"base_ft": 1},
-            progress=False,
+            Motion(NoMotion(), 0.01),
+            FemSettings(progress=False),
+            FemStart(state=(x[:-2], x[:-2])),
+        )
+    with pytest.raises(InputError, match="start.contact"):
+        run(model, Motion(NoMotion(), 0.01), FemSettings(progress=False), FemStart(contact={}))
+    with pytest.raises(InputError, match="start.contact"):
+        run(
+            model,
+            Motion(NoMotion(), 0.01),
+            FemSettings(progress=False),
+            FemStart(state=(x, 0 * x), contact={"base_ft": 1}),
         )
 
 
@@ -347,13 +348,9 @@ def test_refinement_restarts_under_the_vertical_motion_too():
     vertical = HarmonicPulse("sine", 0.5 * 9.81, 2.0 * pulse.omega, 0.0, pulse.duration)
     runs = run_ensemble(
         _model(_mesh()),
-        pulse,
-        0.6,
-        8,
-        output_interval=0.005,
-        edge_length=0.01,
-        progress=False,
-        vertical=vertical,
+        Motion(pulse, 0.6, vertical=vertical),
+        FemSettings(output_interval=0.005, edge_length=0.01, progress=False),
+        replicas=8,
     )
     errors = [
         toe_stress_refinement(r, pulse, _mesh, (1, 2, 4), vertical=vertical)["handover_error"]

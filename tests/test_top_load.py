@@ -10,6 +10,7 @@ from scipy.integrate import solve_ivp
 from colonna.core.errors import InputError
 from colonna.core.ground import NoMotion, sine_pulse
 from colonna.core.motion import Motion, Release
+from colonna.fem.settings import FemSettings, FemStart
 from colonna.rigid.block import Block
 from colonna.rigid.multibody import MultibodyContact, MultibodySettings, rock_multibody
 from colonna.rigid.solve import SdofSettings, rock
@@ -185,7 +186,7 @@ def test_fem_static_state_carries_weight_and_top_load():
         model = build_model(
             mesh, stone, thickness, contact=ContactSettings(friction=0.0), top_load=load
         )
-        r = run(model, NoMotion(), 1e-4, output_interval=1e-4, progress=False)
+        r = run(model, Motion(NoMotion(), 1e-4), FemSettings(output_interval=1e-4, progress=False))
         assert r.summary["base_reaction_static"] == pytest.approx(weight + load, rel=1e-6)
         assert r.summary["top_load"] == load
         u, _, _ = static_state(model)
@@ -222,11 +223,9 @@ def test_fem_column_with_a_top_load_rocks_like_the_rigid_block():
     )
     r = run(
         model,
-        NoMotion(),
-        1.2 * rigid.impact_times[0],
-        output_interval=1e-4,
-        initial_tilt=tilt,
-        progress=False,
+        Motion(NoMotion(), 1.2 * rigid.impact_times[0]),
+        FemSettings(output_interval=1e-4, progress=False),
+        FemStart(tilt=tilt),
     )
     theta = r.history["theta_left"]
     crossing = np.nonzero(theta <= 0.0)[0][0]

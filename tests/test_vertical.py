@@ -8,6 +8,7 @@ import pytest
 
 from colonna.core.ground import NoMotion, Record, cosine_pulse
 from colonna.core.motion import Motion, Release
+from colonna.fem.settings import FemSettings
 from colonna.rigid.block import Block
 from colonna.rigid.multibody import MultibodyContact, MultibodySettings, rock_multibody
 from colonna.rigid.solve import rock
@@ -115,7 +116,11 @@ def test_fem_vertical_acceleration_loads_the_base_as_extra_weight():
         contact=ContactSettings(friction=0.7, damping=0.2),
     )
     ramp = Record(np.array([0.0, 0.05, 0.2]), np.array([0.0, 0.5 * G, 0.5 * G]), "ramp")
-    r = run(model, NoMotion(), 0.15, output_interval=1e-3, vertical=ramp, progress=False)
+    r = run(
+        model,
+        Motion(NoMotion(), 0.15, vertical=ramp),
+        FemSettings(output_interval=1e-3, progress=False),
+    )
     reaction = r.history["base_normal_force_1"] + r.history["base_normal_force_2"]
     late = r.history["t"] > 0.1
     assert reaction[0] == pytest.approx(weight, rel=1e-6)

@@ -18,6 +18,7 @@ from colonna import Block, Collar, pulse_from_ratios, rock_multibody
 from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
 from colonna.fem.model import ContactSettings, build_model
+from colonna.fem.settings import FemSettings
 from colonna.fem.solver import run
 from colonna.meshes import column_mesh
 from colonna.rigid.multibody import MultibodyContact
@@ -29,7 +30,7 @@ pulse = pulse_from_ratios(half, "sine", 3.0, 3.0, "nonlinear")
 
 mesh = column_mesh(width, height, width / 4, cracked=True, pinned_heights=[c.y for c in collars])
 model = build_model(mesh, Stone(E=50e9, fc=110e6), np.pi * width / 4, collars, ContactSettings())
-fem = run(model, pulse, 0.8, progress=False)
+fem = run(model, Motion(pulse, 0.8), FemSettings(progress=False))
 s = fem.summary
 print(
     f"FEM: {s['dofs']} dofs, {s['steps']} steps of {s['dt'] * 1e6:.2f} us, "
