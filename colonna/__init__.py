@@ -40,6 +40,8 @@ _PUBLIC = {
     "Block": ".rigid.block",
     "Collar": ".core.collar",
     "ColonnaError": ".core.errors",
+    "FemSettings": ".fem.settings",
+    "FemStart": ".fem.settings",
     "HarmonicPulse": ".core.ground",
     "InputError": ".core.errors",
     "Motion": ".core.motion",
@@ -49,6 +51,7 @@ _PUBLIC = {
     "NumericalFailure": ".core.errors",
     "Record": ".core.ground",
     "Release": ".core.motion",
+    "Replicas": ".fem.settings",
     "RockingResult": ".rigid.solve",
     "SdofSettings": ".rigid.solve",
     "Spectrum": ".rigid.spectrum",
@@ -68,6 +71,8 @@ __all__ = [
     "Block",
     "Collar",
     "ColonnaError",
+    "FemSettings",
+    "FemStart",
     "HarmonicPulse",
     "InputError",
     "Motion",
@@ -77,6 +82,7 @@ __all__ = [
     "NumericalFailure",
     "Record",
     "Release",
+    "Replicas",
     "RockingResult",
     "SdofSettings",
     "Spectrum",
@@ -97,6 +103,7 @@ if TYPE_CHECKING:  # what the names are, for type checkers (nothing is imported 
     from .core.errors import ColonnaError, InputError, NumericalFailure, StaleResultsError
     from .core.ground import HarmonicPulse, Record, read_record
     from .core.motion import Motion, Release
+    from .fem.settings import FemSettings, FemStart, Replicas
     from .rigid.block import Block, housner_restitution, pulse_from_ratios
     from .rigid.multibody import (
         MultibodyContact,
