@@ -120,15 +120,38 @@ def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsy
     for row in failed:  # a refined layout that fails: its frequency above the target or fracture
         assert row["frequency"] > s["target"]["frequency"] or row["fracture_share"] > 0
     assert s["fem"] is not None and len(s["fem"]["overturned"]) == 4
-    # its records are two-column files: a [ground] record cannot give their units, so no
-    # cross-check file of the chosen layout is written (one is for .AT2 and ESM records)
-    assert s["crosscheck"] is None and not (out / "chosen-crosscheck.toml").exists()
+    # the chosen layout's cross-check, run as a study of its own in chosen-crosscheck/: its
+    # collars the chosen ones, the section's numbers its summary's, its report linked
+    from colonna.studies.collar_layout.runner import crosscheck_section
+
+    check = s["crosscheck"]
+    assert check is not None and check["refused"] is None, check
+    sub = out / "chosen-crosscheck"
+    sub_summary = json.loads((sub / "summary.json").read_text())
+    ran = json.loads((sub / "inputs.json").read_text())["collar"]
+    assert [(c["y"], c["t"], c["h"], c["fy"], c["plastic"]) for c in ran] == [
+        (pytest.approx(y), chosen["t"], chosen["h"], chosen["fy"], True) for y in chosen["heights"]
+    ]
+    assert check["collars"] == [
+        {k: c[k] for k in ("y", "t", "h", "fy", "plastic", "pretension")} for c in ran
+    ]
+    assert {k: check[k] for k in crosscheck_section(sub_summary)} == crosscheck_section(sub_summary)
+    answers = {a["key"]: a for a in sub_summary["outcome"]["answers"]}
+    toe = next(a for a in check["answers"] if a["key"] == "toe_crushes")
+    assert toe["answer"] == answers["toe_crushes"]["answer"]
+    assert toe["median"] == answers["toe_crushes"]["median"]
+    assert check["record"] == s["records"][check["record_index"]]["name"]
+    assert (sub / "index.html").exists()
     for run in s["fem"]["runs"]:  # an overturned run's stop is no peak
         assert run["peak_ratio"] is None or not run["overturned"]
     html = (out / "index.html").read_text()
     first = html.index('id="answer-text"')
     assert s["answer"].split(":")[0] in html[first : first + 400]
     assert "Why each lighter layout fails" in html
+    assert 'href="chosen-crosscheck/index.html"' in html and "Does the toe crush?" in html
+    from browser import assert_report_says_what_summary_says
+
+    assert assert_report_says_what_summary_says(html, s) > 0
     assert "Which collars does this column need?" in capsys.readouterr().out
     # the page in a headless browser: its figure drawn, every number with its unit, the
     # trade-off figure's texts inside it once drawn
@@ -227,3 +250,198 @@ def test_the_answer_says_when_no_collars_are_needed():
     assert text.startswith("No collars are needed: overturning 0.00023 per year"), text
     two = {"count": 2, "label": "2 x 8 x 60 mm S275", "heights": [0.5, 3.5], "frequency": 9e-4}
     assert answer_text(s, two, None, [two]).startswith("2 x 8 x 60 mm S275 at 0.50, 3.50 m:")
+
+
+def _tiny_setup(tmp_path, layout_lines: str = ""):
+    """The tiny layout study (tests/tiny_study.py) and its Setup, [layout] given more lines."""
+    from tiny_study import TINY_LAYOUT, write_pulse_suite
+
+    from colonna.studies.collar_layout.runner import setup
+    from colonna.studies.study import load
+
+    write_pulse_suite(tmp_path)
+    path = tmp_path / "layout.toml"
+    path.write_text(TINY_LAYOUT.format(target=3.2e-3) + layout_lines)
+    study = load(path)
+    return study, setup(study)
+
+
+def test_pretension_levels_are_a_catalogue_axis_carried_into_the_models(tmp_path):
+    """[layout] pretensions (fractions of the yield force f_y t h): every count, section and
+    grade once per level; a pretensioned layout's screening runs its own elastic walk (its
+    force changes the elastic motion, its grade alone does not), and its collars carry the
+    force into the FEM model and the multibody column as the refinement and FEM build them."""
+    from colonna.rigid.block import Block
+    from colonna.rigid.multibody import build_column
+    from colonna.studies.collar_layout.runner import candidate_column, screen_fy
+    from colonna.studies.models import build
+
+    study, s = _tiny_setup(tmp_path, "pretensions = [0.0, 0.3]\n")
+    with_collars = [c for c in s.candidates if c.count]
+    assert len(with_collars) == 2 * 2 * 2 * 2 and len(s.candidates) == 17
+    c = next(
+        c for c in with_collars if (c.count, c.t, c.grade, c.pretension) == (2, 0.010, "S355", 0.3)
+    )
+    force = 0.3 * 355e6 * 0.010 * 0.08
+    assert c.pretension_force == pytest.approx(force, rel=1e-12)
+    assert c.label == "2 x 10 x 80 mm S355 pretensioned 30%"
+    assert c.section == (2, 0.010, 0.08, c.pretension_force)
+    plain = next(d for d in with_collars if d.label == "2 x 10 x 80 mm S355")
+    assert plain.section == (2, 0.010, 0.08) and plain.pretension_force == 0.0
+    assert len({d.section for d in with_collars}) == 2 * 2 + 2 * 2 * 2  # P = 0 shared by grades
+    # the screening's f_y admits the force (a collar's pretension is at most f_y t h)
+    assert screen_fy(0.004, 0.03, 0.9 * 440e6 * 0.004 * 0.03) == pytest.approx(0.9 * 440e6)
+    assert screen_fy(0.004, 0.03, 0.0) == 235e6
+    one = candidate_column(s.column, s, c)
+    assert [k.pretension for k in one.collars] == [pytest.approx(force)] * 2
+    assert all(k.plastic and k.fy == 355e6 for k in one.collars)
+    model = build(one)
+    assert model.collar_props[:, 2] == pytest.approx([force, force])
+    block = Block(b=0.15, h=2.0, mass=1000.0)
+    column = build_column(block, cracked=True, collars=one.collars)
+    assert np.asarray(column.col_props)[:, 2] == pytest.approx([force, force])
+
+
+def test_the_default_catalogue_has_no_pretension():
+    spec = Layout(suite="s", target_frequency=1e-3)
+    assert spec.pretensions == [0.0]
+    with pytest.raises(ValueError, match="pretensions"):
+        Layout(suite="s", target_frequency=1e-3, pretensions=[1.0])
+
+
+def test_the_crosscheck_file_runs_the_chosen_collars_at_the_design_intensity(tmp_path):
+    """The chosen layout's cross-check study: its collars the chosen ones (plastic, with their
+    pretension), the study's mesh and run settings, the record of median capacity scaled so
+    that its intensity (here PGA over the half's uplift acceleration) is the design
+    intensity; a two-column record (read in m/s^2 by [ground]) with the suite's units in the
+    scale."""
+    from colonna.studies.collar_layout.runner import (
+        crosscheck_of,
+        crosscheck_study,
+        median_record,
+    )
+
+    study, s = _tiny_setup(tmp_path)
+    assert median_record([3, None, 1, 5]) == 3  # upper median, never overturning highest
+    assert median_record([None, 2, 7]) == 2
+    chosen = {
+        "label": "2 x 4 x 30 mm S275",
+        "heights": [0.5, 3.5],
+        "t": 0.004,
+        "h": 0.03,
+        "fy": 275e6,
+        "pretension_force": 0.2 * 275e6 * 0.004 * 0.03,
+    }
+    text, name = crosscheck_study(study, s, chosen, 1)
+    assert name == s.suite[1].name
+    sub = crosscheck_of(text, tmp_path / "chosen-crosscheck.toml")
+    assert sub.kind == "cross-check"
+    fem = sub.fem
+    assert [(c.y, c.t, c.h, c.fy, c.plastic) for c in fem.collars] == [
+        (0.5, 0.004, 0.03, 275e6, True),
+        (3.5, 0.004, 0.03, 275e6, True),
+    ]
+    assert [c.pretension for c in fem.collars] == [pytest.approx(6.6e3)] * 2
+    assert fem.mesh_size == s.column.mesh_size and fem.replicas == 2  # the study's
+    uplift = s.column.rocking_block.uplift_acceleration("nonlinear")
+    assert fem.ground.peak_acceleration / uplift == pytest.approx(s.design, rel=1e-9)
+
+
+def _crosscheck_summary(peaks_left, peaks_right, overturned=False):
+    """A cross-check summary.json's parts that the collar-layout section reads."""
+    band = {"n": 3, "missing": 0, "median": 0.02, "min": 0.01, "max": 0.03}
+    fem = {
+        "bands": {
+            "max_abs_theta_left": {**band, "values": peaks_left},
+            "max_abs_theta_right": {**band, "values": peaks_right},
+        }
+    }
+    if overturned:
+        fem["bands"]["max_abs_theta_left"] = "not applicable: the FEM overturned at t = 1 s"
+    toe = {
+        "key": "toe_crushes",
+        "question": "Does the toe crush?",
+        "answer": "no",
+        "measure": "toe stress / f_c",
+        "median": 0.05,
+        "min": 0.04,
+        "max": 0.06,
+        "unit": "-",
+        "caveat": "the local (Winkler) toe pressure reaches 1.4 f_c",
+    }
+    models = [
+        {"model": "FEM, deformable halves", "motion": "rocking", "peak_rotation": 0.025},
+        {
+            "model": "rigid multibody (the rigid reference)",
+            "motion": "overturned",
+            "peak_rotation": None,
+            "overturn_time": 1.5,
+        },
+    ]
+    return {
+        "outcome": {"answers": [toe, {"key": "other", "answer": "yes"}], "models": models},
+        "fem": fem,
+        "verdict_criteria": {
+            "bands": {"peak_ratio": {"median": 1.1, "min": 1.0, "max": 1.2}},
+            "tolerances": {"peak": 0.2},
+        },
+        "verdict": {"toe_crushes": "no"},
+        "verdict_caveats": {"sdof_half_model_ok": "its collars would carry 3 times f_y"},
+        "stone_fc": 110e6,
+    }
+
+
+def test_the_crosscheck_section_quotes_its_summary():
+    """The section's numbers are the cross-check's: the FEM's peak rotation with the range of
+    its replicas' peaks (the larger half of each), a model that overturned without a peak,
+    the answers the report quotes (others left out) and every caveat once."""
+    from colonna.studies.collar_layout.runner import crosscheck_section
+
+    found = crosscheck_section(_crosscheck_summary([0.01, 0.04, 0.02], [0.03, 0.01, 0.02]))
+    fem, mb = found["rotations"]
+    assert fem["peak_rotation"] == 0.025 and fem["band"] == [0.02, 0.04]
+    assert mb["peak_rotation"] is None and mb["overturn_time"] == 1.5 and mb["band"] is None
+    assert found["peak_ratio"] == {"median": 1.1, "min": 1.0, "max": 1.2, "tolerance": 0.2}
+    assert [a["key"] for a in found["answers"]] == ["toe_crushes"]
+    toe = found["answers"][0]
+    assert (toe["median"], toe["min"], toe["max"]) == (0.05, 0.04, 0.06)
+    assert found["caveats"] == [
+        "its collars would carry 3 times f_y",
+        "the local (Winkler) toe pressure reaches 1.4 f_c",
+    ]
+    # a replica that overturned: its stop is no peak, so no band
+    stopped = crosscheck_section(_crosscheck_summary([0.01, 0.04, 0.02], [0.03, 0.01, 0.02], True))
+    assert stopped["rotations"][0]["band"] is None
+
+
+def test_a_crosscheck_the_guard_refuses_gives_no_answer(tmp_path, monkeypatch):
+    """Where a FEM run of the chosen layout's cross-check is not an answer (the guard refuses
+    it), the section says why and holds no number of it; its study file is still written."""
+    from colonna.studies.collar_layout.runner import run_crosscheck
+    from colonna.studies.executor import RunOptions
+    from colonna.studies.guard import UnreliableRun
+    from colonna.studies.kinds import KINDS
+
+    study, s = _tiny_setup(tmp_path)
+    why = "FEM case fem is unreliable (energy balance error 0.2 > 0.05)"
+
+    def refuse(sub, folder, options):
+        assert [c.y for c in sub.fem.collars] == [2.0]
+        raise UnreliableRun(why)
+
+    monkeypatch.setattr(KINDS["cross-check"].module(), "run", refuse)
+    chosen = {
+        "label": "1 x 4 x 30 mm S235",
+        "heights": [2.0],
+        "t": 0.004,
+        "h": 0.03,
+        "fy": 235e6,
+        "pretension_force": 0.0,
+        "capacities": [2.0, None, 1.5, 3.0],
+    }
+    out = tmp_path / "out"
+    out.mkdir()
+    found = run_crosscheck(study, s, chosen, out, RunOptions(1, None, False, False))
+    assert found["refused"] == why and found["record"] == s.suite[3].name
+    assert not {"rotations", "answers", "peak_ratio", "report"} & set(found)
+    assert (out / "chosen-crosscheck.toml").is_file()

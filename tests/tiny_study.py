@@ -58,6 +58,7 @@ cracked = true
 size = 0.1
 [run]
 output_interval = 0.01
+replicas = 2  # of the chosen layout's cross-check (the FEM stripe runs one each)
 [hazard]
 k0 = 1.5e-2
 k = 2.5

@@ -1,13 +1,15 @@
 """The collar-layout study: which collars does this column need, against its site's risk?
 
-Each layout of the catalogue ([layout] counts x sections x grades, the collars evenly spaced) is
+Each layout of the catalogue ([layout] counts x sections x grades x pretensions, the collars
+evenly spaced) is
 judged by the mean annual frequency of overturning at the site, lambda = int P[overturn | im]
 |d lambda_IM(im)| (:mod:`colonna.core.risk`), P from the IDA capacities of the record suite
 (each record's first exceedance on the ladder, :func:`studies.fragility.analysis.first_exceedance`)
 through the rigid multibody model.
 
 1. **Screening, elastic collars** (:func:`ladder_walk`): the collars' stiffness sets the
-   elastic model's motion, not their grade, so each count x section is run once per record,
+   elastic model's motion, not their grade, so each count x section (x pretension force) is
+   run once per record,
    up the ladder to its first overturning, with the collars' largest stress at every level. A
    plastic collar follows the elastic one exactly until it first yields, so for each grade a
    record whose run overturned before any collar reached f_y has that capacity in the plastic
@@ -22,12 +24,16 @@ through the rigid multibody model.
 3. **Confirmation, FEM** (:func:`fem_stripe`): the chosen layout's FEM runs of every record at
    the design intensity (the hazard's at [layout] design_return_period), against the multibody
    model's stripe there.
+4. **Cross-check** (:func:`run_crosscheck`): the chosen layout's cross-check (the cross-check
+   kind, a study of its own in ``chosen-crosscheck/``) under the record of median capacity at
+   the design intensity: FEM against the rigid models, collars, toe.
 The lightest layout that meets the target, with no more records fracturing a collar at the
 design intensity than [layout] fracture_fraction allows, is the answer."""
 
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import time
 from pathlib import Path
@@ -37,6 +43,7 @@ import numpy as np
 from ...core import fragility as fits
 from ...core import risk
 from ...core.errors import InputError
+from ...core.ground import is_esm
 from ...core.hazard import HazardCurve, annual_frequency, log_annual_frequency
 from ..executor import RunOptions, run_cases
 from ..fem_study import FemStudy, case_of, study_of_case
@@ -50,19 +57,29 @@ from ..study import Study
 from .schema import STEEL_GRADES, Layout
 
 STEEL_DENSITY = 7850.0  # kg/m^3 (EN 1991-1-1, Table A.4)
-FEWER = ", fewer layout.counts, sections or grades, a shorter ladder, or layout.fem = false"
+FEWER = (
+    ", fewer layout.counts, sections or grades, a shorter ladder, layout.fem = false or "
+    "layout.crosscheck = false"
+)
 
 
 @dataclasses.dataclass(frozen=True)
 class Candidate:
     """One layout of the catalogue: ``count`` collars of a t x h (m) flat bar of ``grade``,
-    evenly spaced; its steel mass (kg)."""
+    evenly spaced, each pretensioned to ``pretension`` times its yield force f_y t h; its steel
+    mass (kg)."""
 
     count: int
     t: float
     h: float
     grade: str
     mass: float
+    pretension: float = 0.0  # fraction of the yield force
+
+    @property
+    def pretension_force(self) -> float:
+        """N: the pretension fraction times the yield force f_y t h (none without collars)."""
+        return self.pretension * self.fy * self.t * self.h if self.count else 0.0
 
     @property
     def fy(self) -> float:
@@ -70,15 +87,19 @@ class Candidate:
         return STEEL_GRADES.get(self.grade, math.inf)
 
     @property
-    def section(self) -> tuple[int, float, float]:
-        """What the elastic screening runs it as (the grade does not change it)."""
-        return (self.count, self.t, self.h)
+    def section(self) -> tuple:
+        """What the elastic screening runs it as (the grade does not change an elastic
+        collar's motion; its pretension force does): (count, t, h), and the force (N) where
+        pretensioned."""
+        force = self.pretension_force
+        return (self.count, self.t, self.h, force) if force else (self.count, self.t, self.h)
 
     @property
     def label(self) -> str:
         if self.count == 0:
             return "no collars"
-        return f"{self.count} x {self.t * 1e3:g} x {self.h * 1e3:g} mm {self.grade}"
+        text = f"{self.count} x {self.t * 1e3:g} x {self.h * 1e3:g} mm {self.grade}"
+        return text + (f" pretensioned {self.pretension:.0%}" if self.pretension else "")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -111,7 +132,8 @@ def collar_heights(height: float, count: int, end_distance: float) -> list[float
 
 
 def catalogue(spec: Layout, ring_length: float) -> tuple[Candidate, ...]:
-    """Every layout of the catalogue (no collars once, if counts holds 0), lightest first."""
+    """Every layout of the catalogue (no collars once, if counts holds 0), lightest first (of
+    equal mass: fewer collars, the lower grade, the lower pretension first)."""
     found = []
     for count in sorted(set(spec.counts)):
         if count == 0:
@@ -120,8 +142,9 @@ def catalogue(spec: Layout, ring_length: float) -> tuple[Candidate, ...]:
         for t, h in spec.sections:
             for grade in spec.grades:
                 mass = count * t * h * ring_length * STEEL_DENSITY
-                found.append(Candidate(count, t, h, grade, mass))
-    return tuple(sorted(found, key=lambda c: (c.mass, c.count, c.fy)))
+                for pretension in sorted(set(spec.pretensions)):
+                    found.append(Candidate(count, t, h, grade, mass, pretension))
+    return tuple(sorted(found, key=lambda c: (c.mass, c.count, c.fy, c.pretension)))
 
 
 def intensity_at_return_period(hazard, period: float, ladder) -> float:
@@ -218,17 +241,42 @@ def setup(study: Study) -> Setup:
     )
 
 
-def layout_column(column: FemStudy, heights, t: float, h: float, fy: float, plastic: bool):
-    """The column with collars of t x h (m) at ``heights``, yield stress ``fy`` (Pa)."""
+def layout_column(
+    column: FemStudy,
+    heights,
+    t: float,
+    h: float,
+    fy: float,
+    plastic: bool,
+    pretension: float = 0.0,
+):
+    """The column with collars of t x h (m) at ``heights``, yield stress ``fy`` (Pa), each
+    pretensioned to ``pretension`` (N)."""
     from ...core.collar import Collar
 
-    collars = tuple(Collar(y=float(y), t=t, h=h, fy=fy, plastic=plastic) for y in heights)
+    collars = tuple(
+        Collar(y=float(y), t=t, h=h, fy=fy, plastic=plastic, pretension=pretension) for y in heights
+    )
     return dataclasses.replace(column, collars=collars)
 
 
+def candidate_column(column: FemStudy, s: Setup, c: Candidate, plastic: bool = True):
+    """The column with candidate ``c``'s collars (plastic: as the refinement and the FEM run
+    them)."""
+    return layout_column(
+        column, s.heights[c.count], c.t, c.h, c.fy, plastic, pretension=c.pretension_force
+    )
+
+
 # f_y of the collars of the elastic screening: any value serves (an elastic collar's stress
-# does not depend on it); the runs' utilisations are read back as stresses with it
+# does not depend on it; a pretensioned one's at least its pretension over its area, as the
+# collar requires); the runs' utilisations are read back as stresses with it
 SCREEN_FY = STEEL_GRADES["S235"]
+
+
+def screen_fy(t: float, h: float, force: float) -> float:
+    """f_y (Pa) of the elastic screening's collars of t x h (m) pretensioned to ``force`` (N)."""
+    return max(SCREEN_FY, force / (t * h)) if force else SCREEN_FY
 
 
 def ladder_walk(case: dict, directory: str) -> dict:
@@ -261,14 +309,19 @@ def screening(s: Setup, out: Path, options: RunOptions) -> dict:
     cases = []
     sections = sorted({c.section for c in s.candidates})
     for section in sections:
-        count, t, h = section
-        one = layout_column(s.column, s.heights[count], t, h, SCREEN_FY, plastic=False)
+        count, t, h = section[:3]
+        force = section[3] if len(section) > 3 else 0.0
+        one = layout_column(
+            s.column, s.heights[count], t, h, screen_fy(t, h, force), False, pretension=force
+        )
         for i, record in enumerate(s.records):
             duration = record.end_time + FREE_TIME_P / one.rocking_block.p
             cases.append(
                 case_of(
                     dataclasses.replace(one, ground=record, duration=duration),
-                    key=f"elastic-{count}x{t * 1e3:g}x{h * 1e3:g}-{i:03d}",
+                    key=f"elastic-{count}x{t * 1e3:g}x{h * 1e3:g}"
+                    + (f"-P{force:.6g}" if force else "")
+                    + f"-{i:03d}",
                     section=list(section),
                     record=i,
                     scales=scales[i],
@@ -276,7 +329,7 @@ def screening(s: Setup, out: Path, options: RunOptions) -> dict:
                 )
             )
     results = run_cases(
-        ladder_walk, cases, out, **options.for_cases(), stage="screening (elastic collars)"
+        ladder_walk, cases, out, run_options=options, stage="screening (elastic collars)"
     )
     walks: dict = {section: [None] * len(s.records) for section in sections}
     for case in cases:
@@ -379,7 +432,7 @@ def refine(candidates: list[Candidate], brackets: dict, s: Setup, out, options) 
     scales = [analysis.scales_for(s.levels, im).tolist() for im in s.intensity]
     cases = []
     for c in candidates:
-        one = layout_column(s.column, s.heights[c.count], c.t, c.h, c.fy, plastic=True)
+        one = candidate_column(s.column, s, c)
         for i in brackets[c.label]["open"]:
             record = s.records[i]
             duration = record.end_time + FREE_TIME_P / one.rocking_block.p
@@ -398,7 +451,7 @@ def refine(candidates: list[Candidate], brackets: dict, s: Setup, out, options) 
     if not cases:
         return {c.label: [None] * len(s.records) for c in candidates}
     results = run_cases(
-        ladder_walk, cases, out, **options.for_cases(), stage="refinement (plastic collars)"
+        ladder_walk, cases, out, run_options=options, stage="refinement (plastic collars)"
     )
     walks: dict[str, list[dict | None]] = {c.label: [None] * len(s.records) for c in candidates}
     for case in cases:
@@ -461,6 +514,8 @@ def decide(s: Setup, screened: dict, out: Path, options: RunOptions) -> dict:
             "h": c.h,
             "grade": c.grade,
             "fy": c.fy if c.count else None,
+            "pretension": c.pretension,  # fraction of the yield force f_y t h
+            "pretension_force": c.pretension_force,  # N
             "mass": c.mass,
             "heights": s.heights[c.count],
             "upper": b["upper"]["frequency"],
@@ -534,7 +589,13 @@ def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
     from ..fragility.runner import _fem_study, _interval, fem_cases
 
     one = layout_column(
-        s.column, chosen["heights"], chosen["t"], chosen["h"], chosen["fy"], plastic=True
+        s.column,
+        chosen["heights"],
+        chosen["t"],
+        chosen["h"],
+        chosen["fy"],
+        plastic=True,
+        pretension=chosen["pretension_force"],
     )
     interval = _interval(one, s.records)
     cases = []
@@ -542,7 +603,7 @@ def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
         scale = float(analysis.scales_for(np.array([s.design]), s.intensity[i])[0])
         study = _fem_study(one, record, scale, interval)
         cases.append(case_of(study, cost=study.duration, key=f"fem-{i:03d}", record=i, level=0))
-    results = run_cases(fem_cases, cases, out, **options.for_cases(), batched=True, stage="FEM")
+    results = run_cases(fem_cases, cases, out, run_options=options, batched=True, stage="FEM")
     check_fem_results(results, out)
     runs = [results[c["key"]] for c in cases]
     overturned = [bool(r["overturned"]) for r in runs]
@@ -578,28 +639,37 @@ def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
 
 
 CROSSCHECK_FILE = "chosen-crosscheck.toml"
-# the study file's tables a cross-check of the chosen layout keeps (the column as studied)
-KEPT_TABLES = ("column", "stone", "base", "contact", "rigid")
+# the study file's tables a cross-check of the chosen layout keeps (the column as studied, on
+# the mesh and with the run settings of the study's FEM runs)
+KEPT_TABLES = ("column", "stone", "base", "contact", "rigid", "mesh", "run")
 
 
-def crosscheck_study(study: Study, s: Setup, chosen: dict) -> tuple[str, str] | None:
-    """The text of a cross-check study file of the chosen layout under the record whose
-    capacity (with the chosen collars) is the suite's median, scaled to the design intensity,
-    on the study's column at the cross-check's own defaults (mesh, replicas), and the
-    record's name; None where that record's file has no units of its own (a two-column file:
-    a study's [ground] record cannot give them)."""
-    from ...core.suite import _toml_value
-
-    capacities = chosen["capacities"]
+def median_record(capacities: list) -> int:
+    """The index of the record whose capacity is the suite's median (upper median; None, never
+    overturned on the ladder, counts as the highest)."""
     order = sorted(
         range(len(capacities)),
         key=lambda i: math.inf if capacities[i] is None else capacities[i],
     )
-    i = order[len(order) // 2]
+    return order[len(order) // 2]
+
+
+def crosscheck_study(study: Study, s: Setup, chosen: dict, i: int) -> tuple[str, str]:
+    """The text of a cross-check study file of the chosen layout (plastic collars) under
+    record ``i`` (the one whose capacity with the chosen collars is the suite's median) scaled
+    to the design intensity, on the study's column, mesh and run settings (the cross-check's
+    defaults where the study gives none: its replicas), and the record's name. A [ground]
+    record reads a two-column file in m/s^2: the scale then carries the suite's units too (the
+    file's peak as the suite read it over its peak read in m/s^2)."""
+    from ...core.ground import read_two_column
+    from ...core.suite import _toml_value
+
     entry = s.suite[i]
-    if entry.path.suffix.lower() not in (".at2", ".asc"):
-        return None
-    scale = entry.scale * s.design / float(s.intensity[i])
+    units = 1.0
+    if entry.path.suffix.lower() not in (".at2", ".asc") and not is_esm(entry.path):
+        raw = read_two_column(entry.path, units="m/s2")
+        units = entry.record.peak_acceleration / raw.peak_acceleration
+    scale = units * entry.scale * s.design / float(s.intensity[i])
     lines = [
         f"# The cross-check of the layout chosen by the collar-layout study {s.column.name!r}:",
         f"# {chosen['label']}, under {entry.name} (the record of median capacity) scaled to "
@@ -623,6 +693,7 @@ def crosscheck_study(study: Study, s: Setup, chosen: dict) -> tuple[str, str] | 
             f"h = {_toml_value(chosen['h'])}",
             f"fy = {_toml_value(chosen['fy'])}",
             "plastic = true",
+            f"pretension = {_toml_value(float(chosen['pretension_force']))}",
         ]
     lines += [
         "",
@@ -632,6 +703,153 @@ def crosscheck_study(study: Study, s: Setup, chosen: dict) -> tuple[str, str] | 
         f"scale = {_toml_value(scale)}",
     ]
     return "\n".join(lines) + "\n", entry.name
+
+
+CROSSCHECK_DIR = "chosen-crosscheck"  # the sub-study's folder in the study's output
+CROSSCHECK_STAGE = 3  # its stages follow the screening's, the refinement's and the FEM stripe's
+# the cross-check's answers the report quotes, in its order
+CROSSCHECK_ANSWERS = (
+    "stays_up",
+    "rigid_assumption_ok",
+    "collars_yield",
+    "collars_hold",
+    "toe_crushes",
+)
+
+
+def crosscheck_of(text: str, path: Path) -> Study:
+    """The cross-check :class:`Study` of a study file's ``text`` as if read from ``path``
+    (:func:`studies.study.load` without the file: the estimate builds it before it exists)."""
+    import tomllib
+
+    from .. import schema
+    from ..study import with_kind_defaults
+
+    data = with_kind_defaults(tomllib.loads(text))
+    return Study(path, text.encode(), data, schema.parse(data, str(path)))
+
+
+def run_crosscheck(study: Study, s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
+    """Run (or resume) the chosen layout's cross-check into ``out/chosen-crosscheck`` as a study
+    of its own (its cases saved there, its inputs on record, its report), from the study file
+    ``out/chosen-crosscheck.toml``; its headline answers (:func:`crosscheck_section`), or why it
+    gave none (a FEM run of it the guard refuses)."""
+    from ..driver import write_ground_motion
+    from ..guard import UnreliableRun
+    from ..kinds import KINDS
+    from ..output import record_inputs
+
+    i = median_record(chosen["capacities"])
+    text, record = crosscheck_study(study, s, chosen, i)
+    path = out / CROSSCHECK_FILE
+    path.write_text(text)
+    sub = crosscheck_of(text, path)
+    folder = out / CROSSCHECK_DIR
+    module = KINDS[sub.kind].module()
+    head = {
+        "file": CROSSCHECK_FILE,
+        "folder": CROSSCHECK_DIR,
+        "record": record,
+        "record_index": i,
+        "refused": None,
+    }
+    started = time.time()
+    try:
+        module.run(sub, folder, options)
+    except UnreliableRun as exc:
+        return {**head, "refused": str(exc)}
+    record_inputs(folder, sub, started)
+    write_ground_motion(folder, sub.fem)
+    module.write_report(folder)
+    found = json.loads((folder / "summary.json").read_text())
+    inputs = json.loads((folder / "inputs.json").read_text())
+    # the collars it ran, as its inputs on record say (SI: m, Pa, N)
+    collars = [
+        {k: c[k] for k in ("y", "t", "h", "fy", "plastic", "pretension")}
+        for c in inputs.get("collar", [])
+    ]
+    return {
+        **head,
+        "report": f"{CROSSCHECK_DIR}/index.html",
+        "collars": collars,
+        **crosscheck_section(found),
+    }
+
+
+def _replica_peaks(fem: dict) -> list[float] | None:
+    """The FEM replicas' peak rotations (rad, the larger of the two halves'), None where a
+    replica overturned (its peak is where it stopped: the band is then not given)."""
+    bands = fem.get("bands", {})
+    left, right = bands.get("max_abs_theta_left"), bands.get("max_abs_theta_right")
+    if not isinstance(left, dict) or not isinstance(right, dict):
+        return None
+    peaks = [max(a, b) for a, b in zip(left["values"], right["values"]) if None not in (a, b)]
+    return peaks if len(peaks) == len(left["values"]) and peaks else None
+
+
+def crosscheck_section(found: dict) -> dict:
+    """What the collar-layout report quotes of the cross-check's summary.json ``found``: each
+    model's peak rotation (rad; the FEM's median over its replicas with their range; a model
+    that overturned: where it stopped, no rotation), the FEM's peak over the multibody's with
+    its band and tolerance, the answers (:data:`CROSSCHECK_ANSWERS`: word, measure, median and
+    range, what bounds them) with their caveats and the verdict."""
+    answers = {a["key"]: a for a in found["outcome"]["answers"]}
+    peaks = []
+    for m in found["outcome"]["models"]:
+        row = {
+            "model": m["model"],
+            "motion": m["motion"],
+            "peak_rotation": m.get("peak_rotation"),
+            "peak_over_alpha": m.get("peak_rotation_over_alpha"),
+            "overturn_time": m.get("overturn_time"),
+            "band": None,
+        }
+        if m["model"].startswith("FEM"):
+            band = _replica_peaks(found["fem"])
+            row["band"] = None if band is None else [min(band), max(band)]
+        peaks.append(row)
+    ratio = found["verdict_criteria"]["bands"]["peak_ratio"]
+    quoted = []
+    for key in CROSSCHECK_ANSWERS:
+        a = answers.get(key)
+        if a is None:
+            continue
+        quoted.append(
+            {
+                k: a[k]
+                for k in (
+                    "key",
+                    "question",
+                    "answer",
+                    "measure",
+                    "median",
+                    "min",
+                    "max",
+                    "limit",
+                    "unit",
+                    "qualifier",
+                    "caveat",
+                    "why",
+                    "reason",
+                )
+                if a.get(k) is not None
+            }
+        )
+    caveats = list(found.get("verdict_caveats", {}).values())
+    caveats += [a["caveat"] for a in quoted if a.get("caveat") and a["caveat"] not in caveats]
+    return {
+        "verdict": found["verdict"],
+        "rotations": peaks,
+        "peak_ratio": {
+            "median": ratio["median"],
+            "min": ratio["min"],
+            "max": ratio["max"],
+            "tolerance": found["verdict_criteria"]["tolerances"]["peak"],
+        },
+        "answers": quoted,
+        "caveats": caveats,
+        "stone_fc": found["stone_fc"],
+    }
 
 
 def run(study: Study, out: Path, options: RunOptions) -> dict:
@@ -647,11 +865,8 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
         fem = fem_stripe(s, decided["chosen"], out, options)
     summary = assemble(study, s, screened, decided, fem)
     summary["crosscheck"] = None
-    if decided["chosen"] is not None:
-        found = crosscheck_study(study, s, decided["chosen"])
-        if found is not None:
-            (out / CROSSCHECK_FILE).write_text(found[0])
-            summary["crosscheck"] = {"file": CROSSCHECK_FILE, "record": found[1]}
+    if s.spec.crosscheck and decided["chosen"] is not None:
+        summary["crosscheck"] = run_crosscheck(study, s, decided["chosen"], out, options)
     summary["wall_seconds"] = time.perf_counter() - start
     write_json(out / "summary.json", summary)
     return summary
@@ -762,13 +977,43 @@ PLASTIC_LEVELS = 3
 def fem_work(study: Study):
     """The FEM work of the study (:func:`studies.driver.check_work`): the confirmation's one run
     per record at the design intensity, with the catalogue's most collars (their nodes and
-    step are the chosen layout's within a few %), none with layout.fem = false."""
+    step are the chosen layout's within a few %), none with layout.fem = false; and the chosen
+    layout's cross-check (:func:`_crosscheck_work`)."""
     from ..work import FemWork
 
     spec = study.spec.layout
-    if spec is None or not spec.fem:
+    if spec is None or not (spec.fem or spec.crosscheck):
         return FemWork()
-    return _fem_stripe_work(setup(study))
+    s = setup(study)
+    return _fem_stripe_work(s) + _crosscheck_work(study, s, expected=False)
+
+
+def _crosscheck_work(study: Study, s: Setup, expected: bool):
+    """The chosen layout's cross-check's work (its kind's ``fem_work``, or ``expected_work``
+    where ``expected``), after the study's other stages: on the catalogue's heaviest layout
+    under the suite's longest record (the chosen layout and its record of median capacity are
+    known only once the study has run); none with layout.crosscheck = false."""
+    from ..kinds import KINDS
+    from ..work import FemWork
+
+    if not s.spec.crosscheck:
+        return FemWork()
+    heaviest = s.candidates[-1]
+    chosen = {
+        "label": heaviest.label,
+        "heights": s.heights[heaviest.count],
+        "t": heaviest.t,
+        "h": heaviest.h,
+        "fy": heaviest.fy,
+        "pretension_force": heaviest.pretension_force,
+    }
+    longest = int(np.argmax([r.end_time for r in s.records]))
+    text, _ = crosscheck_study(study, s, chosen, longest)
+    sub = crosscheck_of(text, study.base / CROSSCHECK_FILE)
+    module = KINDS[sub.kind].module()
+    work = module.expected_work(sub) if expected else module.fem_work(sub)
+    later = tuple(dataclasses.replace(r, stage=r.stage + CROSSCHECK_STAGE) for r in work.runs)
+    return dataclasses.replace(work, runs=later)
 
 
 def _fem_stripe_work(s: Setup):
@@ -780,9 +1025,7 @@ def _fem_stripe_work(s: Setup):
     if not s.spec.fem:
         return FemWork()
     heaviest = s.candidates[-1]
-    one = layout_column(
-        s.column, s.heights[heaviest.count], heaviest.t, heaviest.h, heaviest.fy, plastic=True
-    )
+    one = candidate_column(s.column, s, heaviest)
     interval = _interval(one, s.records)
     models: dict = {}
     work = FemWork()
@@ -828,4 +1071,4 @@ def expected_work(study: Study):
                     other_seconds=PLASTIC_LEVELS * PLASTIC_SECONDS_PER_SECOND * seconds,
                 )
             )
-    return FemWork(runs=tuple(runs)) + _fem_stripe_work(s)
+    return FemWork(runs=tuple(runs)) + _fem_stripe_work(s) + _crosscheck_work(study, s, True)

@@ -60,6 +60,14 @@ class Layout(Table):
         description="Steel grades of the catalogue (EN 10025-2, f_y for t <= 16 mm): S235, "
         "S275, S355, S450.",
     )
+    pretensions: list[Annotated[float, Field(ge=0, lt=1)]] = Field(
+        [0.0],
+        min_length=1,
+        description="Pretension levels of the catalogue, each a fraction [0, 1) of the "
+        "collar's yield force f_y t h (the force in N is that times its grade and section); "
+        "default [0]: none.",
+        json_schema_extra={"unit": "-"},
+    )
     end_distance: float | None = quantity(
         "m",
         "Distance of the lowest and highest collar from the shaft's ends; the others evenly "
@@ -114,6 +122,12 @@ class Layout(Table):
         True,
         description="Confirm the chosen layout with FEM runs of every record at the design "
         "intensity (on the study's [mesh]).",
+    )
+    crosscheck: bool = Field(
+        True,
+        description="Run the chosen layout's cross-check (the cross-check kind: FEM ensemble "
+        "and rigid models) under the record of median capacity at the design intensity, into "
+        "the study's chosen-crosscheck folder; its answers in the report.",
     )
     bootstrap: int = quantity(
         "-",
