@@ -544,3 +544,14 @@ def test_shares_are_balanced_on_the_cases_cost():
     assert max(loads) < 0.51 * sum(durations)
     for share in shares:  # costliest first
         assert [c["cost"] for c in share] == sorted((c["cost"] for c in share), reverse=True)
+
+
+def test_every_row_of_the_design_table_resolves_against_the_summary(design_run):
+    """The collar design's table reads each of its rows by attribute from the typed summary,
+    the value summary.json holds, on the page under its key; none left out."""
+    from summary_rows import assert_rows_resolve
+
+    from colonna.studies.collar_design.report import DESIGN_NUMBERS
+    from colonna.studies.collar_design.summary import load
+
+    assert assert_rows_resolve(DESIGN_NUMBERS, load, design_run) == []

@@ -294,3 +294,15 @@ def test_a_run_stopped_as_settled_could_not_have_overturned(amplitude_ratio):
     alpha = math.atan2(0.2 / 2, 1.0)  # a half's slenderness angle
     later = np.abs(np.r_[full.history["theta_left"][n:], full.history["theta_right"][n:]])
     assert later.max() < alpha
+
+
+def test_every_row_of_the_numbers_table_resolves_against_the_summary(grid_run):
+    """The spectrum cross-check's table reads each of its rows by attribute from the typed
+    summary, the value summary.json holds, on the page under its key; none left out."""
+    from summary_rows import assert_rows_resolve
+
+    from colonna.studies.spectrum_crosscheck.report import SPECTRUM_NUMBERS
+    from colonna.studies.spectrum_crosscheck.summary import load
+
+    _, out, _ = grid_run
+    assert assert_rows_resolve(SPECTRUM_NUMBERS, load, out) == []

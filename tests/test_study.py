@@ -452,3 +452,18 @@ def test_the_report_states_the_bed_and_the_toe_answer_over_its_range(tiny_run):
     assert "The bed and the toe" in page and "What the f_c check compares" in page
     assert "Lourenco &amp; Rots 1997" in page
     assert 'data-key="bed.range_runs.high.edge_stress_max"' in page
+
+
+def test_every_row_of_the_numbers_table_resolves_against_the_summary(tiny_run):
+    """The cross-check's summary.json loads into its typed sections and each row of the Numbers
+    table reads by attribute the value the file holds at the row's key (on the page under it),
+    left out only where the file leaves the key out (the SDOF's collar note where no collar
+    passed f_y)."""
+    from summary_rows import assert_rows_resolve
+
+    from colonna.studies.crosscheck.report import CROSSCHECK_NUMBERS
+    from colonna.studies.crosscheck.summary import load
+
+    root, _, s = tiny_run
+    left_out = assert_rows_resolve(CROSSCHECK_NUMBERS, load, root / "out")
+    assert left_out == ([] if "collar_note" in s["rigid"] else ["rigid.collar_note"])

@@ -1,18 +1,28 @@
 """The reports read summary.json through typed sections (studies.sections): a table's row names
 its quantity by attribute, a wrong name fails when the report module is imported, a key the file
 lacks fails at load naming it, and each row's display unit is its field's SI unit scaled. The
-rows against a real summary of each kind: tests/test_study.py (the cross-check's tiny run)."""
+rows against a real summary of each kind: tests/test_study.py (the cross-check's tiny run),
+tests/test_inputs_on_record.py (collar design), tests/test_spectrum_crosscheck.py."""
 
+import dataclasses
+import re
 from dataclasses import dataclass
+from pathlib import Path
 
 import pytest
 
 from colonna.core.errors import StaleResultsError
 from colonna.core.quantities import quantity
+from colonna.studies.collar_design.report import DESIGN_NUMBERS
+from colonna.studies.collar_design.summary import DesignSummary
 from colonna.studies.crosscheck.report import CROSSCHECK_NUMBERS
 from colonna.studies.crosscheck.summary import CrosscheckSummary
 from colonna.studies.report import num
-from colonna.studies.sections import ABSENT, Ref, absent, read, section, table
+from colonna.studies.sections import ABSENT, SECTION, Ref, absent, read, section, table
+from colonna.studies.spectrum_crosscheck.report import SPECTRUM_NUMBERS
+from colonna.studies.spectrum_crosscheck.summary import SpectrumSummary
+
+ROOT = Path(__file__).resolve().parents[1]
 
 # a display unit of a report table and the SI unit of its field (studies.units.DISPLAY_UNITS)
 SI_OF = {
@@ -26,7 +36,11 @@ SI_OF = {
     "kJ": "J",
 }
 
-TABLES = {"crosscheck": CROSSCHECK_NUMBERS}
+TABLES = {
+    "crosscheck": CROSSCHECK_NUMBERS,
+    "collar-design": DESIGN_NUMBERS,
+    "spectrum-crosscheck": SPECTRUM_NUMBERS,
+}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -91,3 +105,39 @@ def test_rows_left_out_where_the_summary_has_no_value_and_none_shown_na():
     assert num({}, shown[0][1], 4, "MPa") == (
         '<span data-key="inner.stress" data-scale="1e-06">2.5</span>&nbsp;MPa'
     )
+
+
+def _declared(cls, key: str) -> bool:
+    """Whether a dotted key of a page is declared by the summary class: each part a field, the
+    rest of the key free once it reaches a dict or list quantity (its entries are the data's);
+    a key ending in "." (the page adds an index or a name) names its container."""
+    parts = key.rstrip(".").split(".")
+    for n, part in enumerate(parts):
+        fields = {f.name: f for f in dataclasses.fields(cls)}
+        if part not in fields:
+            return False
+        nested = fields[part].metadata.get(SECTION)
+        if nested is None:
+            kind = str(fields[part].type)
+            return n == len(parts) - 1 or "dict" in kind or "list" in kind
+        cls = nested
+    return True
+
+
+PAGES = {
+    "crosscheck": ("studies/crosscheck/report.html.j2", CrosscheckSummary),
+    "collar-design": ("studies/collar_design/report.html.j2", DesignSummary),
+    "spectrum-crosscheck": ("studies/spectrum_crosscheck/report.html.j2", SpectrumSummary),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(PAGES))
+def test_every_number_the_page_names_is_a_declared_quantity(kind):
+    """The template's num("...") keys are strings: each must be a quantity its kind's typed
+    summary declares, so that a key renamed in the summary fails here, not as "n/a"."""
+    path, cls = PAGES[kind]
+    keys = re.findall(r'num\("([^"]+)"', (ROOT / path).read_text())
+    assert keys
+    undeclared = sorted({k for k in keys if not _declared(cls, k)})
+    assert not undeclared, undeclared
+    assert not _declared(cls, "fem.edge_stres_max") and not _declared(cls, "study.name")

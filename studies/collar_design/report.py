@@ -5,13 +5,17 @@ CSV files)."""
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
 
 from ..output import read_csv, write_csv
 from ..report import distinct, figure, legend_beside, render_page
+from ..sections import Ref, table
+from .summary import DesignSummary, load
 
 
 def write_report(out: Path) -> Path:
@@ -87,7 +91,7 @@ def write_report(out: Path) -> Path:
         "collar_design/report.html.j2",
         s,
         f"colonna collar design: {s['study']}",
-        rows=DESIGN_NUMBERS,
+        rows=table(DESIGN_NUMBERS, load(s)),
         figs=figs,
     )
 
@@ -147,36 +151,49 @@ def _ductile_design_figure(out: Path, design: dict):
     )
 
 
-# the collar-design table: (label, summary key, unit)
-DESIGN_NUMBERS = [
-    ("yield moment M_y", "design.yield_moment", "kN m"),
-    ("yield offset d_y, corrected Eq. 22", "design.yield_displacement", "mm"),
-    ("yield rotation theta_y, Eq. 23", "design.yield_rotation", "rad"),
-    ("required lateral stiffness k, corrected Eq. 24", "design.required_stiffness", "kN/m"),
-    ("one collar's lateral stiffness K_l", "design.collar_lateral_stiffness", "kN/m"),
-    ("collars needed", "design.collars_needed", "-"),
-    ("collars provided", "collars_provided", "-"),
-    ("lateral stiffness provided", "lateral_stiffness_provided", "kN/m"),
-    ("design adequate", "design_adequate", ""),
-    ("FEM collar utilisation (max), sigma / f_y", "fem_collar_max_utilisation", "-"),
-    ("FEM first yield", "fem_collar_first_yield_time", "s"),
-    ("FEM overturned", "fem_overturned", ""),
-    ("FEM peak rotation / theta_y", "fem_max_rotation_over_yield_rotation", "-"),
+def _at(get: Callable[[DesignSummary], Any]) -> Ref[DesignSummary]:
+    """A quantity of the summary, named by attribute (studies.sections.Ref)."""
+    return Ref(DesignSummary, get)
+
+
+# the collar-design table: (label, quantity, unit)
+DESIGN_NUMBERS: list[tuple[str, Ref[DesignSummary], str]] = [
+    ("yield moment M_y", _at(lambda s: s.design.yield_moment), "kN m"),
+    ("yield offset d_y, corrected Eq. 22", _at(lambda s: s.design.yield_displacement), "mm"),
+    ("yield rotation theta_y, Eq. 23", _at(lambda s: s.design.yield_rotation), "rad"),
+    (
+        "required lateral stiffness k, corrected Eq. 24",
+        _at(lambda s: s.design.required_stiffness),
+        "kN/m",
+    ),
+    (
+        "one collar's lateral stiffness K_l",
+        _at(lambda s: s.design.collar_lateral_stiffness),
+        "kN/m",
+    ),
+    ("collars needed", _at(lambda s: s.design.collars_needed), "-"),
+    ("collars provided", _at(lambda s: s.collars_provided), "-"),
+    ("lateral stiffness provided", _at(lambda s: s.lateral_stiffness_provided), "kN/m"),
+    ("design adequate", _at(lambda s: s.design_adequate), ""),
+    ("FEM collar utilisation (max), sigma / f_y", _at(lambda s: s.fem_collar_max_utilisation), "-"),
+    ("FEM first yield", _at(lambda s: s.fem_collar_first_yield_time), "s"),
+    ("FEM overturned", _at(lambda s: s.fem_overturned), ""),
+    ("FEM peak rotation / theta_y", _at(lambda s: s.fem_max_rotation_over_yield_rotation), "-"),
     (
         "thinnest band that never yields (multibody, plastic collars; n/a: none tried)",
-        "ductile_design.never_yields_t",
+        _at(lambda s: s.ductile_design.never_yields_t),
         "mm",
     ),
     (
         "thinnest band that yields but holds (no break, ductility demand within the limit; "
         "n/a: none tried)",
-        "ductile_design.holds_t",
+        _at(lambda s: s.ductile_design.holds_t),
         "mm",
     ),
     (
         "ductility limit (EN 1993-1-1, 3.2.2: eps_u >= 15 eps_y)",
-        "ductile_design.ductility_limit",
+        _at(lambda s: s.ductile_design.ductility_limit),
         "-",
     ),
-    ("band thickness of the study's collars", "ductile_design.study_t", "mm"),
+    ("band thickness of the study's collars", _at(lambda s: s.ductile_design.study_t), "mm"),
 ]

@@ -128,6 +128,21 @@ class ToeStress:
     uncertainty: float = quantity("-", "the band's larger relative distance from the ratio")
     t_peak: float = quantity("s", "time of the refined window's peak")
     replica: int = quantity("", "the replica the windows restart from (the median's)")
+    mesh_uncertainty: float = quantity("-", "the refinement's relative mesh uncertainty")
+    replica_spread: float = quantity("-", "the replicas' spread of the unrefined toe stress")
+    band_ratio: dict[str, float] = quantity("-", "min and max of the band, over f_c")
+    spread: float = quantity("-", "spread of the refined windows' peaks")
+    bound_ratio: float = quantity("-", "the refinement's upper bound over f_c")
+    ratios: list[float] = quantity("-", "each refinement's peak over f_c")
+    t_start: float = quantity("s", "start of the toe window's impact")
+    t_end: float = quantity("s", "end of the toe window's impact")
+    refinements: list[int] = quantity("", "the toe refinements run")
+    dofs: list[int] = quantity("", "degrees of freedom of each refined mesh")
+    steps: list[int] = quantity("", "time steps of each refined window")
+    handover_error: float = quantity("-", "relative error of the state handed to the windows")
+    edge_length: float = quantity("m", "length from the toe the toe stress averages over")
+    observed_order: float | None = quantity("-", "observed order of convergence (None: none)")
+    static_mean_ratio: float = quantity("-", "mean base pressure at rest over f_c")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -144,6 +159,60 @@ class Bed:
     pressure: float = quantity("Pa", "Winkler toe pressure 2 W / (t c)")
     pressure_low: float = quantity("Pa", "the same, softest bed")
     pressure_high: float = quantity("Pa", "the same, stiffest bed")
+    yield_pressure: float | None = quantity("Pa", "the bed's yield pressure (None: elastic)")
+    weight: float = quantity("N", "the rocking body's weight and top load W")
+    theta: float = quantity("rad", "the tilt the Winkler pivot is taken at (alpha / 2)")
+    elements_across: int = quantity("", "elements across c the toe grading asks for")
+    study_mesh_toe_size: float = quantity("m", "toe element size of the study mesh")
+    finest_toe_size: float = quantity("m", "toe element size of the finest toe window")
+    finest_refinement: int = quantity("", "the finest toe refinement")
+    across_study_mesh: float = quantity("-", "study-mesh toe elements across c")
+    across_finest: float = quantity("-", "finest toe window's elements across c")
+    pressure_ratio: float = quantity("-", "Winkler toe pressure over f_c")
+    pressure_low_ratio: float = quantity("-", "the same, softest bed")
+    pressure_high_ratio: float = quantity("-", "the same, stiffest bed")
+    range_runs: dict[str, Any] | None = quantity(
+        "", "the unperturbed FEM run on the softest, nominal and stiffest bed (None: no range)"
+    )
+    winkler_run_ratio_max: float = quantity("-", "the runs' largest Winkler toe pressure / f_c")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Tolerances:
+    """``verdict_criteria.tolerances``: what "the same answer" allows."""
+
+    peak: float = quantity("-", "|theta / theta_reference - 1| allowed")
+    history: float = quantity("-", "history error to the first impact allowed")
+    impacts: int = quantity("", "impacts before the pulse's end may differ by this many")
+
+
+@dataclass(frozen=True, kw_only=True)
+class VerdictCriteria:
+    """``verdict_criteria``: the FEM against the multibody model on four counts."""
+
+    same_outcome: str = quantity("", "the same outcome in words")
+    peak_ok: str = quantity("", "peak rotations within the tolerance")
+    impacts_before_pulse_end_multibody: int = quantity("", "multibody impacts to the pulse's end")
+    impacts_ok: str = quantity("", "impacts within the tolerance")
+    history_window_end: float = quantity("s", "end of the history window (first impact)")
+    history_ok: str = quantity("", "history error within the tolerance")
+    at_rest: bool = quantity("", "neither model uplifts")
+    bands: dict[str, Any] = quantity("", "the replicas' bands of the counts")
+    tolerances: Tolerances = section(Tolerances, "the tolerances")
+    fine_step_factor: float = quantity("-", "the finer multibody step, a fraction of its own")
+    history_error_fine_step: float | None = quantity("-", "history error at the finer step")
+    history_step_sensitive: bool = quantity("", "the two steps answer differently")
+
+
+@dataclass(frozen=True, kw_only=True)
+class FemVsMultibody:
+    """``fem_vs_multibody``: how far the FEM is from the rigid multibody model."""
+
+    t_end_fem: float = quantity("s", "end of the FEM run (or its overturning stop)")
+    t_end_multibody: float | None = quantity("s", "multibody overturning time (None: stands)")
+    collar_utilisation_ratio: Stoppable = quantity("-", "FEM over multibody collar utilisation")
+    crack_slip_fem: float | None = quantity("m", "largest crack slip, FEM")
+    crack_slip_multibody: float = quantity("m", "largest crack slip, multibody")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -174,6 +243,24 @@ class CrosscheckSummary:
     pulse: Pulse = section(Pulse, "where the ground motion sits")
     collar_fy: list[float] = quantity("Pa", "each collar's yield stress")
     stone_fc: float = quantity("Pa", "the stone's compressive strength f_c")
+    collar_ductility_limit: float = quantity("-", "largest fibre strain / eps_y allowed")
+    verdict_criteria: VerdictCriteria = section(VerdictCriteria, "the verdict's four counts")
+    fem_vs_multibody: FemVsMultibody = section(FemVsMultibody, "FEM against multibody")
+    theta_peak_ratio_fem_over_multibody: Stoppable = quantity("-", "peak rotation ratio")
+    theta_peak_ratio_fem_over_rigid: Stoppable = quantity("-", "peak rotation ratio")
+    theta_peak_ratio_fem_over_monolith: Stoppable = quantity("-", "peak rotation ratio")
+    theta_peak_ratio_rigid_over_multibody: Stoppable = quantity("-", "peak rotation ratio")
+    theta_peak_ratio_monolith_over_multibody: Stoppable = quantity("-", "peak rotation ratio")
+    restitution_after_motion_fem: Stoppable = quantity(
+        "-", "FEM impacts' velocity ratio after the ground motion (median)"
+    )
+    restitution_after_motion_multibody: Stoppable = quantity(
+        "-", "multibody impacts' velocity ratio after the ground motion"
+    )
+    restitution_housner: float = like(RockingSummary, "restitution_housner")
+    convergence: dict[str, Any] | None = quantity(
+        "", "the FEM numbers on meshes 4h, 2h, h (None: not run)"
+    )
 
 
 def load(data: dict[str, Any]) -> CrosscheckSummary:

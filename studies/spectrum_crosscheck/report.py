@@ -5,7 +5,9 @@ maps are summary.json's)."""
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from matplotlib.artist import Artist
@@ -15,6 +17,8 @@ from matplotlib.patches import Patch
 
 from ..output import write_csv
 from ..report import MODE_CODES, blocks_of, distinct, figure, legend_beside, render_page
+from ..sections import Ref, table
+from .summary import SpectrumSummary, load
 
 # the three models of the spectrum cross-check: (summary key suffix, name)
 MODELS = (("fem", "FEM"), ("multibody", "rigid multibody"), ("sdof", "SDOF half block"))
@@ -41,7 +45,7 @@ def write_report(out: Path) -> Path:
         s,
         f"colonna spectrum cross-check: {s['study']}",
         figs=figs,
-        rows=SPECTRUM_NUMBERS,
+        rows=table(SPECTRUM_NUMBERS, load(s)),
     )
 
 
@@ -193,19 +197,28 @@ def _boundaries_figure(out: Path, s: dict, maps: dict, labels: tuple[str, str]) 
     )
 
 
-SPECTRUM_NUMBERS = [
+def _at(get: Callable[[SpectrumSummary], Any]) -> Ref[SpectrumSummary]:
+    """A quantity of the summary, named by attribute (studies.sections.Ref)."""
+    return Ref(SpectrumSummary, get)
+
+
+SPECTRUM_NUMBERS: list[tuple[str, Ref[SpectrumSummary], str]] = [
     (
         "FEM and rigid multibody: same outcome, fraction of the grid points",
-        "agreement_fem_multibody",
+        _at(lambda s: s.agreement_fem_multibody),
         "-",
     ),
     (
         "FEM and SDOF half block: same outcome, fraction of the grid points",
-        "agreement_fem_sdof",
+        _at(lambda s: s.agreement_fem_sdof),
         "-",
     ),
-    ("grid points", "points", "-"),
-    ("FEM energy balance error (max over the grid, relative)", "energy_error_fem_max", "-"),
-    ("FEM wall time per grid point", "fem_seconds_per_point", "s"),
-    ("study wall time", "wall_seconds", "s"),
+    ("grid points", _at(lambda s: s.points), "-"),
+    (
+        "FEM energy balance error (max over the grid, relative)",
+        _at(lambda s: s.energy_error_fem_max),
+        "-",
+    ),
+    ("FEM wall time per grid point", _at(lambda s: s.fem_seconds_per_point), "s"),
+    ("study wall time", _at(lambda s: s.wall_seconds), "s"),
 ]
