@@ -28,6 +28,7 @@ from numba.extending import intrinsic
 
 from ..core.collar_law import frame_local_law
 from ..core.jit_cache import ensure_fresh
+from .cohesive import onset_and_final, traction
 
 ensure_fresh()  # cached kernels compiled from other sources are dropped (jit_cache)
 
@@ -601,6 +602,62 @@ def _apply_multiplier(predicted, i, ia, ib, xi, fx, fy, inv_mass, dt):
     predicted[2 * ib + 1] -= dt * inv_mass[ib] * xi * fy
 
 
+@njit(cache=True, inline="always")
+def _released(d, K, d0, df):
+    """The energy per unit area a bilinear law has dissipated at damage d (onset and final
+    separations d0, df): K d0 delta d / 2 at the separation delta = df d0 / (df - d (df - d0))
+    of that damage (the area under the law less the secant's elastic energy); G = K d0 df / 2
+    at d = 1. Exact along a path of one mode mixity whatever the step, where the energy
+    release rate times the damage increment, K delta^2 / 2 x (d - d_old), overshoots by about
+    (delta - delta_old) / delta: several times at the onset, delta_0 being tiny."""
+    return 0.5 * K * d0 * d0 * df * d / (df - d * (df - d0))
+
+
+@njit(cache=True)
+def cohesive_forces(x, f, cohesive, damage, c, s):
+    """The cohesive mid-plane's forces (fem.partial_crack) on the positions x of one state
+    (flat), added to f; damage (pairs,) is the state's, updated. c, s: cosine and sine of the
+    halves' mean rotation, whose frame measures the separation of each pair: delta_n along
+    (c, s) (> 0 opens), delta_s along (-s, c). Broken pairs (d = 1) are skipped; compression
+    is the contact's (t_n = 0 there), friction too (mu = 0 in the law). Returns (the springs'
+    elastic energy, the energy dissipated by this call's damage increments, _released) (J)."""
+    energy = 0.0
+    dissipated = 0.0
+    law = cohesive.law
+    for k in range(cohesive.left.size):
+        d_old = damage[k]
+        if d_old >= 1.0:
+            continue
+        i = cohesive.left[k]
+        j = cohesive.right[k]
+        dx = x[2 * j] - x[2 * i]
+        dy = x[2 * j + 1] - x[2 * i + 1]
+        dn = c * dx + s * dy
+        ds = -s * dx + c * dy
+        K = cohesive.stiffness[k]
+        t_n, t_s, d, _slip = traction(
+            dn, ds, d_old, 0.0, K, law[0], law[1], law[2], law[3], law[4], 0.0
+        )
+        opening = dn if dn > 0.0 else 0.0
+        if dn <= 0.0:
+            t_n = 0.0
+        area = cohesive.area[k]
+        energy += (1.0 - d) * 0.5 * K * (opening * opening + ds * ds) * area
+        if d > d_old:
+            d0, df = onset_and_final(dn, ds, K, law[0], law[1], law[2], law[3], law[4])
+            dissipated += area * (_released(d, K, d0, df) - _released(d_old, K, d0, df))
+        damage[k] = d
+        fn = area * t_n
+        fs = area * t_s
+        fx = fn * c - fs * s
+        fy = fn * s + fs * c
+        f[2 * i] += fx
+        f[2 * i + 1] += fy
+        f[2 * j] -= fx
+        f[2 * j + 1] -= fy
+    return energy, dissipated
+
+
 @njit(cache=True)
 def _face_angle(x, below, above):
     return math.atan2(x[2 * above + 1] - x[2 * below + 1], x[2 * above] - x[2 * below])
@@ -716,6 +773,14 @@ ContactState = namedtuple("ContactState", ["seg", "ft", "fn", "fc", "indentation
 """Per state (rows) and contact node: master segment last used (crack), tangential force,
 normal force, its filtered value for the friction cone, and the bed's plastic indentation (m;
 the base's)."""
+
+Cohesive = namedtuple("Cohesive", ["left", "right", "area", "stiffness", "law"])
+"""A partial crack's intact mid-plane (fem.partial_crack.CohesiveInterface): node pairs,
+their area and penalty, the law's (f_t, s, G_I, G_II, eta); no pairs for a full crack."""
+
+CohesiveState = namedtuple("CohesiveState", ["damage", "energy"])
+"""Per state: each pair's damage (B, pairs; its history: it never decreases) and (B, 2) the
+springs' elastic energy at the last step and the energy their damage has dissipated."""
 
 Collars = namedtuple("Collars", ["nodes", "props"])
 """collar_forces' node table and properties."""
@@ -993,6 +1058,8 @@ def advance(
     scratch,
     lagrange,
     lagrange_tolerance,
+    cohesive,
+    cohesive_state,
 ):
     """n_steps of central differences (velocities at half steps, lumped mass) for every live
     state of a batch (motion.alive); a state whose motion stops being finite is stopped there.
@@ -1063,6 +1130,8 @@ def advance(
                 body_mass,
                 lagrange,
                 lagrange_tolerance,
+                cohesive,
+                cohesive_state,
                 True,
             )
         else:
@@ -1090,6 +1159,8 @@ def advance(
                 body_mass,
                 lagrange,
                 lagrange_tolerance,
+                cohesive,
+                cohesive_state,
                 False,
             )
 
@@ -1119,6 +1190,8 @@ def _advance_group(
     body_mass,
     lagrange,
     lagrange_tolerance,
+    cohesive,
+    cohesive_state,
     single,
 ):
     """advance for the live states `states` (at most GROUP; one if single, a compile-time
@@ -1193,6 +1266,7 @@ def _advance_group(
     results = carray(_stack_rows(8), (8, GROUP))
     contact = carray(_stack_rows(17), (17, GROUP))
     collar_results = carray(_stack_rows(2), (2, GROUP))
+    cohesive_results = carray(_stack_rows(2), (2, GROUP))
     # the exact crack contact's scratch (crack_lagrange); its tolerance (m) is the caller's
     # (fem.solver.LAGRANGE_TOLERANCE says how it is chosen)
     n_slaves = max(cracks[0].nodes.size, cracks[1].nodes.size)
@@ -1317,6 +1391,20 @@ def _advance_group(
             )
             collar_results[0, j] = e_collar
             collar_results[1, j] = w_plastic
+            # the intact mid-plane's springs, in the frame of the halves' mean rotation
+            cohesive_results[0, j] = 0.0
+            cohesive_results[1, j] = 0.0
+            if cohesive.left.size > 0:
+                mc = cos_b[0, j] + cos_b[1, j]
+                ms = sin_b[0, j] + sin_b[1, j]
+                norm = math.sqrt(mc * mc + ms * ms)
+                e_cohesive, w_cohesive = cohesive_forces(
+                    xr, fr, cohesive, cohesive_state.damage[r], mc / norm, ms / norm
+                )
+                cohesive_results[0, j] = e_cohesive
+                cohesive_results[1, j] = w_cohesive
+                cohesive_state.energy[r, 0] = e_cohesive
+                cohesive_state.energy[r, 1] += w_cohesive
         # without a step (dt = 0: the forces of a state) the crack's springs measure them
         if lagrange and dt > 0.0 and cracks[0].nodes.size > 0:
             crack_lagrange(
@@ -1381,9 +1469,14 @@ def _advance_group(
                 friction_crack += contact[6 + 4 * p, j]
                 damping += contact[7 + 4 * p, j]
             results[0, j] = contact[12, j]
-            results[1, j] = e_crack
+            results[1, j] = e_crack + cohesive_results[0, j]
             results[2, j] = e_collar
-            results[3, j] = (contact[13, j] + p_crack) * dt + w_plastic + contact[16, j]
+            results[3, j] = (
+                (contact[13, j] + p_crack) * dt
+                + w_plastic
+                + contact[16, j]
+                + cohesive_results[1, j]
+            )
             results[4, j] = contact[14, j] * dt
             results[5, j] = friction_crack * dt
             results[6, j] = damping * dt

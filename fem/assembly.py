@@ -24,12 +24,18 @@ from ..meshes.column import ColumnMesh
 class Stone:
     """Linear elastic stone: E (Pa), Poisson's ratio nu, density (kg/m^3), compressive strength
     fc (Pa). Defaults: a white marble (E 50 GPa, 2700 kg/m^3, f_c 110 MPa; the source paper
-    cites f_c > 110 MPa and E > 30 GPa for low-porosity stones)."""
+    cites f_c > 110 MPa and E > 30 GPa for low-porosity stones). The intact stone of a partial
+    crack's mid-plane (issue 51, :mod:`colonna.fem.cohesive`): tensile strength ft (Pa),
+    fracture energy Gf (N/m) and fracture toughness KIC (Pa sqrt(m)); marble defaults, ranges
+    and sources in docs/physics.md ("The cohesive mid-plane")."""
 
     E: float = 50e9
     nu: float = 0.2
     density: float = 2700.0
     fc: float = 110e6
+    ft: float = 8e6
+    Gf: float = 40.0
+    KIC: float = 1.0e6
 
     def __post_init__(self):
         # hard limits as in the study file's schema (studies.schema.Stone says why): past them
@@ -45,6 +51,11 @@ class Stone:
             closed_high=True,
         )
         require_positive("stone fc (Pa)", self.fc)
+        require_positive("stone ft (Pa)", self.ft)
+        require_range("stone Gf (N/m)", self.Gf, 0.1, 1e5, closed_high=True)
+        require_range(
+            "stone KIC (Pa m^0.5)", self.KIC, 1e3, 1e8, closed_low=True, closed_high=True
+        )
 
     @property
     def wave_speed(self) -> float:

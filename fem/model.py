@@ -29,9 +29,11 @@ from ..core.constants import STANDARD_GRAVITY
 from ..core.errors import InputError, require_non_negative, require_range
 from ..meshes.column import ColumnMesh
 from . import _kernels as K
+from . import cohesive as cohesive_law
 from .assembly import Stone, assemble
 from .bed import DEFAULT as DEFAULT_BED
 from .bed import Bed
+from .partial_crack import ALPHA, ETA, CohesiveInterface, cracked_pairs, springs
 
 # how the crack's contact is enforced (ContactSettings.enforcement)
 ENFORCEMENTS = ("penalty", "lagrange")
@@ -122,6 +124,8 @@ class Model:
     collar_props: np.ndarray = field(repr=False)  # (n_collars, 7 + LAW_SIZE), see _kernels
     top_load: float = 0.0  # N, on the capital (see build_model)
     bed: Bed = DEFAULT_BED  # the base's stiffness per unit area (see build_model)
+    # a partial crack's intact mid-plane (fem.partial_crack; None: the crack is full-height)
+    cohesive: CohesiveInterface | None = None
 
     @property
     def n_dofs(self) -> int:
@@ -182,6 +186,7 @@ def build_model(
     g: float = STANDARD_GRAVITY,
     top_load: float = 0.0,
     bed: Bed = DEFAULT_BED,
+    crack: tuple | None = None,
 ) -> Model:
     """Assemble bodies, contact pairs and collar elements.
 
@@ -192,7 +197,10 @@ def build_model(
     ``top_load`` (N): a vertical dead load on the capital, spread as a uniform pressure
     top_load / (width x thickness) over the top faces and lumped to the top nodes by their
     tributary lengths. It joins gravity in the constant load vector ``gravity``, so the
-    energy balance counts its work as potential energy."""
+    energy balance counts its work as potential energy.
+
+    ``crack`` (from, to) (m): the crack runs between these heights only, the rest of the
+    mid-plane is intact stone (:mod:`colonna.fem.partial_crack`); None: the full height."""
     require_range(
         "column top_load (N)", top_load, 0.0, math.inf, closed_low=True, range_text="[0, inf)"
     )
@@ -271,6 +279,55 @@ def build_model(
         collar_props,
         float(top_load),
         bed,
+        None if crack is None else _cohesive(mesh, stone, thickness, crack),
+    )
+
+
+def _cohesive(mesh: ColumnMesh, stone: Stone, thickness: float, crack) -> CohesiveInterface:
+    """The mid-plane's node pairs with the cohesive law on the part outside ``crack``
+    (fem.partial_crack), checked: the crack within the column, and a penalty stiff enough that
+    the law's peak comes before its full damage (K > f_t^2 / (2 G_f))."""
+    if not mesh.cracked:
+        raise InputError("column crack needs a cracked column (a mesh of two halves)")
+    low, high = (float(c) for c in crack)
+    if not 0.0 <= low <= high <= mesh.height * (1.0 + 1e-12):
+        raise InputError(
+            f"column crack = [{low:g}, {high:g}] m is outside the allowed range: "
+            f"0 <= from <= to <= {mesh.height:g} m (the column height)"
+        )
+    p = mesh.points
+    left, right = (nodes.astype(np.int64) for nodes in mesh.crack_nodes)
+    partner = coincident_nodes(mesh, left, right)
+    heights = p[1, left]
+    h = np.minimum(
+        np.abs(p[0, _node_beside(mesh, left)] - p[0, left]),
+        np.abs(p[0, _node_beside(mesh, partner)] - p[0, partner]),
+    )
+    K_pair = np.asarray(cohesive_law.penalty_stiffness(stone.E, h, ALPHA), dtype=float)
+    floor = stone.ft**2 / (2.0 * stone.Gf)
+    if np.min(K_pair) <= floor:
+        widest = float(np.max(h))
+        raise InputError(
+            f"the cohesive mid-plane's penalty K = E / h = {np.min(K_pair):.3g} Pa/m (crack-face "
+            f"elements {widest * 1e3:.3g} mm wide) is below stone ft^2 / (2 Gf) = {floor:.3g} "
+            f"Pa/m, where the law's peak would come after its full damage: use a [mesh] size "
+            f"with crack-face elements under {stone.E / floor * 1e3:.3g} mm, or a larger stone Gf"
+        )
+    damage0 = np.where(cracked_pairs(heights, (low, high), mesh.height), 1.0, 0.0)
+    law = np.array([stone.ft, stone.ft, stone.Gf, stone.Gf, ETA])
+    cohesive_law.check_parameters(
+        float(np.min(K_pair)), stone.ft, stone.ft, stone.Gf, stone.Gf, ETA, 0.0
+    )
+    return CohesiveInterface(
+        left,
+        partner.astype(np.int64),
+        heights,
+        _tributary(heights),
+        thickness * _tributary(heights),
+        K_pair,
+        law,
+        damage0,
+        (low, high),
     )
 
 
@@ -432,6 +489,9 @@ def max_frequency(stiffness: sparse.spmatrix, mass: np.ndarray) -> float:
             A, k=1, which="LA", return_eigenvectors=False, tol=1e-8, v0=np.ones(A.shape[0])
         )[0]
     except ArpackError as exc:
+        if A.shape[0] <= 4000:  # a small model (a few springs on many dofs): solve it densely
+            lam = float(np.linalg.eigvalsh(A.toarray())[-1])
+            return _round_up(math.sqrt(max(lam, 0.0)), 6)
         raise InputError(
             f"the stable time step cannot be found ({exc.__class__.__name__}): an input is far "
             "outside its range (the stone's E or density, the thickness, the contact penalty, a "
@@ -525,7 +585,7 @@ def stable_time_step(model: Model, safety: float = 0.9) -> StableStep:
     require_range("run safety (time-step safety factor)", safety, 0.0, 1.0, closed_high=True)
     w_el = max_frequency(model.stiffness, model.mass)
     # exact crack contact has no springs, and no step limit of its own
-    between = collar_stiffness(model)
+    between = collar_stiffness(model) + springs(model.cohesive, model.n_dofs)
     if model.contact.enforcement == "penalty":
         between = between + crack_stiffness(model)
     if np.array_equal(model.base_kn, model.base_kt):

@@ -49,6 +49,7 @@ from . import _kernels as K
 from .checkpoint import Checkpoint, clear, read_parts, write_part
 from .model import Model, coincident_nodes, collar_stiffness, contact_stiffness, stable_time_step
 from .output import HistoryFiles, write_run, write_summary
+from .partial_crack import crack_columns
 from .settings import (
     AT_REST,
     DEFAULT_SETTINGS,
@@ -1162,6 +1163,17 @@ class _BatchState:
             np.zeros((batch, n_collars, model.collar_state_size)),
         )
         self.collar_model = K.Collars(model.collar_nodes, model.collar_props)
+        # a partial crack's intact mid-plane (fem.partial_crack): its pairs and their damage
+        pairs = model.cohesive
+        if pairs is None:
+            self.cohesive = K.Cohesive(empty_i, empty_i, none, none, np.zeros(5))
+        else:
+            self.cohesive = K.Cohesive(
+                pairs.left, pairs.right, pairs.area, pairs.stiffness, pairs.law
+            )
+        self.cohesive_state = K.CohesiveState(
+            np.zeros((batch, self.cohesive.left.size)), np.zeros((batch, 2))
+        )
         self.edge = K.EdgeAverage(
             weights,
             np.zeros((batch, weights.shape[0], edge_steps)),
@@ -1193,6 +1205,8 @@ class _BatchState:
             self.scratch,
             self.model.contact.enforcement == "lagrange",
             self.lagrange_tolerance,
+            self.cohesive,
+            self.cohesive_state,
         )
 
     def _bundles(self) -> dict:
@@ -1203,6 +1217,7 @@ class _BatchState:
             "crack_b": self.crack_states[1],
             "collars": self.collars,
             "edge": self.edge,
+            "cohesive": self.cohesive_state,
         }
 
     def slot_arrays(self, slot: int) -> dict:
@@ -1218,8 +1233,12 @@ class _BatchState:
         """State ``slot`` as :meth:`slot_arrays` saved it."""
         for name, bundle in self._bundles().items():
             for f in bundle._fields:
+                key = f"{name}.{f}"
+                if key not in arrays and name == "cohesive" and not self.cohesive.left.size:
+                    bundle.energy[slot] = 0.0  # saved before partial cracks: there were none
+                    continue
                 if (name, f) != ("edge", "weights"):
-                    getattr(bundle, f)[slot] = arrays[f"{name}.{f}"]
+                    getattr(bundle, f)[slot] = arrays[key]
 
     def reset(self, slot: int, start: dict, offset=None) -> None:
         """Put state ``slot`` at ``start`` (positions moved by ``offset``, m, flat), at rest in
@@ -1250,6 +1269,9 @@ class _BatchState:
         )
         for array in (self.edge.buffer, self.edge.position, self.edge.sums, self.edge.peak):
             array[slot] = 0
+        if self.model.cohesive is not None:  # the crack as given: its pairs broken, the rest intact
+            self.cohesive_state.damage[slot] = self.model.cohesive.damage0
+        self.cohesive_state.energy[slot] = 0.0
 
     def evaluate(self, dt, blend, stiffness, slot: int) -> None:
         """The forces of state ``slot`` at its present state without moving it: one step of
@@ -1268,7 +1290,7 @@ class _BatchState:
         )
         motion.alive[:] = False
         motion.alive[slot] = True
-        collars, edge = copy(self.collars), copy(self.edge)
+        collars, edge, cohesive = copy(self.collars), copy(self.edge), copy(self.cohesive_state)
         zeros = np.zeros((self.motion.x.shape[0], 1))
         K.advance(
             1,
@@ -1290,6 +1312,8 @@ class _BatchState:
             self.scratch,
             self.model.contact.enforcement == "lagrange",
             self.lagrange_tolerance,
+            self.cohesive,
+            cohesive,
         )
         self.motion.frames[slot] = motion.frames[slot]
         self.motion.energies[slot] = motion.energies[slot]
@@ -1429,7 +1453,8 @@ class _Recorder:
         xc, xc_prev = row["_com_x"], previous["_com_x"]
         if (xc > x_toe_right and xc > xc_prev) or (xc < x_toe_left and xc < xc_prev):
             return "the column's centre of mass"
-        if self.model.mesh.cracked and not self.model.collars:  # a free half, on its own
+        # a free half, on its own (not while intact stone of a partial crack joins the halves)
+        if self.model.mesh.cracked and not self.model.collars and not row.get("_intact_pairs"):
             if row["_com_x_1"] < x_toe_left and row["_com_x_1"] < previous["_com_x_1"]:
                 return "the left half's centre of mass"
             if row["_com_x_2"] > x_toe_right and row["_com_x_2"] > previous["_com_x_2"]:
@@ -1452,6 +1477,15 @@ class _Recorder:
         self._force_columns(row, x, frames, base_fn, passes)
         self._collar_columns(row, state.collars.out[r], state.collars.plastic[r])
         self._energy_columns(row, motion.energies[r], motion.tallies[r])
+        if self.model.cohesive is not None:  # a partial crack: its extent and the stone's work
+            row["_intact_pairs"] = int(np.sum(state.cohesive_state.damage[r] < 1.0))
+            row.update(
+                crack_columns(
+                    self.model.cohesive,
+                    state.cohesive_state.damage[r],
+                    state.cohesive_state.energy[r],
+                )
+            )
         self._keep_frames(t, state, r, passes)
         return row
 

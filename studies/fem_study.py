@@ -76,6 +76,8 @@ class FemStudy:
     stop_when_settled: bool = False
     bed: Bed = DEFAULT_BED  # the base's stiffness per unit area ([base])
     toe_size: float | None = None  # m: the element size at the base corners ([mesh] toe_size)
+    # (from, to) m: where the crack runs in the FEM ([column] crack; None: the full height)
+    crack: tuple | None = None
 
     @property
     def rocking_block(self) -> Block:
@@ -136,6 +138,8 @@ class FemStudy:
         if values["mesh_file"] is not None:
             values["mesh_file"] = Path(values["mesh_file"]["path"])
         values["toe_refinements"] = tuple(values["toe_refinements"])
+        if values.get("crack") is not None:
+            values["crack"] = tuple(values["crack"])
         return cls(name=name, source=source, **values)
 
     @property
@@ -314,6 +318,7 @@ def column_of(spec: schema.StudyFile, source: str = "study", base: Path = Path("
         initial_tilt=spec.run.initial_tilt,
         initial_angular_velocity=spec.run.initial_angular_velocity,
         replicas=spec.run.replicas,
+        crack=None if column.crack is None else tuple(column.crack),
     )
 
 

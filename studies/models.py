@@ -122,6 +122,7 @@ def build(study: FemStudy):
         study.contact,
         top_load=study.top_load,
         bed=study.bed,
+        crack=study.crack,
     )
 
 

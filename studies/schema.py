@@ -156,6 +156,18 @@ class Column(Table):
     cracked: bool = Field(
         True, description="A full-height vertical crack splits the column into two halves."
     )
+    crack: list[float] | None = Field(
+        None,
+        min_length=2,
+        max_length=2,
+        description="Where the vertical crack of a cracked column runs in the FEM, [from, to] "
+        "heights (m): [2.0, 4.0] from the top of a 4 m column down to 2 m, [0, 1.5] from the "
+        "base up, [1, 3] between two heights; 0 <= from <= to <= height; default the full "
+        "height. The rest of the mid-plane is intact stone that can crack ([stone] ft, Gf: "
+        "a cohesive interface); from = to leaves no crack. The rigid models see the column "
+        "fully split (the paper's hypothesis).",
+        json_schema_extra={"unit": "m"},
+    )
     top_load: float = quantity(
         "N",
         "Dead load on the capital (architrave), without mass: a "
@@ -164,6 +176,27 @@ class Column(Table):
         0.0,
         ge=0,
     )
+
+    @staticmethod
+    def across(c: dict, given: set) -> list[tuple[str, tuple]]:
+        """The crack's heights within the column, in order, on a cracked column."""
+        crack, height = c["crack"], c["height"]
+        if crack is None or not known(crack):
+            return []
+        if known(c["cracked"]) and not c["cracked"]:
+            return [("column.crack needs column.cracked = true (a column with a crack)", ())]
+        low, high = crack
+        if not known(height):
+            return []
+        if not 0.0 <= low <= high <= height:
+            return [
+                (
+                    f"column.crack = [{low:g}, {high:g}] m is outside the allowed range: "
+                    f"0 <= from <= to <= {height:g} m (the column height)",
+                    (),
+                )
+            ]
+        return []
 
 
 class Stone(Table):
@@ -194,6 +227,33 @@ class Stone(Table):
         110e6,
         (1e6, 500e6, "MPa", "stone"),
         gt=0,
+    )
+    ft: float = quantity(
+        "Pa",
+        "Tensile strength of the intact stone, the cohesive mid-plane of a partial crack "
+        "([column] crack); default 8 MPa, a white marble in direct tension (about half its "
+        "14.9 MPa in bending); granite 5-15 MPa (docs/physics.md gives the sources).",
+        8e6,
+        (0.5e6, 40e6, "MPa", "stone in tension"),
+        gt=0,
+    )
+    Gf: float = quantity(
+        "N/m",
+        "Fracture energy of the intact stone (mode I; mode II taken equal), the cohesive "
+        "mid-plane's; default 40 N/m (marble 5-45, granite 7-90 N/m as K_IC^2 / E, a lower "
+        "bound; docs/physics.md); 0.1 to 100000 N/m.",
+        40.0,
+        gt=0.1,
+        le=1e5,
+    )
+    KIC: float = quantity(
+        "Pa m^0.5",
+        "Fracture toughness, against which the crack tip's stress intensity K_I is judged; "
+        "default 1 MPa m^0.5 (marble 0.5-1.5, granite 0.7-1.9 MPa m^0.5; docs/physics.md); "
+        "1 kPa m^0.5 to 100 MPa m^0.5.",
+        1.0e6,
+        ge=1e3,
+        le=1e8,
     )
 
 

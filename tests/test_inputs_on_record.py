@@ -159,7 +159,15 @@ def test_study_and_its_resolved_inputs_are_on_record(design_run):
     assert inputs["study_sha256"] == hashlib.sha256(DESIGN.encode()).hexdigest()
     assert inputs["study"]["kind"] == "collar-design"
     # every default filled in: keys the file does not give
-    assert inputs["stone"] == {"E": 50e9, "nu": 0.2, "density": 2700.0, "fc": 110e6}
+    assert inputs["stone"] == {
+        "E": 50e9,
+        "nu": 0.2,
+        "density": 2700.0,
+        "fc": 110e6,
+        "ft": 8e6,
+        "Gf": 40.0,
+        "KIC": 1e6,
+    }
     assert inputs["collar"][0]["E"] == 206e9 and inputs["collar"][0]["fy"] == 235e6
     assert inputs["contact"]["friction"] == 0.7
     assert inputs["mesh"]["toe_refinements"] == list(REFINEMENTS)

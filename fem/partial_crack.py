@@ -1,0 +1,113 @@
+"""A crack along part of the column's height: the intact rest of the mid-plane is a cohesive
+interface (issue 51).
+
+The mesh of a cracked column splits the mid-plane along the whole height (two bodies, the crack
+faces' nodes distinct): each left-face node and the right-face node at its height are a *pair*.
+On the cracked part the pairs are today's crack, held only by the crack's contact (exact or
+penalty, fem/model.py). On the rest each pair also carries the cohesive law of
+:mod:`colonna.fem.cohesive` (bilinear, Benzeggagh-Kenane mixed mode) with the stone's tensile
+strength f_t and fracture energy G_f ([stone] ft, Gf; s = f_t, G_II = G_I, eta = 2) over its
+area A = t l_trib (thickness t, tributary length along the crack), with the penalty
+K = ``ALPHA`` E / h (h: the width of the crack face's element, the crack contact's penalty with
+factor 1). Its damage d grows with the largest separation and never decreases: a pair at d = 1
+is a broken one, and only the contact holds it (the crack has grown to it).
+
+How the law meets the contact: the contact acts on every pair, bonded or not, and carries the
+compression and the Coulomb friction; the cohesive interface adds the law's tension
+(1 - d) K <delta_n> and shear (1 - d) K delta_s (cohesion on top of friction, as Mohr-Coulomb;
+fem._kernels.cohesive_forces). The separation is measured in the frame of the two halves'
+mean rotation, so that rocking does not read as opening.
+
+Energy: the springs' elastic energy (1 - d) K (<delta_n>^2 + delta_s^2) A / 2 joins the crack
+contact's energy; damage dissipates K (<delta_n>^2 + delta_s^2) A / 2 times its increment (the
+energy release of a secant damage law), added to the dissipated tally; pulled apart in mode I a
+pair dissipates G_f A in all.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import sparse
+
+# the cohesive penalty K = ALPHA E / h: alpha = 1 is the crack contact's own penalty (factor 1),
+# as stiff as the stone next to it, so that it does not shorten the stable step (docs/physics.md,
+# "The cohesive mid-plane")
+ALPHA = 1.0
+ETA = 2.0  # Benzeggagh-Kenane exponent (with s = f_t and G_II = G_I it does not matter)
+
+
+@dataclass(frozen=True)
+class CohesiveInterface:
+    """The mid-plane's node pairs (left-face node, right-face node at its height, sorted by
+    height) and what the kernel needs of them: area A (m^2), penalty K (Pa/m), the law's
+    parameters (f_t, s, G_I, G_II, eta) and each pair's damage at the start (1: cracked, 0:
+    intact stone); ``crack`` the (from, to) heights (m) the crack was given."""
+
+    left: np.ndarray = field(repr=False)
+    right: np.ndarray = field(repr=False)
+    heights: np.ndarray = field(repr=False)
+    tributary: np.ndarray = field(repr=False)  # m, along the crack
+    area: np.ndarray = field(repr=False)
+    stiffness: np.ndarray = field(repr=False)
+    law: np.ndarray = field(repr=False)
+    damage0: np.ndarray = field(repr=False)
+    crack: tuple = (0.0, 0.0)
+
+    @property
+    def bonded(self) -> np.ndarray:
+        """The pairs intact at the start."""
+        return self.damage0 < 1.0
+
+
+def cracked_pairs(heights: np.ndarray, crack: tuple, height: float) -> np.ndarray:
+    """Which pairs, at ``heights`` (m), lie on the crack (from, to): those strictly between its
+    ends, and those at an end that is the column's base or top (a crack reaching the base
+    splits the base pair); none where from = to. The pair at an inner end is the crack's tip,
+    intact."""
+    low, high = crack
+    tol = 1e-9 * height
+    if high - low <= tol:
+        return np.zeros(heights.size, dtype=bool)
+    above = (heights > low + tol) | ((low <= tol) & (heights >= -tol))
+    below = (heights < high - tol) | ((high >= height - tol) & (heights <= height + tol))
+    return above & below
+
+
+def springs(interface: CohesiveInterface | None, n_dofs: int) -> sparse.csr_matrix:
+    """Stiffness of the intact pairs' undamaged springs K A, on both dofs of each pair (the
+    law's stiffness is isotropic, so the matrix holds for any rotation of the halves; damage
+    only softens it): what the stable step's bound adds between the bodies."""
+    if interface is None or not np.any(interface.bonded):
+        return sparse.csr_matrix((n_dofs, n_dofs))
+    on = interface.bonded
+    k = interface.stiffness[on] * interface.area[on]
+    rows, cols, vals = [], [], []
+    for dof in (0, 1):
+        i, j = 2 * interface.left[on] + dof, 2 * interface.right[on] + dof
+        rows += [i, j, i, j]
+        cols += [i, j, j, i]
+        vals += [k, k, -k, -k]
+    return sparse.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+        shape=(n_dofs, n_dofs),
+    )
+
+
+def crack_columns(interface: CohesiveInterface, damage: np.ndarray, energy: np.ndarray) -> dict:
+    """A history row's crack columns from one state's damage and cohesive energies: the
+    crack's length (m, the tributary lengths of the broken pairs, d = 1), its lowest and
+    highest broken pair (m; NaN without one), the pairs' damage where partly damaged (the
+    softening zone's length, m) and the springs' elastic and dissipated energy (J)."""
+    broken = damage >= 1.0
+    at = interface.heights[broken]
+    return {
+        "crack_length": float(np.sum(interface.tributary[broken])),
+        "crack_from": float(at.min()) if at.size else math.nan,
+        "crack_to": float(at.max()) if at.size else math.nan,
+        "crack_softening": float(np.sum(interface.tributary[(damage > 0.0) & ~broken])),
+        "energy_cohesive": float(energy[0]),
+        "energy_cohesive_dissipated": float(energy[1]),
+    }

@@ -1,0 +1,248 @@
+"""A crack along part of the column's height, the rest of the mid-plane a cohesive interface
+(issue 51): the [column] crack key, the model's node pairs and stable step, the kernel's
+cohesive forces, damage and energy, and the two limits (no crack, a full crack)."""
+
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+import pytest
+
+from colonna.core.errors import InputError
+from colonna.core.ground import NoMotion, sine_pulse
+from colonna.core.motion import Motion
+from colonna.fem.assembly import Stone
+from colonna.fem.ensemble import ensemble_summary
+from colonna.fem.model import ContactSettings, build_model, stable_time_step
+from colonna.fem.partial_crack import cracked_pairs
+from colonna.fem.settings import FemSettings, FemStart
+from colonna.fem.solver import run, run_batch, run_ensemble
+from colonna.meshes.column import column_mesh, from_arrays
+from colonna.studies import schema
+
+WIDTH, HEIGHT = 0.45, 4.0
+STRONG = Stone(ft=40e6, Gf=1e5)  # a mid-plane that does not crack under these motions
+UPLIFT = 9.81 * WIDTH / HEIGHT  # the whole column's uplift acceleration (m/s^2), tan(alpha) g
+
+
+def coarse(**kw):
+    return column_mesh(WIDTH, HEIGHT, 0.1125, **kw)
+
+
+def welded(mesh):
+    """The cracked mesh's halves welded along the mid-plane: one body on the same nodes."""
+    left, right = mesh.crack_nodes
+    y = mesh.points[1]
+    new = np.arange(mesh.n_nodes)
+    new[right] = left[np.argmin(np.abs(y[right][:, None] - y[left][None, :]), axis=1)]
+    keep = np.setdiff1d(np.arange(mesh.n_nodes), right)
+    index = np.full(mesh.n_nodes, -1)
+    index[keep] = np.arange(keep.size)
+    return from_arrays(mesh.points[:, keep], index[new[mesh.cells]])
+
+
+# ------------------------------------------------------------------------------------------
+# the study file's key and the model's pairs
+# ------------------------------------------------------------------------------------------
+
+BASE = {
+    "column": {"height": 4.0, "width": 0.45},
+    "ground": {"pulse": "sine", "amplitude_ratio": 2.0, "omega_ratio": 3.0},
+}
+
+
+@pytest.mark.parametrize(
+    ("crack", "message"),
+    [
+        ([3.0, 2.0], "column.crack = [3, 2] m is outside the allowed range: 0 <= from <= to <= 4"),
+        (
+            [1.0, 4.5],
+            "column.crack = [1, 4.5] m is outside the allowed range: 0 <= from <= to <= 4",
+        ),
+        ([-0.5, 1.0], "0 <= from <= to <= 4 m (the column height)"),
+    ],
+)
+def test_crack_heights_outside_the_column_are_refused_naming_the_key(crack, message):
+    data = copy.deepcopy(BASE)
+    data["column"]["crack"] = crack
+    with pytest.raises(InputError, match=re_escape(message)):
+        schema.parse(data)
+
+
+def re_escape(text):
+    import re
+
+    return re.escape(text)
+
+
+def test_crack_on_an_uncracked_column_and_a_wrong_length_are_refused():
+    data = copy.deepcopy(BASE)
+    data["column"].update(crack=[1.0, 2.0], cracked=False)
+    with pytest.raises(InputError, match="column.crack needs column.cracked = true"):
+        schema.parse(data)
+    data["column"].update(crack=[1.0], cracked=True)
+    with pytest.raises(InputError, match="column.crack"):
+        schema.parse(data)
+
+
+def test_crack_and_stone_fracture_keys_reach_the_fem_study():
+    from colonna.studies.fem_study import FemStudy, column_of
+
+    data = copy.deepcopy(BASE)
+    data["column"]["crack"] = [2.0, 4.0]
+    data["stone"] = {"ft": 6e6, "Gf": 80.0, "KIC": 1.2e6}
+    study = column_of(schema.parse(data))
+    assert study.crack == (2.0, 4.0)
+    assert (study.stone.ft, study.stone.Gf, study.stone.KIC) == (6e6, 80.0, 1.2e6)
+    assert FemStudy.from_json(study.to_json()).crack == (2.0, 4.0)
+    assert column_of(schema.parse(BASE)).crack is None  # today's full-height crack
+
+
+def test_which_pairs_lie_on_the_crack():
+    y = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
+    on = lambda crack: cracked_pairs(y, crack, 4.0).tolist()  # noqa: E731
+    assert on((0.0, 4.0)) == [True] * 5  # full height: every pair, base and top too
+    assert on((2.0, 4.0)) == [False, False, False, True, True]  # from the top: the tip intact
+    assert on((0.0, 2.0)) == [True, True, False, False, False]  # from the base
+    assert on((0.5, 3.5)) == [False, True, True, True, False]
+    assert on((2.0, 2.0)) == [False] * 5 and on((0.0, 0.0)) == [False] * 5  # no crack
+
+
+def test_model_pairs_damage_and_stable_step():
+    mesh = coarse()
+    full = build_model(mesh, STRONG, 0.35)
+    assert full.cohesive is None
+    whole = build_model(mesh, STRONG, 0.35, crack=(0.0, HEIGHT))
+    assert not np.any(whole.cohesive.bonded)
+    # no intact pair, no spring: today's step to the bit
+    assert stable_time_step(whole).dt == stable_time_step(full).dt
+    half = build_model(mesh, STRONG, 0.35, crack=(2.0, HEIGHT))
+    c = half.cohesive
+    assert np.all(c.bonded == (c.heights <= 2.0 + 1e-12))
+    assert math.isclose(c.area.sum(), 0.35 * HEIGHT, rel_tol=1e-12)
+    np.testing.assert_allclose(c.stiffness, STRONG.E / 0.1125)  # K = E / h, h the face element
+    assert np.all(half.mesh.points[:, c.left] == half.mesh.points[:, c.right])
+    # the intact pairs' springs join the bound between the bodies: the step shortens
+    assert stable_time_step(half).critical_linear < 0.95 * stable_time_step(full).critical_linear
+    with pytest.raises(InputError, match="cohesive mid-plane's penalty"):
+        build_model(mesh, Stone(Gf=40.0), 0.35, crack=(2.0, HEIGHT))  # K below ft^2 / 2 Gf
+    with pytest.raises(InputError, match="outside the allowed range"):
+        build_model(mesh, STRONG, 0.35, crack=(2.0, 5.0))
+    with pytest.raises(InputError, match="needs a cracked column"):
+        build_model(coarse(cracked=False), STRONG, 0.35, crack=(2.0, 4.0))
+
+
+# ------------------------------------------------------------------------------------------
+# the kernel
+# ------------------------------------------------------------------------------------------
+
+SETTINGS = FemSettings(progress=False, output_interval=0.01)
+
+
+def test_a_full_crack_given_is_todays_crack_to_the_bit():
+    pulse = sine_pulse(2.0 * UPLIFT, 2.0 * math.pi * 1.5, UPLIFT)
+    mesh = coarse()
+    today = run(build_model(mesh, STRONG, 0.35), Motion(pulse, 0.15), SETTINGS)
+    given = run(build_model(mesh, STRONG, 0.35, crack=(0.0, HEIGHT)), Motion(pulse, 0.15), SETTINGS)
+    for key in ("theta_left", "theta_right", "energy_total", "energy_dissipated"):
+        assert np.array_equal(today.history[key], given.history[key]), key
+    assert np.all(given.history["crack_length"] == HEIGHT)
+    assert np.all(given.history["energy_cohesive_dissipated"] == 0.0)
+
+
+def test_bonded_halves_pulled_apart_dissipate_the_fracture_energy():
+    """Two halves of a block, all of the mid-plane intact, flying apart on a frictionless
+    bed: every pair breaks, the interface dissipates G_f t H (measured: to 1e-6), and the
+    energy balance closes with the cohesive work in it (measured 0.6 %: 130 steps across the
+    softening; the kinetic energy lost is G_f t H)."""
+    stone = Stone(ft=2e6, Gf=2000.0)  # delta_f = 2 G_f / f_t = 2 mm: many steps across
+    mesh = column_mesh(0.2, 0.2, 0.025)
+    t = 0.1
+    model = build_model(
+        mesh, stone, t, contact=ContactSettings(friction=0.0, damping=0.0), crack=(0.1, 0.1)
+    )
+    assert np.all(model.cohesive.bonded)
+    speed = 3.0  # m/s each half, outward: kinetic energy 0.5 M v^2 = 2.7 G_f t H
+    v = np.zeros(model.n_dofs)
+    v[0::2] = np.where(mesh.node_body == 0, -speed, speed)
+    r = run(
+        model,
+        Motion(NoMotion(), 2e-3),
+        FemSettings(progress=False, output_interval=1e-4),
+        FemStart(velocity=v),
+    )
+    h = r.history
+    G = stone.Gf * t * 0.2
+    assert h["crack_length"][0] == 0.0 and h["crack_length"][-1] == pytest.approx(0.2)
+    assert h["energy_cohesive_dissipated"][-1] == pytest.approx(G, rel=0.01)
+    assert h["energy_cohesive"][-1] == 0.0  # broken: no spring left
+    assert r.summary["energy_error_max"] < 0.01
+    lost = h["energy_kinetic"][0] - h["energy_kinetic"][-1] - h["energy_strain"][-1]
+    assert lost == pytest.approx(G, rel=0.01)
+
+
+def test_checkpoints_carry_each_pairs_damage():
+    """A checkpoint's arrays (fem.solver._BatchState.slot_arrays) hold the pairs' damage and
+    cohesive energies, and restoring them puts them back bit for bit; reset starts from the
+    crack as given."""
+    from colonna.fem.solver import _BatchState
+
+    model = build_model(coarse(), STRONG, 0.35, crack=(2.0, HEIGHT))
+    state = _BatchState(model, 2, 1, np.zeros((0, model.base_nodes.size)))
+    start = {
+        "x": model.X.copy(),
+        "v": np.zeros(model.n_dofs),
+        "base_ft": np.zeros(model.base_nodes.size),
+        "base_fc": np.zeros(model.base_nodes.size),
+        "crack_ft": [np.zeros(p[0].size) for p in model.crack_passes],
+        "crack_fc": [np.zeros(p[0].size) for p in model.crack_passes],
+        "collar_state": model.collar_rest_state(),
+    }
+    state.reset(0, start)
+    assert np.array_equal(state.cohesive_state.damage[0], model.cohesive.damage0)
+    damage = np.random.default_rng(1).uniform(size=model.cohesive.left.size)
+    state.cohesive_state.damage[0] = damage
+    state.cohesive_state.energy[0] = (1.5, 2.5)
+    saved = state.slot_arrays(0)
+    assert np.array_equal(saved["cohesive.damage"], damage)
+    state.restore_slot(1, saved)
+    assert np.array_equal(state.cohesive_state.damage[1], damage)
+    assert state.cohesive_state.energy[1].tolist() == [1.5, 2.5]
+
+
+@pytest.mark.slow
+def test_damage_is_state_restored_bit_for_bit_alone_and_in_a_batch():
+    """The damage is part of each state: a run alone (one-state kernel) and the same run in a
+    batch (the group kernel) crack alike to the bit."""
+    stone = Stone(ft=20e3, Gf=2.0)  # a weak stone: the crack from the base grows at 0.5 s
+    model = build_model(coarse(), stone, 0.35, crack=(0.0, 2.0))
+    pulse = sine_pulse(2.0 * UPLIFT, 2.0 * math.pi * 1.5, UPLIFT)
+    alone = run(model, Motion(pulse, 0.6), SETTINGS)
+    batch = run_batch(model, [Motion(pulse, 0.6), Motion(pulse, 0.6)], SETTINGS)
+    assert alone.history["crack_length"][-1] > alone.history["crack_length"][0]  # it grew
+    for r in batch:
+        for key in ("crack_length", "energy_cohesive_dissipated", "theta_left"):
+            assert np.array_equal(alone.history[key], r.history[key]), key
+
+
+@pytest.mark.slow
+def test_a_crack_of_no_extent_is_the_solid_column():
+    """On the same nodes, the column bonded along its whole mid-plane (strong stone) against
+    the welded (solid) column: the same overturning answer and peak rotations within 0.5 %
+    (the interface's penalty adds a layer of stone h thick; measured 0.17 %), every replica."""
+    mesh = coarse()
+    pulse = sine_pulse(2.0 * UPLIFT, 2.0 * math.pi * 1.5, UPLIFT)
+    out = {}
+    for name, model in (
+        ("solid", build_model(welded(mesh), STRONG, 0.35)),
+        ("bonded", build_model(mesh, STRONG, 0.35, crack=(2.0, 2.0))),
+    ):
+        runs = run_ensemble(model, Motion(pulse, 3.0), SETTINGS, replicas=3)
+        out[name] = ensemble_summary([r.summary for r in runs])
+    assert out["solid"]["overturned_answer"] == out["bonded"]["overturned_answer"] == "no"
+    for side in ("left", "right"):
+        key = f"max_abs_theta_{side}"
+        solid, bonded = out["solid"]["bands"][key], out["bonded"]["bands"][key]
+        assert bonded["min"] >= solid["min"] * 0.995 and bonded["max"] <= solid["max"] * 1.005
