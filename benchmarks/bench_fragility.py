@@ -45,6 +45,8 @@ from pathlib import Path
 
 import numpy as np
 
+from colonna.studies.executor import RunOptions
+
 COLUMN = """
 [column]
 height = 4.0
@@ -100,7 +102,9 @@ def run_study(folder: Path, name: str, text: str, cores: int) -> tuple[float, di
     path = folder / f"{name}.toml"
     path.write_text(text)
     start = time.perf_counter()
-    summary = run_study_file(path, folder / name, workers=cores, progress=False)
+    summary = run_study_file(
+        path, folder / name, run_options=RunOptions(workers=cores, progress=False)
+    )
     return time.perf_counter() - start, summary
 
 

@@ -459,7 +459,7 @@ def _cmd_study(args) -> dict:
 
         require_paper(args.paper or "a4")
         require_browser()
-    from .executor import before_computing
+    from .executor import RunOptions, before_computing
 
     kernels, what = _study_kernels(study)
 
@@ -470,11 +470,9 @@ def _cmd_study(args) -> dict:
         summary = run_study_file(
             study,
             Path(args.out),
-            workers=workers,
-            scheduler=args.scheduler,
-            force=args.force,
             long=args.long,
             options=options,
+            run_options=RunOptions(workers=workers, scheduler=args.scheduler, force=args.force),
         )
     if args.pdf:
         from .pdf import write_pdf

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.errors import InputError
-from .executor import RunOptions, StudyClock, before_computing, study_clock
+from .executor import DEFAULT_RUN, RunOptions, StudyClock, before_computing, study_clock
 from .kinds import KINDS, take_options
 from .output import record_inputs, write_csv
 from .study import Study, load
@@ -37,20 +37,19 @@ def run_study_file(
     study: Study | Path,
     out: Path,
     *,
-    workers: int | None = None,
-    scheduler: str | None = None,
-    progress: bool = True,
-    force: bool = False,
+    run_options: RunOptions = DEFAULT_RUN,
     grid: tuple[int, int] | None = None,
     long: bool = False,
     options: dict | None = None,
 ) -> dict:
     """Run (or resume) a study (a :class:`Study`, or the path of its file, then read and
     validated once: :func:`studies.study.load`) into ``out`` and write its report; returns the
-    summary. Options that only some kinds take (``grid``; ``options``: any of them, as values
-    or as the command line's texts) are refused for the others. A study
-    whose FEM runs ask for more than the work limit is refused before anything is written
-    (:func:`check_work`), unless ``long``."""
+    summary. ``run_options``: the workers, the Dask scheduler, the progress bars and whether
+    cases saved from other inputs are recomputed (:class:`studies.executor.RunOptions`).
+    Options that only some kinds take (``grid``; ``options``: any of them, as values or as the
+    command line's texts) are refused for the others. A study whose FEM runs ask for more than
+    the work limit is refused before anything is written (:func:`check_work`), unless
+    ``long``."""
     given = {k: v for k, v in {"grid": grid, **(options or {})}.items() if v is not None}
     if not isinstance(study, Study):
         study = load(study, given)
@@ -61,6 +60,7 @@ def run_study_file(
         study = replace(study, options=take_options(study.kind, study.options))
     work = check_work(study, long=long)
     clock = StudyClock()
+    workers, progress = run_options.workers, run_options.progress
 
     def tell_the_work():  # once, as the first case is computed (not for a refused study)
         if clock.started is not None:
@@ -74,7 +74,7 @@ def run_study_file(
     module = kind.module()
     started = time.time()  # the run's date and wall time go on record with its inputs
     with before_computing(tell_the_work), study_clock(clock):
-        summary = module.run(study, out, RunOptions(workers, scheduler, progress, force))
+        summary = module.run(study, out, run_options)
     # the inputs on record beside the results they gave, once they are all there (a refused
     # or interrupted run leaves the record of the results in out as it was)
     record_inputs(out, study, started)

@@ -175,21 +175,15 @@ class StudyStopped(ColonnaError):
 class RunOptions:
     """How a study's cases run, whatever its kind (the command line's --workers, --scheduler,
     --force; progress bars): what the driver gives a kind's runner and the runner gives
-    :func:`run_cases` (``**options.for_cases()``)."""
+    :func:`run_cases` (its ``run_options``)."""
 
     workers: int | None = None  # local worker processes (None: one)
     scheduler: str | None = None  # address of a Dask distributed scheduler
     progress: bool = True  # progress bars on stderr
     force: bool = False  # recompute the cases saved from other inputs
 
-    def for_cases(self) -> dict:
-        """The keyword arguments of :func:`run_cases`."""
-        return {
-            "workers": self.workers,
-            "scheduler": self.scheduler,
-            "progress": self.progress,
-            "force": self.force,
-        }
+
+DEFAULT_RUN = RunOptions()  # one local worker, progress bars, saved cases reused
 
 
 def case_dir(out: Path, key: str) -> Path:
@@ -533,16 +527,14 @@ def run_cases(
     cases: list[dict],
     out: Path,
     *,
-    workers: int | None = None,
-    scheduler: str | None = None,
-    progress: bool = True,
-    force: bool = False,
+    run_options: RunOptions = DEFAULT_RUN,
     batched: bool = False,
     stage: str = "cases",
     before_computing: Callable[[], None] | None = None,
 ) -> dict:
     """Results keyed by case key. ``function(case, case_directory)`` runs one case in a worker
-    and returns its result; it may write files into its case directory.
+    and returns its result; it may write files into its case directory. ``run_options``: the
+    workers, the Dask scheduler, the progress bars and ``force`` (:class:`RunOptions`).
 
     ``batched``: ``function(cases, case_directories)`` runs several cases in one worker and
     yields (index in cases, result) as each completes (cases that share a model advancing
@@ -554,7 +546,7 @@ def run_cases(
     A saved case is reused only when it was computed from the same inputs
     (:func:`case_inputs`). One saved from other inputs is a
     :class:`~colonna.core.errors.StaleResultsError` naming the first difference, before anything
-    runs; ``force``: such cases are deleted and run again.
+    runs; with ``run_options.force`` such cases are deleted and run again.
 
     ``before_computing``: called once after the inputs are checked, before the first case is
     computed (not when every case is already done); without it, the callbacks of the
@@ -564,16 +556,18 @@ def run_cases(
     again as a :class:`StudyInterrupted` counting the cases saved; a lost Dask scheduler is a
     :class:`StudyStopped`. Either way the cases saved are kept for a rerun. ``stage``: what
     the progress bar calls the cases (a study that runs them in stages names each)."""
+    if not isinstance(run_options, RunOptions):
+        raise InputError(f"run_options = {run_options!r} is not a RunOptions")
     announce = (before_computing,) if before_computing is not None else _BEFORE_COMPUTING.get()
     try:
         return _run_cases(
             function,
             cases,
             Path(out),
-            workers,
-            scheduler,
-            progress,
-            force,
+            run_options.workers,
+            run_options.scheduler,
+            run_options.progress,
+            run_options.force,
             batched,
             stage,
             announce,

@@ -50,7 +50,7 @@ def run_sweep(
         _runner,
         variants,
         out,
-        **options.for_cases(),
+        run_options=options,
     )
     check_fem_results(results, out)
     summary = summarise(fem, variants, results)

@@ -30,6 +30,7 @@ import pytest
 
 from colonna.fem.bed import BED_PRESETS
 from colonna.fem.solver import unreliable_reason
+from colonna.studies.executor import RunOptions
 
 STUDIES = Path(__file__).parents[1] / "studies"
 OMEGA_RATIO = 10.0  # a short pulse: (2 pi - asin(1/3)) / Omega = 0.31 s on the default column
@@ -95,7 +96,9 @@ def answer(folder: Path, preset: str, end: str, variant: str) -> dict:
         return _answers[key]
     out = folder / "out"
     summary = run_study_file(
-        study_file(folder, preset, end, variant), out, workers=1, progress=False
+        study_file(folder, preset, end, variant),
+        out,
+        run_options=RunOptions(workers=1, progress=False),
     )
     assert (out / "index.html").stat().st_size > 0
     replicas = json.loads((out / "cases" / "fem" / "result.json").read_text())["replica_summaries"]

@@ -9,6 +9,7 @@ cases are :func:`napping` (the study's own run replaced), for the tests that sig
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import os
@@ -24,7 +25,14 @@ import pytest
 
 from colonna.core.errors import ColonnaError, InputError, StaleResultsError
 from colonna.studies import cli, driver, executor
-from colonna.studies.executor import StudyInterrupted, StudyStopped, load_done, run_cases, save_case
+from colonna.studies.executor import (
+    RunOptions,
+    StudyInterrupted,
+    StudyStopped,
+    load_done,
+    run_cases,
+    save_case,
+)
 
 MARKER = "COLONNA_TEST_MARKER"  # in the environment of a signalled study and its workers
 QUICK = "COLONNA_TEST_QUICK"  # set: the long cases take no time (the rerun)
@@ -58,8 +66,8 @@ def _fake_study(monkeypatch, run):
     (the study file is not what these tests are about)."""
     monkeypatch.setattr(cli, "_announce_compilation", lambda *args: None)
 
-    def run_study_file(path, out, *, workers=None, scheduler=None, force=False, **options):
-        return run(out, workers, scheduler) or {}
+    def run_study_file(path, out, *, run_options, **options):
+        return run(out, run_options.workers, run_options.scheduler) or {}
 
     monkeypatch.setattr(driver, "run_study_file", run_study_file)
 
@@ -71,23 +79,23 @@ def _fake_study(monkeypatch, run):
 @pytest.mark.parametrize("force", [False, True])
 def test_a_damaged_result_is_named_and_computed_again(tmp_path, capsys, content, force):
     out = tmp_path / "out"
-    run_cases(square, _cases(), out, progress=False)
+    run_cases(square, _cases(), out, run_options=RunOptions(progress=False))
     path = out / "cases" / "c2" / "result.json"
     path.write_bytes(content)  # truncated, empty or garbled: a full disk, a crash, a copy
-    results = run_cases(square, _cases(), out, progress=False, force=force)
+    results = run_cases(square, _cases(), out, run_options=RunOptions(progress=False, force=force))
     assert results["c2"] == {"value": 4.0, "mode": "safe"}
     assert capsys.readouterr().err.splitlines() == [
         f"[study] {path} is damaged or was edited (checksum mismatch): computing it again"
     ]
     assert json.loads(path.read_text()) == results["c2"]  # saved again, and now trusted
-    run_cases(square, _cases(), out, progress=False)
+    run_cases(square, _cases(), out, run_options=RunOptions(progress=False))
     assert capsys.readouterr().err == ""
 
 
 def test_an_edited_result_is_never_used(tmp_path, capsys):
     """Only the inputs were hashed once: a result edited by hand flipped the answer."""
     out = tmp_path / "out"
-    run_cases(square, _cases(), out, progress=False)
+    run_cases(square, _cases(), out, run_options=RunOptions(progress=False))
     path = out / "cases" / "c1" / "result.json"
     path.write_text(path.read_text().replace('"safe"', '"after-impact"'))
     calls = []
@@ -96,14 +104,14 @@ def test_an_edited_result_is_never_used(tmp_path, capsys):
         calls.append(case["key"])
         return square(case, directory)
 
-    results = run_cases(counted, _cases(), out, progress=False)
+    results = run_cases(counted, _cases(), out, run_options=RunOptions(progress=False))
     assert calls == ["c1"] and results["c1"]["mode"] == "safe"
     assert "c1/result.json is damaged or was edited" in capsys.readouterr().err
 
 
 def test_the_record_holds_the_checksum_of_the_result_bytes(tmp_path):
     out = tmp_path / "out"
-    run_cases(square, _cases(1), out, progress=False)
+    run_cases(square, _cases(1), out, run_options=RunOptions(progress=False))
     folder = out / "cases" / "c0"
     record = json.loads((folder / "inputs.json").read_text())
     digest = hashlib.sha256((folder / "result.json").read_bytes()).hexdigest()
@@ -136,23 +144,28 @@ def test_a_save_stopped_between_record_and_result_is_not_done(tmp_path, monkeypa
 def test_a_record_without_a_result_checksum_is_refused_then_forced(tmp_path):
     """As a case without a record of its inputs: an older colonna saved it."""
     out = tmp_path / "out"
-    run_cases(square, _cases(), out, progress=False)
+    run_cases(square, _cases(), out, run_options=RunOptions(progress=False))
     path = out / "cases" / "c3" / "inputs.json"
     record = json.loads(path.read_text())
     del record["result_sha256"]
     path.write_text(json.dumps(record))
     with pytest.raises(StaleResultsError, match="c3 has no checksum of its result on record"):
-        run_cases(square, _cases(), out, progress=False)
-    assert run_cases(square, _cases(), out, progress=False, force=True)["c3"]["value"] == 9.0
+        run_cases(square, _cases(), out, run_options=RunOptions(progress=False))
+    assert (
+        run_cases(square, _cases(), out, run_options=RunOptions(progress=False, force=True))["c3"][
+            "value"
+        ]
+        == 9.0
+    )
     assert "result_sha256" in json.loads(path.read_text())
 
 
 def test_an_unreadable_record_is_refused_not_a_traceback(tmp_path):
     out = tmp_path / "out"
-    run_cases(square, _cases(), out, progress=False)
+    run_cases(square, _cases(), out, run_options=RunOptions(progress=False))
     (out / "cases" / "c0" / "inputs.json").write_text('{"sha256": ["not", "a", "hash"]}')
     with pytest.raises(StaleResultsError, match="c0 has a record of its inputs .* cannot be"):
-        run_cases(square, _cases(), out, progress=False)
+        run_cases(square, _cases(), out, run_options=RunOptions(progress=False))
 
 
 def test_cases_saved_from_other_inputs_are_stale_results_not_bad_input(tmp_path):
@@ -160,9 +173,9 @@ def test_cases_saved_from_other_inputs_are_stale_results_not_bad_input(tmp_path)
     results): a ColonnaError that no ``except InputError`` (or ValueError) takes for bad
     input."""
     out = tmp_path / "out"
-    run_cases(square, _cases(), out, progress=False)
+    run_cases(square, _cases(), out, run_options=RunOptions(progress=False))
     with pytest.raises(StaleResultsError, match="--force") as raised:
-        run_cases(square, _cases(mode="other"), out, progress=False)
+        run_cases(square, _cases(mode="other"), out, run_options=RunOptions(progress=False))
     assert isinstance(raised.value, ColonnaError)
     assert not isinstance(raised.value, (InputError, ValueError))
 
@@ -176,13 +189,19 @@ def test_before_computing_runs_once_per_run_that_computes(tmp_path):
     said = []
     out = tmp_path / "out"
     with executor.before_computing(lambda: said.append("outer")):
-        run_cases(square, _cases(2), out, progress=False)
-        run_cases(square, _cases(2), out, progress=False)  # all saved: nothing computed
+        run_cases(square, _cases(2), out, run_options=RunOptions(progress=False))
+        run_cases(
+            square, _cases(2), out, run_options=RunOptions(progress=False)
+        )  # all saved: nothing computed
         assert said == ["outer"]
         with executor.before_computing(lambda: said.append("inner")):
-            run_cases(square, _cases(3), out, progress=False)  # c2 is computed
+            run_cases(
+                square, _cases(3), out, run_options=RunOptions(progress=False)
+            )  # c2 is computed
         assert said == ["outer", "outer", "inner"]
-    run_cases(square, _cases(4), out, progress=False)  # c3, outside any block
+    run_cases(
+        square, _cases(4), out, run_options=RunOptions(progress=False)
+    )  # c3, outside any block
     assert said == ["outer", "outer", "inner"]
     assert executor._BEFORE_COMPUTING.get() == ()
     assert not hasattr(executor, "BEFORE_COMPUTING")  # no module-level list left
@@ -193,7 +212,11 @@ def test_before_computing_as_an_argument_replaces_the_blocks(tmp_path):
     out = tmp_path / "out"
     with executor.before_computing(lambda: said.append("block")):
         run_cases(
-            square, _cases(2), out, progress=False, before_computing=lambda: said.append("arg")
+            square,
+            _cases(2),
+            out,
+            before_computing=lambda: said.append("arg"),
+            run_options=RunOptions(progress=False),
         )
     assert said == ["arg"]
 
@@ -201,14 +224,14 @@ def test_before_computing_as_an_argument_replaces_the_blocks(tmp_path):
 def test_before_computing_is_not_called_for_a_refused_run(tmp_path):
     said = []
     out = tmp_path / "out"
-    run_cases(square, _cases(2), out, progress=False)
+    run_cases(square, _cases(2), out, run_options=RunOptions(progress=False))
     with pytest.raises(StaleResultsError):
         run_cases(
             square,
             _cases(3, mode="other"),
             out,
-            progress=False,
             before_computing=lambda: said.append("arg"),
+            run_options=RunOptions(progress=False),
         )
     assert said == []
 
@@ -228,15 +251,15 @@ def test_an_interrupt_counts_the_saved_cases_and_a_rerun_keeps_them(tmp_path):
         return function
 
     with pytest.raises(StudyInterrupted) as raised:
-        run_cases(stopping_at("c2"), _cases(), out, progress=False)
+        run_cases(stopping_at("c2"), _cases(), out, run_options=RunOptions(progress=False))
     assert str(raised.value) == (
         f"interrupted: 2 of 4 cases saved in {out / 'cases'}; run the same command again to resume"
     )
     assert raised.value.signum == signal.SIGINT
     first = {k: (out / "cases" / k / "result.json").stat().st_mtime_ns for k in ("c0", "c1")}
     with pytest.raises(StudyInterrupted, match="3 of 4 cases saved"):
-        run_cases(stopping_at("c3"), _cases(), out, progress=False)
-    results = run_cases(square, _cases(), out, progress=False)
+        run_cases(stopping_at("c3"), _cases(), out, run_options=RunOptions(progress=False))
+    results = run_cases(square, _cases(), out, run_options=RunOptions(progress=False))
     assert results == {c["key"]: square(c, None) for c in _cases()}
     for key, mtime in first.items():  # neither interrupted rerun touched them
         assert (out / "cases" / key / "result.json").stat().st_mtime_ns == mtime
@@ -343,7 +366,7 @@ def test_a_signalled_study_stops_its_workers_says_so_and_resumes(
     for path, (data, mtime) in saved.items():
         assert (path.read_bytes(), path.stat().st_mtime_ns) == (data, mtime)
     monkeypatch.setenv(QUICK, "1")
-    assert run_cases(napping, NAPS, out, workers=2, progress=False) == {
+    assert run_cases(napping, NAPS, out, run_options=RunOptions(workers=2, progress=False)) == {
         c["key"]: {"key": c["key"]} for c in NAPS
     }
     for path, (data, mtime) in saved.items():  # loaded, not computed again
@@ -395,7 +418,7 @@ def test_a_lost_dask_scheduler_is_one_error_line(tmp_path, monkeypatch, capfd):
 
     def run(out, workers, scheduler):
         threading.Thread(target=lose_the_scheduler_after_two_cases, daemon=True).start()
-        run_cases(napping, cases, out, scheduler=scheduler, progress=False)
+        run_cases(napping, cases, out, run_options=RunOptions(scheduler=scheduler, progress=False))
 
     _fake_study(monkeypatch, run)
     try:
@@ -474,8 +497,8 @@ def _script(out: str) -> int:
     os.sched_getaffinity = lambda pid: set(range(4))
     cli._announce_compilation = lambda *args: None
 
-    def run_study_file(path, out, *, workers=None, scheduler=None, force=False, **options):
-        run_cases(napping, NAPS, out, workers=workers, progress=False, force=force)
+    def run_study_file(path, out, *, run_options, **options):
+        run_cases(napping, NAPS, out, run_options=dataclasses.replace(run_options, progress=False))
         return {}
 
     driver.run_study_file = run_study_file

@@ -26,6 +26,7 @@ from colonna.core.ground import read_record
 from colonna.fem.toe_stress import REFINEMENTS
 from colonna.studies import executor
 from colonna.studies.cli import main, resolve_study
+from colonna.studies.executor import RunOptions
 from colonna.studies.fem_study import from_dict
 from colonna.studies.kinds import KINDS
 from colonna.studies.output import record_inputs
@@ -324,12 +325,12 @@ def _cases(tmp_path, x=3.0, **study):
 def test_a_changed_input_file_is_named(tmp_path, table, key, what):
     (tmp_path / "input.txt").write_text("0 0\n1 1\n")
     cases = _cases(tmp_path, **{table: {key: "input.txt"}})
-    assert executor.run_cases(_square, cases, tmp_path / "out", progress=False)["one"] == {
-        "value": 9.0
-    }
+    assert executor.run_cases(
+        _square, cases, tmp_path / "out", run_options=RunOptions(progress=False)
+    )["one"] == {"value": 9.0}
     (tmp_path / "input.txt").write_text("0 0\n1 2\n")
     with pytest.raises(StaleResultsError, match=f"{what} input.txt changed") as raised:
-        executor.run_cases(_square, cases, tmp_path / "out", progress=False)
+        executor.run_cases(_square, cases, tmp_path / "out", run_options=RunOptions(progress=False))
     assert "and 1 more case" in str(raised.value)
 
 
@@ -343,15 +344,22 @@ def test_what_does_not_change_the_computation_is_not_an_input(tmp_path):
         return _square(case, directory)
 
     named = {"name": "a", "kind": "cross-check"}
-    executor.run_cases(counted, _cases(tmp_path, study=named), tmp_path / "out", progress=False)
+    executor.run_cases(
+        counted,
+        _cases(tmp_path, study=named),
+        tmp_path / "out",
+        run_options=RunOptions(progress=False),
+    )
     renamed = {"name": "b", "description": "now described", "kind": "cross-check"}
     moved = [
         dict(c, base=str(tmp_path / "elsewhere"), source="t.toml", progress=False)
         for c in _cases(tmp_path, study=renamed)
     ]
-    executor.run_cases(counted, moved, tmp_path / "out", progress=False)
+    executor.run_cases(counted, moved, tmp_path / "out", run_options=RunOptions(progress=False))
     rescheduled = [dict(c, cost=7.0) for c in _cases(tmp_path, study=renamed)]  # a hint only
-    executor.run_cases(counted, rescheduled, tmp_path / "out", progress=False)
+    executor.run_cases(
+        counted, rescheduled, tmp_path / "out", run_options=RunOptions(progress=False)
+    )
     assert calls == ["one", "two"]
     with pytest.raises(
         StaleResultsError, match=r'\(study\.kind: "cross-check" -> "free-rocking"\)'
@@ -360,13 +368,13 @@ def test_what_does_not_change_the_computation_is_not_an_input(tmp_path):
             counted,
             _cases(tmp_path, study={**named, "kind": "free-rocking"}),
             tmp_path / "out",
-            progress=False,
+            run_options=RunOptions(progress=False),
         )
 
 
 def test_another_version_is_named_and_nothing_runs_before_the_refusal(tmp_path, monkeypatch):
     out = tmp_path / "out"
-    executor.run_cases(_square, _cases(tmp_path)[:1], out, progress=False)
+    executor.run_cases(_square, _cases(tmp_path)[:1], out, run_options=RunOptions(progress=False))
     before = colonna.__version__
     monkeypatch.setattr(colonna, "__version__", "99.0")
     calls = []
@@ -376,12 +384,14 @@ def test_another_version_is_named_and_nothing_runs_before_the_refusal(tmp_path, 
         return _square(case, directory)
 
     with pytest.raises(StaleResultsError) as raised:
-        executor.run_cases(counted, _cases(tmp_path), out, progress=False)
+        executor.run_cases(counted, _cases(tmp_path), out, run_options=RunOptions(progress=False))
     message = str(raised.value)
     assert f"colonna version {before} -> 99.0" in message
     assert str(out / "cases" / "one") in message and "\n" not in message
     assert calls == [] and not (out / "cases" / "two").exists()
-    results = executor.run_cases(counted, _cases(tmp_path), out, progress=False, force=True)
+    results = executor.run_cases(
+        counted, _cases(tmp_path), out, run_options=RunOptions(progress=False, force=True)
+    )
     assert sorted(calls) == ["one", "two"] and results["one"] == {"value": 9.0}
     saved = json.loads((out / "cases" / "one" / "inputs.json").read_text())
     assert saved["inputs"]["colonna_version"] == "99.0"
@@ -389,19 +399,21 @@ def test_another_version_is_named_and_nothing_runs_before_the_refusal(tmp_path, 
 
 def test_a_case_without_a_record_of_its_inputs_is_refused_then_forced(tmp_path):
     out = tmp_path / "out"
-    executor.run_cases(_square, _cases(tmp_path), out, progress=False)
+    executor.run_cases(_square, _cases(tmp_path), out, run_options=RunOptions(progress=False))
     (out / "cases" / "one" / "inputs.json").unlink()  # as an older colonna left it
     (out / "cases" / "one" / "old.csv").write_text("stale")
     with pytest.raises(StaleResultsError, match="one has no record of the inputs"):
-        executor.run_cases(_square, _cases(tmp_path), out, progress=False)
-    executor.run_cases(_square, _cases(tmp_path), out, progress=False, force=True)
+        executor.run_cases(_square, _cases(tmp_path), out, run_options=RunOptions(progress=False))
+    executor.run_cases(
+        _square, _cases(tmp_path), out, run_options=RunOptions(progress=False, force=True)
+    )
     assert not (out / "cases" / "one" / "old.csv").exists()  # the stale case was deleted
     assert (out / "cases" / "one" / "inputs.json").is_file()
 
 
 def test_an_interrupted_case_is_computed_again_and_a_done_one_kept(tmp_path):
     out = tmp_path / "out"
-    executor.run_cases(_square, _cases(tmp_path), out, progress=False)
+    executor.run_cases(_square, _cases(tmp_path), out, run_options=RunOptions(progress=False))
     (out / "cases" / "two" / "result.json").unlink()  # killed before it finished
     kept = (out / "cases" / "one" / "result.json").stat().st_mtime_ns
     calls = []
@@ -410,7 +422,9 @@ def test_an_interrupted_case_is_computed_again_and_a_done_one_kept(tmp_path):
         calls.append(case["key"])
         return _square(case, directory)
 
-    results = executor.run_cases(counted, _cases(tmp_path), out, progress=False)
+    results = executor.run_cases(
+        counted, _cases(tmp_path), out, run_options=RunOptions(progress=False)
+    )
     assert calls == ["two"] and results["two"] == {"value": 36.0}
     assert (out / "cases" / "one" / "result.json").stat().st_mtime_ns == kept
 

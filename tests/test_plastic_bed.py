@@ -26,6 +26,7 @@ from colonna.fem.bed import (
     winkler_plastic_pivot,
     winkler_toe_pressure,
 )
+from colonna.studies.executor import RunOptions
 
 sys.path.insert(0, str(Path(__file__).parent))
 
@@ -232,7 +233,7 @@ def test_the_default_column_on_lead_reports_toe_pressures_within_the_lead_s_yiel
     study.write_text("\n".join(lines) + "\n")
     tomllib.loads(study.read_text())  # (the file as written reads back)
     out = tmp_path / "out"
-    run_study_file(study, out, workers=1, progress=False)
+    run_study_file(study, out, run_options=RunOptions(workers=1, progress=False))
     summary = json.loads((out / "summary.json").read_text())
     p_y = summary["bed"]["yield_pressure"]
     assert p_y == pytest.approx(math.sqrt(5e6 * 40e6))

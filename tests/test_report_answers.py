@@ -28,6 +28,7 @@ from tiny_study import TINY_STUDY
 
 from colonna.fem.ensemble import band
 from colonna.studies.crosscheck import runner as crosscheck
+from colonna.studies.executor import RunOptions
 from colonna.studies.fem_study import from_dict
 from colonna.studies.outcome import STRESS_QUESTIONS, fem_answers, fem_model, outcome
 from colonna.studies.report import TEMPLATES, fmt, num
@@ -344,7 +345,7 @@ def test_an_overturning_cross_check_reads_as_it_should(tmp_path):
     study = tmp_path / "tiny.toml"
     study.write_text(OVERTURNING)
     out = tmp_path / "out"
-    summary = run_study_file(study, out, workers=1, progress=False)
+    summary = run_study_file(study, out, run_options=RunOptions(workers=1, progress=False))
     page = (out / "index.html").read_text()
     assert_opens_with_the_outcome(page, summary)
     answers = summary["outcome"]["answers"]

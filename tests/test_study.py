@@ -22,6 +22,7 @@ from tiny_study import TINY_STUDY
 
 from colonna.studies.cli import main
 from colonna.studies.driver import run_study_file
+from colonna.studies.executor import RunOptions
 from colonna.studies.fem_study import from_dict
 from colonna.studies.output import read_csv
 
@@ -33,7 +34,7 @@ def tiny_run(tmp_path_factory):
     root = tmp_path_factory.mktemp("study")
     study = root / "tiny.toml"
     study.write_text(TINY)
-    summary = run_study_file(study, root / "out", workers=1, progress=False)
+    summary = run_study_file(study, root / "out", run_options=RunOptions(workers=1, progress=False))
     return root, study, summary
 
 
@@ -230,7 +231,7 @@ def test_interrupted_study_resumes_with_identical_results(tiny_run, tmp_path):
     done = sorted(p.parent.name for p in (out / "cases").glob("*/result.json"))
     assert "fem" in done and len(done) < 4
     first = {k: (out / "cases" / k / "result.json").read_text() for k in done}
-    resumed = run_study_file(study, out, workers=1, progress=False)
+    resumed = run_study_file(study, out, run_options=RunOptions(workers=1, progress=False))
     for key, text in first.items():  # nothing already computed was redone or lost
         assert (out / "cases" / key / "result.json").read_text() == text
     assert _comparable(resumed) == _comparable(reference)
@@ -255,7 +256,7 @@ def test_toe_windows_are_cases_of_their_own_and_resume_apart_from_the_fem(tiny_r
         key: (out / "cases" / key / "result.json").stat().st_mtime_ns
         for key in ("fem", "toe-1", "multibody")
     }
-    resumed = run_study_file(study, out, workers=1, progress=False)
+    resumed = run_study_file(study, out, run_options=RunOptions(workers=1, progress=False))
     for key, mtime in kept.items():
         assert (out / "cases" / key / "result.json").stat().st_mtime_ns == mtime
     assert (out / "cases" / f"toe-{finest}" / "result.json").is_file()
@@ -270,7 +271,9 @@ def test_dask_path_gives_the_local_summary(tiny_run, tmp_path):
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
     ) as cluster:
         summary = run_study_file(
-            study, tmp_path / "dask", scheduler=cluster.scheduler_address, progress=False
+            study,
+            tmp_path / "dask",
+            run_options=RunOptions(scheduler=cluster.scheduler_address, progress=False),
         )
     assert _comparable(summary) == _comparable(reference)
 
@@ -381,7 +384,9 @@ def test_cross_check_of_a_recorded_motion(tmp_path):
     text = text.replace("duration = 0.6", "duration = 2.5")  # the record peaks at 1.5 s
     text = text.replace("[run]\n", "[run]\nreplicas = 2\n")  # no band is asked of it
     study.write_text(text)
-    summary = run_study_file(study, tmp_path / "out", workers=1, progress=False)
+    summary = run_study_file(
+        study, tmp_path / "out", run_options=RunOptions(workers=1, progress=False)
+    )
     from colonna.core.ground import read_record
 
     peak = 1.5 * read_record(record).peak_acceleration

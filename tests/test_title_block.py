@@ -16,6 +16,7 @@ from tiny_study import TINY_FRAGILITY, write_pulse_suite
 import colonna
 from colonna.studies import executor
 from colonna.studies.cli import main
+from colonna.studies.executor import RunOptions
 from colonna.studies.kinds import KINDS
 
 TITLE = {
@@ -178,9 +179,12 @@ def test_title_keys_are_not_inputs_of_a_case(tmp_path):
         return [{"key": "one", "x": 3.0, "study": {"study": {"kind": "cross-check", **study}}}]
 
     out = tmp_path / "out"
-    executor.run_cases(counted, cases(**TITLE), out, progress=False)
+    executor.run_cases(counted, cases(**TITLE), out, run_options=RunOptions(progress=False))
     executor.run_cases(
-        counted, cases(prepared_by="someone else", revision="D"), out, progress=False
+        counted,
+        cases(prepared_by="someone else", revision="D"),
+        out,
+        run_options=RunOptions(progress=False),
     )
     assert calls == ["one"]
     assert set(KEYS) <= set(executor.NOT_STUDY_INPUTS)
@@ -188,4 +192,6 @@ def test_title_keys_are_not_inputs_of_a_case(tmp_path):
         colonna.core.errors.StaleResultsError,
         match=r"study\.kind: \"cross-check\" -> \"free-rocking\"",
     ):
-        executor.run_cases(counted, cases(kind="free-rocking"), out, progress=False)
+        executor.run_cases(
+            counted, cases(kind="free-rocking"), out, run_options=RunOptions(progress=False)
+        )

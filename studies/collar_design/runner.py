@@ -70,14 +70,14 @@ def run(given: Study, out: Path, options: RunOptions) -> dict:
         fem_case,
         [case_of(study, key="fem", kind="fem")],
         out,
-        **options.for_cases(),
+        run_options=options,
     )
     check_fem_results(results, out)
     trials = run_cases(
         band_case,
         trial_cases,
         out,
-        **options.for_cases(),
+        run_options=options,
     )
     block = study.rocking_block
     collar = study.collars[0]

@@ -168,7 +168,7 @@ def refine_toe_stress(study, fem: dict, out: Path, options: RunOptions) -> dict 
         )
         for r in sorted(refinements, reverse=True)  # the finest (the longest) starts first
     ]
-    windows = run_cases(_case_runner, cases, out, stage="toe stress windows", **options.for_cases())
+    windows = run_cases(_case_runner, cases, out, stage="toe stress windows", run_options=options)
     refined = refinement_summary(
         read_start(path), refinements, [windows[f"toe-{r}"] for r in refinements]
     )
@@ -352,9 +352,7 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
         cases.append(case_of(replace(fem, mesh_size=size), key=f"fem-mesh-{factor}h", kind="fem"))
     cases += bed_range_cases(fem)
     start = time.perf_counter()
-    results = run_cases(
-        _case_runner, cases, out, stage="FEM and rigid models", **options.for_cases()
-    )
+    results = run_cases(_case_runner, cases, out, stage="FEM and rigid models", run_options=options)
     check_fem_results(results, out)
     # then the toe stress's refinement, from the state the FEM case saved
     refined = refine_toe_stress(fem, results["fem"], out, options)

@@ -269,7 +269,7 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
     runs: dict[str, list] = {}
     seconds: dict[str, float] = {}
     if cases:
-        results = run_cases(rigid_case, cases, out, **options.for_cases(), stage="rigid runs")
+        results = run_cases(rigid_case, cases, out, run_options=options, stage="rigid runs")
         for model in rigid:
             mine = [c for c in cases if c["model"] == model]
             runs[model] = [results[c["key"]]["runs"] for c in mine]
@@ -290,7 +290,7 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
                     )
                 )
         results = run_cases(
-            fem_cases, fem, out, **options.for_cases(), batched=True, stage="FEM runs"
+            fem_cases, fem, out, run_options=options, batched=True, stage="FEM runs"
         )
         check_fem_results(results, out)
         table: list[list[dict]] = [[{} for _ in s.levels] for _ in s.records]

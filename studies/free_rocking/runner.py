@@ -246,7 +246,7 @@ def run(given: Study, out: Path, options: RunOptions) -> dict:
         free_rocking_case,
         cases,
         out,
-        **options.for_cases(),
+        run_options=options,
     )
     check_fem_results(results, out)
     results = {key: without_stopped_ratios(key, r) for key, r in results.items()}

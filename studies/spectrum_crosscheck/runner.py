@@ -283,7 +283,7 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
         grid_points_case,
         cases,
         out,
-        **options.for_cases(),
+        run_options=options,
         batched=True,
     )
     check_fem_results(results, out)
