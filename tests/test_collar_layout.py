@@ -119,7 +119,23 @@ def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsy
     failed = [r for r in lighter if r["decision"] == "fails" and r.get("frequency") is not None]
     for row in failed:  # a refined layout that fails: its frequency above the target or fracture
         assert row["frequency"] > s["target"]["frequency"] or row["fracture_share"] > 0
-    assert s["fem"] is not None and len(s["fem"]["overturned"]) == 4
+    fem = s["fem"]
+    assert fem is not None and len(fem["overturned"]) == 4
+    from colonna.studies.collar_layout.runner import stripe_agreement
+
+    agreement = stripe_agreement(
+        fem["fraction"],
+        fem["fraction_interval"],
+        fem["multibody_probability"],
+        fem["multibody_probability_interval"],
+    )
+    assert fem["agreement"] == agreement and fem["confirmed"] == (agreement == "confirms")
+    stripe = [c is not None and c <= s["design_intensity"] for c in chosen["capacities"]]
+    assert fem["multibody_overturned"] == stripe
+    names = [r["name"] for r in s["records"]]
+    assert fem["fem_only"] == [
+        n for n, f, m in zip(names, fem["overturned"], stripe) if f and not m
+    ]
     # the chosen layout's cross-check, run as a study of its own in chosen-crosscheck/: its
     # collars the chosen ones, the section's numbers its summary's, its report linked
     from colonna.studies.collar_layout.runner import crosscheck_section
@@ -445,3 +461,36 @@ def test_a_crosscheck_the_guard_refuses_gives_no_answer(tmp_path, monkeypatch):
     assert found["refused"] == why and found["record"] == s.suite[3].name
     assert not {"rotations", "answers", "peak_ratio", "report"} & set(found)
     assert (out / "chosen-crosscheck.toml").is_file()
+
+
+def test_the_fem_stripe_confirms_only_where_each_estimate_is_in_the_others_band():
+    """The shipped study's stripe (3 of 10 records overturn in the FEM, 90 % interval 0.087 to
+    0.607; the multibody fit's 0.109 with its band 0.034 to 0.178) holds the multibody's
+    probability, but its fraction lies above the multibody's band: ten records do not resolve
+    the difference, undecided (the former rule, the probability inside the interval, said
+    "confirms")."""
+    from colonna.studies.collar_layout.runner import stripe_agreement
+
+    shipped = (0.3, [0.0872644339141503, 0.6066242161054123])
+    assert stripe_agreement(*shipped, 0.10918963870441528, [0.0338, 0.178]) == "undecided"
+    assert stripe_agreement(*shipped, 0.25, [0.15, 0.35]) == "confirms"
+    assert stripe_agreement(0.0, [0.0, 0.259], 0.3, [0.2, 0.4]) == "contradicts"
+    assert stripe_agreement(*shipped, None, None) == "undecided"  # no fit to compare
+
+
+def test_the_answer_says_what_the_fem_stripe_says():
+    from types import SimpleNamespace
+
+    from colonna.studies.collar_layout.runner import answer_text
+
+    s = SimpleNamespace(
+        years=50.0, target=1e-3, spec=SimpleNamespace(target_probability=None, shortlist=4)
+    )
+    two = {"count": 2, "label": "2 x 8 x 60 mm S275", "heights": [0.5, 3.5], "frequency": 9e-4}
+    said = {
+        "confirms": "confirms it.",
+        "contradicts": "contradicts it (see the FEM check).",
+        "undecided": "neither confirms nor contradicts it (see the FEM check).",
+    }
+    for agreement, end in said.items():
+        assert answer_text(s, two, {"agreement": agreement}, [two]).endswith(end)

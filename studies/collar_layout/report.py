@@ -79,6 +79,12 @@ def fem_rows(s: dict) -> list[dict]:
             "value": f"{fem['fraction']:.2f} overturned ({low:.2f} to {high:.2f}); "
             f"{fem['fracture_share']:.2f} fracture a collar",
         },
+        {
+            "model": "record by record: overturned by one model only",
+            "value": f"FEM only: {', '.join(fem['fem_only']) or 'none'}; multibody only "
+            f"(its first overturning on the ladder at or below the design intensity): "
+            f"{', '.join(fem['multibody_only']) or 'none'}",
+        },
     ]
 
 

@@ -23,7 +23,7 @@ through the rigid multibody model.
    records that fracture a collar at the design intensity.
 3. **Confirmation, FEM** (:func:`fem_stripe`): the chosen layout's FEM runs of every record at
    the design intensity (the hazard's at [layout] design_return_period), against the multibody
-   model's stripe there.
+   model's probability there (:func:`stripe_agreement`: confirms, contradicts, undecided).
 4. **Cross-check** (:func:`run_crosscheck`): the chosen layout's cross-check (the cross-check
    kind, a study of its own in ``chosen-crosscheck/``) under the record of median capacity at
    the design intensity: FEM against the rigid models, collars, toe.
@@ -613,17 +613,28 @@ def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
     interval_ = analysis.clopper_pearson(np.array([k]), n, s.spec.confidence)[0].tolist()
     multibody = chosen["frequency_entry"]
     p_mb = multibody.get("probability_at_design")
-    confirmed = p_mb is None or (interval_[0] <= p_mb <= interval_[1])
+    band = multibody.get("probability_at_design_interval")
     fracture_share = sum(fractured) / n
+    agreement = stripe_agreement(k / n, interval_, p_mb, band)
+    if fracture_share > s.spec.fracture_fraction:
+        agreement = "contradicts"  # the FEM fractures collars the multibody model spared
+    # record by record: the multibody's IDA overturns a record at the design intensity where
+    # its capacity (first overturning on the ladder) is at or below it
+    stripe = [c is not None and c <= s.design for c in chosen["capacities"]]
     return {
         "overturned": overturned,
         "fractured": fractured,
         "fraction": k / n,
         "fraction_interval": interval_,
         "multibody_probability": p_mb,
-        "multibody_probability_interval": multibody.get("probability_at_design_interval"),
+        "multibody_probability_interval": band,
+        "multibody_overturned": stripe,
+        "fem_only": [s.suite[i].name for i in range(n) if overturned[i] and not stripe[i]],
+        "multibody_only": [s.suite[i].name for i in range(n) if stripe[i] and not overturned[i]],
         "fracture_share": fracture_share,
-        "confirmed": bool(confirmed and fracture_share <= s.spec.fracture_fraction),
+        "fracture_allowed": s.spec.fracture_fraction,
+        "agreement": agreement,
+        "confirmed": agreement == "confirms",
         "seconds": float(sum(r.get("fem_seconds", 0.0) for r in runs)),
         # an overturned run's peak is where it stopped (a convention, not a rotation): none
         "runs": [
@@ -636,6 +647,24 @@ def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
             for r in runs
         ],
     }
+
+
+def stripe_agreement(fraction: float, interval, p: float | None, band) -> str:
+    """Whether the FEM stripe (``fraction`` of the records overturned at the design intensity,
+    with its Clopper-Pearson ``interval``) agrees with the multibody fit's probability there
+    (``p`` with its bootstrap ``band``): "confirms" where each holds the other's estimate
+    (p in the FEM's interval, the FEM's fraction in the multibody's band), "contradicts"
+    where neither does, "undecided" otherwise (a few records do not resolve the difference)
+    and where the multibody model gives no fit (no probability to compare)."""
+    if p is None or band is None:
+        return "undecided"
+    in_fem = interval[0] <= p <= interval[1]
+    in_multibody = band[0] <= fraction <= band[1]
+    if in_fem and in_multibody:
+        return "confirms"
+    if not in_fem and not in_multibody:
+        return "contradicts"
+    return "undecided"
 
 
 CROSSCHECK_FILE = "chosen-crosscheck.toml"
@@ -957,11 +986,13 @@ def answer_text(s: Setup, chosen: dict | None, fem: dict | None, rows: list[dict
     layout = f"{chosen['label']} at {heights} m" if chosen["count"] else "No collars are needed"
     text = f"{layout}: overturning {lam:.2g} per year, {p:.2%} in {years:g} years, {target}"
     if fem is not None:
-        text += (
-            "; the FEM stripe at the design intensity confirms it"
-            if fem["confirmed"]
-            else "; the FEM stripe at the design intensity does NOT confirm it (see the FEM check)"
-        )
+        text += {
+            "confirms": "; the FEM stripe at the design intensity confirms it",
+            "contradicts": "; the FEM stripe at the design intensity contradicts it (see the "
+            "FEM check)",
+            "undecided": "; the FEM stripe at the design intensity neither confirms nor "
+            "contradicts it (see the FEM check)",
+        }[fem["agreement"]]
     return text + "."
 
 
