@@ -70,7 +70,7 @@ ENERGY_ERROR_LIMIT = 0.05
 # runs that advance together when a batch of many runs is streamed through iter_batch: one
 # group of the kernel (its cost per state is lowest at a full group)
 BATCH_SLOTS = K.GROUP
-# the weak-tail stop (iter_batch's stop_in_weak_tail): a seated column under a ground that stays
+# the weak-tail stop (FemSettings.stop_in_weak_tail): a seated column under a ground that stays
 # below a body's uplift acceleration g tan(alpha_b) over WEAK_TAIL_MARGIN for the rest of the
 # motion cannot start rocking again. Half of the least rigid threshold of any part (a free half
 # lifts at g tan(alpha_b), the halves locked together at about twice that); measured on the
