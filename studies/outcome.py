@@ -30,6 +30,8 @@ Each model's ``alpha_block`` says whose slenderness its rotation is compared wit
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..fem.ensemble import NO, UNDECIDED, YES, decide
@@ -67,32 +69,50 @@ ELASTIC_COLLARS_NOT_FOLLOWED = "elastic collars are not followed past f_y (set p
 RELATIONS = {YES: "reaches", NO: "stays below", UNDECIDED: "straddles"}
 
 
+@dataclass(frozen=True)
+class ReplicaCount:
+    """An ensemble's replicas: ``count`` run, ``overturned`` of them overturned, and
+    ``overturn_time_range`` their earliest and latest overturning (s; None where none did)."""
+
+    count: int
+    overturned: int = 0
+    overturn_time_range: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True)
+class CollarOutcome:
+    """A model's collars: ``utilisation``, the largest sigma / f_y of its collars (None: it has
+    none), whose state (elastic / yielded, or fractured where ``fractured``: a plastic collar
+    broke) is said beside the motion; ``elastic``, the words that say the model's collars never
+    yield (e.g. "the SDOF's collars are elastic"), where they do not: a model that stays up on
+    such collars past f_y rests on a strength they do not have, and its outcome carries that as
+    its ``caveat`` (:func:`collar_caveat`)."""
+
+    utilisation: float | None
+    fractured: bool = False
+    elastic: str | None = None
+
+
 def model_outcome(
     model: str,
     overturned: bool,
     peak_rotation: float | None,
     alpha: float,
     overturn_time: float | None = None,
-    replicas: int | None = None,
-    overturned_replicas: int | None = None,
-    collar_utilisation: float | None = None,
-    collar_fractured: bool = False,
+    *,
+    replicas: ReplicaCount | None = None,
+    collars: CollarOutcome | None = None,
     block: str = "column",
-    overturn_time_range: tuple[float, float] | None = None,
-    elastic_collars: str | None = None,
 ) -> dict:
     """One model's outcome. ``peak_rotation`` (rad) is the largest |theta| of a rocking half
     (None or the pi/2 convention of an overturned block are not reported as a rotation);
     ``alpha`` its slenderness (rad), of the ``block`` (a key of BLOCKS: ``column`` or
-    ``half``); ``overturn_time_range`` the replicas' earliest and latest overturning
-    (s); ``collar_utilisation`` the largest sigma / f_y of its
-    collars, whose state (elastic / yielded, or fractured where ``collar_fractured``: a
-    plastic collar broke) is then said beside the motion. ``elastic_collars``: the words that
-    say the model's collars never yield (e.g. "the SDOF's collars are elastic"), where they
-    do not; a model that stays up on such collars past f_y rests on a strength they do not
-    have, and its outcome carries that as its ``caveat`` (:func:`collar_caveat`)."""
+    ``half``); ``replicas``: an ensemble's (:class:`ReplicaCount`); ``collars``: the model's
+    collars (:class:`CollarOutcome`; None: it has none)."""
     if block not in BLOCKS:
         raise ValueError(f"block {block!r}: one of {', '.join(BLOCKS)}")
+    overturned_replicas = None if replicas is None else replicas.overturned
+    collar_utilisation = None if collars is None else collars.utilisation
     motion = motion_word(bool(overturned), 0.0 if peak_rotation is None else peak_rotation, alpha)
     out = {
         "model": model,
@@ -109,15 +129,16 @@ def model_outcome(
         else float(peak_rotation) / alpha,
     }
     if replicas is not None:
-        out.update(replicas=int(replicas), overturned_replicas=int(overturned_replicas or 0))
-    if overturn_time_range is not None and None not in overturn_time_range:
-        out["overturn_time_range"] = [float(v) for v in overturn_time_range]
-    if collar_utilisation is not None:
+        out.update(replicas=int(replicas.count), overturned_replicas=int(overturned_replicas or 0))
+        time_range = replicas.overturn_time_range
+        if time_range is not None and None not in time_range:
+            out["overturn_time_range"] = [float(v) for v in time_range]
+    if collars is not None and collar_utilisation is not None:
         out.update(
-            collar_state=collar_state(collar_utilisation, fractured=bool(collar_fractured)),
+            collar_state=collar_state(collar_utilisation, fractured=bool(collars.fractured)),
             collar_utilisation=float(collar_utilisation),
         )
-        caveat = collar_caveat(motion, collar_utilisation, elastic_collars)
+        caveat = collar_caveat(motion, collar_utilisation, collars.elastic)
         if caveat:
             out["caveat"] = caveat
     return out
@@ -400,10 +421,12 @@ def fem_model(model: str, fem: dict, alpha: float, block: str = "column") -> dic
         max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]),
         alpha,
         float(np.median(times)) if times else fem.get("t_end"),
-        fem.get("replicas", 1),
-        fem.get("overturned_replicas", int(bool(fem["overturned"]))),
+        replicas=ReplicaCount(
+            fem.get("replicas", 1),
+            fem.get("overturned_replicas", int(bool(fem["overturned"]))),
+            (min(times), max(times)) if times else None,
+        ),
         block=block,
-        overturn_time_range=(min(times), max(times)) if times else None,
     )
 
 

@@ -16,6 +16,8 @@ from colonna.fem.ensemble import band
 from colonna.studies.crosscheck import runner as crosscheck
 from colonna.studies.outcome import (
     QUESTIONS,
+    CollarOutcome,
+    ReplicaCount,
     collars_hold,
     criteria_answer,
     fem_answers,
@@ -42,7 +44,7 @@ def _cell(page: str, key: str, attribute: str) -> str:
 
 
 def _summary(answers: dict) -> dict:
-    model = model_outcome("FEM", False, 0.01, 0.1, None, 8, 0)
+    model = model_outcome("FEM", False, 0.01, 0.1, None, replicas=ReplicaCount(8, 0))
     return {"outcome": outcome([model], answers)}
 
 
@@ -201,12 +203,13 @@ def test_whether_collars_hold_is_asked_only_of_plastic_collars_and_where_a_study
     with pytest.raises(KeyError):  # the three are always answered, if only as not assessed
         outcome([], {"collars_hold": elastic})
     broken = model_outcome(
-        "multibody", False, 0.02, 0.1, collar_utilisation=1.3, collar_fractured=True
+        "multibody", False, 0.02, 0.1, collars=CollarOutcome(1.3, fractured=True)
     )
     assert broken["collar_state"] == "fractured"
-    assert model_outcome("multibody", False, 0.02, 0.1, collar_utilisation=1.3)["collar_state"] == (
-        "yielded"
-    )
+    yielded = model_outcome("multibody", False, 0.02, 0.1, collars=CollarOutcome(1.3))
+    assert yielded["collar_state"] == "yielded"
+    # no collars (a utilisation of None) say no collar state
+    assert "collar_state" not in model_outcome("x", False, 0.02, 0.1, collars=CollarOutcome(None))
     page = _render(
         {"outcome": outcome([broken], {k: not_assessed(q, "-") for k, q in QUESTIONS.items()})}
     )

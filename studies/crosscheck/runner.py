@@ -39,6 +39,7 @@ from ..kinds import kind_of_package
 from ..models import multibody_spectrum, run_multibody, run_sdof, sdof_spectrum
 from ..outcome import (
     QUESTIONS,
+    CollarOutcome,
     collars_hold,
     criteria_answer,
     fem_model,
@@ -1200,12 +1201,14 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
             max(mb["max_abs_theta_left"], mb["max_abs_theta_right"]),
             alpha,
             mb.get("overturn_time"),
-            collar_utilisation=mb.get("collar_max_utilisation") if study.collars else None,
-            collar_fractured=bool(mb.get("collar_fractured")),
+            collars=CollarOutcome(
+                mb.get("collar_max_utilisation") if study.collars else None,
+                fractured=bool(mb.get("collar_fractured")),
+                elastic=None
+                if any(c.plastic for c in study.collars)
+                else "the multibody model's collars are elastic frames",
+            ),
             block=block,
-            elastic_collars=None
-            if any(c.plastic for c in study.collars)
-            else "the multibody model's collars are elastic frames",
         ),
         model_outcome(
             SDOF_HALF,
@@ -1213,12 +1216,14 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
             rigid["max_abs_theta"],
             rigid["alpha"],
             rigid.get("overturn_time"),
-            collar_utilisation=rigid.get("collar_max_utilisation"),
+            collars=CollarOutcome(
+                rigid.get("collar_max_utilisation"),
+                # the SDOF's collar springs never yield (rigid.solve: collar_law "elastic")
+                elastic="the SDOF's collars are elastic"
+                if rigid.get("collar_law", "elastic") == "elastic"
+                else None,
+            ),
             block="half" if study.cracked else "column",
-            # the SDOF's collar springs never yield (rigid.solve: collar_law "elastic")
-            elastic_collars="the SDOF's collars are elastic"
-            if rigid.get("collar_law", "elastic") == "elastic"
-            else None,
         ),
         model_outcome(
             "SDOF whole column, no crack",
