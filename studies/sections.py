@@ -29,6 +29,7 @@ from ..core.errors import StaleResultsError
 from ..core.quantities import OMIT_WHEN_NONE, PRESENT_WITH, UNIT, quantity
 
 SECTION = "section"  # a field's metadata: the class of the nested section it holds
+MANY = "many"  # a field's metadata: it holds a list of such sections
 
 
 class _Absent:
@@ -56,10 +57,11 @@ Stoppable = float | str | None
 _Section = TypeVar("_Section")
 
 
-def section(cls: type, doc: str, *, optional: bool = False) -> Any:
+def section(cls: type, doc: str, *, optional: bool = False, many: bool = False) -> Any:
     """A field holding a nested section of class ``cls`` (JSON null read as None where
-    ``optional``: a section a run may not give, e.g. the toe refinement's)."""
-    metadata = {SECTION: cls, "doc": doc, "optional": optional}
+    ``optional``: a section a run may not give, e.g. the toe refinement's); ``many``: a list of
+    such sections (one per release tilt, per variant, ...)."""
+    metadata = {SECTION: cls, "doc": doc, "optional": optional, MANY: many}
     return dataclasses.field(default=None if optional else dataclasses.MISSING, metadata=metadata)
 
 
@@ -90,7 +92,10 @@ def read(cls: type[_Section], data: Mapping[str, Any], where: str = "summary.jso
         value = data[f.name]
         nested = f.metadata.get(SECTION)
         if nested is not None and not (value is None and f.metadata.get("optional")):
-            value = read(nested, value, name)
+            if f.metadata.get(MANY):
+                value = [read(nested, item, f"{name}.{k}") for k, item in enumerate(value)]
+            else:
+                value = read(nested, value, name)
         values[f.name] = value
     return cls(**values)
 
@@ -130,7 +135,8 @@ class _Probe:
                 f"{self._cls.__name__} ({where}) declares no {name!r}: one of {sorted(fields)}"
             )
         f = fields[name]
-        return _Probe(f.metadata.get(SECTION), (*self._parts, name), f.metadata.get(UNIT))
+        nested = None if f.metadata.get(MANY) else f.metadata.get(SECTION)  # a list: no attribute
+        return _Probe(nested, (*self._parts, name), f.metadata.get(UNIT))
 
 
 class Ref(Generic[_Section]):
@@ -207,6 +213,8 @@ def keys_of(cls: type) -> tuple[str, ...]:
 def written(value: Any) -> Any:
     """A section as summary.json holds it: its keys in field order, those :data:`ABSENT` left
     out, nested sections likewise (the inverse of :func:`read`); any other value as it is."""
+    if isinstance(value, list):
+        return [written(item) for item in value]
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         return {
             f.name: written(getattr(value, f.name))

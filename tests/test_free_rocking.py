@@ -97,3 +97,19 @@ def test_bad_free_rocking_input_is_one_line(tmp_path, capsys, old, new, word):
     assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and word in err
+
+
+def test_the_summary_loads_into_its_typed_sections(free_run):
+    """summary.json reads into FreeRockingSummary (a declared key it lacks would fail, named):
+    its tilts and variants as lists of sections whose values are the file's."""
+    from colonna.studies.free_rocking.summary import load
+
+    _, s = free_run
+    typed = load(s)
+    assert [t.tilt_fraction for t in typed.tilts] == [t["tilt_fraction"] for t in s["tilts"]]
+    assert typed.tilts[0].fem.ratios == s["tilts"][0]["fem"]["ratios"]
+    assert typed.tilts[0].multibody.ratio_first == s["tilts"][0]["multibody"]["ratio_first"]
+    assert [v.ratio_first for v in typed.damping_variants] == [
+        v["ratio_first"] for v in s["damping_variants"]
+    ]
+    assert typed.restitution_housner == s["restitution_housner"]

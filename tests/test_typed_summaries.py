@@ -17,8 +17,9 @@ from colonna.studies.collar_design.report import DESIGN_NUMBERS
 from colonna.studies.collar_design.summary import DesignSummary
 from colonna.studies.crosscheck.report import CROSSCHECK_NUMBERS
 from colonna.studies.crosscheck.summary import CrosscheckSummary
+from colonna.studies.free_rocking.summary import FreeRockingSummary
 from colonna.studies.report import num
-from colonna.studies.sections import ABSENT, SECTION, Ref, absent, read, section, table
+from colonna.studies.sections import ABSENT, MANY, SECTION, Ref, absent, read, section, table
 from colonna.studies.spectrum_crosscheck.report import SPECTRUM_NUMBERS
 from colonna.studies.spectrum_crosscheck.summary import SpectrumSummary
 
@@ -54,6 +55,20 @@ class _Outer:
     name: str = quantity("", "a name")
     inner: _Inner = section(_Inner, "the inner section")
     maybe: _Inner | None = section(_Inner, "a section a run may not give", optional=True)
+
+
+@dataclass(frozen=True, kw_only=True)
+class _Listing:
+    items: list[_Inner] = section(_Inner, "one per case", many=True)
+
+
+def test_a_list_of_sections_reads_each_and_names_the_one_that_lacks_a_key():
+    s = read(_Listing, {"items": [{"stress": 1.0}, {"stress": 2.0, "note": "x"}]})
+    assert [i.stress for i in s.items] == [1.0, 2.0] and s.items[0].note is ABSENT
+    with pytest.raises(StaleResultsError, match="'items.1.stress'"):
+        read(_Listing, {"items": [{"stress": 1.0}, {}]})
+    with pytest.raises(AttributeError, match="not a section"):
+        Ref(_Listing, lambda s: s.items.stress)  # type: ignore[attr-defined]
 
 
 @pytest.mark.parametrize("kind", sorted(TABLES))
@@ -117,6 +132,11 @@ def _declared(cls, key: str) -> bool:
         if part not in fields:
             return False
         nested = fields[part].metadata.get(SECTION)
+        if nested is not None and fields[part].metadata.get(MANY):
+            rest = parts[n + 1 :]  # a list of sections: an index, then the section's key
+            if not rest:
+                return True
+            return rest[0].isdigit() and (len(rest) == 1 or _declared(nested, ".".join(rest[1:])))
         if nested is None:
             kind = str(fields[part].type)
             return n == len(parts) - 1 or "dict" in kind or "list" in kind
@@ -128,6 +148,7 @@ PAGES = {
     "crosscheck": ("studies/crosscheck/report.html.j2", CrosscheckSummary),
     "collar-design": ("studies/collar_design/report.html.j2", DesignSummary),
     "spectrum-crosscheck": ("studies/spectrum_crosscheck/report.html.j2", SpectrumSummary),
+    "free-rocking": ("studies/free_rocking/report.html.j2", FreeRockingSummary),
 }
 
 

@@ -32,7 +32,7 @@ from ..report import (
     wrap,
 )
 from ..sections import Ref, table
-from .summary import CrosscheckSummary, load
+from .summary import CollarSection, CrosscheckSummary, load
 
 SIDES = ("left", "right")  # a collar's ends in the FEM history
 
@@ -75,16 +75,16 @@ def write_report(out: Path) -> Path:
     # the figures in the page's order, each appended by its function where it has something
     # to draw (collars, a plastic collar, a field file, a pulse's spectrum)
     figs: list = []
-    sdof = _sdof_block(summary)
-    _rotation_figure(out, summary, runs, figs)
+    sdof = _sdof_block(typed.outcome)
+    _rotation_figure(out, typed, runs, figs)
     # the deformed column and the base pressure at one instant: its peak rotation, or where
     # the run overturned its largest rotation before overturning
     state = drawn_state(out, runs["fem"])
     _deformed_figure(out, runs["fem"], figs, state)
     if spectrum is not None:  # a record has no place on the rigid spectrum
         _spectrum_figure(out, spectrum, figs, sdof)
-    _collar_stress_figure(out, summary, runs, figs)
-    _collar_hinge_figure(out, summary, runs["fem"], figs)
+    _collar_stress_figure(out, typed, runs, figs)
+    _collar_hinge_figure(out, typed, runs["fem"], figs)
     _toe_stress_figure(out, typed, runs["fem"], figs)
     _base_pressure_figure(out, typed, state, figs)
     renders, renders_error = _renders(out)
@@ -92,7 +92,7 @@ def write_report(out: Path) -> Path:
         out,
         "crosscheck/report.html.j2",
         summary,
-        f"colonna cross-check: {summary['study']}",
+        f"colonna cross-check: {typed.study}",
         figs=figs,
         renders=renders,
         renders_error=renders_error,
@@ -118,7 +118,7 @@ def _on_times(t, h: dict, key: str):
     return np.interp(t, h["t"], h[key], right=np.nan)
 
 
-def _rotation_figure(out: Path, summary: dict, runs: dict, figs: list) -> None:
+def _rotation_figure(out: Path, summary: CrosscheckSummary, runs: dict, figs: list) -> None:
     """The rotation of each half, the FEM's (with the band of its replicas) against the rigid
     multibody model and the two SDOF models; its CSV on the FEM's times, where all ran."""
     fem_h, mb_h = runs["fem"], runs["multibody"]
@@ -164,10 +164,10 @@ def _rotation_figure(out: Path, summary: dict, runs: dict, figs: list) -> None:
     )
 
 
-def _replica_band(ax, out: Path, summary: dict, t) -> None:
+def _replica_band(ax, out: Path, summary: CrosscheckSummary, t) -> None:
     """The band the FEM replicas' rotations span, both halves (chaotic after the first
     landing); nothing for a single run."""
-    replicas = _replica_histories(out / "cases" / "fem", summary["fem"].get("replicas", 1))
+    replicas = _replica_histories(out / "cases" / "fem", summary.fem.replicas)
     if len(replicas) <= 1:
         return
     envelope = [
@@ -186,7 +186,7 @@ def _replica_band(ax, out: Path, summary: dict, t) -> None:
     )
 
 
-def _collar_stress_figure(out: Path, summary: dict, runs: dict, figs: list) -> None:
+def _collar_stress_figure(out: Path, summary: CrosscheckSummary, runs: dict, figs: list) -> None:
     """Each collar's extreme-fibre stress against f_y over time, the FEM's (replica 0) and,
     dotted, the rigid multibody model's; nothing without collars."""
     fem_h, mb_h = runs["fem"], runs["multibody"]
@@ -224,7 +224,7 @@ def _collar_stress_figure(out: Path, summary: dict, runs: dict, figs: list) -> N
             alpha=0.9,
             label=f"rigid multibody {k.replace('_stress', '').replace('_', ' ')}",
         )
-    fy = summary["collar_fy"][0]
+    fy = summary.collar_fy[0]
     ax.axhline(fy / 1e6, color="k", ls="--", lw=1, label="f_y (yield stress)")
     ax.set_xlabel("t (s)")
     ax.set_ylabel("extreme-fibre stress (MPa)")
@@ -238,7 +238,7 @@ def _collar_stress_figure(out: Path, summary: dict, runs: dict, figs: list) -> N
             "Collar extreme-fibre stress against the yield stress: the FEM's "
             "(replica 0) and, dotted, the rigid multibody model's, collar by collar "
             "(collars with the same history drawn on top of each other, each "
-            "with its own dashes and markers)" + _until_caption(summary.get("outcome", {})),
+            "with its own dashes and markers)" + _until_caption(summary.outcome),
         )
     )
 
@@ -341,10 +341,10 @@ def _base_pressure_figure(out: Path, summary: CrosscheckSummary, state: dict, fi
     )
 
 
-def _sdof_block(summary: dict) -> str:
+def _sdof_block(outcome: dict) -> str:
     """The block of the paper's SDOF model (``half`` or ``column``: its alpha and p normalise
-    the pulse), from the outcome's models."""
-    for m in summary.get("outcome", {}).get("models", []):
+    the pulse), from the ``outcome``'s models."""
+    for m in outcome.get("models", []):
         if m["model"].startswith("SDOF half block"):
             return m.get("alpha_block", "half")
     return "half"
@@ -365,7 +365,9 @@ def _first_time(t, flags) -> float | None:
     return float(t[hit[0]]) if hit.size else None
 
 
-def _hinge_profile_panel(ax_p, c: dict, x, profile, peak: float, eps_y: float, top: float, k):
+def _hinge_profile_panel(
+    ax_p, c: CollarSection, x, profile, peak: float, eps_y: float, top: float, k
+):
     """Panel (b) of the collar hinge figure: a resultant-law collar's plastic strain along its
     span (lumped hinges), per mille, with the largest fibre strain reached, eps_u and eps_y."""
     ax_p.plot(1e3 * x, 1e3 * profile, color="C2", lw=2, label="plastic strain at the end")
@@ -376,20 +378,20 @@ def _hinge_profile_panel(ax_p, c: dict, x, profile, peak: float, eps_y: float, t
         lw=1,
         label=f"largest fibre strain reached, {1e3 * peak:.3g} per mille",
     )
-    ax_p.axhline(1e3 * c["eps_u"], color="k", ls="--", lw=1, label="eps_u (fracture)")
+    ax_p.axhline(1e3 * c.eps_u, color="k", ls="--", lw=1, label="eps_u (fracture)")
     ax_p.axhline(eps_y, color="0.5", ls=":", lw=1, label="eps_y = f_y / E")
-    for end in (c["hinge_length"], c["span"] - c["hinge_length"]):
+    for end in (c.hinge_length, c.span - c.hinge_length):
         ax_p.axvline(1e3 * end, color="0.8", lw=0.8)
     ax_p.set_yscale("symlog", linthresh=eps_y)  # eps_u is often far above the rest
     ax_p.yaxis.set_major_formatter(PLAIN)
     ax_p.set_ylim(0.0, top)
-    ax_p.set_xlabel(f"along the collar (mm), hinges over L_p = {1e3 * c['hinge_length']:.3g} mm")
+    ax_p.set_xlabel(f"along the collar (mm), hinges over L_p = {1e3 * c.hinge_length:.3g} mm")
     ax_p.set_ylabel("extreme-fibre strain (per mille)")
     ax_p.set_title(f"(b) collar {k}: plastic strain along it (lumped hinges)", fontsize=9)
     legend_beside(ax_p)
 
 
-def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> None:
+def _collar_hinge_figure(out: Path, summary: CrosscheckSummary, fem_h: dict, figs: list) -> None:
     """The plastic collars of the FEM run (replica 0, the unperturbed run, whose history is
     drawn): (a) the end moment against the end rotation (relative to the chord) at both ends
     of the most strained collar (the largest extreme-fibre strain), with +-M_y and +-M_p;
@@ -399,11 +401,11 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
     section's plastic strain lives at its integration sections, which the history does not
     keep); (c) the fibre strain of every plastic collar over time, with the most strained
     one's first yield and fracture. Drawn only for plastic collars."""
-    collars = summary.get("collars") or []
+    collars = summary.collars
     plastic = [
         k
         for k, c in enumerate(collars, start=1)
-        if c["plastic"] and f"collar_{k}_moment_left" in fem_h
+        if c.plastic and f"collar_{k}_moment_left" in fem_h
     ]
     if not plastic:
         return
@@ -412,12 +414,12 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
     c = collars[k - 1]
     yielded = _first_time(t, fem_h[f"collar_{k}_utilisation"] >= 1.0)
     fractured = _first_time(t, fem_h[f"collar_{k}_fractured"] > 0.0)
-    fibre = c.get("section") == "fibre"  # a fibre section: no lumped-hinge profile to draw
+    fibre = c.section == "fibre"  # a fibre section: no lumped-hinge profile to draw
     columns = {"t": t}
     for j in plastic:
         columns.update({key: fem_h[key] for key in fem_h if key.startswith(f"collar_{j}_")})
     write_csv(out / "figures" / "collar_hinge.csv", columns)
-    top = 1e3 * 1.5 * max(c["eps_u"], peak)
+    top = 1e3 * 1.5 * max(c.eps_u, peak)
     if fibre:
         fig = Figure(figsize=(9.5, 6.2))
         ax_m, ax_t = fig.subplots(2, 1)
@@ -427,7 +429,7 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
         fig = Figure(figsize=(9.5, 9.0))
         ax_m, ax_p, ax_t = fig.subplots(3, 1)
     _moment_rotation_panel(ax_m, c, fem_h, k, fractured)
-    eps_y = 1e3 * c["yield_strain"]
+    eps_y = 1e3 * c.yield_strain
     if not fibre:
         _hinge_profile_panel(ax_p, c, x, profile, peak, eps_y, top, k)
     _fibre_strain_panel(ax_t, c, fem_h, plastic, k, (yielded, fractured), (eps_y, top))
@@ -447,7 +449,9 @@ def _collar_hinge_figure(out: Path, summary: dict, fem_h: dict, figs: list) -> N
     )
 
 
-def _most_strained_collar(summary: dict, fem_h: dict, plastic: list) -> tuple[int, float]:
+def _most_strained_collar(
+    summary: CrosscheckSummary, fem_h: dict, plastic: list
+) -> tuple[int, float]:
     """The plastic collar with the largest extreme-fibre strain (a broken one first: it
     reached eps_u, whatever its history sampled before the break) and that strain: the run's
     largest over every step (the ensemble's band of replica 0) where this collar has the
@@ -456,20 +460,20 @@ def _most_strained_collar(summary: dict, fem_h: dict, plastic: list) -> tuple[in
     peaks = {k: float(np.max(fem_h[f"collar_{k}_fibre_strain"])) for k in plastic}
     k = max(plastic, key=lambda j: (bool(np.any(fem_h[f"collar_{j}_fractured"] > 0.0)), peaks[j]))
     peak = peaks[k]
-    values = summary["fem"].get("bands", {}).get("collar_max_fibre_strain", {}).get("values")
+    values = summary.fem.bands.get("collar_max_fibre_strain", {}).get("values")
     every = [float(np.max(fem_h[key])) for key in fem_h if key.endswith("_fibre_strain")]
     if values and values[0] is not None and peak >= max(every):
         peak = max(peak, float(values[0]))
     return k, peak
 
 
-def _residual_hinge_profile(out: Path, c: dict, fem_h: dict, k: int):
+def _residual_hinge_profile(out: Path, c: CollarSection, fem_h: dict, k: int):
     """Collar k's plastic fibre strain along its span at the end of the run (its axial
     plastic strain and end hinges, :func:`colonna.core.collar.hinge_strain_profile`), also
     written as figures/collar_hinge_profile.csv: (x, strain)."""
     axial = float(fem_h[f"collar_{k}_plastic_strain"][-1])
     left, right = (float(fem_h[f"collar_{k}_hinge_rotation_{side}"][-1]) for side in SIDES)
-    x, profile = hinge_strain_profile(c["span"], c["hinge_length"], c["h"], axial, (left, right))
+    x, profile = hinge_strain_profile(c.span, c.hinge_length, c.h, axial, (left, right))
     write_csv(
         out / "figures" / "collar_hinge_profile.csv",
         {"x": x, "plastic_fibre_strain": profile},
@@ -477,7 +481,9 @@ def _residual_hinge_profile(out: Path, c: dict, fem_h: dict, k: int):
     return x, profile
 
 
-def _moment_rotation_panel(ax_m, c: dict, fem_h: dict, k: int, fractured: float | None) -> None:
+def _moment_rotation_panel(
+    ax_m, c: CollarSection, fem_h: dict, k: int, fractured: float | None
+) -> None:
     """Panel (a) of the collar hinge figure: collar k's end moment against its end rotation,
     kN m against mrad, at both ends up to a fracture (the broken band's ends turn on carrying
     nothing), with +-M_y and +-M_p."""
@@ -510,8 +516,8 @@ def _moment_rotation_panel(ax_m, c: dict, fem_h: dict, k: int, fractured: float 
             label="last output before the fracture",
         )
     for value, style, name in (
-        (c["plastic_moment"], ("k", "--"), "M_p = f_y t h\u00b2/4 (plastic)"),
-        (c["yield_moment"], ("0.5", ":"), "M_y = f_y t h\u00b2/6 (first yield)"),
+        (c.plastic_moment, ("k", "--"), "M_p = f_y t h\u00b2/4 (plastic)"),
+        (c.yield_moment, ("0.5", ":"), "M_y = f_y t h\u00b2/6 (first yield)"),
     ):
         for sign in (1.0, -1.0):
             ax_m.axhline(
@@ -523,11 +529,13 @@ def _moment_rotation_panel(ax_m, c: dict, fem_h: dict, k: int, fractured: float 
             )
     ax_m.set_xlabel("end rotation relative to the chord (mrad)")
     ax_m.set_ylabel("end moment (kN m)")
-    ax_m.set_title(f"(a) collar {k} (y = {c['y']:g} m): end moment against rotation", fontsize=9)
+    ax_m.set_title(f"(a) collar {k} (y = {c.y:g} m): end moment against rotation", fontsize=9)
     legend_beside(ax_m)
 
 
-def _fibre_strain_panel(ax_t, c: dict, fem_h: dict, plastic: list, k: int, times, limits) -> None:
+def _fibre_strain_panel(
+    ax_t, c: CollarSection, fem_h: dict, plastic: list, k: int, times, limits
+) -> None:
     """The last panel of the collar hinge figure: every plastic collar's extreme-fibre strain
     over time, per mille, against eps_u and eps_y, with collar k's first yield and fracture
     (``times``, None where it does not); ``limits``: eps_y (per mille) and the axis top."""
@@ -541,7 +549,7 @@ def _fibre_strain_panel(ax_t, c: dict, fem_h: dict, plastic: list, k: int, times
             **distinct(j, len(plastic)),
             label=f"collar {n}",
         )
-    ax_t.axhline(1e3 * c["eps_u"], color="k", ls="--", lw=1, label="eps_u (fracture)")
+    ax_t.axhline(1e3 * c.eps_u, color="k", ls="--", lw=1, label="eps_u (fracture)")
     ax_t.axhline(eps_y, color="0.5", ls=":", lw=1, label="eps_y = f_y / E")
     for when, colour, name in zip(times, ("C1", "C3"), ("first yield", "fracture")):
         if when is not None:
@@ -554,7 +562,9 @@ def _fibre_strain_panel(ax_t, c: dict, fem_h: dict, plastic: list, k: int, times
     legend_beside(ax_t)
 
 
-def _collar_hinge_caption(c: dict, k: int, yielded: float | None, fractured: float | None) -> str:
+def _collar_hinge_caption(
+    c: CollarSection, k: int, yielded: float | None, fractured: float | None
+) -> str:
     """The collar hinge figure's caption: when collar k first yields and fractures, and what
     its panels show for its section (fibre or resultant law with lumped hinges)."""
     return (
@@ -567,15 +577,15 @@ def _collar_hinge_caption(c: dict, k: int, yielded: float | None, fractured: flo
         )
         + (
             f"; its end moment-rotation loops against M_y and M_p (a fibre section of "
-            f"{c.get('n_fibres')} layers at {c.get('n_sections')} sections: its fibres yield "
+            f"{c.n_fibres} layers at {c.n_sections} sections: its fibres yield "
             "from M_y, the moment nears M_p, hardening may carry it past, and the axial force "
             "lowers it), and the collars' largest surface strain over time"
-            if c.get("section") == "fibre"
+            if c.section == "fibre"
             else "; its end hinges' moment-rotation loops against M_y and M_p (the hinges "
             "harden slightly past M_p, and the moment falls with the axial force on the N-M "
             "surface), and its residual plastic strain along the band: the axial plastic "
             "strain everywhere plus each hinge's plastic rotation spread over its length L_p = "
-            f"{1e3 * c['hinge_length']:.3g} mm"
+            f"{1e3 * c.hinge_length:.3g} mm"
         )
     )
 

@@ -178,6 +178,29 @@ class Bed:
 
 
 @dataclass(frozen=True, kw_only=True)
+class CollarSection:
+    """``collars``: a collar as the report draws it (runner._collar_section)."""
+
+    y: float = quantity("m", "height of the collar above the base")
+    t: float = quantity("m", "band thickness")
+    h: float = quantity("m", "band height")
+    span: float = quantity("m", "span between the attachment points")
+    E: float = quantity("Pa", "steel Young's modulus")
+    fy: float = quantity("Pa", "yield stress f_y")
+    Eh: float | None = quantity("Pa", "hardening modulus E_h")
+    plastic_modulus: float | None = quantity("Pa", "plastic modulus H")
+    plastic: bool = quantity("", "a plastic collar (else elastic)")
+    eps_u: float = quantity("-", "fracture strain")
+    hinge_length: float = quantity("m", "end hinges' plastic length L_p")
+    yield_moment: float = quantity("N m", "M_y = f_y t h^2 / 6")
+    plastic_moment: float = quantity("N m", "M_p = f_y t h^2 / 4")
+    yield_strain: float = quantity("-", "eps_y = f_y / E")
+    section: str = quantity("", "the local law the models step: fibre or resultant")
+    n_fibres: int = quantity("", "a fibre section's layers")
+    n_sections: int = quantity("", "a fibre collar's integration sections")
+
+
+@dataclass(frozen=True, kw_only=True)
 class Tolerances:
     """``verdict_criteria.tolerances``: what "the same answer" allows."""
 
@@ -243,6 +266,7 @@ class CrosscheckSummary:
     pulse: Pulse = section(Pulse, "where the ground motion sits")
     collar_fy: list[float] = quantity("Pa", "each collar's yield stress")
     stone_fc: float = quantity("Pa", "the stone's compressive strength f_c")
+    collars: list[CollarSection] = section(CollarSection, "each collar", many=True)
     collar_ductility_limit: float = quantity("-", "largest fibre strain / eps_y allowed")
     verdict_criteria: VerdictCriteria = section(VerdictCriteria, "the verdict's four counts")
     fem_vs_multibody: FemVsMultibody = section(FemVsMultibody, "FEM against multibody")

@@ -12,6 +12,7 @@ from matplotlib.figure import Figure
 
 from ..output import read_csv, write_csv
 from ..report import blocks_of, distinct, figure, legend_beside, render_page
+from .summary import load
 
 
 def write_report(out: Path) -> Path:
@@ -19,15 +20,16 @@ def write_report(out: Path) -> Path:
     ratio at each impact beside Housner's, and what the FEM's value depends on."""
     out = Path(out)
     s = json.loads((out / "summary.json").read_text())
+    typed = load(s)  # a key the report reads that the file lacks fails here, named
     (out / "figures").mkdir(exist_ok=True)
-    alpha = s["alpha"]
+    alpha = typed.alpha
     block = blocks_of(out)["rocking"]  # the body that rocks: its alpha
     figs = []
     fig = Figure(figsize=(9.5, 3.6))
     ax = fig.subplots()
     columns = {}
-    n_curves = 2 * len(s["tilts"])
-    for k, tilt in enumerate(s["tilts"], start=1):
+    n_curves = 2 * len(typed.tilts)
+    for k, tilt in enumerate(typed.tilts, start=1):
         for j, (kind, style) in enumerate((("fem", "-"), ("multibody", "--"))):
             h = read_csv(out / "cases" / f"{kind}-tilt{k}" / "history.csv")
             label = "FEM" if kind == "fem" else "rigid multibody"
@@ -37,7 +39,7 @@ def write_report(out: Path) -> Path:
                 h["theta_left"] / alpha,
                 color=f"C{k - 1}",
                 **dict(distinct(2 * (k - 1) + j, n_curves), ls=style),
-                label=f"{label}, released at {tilt['tilt_fraction']:g} alpha_{block}",
+                label=f"{label}, released at {tilt.tilt_fraction:g} alpha_{block}",
             )
             columns[f"t_{kind}_tilt{k}"] = h["t"]
             columns[f"theta_over_alpha_{kind}_tilt{k}"] = h["theta_left"] / alpha
@@ -63,10 +65,10 @@ def write_report(out: Path) -> Path:
     fig = Figure(figsize=(9, 3.6))
     ax = fig.subplots()
     ratio_columns = {}
-    for k, tilt in enumerate(s["tilts"], start=1):
-        for j, kind in enumerate(("fem", "multibody")):
+    for k, tilt in enumerate(typed.tilts, start=1):
+        for j, (kind, run) in enumerate((("fem", tilt.fem), ("multibody", tilt.multibody))):
             # a run that overturned has no ratios (a string says so): nothing drawn
-            given = tilt[kind]["ratios"]
+            given = run.ratios
             ratios = np.array([] if isinstance(given, str) else given, dtype=float)
             label = "FEM" if kind == "fem" else "rigid multibody"
             i = 2 * (k - 1) + j  # equal ratios stay apart: each its marker and size
@@ -80,11 +82,11 @@ def write_report(out: Path) -> Path:
                     markevery=None,
                     markersize=8.0 - 4.0 * i / max(n_curves - 1, 1),
                 ),
-                label=f"{label}, released at {tilt['tilt_fraction']:g} alpha_{block}",
+                label=f"{label}, released at {tilt.tilt_fraction:g} alpha_{block}",
             )
             ratio_columns[f"ratio_{kind}_tilt{k}"] = ratios
     ax.axhline(
-        s["restitution_housner"], color="k", lw=0.8, ls=":", label=f"Housner 1 - 1.5 sin²α_{block}"
+        typed.restitution_housner, color="k", lw=0.8, ls=":", label=f"Housner 1 - 1.5 sin²α_{block}"
     )
     ax.set_xlabel("impact (count)")
     ax.set_ylabel(r"$\dot\theta_{after} / \dot\theta_{before}$ (-)")
