@@ -29,6 +29,7 @@ from colonna.studies.cli import main
 from colonna.studies.fragility import analysis
 from colonna.studies.fragility.models import collar_law, unreachable
 
+BOOTSTRAP = analysis.Bootstrap(draws=20, seed=0, level=0.9)
 HALF = Block(b=0.1125, h=2.0)  # the rocking block of the collared column (a half, cracked)
 
 COLLARED = """
@@ -175,7 +176,7 @@ def test_a_fit_read_outside_the_levels_is_flagged_in_the_summary():
     levels = np.array([1.0, 2.0, 3.0, 4.0])
     exceeded = np.zeros((6, 4), dtype=bool)
     exceeded[0, 2:] = exceeded[1, 3] = exceeded[2, 1:] = True
-    entry = analysis.fit_limit_state(exceeded, levels, 2.5, draws=20, seed=0, level=0.9, ida=True)
+    entry = analysis.fit_limit_state(exceeded, levels, 2.5, bootstrap=BOOTSTRAP, ida=True)
     ida = entry["ida"]
     assert ida["fit"]["median"] > 4.0
     assert ida["extrapolated"][0] == (
@@ -187,7 +188,7 @@ def test_a_fit_read_outside_the_levels_is_flagged_in_the_summary():
     inside = np.zeros((6, 4), dtype=bool)
     for i, first in enumerate((1, 2, 1, 0, 2, 3)):
         inside[i, first:] = True
-    entry = analysis.fit_limit_state(inside, levels, 2.5, draws=20, seed=0, level=0.9, ida=True)
+    entry = analysis.fit_limit_state(inside, levels, 2.5, bootstrap=BOOTSTRAP, ida=True)
     assert entry["ida"]["extrapolated"] == [] and entry["stripes"]["extrapolated"] == []
 
 

@@ -27,6 +27,7 @@ their bootstrap bands over records are :mod:`colonna.core.fragility`'s.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -122,14 +123,23 @@ def first_exceedance(exceeded, levels) -> tuple[np.ndarray, np.ndarray]:
     return capacity, ~ever
 
 
+@dataclass(frozen=True)
+class Bootstrap:
+    """How the fits' bands are drawn: ``draws`` bootstrap resamples from the random ``seed``,
+    the bands at confidence ``level`` (e.g. 0.9: the 5 % and 95 % quantiles of the draws; the
+    fractions' Clopper-Pearson intervals at the same level)."""
+
+    draws: int
+    seed: int
+    level: float
+
+
 def fit_limit_state(
     exceeded,
     levels,
     design: float,
     *,
-    draws: int,
-    seed: int,
-    level: float,
+    bootstrap: Bootstrap,
     ida: bool,
     origin: float = 0.0,
     hazard: hazards.HazardCurve | None = None,
@@ -141,7 +151,9 @@ def fit_limit_state(
     intensity and its interval, and with a ``hazard`` (in the fits' measure) its ``risk``
     (:func:`risk_entry`). A limit state no run reached (or every run did) has no
     curve: its fractions are given and its fit is None, with the reason. ``origin`` > 0: both
-    fits are the shifted lognormal of IM - origin (0 up to the origin)."""
+    fits are the shifted lognormal of IM - origin (0 up to the origin). ``bootstrap``: the
+    bands' draws, seed and confidence level (:class:`Bootstrap`)."""
+    draws, seed, level = bootstrap.draws, bootstrap.seed, bootstrap.level
     exceeded = np.asarray(exceeded, dtype=bool)
     levels = np.asarray(levels, dtype=float)
     counts = exceeded.sum(axis=0)
