@@ -39,6 +39,10 @@ LANDING_DEPENDENT = (
     "collar_ductility_demand",
     "collar_fracture_time",
     "crack_slip_residual",
+    "crack_length_final",
+    "crack_growth",
+    "crack_tip_KI_max",
+    "crack_tip_KI_ratio",
     "t_end",
     "energy_error_max",
 )
@@ -118,7 +122,7 @@ def ensemble_summary(summaries: list[dict], keys=LANDING_DEPENDENT) -> dict:
         # None where most never yield)
         out[key] = b["median"] if b["missing"] * 2 <= b["n"] else None
     tally: dict[str, Any] = {}
-    for flag in ("overturned", "collar_fractured"):  # yes-or-no outcomes of each replica
+    for flag in ("overturned", "collar_fractured", "crack_grew"):  # each replica's yes or no
         if flag not in summaries[0]:
             continue
         flags = [bool(s[flag]) for s in summaries]
@@ -165,6 +169,12 @@ class EnsembleTally:
     )
     collar_fractured_answer: str | None = quantity(
         "", "does a collar break: yes, no or undecided", omit_when_none=True, default=None
+    )
+    crack_grew_replicas: int | None = quantity(
+        "", "replicas in which the partial crack grew", omit_when_none=True, default=None
+    )
+    crack_grew_answer: str | None = quantity(
+        "", "does the crack grow: yes, no or undecided", omit_when_none=True, default=None
     )
     statuses: tuple[str, ...] = quantity("", "how each replica's run ended")
     replicas: int = quantity("", "runs in the ensemble")

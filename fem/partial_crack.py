@@ -96,11 +96,20 @@ def springs(interface: CohesiveInterface | None, n_dofs: int) -> sparse.csr_matr
     )
 
 
-def crack_columns(interface: CohesiveInterface, damage: np.ndarray, energy: np.ndarray) -> dict:
-    """A history row's crack columns from one state's damage and cohesive energies: the
-    crack's length (m, the tributary lengths of the broken pairs, d = 1), its lowest and
-    highest broken pair (m; NaN without one), the pairs' damage where partly damaged (the
-    softening zone's length, m) and the springs' elastic and dissipated energy (J)."""
+def crack_columns(
+    interface: CohesiveInterface,
+    damage: np.ndarray,
+    energy: np.ndarray,
+    x: np.ndarray,
+    rotations: np.ndarray,
+    E_prime: float,
+) -> dict:
+    """A history row's crack columns from one state's damage, cohesive energies, positions x
+    (flat) and the bodies' rotations (rad): the crack's length (m, the tributary lengths of the
+    broken pairs, d = 1), its lowest and highest broken pair (m; NaN without one), the length
+    of the partly damaged pairs (the softening zone, m), the springs' elastic and dissipated
+    energy (J), and the largest mode-I stress intensity at a crack tip (Pa m^0.5,
+    :func:`tip_stress_intensity`; NaN without a tip)."""
     broken = damage >= 1.0
     at = interface.heights[broken]
     return {
@@ -108,6 +117,82 @@ def crack_columns(interface: CohesiveInterface, damage: np.ndarray, energy: np.n
         "crack_from": float(at.min()) if at.size else math.nan,
         "crack_to": float(at.max()) if at.size else math.nan,
         "crack_softening": float(np.sum(interface.tributary[(damage > 0.0) & ~broken])),
+        "crack_tip_KI": tip_stress_intensity(interface, broken, x, rotations, E_prime),
         "energy_cohesive": float(energy[0]),
         "energy_cohesive_dissipated": float(energy[1]),
+    }
+
+
+TIP_FIT_PAIRS = 4  # the broken pairs nearest a tip that the displacement correlation fits
+
+
+def tip_stress_intensity(
+    interface: CohesiveInterface,
+    broken: np.ndarray,
+    x: np.ndarray,
+    rotations: np.ndarray,
+    E_prime: float,
+) -> float:
+    """The largest K_I (Pa m^0.5) over the crack's tips by displacement correlation
+    (:func:`colonna.fem.fracture.stress_intensities`): a tip is an intact pair next to a run of
+    broken ones; the TIP_FIT_PAIRS broken pairs nearest it (r from one to four elements behind
+    it), their opening read in the frame of the halves' mean rotation, K*(r) extrapolated
+    linearly to r = 0. NaN without a tip or with fewer than two broken pairs behind it.
+
+    The column's mesh has no refined tip and the near-tip field of a split column (a double
+    cantilever beam, arms half the width wide) is short: the fit keeps to the nearest pairs.
+    Against the double cantilever beam's K_I = 2 sqrt(3) P a / (t h^1.5) (1 + 0.64 h / a)
+    (Tada, Paris & Irwin, 3rd ed., 2000) see docs/physics.md: a screening value against K_IC."""
+    from .fracture import stress_intensities
+
+    n = broken.size
+    if n < 3 or not np.any(broken) or np.all(broken):
+        return math.nan
+    mean = float(np.mean(rotations))
+    normal = np.array([math.cos(mean), math.sin(mean)])
+    along = np.array([-math.sin(mean), math.cos(mean)])
+    jump = x.reshape(-1, 2)[interface.right] - x.reshape(-1, 2)[interface.left]
+    opening, sliding = jump @ normal, jump @ along
+    y = interface.heights
+    best = math.nan
+    for k in range(n - 1):
+        if broken[k] == broken[k + 1]:
+            continue
+        tip, step = (k + 1, -1) if broken[k] else (k, 1)  # the intact pair; the run behind it
+        run: list[int] = []
+        j = tip + step
+        while 0 <= j < n and broken[j] and len(run) < TIP_FIT_PAIRS:
+            run.append(j)
+            j += step
+        if len(run) < 2:
+            continue
+        near = np.array(run)
+        K_I, _ = stress_intensities(
+            np.abs(y[near] - y[tip]), opening[near], sliding[near], E_prime, 0.0, math.inf
+        )
+        best = K_I if not (best >= K_I) else best
+    return float(best)
+
+
+def crack_summary(interface: CohesiveInterface, history: dict, KIC: float) -> dict:
+    """A run's answers about its partial crack from its history (crack_columns): the crack's
+    length at the start and the end (m), its growth (m) and whether it grew (by at least one
+    pair), the largest K_I at a tip and its time, K_I / K_IC, and the work the cohesive
+    interface dissipated (J)."""
+    length = np.asarray(history["crack_length"], dtype=float)
+    KI = np.asarray(history["crack_tip_KI"], dtype=float)
+    smallest_pair = float(np.min(interface.tributary))
+    start, end = float(length[0]), float(length[-1])
+    finite = np.isfinite(KI)
+    at = int(np.argmax(np.where(finite, KI, -np.inf))) if np.any(finite) else None
+    KI_max = float(KI[at]) if at is not None else None
+    return {
+        "crack_length_initial": start,
+        "crack_length_final": end,
+        "crack_growth": end - start,
+        "crack_grew": bool(end - start >= 0.5 * smallest_pair),
+        "crack_tip_KI_max": KI_max,
+        "crack_tip_KI_time": float(history["t"][at]) if at is not None else None,
+        "crack_tip_KI_ratio": KI_max / KIC if KI_max is not None else None,
+        "cohesive_dissipated": float(history["energy_cohesive_dissipated"][-1]),
     }

@@ -49,7 +49,7 @@ from . import _kernels as K
 from .checkpoint import Checkpoint, clear, read_parts, write_part
 from .model import Model, coincident_nodes, collar_stiffness, contact_stiffness, stable_time_step
 from .output import HistoryFiles, write_run, write_summary
-from .partial_crack import crack_columns
+from .partial_crack import crack_columns, crack_summary
 from .settings import (
     AT_REST,
     DEFAULT_SETTINGS,
@@ -112,6 +112,34 @@ class FemRunSummary:
     status: str = shared("status")
     max_abs_theta_left: float = shared("max_abs_theta_left")
     max_abs_theta_right: float = shared("max_abs_theta_right")
+    # a partial crack's answers ([column] crack; fem.partial_crack.crack_summary), only with one
+    crack_length_initial: float | None = quantity(
+        "m", "the crack's length at the start (partial crack)", omit_when_none=True, default=None
+    )
+    crack_length_final: float | None = quantity(
+        "m", "the crack's length at the end (partial crack)", omit_when_none=True, default=None
+    )
+    crack_growth: float | None = quantity(
+        "m", "how much the crack grew (partial crack)", omit_when_none=True, default=None
+    )
+    crack_grew: bool | None = quantity(
+        "", "whether the crack grew by a pair or more", omit_when_none=True, default=None
+    )
+    crack_tip_KI_max: float | None = quantity(
+        "Pa m^0.5",
+        "largest mode-I stress intensity at a crack tip (displacement correlation)",
+        omit_when_none=True,
+        default=None,
+    )
+    crack_tip_KI_time: float | None = quantity(
+        "s", "time of the largest K_I at a tip", omit_when_none=True, default=None
+    )
+    crack_tip_KI_ratio: float | None = quantity(
+        "-", "largest K_I at a tip over the stone's K_IC", omit_when_none=True, default=None
+    )
+    cohesive_dissipated: float | None = quantity(
+        "J", "energy the intact mid-plane dissipated cracking", omit_when_none=True, default=None
+    )
     collar_max_utilisation: float = shared("collar_max_utilisation")
     collar_first_yield_time: float | None = shared("collar_first_yield_time")
     edge_stress_max: float = quantity("Pa", "largest toe stress (compression positive)")
@@ -1484,6 +1512,9 @@ class _Recorder:
                     self.model.cohesive,
                     state.cohesive_state.damage[r],
                     state.cohesive_state.energy[r],
+                    x,
+                    frames[:, 2],
+                    self.model.stone.E,  # plane stress: E' = E
                 )
             )
         self._keep_frames(t, state, r, passes)
@@ -1849,6 +1880,11 @@ def _summary(
         # what the run leaves behind: the crack slip at its end (m)
         crack_slip_residual=float(h["crack_slip_max"][-1]) if "crack_slip_max" in h else 0.0,
         **_crack_force_summary(h),
+        **(
+            crack_summary(model.cohesive, h, model.stone.KIC)
+            if model.cohesive is not None and len(h["t"])
+            else {}
+        ),
         friction_work_base=float(h["energy_friction_base"][-1]),
         friction_work_crack=float(h["energy_friction_crack"][-1]),
         contact_damping_work=float(h["energy_contact_damping"][-1]),

@@ -18,6 +18,7 @@ from ..core import quantities
 # units an engineer reads, from the SI of summary.json: shown value = SI value * factor
 DISPLAY_UNITS = {
     "MPa": 1e-6,
+    "MPa m^0.5": 1e-6,
     "GPa": 1e-9,
     "GPa/m": 1e-9,
     "kN": 1e-3,
@@ -32,7 +33,7 @@ DISPLAY_UNITS = {
 
 # the unit an engineer reads (one of DISPLAY_UNITS) for a schema unit, and per key of the study
 # file where it differs
-INPUT_UNITS = {"Pa": "MPa", "N": "kN"}
+INPUT_UNITS = {"Pa": "MPa", "N": "kN", "Pa m^0.5": "MPa m^0.5"}
 INPUT_UNITS_BY_KEY = {
     ("collar", "t"): "mm",
     ("collar", "h"): "mm",
@@ -65,7 +66,15 @@ def input_unit(table: str, key: str) -> tuple[str, float]:
 
 # how a summary value in a declared SI unit is shown: stresses in MPa, forces in kN, ...; a ratio
 # ("-") as a plain number; any other unit (m, s, rad, J, ...) as it is
-SHOWN_UNITS = {"Pa": "MPa", "N": "kN", "N m": "kN m", "N/m": "kN/m", "N/m^3": "GPa/m", "-": ""}
+SHOWN_UNITS = {
+    "Pa": "MPa",
+    "N": "kN",
+    "N m": "kN m",
+    "N/m": "kN/m",
+    "N/m^3": "GPa/m",
+    "Pa m^0.5": "MPa m^0.5",
+    "-": "",
+}
 
 
 def declared_units() -> dict[str, str]:

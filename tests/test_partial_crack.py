@@ -150,6 +150,10 @@ def test_a_full_crack_given_is_todays_crack_to_the_bit():
         assert np.array_equal(today.history[key], given.history[key]), key
     assert np.all(given.history["crack_length"] == HEIGHT)
     assert np.all(given.history["energy_cohesive_dissipated"] == 0.0)
+    assert np.all(np.isnan(given.history["crack_tip_KI"]))  # no tip
+    s = given.summary
+    assert s["crack_grew"] is False and "crack_tip_KI_max" not in s  # omitted: no tip
+    assert "crack_grew" not in today.summary  # no partial crack, no crack answers
 
 
 def test_bonded_halves_pulled_apart_dissipate_the_fracture_energy():
@@ -223,8 +227,43 @@ def test_damage_is_state_restored_bit_for_bit_alone_and_in_a_batch():
     batch = run_batch(model, [Motion(pulse, 0.6), Motion(pulse, 0.6)], SETTINGS)
     assert alone.history["crack_length"][-1] > alone.history["crack_length"][0]  # it grew
     for r in batch:
-        for key in ("crack_length", "energy_cohesive_dissipated", "theta_left"):
-            assert np.array_equal(alone.history[key], r.history[key]), key
+        for key in ("crack_length", "energy_cohesive_dissipated", "theta_left", "crack_tip_KI"):
+            assert np.array_equal(alone.history[key], r.history[key], equal_nan=True), key
+    s = alone.summary
+    assert s["crack_grew"] is True and s["crack_length_initial"] == pytest.approx(2.03, abs=0.01)
+    assert s["crack_growth"] == s["crack_length_final"] - s["crack_length_initial"] > 0.1
+    assert s["crack_tip_KI_ratio"] == pytest.approx(s["crack_tip_KI_max"] / stone.KIC)
+    assert s["crack_tip_KI_time"] <= 0.6 and s["cohesive_dissipated"] > 0.0
+
+
+def test_tip_stress_intensity_of_the_split_column_is_the_double_cantilever_beams():
+    """The column split from the top down to a (the mid-plane below intact), its halves pulled
+    apart at the top by P: a double cantilever beam, K_I = 2 sqrt(3) P a / (t h^1.5)
+    (1 + 0.64 h / a), h the half width (Tada, Paris & Irwin 2000). Static solve with the
+    intact pairs' springs; K_I by displacement correlation on the four pairs behind the tip.
+    Measured, a = 2 m: -47 %, -18 %, -4.5 %, -0.03 %, +1.6 % on meshes of width / 4 to
+    width / 64; the default mesh (width / 16) within 5 %."""
+    from scipy.sparse.linalg import spsolve
+
+    from colonna.fem.model import base_stiffness
+    from colonna.fem.partial_crack import springs, tip_stress_intensity
+
+    t, a, P = 0.35, 2.0, 1e4
+    h = WIDTH / 2
+    exact = 2.0 * math.sqrt(3.0) * P * a / (t * h**1.5) * (1.0 + 0.64 * h / a)
+    errors = []
+    for size in (WIDTH / 8, WIDTH / 16):
+        m = build_model(
+            column_mesh(WIDTH, HEIGHT, size, grading=0.0), STRONG, t, crack=(HEIGHT - a, HEIGHT)
+        )
+        c = m.cohesive
+        f = np.zeros(m.n_dofs)
+        f[2 * c.left[-1]], f[2 * c.right[-1]] = -P, P  # the crack's mouth opened
+        K = (m.stiffness + springs(c, m.n_dofs) + base_stiffness(m)).tocsc()
+        u = spsolve(K, f)
+        KI = tip_stress_intensity(c, c.damage0 >= 1.0, m.X + u, np.zeros(2), m.stone.E)
+        errors.append(KI / exact - 1.0)
+    assert abs(errors[1]) < 0.05 and abs(errors[1]) < 0.5 * abs(errors[0])
 
 
 @pytest.mark.slow
@@ -246,3 +285,20 @@ def test_a_crack_of_no_extent_is_the_solid_column():
         key = f"max_abs_theta_{side}"
         solid, bonded = out["solid"]["bands"][key], out["bonded"]["bands"][key]
         assert bonded["min"] >= solid["min"] * 0.995 and bonded["max"] <= solid["max"] * 1.005
+
+
+def test_does_the_crack_grow_is_answered_on_the_replicas():
+    """Each replica's crack_grew is a yes-or-no outcome: yes when all grew, no when none,
+    undecided otherwise; the crack's final length and K_I / K_IC are landing-dependent bands."""
+    base = {"status": "completed", "overturned": False, "crack_length_final": 2.0}
+    runs = [
+        {**base, "crack_grew": grew, "crack_tip_KI_ratio": ratio, "crack_length_final": length}
+        for grew, ratio, length in ((True, 1.3, 2.5), (False, 0.8, 2.0), (True, 1.1, 2.4))
+    ]
+    out = ensemble_summary(runs)
+    assert out["crack_grew_answer"] == "undecided" and out["crack_grew_replicas"] == 2
+    assert out["crack_grew"] is True  # the majority's
+    assert out["bands"]["crack_tip_KI_ratio"]["min"] == 0.8
+    assert out["crack_length_final"] == 2.4  # the median
+    assert ensemble_summary(runs[::2])["crack_grew_answer"] == "yes"
+    assert ensemble_summary(runs[1:2])["crack_grew_answer"] == "no"

@@ -184,7 +184,8 @@ def test_ensemble_summary_keys_have_units(fem_runs):
     summary = ensemble_summary([r.summary for r in fem_runs["cracked, collar"]])
     assert not [key for key in summary if declared_unit(key) is None]
     added = [key for key in summary if key not in FEM_KEYS + FEM_COLLAR_KEYS + FEM_CRACK_KEYS]
-    assert added == list(units_of(EnsembleTally))  # the tally's keys, in its order
+    # the tally's keys, in its order (a partial crack's answer only with one)
+    assert added == [key for key in units_of(EnsembleTally) if not key.startswith("crack_grew")]
     assert summary["statuses"] == ["completed", "completed"]
 
 

@@ -12,9 +12,9 @@ cannot follow an import still reads the class as a dataclass)::
         collar_note: str | None = quantity("", "...", omit_when_none=True, default=None)
 
 Units are SI symbols (:data:`SI_UNITS`): "rad", "m", "s", "Pa", "N", "N m", "N/m", "J", "kg",
-"rad/s", "m/s^2"; "-" for a plain ratio and "" for counts, yes/no and words. The units of every
-registered class's keys are :func:`declared_units`, the one table the display units are found
-from (``colonna.studies.units.unit_of``).
+"rad/s", "m/s^2", "Pa m^0.5"; "-" for a plain ratio and "" for counts, yes/no and words. The
+units of every registered class's keys are :func:`declared_units`, the one table the display
+units are found from (``colonna.studies.units.unit_of``).
 
 :func:`to_dict` gives the summary as the models always gave it (keys in field order, Python
 numbers, a NaN kept as NaN), :func:`to_json` the same with NaN and inf as None (JSON has
@@ -38,7 +38,23 @@ import numpy as np
 
 # the units a field may declare: SI symbols, "-" a plain ratio, "" counts, yes/no and words
 SI_UNITS = frozenset(
-    {"", "-", "rad", "rad/s", "m", "s", "Pa", "N", "N m", "N/m", "N/m^3", "J", "kg", "m/s^2"}
+    {
+        "",
+        "-",
+        "rad",
+        "rad/s",
+        "m",
+        "s",
+        "Pa",
+        "N",
+        "N m",
+        "N/m",
+        "N/m^3",
+        "J",
+        "kg",
+        "m/s^2",
+        "Pa m^0.5",  # a stress intensity
+    }
 )
 
 UNIT = "unit"
