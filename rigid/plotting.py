@@ -7,6 +7,9 @@ chosen for the process (at import or at all) and no figure is left open in pyplo
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import dataclass
+
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.figure import Figure
@@ -19,6 +22,20 @@ MODE_COLOURS = ("#f2f2f2", "#d95f02", "#1b9e77")  # safe, after-impact, without-
 MODE_LABELS = ("safe", "overturns after impact(s)", "overturns without impact")
 MODE_MARKERS = ("o", "^", "s")  # the same modes by shape, for markers on a map
 COARSE_GRID = 20  # a map with at most this many points along each axis marks every point
+
+
+@dataclass(frozen=True)
+class MarkerStyle:
+    """How :func:`grid_markers` draws each code k of a map: ``colours[k]`` (its face colour),
+    ``markers[k]`` (its matplotlib marker shape) and ``labels[k]`` (its legend text); by
+    default the overturning modes' (safe, after impact, without impact)."""
+
+    colours: Sequence[str] = MODE_COLOURS
+    markers: Sequence[str] = MODE_MARKERS
+    labels: Sequence[str] = MODE_LABELS
+
+
+MODE_STYLE = MarkerStyle()
 
 
 def plot_history(result, path, title: str | None = None):
@@ -124,15 +141,17 @@ def grid_markers(
     x,
     y,
     codes,
-    colours=MODE_COLOURS,
-    markers=MODE_MARKERS,
-    labels=MODE_LABELS,
+    style: MarkerStyle = MODE_STYLE,
+    *,
     always: bool = False,
     size: float | None = None,
 ) -> list:
-    """A marker at each computed point of a map (rows: y, columns: x), coloured and shaped by
-    its code, so that a coarse grid shows where its data are; nothing on a grid finer than
-    COARSE_GRID along an axis unless ``always``. Returns a legend handle per code drawn."""
+    """A marker at each computed point of a map (rows: y, columns: x), coloured, shaped and
+    labelled by its code as ``style`` says (:class:`MarkerStyle`), so that a coarse grid shows
+    where its data are; nothing on a grid finer than COARSE_GRID along an axis unless
+    ``always``. ``size``: the markers' area (points^2; None: 40 on a grid of at most 10 points
+    along each axis, else 18). Returns a legend handle per code drawn."""
+    colours, markers, labels = style.colours, style.markers, style.labels
     codes = np.asarray(codes, dtype=int)
     if not always and max(codes.shape) > COARSE_GRID:
         return []

@@ -1096,7 +1096,7 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list, block: str = "half")
     verdict's rigid reference, as a marker at each pulse of its coarser grid."""
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
-    from ...rigid.plotting import MODE_COLOURS, MODE_LABELS, grid_markers
+    from ...rigid.plotting import MODE_COLOURS, MODE_LABELS, MarkerStyle, grid_markers
 
     codes = np.array([[MODE_CODES[c] for c in row] for row in spectrum["mode"]])
     w = np.array(spectrum["omega_ratios"])
@@ -1122,7 +1122,9 @@ def _spectrum_figure(out: Path, spectrum: dict, figs: list, block: str = "half")
     )
     # the legend lists what is drawn: the modes present (a marker per pulse of a coarse grid),
     # the yield line if any, the multibody outcomes, the pulse
-    handles = grid_markers(ax, w, a, codes, labels=[f"SDOF: {m}" for m in MODE_LABELS], size=12)
+    handles = grid_markers(
+        ax, w, a, codes, MarkerStyle(labels=[f"SDOF: {m}" for m in MODE_LABELS]), size=12
+    )
     handles = handles or [
         Patch(facecolor=MODE_COLOURS[k], edgecolor="0.5", label=f"SDOF: {MODE_LABELS[k]}")
         for k in range(3)
@@ -1170,7 +1172,7 @@ def _multibody_markers(out: Path, ax, mb: dict) -> list[Artist]:
     """The rigid multibody model's outcome at each pulse of its coarse grid (spectrum.json's
     ``multibody``) as a marker, also written as figures/spectrum_multibody.csv; the legend
     handles."""
-    from ...rigid.plotting import MODE_LABELS, grid_markers
+    from ...rigid.plotting import MODE_LABELS, MarkerStyle, grid_markers
 
     mb_codes = np.array([[MODE_CODES[c] for c in row] for row in mb["mode"]])
     mb_w, mb_a = np.array(mb["omega_ratios"]), np.array(mb["amplitude_ratios"])
@@ -1187,9 +1189,9 @@ def _multibody_markers(out: Path, ax, mb: dict) -> list[Artist]:
         mb_w,
         mb_a,
         mb_codes,
+        MarkerStyle(labels=[f"rigid multibody: {m}" for m in MODE_LABELS]),
         always=True,
         size=60,
-        labels=[f"rigid multibody: {m}" for m in MODE_LABELS],
     )
 
 

@@ -128,7 +128,7 @@ def _disagreement_figure(out: Path, s: dict, maps: dict, labels: tuple[str, str]
     """Where the FEM and each rigid model (multibody, SDOF) disagree over the grid."""
     from matplotlib.colors import ListedColormap
 
-    from ...rigid.plotting import grid_markers
+    from ...rigid.plotting import MarkerStyle, grid_markers
 
     x_label, amplitude = labels
     w, a = np.array(s["omega_ratios"]), np.array(s["amplitude_ratios"])
@@ -148,7 +148,7 @@ def _disagreement_figure(out: Path, s: dict, maps: dict, labels: tuple[str, str]
         marked.update(
             (h.get_label(), h)
             for h in grid_markers(
-                ax, w, a, differ.astype(int), colours=shades, markers=("o", "X"), labels=words
+                ax, w, a, differ.astype(int), MarkerStyle(shades, ("o", "X"), words)
             )
         )
         ax.set_title(label)
