@@ -65,7 +65,7 @@ def run_study_file(
     def tell_the_work():  # once, as the first case is computed (not for a refused study)
         if clock.started is not None:
             return
-        expected = expected_work_of(study, work)
+        expected = expected_work_of(study, work, out)
         clock.start(wall_estimate(expected, workers))
         if progress and work.seconds > 0.0:
             print(f"[study] {work_estimate(expected, workers)}", file=sys.stderr, flush=True)
@@ -139,14 +139,33 @@ def check_work(study: Study, *, long: bool = False):
     return work
 
 
-def expected_work_of(study: Study, work):
+def expected_work_of(study: Study, work, out: Path | None = None):
     """The work of a study as it is expected to run, for its estimate of time: its kind's
     ``expected_work(study)`` where it has one (the cross-check expects its FEM runs to stop
-    where its rigid model overturns), else ``work`` (:func:`fem_work_of`'s, an upper bound).
-    Computed as the study starts computing, not when its work is checked (the check stays
-    cheap)."""
+    where its rigid model overturns), else ``work`` (:func:`fem_work_of`'s, an upper bound),
+    less the runs of the cases already saved in ``out`` (a resumed run:
+    :func:`without_saved`). Computed as the study starts computing, not when its work is
+    checked (the check stays cheap)."""
     expected = getattr(KINDS[study.kind].module(), "expected_work", None)
-    return work if expected is None else expected(study)
+    found = work if expected is None else expected(study)
+    return found if out is None else without_saved(found, Path(out))
+
+
+def without_saved(work, out: Path):
+    """``work`` less its runs whose case (:attr:`FemRun.case <studies.work.FemRun.case>`, a
+    case key; ``sub/key`` for a case of a study run in ``out/sub``) is saved
+    (:func:`studies.executor.saved_cases`)."""
+    from .executor import saved_cases
+
+    saved: dict[str, set[str]] = {}
+
+    def done(case: str) -> bool:
+        folder, _, key = case.rpartition("/")
+        if folder not in saved:
+            saved[folder] = saved_cases(out / folder) if folder else saved_cases(out)
+        return key in saved[folder]
+
+    return replace(work, runs=tuple(r for r in work.runs if not done(r.case)))
 
 
 def fem_work_of(study: Study):

@@ -158,6 +158,17 @@ def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsy
     assert toe["median"] == answers["toe_crushes"]["median"]
     assert check["record"] == s["records"][check["record_index"]]["name"]
     assert (sub / "index.html").exists()
+    # the estimate of a resumed run: every case it expects is saved under the key it expects
+    # (the screening's, the FEM stripe's, the cross-check's in its folder) but the refinement's
+    # (which layouts it refines is known from the screening only)
+    from colonna.studies.collar_layout.runner import expected_work
+    from colonna.studies.driver import without_saved
+    from colonna.studies.study import load
+
+    expected = expected_work(load(study))
+    assert {r.case.split("-")[0] for r in expected.runs} >= {"elastic", "fem", "chosen"}
+    left = without_saved(expected, out)
+    assert left.runs and all(r.case.startswith("plastic-") for r in left.runs), left.runs
     for run in s["fem"]["runs"]:  # an overturned run's stop is no peak
         assert run["peak_ratio"] is None or not run["overturned"]
     html = (out / "index.html").read_text()
@@ -417,7 +428,8 @@ def test_the_crosscheck_section_quotes_its_summary():
     fem, mb = found["rotations"]
     assert fem["peak_rotation"] == 0.025 and fem["band"] == [0.02, 0.04]
     assert mb["peak_rotation"] is None and mb["overturn_time"] == 1.5 and mb["band"] is None
-    assert found["peak_ratio"] == {"median": 1.1, "min": 1.0, "max": 1.2, "tolerance": 0.2}
+    assert found["peak_ratio"] == {"median": 1.1, "min": 1.0, "max": 1.2}
+    assert found["peak_tolerance"] == 0.2
     assert [a["key"] for a in found["answers"]] == ["toe_crushes"]
     toe = found["answers"][0]
     assert (toe["median"], toe["min"], toe["max"]) == (0.05, 0.04, 0.06)
@@ -494,3 +506,23 @@ def test_the_answer_says_what_the_fem_stripe_says():
     }
     for agreement, end in said.items():
         assert answer_text(s, two, {"agreement": agreement}, [two]).endswith(end)
+
+
+def test_a_resumed_estimate_leaves_the_saved_cases_out(tmp_path):
+    """studies.driver.without_saved: the runs whose case is saved in out/cases (or, for a case
+    ``sub/key``, in out/sub/cases) leave the estimate; a damaged one stays in it."""
+    from colonna.studies.driver import without_saved
+    from colonna.studies.executor import save_case
+    from colonna.studies.work import FemRun, FemWork
+
+    def run(case):
+        return FemRun(0, 0, 0, 0, case, other_seconds=1.0)
+
+    work = FemWork(runs=tuple(run(c) for c in ("a", "b", "e", "sub/c", "sub/d")))
+    save_case(tmp_path / "cases" / "a", {"key": "a", "sha256": "0"}, {"x": 1})
+    save_case(tmp_path / "sub" / "cases" / "c", {"key": "c", "sha256": "0"}, {"x": 2})
+    save_case(tmp_path / "cases" / "e", {"key": "e", "sha256": "0"}, {"x": 3})
+    (tmp_path / "cases" / "e" / "result.json").write_text('{"x": 4}')  # edited: not saved
+    left = without_saved(work, tmp_path)
+    assert [r.case for r in left.runs] == ["b", "e", "sub/d"]
+    assert left.cpu_seconds == pytest.approx(3.0)

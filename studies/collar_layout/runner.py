@@ -303,6 +303,14 @@ def ladder_walk(case: dict, directory: str) -> dict:
     return {"walk": walk, "seconds": time.perf_counter() - start}
 
 
+def screening_key(section: tuple, i: int) -> str:
+    """The case key of the elastic walk of a count x section (x pretension force) and record
+    ``i``."""
+    count, t, h = section[:3]
+    force = f"-P{section[3]:.6g}" if len(section) > 3 else ""
+    return f"elastic-{count}x{t * 1e3:g}x{h * 1e3:g}{force}-{i:03d}"
+
+
 def screening(s: Setup, out: Path, options: RunOptions) -> dict:
     """The elastic walks of every count x section and record: {section: [walk per record]}."""
     scales = [analysis.scales_for(s.levels, im).tolist() for im in s.intensity]
@@ -319,9 +327,7 @@ def screening(s: Setup, out: Path, options: RunOptions) -> dict:
             cases.append(
                 case_of(
                     dataclasses.replace(one, ground=record, duration=duration),
-                    key=f"elastic-{count}x{t * 1e3:g}x{h * 1e3:g}"
-                    + (f"-P{force:.6g}" if force else "")
-                    + f"-{i:03d}",
+                    key=screening_key(section, i),
                     section=list(section),
                     record=i,
                     scales=scales[i],
@@ -440,7 +446,7 @@ def refine(candidates: list[Candidate], brackets: dict, s: Setup, out, options) 
             cases.append(
                 case_of(
                     dataclasses.replace(one, ground=record, duration=duration),
-                    key=f"plastic-{_slug(c.label)}-{i:03d}",
+                    key=refinement_key(c, i),
                     label=c.label,
                     record=i,
                     scales=scales[i],
@@ -463,8 +469,10 @@ def refine(candidates: list[Candidate], brackets: dict, s: Setup, out, options) 
     return walks
 
 
-def _slug(label: str) -> str:
-    return label.replace(" x ", "x").replace(" mm ", "-").replace(" ", "-")
+def refinement_key(c: Candidate, i: int) -> str:
+    """The case key of the plastic walk of layout ``c`` and record ``i``."""
+    slug = c.label.replace(" x ", "x").replace(" mm ", "-").replace(" ", "-")
+    return f"plastic-{slug}-{i:03d}"
 
 
 def plastic_capacities(candidate: Candidate, found: dict, plastic: list, s: Setup):
@@ -869,12 +877,9 @@ def crosscheck_section(found: dict) -> dict:
     return {
         "verdict": found["verdict"],
         "rotations": peaks,
-        "peak_ratio": {
-            "median": ratio["median"],
-            "min": ratio["min"],
-            "max": ratio["max"],
-            "tolerance": found["verdict_criteria"]["tolerances"]["peak"],
-        },
+        # FEM peak over the multibody's over the replicas (null where a run stopped)
+        "peak_ratio": {"median": ratio["median"], "min": ratio["min"], "max": ratio["max"]},
+        "peak_tolerance": found["verdict_criteria"]["tolerances"]["peak"],
         "answers": quoted,
         "caveats": caveats,
         "stone_fc": found["stone_fc"],
@@ -1043,7 +1048,11 @@ def _crosscheck_work(study: Study, s: Setup, expected: bool):
     sub = crosscheck_of(text, study.base / CROSSCHECK_FILE)
     module = KINDS[sub.kind].module()
     work = module.expected_work(sub) if expected else module.fem_work(sub)
-    later = tuple(dataclasses.replace(r, stage=r.stage + CROSSCHECK_STAGE) for r in work.runs)
+    # its cases are saved in the sub-study's folder (studies.driver.without_saved)
+    later = tuple(
+        dataclasses.replace(r, stage=r.stage + CROSSCHECK_STAGE, case=f"{CROSSCHECK_DIR}/{r.case}")
+        for r in work.runs
+    )
     return dataclasses.replace(work, runs=later)
 
 
@@ -1060,23 +1069,28 @@ def _fem_stripe_work(s: Setup):
     interval = _interval(one, s.records)
     models: dict = {}
     work = FemWork()
-    for record in s.records:
+    for i, record in enumerate(s.records):
         work += estimate_work(
-            _fem_study(one, record, 1.0, interval), 1, models=models, case="fem", stage=2
+            _fem_study(one, record, 1.0, interval), 1, models=models, case=f"fem-{i:03d}", stage=2
         )
     return work
 
 
 def expected_work(study: Study):
     """The study's work as it is expected to run, for its estimate of time: the screening's
-    walks (stage 0), the refinement of the shortlist (stage 1) and the FEM confirmation
-    (stage 2; :func:`fem_work`)."""
+    walks (stage 0), the refinement of the shortlist (stage 1), the FEM confirmation
+    (stage 2; :func:`fem_work`) and the chosen layout's cross-check (stage 3 on). Each run's
+    case is the key it is saved under, so that a resumed run's estimate leaves the saved ones
+    out (studies.driver.without_saved); the refinement's are taken as the shortlist's lightest
+    layouts with collars, each with all its records (which layouts and records it refines is
+    known only from the screening)."""
     from ..work import FemRun, FemWork
 
     s = setup(study)
     runs = []
     sections = {c.section for c in s.candidates}
-    refined = min(s.spec.shortlist, sum(1 for c in s.candidates if c.count))
+    # the refinement takes the lightest layouts with collars (those whose records are open)
+    refined = [c for c in s.candidates if c.count][: s.spec.shortlist]
     for i, record in enumerate(s.records):
         seconds = record.end_time + FREE_TIME_P / s.column.rocking_block.p
         for section in sections:
@@ -1086,18 +1100,18 @@ def expected_work(study: Study):
                     0,
                     0,
                     0,
-                    f"elastic-{section}-{i}",
+                    screening_key(section, i),
                     other_seconds=0.5 * len(s.levels) * ELASTIC_SECONDS_PER_SECOND * seconds,
                 )
             )
-        for k in range(refined):
+        for c in refined:
             runs.append(
                 FemRun(
                     0,
                     0,
                     0,
                     0,
-                    f"plastic-{k}-{i}",
+                    refinement_key(c, i),
                     stage=1,
                     other_seconds=PLASTIC_LEVELS * PLASTIC_SECONDS_PER_SECOND * seconds,
                 )
