@@ -211,14 +211,40 @@ def keys_of(cls: type) -> tuple[str, ...]:
 
 
 def written(value: Any) -> Any:
-    """A section as summary.json holds it: its keys in field order, those :data:`ABSENT` left
-    out, nested sections likewise (the inverse of :func:`read`); any other value as it is."""
+    """A section as summary.json holds it: its keys in field order, those left out that are
+    :data:`ABSENT` or that the quantities' rules leave out (``omit_when_none`` while None,
+    ``present_with`` a key left out), nested sections likewise (the inverse of :func:`read`);
+    any other value as it is."""
     if isinstance(value, list):
         return [written(item) for item in value]
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        return {
-            f.name: written(getattr(value, f.name))
-            for f in dataclasses.fields(value)
-            if getattr(value, f.name) is not ABSENT
+        fields = dataclasses.fields(value)
+        left_out = {
+            f.name
+            for f in fields
+            if getattr(value, f.name) is ABSENT
+            or (f.metadata.get(OMIT_WHEN_NONE) and getattr(value, f.name) is None)
         }
+        left_out |= {f.name for f in fields if f.metadata.get(PRESENT_WITH) in left_out}
+        return {f.name: written(getattr(value, f.name)) for f in fields if f.name not in left_out}
     return value
+
+
+def keyed(cls: type, data: dict[str, Any]) -> dict[str, Any]:
+    """``data``, a summary dict a study writes, checked against the section ``cls`` that reads
+    it: its keys are the declared fields, in their order, none missing but those that may be
+    left out (ValueError naming the difference): the writer and the reader share one list of
+    keys."""
+    names = [f.name for f in dataclasses.fields(cls)]
+    undeclared = [key for key in data if key not in names]
+    missing = [
+        f.name for f in dataclasses.fields(cls) if f.name not in data and not _may_be_left_out(f)
+    ]
+    if undeclared or missing:
+        raise ValueError(
+            f"{cls.__name__}: keys written but not declared {undeclared}, declared but not "
+            f"written {missing}"
+        )
+    if list(data) != [name for name in names if name in data]:
+        raise ValueError(f"{cls.__name__}: keys written out of the declared order: {list(data)}")
+    return data

@@ -19,7 +19,18 @@ from colonna.studies.crosscheck.report import CROSSCHECK_NUMBERS
 from colonna.studies.crosscheck.summary import CrosscheckSummary
 from colonna.studies.free_rocking.summary import FreeRockingSummary
 from colonna.studies.report import num
-from colonna.studies.sections import ABSENT, MANY, SECTION, Ref, absent, read, section, table
+from colonna.studies.sections import (
+    ABSENT,
+    MANY,
+    SECTION,
+    Ref,
+    absent,
+    keyed,
+    read,
+    section,
+    table,
+    written,
+)
 from colonna.studies.spectrum_crosscheck.report import SPECTRUM_NUMBERS
 from colonna.studies.spectrum_crosscheck.summary import SpectrumSummary
 
@@ -162,3 +173,17 @@ def test_every_number_the_page_names_is_a_declared_quantity(kind):
     undeclared = sorted({k for k in keys if not _declared(cls, k)})
     assert not undeclared, undeclared
     assert not _declared(cls, "fem.edge_stres_max") and not _declared(cls, "study.name")
+
+
+def test_the_writer_checks_its_keys_against_the_reader():
+    """keyed: the dict a study writes has the reading class's keys, in its order, each
+    required one there; a renamed, extra, missing or moved key fails when it is written."""
+    assert keyed(_Inner, {"stress": 1.0}) == {"stress": 1.0}
+    with pytest.raises(ValueError, match=r"not declared \['stres'\]"):
+        keyed(_Inner, {"stres": 1.0})
+    with pytest.raises(ValueError, match=r"not written \['stress'\]"):
+        keyed(_Inner, {"note": "x"})
+    with pytest.raises(ValueError, match="out of the declared order"):
+        keyed(_Inner, {"note": "x", "stress": 1.0})
+    s = read(_Inner, {"stress": None})
+    assert written(s) == {"stress": None}  # ABSENT left out, None kept

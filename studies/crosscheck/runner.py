@@ -55,11 +55,12 @@ from ..outcome import (
     without_stopping_angles,
 )
 from ..output import read_csv, write_csv, write_json
-from ..sections import ABSENT, keys_of, written
+from ..sections import ABSENT, keyed, keys_of, written
 from ..study import Study
 from ..work import FemWork
 from ..work import fem_work as estimate_work
 from .summary import (
+    CrosscheckSummary,
     MultibodySection,
     PeakRotations,
     Pulse,
@@ -710,7 +711,7 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
     sdof_at_rest = _sdof_at_rest(study, results)
     answers = crosscheck_outcome(study, results, criteria)
     sdof_model = next(m for m in answers["models"] if m["model"] == SDOF_HALF)
-    return {
+    summary = {
         "study": study.name,
         "outcome": answers,
         "verdict": _verdict(study, results, answers, ratios, sdof_at_rest),
@@ -764,6 +765,8 @@ def assemble_summary(study, results: dict, criteria: dict) -> dict:
         "peak_tolerance": PEAK_TOLERANCE,
         "convergence": _uncertainty(results),
     }
+    # its keys and their order are CrosscheckSummary's, the one declaration the report reads
+    return keyed(CrosscheckSummary, summary)
 
 
 def _two_halves_peak(summary: dict) -> float:

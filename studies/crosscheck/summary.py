@@ -251,26 +251,30 @@ class Pulse:
 
 @dataclass(frozen=True, kw_only=True)
 class CrosscheckSummary:
-    """The cross-check's summary.json, the sections its report reads."""
+    """The cross-check's summary.json, every key in the file's order: what the runner writes
+    (runner.assemble_summary: the FEM, toe stress, bed and criteria sections as their dicts)
+    and the report reads. ``wall_seconds`` is added once the study is done."""
 
     study: str = quantity("", "the study's name")
     outcome: dict[str, Any] = quantity("", "the models' motion and the answers (studies.outcome)")
+    verdict: Verdict = section(Verdict, "the answers in words")
+    verdict_caveats: dict[str, str] = quantity("", "why a verdict rests on a model's limits")
+    sdof_at_rest: bool = quantity("", "neither the SDOF nor the multibody model uplifts")
     fem: FemSection = section(FemSection, "the FEM ensemble")
     peak_rotations: PeakRotations = section(PeakRotations, "each model's largest rotation")
+    collar_heights: list[float] = quantity("m", "each collar's height")
+    collar_fy: list[float] = quantity("Pa", "each collar's yield stress")
+    collars: list[CollarSection] = section(CollarSection, "each collar", many=True)
+    collar_ductility_limit: float = quantity("-", "largest fibre strain / eps_y allowed")
+    stone_fc: float = quantity("Pa", "the stone's compressive strength f_c")
+    toe_stress: ToeStress | None = section(ToeStress, "the refined toe stress", optional=True)
+    bed: Bed = section(Bed, "the bed and the toe's Winkler pivot")
     rigid_multibody: MultibodySection = section(MultibodySection, "the rigid multibody run")
     rigid: SdofHalfSection = section(SdofHalfSection, "the SDOF half block with collars")
     rigid_monolith: SdofColumnSection = section(SdofColumnSection, "the whole-column SDOF")
-    verdict: Verdict = section(Verdict, "the answers in words")
-    toe_stress: ToeStress | None = section(ToeStress, "the refined toe stress", optional=True)
-    bed: Bed = section(Bed, "the bed and the toe's Winkler pivot")
-    pulse: Pulse = section(Pulse, "where the ground motion sits")
-    collar_fy: list[float] = quantity("Pa", "each collar's yield stress")
-    stone_fc: float = quantity("Pa", "the stone's compressive strength f_c")
-    collars: list[CollarSection] = section(CollarSection, "each collar", many=True)
-    collar_ductility_limit: float = quantity("-", "largest fibre strain / eps_y allowed")
-    verdict_criteria: VerdictCriteria = section(VerdictCriteria, "the verdict's four counts")
-    fem_vs_multibody: FemVsMultibody = section(FemVsMultibody, "FEM against multibody")
     theta_peak_ratio_fem_over_multibody: Stoppable = quantity("-", "peak rotation ratio")
+    fem_vs_multibody: FemVsMultibody = section(FemVsMultibody, "FEM against multibody")
+    verdict_criteria: VerdictCriteria = section(VerdictCriteria, "the verdict's four counts")
     theta_peak_ratio_fem_over_rigid: Stoppable = quantity("-", "peak rotation ratio")
     theta_peak_ratio_fem_over_monolith: Stoppable = quantity("-", "peak rotation ratio")
     theta_peak_ratio_rigid_over_multibody: Stoppable = quantity("-", "peak rotation ratio")
@@ -282,9 +286,12 @@ class CrosscheckSummary:
         "-", "multibody impacts' velocity ratio after the ground motion"
     )
     restitution_housner: float = like(RockingSummary, "restitution_housner")
+    pulse: Pulse = section(Pulse, "where the ground motion sits")
+    peak_tolerance: float = quantity("-", "|theta / theta_reference - 1| for one answer")
     convergence: dict[str, Any] | None = quantity(
         "", "the FEM numbers on meshes 4h, 2h, h (None: not run)"
     )
+    wall_seconds: float = absent("s", "the study's wall-clock time")
 
 
 def load(data: dict[str, Any]) -> CrosscheckSummary:
