@@ -6,11 +6,16 @@ from typing import TYPE_CHECKING
 from ..core import lazy_exports
 
 # name -> the module that defines it, imported on first use (:func:`colonna.core.lazy_exports`)
-_PUBLIC = {"ColumnMesh": ".column", "column_mesh": ".column", "from_arrays": ".column"}
+_PUBLIC = {
+    "ColumnMesh": ".column",
+    "ToeGrading": ".column",
+    "column_mesh": ".column",
+    "from_arrays": ".column",
+}
 
 if TYPE_CHECKING:  # what the names are, for type checkers (nothing is imported at run time)
-    from .column import ColumnMesh, column_mesh, from_arrays
+    from .column import ColumnMesh, ToeGrading, column_mesh, from_arrays
 
 __getattr__, __dir__ = lazy_exports(globals(), _PUBLIC)
 
-__all__ = ["ColumnMesh", "column_mesh", "from_arrays"]
+__all__ = ["ColumnMesh", "ToeGrading", "column_mesh", "from_arrays"]

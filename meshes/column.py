@@ -141,6 +141,21 @@ def _require_node_count(n_nodes: int, size: float, area: float) -> None:
         )
 
 
+@dataclass(frozen=True)
+class ToeGrading:
+    """How the mesh is refined at the base corners: ``refinement``, how many times the
+    elements within ``zone`` (m) of a base corner are split in x and in y (1: none); ``size``
+    (m), the element size at the base corners, graded geometrically within ``zone`` (None: no
+    toe grading; see the module)."""
+
+    refinement: int = 1
+    zone: float = 0.0
+    size: float | None = None
+
+
+NO_TOE_GRADING = ToeGrading()
+
+
 def column_mesh(
     width: float,
     height: float,
@@ -149,18 +164,17 @@ def column_mesh(
     cracked: bool = True,
     grading: float = 0.5,
     pinned_heights=(),
-    toe_refinement: int = 1,
-    toe_zone: float = 0.0,
-    toe_size: float | None = None,
+    toe: ToeGrading = NO_TOE_GRADING,
 ) -> ColumnMesh:
     """Structured, graded quadrilateral mesh of the column.
 
     size: target element size (m), at most the width of one body; grading in [0, 1);
     pinned_heights: heights (m) at which a row of nodes is placed exactly (collar positions);
-    toe_refinement: how many times the elements within toe_zone (m) of a base corner are
-    split in x and in y (1: none); toe_size (m): the element size at the base corners, graded
-    geometrically within toe_zone (None: no toe grading; see the module).
+    toe: the refinement and grading at the base corners (:class:`ToeGrading`).
     """
+    if not isinstance(toe, ToeGrading):
+        raise InputError(f"toe = {toe!r} is not a colonna.meshes.ToeGrading")
+    toe_refinement, toe_zone, toe_size = toe.refinement, toe.zone, toe.size
     require_positive("column width (m)", width)
     require_positive("column height (m)", height)
     body_width = 0.5 * width if cracked else width

@@ -36,7 +36,7 @@ def toe_mesh(study: FemStudy, refinement: int):
     :func:`studies.fem_study.toe_resolution` costs a step
     of about 1e-7 s on the default column: too many steps for a window; the static pivot of
     tests/test_bed.py resolves the zone.)"""
-    from ..meshes.column import column_mesh
+    from ..meshes.column import ToeGrading, column_mesh
 
     return column_mesh(
         study.width,
@@ -45,9 +45,7 @@ def toe_mesh(study: FemStudy, refinement: int):
         cracked=study.cracked,
         grading=study.grading,
         pinned_heights=[c.y for c in study.collars],
-        toe_refinement=refinement,
-        toe_zone=study.edge_length,
-        toe_size=study.toe_size,
+        toe=ToeGrading(refinement, study.edge_length, study.toe_size),
     )
 
 

@@ -25,6 +25,7 @@ from colonna.fem.model import ContactSettings, build_model
 from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import run
 from colonna.meshes import column_mesh
+from colonna.meshes.column import ToeGrading
 from colonna.studies import schema
 
 WIDTH, HEIGHT, THICKNESS = 0.4, 1.0, 0.3
@@ -38,7 +39,7 @@ def _pivot(toe_size: float, E: float = 500e9):
     rotation (mass-weighted least squares), the contact length (where the penetration crosses
     zero, between nodes linearly), the toe's pressure and the resultant's distance from it."""
     mesh = column_mesh(
-        WIDTH, HEIGHT, 0.05, cracked=False, grading=0.3, toe_zone=0.03, toe_size=toe_size
+        WIDTH, HEIGHT, 0.05, cracked=False, grading=0.3, toe=ToeGrading(zone=0.03, size=toe_size)
     )
     model = build_model(mesh, Stone(E=E), THICKNESS, bed=Bed(K_BED, K_BED, K_BED, "test"))
     m = model.node_mass
@@ -105,7 +106,7 @@ def test_the_base_springs_are_the_bed_and_nothing_else():
     bed = bed_of("lead")
     totals, toe = [], []
     for r in (1, 2, 4):
-        mesh = column_mesh(WIDTH, 2.0, 0.1, toe_refinement=r, toe_zone=0.04)
+        mesh = column_mesh(WIDTH, 2.0, 0.1, toe=ToeGrading(refinement=r, zone=0.04))
         for E, factor in ((50e9, 1.0), (5e9, 4.0)):
             model = build_model(
                 mesh,
@@ -127,7 +128,7 @@ def test_a_column_at_rest_on_its_bed_presses_it_evenly():
     """Standing still (explicit run, resolved toe grading): the base's resultant is the whole
     weight at mid-width from the toe, and the largest nodal pressure is the mean W / (t width)
     raised by the elastic block's edge effect on its bed by a few per cent (measured 3.9 %)."""
-    mesh = column_mesh(WIDTH, HEIGHT, 0.1, cracked=False, toe_zone=0.02, toe_size=0.005)
+    mesh = column_mesh(WIDTH, HEIGHT, 0.1, cracked=False, toe=ToeGrading(zone=0.02, size=0.005))
     model = build_model(mesh, Stone(), THICKNESS, bed=bed_of("mortar"))
     r = run(model, Motion(NoMotion(), 0.01), FemSettings(output_interval=1e-3, progress=False))
     s = r.summary
@@ -193,16 +194,18 @@ def test_the_toe_grading_rule_puts_its_elements_across_the_contact():
     W, k, t, alpha = 16.8e3, 2.2e11, 0.35, 0.11
     size = resolving_toe_size(W, k, t, alpha)
     assert 4 * size == pytest.approx(np.sqrt(2 * W / (k * t * alpha / 2)), rel=1e-12)
-    mesh = column_mesh(0.45, 4.0, 0.0375, toe_zone=0.01, toe_size=size)
+    mesh = column_mesh(0.45, 4.0, 0.0375, toe=ToeGrading(zone=0.01, size=size))
     xs = np.unique(mesh.points[0])
     ys = np.unique(mesh.points[1])
     assert np.diff(xs)[0] <= size * (1 + 1e-9) and np.diff(ys)[0] <= size * (1 + 1e-9)
     assert np.sum(xs < xs[0] + 4 * size * (1 + 1e-9)) >= 5  # 4 elements over c at alpha / 2
     # the graded zone keeps a collar's row, and says so where it would not
-    pinned = column_mesh(0.45, 4.0, 0.0375, pinned_heights=[0.5], toe_zone=0.01, toe_size=size)
+    pinned = column_mesh(
+        0.45, 4.0, 0.0375, pinned_heights=[0.5], toe=ToeGrading(zone=0.01, size=size)
+    )
     assert np.any(np.abs(pinned.points[1] - 0.5) < 1e-12)
     with pytest.raises(InputError, match="pinned"):
-        column_mesh(0.45, 4.0, 0.0375, pinned_heights=[0.02], toe_zone=0.03, toe_size=size)
+        column_mesh(0.45, 4.0, 0.0375, pinned_heights=[0.02], toe=ToeGrading(zone=0.03, size=size))
 
 
 def test_a_bad_bed_is_an_input_error_naming_the_key():
@@ -233,7 +236,12 @@ def test_a_block_dropping_onto_its_toe_presses_the_bed_as_the_closed_form_says()
     peaks = []
     for across in (4, 8):
         mesh = column_mesh(
-            WIDTH, HEIGHT, 0.05, cracked=False, grading=0.3, toe_zone=0.03, toe_size=0.0146 / across
+            WIDTH,
+            HEIGHT,
+            0.05,
+            cracked=False,
+            grading=0.3,
+            toe=ToeGrading(zone=0.03, size=0.0146 / across),
         )
         model = build_model(mesh, Stone(), THICKNESS, bed=Bed(k, k, k, "a soft bed"))
         h = run(

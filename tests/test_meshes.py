@@ -91,6 +91,8 @@ def test_xdmf_time_series(tmp_path):
         (dict(width=-1.0, height=4.0, size=0.1), "width"),
         (dict(width=0.8, height=4.0, size=0.5), "mesh size"),
         (dict(width=0.8, height=4.0, size=0.1, grading=1.2), "grading"),
+        # issue 49: the toe's settings are one ToeGrading, a dict of them is refused by name
+        (dict(width=0.8, height=4.0, size=0.1, toe={"size": 0.01}), "toe = .* is not a"),
     ],
 )
 def test_bad_mesh_input(kwargs, name):

@@ -25,6 +25,7 @@ from colonna.fem.toe_stress import (
 )
 from colonna.fem.transfer import transfer_contact, transfer_state
 from colonna.meshes import column_mesh
+from colonna.meshes.column import ToeGrading
 from colonna.rigid.block import Block
 from colonna.rigid.collars import Collar
 
@@ -41,8 +42,7 @@ def _mesh(refinement=1, size=0.05):
         size,
         grading=0.0,
         pinned_heights=[0.5],
-        toe_refinement=refinement,
-        toe_zone=0.01,
+        toe=ToeGrading(refinement=refinement, zone=0.01),
     )
 
 
@@ -112,12 +112,12 @@ def test_toe_refinement_splits_only_the_elements_at_the_base_corners():
 @pytest.mark.parametrize("refinement", [0, 2.5, True, 65])
 def test_bad_toe_refinement_is_rejected(refinement):
     with pytest.raises(InputError, match="toe_refinement"):
-        column_mesh(WIDTH, HEIGHT, 0.05, toe_refinement=refinement, toe_zone=0.01)
+        column_mesh(WIDTH, HEIGHT, 0.05, toe=ToeGrading(refinement=refinement, zone=0.01))
 
 
 def test_toe_refinement_needs_a_zone():
     with pytest.raises(InputError, match="toe_zone"):
-        column_mesh(WIDTH, HEIGHT, 0.05, toe_refinement=2)
+        column_mesh(WIDTH, HEIGHT, 0.05, toe=ToeGrading(refinement=2))
 
 
 # --- transfer between meshes ----------------------------------------------------------------
