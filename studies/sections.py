@@ -29,7 +29,8 @@ from ..core.errors import StaleResultsError
 from ..core.quantities import OMIT_WHEN_NONE, PRESENT_WITH, UNIT, quantity
 
 SECTION = "section"  # a field's metadata: the class of the nested section it holds
-MANY = "many"  # a field's metadata: it holds a list of such sections
+MANY = "many"  # a field's metadata: it holds a list (or a table by name) of such sections
+STOPPABLE = "stoppable"  # a field's metadata: the words of a stopped run may stand in its place
 
 
 class _Absent:
@@ -57,11 +58,14 @@ Stoppable = float | str | None
 _Section = TypeVar("_Section")
 
 
-def section(cls: type, doc: str, *, optional: bool = False, many: bool = False) -> Any:
+def section(
+    cls: type, doc: str, *, optional: bool = False, many: bool = False, stoppable: bool = False
+) -> Any:
     """A field holding a nested section of class ``cls`` (JSON null read as None where
     ``optional``: a section a run may not give, e.g. the toe refinement's); ``many``: a list of
-    such sections (one per release tilt, per variant, ...)."""
-    metadata = {SECTION: cls, "doc": doc, "optional": optional, MANY: many}
+    such sections (one per release tilt, ...) or a table of them by name (one per variant);
+    ``stoppable``: the words of a stopped run may stand in its place (kept as they are)."""
+    metadata = {SECTION: cls, "doc": doc, "optional": optional, MANY: many, STOPPABLE: stoppable}
     return dataclasses.field(default=None if optional else dataclasses.MISSING, metadata=metadata)
 
 
@@ -91,8 +95,13 @@ def read(cls: type[_Section], data: Mapping[str, Any], where: str = "summary.jso
             )
         value = data[f.name]
         nested = f.metadata.get(SECTION)
-        if nested is not None and not (value is None and f.metadata.get("optional")):
-            if f.metadata.get(MANY):
+        kept = (value is None and f.metadata.get("optional")) or (
+            isinstance(value, str) and f.metadata.get(STOPPABLE)
+        )
+        if nested is not None and not kept:
+            if f.metadata.get(MANY) and isinstance(value, Mapping):
+                value = {k: read(nested, item, f"{name}.{k}") for k, item in value.items()}
+            elif f.metadata.get(MANY):
                 value = [read(nested, item, f"{name}.{k}") for k, item in enumerate(value)]
             else:
                 value = read(nested, value, name)
@@ -170,6 +179,11 @@ class Ref(Generic[_Section]):
     def __repr__(self) -> str:
         return f"Ref({self.key!r})"
 
+    def __str__(self) -> str:
+        """Its dotted key: a template joins it into the page's keys (``"variants." ~ n ~ "."
+        ~ ref``)."""
+        return self.key
+
 
 class Resolved(str):
     """A row's dotted key with the value read by attribute from the typed summary: the page's
@@ -217,6 +231,8 @@ def written(value: Any) -> Any:
     any other value as it is."""
     if isinstance(value, list):
         return [written(item) for item in value]
+    if isinstance(value, dict):
+        return {k: written(item) for k, item in value.items()}
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         fields = dataclasses.fields(value)
         left_out = {

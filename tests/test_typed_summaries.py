@@ -18,6 +18,8 @@ from colonna.studies.collar_design.summary import DesignSummary
 from colonna.studies.crosscheck.report import CROSSCHECK_NUMBERS
 from colonna.studies.crosscheck.summary import CrosscheckSummary
 from colonna.studies.free_rocking.summary import FreeRockingSummary
+from colonna.studies.mesh_convergence.report import CONVERGENCE_QUANTITIES
+from colonna.studies.mesh_convergence.summary import MeshConvergenceSummary
 from colonna.studies.report import num
 from colonna.studies.sections import (
     ABSENT,
@@ -31,8 +33,11 @@ from colonna.studies.sections import (
     table,
     written,
 )
+from colonna.studies.solid_vs_cracked.report import VARIANT_FIELDS
+from colonna.studies.solid_vs_cracked.summary import SolidVsCrackedSummary
 from colonna.studies.spectrum_crosscheck.report import SPECTRUM_NUMBERS
 from colonna.studies.spectrum_crosscheck.summary import SpectrumSummary
+from colonna.studies.zhang_makris.summary import ZhangMakrisSummary
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -160,6 +165,9 @@ PAGES = {
     "collar-design": ("studies/collar_design/report.html.j2", DesignSummary),
     "spectrum-crosscheck": ("studies/spectrum_crosscheck/report.html.j2", SpectrumSummary),
     "free-rocking": ("studies/free_rocking/report.html.j2", FreeRockingSummary),
+    "mesh-convergence": ("studies/mesh_convergence/report.html.j2", MeshConvergenceSummary),
+    "solid-vs-cracked": ("studies/solid_vs_cracked/report.html.j2", SolidVsCrackedSummary),
+    "zhang-makris": ("studies/zhang_makris/report.html.j2", ZhangMakrisSummary),
 }
 
 
@@ -187,3 +195,41 @@ def test_the_writer_checks_its_keys_against_the_reader():
         keyed(_Inner, {"note": "x", "stress": 1.0})
     s = read(_Inner, {"stress": None})
     assert written(s) == {"stress": None}  # ABSENT left out, None kept
+
+
+def test_per_item_tables_name_their_quantities_and_join_into_the_page_keys():
+    """The tables of a quantity per variant or per mesh name it by attribute too; the page joins
+    its key (str of the Ref) into its own: "variants." ~ n ~ "." ~ key."""
+    assert [str(ref) for ref, _, _ in VARIANT_FIELDS] == [
+        "fem_peak_rotation",
+        "fem_overturned",
+        "rigid_peak_rotation",
+        "rigid_mode",
+        "collar_max_utilisation",
+        "edge_stress_ratio",
+        "status",
+    ]
+    assert [ref.key for ref, _, _ in CONVERGENCE_QUANTITIES] == [
+        "peak_rotation",
+        "collar_max_utilisation",
+        "edge_stress_max",
+        "toe_pressure_winkler",
+    ]
+    s = read(SolidVsCrackedSummary, {"study": "a", "variants": {"solid": _variant(0.1)}})
+    assert VARIANT_FIELDS[0][0].of(s.variants["solid"]) == 0.1
+    with pytest.raises(StaleResultsError, match="'variants.cracked.status'"):
+        bad = _variant(0.2)
+        del bad["status"]
+        read(SolidVsCrackedSummary, {"study": "a", "variants": {"cracked": bad}})
+
+
+def _variant(peak: float) -> dict:
+    return {
+        "fem_peak_rotation": peak,
+        "fem_overturned": False,
+        "rigid_peak_rotation": peak,
+        "rigid_mode": "safe",
+        "collar_max_utilisation": 0.5,
+        "edge_stress_ratio": 0.1,
+        "status": "completed",
+    }

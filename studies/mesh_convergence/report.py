@@ -12,7 +12,9 @@ from matplotlib.ticker import NullFormatter
 
 from ..output import write_csv
 from ..report import figure, one_figure_report, wrap
+from ..sections import Ref
 from ..units import shown_unit
+from .summary import Convergence, load
 
 
 def write_report(out: Path) -> Path:
@@ -26,17 +28,22 @@ def write_report(out: Path) -> Path:
     )
 
 
-# (summary key, label, unit) of the mesh-convergence table
-CONVERGENCE_QUANTITIES = [
-    ("peak_rotation", "peak rotation", "rad"),
-    ("collar_max_utilisation", "collar utilisation sigma / f_y", "-"),
+# (quantity of the summary's convergence section, label, unit) of the mesh-convergence table;
+# the template joins each quantity's key into the page's keys ("convergence." ~ name ~ ...)
+CONVERGENCE_QUANTITIES: list[tuple[Ref[Convergence], str, str]] = [
+    (Ref(Convergence, lambda c: c.peak_rotation), "peak rotation", "rad"),
     (
-        "edge_stress_max",
+        Ref(Convergence, lambda c: c.collar_max_utilisation),
+        "collar utilisation sigma / f_y",
+        "-",
+    ),
+    (
+        Ref(Convergence, lambda c: c.edge_stress_max),
         "toe stress, study-mesh peak (base contact pressure averaged over the toe window)",
         "Pa",
     ),
     (
-        "toe_pressure_winkler",
+        Ref(Convergence, lambda c: c.toe_pressure_winkler),
         "Winkler toe pressure of the sampled base force and tilt, on the bed's fixed k",
         "Pa",
     ),
@@ -44,24 +51,25 @@ CONVERGENCE_QUANTITIES = [
 
 
 def _convergence_figure(out: Path, s: dict) -> dict:
-    sizes = s["sizes"]
+    typed = load(s)  # a key the report reads that the file lacks fails here, named
+    sizes = typed.sizes
     columns = {"h": np.array(sizes)}
     fig = Figure(figsize=(13, 3.6))
     axes = fig.subplots(1, len(CONVERGENCE_QUANTITIES))
     handles: dict[str, Artist] = {}  # one legend for the three panels, below them: what is drawn
-    for ax, (name, label, unit) in zip(axes, CONVERGENCE_QUANTITIES):
-        c = s["convergence"][name]
+    for ax, (quantity, label, unit) in zip(axes, CONVERGENCE_QUANTITIES):
+        c = quantity.of(typed.convergence)
         # a run that overturned has no value (its rotation is where it stopped): not drawn
-        given = np.array([v if isinstance(v, (int, float)) else np.nan for v in c["values"]])
-        columns[name] = given
+        given = np.array([v if isinstance(v, (int, float)) else np.nan for v in c.values])
+        columns[quantity.key] = given
         unit, scale = shown_unit(unit)  # stresses in MPa
         values = scale * given
         handles.setdefault("FEM", ax.plot(sizes, values, "o-", color="C0", label="FEM")[0])
-        if isinstance(c["richardson"], (int, float)):
+        if isinstance(c.richardson, (int, float)):
             handles.setdefault(
                 "Richardson",
                 ax.axhline(
-                    scale * c["richardson"],
+                    scale * c.richardson,
                     color="k",
                     ls="--",
                     lw=0.8,

@@ -8,19 +8,21 @@ import json
 from pathlib import Path
 
 from ..report import fmt, image, render_page
+from .summary import load
 
 
 def write_markdown(out: Path, s: dict) -> None:
     """``out/report.md``: the validation's histories and mode boundaries against the paper's
     Fig. 5, and its spectra (what ``colonna validate`` leaves beside summary.json)."""
-    lin, non = s["boundaries"]["linear"], s["boundaries"]["nonlinear"]
+    typed = load(s)  # a key the report reads that the summary lacks fails here, named
+    lin, non = typed.boundaries.linear, typed.boundaries.nonlinear
     rows = "\n".join(
-        f"| {x} | {h['mode']} | {h['impacts']} | {fmt(h['max_abs_theta_over_alpha'], 4)} |"
-        for x, h in s["histories"].items()
+        f"| {x} | {h.mode} | {h.impacts} | {fmt(h.max_abs_theta_over_alpha, 4)} |"
+        for x, h in typed.histories.items()
     )
     text = f"""# Zhang & Makris block: validation of the rigid solver
 
-Block: p = {s["block"]["p"]:.2f} rad/s, alpha = {s["block"]["alpha"]:.2f} rad, nu = 0.9;
+Block: p = {typed.block.p:.2f} rad/s, alpha = {typed.block.alpha:.2f} rad, nu = 0.9;
 one-sine pulse, Omega/p = 5, amplitude a_p in units of g alpha (linear model).
 
 | a_p / (g alpha) | mode | impacts | max abs theta / alpha |
@@ -47,6 +49,7 @@ def write_report(out: Path) -> Path:
     """The Zhang & Makris validation: figures, boundaries and spectra."""
     out = Path(out)
     summary = json.loads((out / "summary.json").read_text())
+    load(summary)  # a key the page reads that the file lacks fails here, named
     histories = [
         image(out / f"history_{x.replace('.', '_')}.png", f"a_p = {x} g alpha, Omega/p = 5")
         for x in ("3.00", "3.01", "6.32", "6.33")
