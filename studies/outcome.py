@@ -45,9 +45,11 @@ QUESTIONS = {
     "collars_yield": "Do the collars yield?",
     "collars_hold": "Do the collars hold?",
     "toe_crushes": "Does the toe crush?",
+    "crack_grows": "Does the crack grow?",
 }
-# answered only by the studies that ask them (listed where given, left out otherwise)
-OPTIONAL_QUESTIONS = ("collars_hold",)
+# answered only by the studies that ask them (listed where given, left out otherwise): the
+# collars' fracture where a collar is plastic, the crack's growth where it is partial
+OPTIONAL_QUESTIONS = ("collars_hold", "crack_grows")
 # the answers made from stresses, which hold only up to an overturning
 STRESS_QUESTIONS = ("collars_yield", "collars_hold", "toe_crushes")
 # the blocks whose slenderness alpha (and frequency parameter p) a model's rotation is given in
@@ -354,6 +356,30 @@ def collars_hold(fem: dict, collars, figure: str | None = None) -> dict:
     }
 
 
+def crack_grows(fem: dict, figure: str | None = None) -> dict:
+    """Does the crack grow? From an FEM ensemble summary ``fem`` of a partial crack ([column]
+    crack): yes where it grew (a pair of the intact mid-plane broke) in every replica, no in
+    none, undecided otherwise (``crack_grew_answer``), with the count of replicas, the crack's
+    length at the start and its final length's band (m), and the largest K_I / K_IC at a tip
+    (band; :mod:`colonna.fem.partial_crack`)."""
+    question = QUESTIONS["crack_grows"]
+    grew = fem.get("crack_grew_answer")
+    if grew not in (YES, NO, UNDECIDED):
+        return not_assessed(question, "no record of the crack's growth in the FEM run")
+    bands = fem.get("bands", {})
+    return {
+        "question": question,
+        "answer": grew,
+        "measure": "replicas in which the crack grew (a pair of the intact mid-plane broke)",
+        "count": int(fem["crack_grew_replicas"]),
+        "points": int(fem.get("replicas", 1)),
+        "length_initial": fem["crack_length_initial"],
+        "length_final": bands.get("crack_length_final"),
+        "ki_ratio": bands.get("crack_tip_KI_ratio"),
+        "figure": figure,
+    }
+
+
 def grid_outcome(model: str, overturned: list[list]) -> dict:
     """A model's outcome over a grid of pulses: at how many it overturns."""
     flags = [bool(v) for row in overturned for v in row if v is not None]
@@ -407,6 +433,8 @@ def fem_answers(fem: dict, why_not_rigid: str, collars=()) -> dict[str, dict]:
     }
     if any(c.plastic for c in collars):
         answers["collars_hold"] = collars_hold(fem, collars)
+    if "crack_grew_answer" in fem:  # a partial crack ([column] crack): does it grow?
+        answers["crack_grows"] = crack_grows(fem)
     return answers
 
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import copy
 import math
+import re
 
 import numpy as np
 import pytest
@@ -72,8 +73,6 @@ def test_crack_heights_outside_the_column_are_refused_naming_the_key(crack, mess
 
 
 def re_escape(text):
-    import re
-
     return re.escape(text)
 
 
@@ -302,3 +301,86 @@ def test_does_the_crack_grow_is_answered_on_the_replicas():
     assert out["crack_length_final"] == 2.4  # the median
     assert ensemble_summary(runs[::2])["crack_grew_answer"] == "yes"
     assert ensemble_summary(runs[1:2])["crack_grew_answer"] == "no"
+
+
+def test_crack_grows_answer_from_the_ensemble():
+    from colonna.studies.outcome import QUESTIONS, crack_grows, outcome
+
+    fem = ensemble_summary(
+        [
+            {"status": "completed", "overturned": False, "crack_grew": grew,
+             "crack_length_initial": 1.0, "crack_length_final": final,
+             "crack_tip_KI_ratio": ratio}
+            for grew, final, ratio in ((False, 1.0, 0.4), (False, 1.0, 0.5))
+        ]
+    )  # fmt: skip
+    answer = crack_grows(fem)
+    assert answer["question"] == QUESTIONS["crack_grows"] == "Does the crack grow?"
+    assert answer["answer"] == "no" and (answer["count"], answer["points"]) == (0, 2)
+    assert answer["length_final"]["max"] == 1.0 and answer["ki_ratio"]["median"] == 0.45
+    assert crack_grows({"bands": {}})["answer"] == "not assessed"
+    # listed where given, left out where a study has no partial crack
+    base = {"answer": "no", "question": "q"}
+    keys = ("rigid_assumption_ok", "collars_yield", "toe_crushes", "stays_up")
+    plain = outcome([], {key: base for key in keys})
+    assert "crack_grows" not in [a["key"] for a in plain["answers"]]
+    given = outcome([], {**{key: base for key in keys}, "crack_grows": answer})
+    assert [a["key"] for a in given["answers"]][-1] == "crack_grows"
+    # a study whose FEM runs alone asks it too where its column has a partial crack
+    from colonna.studies.outcome import fem_answers
+
+    assert fem_answers(fem, "-")["crack_grows"]["answer"] == "no"
+    assert "crack_grows" not in fem_answers({"bands": {}}, "-")
+
+
+TINY_PARTIAL = """
+[study]
+name = "tiny-partial"
+[column]
+height = 1.0
+width = 0.2
+crack = [0.5, 1.0]
+[stone]
+ft = {ft}
+[[collar]]
+y = 0.75
+t = 0.004
+h = 0.02
+[ground]
+amplitude_ratio = 2.5
+omega_ratio = 3.0
+[mesh]
+size = 0.05
+grading = 0.0
+toe_refinements = []
+[run]
+duration = 0.6
+output_interval = 0.005
+replicas = 2
+"""
+
+
+@pytest.mark.slow
+def test_the_crosscheck_first_screen_answers_does_the_crack_grow(tmp_path):
+    """A tiny column cracked from the top down to mid-height, marble strength: the first
+    screen answers no, with the count of replicas, the crack's length at the start and its
+    band at the end, and K_I / K_IC; the verdict carries the word."""
+    from colonna.studies.driver import run_study_file
+    from colonna.studies.executor import RunOptions
+
+    study = tmp_path / "tiny.toml"
+    study.write_text(TINY_PARTIAL.format(ft=8e6))
+    summary = run_study_file(
+        study, tmp_path / "out", run_options=RunOptions(workers=1, progress=False)
+    )
+    answer = next(a for a in summary["outcome"]["answers"] if a["key"] == "crack_grows")
+    assert answer["answer"] == summary["verdict"]["crack_grows"] == "no"
+    assert answer["count"] == 0 and answer["points"] == 2
+    assert answer["length_initial"] == answer["length_final"]["max"] == pytest.approx(0.475)
+    assert 0.0 < answer["ki_ratio"]["max"] < 1.0
+    html = (tmp_path / "out" / "index.html").read_text()
+    row = html[html.index('data-answer="crack_grows"') :].split("</tr>")[0]
+    words = re.sub("<[^>]+>", "", row).replace("&nbsp;", " ")
+    assert 'class="good"' in row and "grew" in words and ": 0 of 2;" in words
+    assert "crack length 0.475 m at the start, 0.475 m at the end" in words
+    assert "largest K_I / K_IC at a tip" in words

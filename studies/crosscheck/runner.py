@@ -41,6 +41,7 @@ from ..outcome import (
     QUESTIONS,
     CollarOutcome,
     collars_hold,
+    crack_grows,
     criteria_answer,
     fem_model,
     fem_stop,
@@ -832,6 +833,7 @@ def _verdict(study, results: dict, answers: dict, ratios: dict, sdof_at_rest: bo
         if is_stopped(ratio) or is_stopped(ratio_monolith) or fem_at_rest
         else _word(abs(ratio_monolith - 1.0) < abs(ratio - 1.0)),
         overturns_fem=fem["overturned_answer"],
+        crack_grows=words.get("crack_grows"),
     )
     return written(verdict)
 
@@ -1254,6 +1256,8 @@ def crosscheck_outcome(study, results: dict, criteria: dict) -> dict:
             "collars_yield": collars_yield(study, fem, results),
             "collars_hold": collars_hold(fem, study.collars, figure="collar_hinge"),
             "toe_crushes": toe_crushes(study, results),
+            # a partial crack ([column] crack): does it grow? (the FEM's cohesive mid-plane)
+            **({"crack_grows": crack_grows(fem)} if study.crack is not None else {}),
         },
     )
 

@@ -116,6 +116,9 @@ class Verdict:
     toe_crushes: str = quantity("", "does the toe crush")
     rocks_as_one_block: str = quantity("", "the halves rock as one block")
     overturns_fem: str = quantity("", "does the FEM column overturn")
+    crack_grows: str | None = quantity(
+        "", "does the partial crack grow ([column] crack)", omit_when_none=True, default=None
+    )
 
 
 @dataclass(frozen=True, kw_only=True)
