@@ -17,6 +17,7 @@ from colonna.studies.collar_design.report import DESIGN_NUMBERS
 from colonna.studies.collar_design.summary import DesignSummary
 from colonna.studies.crosscheck.report import CROSSCHECK_NUMBERS
 from colonna.studies.crosscheck.summary import CrosscheckSummary
+from colonna.studies.fragility.summary import FragilitySummary
 from colonna.studies.free_rocking.summary import FreeRockingSummary
 from colonna.studies.mesh_convergence.report import CONVERGENCE_QUANTITIES
 from colonna.studies.mesh_convergence.summary import MeshConvergenceSummary
@@ -165,6 +166,7 @@ PAGES = {
     "collar-design": ("studies/collar_design/report.html.j2", DesignSummary),
     "spectrum-crosscheck": ("studies/spectrum_crosscheck/report.html.j2", SpectrumSummary),
     "free-rocking": ("studies/free_rocking/report.html.j2", FreeRockingSummary),
+    "fragility": ("studies/fragility/report.html.j2", FragilitySummary),
     "mesh-convergence": ("studies/mesh_convergence/report.html.j2", MeshConvergenceSummary),
     "solid-vs-cracked": ("studies/solid_vs_cracked/report.html.j2", SolidVsCrackedSummary),
     "zhang-makris": ("studies/zhang_makris/report.html.j2", ZhangMakrisSummary),

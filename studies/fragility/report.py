@@ -17,6 +17,7 @@ from ..report import figure, legend_beside, render_page
 from .analysis import LIMIT_STATES
 from .models import MODEL_NAMES
 from .runner import answer_fit
+from .summary import load
 
 FIT_NAMES = {"ida": "IDA", "stripes": "stripes"}
 INTENSITY_LABELS = {
@@ -33,21 +34,22 @@ def write_report(out: Path) -> Path:
     """index.html of a fragility study from its summary.json."""
     out = Path(out)
     s = json.loads((out / "summary.json").read_text())
+    typed = load(s)  # a key the report reads that the file lacks fails here, named
     (out / "figures").mkdir(exist_ok=True)
-    label = INTENSITY_LABELS[s["intensity"]]
-    if s["intensity"] == "sa":
-        label = label.replace("T", f"T = {s['period']:g} s")
+    label = INTENSITY_LABELS[typed.intensity]
+    if typed.intensity == "sa":
+        label = label.replace("T", f"T = {typed.period:g} s")
     figs = [
         _curves(out, s, label),
         _ida(out, s, label),
         _spectra(out, s),
     ]
-    hazard_figure = _hazard(out, s, label) if s.get("hazard") else None
+    hazard_figure = _hazard(out, s, label) if typed.hazard else None
     return render_page(
         out,
         "fragility/report.html.j2",
         s,
-        f"colonna fragility: {s['study']}",
+        f"colonna fragility: {typed.study}",
         figs=[f for f in figs if f is not None],
         design_rows=design_rows(s),
         risk_rows=risk_rows(s),
