@@ -235,3 +235,24 @@ def _variant(peak: float) -> dict:
         "edge_stress_ratio": 0.1,
         "status": "completed",
     }
+
+
+def test_every_number_the_docs_quote_from_a_summary_is_declared():
+    """docs/run_numbers.py quotes the shipped studies' numbers by their summary.json paths:
+    each must be a quantity of its kind's typed summary (a renamed key fails here)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("run_numbers", ROOT / "docs" / "run_numbers.py")
+    assert spec is not None and spec.loader is not None
+    run_numbers = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(run_numbers)
+    classes = {"default": CrosscheckSummary, "free-rocking": FreeRockingSummary}
+    quoted = [
+        (study, ".".join(map(str, keys)))
+        for study, names in run_numbers.QUOTED.items()
+        for file, keys, _ in names.values()
+        if file == "summary.json"
+    ]
+    assert len(quoted) > 40
+    undeclared = [(study, key) for study, key in quoted if not _declared(classes[study], key)]
+    assert not undeclared, undeclared

@@ -146,6 +146,10 @@ class ToeStress:
     edge_length: float = quantity("m", "length from the toe the toe stress averages over")
     observed_order: float | None = quantity("-", "observed order of convergence (None: none)")
     static_mean_ratio: float = quantity("-", "mean base pressure at rest over f_c")
+    unrefined_ratio: float = quantity(
+        "-", "the median replica's toe stress on the study mesh / f_c"
+    )
+    richardson_ratio: float | None = quantity("-", "Richardson estimate over f_c (None: none)")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -217,6 +221,10 @@ class VerdictCriteria:
     """``verdict_criteria``: the FEM against the multibody model on four counts."""
 
     same_outcome: str = quantity("", "the same outcome in words")
+    replicas: int = quantity("", "FEM replicas the counts are over")
+    history_error_to_first_impact: float | None = quantity(
+        "-", "history error to the first impact, median over the replicas"
+    )
     peak_ok: str = quantity("", "peak rotations within the tolerance")
     impacts_before_pulse_end_multibody: int = quantity("", "multibody impacts to the pulse's end")
     impacts_ok: str = quantity("", "impacts within the tolerance")

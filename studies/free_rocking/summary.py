@@ -8,7 +8,7 @@ from typing import Any
 
 from ...core.quantities import quantity
 from ...rigid.solve import RockingSummary
-from ..sections import like, read, section
+from ..sections import absent, like, read, section
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -19,6 +19,9 @@ class ReleaseRun:
         "-", "velocity ratio at each impact (words where the run overturned)"
     )
     ratio_first: float | None = quantity("-", "velocity ratio at the first impact (median)")
+    impulse_ratios: list[float] = absent(
+        "-", "the multibody run's ratio at each impact from its impulses (multibody only)"
+    )
 
 
 @dataclass(frozen=True, kw_only=True)
