@@ -17,6 +17,13 @@ both see a wrong name::
 :class:`Ref` walks its getter once over the declared classes (a name that is not a field raises
 AttributeError when the report module is imported) to find the dotted key the page names
 (``data-key="fem.edge_stress_max"``), and reads the value by attribute from the typed summary.
+mypy checks the attribute chain too, except through the fields a section inherits from a class
+of fem/ or rigid/ (mypy reads ``from ...fem`` as an unresolved import: those names are checked
+when the Ref is made).
+
+The study side writes from the same declarations: a section built as its class and turned into
+the file's dict by :func:`written` (its keys in field order, those left out that the class
+leaves out), or a dict checked by :func:`keyed` (its keys the class's, in its order).
 """
 
 from __future__ import annotations
@@ -30,7 +37,6 @@ from ..core.quantities import OMIT_WHEN_NONE, PRESENT_WITH, UNIT, quantity
 
 SECTION = "section"  # a field's metadata: the class of the nested section it holds
 MANY = "many"  # a field's metadata: it holds a list (or a table by name) of such sections
-STOPPABLE = "stoppable"  # a field's metadata: the words of a stopped run may stand in its place
 
 
 class _Absent:
@@ -58,14 +64,11 @@ Stoppable = float | str | None
 _Section = TypeVar("_Section")
 
 
-def section(
-    cls: type, doc: str, *, optional: bool = False, many: bool = False, stoppable: bool = False
-) -> Any:
+def section(cls: type, doc: str, *, optional: bool = False, many: bool = False) -> Any:
     """A field holding a nested section of class ``cls`` (JSON null read as None where
     ``optional``: a section a run may not give, e.g. the toe refinement's); ``many``: a list of
-    such sections (one per release tilt, ...) or a table of them by name (one per variant);
-    ``stoppable``: the words of a stopped run may stand in its place (kept as they are)."""
-    metadata = {SECTION: cls, "doc": doc, "optional": optional, MANY: many, STOPPABLE: stoppable}
+    such sections (one per release tilt, ...) or a table of them by name (one per variant)."""
+    metadata = {SECTION: cls, "doc": doc, "optional": optional, MANY: many}
     return dataclasses.field(default=None if optional else dataclasses.MISSING, metadata=metadata)
 
 
@@ -95,10 +98,7 @@ def read(cls: type[_Section], data: Mapping[str, Any], where: str = "summary.jso
             )
         value = data[f.name]
         nested = f.metadata.get(SECTION)
-        kept = (value is None and f.metadata.get("optional")) or (
-            isinstance(value, str) and f.metadata.get(STOPPABLE)
-        )
-        if nested is not None and not kept:
+        if nested is not None and not (value is None and f.metadata.get("optional")):
             if f.metadata.get(MANY) and isinstance(value, Mapping):
                 value = {k: read(nested, item, f"{name}.{k}") for k, item in value.items()}
             elif f.metadata.get(MANY):
