@@ -123,15 +123,12 @@ def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsy
     assert fem is not None and len(fem["overturned"]) == 4
     from colonna.studies.collar_layout.runner import stripe_agreement
 
-    agreement = stripe_agreement(
-        fem["fraction"],
-        fem["fraction_interval"],
-        fem["multibody_probability"],
-        fem["multibody_probability_interval"],
-    )
-    assert fem["agreement"] == agreement and fem["confirmed"] == (agreement == "confirms")
     stripe = [c is not None and c <= s["design_intensity"] for c in chosen["capacities"]]
     assert fem["multibody_overturned"] == stripe
+    agreement = stripe_agreement(fem["overturned"], stripe, s["confidence"])
+    if fem["fracture_share"] > fem["fracture_allowed"]:
+        agreement = "contradicts"
+    assert fem["agreement"] == agreement and fem["confirmed"] == (agreement == "confirms")
     names = [r["name"] for r in s["records"]]
     assert fem["fem_only"] == [
         n for n, f, m in zip(names, fem["overturned"], stripe) if f and not m
@@ -311,10 +308,14 @@ def test_pretension_levels_are_a_catalogue_axis_carried_into_the_models(tmp_path
     )
     force = 0.3 * 355e6 * 0.010 * 0.08
     assert c.pretension_force == pytest.approx(force, rel=1e-12)
-    assert c.label == "2 x 10 x 80 mm S355 pretensioned 30%"
+    assert c.label == "2 x 10 x 80 mm S355 pretensioned to 85.2 kN (30% of f_y t h)"
     assert c.section == (2, 0.010, 0.08, c.pretension_force)
     plain = next(d for d in with_collars if d.label == "2 x 10 x 80 mm S355")
     assert plain.section == (2, 0.010, 0.08) and plain.pretension_force == 0.0
+    from colonna.studies.collar_layout.runner import refinement_key
+
+    assert refinement_key(c, 7) == "plastic-2x10x80-S355-P0.3-007"
+    assert refinement_key(plain, 7) == "plastic-2x10x80-S355-007"  # as before pretension
     assert len({d.section for d in with_collars}) == 2 * 2 + 2 * 2 * 2  # P = 0 shared by grades
     # the screening's f_y admits the force (a collar's pretension is at most f_y t h)
     assert screen_fy(0.004, 0.03, 0.9 * 440e6 * 0.004 * 0.03) == pytest.approx(0.9 * 440e6)
@@ -475,19 +476,22 @@ def test_a_crosscheck_the_guard_refuses_gives_no_answer(tmp_path, monkeypatch):
     assert (out / "chosen-crosscheck.toml").is_file()
 
 
-def test_the_fem_stripe_confirms_only_where_each_estimate_is_in_the_others_band():
-    """The shipped study's stripe (3 of 10 records overturn in the FEM, 90 % interval 0.087 to
-    0.607; the multibody fit's 0.109 with its band 0.034 to 0.178) holds the multibody's
-    probability, but its fraction lies above the multibody's band: ten records do not resolve
-    the difference, undecided (the former rule, the probability inside the interval, said
-    "confirms")."""
-    from colonna.studies.collar_layout.runner import stripe_agreement
+def test_the_fem_stripe_is_compared_record_by_record():
+    """The FEM stripe against the multibody runs at the design intensity, record by record:
+    confirms where every record agrees; the shipped study's (the FEM overturns synth01, 06
+    and 08, the multibody synth01 only: exact McNemar p = 0.5) undecided, the former rule (the
+    fit's 0.11 inside the FEM's 90 % interval 0.09-0.61) had said "confirms"; contradicts
+    where the differing records lean one way beyond chance (5 of 5: p = 0.0625 < 0.1)."""
+    from colonna.studies.collar_layout.runner import mcnemar_p, stripe_agreement
 
-    shipped = (0.3, [0.0872644339141503, 0.6066242161054123])
-    assert stripe_agreement(*shipped, 0.10918963870441528, [0.0338, 0.178]) == "undecided"
-    assert stripe_agreement(*shipped, 0.25, [0.15, 0.35]) == "confirms"
-    assert stripe_agreement(0.0, [0.0, 0.259], 0.3, [0.2, 0.4]) == "contradicts"
-    assert stripe_agreement(*shipped, None, None) == "undecided"  # no fit to compare
+    assert mcnemar_p(0, 0) == 1.0 and mcnemar_p(2, 0) == 0.5
+    assert mcnemar_p(5, 0) == pytest.approx(0.0625) and mcnemar_p(3, 1) == pytest.approx(0.625)
+    fem = [True, False, False, False, False, True, False, True, False, False]
+    multibody = [True] + [False] * 9
+    assert stripe_agreement(fem, multibody, 0.9) == "undecided"
+    assert stripe_agreement(fem, fem, 0.9) == "confirms"
+    assert stripe_agreement([True] * 5 + [False] * 5, [False] * 10, 0.9) == "contradicts"
+    assert stripe_agreement([True] * 5 + [False] * 5, [False] * 10, 0.95) == "undecided"
 
 
 def test_the_answer_says_what_the_fem_stripe_says():

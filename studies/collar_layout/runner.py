@@ -23,7 +23,8 @@ through the rigid multibody model.
    records that fracture a collar at the design intensity.
 3. **Confirmation, FEM** (:func:`fem_stripe`): the chosen layout's FEM runs of every record at
    the design intensity (the hazard's at [layout] design_return_period), against the multibody
-   model's probability there (:func:`stripe_agreement`: confirms, contradicts, undecided).
+   model's runs there, record by record (:func:`stripe_agreement`: confirms, contradicts,
+   undecided), and its fit's probability.
 4. **Cross-check** (:func:`run_crosscheck`): the chosen layout's cross-check (the cross-check
    kind, a study of its own in ``chosen-crosscheck/``) under the record of median capacity at
    the design intensity: FEM against the rigid models, collars, toe.
@@ -99,7 +100,12 @@ class Candidate:
         if self.count == 0:
             return "no collars"
         text = f"{self.count} x {self.t * 1e3:g} x {self.h * 1e3:g} mm {self.grade}"
-        return text + (f" pretensioned {self.pretension:.0%}" if self.pretension else "")
+        if not self.pretension:
+            return text
+        return (
+            f"{text} pretensioned to {self.pretension_force / 1e3:.3g} kN "
+            f"({self.pretension:.0%} of f_y t h)"
+        )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -471,8 +477,10 @@ def refine(candidates: list[Candidate], brackets: dict, s: Setup, out, options) 
 
 def refinement_key(c: Candidate, i: int) -> str:
     """The case key of the plastic walk of layout ``c`` and record ``i``."""
-    slug = c.label.replace(" x ", "x").replace(" mm ", "-").replace(" ", "-")
-    return f"plastic-{slug}-{i:03d}"
+    if c.count == 0:
+        return f"plastic-no-collars-{i:03d}"
+    force = f"-P{c.pretension:g}" if c.pretension else ""
+    return f"plastic-{c.count}x{c.t * 1e3:g}x{c.h * 1e3:g}-{c.grade}{force}-{i:03d}"
 
 
 def plastic_capacities(candidate: Candidate, found: dict, plastic: list, s: Setup):
@@ -623,12 +631,14 @@ def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
     p_mb = multibody.get("probability_at_design")
     band = multibody.get("probability_at_design_interval")
     fracture_share = sum(fractured) / n
-    agreement = stripe_agreement(k / n, interval_, p_mb, band)
-    if fracture_share > s.spec.fracture_fraction:
-        agreement = "contradicts"  # the FEM fractures collars the multibody model spared
     # record by record: the multibody's IDA overturns a record at the design intensity where
     # its capacity (first overturning on the ladder) is at or below it
     stripe = [c is not None and c <= s.design for c in chosen["capacities"]]
+    agreement = stripe_agreement(overturned, stripe, s.spec.confidence)
+    if fracture_share > s.spec.fracture_fraction:
+        agreement = "contradicts"  # the FEM fractures collars the multibody model spared
+    fem_only = [s.suite[i].name for i in range(n) if overturned[i] and not stripe[i]]
+    multibody_only = [s.suite[i].name for i in range(n) if stripe[i] and not overturned[i]]
     return {
         "overturned": overturned,
         "fractured": fractured,
@@ -637,8 +647,11 @@ def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
         "multibody_probability": p_mb,
         "multibody_probability_interval": band,
         "multibody_overturned": stripe,
-        "fem_only": [s.suite[i].name for i in range(n) if overturned[i] and not stripe[i]],
-        "multibody_only": [s.suite[i].name for i in range(n) if stripe[i] and not overturned[i]],
+        "mcnemar_p": mcnemar_p(len(fem_only), len(multibody_only)),
+        # the fit's probability in the FEM fraction's interval (the fit, not the runs, compared)
+        "fit_in_interval": None if p_mb is None else bool(interval_[0] <= p_mb <= interval_[1]),
+        "fem_only": fem_only,
+        "multibody_only": multibody_only,
         "fracture_share": fracture_share,
         "fracture_allowed": s.spec.fracture_fraction,
         "agreement": agreement,
@@ -657,22 +670,27 @@ def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
     }
 
 
-def stripe_agreement(fraction: float, interval, p: float | None, band) -> str:
-    """Whether the FEM stripe (``fraction`` of the records overturned at the design intensity,
-    with its Clopper-Pearson ``interval``) agrees with the multibody fit's probability there
-    (``p`` with its bootstrap ``band``): "confirms" where each holds the other's estimate
-    (p in the FEM's interval, the FEM's fraction in the multibody's band), "contradicts"
-    where neither does, "undecided" otherwise (a few records do not resolve the difference)
-    and where the multibody model gives no fit (no probability to compare)."""
-    if p is None or band is None:
-        return "undecided"
-    in_fem = interval[0] <= p <= interval[1]
-    in_multibody = band[0] <= fraction <= band[1]
-    if in_fem and in_multibody:
+def mcnemar_p(b: int, c: int) -> float:
+    """Exact two-sided McNemar p-value of ``b`` records that only one model overturns against
+    ``c`` that only the other does: 2 P[Bin(b + c, 1/2) <= min(b, c)], at most 1 (McNemar
+    1947; the exact binomial form); 1 where no record differs."""
+    n = b + c
+    tail = sum(math.comb(n, j) for j in range(min(b, c) + 1)) / 2.0**n
+    return min(1.0, 2.0 * tail)
+
+
+def stripe_agreement(fem: list[bool], multibody: list[bool], confidence: float) -> str:
+    """Whether the FEM stripe at the design intensity (each record overturned or not)
+    confirms the multibody runs the choice rests on (the same records overturned at the
+    design intensity in its IDA), record by record: "confirms" where every record agrees;
+    "contradicts" where the records that differ lean to one model beyond chance (exact
+    McNemar p-value below 1 - ``confidence``); "undecided" otherwise (some records differ,
+    too few to say which model the column follows)."""
+    b = sum(f and not m for f, m in zip(fem, multibody))
+    c = sum(m and not f for f, m in zip(fem, multibody))
+    if b + c == 0:
         return "confirms"
-    if not in_fem and not in_multibody:
-        return "contradicts"
-    return "undecided"
+    return "contradicts" if mcnemar_p(b, c) < 1.0 - confidence else "undecided"
 
 
 CROSSCHECK_FILE = "chosen-crosscheck.toml"
