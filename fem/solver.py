@@ -453,12 +453,26 @@ def run_batch(
     motions: list[Motion],
     settings: FemSettings = DEFAULT_SETTINGS,
     start: Release = AT_REST,
-    **batch,
+    *,
+    out_dirs: list | None = None,
+    offsets: list | None = None,
+    slots: int | None = None,
+    checkpoint: Checkpoint | None = None,
 ) -> list[FemResult]:
-    """One run of the model per ground motion in ``motions``, advanced together
-    (:func:`iter_batch`, ``batch`` its keywords), as a list in the order of ``motions``."""
+    """One run of the model per motion in ``motions``, advanced together (:func:`iter_batch`,
+    the same arguments), as a list in the order of ``motions``."""
     results: list = [None] * len(motions)
-    for k, result in iter_batch(model, motions, settings, start, **batch):
+    runs = iter_batch(
+        model,
+        motions,
+        settings,
+        start,
+        out_dirs=out_dirs,
+        offsets=offsets,
+        slots=slots,
+        checkpoint=checkpoint,
+    )
+    for k, result in runs:
         results[k] = result
     return results
 
