@@ -1126,6 +1126,15 @@ def _restore_contact(model, state: dict) -> dict:
                 f"got {collar_state.shape}"
             )
         out["collar_state"] = collar_state
+    if state.get("cohesive_damage") is not None:  # a partial crack's pair damage
+        damage = np.asarray(state["cohesive_damage"], dtype=float)
+        pairs = 0 if model.cohesive is None else model.cohesive.left.size
+        if damage.shape != (pairs,) or not np.all((damage >= 0.0) & (damage <= 1.0)):
+            raise InputError(
+                f"run initial_contact: cohesive_damage must be {pairs} numbers in [0, 1] (one "
+                f"per mid-plane pair of the partial crack), got shape {damage.shape}"
+            )
+        out["cohesive_damage"] = damage
     return out
 
 
@@ -1311,8 +1320,11 @@ class _BatchState:
         )
         for array in (self.edge.buffer, self.edge.position, self.edge.sums, self.edge.peak):
             array[slot] = 0
-        if self.model.cohesive is not None:  # the crack as given: its pairs broken, the rest intact
-            self.cohesive_state.damage[slot] = self.model.cohesive.damage0
+        if self.model.cohesive is not None:  # the crack as given or as a restart carries it
+            damage = start.get("cohesive_damage")
+            self.cohesive_state.damage[slot] = (
+                self.model.cohesive.damage0 if damage is None else damage
+            )
         self.cohesive_state.energy[slot] = 0.0
 
     def evaluate(self, dt, blend, stiffness, slot: int) -> None:
@@ -1653,19 +1665,17 @@ class _Recorder:
         collar_state = state.collars.plastic[r]
         self.frames.append((t, (x - X).reshape(-1, 2).copy()))
         self.velocity_frames.append((t, v.reshape(-1, 2).copy()))
-        self.contact_frames.append(
-            (
-                t,
-                {
-                    "base_ft": base_ft.copy(),
-                    "base_fc": base_fc.copy(),
-                    "base_indentation": state.base_state.indentation[r].copy(),
-                    "crack_ft": [ft.copy() for ft, _, _ in passes],
-                    "crack_fc": [fc.copy() for _, _, fc in passes],
-                    "collar_state": collar_state.copy(),
-                },
-            )
-        )
+        contact = {
+            "base_ft": base_ft.copy(),
+            "base_fc": base_fc.copy(),
+            "base_indentation": state.base_state.indentation[r].copy(),
+            "crack_ft": [ft.copy() for ft, _, _ in passes],
+            "crack_fc": [fc.copy() for _, _, fc in passes],
+            "collar_state": collar_state.copy(),
+        }
+        if self.model.cohesive is not None:  # a partial crack's pair damage (fem.partial_crack)
+            contact["cohesive_damage"] = state.cohesive_state.damage[r].copy()
+        self.contact_frames.append((t, contact))
         if self.files is not None:  # contact pressure along the base (Pa), one row per output
             self.files.write_pressure(t, base_fn / self.base_area)
 

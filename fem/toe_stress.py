@@ -126,8 +126,8 @@ def start_digest(start: dict) -> str:
 
 
 def model_on(model, mesh: ColumnMesh):
-    """``model`` (its stone, thickness, collars, contact, gravity, top load and bed) built on
-    another ``mesh``: a toe window's refined model."""
+    """``model`` (its stone, thickness, collars, contact, gravity, top load, bed and partial
+    crack) built on another ``mesh``: a toe window's refined model."""
     return build_model(
         mesh,
         model.stone,
@@ -137,6 +137,7 @@ def model_on(model, mesh: ColumnMesh):
         model.g,
         model.top_load,
         model.bed,
+        None if model.cohesive is None else model.cohesive.crack,  # a partial crack's ends
     )
 
 

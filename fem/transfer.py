@@ -117,4 +117,19 @@ def transfer_contact(source, target, state: dict) -> dict:
         out["base_indentation"] = carried
     if "collar_state" in state:  # the same collars on both meshes
         out["collar_state"] = np.array(state["collar_state"], dtype=float)
+    if state.get("cohesive_damage") is not None and target.cohesive is not None:
+        out["cohesive_damage"] = transfer_damage(source, target, state["cohesive_damage"])
     return out
+
+
+def transfer_damage(source, target, damage) -> np.ndarray:
+    """A partial crack's pair damage (fem.partial_crack) carried from the ``source`` model's
+    mid-plane pairs to the ``target``'s by height: a target pair takes the damage of the
+    source pair at its height, and one between two source pairs the smaller of theirs (a pair
+    is broken only between broken ones: the crack grows no further than it had)."""
+    ys, yt = source.cohesive.heights, target.cohesive.heights
+    damage = np.asarray(damage, dtype=float)
+    above = np.clip(np.searchsorted(ys, yt - 1e-12 * target.mesh.height), 0, ys.size - 1)
+    below = np.clip(above - 1, 0, ys.size - 1)
+    at = np.abs(ys[above] - yt) <= 1e-9 * target.mesh.height
+    return np.where(at, damage[above], np.minimum(damage[above], damage[below]))

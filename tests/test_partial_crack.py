@@ -20,7 +20,7 @@ from colonna.fem.model import ContactSettings, build_model, stable_time_step
 from colonna.fem.partial_crack import cracked_pairs
 from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import run, run_batch, run_ensemble
-from colonna.meshes.column import column_mesh, from_arrays
+from colonna.meshes.column import ToeGrading, column_mesh, from_arrays
 from colonna.studies import schema
 
 WIDTH, HEIGHT = 0.45, 4.0
@@ -384,3 +384,43 @@ def test_the_crosscheck_first_screen_answers_does_the_crack_grow(tmp_path):
     assert 'class="good"' in row and "grew" in words and ": 0 of 2;" in words
     assert "crack length 0.475 m at the start, 0.475 m at the end" in words
     assert "largest K_I / K_IC at a tip" in words
+
+
+@pytest.mark.slow
+def test_a_restart_carries_the_grown_crack_to_the_same_and_a_refined_mesh():
+    """A run whose crack grew, restarted from its last contact frame (as the cross-check's toe
+    windows restart): on the same mesh every pair's damage is the run's; on the toe-refined
+    mesh (fem.toe_stress.model_on) the crack has the same length (the damage carried by
+    height, fem.transfer.transfer_damage) and its model the same ends."""
+    from colonna.fem.toe_stress import model_on
+    from colonna.fem.transfer import transfer_contact, transfer_state
+
+    stone = Stone(ft=20e3, Gf=2.0)  # grows at about 0.5 s (as in the batch test)
+    model = build_model(coarse(), stone, 0.35, crack=(0.0, 2.0))
+    pulse = sine_pulse(2.0 * UPLIFT, 2.0 * math.pi * 1.5, UPLIFT)
+    first = run(model, Motion(pulse, 0.6), SETTINGS)
+    t, contact = first.contact_frames[-1]
+    _, u = first.displacement_frames[-1]
+    _, v = first.velocity_frames[-1]
+    grown = first.history["crack_length"][-1]
+    assert grown > first.history["crack_length"][0]
+    again = run(
+        model,
+        Motion(pulse, t + 0.01),
+        SETTINGS,
+        FemStart(state=((model.X + u.ravel()), v.ravel()), contact=contact, time=t),
+    )
+    assert again.history["crack_length"][0] == grown
+    mesh = column_mesh(WIDTH, HEIGHT, 0.1125, toe=ToeGrading(refinement=2, zone=0.1))
+    refined = model_on(model, mesh)
+    assert refined.cohesive.crack == (0.0, 2.0)
+    assert refined.cohesive.left.size > model.cohesive.left.size
+    x, vel = transfer_state(model.mesh, mesh, u, v)
+    carried = transfer_contact(model, refined, contact)
+    on_refined = run(
+        refined,
+        Motion(pulse, t + 0.01),
+        SETTINGS,
+        FemStart(state=(x, vel), contact=carried, time=t),
+    )
+    assert on_refined.history["crack_length"][0] == pytest.approx(grown, abs=1e-9)
