@@ -530,3 +530,45 @@ def test_a_resumed_estimate_leaves_the_saved_cases_out(tmp_path):
     left = without_saved(work, tmp_path)
     assert [r.case for r in left.runs] == ["b", "e", "sub/d"]
     assert left.cpu_seconds == pytest.approx(3.0)
+
+
+def test_the_screening_and_refinement_run_each_layouts_pretension(tmp_path, monkeypatch):
+    """The cases the screening and the refinement hand to their workers: an elastic walk per
+    count x section x pretension force, its collars carrying the force (their f_y at least
+    the force over the area, as a collar requires); a refined layout's plastic walks with its
+    grade's f_y and its force."""
+    from colonna.studies.collar_layout import runner
+    from colonna.studies.executor import RunOptions
+    from colonna.studies.fem_study import study_of_case
+
+    study, s = _tiny_setup(tmp_path, "pretensions = [0.0, 0.9]\n")
+    seen: list[dict] = []
+
+    def fake_run_cases(function, cases, out, **kwargs):
+        seen.extend(cases)
+        return {
+            c["key"]: {"walk": [{"overturned": True, "stress": 1.0}], "seconds": 0.0} for c in cases
+        }
+
+    monkeypatch.setattr(runner, "run_cases", fake_run_cases)
+    options = RunOptions(1, None, False, False)
+    runner.screening(s, tmp_path, options)
+    forces = {}
+    for case in seen:
+        collars = study_of_case(case).collars
+        section = tuple(case["section"])
+        force = section[3] if len(section) > 3 else 0.0
+        assert [c.pretension for c in collars] == [force] * section[0], case["key"]
+        assert all(not c.plastic and c.fy * c.t * c.h >= force for c in collars)
+        forces[section[:3]] = forces.get(section[:3], set()) | {round(force)}
+    # S355 at 0.9 of 4 x 30 mm: 38.3 kN, above the screening's S235 yield force 28.2 kN
+    assert forces[(1, 0.004, 0.03)] == {0, round(0.9 * 235e6 * 1.2e-4), round(0.9 * 355e6 * 1.2e-4)}
+    seen.clear()
+    c = next(c for c in s.candidates if c.label.startswith("2 x 10 x 80 mm S355 pretensioned"))
+    brackets = {c.label: {"open": [0, 2], "records": [{"from": 3}] * 4}}
+    runner.refine([c], brackets, s, tmp_path, options)
+    assert [case["record"] for case in seen] == [0, 2]
+    for case in seen:
+        collars = study_of_case(case).collars
+        assert [(k.fy, k.plastic) for k in collars] == [(355e6, True)] * 2
+        assert [k.pretension for k in collars] == [pytest.approx(0.9 * 355e6 * 8e-4)] * 2
