@@ -446,6 +446,7 @@ def test_the_crosscheck_section_quotes_its_summary():
 def test_a_crosscheck_the_guard_refuses_gives_no_answer(tmp_path, monkeypatch):
     """Where a FEM run of the chosen layout's cross-check is not an answer (the guard refuses
     it), the section says why and holds no number of it; its study file is still written."""
+    from colonna.core.errors import InputError
     from colonna.studies.collar_layout.runner import run_crosscheck
     from colonna.studies.executor import RunOptions
     from colonna.studies.guard import UnreliableRun
@@ -453,10 +454,11 @@ def test_a_crosscheck_the_guard_refuses_gives_no_answer(tmp_path, monkeypatch):
 
     study, s = _tiny_setup(tmp_path)
     why = "FEM case fem is unreliable (energy balance error 0.2 > 0.05)"
+    error = UnreliableRun
 
     def refuse(sub, folder, options):
         assert [c.y for c in sub.fem.collars] == [2.0]
-        raise UnreliableRun(why)
+        raise error(why)
 
     monkeypatch.setattr(KINDS["cross-check"].module(), "run", refuse)
     chosen = {
@@ -474,6 +476,11 @@ def test_a_crosscheck_the_guard_refuses_gives_no_answer(tmp_path, monkeypatch):
     assert found["refused"] == why and found["record"] == s.suite[3].name
     assert not {"rotations", "answers", "peak_ratio", "report"} & set(found)
     assert (out / "chosen-crosscheck.toml").is_file()
+    # nor where the cross-check kind refuses the study itself (it says why)
+    error, why = InputError, "chosen-crosscheck.toml: the record stays below the uplift"
+    assert (
+        run_crosscheck(study, s, chosen, out, RunOptions(1, None, False, False))["refused"] == why
+    )
 
 
 def test_the_fem_stripe_is_compared_record_by_record():

@@ -788,7 +788,8 @@ def run_crosscheck(study: Study, s: Setup, chosen: dict, out: Path, options: Run
     """Run (or resume) the chosen layout's cross-check into ``out/chosen-crosscheck`` as a study
     of its own (its cases saved there, its inputs on record, its report), from the study file
     ``out/chosen-crosscheck.toml``; its headline answers (:func:`crosscheck_section`), or why it
-    gave none (a FEM run of it the guard refuses)."""
+    gave none (a FEM run of it the guard refuses, or a study the cross-check kind refuses: a
+    record scaled below the column's uplift, ...)."""
     from ..driver import write_ground_motion
     from ..guard import UnreliableRun
     from ..kinds import KINDS
@@ -798,9 +799,7 @@ def run_crosscheck(study: Study, s: Setup, chosen: dict, out: Path, options: Run
     text, record = crosscheck_study(study, s, chosen, i)
     path = out / CROSSCHECK_FILE
     path.write_text(text)
-    sub = crosscheck_of(text, path)
     folder = out / CROSSCHECK_DIR
-    module = KINDS[sub.kind].module()
     head = {
         "file": CROSSCHECK_FILE,
         "folder": CROSSCHECK_DIR,
@@ -810,8 +809,10 @@ def run_crosscheck(study: Study, s: Setup, chosen: dict, out: Path, options: Run
     }
     started = time.time()
     try:
+        sub = crosscheck_of(text, path)
+        module = KINDS[sub.kind].module()
         module.run(sub, folder, options)
-    except UnreliableRun as exc:
+    except (UnreliableRun, InputError) as exc:
         return {**head, "refused": str(exc)}
     record_inputs(folder, sub, started)
     write_ground_motion(folder, sub.fem)
@@ -1050,7 +1051,7 @@ def _crosscheck_work(study: Study, s: Setup, expected: bool):
     from ..kinds import KINDS
     from ..work import FemWork
 
-    if not s.spec.crosscheck:
+    if not s.spec.crosscheck or not s.candidates:
         return FemWork()
     heaviest = s.candidates[-1]
     chosen = {
@@ -1063,9 +1064,12 @@ def _crosscheck_work(study: Study, s: Setup, expected: bool):
     }
     longest = int(np.argmax([r.end_time for r in s.records]))
     text, _ = crosscheck_study(study, s, chosen, longest)
-    sub = crosscheck_of(text, study.base / CROSSCHECK_FILE)
-    module = KINDS[sub.kind].module()
-    work = module.expected_work(sub) if expected else module.fem_work(sub)
+    try:
+        sub = crosscheck_of(text, study.base / CROSSCHECK_FILE)
+        module = KINDS[sub.kind].module()
+        work = module.expected_work(sub) if expected else module.fem_work(sub)
+    except InputError:  # a cross-check it refuses: the study says why once it is run
+        return FemWork()
     # its cases are saved in the sub-study's folder (studies.driver.without_saved)
     later = tuple(
         dataclasses.replace(r, stage=r.stage + CROSSCHECK_STAGE, case=f"{CROSSCHECK_DIR}/{r.case}")
