@@ -258,6 +258,10 @@ STUDIES = {
         _kind(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.3), "solid-vs-cracked"),
         {"theta_variants"},
     ),
+    "crack-extent": (
+        _kind(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.3), "crack-extent"),
+        {"theta_extents"},
+    ),
     "mesh-convergence": (
         _kind(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.3), "mesh-convergence").replace(
             "[run]", "[convergence]\nsizes = [0.1, 0.05, 0.025]\n\n[run]"
