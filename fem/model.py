@@ -577,7 +577,9 @@ def stable_time_step(model: Model, safety: float = 0.9) -> StableStep:
     other, and the halves turn apart; Weyl's inequality adds their top eigenvalue. The exact
     top frequency of the upright column is not enough: once a half rocks onto a toe, its
     rotated stiffness and the springs between the halves line up differently and the sum can
-    exceed it. (With kn != kt the base joins the crack and collars in the second term.)
+    exceed it. (With kn != kt the base joins the crack and collars in the second term.) The
+    intact pairs of a partial crack (:func:`colonna.fem.partial_crack.springs`, undamaged:
+    damage only softens them) join the second term too.
 
     A linear bound is not enough where contact springs dominate (a lead or stiff stone bed,
     coarse meshes): a spring that closes between steps is not the linear system's, and the
