@@ -33,7 +33,14 @@ from . import cohesive as cohesive_law
 from .assembly import Stone, assemble
 from .bed import DEFAULT as DEFAULT_BED
 from .bed import Bed
-from .partial_crack import ALPHA, ETA, CohesiveInterface, cracked_pairs, springs
+from .partial_crack import (
+    ALPHA,
+    ETA,
+    SOFTENING_FLOOR,
+    CohesiveInterface,
+    cracked_pairs,
+    springs,
+)
 
 # how the crack's contact is enforced (ContactSettings.enforcement)
 ENFORCEMENTS = ("penalty", "lagrange")
@@ -285,8 +292,8 @@ def build_model(
 
 def _cohesive(mesh: ColumnMesh, stone: Stone, thickness: float, crack) -> CohesiveInterface:
     """The mid-plane's node pairs with the cohesive law on the part outside ``crack``
-    (fem.partial_crack), checked: the crack within the column, and a penalty stiff enough that
-    the law's peak comes before its full damage (K > f_t^2 / (2 G_f))."""
+    (fem.partial_crack), checked: the crack within the column; the penalty stiff enough that
+    the law's peak comes well before its full damage (fem.partial_crack.SOFTENING_FLOOR)."""
     if not mesh.cracked:
         raise InputError("column crack needs a cracked column (a mesh of two halves)")
     low, high = (float(c) for c in crack)
@@ -303,16 +310,13 @@ def _cohesive(mesh: ColumnMesh, stone: Stone, thickness: float, crack) -> Cohesi
         np.abs(p[0, _node_beside(mesh, left)] - p[0, left]),
         np.abs(p[0, _node_beside(mesh, partner)] - p[0, partner]),
     )
-    K_pair = np.asarray(cohesive_law.penalty_stiffness(stone.E, h, ALPHA), dtype=float)
-    floor = stone.ft**2 / (2.0 * stone.Gf)
-    if np.min(K_pair) <= floor:
-        widest = float(np.max(h))
-        raise InputError(
-            f"the cohesive mid-plane's penalty K = E / h = {np.min(K_pair):.3g} Pa/m (crack-face "
-            f"elements {widest * 1e3:.3g} mm wide) is below stone ft^2 / (2 Gf) = {floor:.3g} "
-            f"Pa/m, where the law's peak would come after its full damage: use a [mesh] size "
-            f"with crack-face elements under {stone.E / floor * 1e3:.3g} mm, or a larger stone Gf"
-        )
+    # K = alpha E / h, and on elements too wide for the law at least SOFTENING_FLOOR times
+    # f_t^2 / (2 G_f): its softening branch then at least half its separation (delta_0 <=
+    # delta_f / 2), where at f_t^2 / (2 G_f) the peak would come at full damage
+    floor = SOFTENING_FLOOR * stone.ft**2 / (2.0 * stone.Gf)
+    K_pair = np.maximum(
+        np.asarray(cohesive_law.penalty_stiffness(stone.E, h, ALPHA), dtype=float), floor
+    )
     damage0 = np.where(cracked_pairs(heights, (low, high), mesh.height), 1.0, 0.0)
     law = np.array([stone.ft, stone.ft, stone.Gf, stone.Gf, ETA])
     cohesive_law.check_parameters(

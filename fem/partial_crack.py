@@ -9,8 +9,9 @@ penalty, fem/model.py). On the rest each pair also carries the cohesive law of
 strength f_t and fracture energy G_f ([stone] ft, Gf; s = f_t, G_II = G_I, eta = 2) over its
 area A = t l_trib (thickness t, tributary length along the crack), with the penalty
 K = ``ALPHA`` E / h (h: the width of the crack face's element, the crack contact's penalty with
-factor 1). Its damage d grows with the largest separation and never decreases: a pair at d = 1
-is a broken one, and only the contact holds it (the crack has grown to it).
+factor 1), and at least ``SOFTENING_FLOOR`` f_t^2 / (2 G_f). Its damage d grows with the
+largest separation and never decreases: a pair at d = 1 is a broken one, and only the contact
+holds it (the crack has grown to it).
 
 How the law meets the contact: the contact acts on every pair, bonded or not, and carries the
 compression and the Coulomb friction; the cohesive interface adds the law's tension
@@ -37,6 +38,10 @@ from scipy import sparse
 # "The cohesive mid-plane")
 ALPHA = 1.0
 ETA = 2.0  # Benzeggagh-Kenane exponent (with s = f_t and G_II = G_I it does not matter)
+# the penalty is at least this many times f_t^2 / (2 G_f), where the law's peak would come at its
+# full damage: on crack-face elements too wide for alpha E / h (coarse meshes, a strong or
+# brittle stone) K is raised so that the softening takes at least half of the separation
+SOFTENING_FLOOR = 2.0
 
 
 @dataclass(frozen=True)
