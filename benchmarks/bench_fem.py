@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from colonna.core.motion import Motion
-from colonna.fem.model import build_model, stable_time_step
+from colonna.fem.model import Loads, build_model, stable_time_step
 from colonna.fem.settings import FemSettings
 from colonna.fem.solver import run
 from colonna.studies.models import build
@@ -35,7 +35,7 @@ def main() -> None:
             base.thickness,
             base.collars,
             dataclasses.replace(base.contact, enforcement=enforcement),
-            top_load=base.top_load,
+            loads=Loads(top_load=base.top_load),
         )
         for enforcement in ("penalty", "lagrange")
     }

@@ -18,6 +18,7 @@ _PUBLIC = {
     "FemResult": ".solver",
     "FemSettings": ".settings",
     "FemStart": ".settings",
+    "Loads": ".model",
     "Model": ".model",
     "Replicas": ".settings",
     "Stone": ".assembly",
@@ -30,7 +31,7 @@ _PUBLIC = {
 
 if TYPE_CHECKING:  # what the names are, for type checkers (nothing is imported at run time)
     from .assembly import Stone, assemble
-    from .model import ContactSettings, Model, build_model, stable_time_step
+    from .model import ContactSettings, Loads, Model, build_model, stable_time_step
     from .settings import FemSettings, FemStart, Replicas
     from .solver import FemResult, run, static_state
 
@@ -41,6 +42,7 @@ __all__ = [
     "FemResult",
     "FemSettings",
     "FemStart",
+    "Loads",
     "Model",
     "Replicas",
     "Stone",

@@ -53,9 +53,7 @@ class Stone:
         require_positive("stone fc (Pa)", self.fc)
         require_positive("stone ft (Pa)", self.ft)
         require_range("stone Gf (N/m)", self.Gf, 0.1, 1e5, closed_high=True)
-        require_range(
-            "stone KIC (Pa m^0.5)", self.KIC, 1e3, 1e8, closed_low=True, closed_high=True
-        )
+        require_range("stone KIC (Pa m^0.5)", self.KIC, 1e3, 1e8, closed_low=True, closed_high=True)
 
     @property
     def wave_speed(self) -> float:

@@ -26,7 +26,7 @@ from scipy.sparse.linalg import ArpackError, eigsh
 
 from ..core.collar_law import LAW_SIZE, OUT_SIZE, state_size
 from ..core.constants import STANDARD_GRAVITY
-from ..core.errors import InputError, require_non_negative, require_range
+from ..core.errors import InputError, require_non_negative, require_positive, require_range
 from ..meshes.column import ColumnMesh
 from . import _kernels as K
 from . import cohesive as cohesive_law
@@ -184,30 +184,42 @@ def _penalty(stone, thickness, contact, tributary, h):
     return contact.penalty_factor * stone.E * thickness * tributary / h
 
 
+@dataclass(frozen=True)
+class Loads:
+    """The column's dead loads: ``g``, gravity (m/s^2), and ``top_load``, a vertical load on
+    the capital (N, downward positive: the weight of what the column carries)."""
+
+    g: float = STANDARD_GRAVITY
+    top_load: float = 0.0
+
+
 def build_model(
     mesh: ColumnMesh,
     stone: Stone,
     thickness: float,
     collars=(),
     contact: ContactSettings = ContactSettings(),
-    g: float = STANDARD_GRAVITY,
-    top_load: float = 0.0,
+    loads: Loads = Loads(),
     bed: Bed = DEFAULT_BED,
     crack: tuple | None = None,
 ) -> Model:
     """Assemble bodies, contact pairs and collar elements.
 
+    ``loads``: gravity and the dead load on the capital (:class:`Loads`).
+
     ``bed``: the base's stiffness per unit area (:class:`colonna.fem.bed.Bed`); each base
     node's spring is bed.stiffness x thickness x its tributary length, whatever the mesh
     (``contact``'s penalty settings are the crack's).
 
-    ``top_load`` (N): a vertical dead load on the capital, spread as a uniform pressure
+    ``loads.top_load`` (N): a vertical dead load on the capital, spread as a uniform pressure
     top_load / (width x thickness) over the top faces and lumped to the top nodes by their
     tributary lengths. It joins gravity in the constant load vector ``gravity``, so the
     energy balance counts its work as potential energy.
 
     ``crack`` (from, to) (m): the crack runs between these heights only, the rest of the
     mid-plane is intact stone (:mod:`colonna.fem.partial_crack`); None: the full height."""
+    g, top_load = loads.g, loads.top_load
+    require_positive("gravity g (m/s^2)", g)
     require_range(
         "column top_load (N)", top_load, 0.0, math.inf, closed_low=True, range_text="[0, inf)"
     )

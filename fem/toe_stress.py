@@ -31,7 +31,7 @@ from ..core.ground import NO_MOTION, GroundMotion
 from ..core.motion import Motion
 from ..meshes.column import ColumnMesh
 from .convergence import convergence_table
-from .model import build_model
+from .model import Loads, build_model
 from .output import flat_start
 from .settings import FemSettings, FemStart
 from .solver import FemResult, run
@@ -134,8 +134,7 @@ def model_on(model, mesh: ColumnMesh):
         model.thickness,
         model.collars,
         model.contact,
-        model.g,
-        model.top_load,
+        Loads(model.g, model.top_load),
         model.bed,
         None if model.cohesive is None else model.cohesive.crack,  # a partial crack's ends
     )

@@ -90,7 +90,7 @@ def model_record(study: FemStudy) -> dict:
 
 def build(study: FemStudy):
     """Mesh and model of the study."""
-    from ..fem.model import build_model
+    from ..fem.model import Loads, build_model
 
     if study.mesh_file is not None:
         from ..meshes.io import read
@@ -118,7 +118,7 @@ def build(study: FemStudy):
         study.thickness,
         study.collars,
         study.contact,
-        top_load=study.top_load,
+        loads=Loads(top_load=study.top_load),
         bed=study.bed,
         crack=study.crack,
     )

@@ -8,7 +8,7 @@ import pytest
 from colonna.core.ground import NoMotion
 from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
-from colonna.fem.model import ContactSettings, build_model
+from colonna.fem.model import ContactSettings, Loads, build_model
 from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import ENERGY_ERROR_LIMIT, run
 from colonna.meshes import column_mesh
@@ -29,7 +29,7 @@ def test_a_solid_column_at_rest_stands_on_its_whole_base_and_dissipates_nothing(
     base node), friction does no work and the contact damping next to none; no crack keys."""
     mesh = _mesh(cracked=False)
     load = 1.0 * WEIGHT
-    model = build_model(mesh, STONE, THICKNESS, top_load=load)
+    model = build_model(mesh, STONE, THICKNESS, loads=Loads(top_load=load))
     r = run(model, Motion(NoMotion(), 0.02), FemSettings(output_interval=1e-3, progress=False))
     s, h = r.summary, r.history
     np.testing.assert_allclose(h["base_normal_force_1"], WEIGHT + load, rtol=1e-6)
@@ -54,7 +54,7 @@ def test_the_closed_cracks_force_is_the_statics_of_a_half(load_ratio):
     over the run their means are equal (2 %; the halves ring about the static state), the crack
     never opens and no sample is below zero."""
     mesh = _mesh(cracked=True)
-    model = build_model(mesh, STONE, THICKNESS, top_load=load_ratio * WEIGHT)
+    model = build_model(mesh, STONE, THICKNESS, loads=Loads(top_load=load_ratio * WEIGHT))
     r = run(model, Motion(NoMotion(), 0.02), FemSettings(output_interval=1e-3, progress=False))
     s, h = r.summary, r.history
     left = mesh.node_body[model.base_nodes] == 0

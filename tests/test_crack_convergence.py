@@ -21,7 +21,7 @@ import pytest
 from colonna.core.ground import NoMotion, Record
 from colonna.core.motion import Motion
 from colonna.fem.assembly import Stone
-from colonna.fem.model import ContactSettings, build_model
+from colonna.fem.model import ContactSettings, Loads, build_model
 from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import ENERGY_ERROR_LIMIT, run
 from colonna.meshes import column_mesh
@@ -40,7 +40,7 @@ def test_the_closed_cracks_force_is_the_statics_of_a_half(enforcement):
     weight = STONE.density * width * height * thickness * G
     mesh = column_mesh(width, height, 0.1, cracked=True, grading=0.3)
     contact = ContactSettings(enforcement=enforcement)
-    model = build_model(mesh, STONE, thickness, contact=contact, top_load=2.0 * weight)
+    model = build_model(mesh, STONE, thickness, contact=contact, loads=Loads(top_load=2.0 * weight))
     r = run(model, Motion(NoMotion(), 0.02), FemSettings(output_interval=1e-3, progress=False))
     s, h = r.summary, r.history
     left = mesh.node_body[model.base_nodes] == 0

@@ -14,7 +14,7 @@ from colonna.core.motion import Motion, Release
 from colonna.core.quantities import quantity, selected, to_dict, to_json, typed_result, units_of
 from colonna.fem.assembly import Stone
 from colonna.fem.ensemble import EnsembleTally, ensemble_summary
-from colonna.fem.model import build_model
+from colonna.fem.model import Loads, build_model
 from colonna.fem.settings import FemSettings
 from colonna.fem.solver import FemRunSummary, run, run_ensemble
 from colonna.meshes.column import column_mesh
@@ -107,7 +107,7 @@ def fem_runs():
         Stone(),
         0.3,
         collars=(Collar(y=1.0, t=0.005, h=0.03, plastic=True),),
-        top_load=1000.0,
+        loads=Loads(top_load=1000.0),
     )
     solid = build_model(column_mesh(0.4, 2.0, 0.1, cracked=False), Stone(), 0.3)
     settings = FemSettings(progress=False, output_interval=2e-3)

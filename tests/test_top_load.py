@@ -174,7 +174,7 @@ def test_fem_static_state_carries_weight_and_top_load():
     edges)."""
     from colonna.core.ground import NoMotion
     from colonna.fem.assembly import Stone
-    from colonna.fem.model import ContactSettings, build_model
+    from colonna.fem.model import ContactSettings, Loads, build_model
     from colonna.fem.solver import run, static_state
     from colonna.meshes import column_mesh
 
@@ -184,7 +184,11 @@ def test_fem_static_state_carries_weight_and_top_load():
     mesh = column_mesh(width, height, 0.025, cracked=False, grading=0.0)
     for load in (0.0, 3.0 * weight):
         model = build_model(
-            mesh, stone, thickness, contact=ContactSettings(friction=0.0), top_load=load
+            mesh,
+            stone,
+            thickness,
+            contact=ContactSettings(friction=0.0),
+            loads=Loads(top_load=load),
         )
         r = run(model, Motion(NoMotion(), 1e-4), FemSettings(output_interval=1e-4, progress=False))
         assert r.summary["base_reaction_static"] == pytest.approx(weight + load, rel=1e-6)
@@ -194,7 +198,7 @@ def test_fem_static_state_carries_weight_and_top_load():
         # (1 %: self-weight bends the base by nu rho g x^2 / 2E against the penalty springs)
         assert pressure == pytest.approx((weight + load) / (width * thickness), rel=1e-2)
     with pytest.raises(InputError, match="top_load"):
-        build_model(mesh, stone, thickness, top_load=-1.0)
+        build_model(mesh, stone, thickness, loads=Loads(top_load=-1.0))
 
 
 def test_fem_column_with_a_top_load_rocks_like_the_rigid_block():
@@ -202,7 +206,7 @@ def test_fem_column_with_a_top_load_rocks_like_the_rigid_block():
     reaches the vertical when the rigid block with the same load does (1 %)."""
     from colonna.core.ground import NoMotion
     from colonna.fem.assembly import Stone
-    from colonna.fem.model import ContactSettings, build_model
+    from colonna.fem.model import ContactSettings, Loads, build_model
     from colonna.fem.solver import run
     from colonna.meshes import column_mesh
 
@@ -219,7 +223,7 @@ def test_fem_column_with_a_top_load_rocks_like_the_rigid_block():
         stone,
         thickness,
         contact=ContactSettings(friction=1.0),
-        top_load=2.0 * weight,
+        loads=Loads(top_load=2.0 * weight),
     )
     r = run(
         model,
