@@ -85,15 +85,16 @@ def _stood(summary: dict, path: str) -> bool:
         return not summary["runs"][model]["overturned"][i][j]
     node = summary
     parts = path.split(".")
+    stood = (False, "no")  # overturned: a flag, or the yes/no/undecided of the replicas
     for part in parts[:-1]:
         node = node[int(part)] if isinstance(node, list) else node[part]
         if not isinstance(node, dict) or node.get("overturned_replicas"):
             continue
-        if node.get("overturned") is False or not str(node.get("motion", "over")).startswith(
+        if node.get("overturned") in stood or not str(node.get("motion", "over")).startswith(
             "over"
         ):
             return True
-    return isinstance(node, dict) and node.get(parts[-1].split("_")[0] + "_overturned") is False
+    return isinstance(node, dict) and node.get(parts[-1].split("_")[0] + "_overturned") in stood
 
 
 def stopped_numbers(out: Path, terminal: str = "", pdf_text: str = "") -> list[str]:
@@ -447,6 +448,11 @@ OVERTURNING = {
     # the same column cracked, its collar layouts over the same suite: its FEM stripe at the
     # design intensity overturns in some records
     "collar-layout": TINY_LAYOUT.format(target=3.2e-3),
+    # the tiny column found cracked from the top to mid-height, its crack swept from none to
+    # the full height: the fully split column overturns (its partial cracks need not)
+    "crack-extent": _kind(BASE, "crack-extent").replace(
+        "width = 0.2\n", "width = 0.2\ncrack = [0.5, 1.0]\n"
+    ),
 }
 
 
@@ -502,6 +508,8 @@ def test_no_number_from_a_stopped_run_in_any_kind(kind, tmp_path):
     elif kind == "collar-layout":  # the premise: its FEM stripe overturns, not in all
         over = summary["fem"]["overturned"]
         assert any(over) and not all(over), over
+    elif kind == "crack-extent":  # the premise: the full crack's FEM overturns
+        assert summary["variants"]["crack-100"]["fem_overturned"] == "yes"
     elif kind == "fragility":
         for model in summary["models"]:  # the premise: it overturns at some levels, not all
             over = np.array(summary["runs"][model]["overturned"], dtype=bool)
