@@ -89,3 +89,204 @@ def test_a_tiny_column_s_extents_against_its_rigid_limits(tmp_path):
     words = re.sub("<[^>]+>", "", html)
     assert "The column as found is crack-50" in words.replace("\n", " ")
     assert "does the crack grow? (replicas)" in words
+
+
+# --- the answers against the extent, drawn from a hand-made summary (fast) ------------------
+
+STOP = "not applicable: the FEM overturned at t = 1.4 s in {k} of 3 replicas"
+
+
+def _extent(fraction, peak, over=0, collars="no", util=0.3, ki=0.2, lo=None, hi=None):
+    """A variants.<name> row: ``over`` of 3 replicas overturned (then the median is words)."""
+    stood = peak is not None and over < 3
+    return {
+        "crack_from": 1.0 - fraction,
+        "crack_to": 1.0,
+        "extent_fraction": fraction,
+        "crack_length_initial": fraction,
+        "fem_peak_rotation": STOP.format(k=over) if over else peak,
+        "fem_peak_rotation_min": (lo if lo is not None else 0.9 * peak) if stood else None,
+        "fem_peak_rotation_max": (hi if hi is not None else 1.1 * peak) if stood else None,
+        "replicas": 3,
+        "fem_overturned_replicas": over,
+        "fem_overturned": "yes" if over == 3 else "undecided" if over else "no",
+        "collars_yield": collars,
+        "crack_grows": "no",
+        "crack_length_final": fraction,
+        "crack_tip_KI_ratio": None if fraction in (0.0, 1.0) else ki,
+        "crack_tip_KI_ratio_min": None if fraction in (0.0, 1.0) else 0.8 * ki,
+        "crack_tip_KI_ratio_max": None if fraction in (0.0, 1.0) else 1.2 * ki,
+        "collar_max_utilisation": util,
+        "collar_max_utilisation_min": 0.9 * util,
+        "collar_max_utilisation_max": 1.1 * util,
+        "edge_stress_ratio": 0.1,
+        "status": "completed",
+    }
+
+
+def _summary(variants, solid="no", split="yes"):
+    def limit(over, peak, block):
+        words = "not applicable: the SDOF overturned at t = 1.2 s"
+        return {
+            "peak_rotation": words if over == "yes" else peak,
+            "overturned": over,
+            "block": block,
+        }
+
+    return {
+        "study": "hand-made",
+        "as_found": "crack-50",
+        "from_base": False,
+        "variants": variants,
+        "limits": {"solid": limit(solid, 0.05, "column"), "split": limit(split, 0.12, "half")},
+    }
+
+
+def _sweep(**changed):
+    rows = {
+        "crack-0": _extent(0.0, 0.050),
+        "crack-25": _extent(0.25, 0.052),
+        "crack-50": _extent(0.5, 0.055),
+        "crack-75": _extent(0.75, 0.06),
+        "crack-100": _extent(1.0, 0.12, collars="yes", util=1.3),
+    }
+    rows.update(changed)
+    return rows
+
+
+def test_the_report_says_from_which_extent_the_full_crack_changes_the_answers():
+    from colonna.studies.crack_extent.report import full_crack_sentence
+    from colonna.studies.crack_extent.summary import load as load_summary
+
+    # the full crack's collars yield, no partial crack's: every partial extent differs
+    said = full_crack_sentence(load_summary(_summary(_sweep())))
+    assert "changes the answers" in said and "75 % (crack-75: collars yield: no)" in said
+    assert "only the full crack itself gives them" in said
+    # from 3/4 up the answers are the full crack's (it overturns, its collars yield)
+    full = _extent(1.0, None, over=3, collars="yes")
+    said = full_crack_sentence(
+        load_summary(
+            _summary(
+                _sweep(
+                    **{"crack-75": _extent(0.75, None, over=3, collars="yes"), "crack-100": full}
+                )
+            )
+        )
+    )
+    assert "overturns: yes; collars yield: yes" in said
+    assert "50 % (crack-50: overturns: no, collars yield: no)" in said
+    assert "from 75 % of the height up every extent swept answers as the full crack" in said
+    # every extent answers as the full crack
+    same = {
+        n: _extent(f, None, over=3)
+        for n, f in (("crack-0", 0.0), ("crack-50", 0.5), ("crack-100", 1.0))
+    }
+    said = full_crack_sentence(load_summary(_summary(same)))
+    assert said.startswith("The full-crack hypothesis never changes the answers on this column")
+    assert "(0 %, 50 % of the height)" in said
+
+
+def test_the_answers_figure_marks_an_overturned_extent_without_a_peak(tmp_path):
+    """An extent all of whose replicas overturned has no peak drawn (the stopping angle is no
+    value) but a marker in the 'overturned' strip; one where some overturned shows the range
+    of those that stood and the marker; the rigid limit that overturned is a line in the
+    strip; no text runs off the figure; the CSV leaves the peaks of a stopped extent empty."""
+    from colonna.studies.crack_extent.report import (
+        OVERTURNED_MARK,
+        OVERTURNED_STRIP,
+        answers_figure,
+    )
+    from colonna.studies.crack_extent.summary import load as load_summary
+    from colonna.studies.report import texts_outside
+
+    rows = _sweep(
+        **{
+            "crack-75": _extent(0.75, 0.07, over=1, lo=0.065, hi=0.075),
+            "crack-100": _extent(1.0, None, over=3, collars="yes", util=1.3),
+        }
+    )
+    captured = {}
+
+    import colonna.studies.crack_extent.report as report
+
+    def capture(out, name, fig, caption, data_file=""):
+        captured.update(fig=fig, name=name)
+        return {"name": name}
+
+    (tmp_path / "figures").mkdir()
+    keep = report.figure
+    report.figure = capture
+    try:
+        answers_figure(tmp_path, load_summary(_summary(rows, solid="yes", split="no")))
+    finally:
+        report.figure = keep
+    fig = captured["fig"]
+    rot = fig.axes[0]
+    cap = rot.get_ylim()[1] / OVERTURNED_STRIP[1]
+    points = [
+        (float(x), float(y))
+        for line in rot.get_lines()
+        for x, y in zip(line.get_xdata(), line.get_ydata())
+        if len(line.get_xdata()) == 1 or line.get_xdata()[0] == line.get_xdata()[-1]
+    ]
+    at = lambda f: sorted(y for x, y in points if x == f)  # noqa: E731
+    assert at(1.0) == [pytest.approx(OVERTURNED_MARK * cap)]  # the full crack: a marker only
+    assert [y for y in at(0.75) if y < cap] == [0.065, 0.065, 0.075, 0.075]  # the stood range
+    assert any(y == pytest.approx(OVERTURNED_MARK * cap) for y in at(0.75))
+    assert 0.055 in at(0.5)  # a median
+    horizontal = {
+        round(float(line.get_ydata()[0]) / cap, 3)
+        for line in rot.get_lines()
+        if len(line.get_xdata()) == 2 and line.get_xdata()[0] != line.get_xdata()[-1]
+    }
+    assert 1.25 in horizontal  # the solid limit overturned: in the strip
+    assert texts_outside(fig) == []
+    csv = (tmp_path / "figures" / "answers.csv").read_text().splitlines()
+    head = csv[0].split(",")
+    full = dict(zip(head, csv[-1].split(",")))
+    assert full["fem_peak_rotation_median"] == "" and full["fem_peak_rotation_max_stood"] == ""
+    assert full["fem_overturned_replicas"] == "3.0"
+
+
+def test_an_extent_s_peak_range_leaves_out_the_replicas_that_overturned():
+    from colonna.studies.crack_extent.runner import _stood_peaks
+
+    fem = {
+        "max_abs_theta_left": 0.06,
+        "max_abs_theta_right": 0.05,
+        "status": "completed",
+        "statuses": ["completed", "overturned at t = 1.4 s", "completed"],
+        "bands": {
+            "max_abs_theta_left": {"values": [0.06, 0.78, 0.04]},
+            "max_abs_theta_right": {"values": [0.05, 0.70, 0.045]},
+        },
+    }
+    assert _stood_peaks(fem) == [0.06, 0.045]
+
+
+def test_the_report_page_says_what_the_full_crack_changes_beside_its_answers_figure(tmp_path):
+    """The page (from a hand-made summary and histories) carries the sentence of
+    :func:`full_crack_sentence`, the answers figure and the rotation histories."""
+    from colonna.studies.crack_extent.report import write_report
+    from colonna.studies.output import write_csv, write_json
+
+    rows = _sweep(
+        **{
+            "crack-75": _extent(0.75, None, over=3, collars="yes"),
+            "crack-100": _extent(1.0, None, over=3, collars="yes"),
+        }
+    )
+    write_json(tmp_path / "summary.json", _summary(rows))
+    for n in rows:
+        write_csv(
+            tmp_path / "cases" / f"{n}-fem" / "history.csv",
+            {"t": [0.0, 0.1], "theta_left": [0.0, 0.01], "theta_right": [0.0, 0.01]},
+        )
+    words = re.sub(r"\s+", " ", re.sub("<[^>]+>", "", write_report(tmp_path).read_text()))
+    assert (
+        "The full-crack hypothesis (overturns: yes; collars yield: yes) changes the answers of "
+        "the column cracked over 0 % (crack-0: overturns: no, collars yield: no)" in words
+    )
+    assert "from 75 % of the height up every extent swept answers as the full crack" in words
+    assert (tmp_path / "figures" / "answers_extent.png").exists()
+    assert (tmp_path / "figures" / "theta_extents.png").exists()

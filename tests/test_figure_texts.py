@@ -260,7 +260,7 @@ STUDIES = {
     ),
     "crack-extent": (
         _kind(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.3), "crack-extent"),
-        {"theta_extents"},
+        {"theta_extents", "answers_extent"},
     ),
     "mesh-convergence": (
         _kind(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.3), "mesh-convergence").replace(

@@ -96,25 +96,55 @@ def fem_work(study: Study) -> FemWork:
 
 
 def _row(study: FemStudy, crack: tuple, fem: dict) -> dict:
-    """One extent's numbers: where the crack runs and its length, the FEM's peak rotation and
-    overturning, the crack's growth and K_I / K_IC (medians over the replicas), the collars'
-    utilisation and the toe stress."""
+    """One extent's numbers: where the crack runs, its length and its fraction of the height,
+    the FEM's peak rotation (median, and the range over the replicas that stood) and
+    overturning, the crack's growth and K_I / K_IC (medians over the replicas, with their
+    range), the collars' utilisation (with its range and whether the collars yield) and the
+    toe stress."""
     stop = fem_stop("the FEM", fem)
+    stood = _stood_peaks(fem)
+    bands = fem.get("bands", {})
     return {
         "crack_from": crack[0],
         "crack_to": crack[1],
+        "extent_fraction": (crack[1] - crack[0]) / study.height,
         "crack_length_initial": fem.get("crack_length_initial", crack[1] - crack[0]),
         "fem_peak_rotation": unless_stopped(
             max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]), stop
         ),
+        "fem_peak_rotation_min": min(stood) if stood else None,
+        "fem_peak_rotation_max": max(stood) if stood else None,
+        "replicas": int(fem.get("replicas", 1)),
+        "fem_overturned_replicas": int(
+            fem.get("overturned_replicas", int(bool(fem["overturned"])))
+        ),
         "fem_overturned": fem.get("overturned_answer", "yes" if fem["overturned"] else "no"),
+        "collars_yield": fem_answers(fem, "", collars=study.collars)["collars_yield"]["answer"],
         "crack_grows": fem.get("crack_grew_answer", "no"),
         "crack_length_final": fem.get("crack_length_final", crack[1] - crack[0]),
         "crack_tip_KI_ratio": fem.get("crack_tip_KI_ratio"),
+        "crack_tip_KI_ratio_min": bands.get("crack_tip_KI_ratio", {}).get("min"),
+        "crack_tip_KI_ratio_max": bands.get("crack_tip_KI_ratio", {}).get("max"),
         "collar_max_utilisation": fem["collar_max_utilisation"],
+        "collar_max_utilisation_min": bands.get("collar_max_utilisation", {}).get("min"),
+        "collar_max_utilisation_max": bands.get("collar_max_utilisation", {}).get("max"),
         "edge_stress_ratio": fem["edge_stress_ratio"],
         "status": fem["status"],
     }
+
+
+def _stood_peaks(fem: dict) -> list[float]:
+    """The largest |theta| (rad, either half) of each replica whose run stood (a run that
+    overturned stopped: its largest rotation is the stopping angle, no peak)."""
+    bands = fem.get("bands", {})
+    left = bands.get("max_abs_theta_left", {}).get("values") or [fem["max_abs_theta_left"]]
+    right = bands.get("max_abs_theta_right", {}).get("values") or [fem["max_abs_theta_right"]]
+    statuses = fem.get("statuses") or [fem["status"]]
+    return [
+        max(a, b)
+        for a, b, status in zip(left, right, statuses)
+        if a is not None and b is not None and not str(status).startswith("overturned")
+    ]
 
 
 def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:

@@ -16,15 +16,35 @@ class Extent:
 
     crack_from: float = quantity("m", "height the crack runs from")
     crack_to: float = quantity("m", "height the crack runs to")
+    extent_fraction: float = quantity("-", "the crack's length over the column's height")
     crack_length_initial: float = like(FemRunSummary, "crack_length_initial")
     fem_peak_rotation: Stoppable = quantity(
         "rad", "FEM peak rotation, median (the words of its stop where it overturned)"
     )
+    fem_peak_rotation_min: float | None = quantity(
+        "rad", "FEM peak rotation, smallest over the replicas that stood (None: none stood)"
+    )
+    fem_peak_rotation_max: float | None = quantity(
+        "rad", "FEM peak rotation, largest over the replicas that stood (None: none stood)"
+    )
+    replicas: int = quantity("", "runs in the ensemble")
+    fem_overturned_replicas: int = quantity("", "replicas that overturned")
     fem_overturned: str = quantity("", "does the FEM column overturn: yes, no or undecided")
+    collars_yield: str = quantity(
+        "", "do the collars yield (utilisation band against 1): yes, no, undecided, not assessed"
+    )
     crack_grows: str = quantity("", "does the crack grow: yes, no or undecided")
     crack_length_final: float = like(FemRunSummary, "crack_length_final")
     crack_tip_KI_ratio: float | None = like(FemRunSummary, "crack_tip_KI_ratio")
+    crack_tip_KI_ratio_min: float | None = quantity("-", "K_I / K_IC, smallest over the replicas")
+    crack_tip_KI_ratio_max: float | None = quantity("-", "K_I / K_IC, largest over the replicas")
     collar_max_utilisation: float = like(FemRunSummary, "collar_max_utilisation")
+    collar_max_utilisation_min: float | None = quantity(
+        "-", "collar utilisation, smallest over the replicas"
+    )
+    collar_max_utilisation_max: float | None = quantity(
+        "-", "collar utilisation, largest over the replicas"
+    )
     edge_stress_ratio: float = like(FemRunSummary, "edge_stress_ratio")
     status: str = like(FemRunSummary, "status")
 
