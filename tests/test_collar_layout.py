@@ -115,7 +115,8 @@ def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsy
     assert chosen["frequency"] <= s["target"]["frequency"]
     lighter = [r for r in s["layouts"] if r["mass"] < chosen["mass"]]
     for row in lighter:
-        assert row["decision"] in ("fails", "not refined") and row["why"], row
+        assert row["decision"] in ("fails", "not refined", "not confirmed by the FEM"), row
+        assert row["why"], row
     failed = [r for r in lighter if r["decision"] == "fails" and r.get("frequency") is not None]
     for row in failed:  # a refined layout that fails: its frequency above the target or fracture
         assert row["frequency"] > s["target"]["frequency"] or row["fracture_share"] > 0
@@ -165,7 +166,14 @@ def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsy
     expected = expected_work(load(study))
     assert {r.case.split("-")[0] for r in expected.runs} >= {"elastic", "fem", "chosen"}
     left = without_saved(expected, out)
-    assert left.runs and all(r.case.startswith("plastic-") for r in left.runs), left.runs
+    # and the FEM attempts not needed (the estimate counts layout.fem_attempts of them)
+    from colonna.studies.collar_layout.runner import fem_key
+
+    ran = len(s["fem_choice"]["attempts"])
+    unneeded = {fem_key(a, i) for a in range(ran, s["fem_choice"]["allowed"]) for i in range(4)}
+    assert left.runs and all(
+        r.case.startswith("plastic-") or r.case in unneeded for r in left.runs
+    ), left.runs
     for run in s["fem"]["runs"]:  # an overturned run's stop is no peak
         assert run["peak_ratio"] is None or not run["overturned"]
     html = (out / "index.html").read_text()
@@ -579,3 +587,173 @@ def test_the_screening_and_refinement_run_each_layouts_pretension(tmp_path, monk
         collars = study_of_case(case).collars
         assert [(k.fy, k.plastic) for k in collars] == [(355e6, True)] * 2
         assert [k.pretension for k in collars] == [pytest.approx(0.9 * 355e6 * 8e-4)] * 2
+
+
+def _attempts_study(tmp_path, monkeypatch, fem_plan: dict, layout_lines: str = ""):
+    """Run the tiny layout study (tests/tiny_study.py TINY_LAYOUT) with its model runs faked:
+    each record i overturns first at level design + 1 + i with collars (never yielding, so the
+    screening decides every layout: all meet the target) and at design - 2 + i without (fails);
+    the FEM run of record i in the case ``fem_plan[prefix]`` gives (overturned, fractured),
+    prefix the case key's ("fem", "fem2", ...). The cross-check is asserted to be asked of the
+    finally chosen layout, and not run. Returns the summary.json read back, the FEM case keys
+    in the order run and the Setup."""
+    import dataclasses
+
+    from colonna.studies.collar_layout import runner
+    from colonna.studies.executor import RunOptions
+
+    study, s = _tiny_setup(tmp_path, layout_lines)
+    d = s.design_level
+    assert 2 <= d <= len(s.levels) - 5, s.levels  # room below and above the design level
+
+    def capacity(count: int, i: int) -> int:
+        return d + 1 + i if count else d - 2 + i
+
+    none = [capacity(0, i) for i in range(4)]
+    one = [capacity(1, i) for i in range(4)]
+    low, high = runner.frequency_of(one, s)["frequency"], runner.frequency_of(none, s)["frequency"]
+    assert low < high
+    s = dataclasses.replace(s, target=math.sqrt(low * high))
+    monkeypatch.setattr(runner, "setup", lambda _study: s)
+    fem_keys: list[str] = []
+
+    def fake_run_cases(function, cases, out, **kwargs):
+        found = {}
+        for case in cases:
+            key = case["key"]
+            if key.startswith("elastic-"):
+                k = capacity(case["section"][0], case["record"])
+                walk = [
+                    {"overturned": j == k, "stress": 1.0, "fractured": False} for j in range(k + 1)
+                ]
+                found[key] = {"walk": walk, "seconds": 0.0}
+            else:
+                fem_keys.append(key)
+                overturned, fractured = fem_plan[key.split("-")[0]][case["record"]]
+                found[key] = {
+                    "overturned": overturned,
+                    "collar_fractured": fractured,
+                    "fem_seconds": 1.0,
+                }
+        return found
+
+    monkeypatch.setattr(runner, "run_cases", fake_run_cases)
+    crosschecked: list[str] = []
+
+    def fake_crosscheck(study, s, chosen, out, options):
+        crosschecked.append(chosen["label"])
+        return None
+
+    monkeypatch.setattr(runner, "run_crosscheck", fake_crosscheck)
+    out = tmp_path / "out"
+    runner.run(study, out, RunOptions(1, None, False, False))
+    found = json.loads((out / "summary.json").read_text())
+    assert crosschecked == [found["chosen"]["label"]]  # the finally chosen layout's
+    return found, fem_keys, s
+
+
+AGREE = [(False, False)] * 4  # the multibody overturns no record at the design intensity
+ONE_MORE = [(True, False)] + [(False, False)] * 3  # undecided: 1 of 4 differ, p = 1
+TWO_MORE = [(True, False)] * 2 + [(False, False)] * 2  # undecided: p = 0.5
+FRACTURES = [(False, True)] + [(False, False)] * 3  # contradicts: a collar fractures
+
+
+def test_a_contradicted_choice_is_followed_by_the_next_heavier_layout_until_one_is_confirmed(
+    tmp_path, monkeypatch
+):
+    """The FEM contradicts the lightest layout that meets the target (a collar fractures): the
+    next heavier one that meets it is FEM-checked (its runs saved as fem2-*), confirmed and
+    chosen; no third attempt; the answer, the rows and summary.json say the same."""
+    from colonna.studies.collar_layout.runner import NOT_CONFIRMED, _fem_stripe_work
+
+    plan = {"fem": FRACTURES, "fem2": AGREE, "fem3": AGREE}
+    s, keys, setup_ = _attempts_study(tmp_path, monkeypatch, plan)
+    assert keys == [f"fem-{i:03d}" for i in range(4)] + [f"fem2-{i:03d}" for i in range(4)]
+    choice = s["fem_choice"]
+    first, second = "1 x 4 x 30 mm S235", "1 x 4 x 30 mm S355"
+    assert [a["label"] for a in choice["attempts"]] == [first, second]
+    assert [a["agreement"] for a in choice["attempts"]] == ["contradicts", "confirms"]
+    assert choice["first"] == first and choice["confirmed"] == second == choice["chosen"]
+    assert choice["stopped"] == "confirmed"
+    assert s["chosen"]["label"] == second and s["fem"] == choice["attempts"][1]["fem"]
+    rows = {r["label"]: r for r in s["layouts"]}
+    assert rows[first]["decision"] == NOT_CONFIRMED and "contradicts it" in rows[first]["why"]
+    assert rows[second]["decision"] == "chosen" and rows["no collars"]["decision"] == "fails"
+    assert not s["lighter_all_fail"] and s["lighter_all_fail_or_not_confirmed"]
+    assert s["answer"].startswith(f"{second} at 2.00 m: overturning")
+    assert s["answer"].endswith(
+        f"confirms it, not the lighter {first} (contradicted) that met the target by the "
+        "multibody model (see the FEM check)."
+    )
+    # the estimate counts both attempts' runs (an upper bound), under the keys they are saved at
+    assert {r.case for r in _fem_stripe_work(setup_).runs} == set(keys)
+
+
+def test_the_reports_fem_section_lists_each_attempt(tmp_path, monkeypatch):
+    """The report's FEM section: each layout FEM-checked, in order, with its comparison, the
+    chosen one marked, and what the attempts found."""
+    import re
+
+    from colonna.studies.collar_layout.report import write_report
+
+    plan = {"fem": FRACTURES, "fem2": AGREE}
+    _attempts_study(tmp_path, monkeypatch, plan)
+    first, second = "1 x 4 x 30 mm S235", "1 x 4 x 30 mm S355"
+    write_report(tmp_path / "out")
+    html = (tmp_path / "out" / "index.html").read_text()
+    table = re.search(r'data-table="fem-attempts">(.*?)</table>', html, re.S).group(1)
+    cells = [re.findall(r"<td>(.*?)</td>", row) for row in re.findall(r"<tr>(.*?)</tr>", table)]
+    cells = [c for c in cells if c]
+    assert [c[0] for c in cells] == [first, f"{second} (chosen)"]
+    assert [c[-1] for c in cells] == [
+        "contradicts (collars fracture beyond the allowance)",
+        "confirms",
+    ]
+    assert f"The FEM confirms {second}, not the lighter" in html
+
+
+def test_no_confirmed_attempt_recommends_the_one_the_fem_overturns_least(tmp_path, monkeypatch):
+    """Three attempts, none confirmed (undecided twice, then contradicted): all three run in
+    order and the study recommends the one whose FEM stripe overturns the fewest records
+    within the fracture allowance, here the first, saying so."""
+    plan = {"fem": ONE_MORE, "fem2": TWO_MORE, "fem3": FRACTURES}
+    s, keys, _ = _attempts_study(tmp_path, monkeypatch, plan, "fem_attempts = 3\n")
+    assert [k.split("-")[0] for k in keys] == ["fem"] * 4 + ["fem2"] * 4 + ["fem3"] * 4
+    choice = s["fem_choice"]
+    labels = [a["label"] for a in choice["attempts"]]
+    assert labels == ["1 x 4 x 30 mm S235", "1 x 4 x 30 mm S355", "2 x 4 x 30 mm S235"]
+    assert [a["agreement"] for a in choice["attempts"]] == ["undecided", "undecided", "contradicts"]
+    assert choice["confirmed"] is None and choice["chosen"] == labels[0] == s["chosen"]["label"]
+    assert choice["stopped"] == "layout.fem_attempts = 3 reached"
+    assert choice["why"] == (
+        "its FEM stripe overturns 1 of 4 records at the design intensity, the fewest of the "
+        "attempts"
+    )
+    assert s["fem"] == choice["attempts"][0]["fem"]
+    assert f"confirm none of the 3 layouts checked ({labels[0]}: undecided; " in s["answer"]
+    assert s["answer"].endswith(f"recommended as {choice['why']}.")
+    decisions = {r["label"]: r["decision"] for r in s["layouts"]}
+    assert [decisions[x] for x in labels] == ["chosen"] + ["not confirmed by the FEM"] * 2
+
+
+def test_a_single_attempt_says_why_no_other_was_checked(tmp_path, monkeypatch):
+    """layout.fem_attempts = 1: the undecided first choice stays chosen, the answer says so and
+    why no other layout was checked; a confirmed first choice is the one attempt."""
+    s, keys, _ = _attempts_study(tmp_path, monkeypatch, {"fem": ONE_MORE}, "fem_attempts = 1\n")
+    assert len(keys) == 4 and s["fem_choice"]["confirmed"] is None
+    assert s["answer"].endswith(
+        "neither confirms nor contradicts it (see the FEM check); no other layout was "
+        "FEM-checked: layout.fem_attempts = 1 reached."
+    )
+    (tmp_path / "b").mkdir()
+    s, keys, _ = _attempts_study(tmp_path / "b", monkeypatch, {"fem": AGREE})
+    assert len(keys) == 4 and s["fem_choice"]["confirmed"] == s["chosen"]["label"]
+    assert s["answer"].endswith("the FEM stripe at the design intensity confirms it.")
+
+
+def test_fem_attempts_out_of_range_names_the_key():
+    with pytest.raises(ValueError, match="fem_attempts"):
+        Layout(suite="s", target_frequency=1e-3, fem_attempts=0)
+    with pytest.raises(ValueError, match="fem_attempts"):
+        Layout(suite="s", target_frequency=1e-3, fem_attempts=11)
+    assert Layout(suite="s", target_frequency=1e-3).fem_attempts == 2

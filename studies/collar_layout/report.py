@@ -28,6 +28,7 @@ def write_report(out: Path) -> Path:
         figs=[_trade_off(out, s)],
         lighter=lighter_rows(s),
         fem_rows=fem_rows(s),
+        attempt_rows=attempt_rows(s),
     )
 
 
@@ -42,12 +43,12 @@ def frequency_text(row: dict) -> str:
 
 
 def lighter_rows(s: dict) -> list[dict]:
-    """The layouts up to the chosen one, lightest first, each with why it fails (or is
-    chosen)."""
+    """The layouts up to the chosen one in the catalogue's order, lightest first, each with
+    why it fails (or is chosen)."""
     chosen = s.get("chosen")
-    rows = []
+    rows: list[dict] = []
     for r in s["layouts"]:
-        if chosen is not None and r["mass"] > chosen["mass"]:
+        if chosen is not None and rows and rows[-1]["label"] == chosen["label"]:
             break
         rows.append(
             {
@@ -88,8 +89,50 @@ def fem_rows(s: dict) -> list[dict]:
     ]
 
 
+AGREEMENT = {
+    "confirms": "confirms",
+    "contradicts": "contradicts",
+    "undecided": "neither confirms nor contradicts",
+}
+
+
+def attempt_rows(s: dict) -> list[dict]:
+    """Each layout FEM-checked at the design intensity, in the order checked: its steel, its
+    multibody frequency, the records each model overturns there, McNemar's p, the fractures
+    and what the stripe says."""
+    choice = s.get("fem_choice")
+    if not choice:
+        return []
+    rows = []
+    for a in choice["attempts"]:
+        fem = a["fem"]
+        n = len(fem["overturned"])
+        rows.append(
+            {
+                "label": a["label"],
+                "mass": f"{a['mass']:.1f}",
+                "frequency": f"{a['frequency']:.3g}",
+                "fem": f"{sum(fem['overturned'])} of {n}",
+                "multibody": f"{sum(fem['multibody_overturned'])} of {n}",
+                "differ": f"FEM only: {', '.join(fem['fem_only']) or 'none'}; multibody only: "
+                f"{', '.join(fem['multibody_only']) or 'none'}",
+                "p": f"{fem['mcnemar_p']:.2g}",
+                "fractures": f"{fem['fracture_share']:.2f}",
+                "agreement": AGREEMENT[a["agreement"]]
+                + (
+                    " (collars fracture beyond the allowance)"
+                    if fem["fracture_share"] > fem["fracture_allowed"]
+                    else ""
+                ),
+                "chosen": a["label"] == choice["chosen"],
+            }
+        )
+    return rows
+
+
 DECISION_STYLE = {
     "fails": ("x", "tab:red"),
+    "not confirmed by the FEM": ("s", "tab:orange"),
     "chosen": ("*", "tab:green"),
     "not refined": ("o", "tab:grey"),
     "heavier than the chosen layout": ("o", "tab:blue"),

@@ -513,95 +513,244 @@ def decide(s: Setup, screened: dict, out: Path, options: RunOptions) -> dict:
     collar follows the elastic one until it yields), else from the plastic refinement of its
     open records, up to [layout] shortlist refined layouts; the chosen layout. The screening's
     range (:func:`bracket`) is shown, never used to decide: a lognormal fit's lambda is not
-    monotonic in the capacities (a censored record changes its dispersion)."""
-    spec = s.spec
+    monotonic in the capacities (a censored record changes its dispersion).
+    :func:`next_meeting` goes on from a layout the FEM does not confirm."""
     brackets = {c.label: bracket(c, screened["walks"], s) for c in s.candidates}
     rows = []
-    chosen = None
-    refined = 0
-    plastic_seconds = 0.0
-    plastic_runs = 0
     for c in s.candidates:
         b = brackets[c.label]
-        row = {
-            "label": c.label,
-            "count": c.count,
-            "t": c.t,
-            "h": c.h,
-            "grade": c.grade,
-            "fy": c.fy if c.count else None,
-            "pretension": c.pretension,  # fraction of the yield force f_y t h
-            "pretension_force": c.pretension_force,  # N
-            "mass": c.mass,
-            "heights": s.heights[c.count],
-            "upper": b["upper"]["frequency"],
-            "lower": b["lower"]["frequency"],
-            "upper_is_bound": b["upper"]["bound"],
-            "open_records": len(b["open"]),
-        }
-        rows.append(row)
-        if chosen is not None:
-            row["decision"] = "heavier than the chosen layout"
-            continue
-        if b["open"]:
-            if refined >= spec.shortlist:
-                row["decision"] = "not refined"
-                row["why"] = (
-                    f"beyond the shortlist of {spec.shortlist} refined layouts (its collars "
-                    f"yield before it overturns in {len(b['open'])} records)"
-                )
-                continue
-            refined += 1
-            plastic = refine([c], brackets, s, out, options)[c.label]
-        else:  # no collar yields before the column overturns: the elastic runs are the answer
-            plastic = [None] * len(s.records)
-        for run in plastic:
-            if run is not None:
-                plastic_seconds += run["seconds"]
-                plastic_runs += len(run["walk"])
-        capacities, fractured = plastic_capacities(c, b, plastic, s)
-        frequency = frequency_of(capacities, s, band=True)
-        counted = [f for f in fractured if f is not None]
-        share = sum(counted) / len(fractured)
-        row.update(
-            frequency=frequency["frequency"],
-            frequency_entry=frequency,
-            capacities=[None if k is None else float(s.levels[k]) for k in capacities],
-            fractured_at_design=fractured,
-            fracture_share=share,
+        rows.append(
+            {
+                "label": c.label,
+                "count": c.count,
+                "t": c.t,
+                "h": c.h,
+                "grade": c.grade,
+                "fy": c.fy if c.count else None,
+                "pretension": c.pretension,  # fraction of the yield force f_y t h
+                "pretension_force": c.pretension_force,  # N
+                "mass": c.mass,
+                "heights": s.heights[c.count],
+                "upper": b["upper"]["frequency"],
+                "lower": b["lower"]["frequency"],
+                "upper_is_bound": b["upper"]["bound"],
+                "open_records": len(b["open"]),
+            }
         )
-        how = (
-            "with plastic collars"
-            if b["open"]
-            else "(the elastic screening's: no collar yields before the column overturns)"
-        )
-        if frequency["frequency"] > s.target:
-            row["decision"] = "fails"
-            row["why"] = (
-                f"lambda = {frequency['frequency']:.4g} per year {how}, above the target "
-                f"{s.target:.4g}"
-            )
-        elif share > spec.fracture_fraction:
-            row["decision"] = "fails"
-            row["why"] = (
-                f"{sum(counted)} of {len(fractured)} records fracture a collar at the design "
-                f"intensity (at most {spec.fracture_fraction:.0%} allowed)"
-            )
-        else:
-            row["decision"] = "chosen"
-            chosen = row
-    return {
+    decided = {
         "rows": rows,
-        "chosen": chosen,
-        "refined": refined,
-        "plastic_seconds": plastic_seconds,
-        "plastic_runs": plastic_runs,
+        "brackets": brackets,
+        "chosen": None,
+        "refined": 0,
+        "plastic_seconds": 0.0,
+        "plastic_runs": 0,
+    }
+    decided["chosen"] = next_meeting(s, decided, -1, out, options)
+    for row in rows:
+        row.setdefault("decision", "heavier than the chosen layout")
+    return decided
+
+
+def next_meeting(s: Setup, decided: dict, after: int, out: Path, options: RunOptions):
+    """The first layout after row ``after`` (an index of the catalogue, lightest first) that
+    meets the target by the multibody model (:func:`judge`), or None; each row on the way
+    judged ("fails", "not refined" beyond [layout] shortlist refined layouts in this search),
+    the one found "chosen"."""
+    refined = 0
+    for index in range(after + 1, len(s.candidates)):
+        row = decided["rows"][index]
+        row.pop("decision", None)
+        if judge(s, s.candidates[index], row, decided, refined, out, options):
+            refined += 1
+        if row["decision"] == "chosen":
+            return row
+    return None
+
+
+def judge(s: Setup, c: Candidate, row: dict, decided: dict, refined: int, out, options) -> bool:
+    """Decide layout ``c``'s ``row`` (its frequency, the records that fracture a collar at the
+    design intensity, "fails", "not refined" or "chosen", with why), refining its open records
+    with plastic collars unless ``refined`` has reached [layout] shortlist; whether it was
+    refined."""
+    spec = s.spec
+    b = decided["brackets"][c.label]
+    if b["open"]:
+        if refined >= spec.shortlist:
+            row["decision"] = "not refined"
+            row["why"] = (
+                f"beyond the shortlist of {spec.shortlist} refined layouts (its collars "
+                f"yield before it overturns in {len(b['open'])} records)"
+            )
+            return False
+        decided["refined"] += 1
+        plastic = refine([c], decided["brackets"], s, out, options)[c.label]
+    else:  # no collar yields before the column overturns: the elastic runs are the answer
+        plastic = [None] * len(s.records)
+    for run in plastic:
+        if run is not None:
+            decided["plastic_seconds"] += run["seconds"]
+            decided["plastic_runs"] += len(run["walk"])
+    capacities, fractured = plastic_capacities(c, b, plastic, s)
+    frequency = frequency_of(capacities, s, band=True)
+    counted = [f for f in fractured if f is not None]
+    share = sum(counted) / len(fractured)
+    row.update(
+        frequency=frequency["frequency"],
+        frequency_entry=frequency,
+        capacities=[None if k is None else float(s.levels[k]) for k in capacities],
+        fractured_at_design=fractured,
+        fracture_share=share,
+    )
+    how = (
+        "with plastic collars"
+        if b["open"]
+        else "(the elastic screening's: no collar yields before the column overturns)"
+    )
+    if frequency["frequency"] > s.target:
+        row["decision"] = "fails"
+        row["why"] = (
+            f"lambda = {frequency['frequency']:.4g} per year {how}, above the target {s.target:.4g}"
+        )
+    elif share > spec.fracture_fraction:
+        row["decision"] = "fails"
+        row["why"] = (
+            f"{sum(counted)} of {len(fractured)} records fracture a collar at the design "
+            f"intensity (at most {spec.fracture_fraction:.0%} allowed)"
+        )
+    else:
+        row["decision"] = "chosen"
+    return bool(b["open"])
+
+
+NOT_CONFIRMED = "not confirmed by the FEM"
+
+
+def fem_attempts(s: Setup, decided: dict, out: Path, options: RunOptions) -> dict:
+    """FEM-check the chosen layout (:func:`fem_stripe`) and, while its stripe does not confirm
+    it (contradicts, or undecided: docs/studies.md, "Collar layout"), the next heavier layout
+    that meets the target by the multibody model (:func:`next_meeting`), up to [layout]
+    fem_attempts layouts. The first one confirmed is chosen; where none is, the attempt
+    :func:`recommended` is. ``decided`` is updated: its chosen row, each other attempt's
+    decision NOT_CONFIRMED with why. Returns the attempts (label, mass, frequency, stripe),
+    the first choice, the confirmed layout (or None), why the attempts stopped and why the
+    chosen one is."""
+    row = decided["chosen"]
+    first = row["label"]
+    rows = decided["rows"]
+    attempts: list[dict] = []
+    stopped = ""
+    while True:
+        stripe = fem_stripe(s, row, out, options, attempt=len(attempts))
+        attempts.append({"row": row, "fem": stripe})
+        if stripe["agreement"] == "confirms":
+            stopped = "confirmed"
+            break
+        if len(attempts) >= s.spec.fem_attempts:
+            stopped = f"layout.fem_attempts = {s.spec.fem_attempts} reached"
+            break
+        index = next(i for i, r in enumerate(rows) if r is row)
+        row = next_meeting(s, decided, index, out, options)
+        if row is None:
+            stopped = "no heavier layout of the catalogue meets the target by the multibody model"
+            break
+    confirmed = attempts[-1] if stopped == "confirmed" else None
+    final, why = (
+        (confirmed, "the first layout the FEM confirms") if confirmed else recommended(attempts)
+    )
+    for a in attempts:
+        r = a["row"]
+        if a is final:
+            r["decision"] = "chosen"
+            r.pop("why", None)
+            continue
+        r["decision"] = NOT_CONFIRMED
+        r["why"] = (
+            f"meets the target by the multibody model (lambda = {r['frequency']:.4g} per year), "
+            f"but its FEM stripe at the design intensity {AGREEMENT_WORDS[a['fem']['agreement']]}"
+            f" it ({stripe_differences(a['fem'])})"
+        )
+    decided["chosen"] = final["row"]
+    return {
+        "first": first,
+        "confirmed": None if confirmed is None else confirmed["row"]["label"],
+        "chosen": final["row"]["label"],
+        "allowed": s.spec.fem_attempts,
+        "stopped": stopped,
+        "why": why,
+        "attempts": [
+            {
+                "label": a["row"]["label"],
+                "mass": a["row"]["mass"],
+                "frequency": a["row"]["frequency"],
+                "agreement": a["fem"]["agreement"],
+                "fem": a["fem"],
+            }
+            for a in attempts
+        ],
+        "fem": final["fem"],
     }
 
 
-def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
-    """The chosen layout's FEM runs of every record at the design intensity (settled-stop,
-    plastic collars), against its multibody stripe there."""
+AGREEMENT_WORDS = {
+    "confirms": "confirms",
+    "contradicts": "contradicts",
+    "undecided": "neither confirms nor contradicts",
+}
+
+
+def stripe_differences(fem: dict) -> str:
+    """How a FEM stripe differs from the multibody runs, in words."""
+    n = len(fem["overturned"])
+    differ = len(fem["fem_only"]) + len(fem["multibody_only"])
+    text = (
+        f"{differ} of {n} records differ: FEM only {', '.join(fem['fem_only']) or 'none'}, "
+        f"multibody only {', '.join(fem['multibody_only']) or 'none'}; "
+        f"McNemar p = {fem['mcnemar_p']:.2g}"
+    )
+    if fem["fracture_share"] > fem["fracture_allowed"]:
+        text += (
+            f"; {fem['fracture_share']:.0%} of the records fracture a collar, above the "
+            f"{fem['fracture_allowed']:.0%} allowed"
+        )
+    return text
+
+
+def recommended(attempts: list[dict]) -> tuple[dict, str]:
+    """Of FEM-checked layouts none of which the FEM confirms, the one recommended and why: the
+    FEM's own evidence first, i.e. collars that fracture within the allowance, then the fewest
+    records the FEM overturns at the design intensity, then the least steel (more steel that
+    does not lower the FEM's overturnings buys nothing the FEM can show)."""
+
+    def rank(a: dict) -> tuple:
+        fem = a["fem"]
+        beyond = fem["fracture_share"] > fem["fracture_allowed"]
+        return (beyond, sum(fem["overturned"]), a["row"]["mass"])
+
+    best = min(attempts, key=rank)
+    fem = best["fem"]
+    fewest = sum(fem["overturned"])
+    n = len(fem["overturned"])
+    ties = [a for a in attempts if rank(a)[:2] == rank(best)[:2]]
+    why = f"its FEM stripe overturns {fewest} of {n} records at the design intensity, " + (
+        "the fewest of the attempts"
+        if len(ties) == 1
+        else "as few as any attempt, with the least steel"
+    )
+    if rank(best)[0]:
+        why += ", although its collars fracture in more records than allowed, as in every attempt"
+    return best, why
+
+
+def fem_key(attempt: int, i: int) -> str:
+    """The case key of the FEM run of record ``i`` in FEM attempt ``attempt`` (0: the first
+    choice's, saved as before attempts existed)."""
+    return f"fem-{i:03d}" if attempt == 0 else f"fem{attempt + 1}-{i:03d}"
+
+
+def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions, attempt: int = 0) -> dict:
+    """The layout's FEM runs of every record at the design intensity (settled-stop, plastic
+    collars), against its multibody stripe there; the runs saved under
+    :func:`fem_key` of ``attempt``."""
     from ..fragility.runner import _fem_study, _interval, fem_cases
 
     one = layout_column(
@@ -618,8 +767,11 @@ def fem_stripe(s: Setup, chosen: dict, out: Path, options: RunOptions) -> dict:
     for i, record in enumerate(s.records):
         scale = float(analysis.scales_for(np.array([s.design]), s.intensity[i])[0])
         study = _fem_study(one, record, scale, interval)
-        cases.append(case_of(study, cost=study.duration, key=f"fem-{i:03d}", record=i, level=0))
-    results = run_cases(fem_cases, cases, out, run_options=options, batched=True, stage="FEM")
+        cases.append(
+            case_of(study, cost=study.duration, key=fem_key(attempt, i), record=i, level=0)
+        )
+    stage = "FEM" if attempt == 0 else f"FEM, attempt {attempt + 1} ({chosen['label']})"
+    results = run_cases(fem_cases, cases, out, run_options=options, batched=True, stage=stage)
     check_fem_results(results, out)
     runs = [results[c["key"]] for c in cases]
     overturned = [bool(r["overturned"]) for r in runs]
@@ -913,10 +1065,10 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
     start = time.perf_counter()
     screened = screening(s, out, options)
     decided = decide(s, screened, out, options)
-    fem = None
+    attempts = None
     if s.spec.fem and decided["chosen"] is not None:
-        fem = fem_stripe(s, decided["chosen"], out, options)
-    summary = assemble(study, s, screened, decided, fem)
+        attempts = fem_attempts(s, decided, out, options)
+    summary = assemble(study, s, screened, decided, attempts)
     summary["crosscheck"] = None
     if s.spec.crosscheck and decided["chosen"] is not None:
         summary["crosscheck"] = run_crosscheck(study, s, decided["chosen"], out, options)
@@ -925,14 +1077,22 @@ def run(study: Study, out: Path, options: RunOptions) -> dict:
     return summary
 
 
-def assemble(study: Study, s: Setup, screened: dict, decided: dict, fem: dict | None) -> dict:
-    """summary.json of the collar-layout study."""
+def assemble(study: Study, s: Setup, screened: dict, decided: dict, attempts: dict | None) -> dict:
+    """summary.json of the collar-layout study (``attempts``: :func:`fem_attempts`'s, None
+    without FEM). ``fem`` is the chosen layout's stripe; ``fem_choice`` every attempt's."""
     chosen = decided["chosen"]
-    lighter = [r for r in decided["rows"] if chosen is None or r["mass"] < chosen["mass"]]
+    fem = None if attempts is None else attempts["fem"]
+    # the layouts before the chosen one in the catalogue's order (lightest first; of equal
+    # mass, fewer collars, the lower grade, the lower pretension first)
+    rows = decided["rows"]
+    lighter = rows if chosen is None else rows[: next(i for i, r in enumerate(rows) if r is chosen)]
+    fem_choice = None
+    if attempts is not None:
+        fem_choice = {k: v for k, v in attempts.items() if k != "fem"}
     return {
         "study": s.column.name,
         "kind": study.kind,
-        "answer": answer_text(s, chosen, fem, decided["rows"]),
+        "answer": answer_text(s, chosen, fem, decided["rows"], fem_choice),
         "chosen": chosen,
         "target": {
             "frequency": s.target,
@@ -949,10 +1109,15 @@ def assemble(study: Study, s: Setup, screened: dict, decided: dict, fem: dict | 
         "layouts": decided["rows"],
         "pareto": pareto_front(decided["rows"]),
         "lighter_all_fail": all(r["decision"] == "fails" for r in lighter),
+        # every lighter layout fails, or meets the target by the multibody model but not the FEM
+        "lighter_all_fail_or_not_confirmed": all(
+            r["decision"] in ("fails", NOT_CONFIRMED) for r in lighter
+        ),
         "catalogue_size": len(s.candidates),
         "confidence": s.spec.confidence,
         "refined": decided["refined"],
         "fem": fem,
+        "fem_choice": fem_choice,
         "records": [
             {"name": entry.name, "sha256": entry.sha256, "intensity": float(value)}
             for entry, value in zip(s.suite, s.intensity)
@@ -960,7 +1125,9 @@ def assemble(study: Study, s: Setup, screened: dict, decided: dict, fem: dict | 
         "model_seconds": {
             "screening": screened["seconds"],
             "refinement": decided["plastic_seconds"],
-            "fem": None if fem is None else fem["seconds"],
+            "fem": None
+            if attempts is None
+            else sum(a["fem"]["seconds"] for a in attempts["attempts"]),
         },
         "runs": {"screening": screened["runs"], "refinement": decided["plastic_runs"]},
     }
@@ -982,8 +1149,16 @@ def pareto_front(rows: list[dict]) -> list[str]:
     return front
 
 
-def answer_text(s: Setup, chosen: dict | None, fem: dict | None, rows: list[dict]) -> str:
-    """The study's answer in one sentence (the report's first line)."""
+def answer_text(
+    s: Setup,
+    chosen: dict | None,
+    fem: dict | None,
+    rows: list[dict],
+    fem_choice: dict | None = None,
+) -> str:
+    """The study's answer in one sentence (the report's first line); ``fem_choice``: the FEM
+    attempts (:func:`fem_attempts`) where more than the chosen layout was checked, or why no
+    other was."""
     years = s.years
     target = f"target {s.target:.2g} per year"
     if s.spec.target_probability is not None:
@@ -1009,6 +1184,8 @@ def answer_text(s: Setup, chosen: dict | None, fem: dict | None, rows: list[dict
     heights = ", ".join(f"{y:.2f}" for y in chosen["heights"])
     layout = f"{chosen['label']} at {heights} m" if chosen["count"] else "No collars are needed"
     text = f"{layout}: overturning {lam:.2g} per year, {p:.2%} in {years:g} years, {target}"
+    if fem_choice is not None and len(fem_choice["attempts"]) > 1:
+        return text + fem_attempts_text(fem_choice) + "."
     if fem is not None:
         text += {
             "confirms": "; the FEM stripe at the design intensity confirms it",
@@ -1017,7 +1194,30 @@ def answer_text(s: Setup, chosen: dict | None, fem: dict | None, rows: list[dict
             "undecided": "; the FEM stripe at the design intensity neither confirms nor "
             "contradicts it (see the FEM check)",
         }[fem["agreement"]]
+        if fem_choice is not None and fem_choice["confirmed"] is None:
+            text += f"; no other layout was FEM-checked: {fem_choice['stopped']}"
     return text + "."
+
+
+CHECKED = {"confirms": "confirmed", "contradicts": "contradicted", "undecided": "undecided"}
+
+
+def fem_attempts_text(fem_choice: dict) -> str:
+    """The answer's clause on more than one FEM attempt: the layout confirmed after the
+    lighter ones were not, or none confirmed and why the chosen one is recommended."""
+    attempts = fem_choice["attempts"]
+    each = "; ".join(f"{a['label']}: {CHECKED[a['agreement']]}" for a in attempts)
+    if fem_choice["confirmed"] is not None:
+        lighter = [a for a in attempts if a["label"] != fem_choice["confirmed"]]
+        names = ", ".join(f"{a['label']} ({CHECKED[a['agreement']]})" for a in lighter)
+        return (
+            f"; the FEM stripe at the design intensity confirms it, not the lighter {names} "
+            "that met the target by the multibody model (see the FEM check)"
+        )
+    return (
+        f"; the FEM stripes at the design intensity confirm none of the {len(attempts)} "
+        f"layouts checked ({each}; {fem_choice['stopped']}): recommended as {fem_choice['why']}"
+    )
 
 
 # CPU seconds of a multibody run of the screening (elastic collars, the fragility's fast path,
@@ -1031,9 +1231,10 @@ PLASTIC_LEVELS = 3
 
 def fem_work(study: Study):
     """The FEM work of the study (:func:`studies.driver.check_work`): the confirmation's one run
-    per record at the design intensity, with the catalogue's most collars (their nodes and
-    step are the chosen layout's within a few %), none with layout.fem = false; and the chosen
-    layout's cross-check (:func:`_crosscheck_work`)."""
+    per record at the design intensity for each of [layout] fem_attempts layouts (an upper
+    bound: it stops at the first the FEM confirms), with the catalogue's most collars (their
+    nodes and step are the chosen layout's within a few %), none with layout.fem = false;
+    and the chosen layout's cross-check (:func:`_crosscheck_work`)."""
     from ..work import FemWork
 
     spec = study.spec.layout
@@ -1091,10 +1292,17 @@ def _fem_stripe_work(s: Setup):
     interval = _interval(one, s.records)
     models: dict = {}
     work = FemWork()
-    for i, record in enumerate(s.records):
-        work += estimate_work(
-            _fem_study(one, record, 1.0, interval), 1, models=models, case=f"fem-{i:03d}", stage=2
-        )
+    # every attempt counted (an upper bound: the attempts stop at the first layout the FEM
+    # confirms), each on the heaviest layout
+    for attempt in range(s.spec.fem_attempts):
+        for i, record in enumerate(s.records):
+            work += estimate_work(
+                _fem_study(one, record, 1.0, interval),
+                1,
+                models=models,
+                case=fem_key(attempt, i),
+                stage=2,
+            )
     return work
 
 
@@ -1105,14 +1313,16 @@ def expected_work(study: Study):
     case is the key it is saved under, so that a resumed run's estimate leaves the saved ones
     out (studies.driver.without_saved); the refinement's are taken as the shortlist's lightest
     layouts with collars, each with all its records (which layouts and records it refines is
-    known only from the screening)."""
+    known only from the screening), a shortlist more for each further FEM attempt's search
+    (:func:`next_meeting`): with the FEM attempts all counted, an upper bound."""
     from ..work import FemRun, FemWork
 
     s = setup(study)
     runs = []
     sections = {c.section for c in s.candidates}
     # the refinement takes the lightest layouts with collars (those whose records are open)
-    refined = [c for c in s.candidates if c.count][: s.spec.shortlist]
+    searches = s.spec.fem_attempts if s.spec.fem else 1
+    refined = [c for c in s.candidates if c.count][: s.spec.shortlist * searches]
     for i, record in enumerate(s.records):
         seconds = record.end_time + FREE_TIME_P / s.column.rocking_block.p
         for section in sections:

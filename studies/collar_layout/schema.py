@@ -123,6 +123,15 @@ class Layout(Table):
         description="Confirm the chosen layout with FEM runs of every record at the design "
         "intensity (on the study's [mesh]).",
     )
+    fem_attempts: int = quantity(
+        "-",
+        "Layouts FEM-checked at most, 1 to 10: where the FEM stripe does not confirm the chosen "
+        "layout (it contradicts it or neither confirms nor contradicts it), the next heavier "
+        "layout that meets the target by the multibody model is checked, up to this many.",
+        2,
+        ge=1,
+        le=10,
+    )
     crosscheck: bool = Field(
         True,
         description="Run the chosen layout's cross-check (the cross-check kind: FEM ensemble "
