@@ -1101,102 +1101,49 @@ def advance(
     for b in range(body_mass.size):
         for k in range(bodies.offsets[b], bodies.offsets[b + 1]):
             body_mass[b] += mass[2 * bodies.order[k]]
+    # what every group shares, passed as one tuple (the group's states and `single` apart)
+    shared = (
+        n_steps,
+        dt,
+        mu,
+        blend,
+        stiffness,
+        bodies,
+        base,
+        cracks,
+        collars,
+        ground_acc,
+        ground_vacc,
+        motion,
+        base_state,
+        crack_states,
+        collar_state,
+        edge,
+        scratch.work,
+        rel,
+        inv_mass,
+        body_mass,
+        lagrange,
+        lagrange_tolerance,
+        cohesive,
+        cohesive_state,
+    )
     for first in range(0, n_live, GROUP):
         states = live[first : min(first + GROUP, n_live)]
-        # single is a compile-time constant of _advance_group: a version for one state, in the
-        # one-state layout, and one for GROUP states
+        # single, a literal at each call, is a compile-time constant of _advance_group: a
+        # version for one state, in the one-state layout, and one for GROUP states
         if states.size == 1:
-            _advance_group(
-                n_steps,
-                dt,
-                mu,
-                blend,
-                stiffness,
-                bodies,
-                base,
-                cracks,
-                collars,
-                ground_acc,
-                ground_vacc,
-                motion,
-                base_state,
-                crack_states,
-                collar_state,
-                edge,
-                states,
-                scratch.work,
-                rel,
-                inv_mass,
-                body_mass,
-                lagrange,
-                lagrange_tolerance,
-                cohesive,
-                cohesive_state,
-                True,
-            )
+            _advance_group(shared, states, True)
         else:
-            _advance_group(
-                n_steps,
-                dt,
-                mu,
-                blend,
-                stiffness,
-                bodies,
-                base,
-                cracks,
-                collars,
-                ground_acc,
-                ground_vacc,
-                motion,
-                base_state,
-                crack_states,
-                collar_state,
-                edge,
-                states,
-                scratch.work,
-                rel,
-                inv_mass,
-                body_mass,
-                lagrange,
-                lagrange_tolerance,
-                cohesive,
-                cohesive_state,
-                False,
-            )
+            _advance_group(shared, states, False)
 
 
 @njit(cache=True)
-def _advance_group(
-    n_steps,
-    dt,
-    mu,
-    blend,
-    stiffness,
-    bodies,
-    base,
-    cracks,
-    collars,
-    ground_acc,
-    ground_vacc,
-    motion,
-    base_state,
-    crack_states,
-    collar_state,
-    edge,
-    states,
-    work,
-    rel,
-    inv_mass,
-    body_mass,
-    lagrange,
-    lagrange_tolerance,
-    cohesive,
-    cohesive_state,
-    single,
-):
+def _advance_group(shared, states, single):
     """advance for the live states `states` (at most GROUP; one if single, a compile-time
-    constant). rel: reference positions relative to their body's centroid; inv_mass per node;
-    body_mass per body.
+    constant). shared: advance's arguments that every group shares, in the order unpacked
+    below (scratch.work as work), and rel: reference positions relative to their body's
+    centroid; inv_mass per node; body_mass per body.
 
     Layout (Scratch): the states' positions and velocities are copied into the work array at
     entry and back at exit (or when a state stops), state states[j] in column j. The per-node
@@ -1216,6 +1163,33 @@ def _advance_group(
     fused pass, body by body, that rotates the elastic forces back, updates velocity and
     position, loads gravity and ground force for the next step and sums the next step's frame
     sums."""
+    (
+        n_steps,
+        dt,
+        mu,
+        blend,
+        stiffness,
+        bodies,
+        base,
+        cracks,
+        collars,
+        ground_acc,
+        ground_vacc,
+        motion,
+        base_state,
+        crack_states,
+        collar_state,
+        edge,
+        work,
+        rel,
+        inv_mass,
+        body_mass,
+        lagrange,
+        lagrange_tolerance,
+        cohesive,
+        cohesive_state,
+    ) = shared
+
     x, v, frames = motion.x, motion.v, motion.frames
     X, mass, gravity, order, offsets = (
         bodies.X,
