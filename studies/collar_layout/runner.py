@@ -24,12 +24,14 @@ through the rigid multibody model.
 3. **Confirmation, FEM** (:func:`fem_stripe`): the chosen layout's FEM runs of every record at
    the design intensity (the hazard's at [layout] design_return_period), against the multibody
    model's runs there, record by record (:func:`stripe_agreement`: confirms, contradicts,
-   undecided), and its fit's probability.
+   undecided), and its fit's probability; where it does not confirm, the next heavier layout
+   that meets the target, up to [layout] fem_attempts layouts (:func:`fem_attempts`).
 4. **Cross-check** (:func:`run_crosscheck`): the chosen layout's cross-check (the cross-check
    kind, a study of its own in ``chosen-crosscheck/``) under the record of median capacity at
    the design intensity: FEM against the rigid models, collars, toe.
 The lightest layout that meets the target, with no more records fracturing a collar at the
-design intensity than [layout] fracture_fraction allows, is the answer."""
+design intensity than [layout] fracture_fraction allows, and whose FEM stripe confirms it, is
+the answer (where no attempt is confirmed: the one :func:`recommended`)."""
 
 from __future__ import annotations
 
