@@ -111,7 +111,7 @@ KINDS = {
         "mesh_convergence", ("outcome",), tables={"convergence": "Convergence"}
     ),
     "solid-vs-cracked": StudyKind("solid_vs_cracked", ("outcome",)),
-    "crack-extent": StudyKind("crack_extent", ("outcome",)),
+    "crack-extent": StudyKind("crack_extent", ("outcome",), tables={"crack_extent": "CrackExtent"}),
     "zhang-makris": StudyKind("zhang_makris", ("outcome",), ground_motion=False, column=False),
     "fragility": StudyKind(
         "fragility",

@@ -60,6 +60,52 @@ def test_the_extents_swept_run_from_the_top_or_from_the_base_and_add_the_column_
     assert AS_FOUND not in full and full["crack-100"].crack == (0.0, 1.0)
 
 
+def test_crack_extent_fractions_choose_the_extents_swept(tmp_path):
+    """[crack_extent] fractions: today's five by default, or the study's own."""
+    base = variants(_study(tmp_path, "crack = [0.6, 1.0]"))
+    assert [n for n in base if n != AS_FOUND] == [f"crack-{round(100 * f)}" for f in FRACTIONS]
+    path = tmp_path / "own.toml"
+    path.write_text(
+        TINY.format(crack="crack = [0.6, 1.0]") + "[crack_extent]\nfractions = [0.1, 0.5, 1.0]\n"
+    )
+    own = variants(load(path))
+    assert list(own) == ["crack-10", "crack-50", "crack-100", AS_FOUND]
+    assert own["crack-10"].crack == pytest.approx((0.9, 1.0))
+
+
+@pytest.mark.parametrize(
+    "fractions, words",
+    [
+        ("[0.5, 1.2]", ["crack_extent.fractions[2] = 1.2", "[0, 1]"]),
+        ("[-0.1, 1.0]", ["crack_extent.fractions[1] = -0.1", "[0, 1]"]),
+        ("[]", ["crack_extent.fractions = [] is not allowed", "1 or more numbers in [0, 1]"]),
+        ("[0.5, 0.25]", ["crack_extent.fractions = [0.5, 0.25] must increase"]),
+        ("[0.25, 0.252]", ["crack_extent.fractions = [0.25, 0.252]", "whole percent"]),
+    ],
+)
+def test_crack_extent_fractions_out_of_range_name_the_key(tmp_path, fractions, words):
+    from colonna.core.errors import InputError
+
+    path = tmp_path / "bad.toml"
+    path.write_text(TINY.format(crack="") + f"[crack_extent]\nfractions = {fractions}\n")
+    with pytest.raises(InputError) as raised:
+        load(path)
+    for w in words:
+        assert w in str(raised.value), str(raised.value)
+
+
+def test_crack_extent_is_read_by_its_kind_only(tmp_path):
+    from colonna.core.errors import InputError
+
+    path = tmp_path / "other.toml"
+    path.write_text(
+        TINY.format(crack="").replace('kind = "crack-extent"', 'kind = "cross-check"')
+        + "[crack_extent]\nfractions = [0.5]\n"
+    )
+    with pytest.raises(InputError, match=r"\[crack_extent\] is read by studies of kind"):
+        load(path)
+
+
 @pytest.mark.slow
 def test_a_tiny_column_s_extents_against_its_rigid_limits(tmp_path):
     """Measured on the tiny collared column (0.2 m x 1 m), cracked from the top to mid-height,

@@ -24,9 +24,11 @@ from ..study import Study
 from ..sweep import run_sweep
 from ..work import FemWork
 from ..work import fem_work as estimate_work
+from .schema import DEFAULT_FRACTIONS
 
-# the crack's extents swept, fractions of the column's height (0: no crack, 1: the full height)
-FRACTIONS = (0.0, 0.25, 0.5, 0.75, 1.0)
+# the crack's extents swept by default, fractions of the column's height (0: no crack, 1: the
+# full height): [crack_extent] fractions
+FRACTIONS = DEFAULT_FRACTIONS
 AS_FOUND = "as-found"  # the variant of the study's own crack
 # the rigid limits: (name, cracked, in words)
 LIMITS = (
@@ -49,11 +51,12 @@ def extent(study: FemStudy, fraction: float) -> tuple[float, float]:
 
 
 def variants(study: Study) -> dict[str, FemStudy]:
-    """The FEM variants by name: each swept extent (``crack-<percent>``) and, where the study's
-    own crack is not one of them, ``as-found``; each with the study's own ground motion."""
+    """The FEM variants by name: each extent of [crack_extent] fractions (``crack-<percent>``)
+    and, where the study's own crack is not one of them, ``as-found``; each with the study's own
+    ground motion."""
     fem = study.fem
     found = {}
-    for f in FRACTIONS:
+    for f in study.spec.crack_extent.fractions:
         found[f"crack-{round(100 * f)}"] = replace(fem, cracked=True, crack=extent(fem, f))
     own = fem.crack if fem.crack is not None else (0.0, fem.height)
     if all(v.crack != own for v in found.values()):
