@@ -232,7 +232,8 @@ class Stone(Table):
         "Pa",
         "Tensile strength of the intact stone, the cohesive mid-plane of a partial crack "
         "([column] crack); default 8 MPa, a white marble in direct tension (about half its "
-        "14.9 MPa in bending); granite 5-15 MPa (docs/physics.md gives the sources).",
+        "14.9 MPa in bending); granite 5-15 MPa, 10 MPa in the granite example "
+        "docs/stones/granite.toml (docs/physics.md gives the sources).",
         8e6,
         (0.5e6, 40e6, "MPa", "stone in tension"),
         gt=0,
@@ -241,7 +242,8 @@ class Stone(Table):
         "N/m",
         "Fracture energy of the intact stone (mode I; mode II taken equal), the cohesive "
         "mid-plane's; default 40 N/m (marble 5-45, granite 7-90 N/m as K_IC^2 / E, a lower "
-        "bound; docs/physics.md); 0.1 to 100000 N/m.",
+        "bound; docs/physics.md; 60 N/m in docs/stones/granite.toml, twice its K_IC^2 / E'); "
+        "0.1 to 100000 N/m.",
         40.0,
         gt=0.1,
         le=1e5,
@@ -249,8 +251,8 @@ class Stone(Table):
     KIC: float = quantity(
         "Pa m^0.5",
         "Fracture toughness, against which the crack tip's stress intensity K_I is judged; "
-        "default 1 MPa m^0.5 (marble 0.5-1.5, granite 0.7-1.9 MPa m^0.5; docs/physics.md); "
-        "1 kPa m^0.5 to 100 MPa m^0.5.",
+        "default 1 MPa m^0.5 (marble 0.5-1.5, granite 0.7-1.9 MPa m^0.5; docs/physics.md; "
+        "1.3 MPa m^0.5 in docs/stones/granite.toml); 1 kPa m^0.5 to 100 MPa m^0.5.",
         1.0e6,
         ge=1e3,
         le=1e8,

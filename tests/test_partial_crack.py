@@ -426,3 +426,28 @@ def test_a_restart_carries_the_grown_crack_to_the_same_and_a_refined_mesh():
         FemStart(state=(x, vel), contact=carried, time=t),
     )
     assert on_refined.history["crack_length"][0] == pytest.approx(grown, abs=1e-9)
+
+
+def test_the_granite_example_loads_with_granite_fracture_keys_its_docs_quote():
+    """docs/stones/granite.toml (issue 51): a study file that loads, its [stone] fracture keys
+    inside docs/physics.md's granite ranges (f_t 5-15 MPa and at most f_c / 10, K_IC 0.71-1.89
+    MPa sqrt(m), G_f 7-90 N/m), G_f not below its own K_IC^2 (1 - nu^2) / E (the cohesive law's
+    LEFM limit), and the values the [stone] key descriptions quote for it."""
+    from pathlib import Path
+
+    from colonna.studies.study import load
+
+    path = Path(__file__).parents[1] / "docs" / "stones" / "granite.toml"
+    study = load(path)
+    stone = study.spec.stone
+    assert 5e6 <= stone.ft <= min(15e6, stone.fc / 10)
+    assert 0.71e6 <= stone.KIC <= 1.89e6
+    assert 7.0 <= stone.Gf <= 90.0
+    assert stone.Gf >= stone.KIC**2 * (1 - stone.nu**2) / stone.E
+    assert study.fem.crack == (1.6, 3.2) and study.fem.stone.ft == stone.ft
+    fields = schema.Stone.model_fields
+    assert f"{stone.ft / 1e6:g} MPa in the granite example" in fields["ft"].description
+    assert f"{stone.Gf:g} N/m in docs/stones/granite.toml" in fields["Gf"].description
+    assert f"{stone.KIC / 1e6:g} MPa m^0.5 in docs/stones/granite.toml" in (
+        fields["KIC"].description
+    )
