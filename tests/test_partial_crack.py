@@ -386,6 +386,16 @@ def test_the_crosscheck_first_screen_answers_does_the_crack_grow(tmp_path):
     assert 'class="good"' in row and "grew" in words and ": 0 of 2;" in words
     assert "crack length 0.475 m at the start, 0.475 m at the end" in words
     assert "largest K_I / K_IC at a tip" in words
+    # the answers in detail: its row, with the count, the lengths and K_I / K_IC banded
+    at = html.index('data-verdict="crack_grows"')
+    detail = html[html.rindex("<tr>", 0, at) :].split("</tr>")[0]
+    said = " ".join(re.sub("<[^>]+>", " ", detail).replace("&nbsp;", " ").split())
+    assert 'class="good" data-verdict="crack_grows"' in detail
+    assert said.startswith("Does the crack grow? no the column is found with a partial crack")
+    assert "in 0 of 2 replicas; crack length 0.475 m at the start, 0.475 m (replicas 0.475 m" in (
+        said
+    )
+    assert "largest K_I / K_IC at a crack tip 0.0" in said
 
 
 @pytest.mark.slow
