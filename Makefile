@@ -100,6 +100,7 @@ docs-numbers: demo
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_spectrum.py
 	$(BIN)/python benchmarks/bench_fem.py
+	$(BIN)/python benchmarks/bench_cohesive.py
 	$(BIN)/python benchmarks/bench_ensemble.py
 	$(BIN)/python benchmarks/bench_multibody.py
 	$(BIN)/python benchmarks/bench_plastic_collars.py

@@ -461,3 +461,24 @@ def test_the_granite_example_loads_with_granite_fracture_keys_its_docs_quote():
     assert f"{stone.KIC / 1e6:g} MPa m^0.5 in docs/stones/granite.toml" in (
         fields["KIC"].description
     )
+
+
+def test_the_cohesive_benchmark_s_columns_have_the_pairs_docs_speed_quotes():
+    """benchmarks/bench_cohesive.py (docs/speed.md): the default column with its crack over the
+    full height has no cohesive pair, from the top to mid-height 67, of no extent all 108; the
+    pairs do not lengthen the stable step (3.74 us full, 3.05 us with pairs)."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).parents[1] / "benchmarks" / "bench_cohesive.py"
+    spec = importlib.util.spec_from_file_location("bench_cohesive", path)
+    assert spec is not None and spec.loader is not None
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    study, models = bench.variants()
+    pairs = {name: bench.intact_pairs(m) for name, m in models.items()}
+    assert pairs == {"full height": 0, "top to mid-height": 67, "no extent": 108}
+    dts = {name: stable_time_step(m, study.safety).dt for name, m in models.items()}
+    assert dts["full height"] == pytest.approx(3.74e-6, rel=0.01)
+    assert dts["top to mid-height"] == pytest.approx(3.05e-6, rel=0.01)
+    assert dts["no extent"] == pytest.approx(3.05e-6, rel=0.01)
