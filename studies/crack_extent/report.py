@@ -14,7 +14,6 @@ from ..outcome import NOT_ASSESSED
 from ..output import read_csv, write_csv
 from ..report import distinct, figure, legend_beside, render_page, wrap
 from ..sections import Ref
-from .runner import AS_FOUND
 from .summary import CrackExtentSummary, Extent, load
 
 
@@ -180,7 +179,7 @@ def answers_figure(out: Path, s: CrackExtentSummary) -> dict:
     rows = [s.variants[n] for n in names]
     x = [v.extent_fraction for v in rows]
     styles = {
-        n: dict(color="C1", marker="D") if n == AS_FOUND else dict(color="C0", marker="o")
+        n: dict(color="C1", marker="D") if n == s.as_found else dict(color="C0", marker="o")
         for n in names
     }
     fig = Figure(figsize=(9.5, 6.6))
@@ -317,7 +316,7 @@ def answers_figure(out: Path, s: CrackExtentSummary) -> dict:
         "answers_extent",
         fig,
         "The answers against the crack's extent (its fraction of the height; the column as "
-        "found in orange where it is not an extent swept): FEM peak rotation, median with the "
+        "found in orange): FEM peak rotation, median with the "
         "range over the replicas that stood; an extent whose runs overturned has no peak (its "
         "runs stopped there, a stopping convention, not a result) and is marked in the grey "
         "'overturned' strip with the count of its replicas; whether it overturns; the collars' "
