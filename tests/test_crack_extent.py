@@ -238,6 +238,7 @@ def test_the_answers_figure_marks_an_overturned_extent_without_a_peak(tmp_path):
     of those that stood and the marker; the rigid limit that overturned is a line in the
     strip; no text runs off the figure; the CSV leaves the peaks of a stopped extent empty."""
     from colonna.studies.crack_extent.report import (
+        LIMIT_MARKS,
         OVERTURNED_MARK,
         OVERTURNED_STRIP,
         answers_figure,
@@ -285,7 +286,7 @@ def test_the_answers_figure_marks_an_overturned_extent_without_a_peak(tmp_path):
         for line in rot.get_lines()
         if len(line.get_xdata()) == 2 and line.get_xdata()[0] != line.get_xdata()[-1]
     }
-    assert 1.25 in horizontal  # the solid limit overturned: in the strip
+    assert LIMIT_MARKS["solid"] in horizontal  # the solid limit overturned: in the strip
     assert texts_outside(fig) == []
     csv = (tmp_path / "figures" / "answers.csv").read_text().splitlines()
     head = csv[0].split(",")

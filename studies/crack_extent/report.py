@@ -138,9 +138,9 @@ def full_crack_sentence(s: CrackExtentSummary) -> str:
 
 # the strip above the peak-rotation axes where an extent whose runs overturned is marked (y /
 # the axis' cap): such a run has no peak rotation, it stopped there (issue 48)
-OVERTURNED_STRIP = (1.05, 1.40)
-OVERTURNED_MARK = 1.15
-LIMIT_MARKS = {"solid": 1.25, "split": 1.32}  # a rigid limit that overturned, in the strip
+OVERTURNED_STRIP = (1.05, 1.50)
+OVERTURNED_MARK = 1.13
+LIMIT_MARKS = {"solid": 1.24, "split": 1.30}  # a rigid limit that overturned, in the strip
 LIMIT_STYLES = {
     "solid": dict(color="C2", ls="--", lw=1.2),
     "split": dict(color="C3", ls=":", lw=1.4),
@@ -195,12 +195,12 @@ def answers_figure(out: Path, s: CrackExtentSummary) -> dict:
     rot.axhspan(OVERTURNED_STRIP[0] * cap, OVERTURNED_STRIP[1] * cap, color="0.92", lw=0)
     rot.text(
         0.01,
-        OVERTURNED_STRIP[0] * cap + 0.02 * cap,
+        OVERTURNED_STRIP[1] * cap - 0.02 * cap,
         "overturned",
         transform=rot.get_yaxis_transform(),
         fontsize=8,
         color="0.3",
-        va="bottom",
+        va="top",
     )
     labelled: set[str] = set()
 
@@ -220,7 +220,7 @@ def answers_figure(out: Path, s: CrackExtentSummary) -> dict:
             v.fem_peak_rotation_min,
             v.fem_peak_rotation_max,
             st,
-            once(f"FEM, {what}: median, range over the replicas"),
+            once(f"FEM, {what}: median, range over the replicas (that stood, for the peak)"),
         )
         if v.fem_overturned_replicas:
             rot.plot(
