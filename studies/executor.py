@@ -352,6 +352,7 @@ STUDY_FILE_KEYS = {
     "width": "column.width",
     "thickness": "column.thickness",
     "cracked": "column.cracked",
+    "crack": "column.crack",
     "top_load": "column.top_load",
     "stone": "stone",
     "collars": "collar",
