@@ -178,13 +178,8 @@ def answers_figure(out: Path, s: CrackExtentSummary) -> dict:
     names = sorted(s.variants, key=lambda n: (s.variants[n].extent_fraction, n))
     rows = [s.variants[n] for n in names]
     x = [v.extent_fraction for v in rows]
-    styles = {
-        n: dict(color="C1", marker="D") if n == s.as_found else dict(color="C0", marker="o")
-        for n in names
-    }
     fig = Figure(figsize=(9.5, 6.6))
     axes = fig.subplots(2, 2, sharex=True)
-    rot, over, collars, tip = axes.ravel()
     peaks = [
         p
         for v in rows
@@ -192,6 +187,30 @@ def answers_figure(out: Path, s: CrackExtentSummary) -> dict:
         if p is not None
     ] + [p for lim in s.limits.values() if (p := _number(lim.peak_rotation)) is not None]
     cap = 1.1 * max(peaks) if peaks else 1.0
+    _overturned_strip(axes[0, 0], cap)
+    labelled: set[str] = set()
+    for n, v, f in zip(names, rows, x):
+        _draw_extent(axes, f, v, cap, n == s.as_found, labelled)
+    _draw_limits(axes, s, cap)
+    _dress_answers_axes(fig, axes, cap, bool(peaks))
+    _write_blank_csv(out / "figures" / "answers.csv", _answers_columns(x, rows))
+    return figure(
+        out,
+        "answers_extent",
+        fig,
+        "The answers against the crack's extent (its fraction of the height; the column as "
+        "found in orange): FEM peak rotation, median with the "
+        "range over the replicas that stood; an extent whose runs overturned has no peak (its "
+        "runs stopped there, a stopping convention, not a result) and is marked in the grey "
+        "'overturned' strip with the count of its replicas; whether it overturns; the collars' "
+        "utilisation and the largest K_I / K_IC at a crack tip (median, range over the "
+        "replicas; 1: yield, toughness); the two rigid limits (SDOF) as horizontal lines, in "
+        "the strip where they overturn",
+    )
+
+
+def _overturned_strip(rot, cap: float) -> None:
+    """The grey 'overturned' strip above the peak rotations (cap: the top of their scale)."""
     rot.axhspan(OVERTURNED_STRIP[0] * cap, OVERTURNED_STRIP[1] * cap, color="0.92", lw=0)
     rot.text(
         0.01,
@@ -202,7 +221,14 @@ def answers_figure(out: Path, s: CrackExtentSummary) -> dict:
         color="0.3",
         va="top",
     )
-    labelled: set[str] = set()
+
+
+def _draw_extent(axes, f: float, v, cap: float, as_found: bool, labelled: set) -> None:
+    """One extent's answers at x = f on the four panels (labelled: the legend's labels given
+    so far, each given once)."""
+    rot, over, collars, tip = axes.ravel()
+    st = dict(color="C1", marker="D") if as_found else dict(color="C0", marker="o")
+    what = "the column as found" if as_found else "an extent swept"
 
     def once(label: str) -> str | None:
         if label in labelled:
@@ -210,56 +236,53 @@ def answers_figure(out: Path, s: CrackExtentSummary) -> dict:
         labelled.add(label)
         return label
 
-    for n, v, f in zip(names, rows, x):
-        st = styles[n]
-        what = "the column as found" if st["color"] == "C1" else "an extent swept"
-        _band(
-            rot,
-            f,
-            v.fem_peak_rotation,
-            v.fem_peak_rotation_min,
-            v.fem_peak_rotation_max,
-            st,
-            once(f"FEM, {what}: median, range over the replicas (that stood, for the peak)"),
+    _band(
+        rot,
+        f,
+        v.fem_peak_rotation,
+        v.fem_peak_rotation_min,
+        v.fem_peak_rotation_max,
+        st,
+        once(f"FEM, {what}: median, range over the replicas (that stood, for the peak)"),
+    )
+    if v.fem_overturned_replicas:
+        rot.plot(
+            [f],
+            [OVERTURNED_MARK * cap],
+            "^",
+            color=st["color"],
+            ms=6,
+            label=once(f"FEM, {what}: replicas that overturned (no peak: stopped)"),
         )
-        if v.fem_overturned_replicas:
-            rot.plot(
-                [f],
-                [OVERTURNED_MARK * cap],
-                "^",
-                color=st["color"],
-                ms=6,
-                label=once(f"FEM, {what}: replicas that overturned (no peak: stopped)"),
-            )
-            rot.annotate(
-                f"{v.fem_overturned_replicas}/{v.replicas}",
-                (f, OVERTURNED_MARK * cap),
-                textcoords="offset points",
-                xytext=(-6, -3) if f > 0.9 else (6, -3),
-                ha="right" if f > 0.9 else "left",
-                fontsize=7,
-            )
-        over.plot(
-            [f], [ANSWER_LEVELS.get(v.fem_overturned, 1.0)], st["marker"], color=st["color"], ms=5
+        rot.annotate(
+            f"{v.fem_overturned_replicas}/{v.replicas}",
+            (f, OVERTURNED_MARK * cap),
+            textcoords="offset points",
+            xytext=(-6, -3) if f > 0.9 else (6, -3),
+            ha="right" if f > 0.9 else "left",
+            fontsize=7,
         )
-        _band(
-            collars,
-            f,
-            v.collar_max_utilisation,
-            v.collar_max_utilisation_min,
-            v.collar_max_utilisation_max,
-            st,
-            None,
-        )
-        _band(
-            tip,
-            f,
-            v.crack_tip_KI_ratio,
-            v.crack_tip_KI_ratio_min,
-            v.crack_tip_KI_ratio_max,
-            st,
-            None,
-        )
+    over.plot(
+        [f], [ANSWER_LEVELS.get(v.fem_overturned, 1.0)], st["marker"], color=st["color"], ms=5
+    )
+    _band(
+        collars,
+        f,
+        v.collar_max_utilisation,
+        v.collar_max_utilisation_min,
+        v.collar_max_utilisation_max,
+        st,
+        None,
+    )
+    _band(
+        tip, f, v.crack_tip_KI_ratio, v.crack_tip_KI_ratio_min, v.crack_tip_KI_ratio_max, st, None
+    )
+
+
+def _draw_limits(axes, s: CrackExtentSummary, cap: float) -> None:
+    """The rigid limits as horizontal lines: the peak rotation (in the strip where the limit
+    overturned) and the overturning answer."""
+    rot, over = axes[0, 0], axes[0, 1]
     for name, lim in s.limits.items():
         style = LIMIT_STYLES.get(name, dict(color="0.4", ls="-.", lw=1.0))
         label = LIMIT_NAMES.get(name, f"rigid limit: {name}")
@@ -269,8 +292,13 @@ def answers_figure(out: Path, s: CrackExtentSummary) -> dict:
         else:
             rot.axhline(peak, **style, label=label)
         over.axhline(ANSWER_LEVELS.get(lim.overturned, 1.0), **style)
+
+
+def _dress_answers_axes(fig, axes, cap: float, any_peak: bool) -> None:
+    """Limits, ticks, labels and the legend of the answers figure."""
+    rot, over, collars, tip = axes.ravel()
     rot.set_ylim(0.0, OVERTURNED_STRIP[1] * cap)
-    rot.set_yticks([y for y in rot.get_yticks() if 0.0 <= y <= cap + 1e-12] if peaks else [])
+    rot.set_yticks([y for y in rot.get_yticks() if 0.0 <= y <= cap + 1e-12] if any_peak else [])
     rot.set_ylabel("peak |theta| (rad)")
     over.set_yticks(list(ANSWER_LEVELS.values()), list(ANSWER_LEVELS))
     over.set_ylim(-0.4, 2.4)
@@ -294,36 +322,24 @@ def answers_figure(out: Path, s: CrackExtentSummary) -> dict:
         frameon=False,
     )
     fig.tight_layout(rect=(0.0, 0.17, 1.0, 1.0))
-    _write_blank_csv(
-        out / "figures" / "answers.csv",
-        {
-            "extent_fraction": x,
-            "fem_peak_rotation_median": [_number(v.fem_peak_rotation) for v in rows],
-            "fem_peak_rotation_min_stood": [_number(v.fem_peak_rotation_min) for v in rows],
-            "fem_peak_rotation_max_stood": [_number(v.fem_peak_rotation_max) for v in rows],
-            "fem_overturned_replicas": [v.fem_overturned_replicas for v in rows],
-            "replicas": [v.replicas for v in rows],
-            "collar_utilisation_median": [_number(v.collar_max_utilisation) for v in rows],
-            "collar_utilisation_min": [_number(v.collar_max_utilisation_min) for v in rows],
-            "collar_utilisation_max": [_number(v.collar_max_utilisation_max) for v in rows],
-            "KI_ratio_median": [_number(v.crack_tip_KI_ratio) for v in rows],
-            "KI_ratio_min": [_number(v.crack_tip_KI_ratio_min) for v in rows],
-            "KI_ratio_max": [_number(v.crack_tip_KI_ratio_max) for v in rows],
-        },
-    )
-    return figure(
-        out,
-        "answers_extent",
-        fig,
-        "The answers against the crack's extent (its fraction of the height; the column as "
-        "found in orange): FEM peak rotation, median with the "
-        "range over the replicas that stood; an extent whose runs overturned has no peak (its "
-        "runs stopped there, a stopping convention, not a result) and is marked in the grey "
-        "'overturned' strip with the count of its replicas; whether it overturns; the collars' "
-        "utilisation and the largest K_I / K_IC at a crack tip (median, range over the "
-        "replicas; 1: yield, toughness); the two rigid limits (SDOF) as horizontal lines, in "
-        "the strip where they overturn",
-    )
+
+
+def _answers_columns(x: list, rows: list) -> dict:
+    """figures/answers.csv's columns: each extent's numbers, None where a run gives none."""
+    return {
+        "extent_fraction": x,
+        "fem_peak_rotation_median": [_number(v.fem_peak_rotation) for v in rows],
+        "fem_peak_rotation_min_stood": [_number(v.fem_peak_rotation_min) for v in rows],
+        "fem_peak_rotation_max_stood": [_number(v.fem_peak_rotation_max) for v in rows],
+        "fem_overturned_replicas": [v.fem_overturned_replicas for v in rows],
+        "replicas": [v.replicas for v in rows],
+        "collar_utilisation_median": [_number(v.collar_max_utilisation) for v in rows],
+        "collar_utilisation_min": [_number(v.collar_max_utilisation_min) for v in rows],
+        "collar_utilisation_max": [_number(v.collar_max_utilisation_max) for v in rows],
+        "KI_ratio_median": [_number(v.crack_tip_KI_ratio) for v in rows],
+        "KI_ratio_min": [_number(v.crack_tip_KI_ratio_min) for v in rows],
+        "KI_ratio_max": [_number(v.crack_tip_KI_ratio_max) for v in rows],
+    }
 
 
 def _write_blank_csv(path: Path, columns: dict) -> None:
