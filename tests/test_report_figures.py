@@ -7,6 +7,7 @@ test_free_rocking."""
 
 import base64
 import re
+from types import SimpleNamespace
 
 import matplotlib
 import numpy as np
@@ -278,6 +279,17 @@ def _made_up_runs(out):
             "design_ag_over_g": 0.3,
             "collars_provided": 3,
             "lateral_stiffness_provided": 3 * collar.lateral_stiffness(block.b),
+            "design_adequate": True,
+            "fem_collar_max_utilisation": 0.64,
+            "fem_collar_first_yield_time": None,
+            "fem_overturned": False,
+            "fem_max_rotation_over_yield_rotation": 0.8,
+            "ductile_design": {
+                "never_yields_t": 0.008,
+                "holds_t": 0.006,
+                "ductility_limit": 15.0,
+                "study_t": 0.008,
+            },
         },
     )
     runs["design"] = design
@@ -300,6 +312,11 @@ def _made_up_runs(out):
             "collar_utilisation_fem": [[0.5] * 3] * 3,
             "toe_ratio_fem": [[0.05] * 3] * 3,
             "collar_yield_fem": [[False] * 3] * 3,
+            "agreement_fem_multibody": 1.0,
+            "agreement_fem_sdof": 5 / 9,
+            "points": 9,
+            "energy_error_fem_max": 0.01,
+            "fem_seconds_per_point": 2.0,
         },
     )
     runs["grid"] = grid
@@ -316,13 +333,32 @@ def _made_up_runs(out):
         tilts.append(
             {
                 "tilt_fraction": fraction,
-                "fem": {"ratios": ratios_k},
-                "multibody": {"ratios": ratios_k if k == 1 else [0.8, 0.8]},
+                "tilt": fraction * 0.05,
+                "fem": {"ratios": ratios_k, "ratio_first": ratios_k[0]},
+                "multibody": {
+                    "ratios": ratios_k if k == 1 else [0.8, 0.8],
+                    "ratio_first": ratios_k[0] if k == 1 else 0.8,
+                },
             }
         )
     write_json(
         rocking / "summary.json",
-        {"study": "made up", "alpha": 0.05, "tilts": tilts, "restitution_housner": 0.85},
+        {
+            "study": "made up",
+            "alpha": 0.05,
+            "tilts": tilts,
+            "restitution_housner": 0.85,
+            "E": 50e9,
+            "fem_ratio_study_stone": 0.9,
+            "fem_ratio_study_stone_band": None,
+            "replicas": 1,
+            "fem_ratio_study_stone_mean": 0.89,
+            "multibody_ratio": 0.9,
+            "damping_variants": [],
+            "mesh_variants": [],
+            "damping": 0.05,
+            "mesh_size": 0.05,
+        },
     )
     runs["free-rocking"] = rocking
 
@@ -375,24 +411,62 @@ def drawn(tmp_path_factory):
             mp.setattr(
                 module, "render_page", lambda out, *a, **k: out / "index.html", raising=False
             )
-        mp.setattr(crosscheck, "_renders", lambda out: ([], ""))
-        mp.setattr(crosscheck, "_deformed_figure", lambda *a: None)
-        crosscheck.write_report(runs["crosscheck"])
+        # (the plastic bands' figure needs a real design's trials: test_figure_texts draws it)
+        mp.setattr(collar_design, "_ductile_design_figure", lambda *a: None)
+        # the cross-check's two checked figures, drawn from its made-up runs and the part of
+        # its typed summary they read (write_report needs a whole summary: test_study's)
+        made_up = runs["crosscheck"]
+        (made_up / "figures").mkdir(exist_ok=True)
+        typed = SimpleNamespace(
+            collar_fy=[235e6] * 3,
+            stone_fc=110e6,
+            toe_stress=None,
+            outcome={},
+            fem=SimpleNamespace(edge_length=0.01, edge_time=None, edge_stress_max=5e6),
+        )
+        histories = crosscheck._histories(made_up)
+        crosscheck._collar_stress_figure(made_up, typed, histories, [])
+        crosscheck._toe_stress_figure(made_up, typed, histories["fem"], [])
         collar_design.write_report(runs["design"])
         spectrum_crosscheck.write_report(runs["grid"])
         free_rocking.write_report(runs["free-rocking"])
+        entries = {
+            "peak_rotation": ([0.02, 0.021, 0.0212], 0.0213),
+            "collar_max_utilisation": ([0.7, 0.72, 0.73], None),
+            "edge_stress_max": ([4e6, 5e6, 5.5e6], 6e6),
+            "toe_pressure_winkler": ([30e6, 31e6, 31.5e6], None),
+        }
         summary = {
+            "study": "made up",
             "sizes": [0.1, 0.05, 0.025],
+            "dofs": [200, 800, 3200],
+            "bed": None,
             "convergence": {
-                "peak_rotation": {"values": [0.02, 0.021, 0.0212], "richardson": 0.0213},
-                "collar_max_utilisation": {"values": [0.7, 0.72, 0.73], "richardson": None},
-                "edge_stress_max": {"values": [4e6, 5e6, 5.5e6], "richardson": 6e6},
-                "toe_pressure_winkler": {"values": [30e6, 31e6, 31.5e6], "richardson": None},
+                key: {
+                    "values": values,
+                    "richardson": richardson,
+                    "observed_order": None,
+                    "fine_relative_error": None,
+                }
+                for key, (values, richardson) in entries.items()
             },
         }
         mesh_convergence._convergence_figure(runs["sweep"], summary)
+        variant = {
+            "fem_peak_rotation": 0.02,
+            "fem_overturned": False,
+            "rigid_peak_rotation": 0.02,
+            "rigid_mode": "safe",
+            "collar_max_utilisation": 0.5,
+            "edge_stress_ratio": 0.05,
+            "status": "ok",
+        }
         solid_vs_cracked._variants_figure(
-            runs["sweep"], {"variants": ["solid", "cracked", "cracked-collars"]}
+            runs["sweep"],
+            {
+                "study": "made up",
+                "variants": {n: variant for n in ("solid", "cracked", "cracked-collars")},
+            },
         )
     assert read_csv(runs["design"] / "figures" / "design_chart.csv")["alpha"].size == 12 * 13
     return figures
@@ -701,6 +775,7 @@ def test_the_crosscheck_report_draws_the_hinges_of_plastic_collars(tmp_path, eps
     from browser import assert_report_says_what_summary_says, assert_table_numbers_have_units
 
     from colonna.studies.crosscheck import report
+    from colonna.studies.crosscheck.summary import load
     from colonna.studies.output import read_csv
 
     out, summary = _plastic_crosscheck(tmp_path, eps_u)
@@ -783,5 +858,5 @@ def test_the_crosscheck_report_draws_the_hinges_of_plastic_collars(tmp_path, eps
     # an elastic collar has no hinges to draw
     figs: list = []
     elastic = dict(summary, collars=[dict(collar, plastic=False)])
-    report._collar_hinge_figure(out, elastic, history, figs)
+    report._collar_hinge_figure(out, load(elastic), history, figs)
     assert figs == []
