@@ -51,7 +51,9 @@ QUESTIONS = {
 # collars' fracture where a collar is plastic, the crack's growth where it is partial
 OPTIONAL_QUESTIONS = ("collars_hold", "crack_grows")
 # the answers made from stresses, which hold only up to an overturning
-STRESS_QUESTIONS = ("collars_yield", "collars_hold", "toe_crushes")
+# the answers read from the FEM run up to where it stops: where it overturns, each holds only
+# until then (a crack that has not grown by then may grow as the column falls)
+STRESS_QUESTIONS = ("collars_yield", "collars_hold", "toe_crushes", "crack_grows")
 # the blocks whose slenderness alpha (and frequency parameter p) a model's rotation is given in
 BLOCKS = {"column": "the whole column (4b x 2h)", "half": "one half block (2b x 2h)"}
 

@@ -335,6 +335,39 @@ def test_crack_grows_answer_from_the_ensemble():
     assert "crack_grows" not in fem_answers({"bands": {}}, "-")
 
 
+def test_a_crack_that_did_not_grow_before_the_column_overturned_says_until_when():
+    """Where the FEM overturns, "Does the crack grow? no" holds only up to then (the crack
+    may grow as the column falls): the answer carries the qualifier the collars' and the
+    toe's answers carry, and where the FEM stands it carries none (found on a granite column
+    cracked from the base that overturned at 1.025 s: its crack answer read a bare "no")."""
+    from colonna.studies.outcome import ReplicaCount, crack_grows, model_outcome, outcome
+
+    fem = ensemble_summary(
+        [
+            {"status": "overturned", "overturned": True, "crack_grew": False,
+             "crack_length_initial": 1.2, "crack_length_final": 1.2, "crack_tip_KI_ratio": r}
+            for r in (0.12, 0.17)
+        ]
+    )  # fmt: skip
+    base = {"answer": "no", "question": "q"}
+    answers = {k: base for k in ("rigid_assumption_ok", "collars_yield", "toe_crushes")}
+    answers["crack_grows"] = crack_grows(fem)
+    for overturned, qualified in ((True, "until overturning at t = 1.025 s, in all 2 replicas"),
+                                  (False, None)):  # fmt: skip
+        model = model_outcome(
+            "FEM",
+            overturned,
+            None if overturned else 0.01,
+            0.1,
+            1.025 if overturned else None,
+            replicas=ReplicaCount(2, 2 if overturned else 0),
+        )
+        said = {a["key"]: a for a in outcome([model], answers)["answers"]}
+        assert said["crack_grows"]["answer"] == "no"
+        assert said["crack_grows"].get("qualifier") == qualified
+        assert said["collars_yield"].get("qualifier") == qualified
+
+
 TINY_PARTIAL = """
 [study]
 name = "tiny-partial"
