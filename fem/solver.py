@@ -40,7 +40,7 @@ from tqdm import tqdm
 
 from ..core.collar import collar_strain_summary
 from ..core.collar_law import FIBRE_STRAIN, FRACTURED, OUT_SIZE
-from ..core.errors import InputError, require_positive, require_range
+from ..core.errors import InputError, require_positive
 from ..core.fibre import STRESS as FIBRE_STRESS
 from ..core.ground import require_motion
 from ..core.motion import Motion, Release
@@ -650,11 +650,11 @@ def _batch_lists(motions: list, out_dirs, offsets):
 
 def _batch_step(model: Model, dt: float | None, safety: float, check_dt: bool):
     """The stable step of the model and the step of the run: ``dt`` (s) if given, checked
-    against the stable step unless ``check_dt`` is False, else the stable step's."""
+    against the stable step unless ``check_dt`` is False, else the stable step's (a given dt
+    is positive: :class:`FemSettings` checks it)."""
     step = stable_time_step(model, safety)
     if dt is None:
         return step, step.dt
-    require_positive("run dt (s)", dt)
     if check_dt and dt > step.dt * (1.0 + 1e-9):
         raise InputError(
             f"run dt = {dt:.4g} s is above the stable time step {step.dt:.4g} s "
@@ -666,12 +666,12 @@ def _batch_step(model: Model, dt: float | None, safety: float, check_dt: bool):
 
 def _output_steps(durations: list, output_interval: float | None, dt: float):
     """Steps per output interval and each run's number of outputs (whole intervals covering
-    its duration); the interval defaults to 1/400 of a common duration."""
+    its duration); the interval defaults to 1/400 of a common duration (a given one is
+    positive: :class:`FemSettings` checks it)."""
     if output_interval is None:
         if len(set(durations)) > 1:
             raise InputError("run_batch: runs of different durations need an output_interval")
         output_interval = durations[0] / 400.0
-    require_positive("run output_interval (s)", output_interval)
     if output_interval > max(durations):
         raise InputError(
             f"run output_interval = {output_interval:g} s must be at most the run's duration "
@@ -683,23 +683,14 @@ def _output_steps(durations: list, output_interval: float | None, dt: float):
 
 def _edge_settings(model: Model, edge_length: float | None, edge_time: float | None):
     """The toe stress's averaging length (m; a tenth of a body's width by default) and time
-    (s; :data:`EDGE_TIME`), checked."""
+    (s; :data:`EDGE_TIME`); a given length within a body's width (its sign and the time's
+    range :class:`FemSettings` checks)."""
     mesh = model.mesh
     body_width = mesh.width / mesh.n_bodies
     if edge_length is None:
         edge_length = 0.1 * body_width
-    require_positive("edge_length (m)", edge_length)
     if edge_time is None:
         edge_time = EDGE_TIME
-    require_range(
-        "edge_time (s)",
-        edge_time,
-        0.0,
-        0.01,
-        closed_low=True,
-        closed_high=True,
-        range_text="[0, 0.01] s",
-    )
     if edge_length > body_width:
         raise InputError(
             f"edge_length = {edge_length:g} m is larger than the width of a body ({body_width:g} m)"
