@@ -9,6 +9,7 @@ from __future__ import annotations
 import itertools
 import math
 import os
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 from ..core.errors import InputError
@@ -157,6 +158,17 @@ def fem_work(
 
 
 _RUN_LABELS = itertools.count()
+
+
+def ensembles_work(studies: Iterable[FemStudy]) -> FemWork:
+    """The work of each of ``studies``' FEM runs with its replicas, one study after the
+    other (the variants of a sweep: extents, meshes, solid or cracked), each model built once
+    (:func:`fem_work`)."""
+    work = FemWork()
+    models: dict = {}
+    for study in studies:
+        work += fem_work(study, study.replicas, models=models)
+    return work
 
 
 def memory_limit() -> float:

@@ -22,8 +22,7 @@ from ..outcome import (
 )
 from ..study import Study
 from ..sweep import run_sweep
-from ..work import FemWork
-from ..work import fem_work as estimate_work
+from ..work import FemWork, ensembles_work
 from .schema import DEFAULT_FRACTIONS
 
 # the crack's extents swept by default, fractions of the column's height (0: no crack, 1: the
@@ -91,11 +90,7 @@ FEWER = ", fewer [run] replicas"  # its way to ask for less FEM work (besides [r
 def fem_work(study: Study) -> FemWork:
     """The FEM work of the study (:func:`studies.driver.check_work`): each extent's run with
     its replicas."""
-    work = FemWork()
-    models: dict = {}  # the model of each mesh, built once
-    for varied in variants(study).values():
-        work += estimate_work(varied, varied.replicas, models=models)
-    return work
+    return ensembles_work(variants(study).values())
 
 
 def _row(study: FemStudy, crack: tuple, fem: dict) -> dict:

@@ -23,8 +23,7 @@ from ..outcome import (
 )
 from ..study import Study
 from ..sweep import run_sweep
-from ..work import FemWork
-from ..work import fem_work as estimate_work
+from ..work import FemWork, ensembles_work
 
 
 def mesh_sizes(study: Study) -> list[float]:
@@ -51,12 +50,7 @@ FEWER = ", fewer or coarser [convergence] sizes, fewer [run] replicas"  # its wa
 def fem_work(study: Study) -> FemWork:
     """The FEM work of the study (:func:`studies.driver.check_work`): its run with its replicas
     on every mesh."""
-    work = FemWork()
-    models: dict = {}  # the model of each mesh, built once
-    for size in mesh_sizes(study):
-        varied = replace(study.fem, mesh_size=size)
-        work += estimate_work(varied, varied.replicas, models=models)
-    return work
+    return ensembles_work(replace(study.fem, mesh_size=size) for size in mesh_sizes(study))
 
 
 def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:

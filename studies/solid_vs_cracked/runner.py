@@ -22,8 +22,7 @@ from ..outcome import (
 )
 from ..study import Study
 from ..sweep import run_sweep
-from ..work import FemWork
-from ..work import fem_work as estimate_work
+from ..work import FemWork, ensembles_work
 
 # each variant: (cracked, with the study's collars)
 VARIANTS = {
@@ -66,12 +65,9 @@ FEWER = ", fewer [run] replicas"  # its way to ask for less FEM work (besides [r
 def fem_work(study: Study) -> FemWork:
     """The FEM work of the study (:func:`studies.driver.check_work`): each variant's run with
     its replicas."""
-    work = FemWork()
-    models: dict = {}  # the model of each mesh, built once
-    for cracked, collars in VARIANTS.values():
-        varied = variant(study, cracked, collars)
-        work += estimate_work(varied, varied.replicas, models=models)
-    return work
+    return ensembles_work(
+        variant(study, cracked, collars) for cracked, collars in VARIANTS.values()
+    )
 
 
 def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
