@@ -29,7 +29,7 @@ def write_report(out: Path) -> Path:
         "crack_extent/report.html.j2",
         s,
         f"colonna crack extent: {s['study']}",
-        figs=[answers_figure(out, typed), _extents_figure(out, s)],
+        figs=[answers_figure(out, typed), _extents_figure(out, typed)],
         fields=EXTENT_FIELDS,
         full_crack=full_crack_sentence(typed),
     )
@@ -57,8 +57,8 @@ EXTENT_FIELDS: list[tuple[Ref[Extent], str, str]] = [
 ]
 
 
-def _extents_figure(out: Path, s: dict) -> dict:
-    typed = load(s)  # a key the report reads that the file lacks fails here, named
+def _extents_figure(out: Path, typed: CrackExtentSummary) -> dict:
+    """Each extent's rotation history (FEM, replica 0), from its case's history.csv."""
     fig = Figure(figsize=(9.5, 3.6))
     ax = fig.subplots()
     n_curves = len(typed.variants)
