@@ -940,8 +940,13 @@ def main(argv=None) -> int:
         where = exc.filename if exc.filename is not None else ""
         print(f"colonna: error: cannot write {where}: {exc.strerror or exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt as exc:
-        return _interrupted(args, exc)
+    except (KeyboardInterrupt, SystemError) as exc:
+        from .executor import signal_interrupt
+
+        interrupt = signal_interrupt(exc)
+        if interrupt is None:
+            raise
+        return _interrupted(args, interrupt)
     finally:
         for sig, handler in handlers.items():
             if handler is not None:

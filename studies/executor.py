@@ -573,11 +573,25 @@ def run_cases(
             stage,
             announce,
         )
-    except KeyboardInterrupt as exc:
-        signum = getattr(exc, "signum", signal.SIGINT)
+    except (KeyboardInterrupt, SystemError) as exc:
+        interrupt = signal_interrupt(exc)
+        if interrupt is None:
+            raise
+        signum = getattr(interrupt, "signum", signal.SIGINT)
         saved = saved_cases(out)
         total = len(saved | {c["key"] for c in cases})
         raise StudyInterrupted(signum, len(saved), total, Path(out) / "cases") from None
+
+
+def signal_interrupt(exc: BaseException) -> KeyboardInterrupt | None:
+    """The Ctrl-C or SIGTERM behind ``exc``: itself, or the KeyboardInterrupt a compiled
+    kernel's call returned as a SystemError ("returned a result with an exception set": the
+    signal's handler raised while numba's parallel threads ran); None for any other error."""
+    if isinstance(exc, KeyboardInterrupt):
+        return exc
+    if isinstance(exc, SystemError) and isinstance(exc.__context__, KeyboardInterrupt):
+        return exc.__context__
+    return None
 
 
 def _clear_stale(cases, out, force) -> dict:

@@ -265,6 +265,32 @@ def test_an_interrupt_counts_the_saved_cases_and_a_rerun_keeps_them(tmp_path):
         assert (out / "cases" / key / "result.json").stat().st_mtime_ns == mtime
 
 
+def test_an_interrupt_inside_a_parallel_kernel_is_an_interrupt_not_a_traceback(tmp_path):
+    """Ctrl-C while numba's parallel threads run a kernel comes back from the kernel's call as
+    a SystemError whose context is the KeyboardInterrupt (found interrupting a cross-check in
+    its multibody spectrum): it stops the cases as a Ctrl-C does, counting those saved; any
+    other SystemError is raised as it is."""
+
+    def kernel_interrupted(case, directory):
+        if case["key"] == "c1":
+            try:
+                raise KeyboardInterrupt
+            except KeyboardInterrupt:
+                raise SystemError("CPUDispatcher returned a result with an exception set")  # noqa: B904 (as numba: context, no cause)
+        return square(case, directory)
+
+    out = tmp_path / "out"
+    with pytest.raises(StudyInterrupted, match="1 of 4 cases saved") as raised:
+        run_cases(kernel_interrupted, _cases(), out, run_options=RunOptions(progress=False))
+    assert raised.value.signum == signal.SIGINT
+
+    def broken(case, directory):
+        raise SystemError("a bug")
+
+    with pytest.raises(SystemError, match="a bug"):
+        run_cases(broken, _cases(), tmp_path / "other", run_options=RunOptions(progress=False))
+
+
 # --- 2, 3 and 6. signals to a running `colonna study` ------------------------------------------
 
 
