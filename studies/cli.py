@@ -50,7 +50,7 @@ from ..core.motion import Motion
 from ..rigid.block import pulse_from_ratios
 from . import schema
 from .options import add_block_options, add_collar_option, block_from_args, collars_from_args
-from .output import write_csv, write_json
+from .output import FolderInUse, write_csv, write_json
 from .units import unit_of
 
 
@@ -908,6 +908,7 @@ EXIT_STATUS: tuple[tuple[type[ColonnaError], int], ...] = (
     (InputError, 2),  # bad input: a flag, a study file, a record
     (StaleResultsError, 2),  # cases in --out saved from other inputs (--force recomputes them)
     (NumericalFailure, 2),  # a run that blew up or whose energy balance failed
+    (FolderInUse, 2),  # --out is being written by another colonna run
     (ColonnaError, 1),  # a study that cannot go on (executor.StudyStopped: a lost scheduler)
 )
 

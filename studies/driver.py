@@ -19,7 +19,7 @@ import numpy as np
 from ..core.errors import InputError
 from .executor import DEFAULT_RUN, RunOptions, StudyClock, before_computing, study_clock
 from .kinds import KINDS, take_options
-from .output import record_inputs, write_csv
+from .output import output_lock, record_inputs, write_csv
 from .study import Study, load
 
 if TYPE_CHECKING:
@@ -73,14 +73,15 @@ def run_study_file(
     out = Path(out)
     module = kind.module()
     started = time.time()  # the run's date and wall time go on record with its inputs
-    with before_computing(tell_the_work), study_clock(clock):
-        summary = module.run(study, out, run_options)
-    # the inputs on record beside the results they gave, once they are all there (a refused
-    # or interrupted run leaves the record of the results in out as it was)
-    record_inputs(out, study, started)
-    if kind.ground_motion:
-        write_ground_motion(out, study.fem)
-    module.write_report(out)
+    with output_lock(out):  # one run at a time writes a folder
+        with before_computing(tell_the_work), study_clock(clock):
+            summary = module.run(study, out, run_options)
+        # the inputs on record beside the results they gave, once they are all there (a
+        # refused or interrupted run leaves the record of the results in out as it was)
+        record_inputs(out, study, started)
+        if kind.ground_motion:
+            write_ground_motion(out, study.fem)
+        module.write_report(out)
     if progress:
         print(f"[study] report: {out / 'index.html'}", file=sys.stderr, flush=True)
     return summary

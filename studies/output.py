@@ -9,10 +9,14 @@ import math
 import os
 import platform
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
+
+from ..core.errors import ColonnaError
 
 
 def _atomic_write_text(path: Path, text: str) -> None:
@@ -25,6 +29,62 @@ def _atomic_write_bytes(path: Path, data: bytes) -> None:
     tmp = path.with_name(path.name + ".part")
     tmp.write_bytes(data)
     os.replace(tmp, path)
+
+
+LOCK_NAME = ".colonna.lock"
+
+
+class FolderInUse(ColonnaError):
+    """Another colonna run is writing the same output folder; the message names it."""
+
+
+@contextmanager
+def output_lock(out: Path) -> Iterator[None]:
+    """Hold ``out`` for this run alone while it computes and writes: an exclusive lock on
+    ``out/.colonna.lock`` (``flock``, released by the system when the process ends, even
+    killed), a file that names the run and is removed as the run ends. A second run on the
+    same folder stops at once with :class:`FolderInUse`, naming the run that holds it,
+    instead of the two overwriting each other's cases. A folder this call made and left
+    empty (a refused study) is removed again. Where ``fcntl`` is missing (Windows) the folder
+    is not locked."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not on the platforms CI runs
+        yield
+        return
+    out = Path(out)
+    made = not out.exists()
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / LOCK_NAME
+    while True:  # a lock file its holder removed as we opened it is no lock: open it again
+        handle = open(path, "a+")
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            handle.seek(0)
+            holder = handle.read().strip() or "another process"
+            handle.close()
+            raise FolderInUse(
+                f"{out} is being written by another colonna run ({holder}): wait for it to "
+                "end, or give this one another --out"
+            ) from None
+        try:
+            if os.path.samestat(os.stat(path), os.fstat(handle.fileno())):
+                break
+        except FileNotFoundError:
+            pass
+        handle.close()
+    try:
+        handle.seek(0)
+        handle.truncate()
+        handle.write(f"pid {os.getpid()}, started {_utc(time.time())}\n")
+        handle.flush()
+        yield
+    finally:
+        path.unlink()  # while still held, so no other run takes the file being removed
+        handle.close()
+        if made and not any(out.iterdir()):
+            out.rmdir()
 
 
 def json_bytes(data) -> bytes:
