@@ -43,6 +43,7 @@ LANDING_DEPENDENT = (
     "crack_growth",
     "crack_tip_KI_max",
     "crack_tip_KI_ratio",
+    "crack_ligament_damage_max",
     "t_end",
     "energy_error_max",
 )

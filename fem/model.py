@@ -38,7 +38,9 @@ from .partial_crack import (
     ETA,
     SOFTENING_FLOOR,
     CohesiveInterface,
+    Crack,
     cracked_pairs,
+    ligament_area,
     springs,
 )
 
@@ -201,7 +203,7 @@ def build_model(
     contact: ContactSettings = ContactSettings(),
     loads: Loads = Loads(),
     bed: Bed = DEFAULT_BED,
-    crack: tuple | None = None,
+    crack: tuple | Crack | None = None,
 ) -> Model:
     """Assemble bodies, contact pairs and collar elements.
 
@@ -217,7 +219,10 @@ def build_model(
     energy balance counts its work as potential energy.
 
     ``crack`` (from, to) (m): the crack runs between these heights only, the rest of the
-    mid-plane is intact stone (:mod:`colonna.fem.partial_crack`); None: the full height."""
+    mid-plane is intact stone (:mod:`colonna.fem.partial_crack`); None: the full height. A
+    :class:`~colonna.fem.partial_crack.Crack` gives its extent and its depth, the fraction of
+    the thickness it runs through, 0 < d <= 1: below 1 the crack's pairs keep a ligament
+    (1 - d) of their area, and an extent of None runs the full height."""
     g, top_load = loads.g, loads.top_load
     require_positive("gravity g (m/s^2)", g)
     require_range(
@@ -298,12 +303,29 @@ def build_model(
         collar_props,
         float(top_load),
         bed,
-        None if crack is None else _cohesive(mesh, stone, thickness, crack),
+        _cohesive_of(mesh, stone, thickness, crack if isinstance(crack, Crack) else Crack(crack)),
     )
 
 
-def _cohesive(mesh: ColumnMesh, stone: Stone, thickness: float, crack) -> CohesiveInterface:
-    """The mid-plane's node pairs with the cohesive law on the part outside ``crack``
+def _cohesive_of(
+    mesh: ColumnMesh, stone: Stone, thickness: float, crack: Crack
+) -> CohesiveInterface | None:
+    """The cohesive interface of a crack, or None for today's through crack of full height (no
+    interface at all: extent None and depth 1)."""
+    depth = require_range(
+        "column crack_depth (fraction of the thickness)", crack.depth, 0.0, 1.0, closed_high=True
+    )
+    if crack.extent is None and depth >= 1.0:
+        return None
+    extent = (0.0, mesh.height) if crack.extent is None else crack.extent
+    return _cohesive(mesh, stone, thickness, extent, depth)
+
+
+def _cohesive(
+    mesh: ColumnMesh, stone: Stone, thickness: float, crack, depth: float = 1.0
+) -> CohesiveInterface:
+    """The mid-plane's node pairs with the cohesive law on the part outside ``crack``, and on
+    the crack's ligament where it runs through ``depth`` < 1 of the thickness
     (fem.partial_crack), checked: the crack within the column; the penalty stiff enough that
     the law's peak comes well before its full damage (fem.partial_crack.SOFTENING_FLOOR)."""
     if not mesh.cracked:
@@ -329,7 +351,9 @@ def _cohesive(mesh: ColumnMesh, stone: Stone, thickness: float, crack) -> Cohesi
     K_pair = np.maximum(
         np.asarray(cohesive_law.penalty_stiffness(stone.E, h, ALPHA), dtype=float), floor
     )
-    damage0 = np.where(cracked_pairs(heights, (low, high), mesh.height), 1.0, 0.0)
+    on_crack = cracked_pairs(heights, (low, high), mesh.height)
+    # a through crack's pairs are broken; a part-depth crack's keep their ligament, intact
+    damage0 = np.where(on_crack, 1.0, 0.0) if depth >= 1.0 else np.zeros(heights.size)
     law = np.array([stone.ft, stone.ft, stone.Gf, stone.Gf, ETA])
     cohesive_law.check_parameters(
         float(np.min(K_pair)), stone.ft, stone.ft, stone.Gf, stone.Gf, ETA, 0.0
@@ -339,11 +363,13 @@ def _cohesive(mesh: ColumnMesh, stone: Stone, thickness: float, crack) -> Cohesi
         partner.astype(np.int64),
         heights,
         _tributary(heights),
-        thickness * _tributary(heights),
+        ligament_area(thickness * _tributary(heights), on_crack, depth),
         K_pair,
         law,
         damage0,
         (low, high),
+        float(depth),
+        on_crack if depth < 1.0 else np.zeros(heights.size, dtype=bool),
     )
 
 

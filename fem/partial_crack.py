@@ -19,6 +19,17 @@ compression and the Coulomb friction; the cohesive interface adds the law's tens
 fem._kernels.cohesive_forces). The separation is measured in the frame of the two halves'
 mean rotation, so that rocking does not read as opening.
 
+A crack of part depth ([column] crack_depth d, the fraction of the thickness it runs through,
+0 < d < 1): a smeared 2D idealisation. Along the cracked part each pair keeps a *ligament*, the
+intact (1 - d) of the thickness: it carries the same cohesive law over the area (1 - d) A, on top
+of the crack's contact (which carries compression and friction through the full thickness), and
+starts undamaged; the uncracked part stays fully cohesive. d = 1 is the through crack (the
+cracked pairs broken at the start, nothing else changes); d -> 0 the intact mid-plane. The
+through crack is the broken pairs: a ligament that fully damages is the crack deepening to the
+full thickness there, and counts in the crack's length; the K_I at the tips is the through
+crack's. What it does not capture: the part-depth crack's own front in the thickness (its 3D
+tip, and K_I along it), and the bending of the ligament about the crack's front.
+
 Energy: the springs' elastic energy (1 - d) K (<delta_n>^2 + delta_s^2) A / 2 joins the crack
 contact's energy; damage dissipates K (<delta_n>^2 + delta_s^2) A / 2 times its increment (the
 energy release of a secant damage law), added to the dissipated tally; pulled apart in mode I a
@@ -45,6 +56,15 @@ SOFTENING_FLOOR = 2.0
 
 
 @dataclass(frozen=True)
+class Crack:
+    """A crack as given: ``extent`` (from, to) heights (m; None: the full height) and ``depth``,
+    the fraction of the thickness it runs through (0 < depth <= 1; 1: a through crack)."""
+
+    extent: tuple | None = None
+    depth: float = 1.0
+
+
+@dataclass(frozen=True)
 class CohesiveInterface:
     """The mid-plane's node pairs (left-face node, right-face node at its height, sorted by
     height) and what the kernel needs of them: area A (m^2), penalty K (Pa/m), the law's
@@ -60,11 +80,30 @@ class CohesiveInterface:
     law: np.ndarray = field(repr=False)
     damage0: np.ndarray = field(repr=False)
     crack: tuple = (0.0, 0.0)
+    # the fraction of the thickness the crack runs through ([column] crack_depth; 1: through)
+    depth: float = 1.0
+    # the pairs on the crack that keep a ligament, the intact (1 - depth) of the thickness
+    # (none at depth 1)
+    ligament: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def bonded(self) -> np.ndarray:
         """The pairs intact at the start."""
         return self.damage0 < 1.0
+
+    @property
+    def part_depth(self) -> bool:
+        """A crack that runs through part of the thickness only (a ligament on the crack)."""
+        return self.depth < 1.0
+
+
+def ligament_area(area: np.ndarray, on_crack: np.ndarray, depth: float) -> np.ndarray:
+    """The pairs' areas (m^2) with a crack of part ``depth`` along ``on_crack``: the ligament
+    (1 - depth) A there, A elsewhere; the areas as they are at depth 1 (the through crack's
+    pairs are broken, :func:`cracked_pairs`)."""
+    if depth >= 1.0:
+        return area
+    return np.where(on_crack, (1.0 - depth) * area, area)
 
 
 def cracked_pairs(heights: np.ndarray, crack: tuple, height: float) -> np.ndarray:
@@ -117,7 +156,12 @@ def crack_columns(
     :func:`tip_stress_intensity`; NaN without a tip)."""
     broken = damage >= 1.0
     at = interface.heights[broken]
+    ligament = {}
+    if interface.part_depth:  # the ligament's largest damage (NaN: no pair on the crack)
+        on = interface.ligament
+        ligament["crack_ligament_damage"] = float(np.max(damage[on])) if np.any(on) else math.nan
     return {
+        **ligament,
         "crack_length": float(np.sum(interface.tributary[broken])),
         "crack_from": float(at.min()) if at.size else math.nan,
         "crack_to": float(at.max()) if at.size else math.nan,
@@ -183,7 +227,9 @@ def crack_summary(interface: CohesiveInterface, history: dict, KIC: float) -> di
     """A run's answers about its partial crack from its history (crack_columns): the crack's
     length at the start and the end (m), its growth (m) and whether it grew (by at least one
     pair), the largest K_I at a tip and its time, K_I / K_IC, and the work the cohesive
-    interface dissipated (J)."""
+    interface dissipated (J). With a crack of part depth, the through crack's (a ligament broken
+    is the crack deepened to the full thickness there, and grows it), and the crack's depth,
+    the extent of its ligament on the mesh's pairs (m) and the ligament's largest damage."""
     length = np.asarray(history["crack_length"], dtype=float)
     KI = np.asarray(history["crack_tip_KI"], dtype=float)
     smallest_pair = float(np.min(interface.tributary))
@@ -191,7 +237,18 @@ def crack_summary(interface: CohesiveInterface, history: dict, KIC: float) -> di
     finite = np.isfinite(KI)
     at = int(np.argmax(np.where(finite, KI, -np.inf))) if np.any(finite) else None
     KI_max = float(KI[at]) if at is not None else None
+    ligament = {}
+    if interface.part_depth:
+        damage = np.asarray(history["crack_ligament_damage"], dtype=float)
+        ligament = {
+            "crack_depth": interface.depth,
+            "crack_ligament_length": float(np.sum(interface.tributary[interface.ligament])),
+            "crack_ligament_damage_max": float(np.nanmax(damage))
+            if np.any(np.isfinite(damage))
+            else None,
+        }
     return {
+        **ligament,
         "crack_length_initial": start,
         "crack_length_final": end,
         "crack_growth": end - start,

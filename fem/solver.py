@@ -140,6 +140,25 @@ class FemRunSummary:
     cohesive_dissipated: float | None = quantity(
         "J", "energy the intact mid-plane dissipated cracking", omit_when_none=True, default=None
     )
+    # a crack of part depth ([column] crack_depth < 1; fem.partial_crack): its ligament
+    crack_depth: float | None = quantity(
+        "-",
+        "fraction of the thickness the crack runs through (part-depth crack)",
+        omit_when_none=True,
+        default=None,
+    )
+    crack_ligament_length: float | None = quantity(
+        "m",
+        "extent of the part-depth crack's ligament on the mesh's pairs",
+        omit_when_none=True,
+        default=None,
+    )
+    crack_ligament_damage_max: float | None = quantity(
+        "-",
+        "largest damage of the part-depth crack's ligament (1: broken through there)",
+        omit_when_none=True,
+        default=None,
+    )
     collar_max_utilisation: float = shared("collar_max_utilisation")
     collar_first_yield_time: float | None = shared("collar_first_yield_time")
     edge_stress_max: float = quantity("Pa", "largest toe stress (compression positive)")

@@ -33,6 +33,7 @@ from ..meshes.column import ColumnMesh
 from .convergence import convergence_table
 from .model import Loads, build_model
 from .output import flat_start
+from .partial_crack import Crack
 from .settings import FemSettings, FemStart
 from .solver import FemResult, run
 
@@ -136,7 +137,8 @@ def model_on(model, mesh: ColumnMesh):
         model.contact,
         Loads(model.g, model.top_load),
         model.bed,
-        None if model.cohesive is None else model.cohesive.crack,  # a partial crack's ends
+        # a partial crack's ends and depth
+        None if model.cohesive is None else Crack(model.cohesive.crack, model.cohesive.depth),
     )
 
 

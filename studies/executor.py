@@ -353,6 +353,7 @@ STUDY_FILE_KEYS = {
     "thickness": "column.thickness",
     "cracked": "column.cracked",
     "crack": "column.crack",
+    "crack_depth": "column.crack_depth",
     "top_load": "column.top_load",
     "stone": "stone",
     "collars": "collar",

@@ -78,6 +78,8 @@ class FemStudy:
     toe_size: float | None = None  # m: the element size at the base corners ([mesh] toe_size)
     # (from, to) m: where the crack runs in the FEM ([column] crack; None: the full height)
     crack: tuple | None = None
+    # the fraction of the thickness the crack runs through ([column] crack_depth; 1: through)
+    crack_depth: float = 1.0
 
     @property
     def rocking_block(self) -> Block:
@@ -106,6 +108,8 @@ class FemStudy:
         for f in fields(self):
             if f.name in IDENTITY:
                 continue
+            if f.name == "crack_depth" and self.crack_depth == 1.0:
+                continue  # a through crack: the JSON (and inputs hash) of before the key
             value = getattr(self, f.name)
             if f.name in ("stone", "contact", "bed"):
                 value = asdict(value)
@@ -319,6 +323,7 @@ def column_of(spec: schema.StudyFile, source: str = "study", base: Path = Path("
         initial_angular_velocity=spec.run.initial_angular_velocity,
         replicas=spec.run.replicas,
         crack=None if column.crack is None else tuple(column.crack),
+        crack_depth=column.crack_depth,
     )
 
 

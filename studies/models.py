@@ -91,6 +91,7 @@ def model_record(study: FemStudy) -> dict:
 def build(study: FemStudy):
     """Mesh and model of the study."""
     from ..fem.model import Loads, build_model
+    from ..fem.partial_crack import Crack
 
     if study.mesh_file is not None:
         from ..meshes.io import read
@@ -120,7 +121,7 @@ def build(study: FemStudy):
         study.contact,
         loads=Loads(top_load=study.top_load),
         bed=study.bed,
-        crack=study.crack,
+        crack=Crack(study.crack, study.crack_depth),
     )
 
 

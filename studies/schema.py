@@ -168,6 +168,17 @@ class Column(Table):
         "fully split (the paper's hypothesis).",
         json_schema_extra={"unit": "m"},
     )
+    crack_depth: float = quantity(
+        "-",
+        "Fraction of the column's thickness (out of plane) that the crack runs through, over "
+        "its extent ([column] crack, or the full height), 0 < d <= 1; default 1, a through "
+        "crack. Below 1 the FEM keeps an intact ligament of (1 - d) of the thickness along the "
+        "crack, with the stone's cohesive law ([stone] ft, Gf): a smeared 2D idealisation of "
+        "a part-depth crack (docs/physics.md). The rigid models see the column fully split.",
+        1.0,
+        gt=0,
+        le=1,
+    )
     top_load: float = quantity(
         "N",
         "Dead load on the capital (architrave), without mass: a "
@@ -179,8 +190,12 @@ class Column(Table):
 
     @staticmethod
     def across(c: dict, given: set) -> list[tuple[str, tuple]]:
-        """The crack's heights within the column, in order, on a cracked column."""
+        """The crack's heights within the column, in order, on a cracked column; its depth
+        on a cracked column."""
         crack, height = c["crack"], c["height"]
+        depth = c.get("crack_depth", 1.0)
+        if known(depth, c["cracked"]) and float(depth) < 1.0 and not c["cracked"]:
+            return [("column.crack_depth needs column.cracked = true (a column with a crack)", ())]
         if crack is None or not known(crack):
             return []
         if known(c["cracked"]) and not c["cracked"]:

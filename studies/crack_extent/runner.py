@@ -67,7 +67,7 @@ def _limit(study: Study, cracked: bool) -> FemStudy:
     """A rigid limit: the study's column solid (without collars) or fully split (with them)."""
     spec = study.spec
     assert spec.column is not None  # the kind needs a column (studies.kinds)
-    column = spec.column.model_copy(update={"cracked": cracked, "crack": None})
+    column = spec.column.model_copy(update={"cracked": cracked, "crack": None, "crack_depth": 1.0})
     changed = spec.model_copy(update={"column": column, "collar": spec.collar if cracked else []})
     varied = from_spec(changed, study.source, study.base)
     return replace(varied, ground=study.fem.ground, vertical=study.fem.vertical)
