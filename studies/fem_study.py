@@ -294,7 +294,7 @@ def column_of(spec: schema.StudyFile, source: str = "study", base: Path = Path("
         width=column.width,
         thickness=column.thickness or default_thickness(column.width),
         cracked=column.cracked,
-        stone=Stone(**spec.stone.model_dump()),
+        stone=Stone(**spec.stone.model_dump(exclude={"preset"})),
         collars=tuple(Collar(**c.model_dump()) for c in spec.collar),
         ground=NoMotion(),
         contact=ContactSettings(**spec.contact.model_dump()),

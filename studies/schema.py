@@ -39,6 +39,8 @@ from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
 from ..rigid.block import OMEGA_RATIO_RANGE
 from .kinds import DEFAULT_KIND, KINDS, kind_tables
+from .stone_presets import PRESETS as STONE_PRESETS
+from .stone_presets import with_preset
 
 G = STANDARD_GRAVITY  # m/s^2, the gravity of every study
 
@@ -216,6 +218,24 @@ class Column(Table):
 
 class Stone(Table):
     """[stone]: linear elastic stone (defaults: a white marble)."""
+
+    preset: Literal[tuple(STONE_PRESETS)] | None = Field(  # type: ignore[valid-type]
+        None,
+        description="A stone whose values fill the keys of [stone] not given (a key given "
+        "overrides it): "
+        + "; ".join(
+            f"{name}: " + ", ".join(f"{k} {v:g}" for k, v in values.items())
+            for name, values in STONE_PRESETS.items()
+        )
+        + " (SI; studies/stone_presets.py gives each value's source; docs/physics.md the "
+        "ranges). Without one, the defaults are the marble's.",
+    )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _preset(cls, data):
+        """The preset's values where the table does not give the key."""
+        return with_preset(data) if isinstance(data, dict) else data
 
     E: float = quantity(
         "Pa",

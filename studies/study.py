@@ -94,9 +94,10 @@ class Study:
         The study file's tables as the run used them: each key's value from the file, else
         its default (:mod:`studies.schema`), else the value colonna resolved for the run (the
         mesh size, the toe length, the stable step, the duration, a pulse's amplitude and
-        period in SI, a record's scales, the rigid block's restitution: ``resolved`` names
-        each such key with the rule that gave it). A key without a value (not given, not used:
-        a record file of a sine pulse) and the tables of other kinds are left out: no null.
+        period in SI, a record's scales, the rigid block's restitution, the [stone] keys a
+        preset sets: ``resolved`` names each such key with the rule that gave it). A key
+        without a value (not given, not used: a record file of a sine pulse) and the tables of
+        other kinds are left out: no null.
         A re-run is keyed by the file (study.toml, byte for byte), not by this record.
 
         ``model``: the FEM model of the study's mesh as built (nodes, elements, stable step,
@@ -107,6 +108,7 @@ class Study:
         ``options``. The run's date, machine and wall time are added beside the results
         (:func:`studies.output.record_inputs`)."""
         from .kinds import KINDS, kind_tables
+        from .stone_presets import from_preset
 
         inputs = self.spec.model_dump(mode="json")
         resolved: dict[str, str] = {}
@@ -115,6 +117,9 @@ class Study:
                 inputs.pop(name, None)
         if inputs.get("column") is not None:
             self._resolve_column(inputs, resolved)
+        stone = self.data.get("stone")
+        for key, rule in from_preset(stone if isinstance(stone, dict) else {}).items():
+            resolved[f"stone.{key}"] = rule  # a value of [stone] preset (studies.stone_presets)
         for key, rule in KINDS[self.kind].per_case_rules().items():
             table, name = key.split(".")
             inputs[table].pop(name, None)
