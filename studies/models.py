@@ -81,11 +81,31 @@ def model_record(study: FemStudy) -> dict:
         "bed_stiffness_high": study.bed.high,
         "bed_source": study.bed.source,
     }
+    if model.cohesive is not None:  # a partial crack: its extent given, and as the pairs run it
+        record.update(crack_extent(model.cohesive))
     interval = study.output_interval or (study.duration / 400.0 if study.duration else None)
     if interval is not None:
         per_output = max(1, int(round(interval / dt)))
         record.update(steps_per_output=per_output, output_interval_used=per_output * dt)
     return record
+
+
+def crack_extent(interface) -> dict:
+    """A partial crack's extent given ([column] crack: to - from, m) and run: the tributary
+    lengths of the mesh's node pairs on it (fem.partial_crack.cracked_pairs: the pair at an
+    inner end is the intact tip, so a crack ends half an element short of a height between
+    nodes), and its depth."""
+    import numpy as np
+
+    low, high = interface.crack
+    on = (interface.damage0 >= 1.0) | (
+        interface.ligament if interface.ligament is not None else False
+    )
+    return {
+        "crack_length_given": float(high - low),
+        "crack_length_run": float(np.sum(interface.tributary[on])),
+        "crack_depth": float(interface.depth),
+    }
 
 
 def build(study: FemStudy):

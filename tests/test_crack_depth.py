@@ -267,3 +267,56 @@ def test_a_refined_toe_window_keeps_the_cracks_depth():
     refined = model_on(model, mesh).cohesive
     assert refined.crack == (2.0, HEIGHT) and refined.depth == 0.4
     assert np.array_equal(refined.ligament, refined.heights > 2.0 + 1e-9)
+
+
+def _inputs_page(inputs: dict) -> str:
+    """The report's inputs section of ``inputs`` (inputs.json), as every kind renders it."""
+    from colonna.studies.report import TEMPLATES, input_tables
+
+    page = TEMPLATES.from_string(
+        '{% from "macros.html.j2" import inputs_section with context %}'
+        "{{ inputs_section(inputs, None) }}"
+    )
+    return page.render(inputs=dict(inputs, tables=input_tables(inputs)))
+
+
+@pytest.mark.parametrize(("crack", "depth"), [((2.0, 3.2), 1.0), ((2.0, 3.2), 0.6)])
+def test_the_report_says_where_the_crack_run_differs_from_the_crack_given(tmp_path, crack, depth):
+    """A crack from 2.0 m to the top of a 3.2 m column (1.2 m given) runs on the mesh's node
+    pairs, the pair nearest 2.0 m its intact tip: measured 1.204 m. The inputs' data paragraph
+    says both lengths; a crack given where the pairs run it says nothing."""
+    import re
+
+    from colonna.studies.study import load
+
+    path = tmp_path / "study.toml"
+    path.write_text(STUDY_WITH_CRACK.format(crack=list(crack), depth=depth))
+    inputs = load(path).to_json()
+    model = inputs["model"]
+    assert model["crack_length_given"] == pytest.approx(1.2)
+    assert 1e-3 < abs(model["crack_length_run"] - 1.2) < 0.36 / 16  # within an element
+    html = _inputs_page(inputs)
+    said = " ".join(re.sub("<[^>]+>", " ", html).replace("&nbsp;", " ").split())
+    run = f"{model['crack_length_run']:.3f}"
+    assert f"crack given 1.200 m ( column.crack ), run {run} m on the mesh's node pairs" in said
+    assert ("through 0.6 of the thickness" in said) == (depth < 1.0)
+    # the full height given runs the full height: no sentence
+    path.write_text(STUDY_WITH_CRACK.format(crack=[0.0, 3.2], depth=depth))
+    inputs = load(path).to_json()
+    assert inputs["model"]["crack_length_run"] == pytest.approx(3.2)
+    assert "data-crack-extent" not in _inputs_page(inputs)
+
+
+STUDY_WITH_CRACK = """
+[study]
+name = "crack-run"
+kind = "cross-check"
+[column]
+height = 3.2
+width = 0.36
+crack = {crack}
+crack_depth = {depth}
+[ground]
+amplitude_ratio = 2.5
+omega_ratio = 4.0
+"""
