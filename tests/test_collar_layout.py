@@ -113,10 +113,18 @@ def test_a_study_names_the_lightest_layout_that_meets_its_target(tmp_path, capsy
     chosen = s["chosen"]
     assert chosen is not None, s["answer"]
     assert chosen["frequency"] <= s["target"]["frequency"]
-    lighter = [r for r in s["layouts"] if r["mass"] < chosen["mass"]]
+    # every layout before it in the catalogue's order (lighter, or of equal mass): decided
+    index = next(i for i, r in enumerate(s["layouts"]) if r["label"] == chosen["label"])
+    lighter = s["layouts"][:index]
     for row in lighter:
-        assert row["decision"] in ("fails", "not refined", "not confirmed by the FEM"), row
+        assert row["decision"] in (
+            "fails",
+            "not confirmed by the FEM",
+            "skipped by the FEM attempts",
+        ), row
         assert row["why"], row
+        if row["decision"] == "fails":
+            assert row["decided_by"] in ("screening", "refinement"), row
     failed = [r for r in lighter if r["decision"] == "fails" and r.get("frequency") is not None]
     for row in failed:  # a refined layout that fails: its frequency above the target or fracture
         assert row["frequency"] > s["target"]["frequency"] or row["fracture_share"] > 0
@@ -629,10 +637,11 @@ def _attempts_study(tmp_path, monkeypatch, fem_plan: dict, layout_lines: str = "
                 found[key] = {"walk": walk, "seconds": 0.0}
             else:
                 fem_keys.append(key)
-                overturned, fractured = fem_plan[key.split("-")[0]][case["record"]]
+                overturned, fractured, *utilisation = fem_plan[key.split("-")[0]][case["record"]]
                 found[key] = {
                     "overturned": overturned,
                     "collar_fractured": fractured,
+                    "collar_utilisation": utilisation[0] if utilisation else None,
                     "fem_seconds": 1.0,
                 }
         return found
@@ -656,6 +665,10 @@ AGREE = [(False, False)] * 4  # the multibody overturns no record at the design 
 ONE_MORE = [(True, False)] + [(False, False)] * 3  # undecided: 1 of 4 differ, p = 1
 TWO_MORE = [(True, False)] * 2 + [(False, False)] * 2  # undecided: p = 0.5
 FRACTURES = [(False, True)] + [(False, False)] * 3  # contradicts: a collar fractures
+# as ONE_MORE and TWO_MORE, a collar yielding (utilisation 1) in the run that overturns: the
+# next attempt then goes in the catalogue's order (tests/test_collar_layout_choice.py)
+ONE_MORE_YIELDS = [(True, False, 1.0)] + [(False, False)] * 3
+TWO_MORE_YIELDS = [(True, False, 1.0)] * 2 + [(False, False)] * 2
 
 
 def test_a_contradicted_choice_is_followed_by_the_next_heavier_layout_until_one_is_confirmed(
@@ -713,10 +726,11 @@ def test_the_reports_fem_section_lists_each_attempt(tmp_path, monkeypatch):
 
 
 def test_no_confirmed_attempt_recommends_the_one_the_fem_overturns_least(tmp_path, monkeypatch):
-    """Three attempts, none confirmed (undecided twice, then contradicted): all three run in
-    order and the study recommends the one whose FEM stripe overturns the fewest records
-    within the fracture allowance, here the first, saying so."""
-    plan = {"fem": ONE_MORE, "fem2": TWO_MORE, "fem3": FRACTURES}
+    """Three attempts, none confirmed (undecided twice, then contradicted; a collar yields in
+    each stripe): all three run in the catalogue's order and the study recommends the one
+    whose FEM stripe overturns the fewest records within the fracture allowance, here the
+    first, saying so."""
+    plan = {"fem": ONE_MORE_YIELDS, "fem2": TWO_MORE_YIELDS, "fem3": FRACTURES}
     s, keys, _ = _attempts_study(tmp_path, monkeypatch, plan, "fem_attempts = 3\n")
     assert [k.split("-")[0] for k in keys] == ["fem"] * 4 + ["fem2"] * 4 + ["fem3"] * 4
     choice = s["fem_choice"]

@@ -42,23 +42,35 @@ def frequency_text(row: dict) -> str:
     return f"{row['lower']:.3g} to {row['upper']:.3g}"
 
 
+# the model that decided a layout (its row's decided_by)
+DECIDED_BY = {
+    "screening": "screened (elastic collars; none yields before the column overturns)",
+    "refinement": "refined (plastic collars)",
+    None: "-",
+}
+
+
 def lighter_rows(s: dict) -> list[dict]:
-    """The layouts up to the chosen one in the catalogue's order, lightest first, each with
-    why it fails (or is chosen)."""
+    """The layouts up to the chosen one in the catalogue's order, lightest first (without a
+    choice: up to the one that meets the target but is not chosen, else all), each with the
+    model that decided it and why it fails (or is chosen)."""
     chosen = s.get("chosen")
     rows: list[dict] = []
     for r in s["layouts"]:
-        if chosen is not None and rows and rows[-1]["label"] == chosen["label"]:
+        if rows and rows[-1]["decision"] in ("chosen", "meets the target, not chosen"):
             break
         rows.append(
             {
                 "label": r["label"],
                 "mass": f"{r['mass']:.1f}",
                 "frequency": frequency_text(r),
+                "by": DECIDED_BY[r.get("decided_by")],
                 "decision": r["decision"],
                 "why": r.get("why", ""),
             }
         )
+        if chosen is not None and r["label"] == chosen["label"]:
+            break
     return rows
 
 
@@ -134,6 +146,9 @@ DECISION_STYLE = {
     "fails": ("x", "tab:red"),
     "not confirmed by the FEM": ("s", "tab:orange"),
     "chosen": ("*", "tab:green"),
+    "meets the target, not chosen": ("*", "tab:grey"),
+    "skipped by the FEM attempts": ("D", "tab:purple"),
+    "not judged": ("o", "tab:grey"),
     "not refined": ("o", "tab:grey"),
     "heavier than the chosen layout": ("o", "tab:blue"),
 }

@@ -17,15 +17,20 @@ through the rigid multibody model.
    at which they did. That gives each layout a bracket of lambda (:func:`bracket`): the
    upper end with every such record's capacity at its first yield, the lower end with it
    never overturning. Layouts whose lower end misses the target fail here.
-2. **Refinement, plastic collars** (:func:`ladder_walk`): the lightest layouts still in play,
-   up to [layout] shortlist, have those records run with plastic collars from their first
-   yield up to the first overturning: their lambda (with its bootstrap band) and the share of
-   records that fracture a collar at the design intensity.
+2. **Refinement, plastic collars** (:func:`ladder_walk`, :func:`judge`): the layouts in the
+   catalogue's order, up to [layout] shortlist of them, have their open records run with
+   plastic collars from their first yield up to the first overturning (a layout with no open
+   record whose screening misses the target by less than its scatter, :func:`screened_miss`:
+   every record from the ladder's foot): their lambda (with its bootstrap band) and the share
+   of records that fracture a collar at the design intensity. A layout is chosen only where
+   every layout before it is refined and fails or is screened to miss.
 3. **Confirmation, FEM** (:func:`fem_stripe`): the chosen layout's FEM runs of every record at
    the design intensity (the hazard's at [layout] design_return_period), against the multibody
    model's runs there, record by record (:func:`stripe_agreement`: confirms, contradicts,
    undecided), and its fit's probability; where it does not confirm, the next heavier layout
-   that meets the target, up to [layout] fem_attempts layouts (:func:`fem_attempts`).
+   that meets the target (where no collar yielded in the stripe, the next with more collars
+   or a larger bar: :func:`capacity_skip`), up to [layout] fem_attempts layouts
+   (:func:`fem_attempts`).
 4. **Cross-check** (:func:`run_crosscheck`): the chosen layout's cross-check (the cross-check
    kind, a study of its own in ``chosen-crosscheck/``) under the record of median capacity at
    the design intensity: FEM against the rigid models, collars, toe.
@@ -36,6 +41,7 @@ the answer (where no attempt is confirmed: the one :func:`recommended`)."""
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import math
 import time
@@ -441,16 +447,20 @@ def bracket(candidate: Candidate, walks: dict, s: Setup) -> dict:
     return {"upper": high, "lower": low, "open": open_records, "records": per}
 
 
-def refine(candidates: list[Candidate], brackets: dict, s: Setup, out, options) -> dict:
-    """The plastic walks of the open records of ``candidates``: {label: [walk or None]}."""
+def refine(
+    candidates: list[Candidate], brackets: dict, s: Setup, out, options, full: bool = False
+) -> dict:
+    """The plastic walks of the open records of ``candidates`` from their first yield
+    (``full``: of every record from the ladder's foot): {label: [walk or None]}."""
     scales = [analysis.scales_for(s.levels, im).tolist() for im in s.intensity]
     cases = []
     for c in candidates:
         one = candidate_column(s.column, s, c)
-        for i in brackets[c.label]["open"]:
+        runs = range(len(s.records)) if full else brackets[c.label]["open"]
+        for i in runs:
             record = s.records[i]
             duration = record.end_time + FREE_TIME_P / one.rocking_block.p
-            first = brackets[c.label]["records"][i]["from"]
+            first = 0 if full else brackets[c.label]["records"][i]["from"]
             cases.append(
                 case_of(
                     dataclasses.replace(one, ground=record, duration=duration),
@@ -486,13 +496,14 @@ def refinement_key(c: Candidate, i: int) -> str:
 
 
 def plastic_capacities(candidate: Candidate, found: dict, plastic: list, s: Setup):
-    """The layout's capacities (level indices, None: never) with plastic collars, and the
-    records whose collars fracture at the design level (True/False; None where the run
-    overturned below it)."""
+    """The layout's capacities (level indices, None: never) with plastic collars (a record's
+    plastic walk where it was run, else the screening's exact capacity), and the records
+    whose collars fracture at the design level (True/False; None where the run overturned
+    below it)."""
     capacities, fractured = [], []
     d = s.design_level
     for i, b in enumerate(found["records"]):
-        if b["exact"] != "open":
+        if plastic[i] is None:
             capacities.append(b["exact"])
             fractured.append(False if b["exact"] is None or b["exact"] >= d else None)
             continue
@@ -513,10 +524,12 @@ def decide(s: Setup, screened: dict, out: Path, options: RunOptions) -> dict:
     """Every layout, the lightest first, until one meets the target: its lambda from the
     elastic screening where no collar yields before the column overturns (exact: a plastic
     collar follows the elastic one until it yields), else from the plastic refinement of its
-    open records, up to [layout] shortlist refined layouts; the chosen layout. The screening's
-    range (:func:`bracket`) is shown, never used to decide: a lognormal fit's lambda is not
-    monotonic in the capacities (a censored record changes its dispersion).
-    :func:`next_meeting` goes on from a layout the FEM does not confirm."""
+    open records, up to [layout] shortlist refined layouts (:func:`judge`); the chosen layout,
+    the first that meets the target with every layout before it refined and failing or
+    screened to miss (:func:`screened_miss`). The screening's range (:func:`bracket`) is
+    shown, never used to decide: a lognormal fit's lambda is not monotonic in the capacities
+    (a censored record changes its dispersion). :func:`next_meeting` goes on from a layout
+    the FEM does not confirm."""
     brackets = {c.label: bracket(c, screened["walks"], s) for c in s.candidates}
     rows = []
     for c in s.candidates:
@@ -548,46 +561,129 @@ def decide(s: Setup, screened: dict, out: Path, options: RunOptions) -> dict:
         "plastic_runs": 0,
     }
     decided["chosen"] = next_meeting(s, decided, -1, out, options)
+    beyond = "heavier than the chosen layout" if decided["chosen"] else NOT_JUDGED
     for row in rows:
-        row.setdefault("decision", "heavier than the chosen layout")
+        row.setdefault("decision", beyond)
+        row.setdefault("decided_by", None)
     return decided
 
 
-def next_meeting(s: Setup, decided: dict, after: int, out: Path, options: RunOptions):
+NOT_JUDGED = "not judged"  # after a layout that meets the target but is not chosen
+
+
+def next_meeting(
+    s: Setup,
+    decided: dict,
+    after: int,
+    out: Path,
+    options: RunOptions,
+    skip=None,
+):
     """The first layout after row ``after`` (an index of the catalogue, lightest first) that
     meets the target by the multibody model (:func:`judge`), or None; each row on the way
     judged ("fails", "not refined" beyond [layout] shortlist refined layouts in this search),
-    the one found "chosen"."""
+    the one found "chosen". A layout is chosen only where no row before it in the search was
+    left "not refined" (one the screening cannot rule out): else it is NOT_CHOSEN, with why,
+    and None is returned. ``skip(candidate)``: why the search passes a layout over without
+    judging it (the FEM attempts' step to more capacity, :func:`capacity_skip`), or None."""
     refined = 0
+    unrefined: list[dict] = []
     for index in range(after + 1, len(s.candidates)):
         row = decided["rows"][index]
         row.pop("decision", None)
+        why = skip(s.candidates[index]) if skip is not None else None
+        if why:
+            row.update(decision=SKIPPED, why=why, decided_by=None)
+            continue
         if judge(s, s.candidates[index], row, decided, refined, out, options):
             refined += 1
+        if row["decision"] == "not refined":
+            unrefined.append(row)
         if row["decision"] == "chosen":
-            return row
+            if not unrefined:
+                return row
+            names = ", ".join(r["label"] for r in unrefined)
+            row["decision"] = NOT_CHOSEN
+            row["why"] = (
+                f"meets the target by the multibody model (lambda = {row['frequency']:.4g} per "
+                f"year), but {len(unrefined)} lighter layouts that the screening cannot rule "
+                f"out were not refined ({names}; layout.shortlist = {s.spec.shortlist}): "
+                "raise the shortlist to decide them"
+            )
+            return None
     return None
+
+
+NOT_CHOSEN = "meets the target, not chosen"
+SKIPPED = "skipped by the FEM attempts"
+# The screening's fast path against the full plastic runs of the same layout, no collar
+# yielding (docs/studies.md, "Collar layout"): 8 of 10 records overturn first at the same
+# level, 2 one level lower; a miss the screening shows must outlast a scatter of this many
+# levels in every record's capacity
+SCREENING_SCATTER_LEVELS = 1
+
+
+def shifted(capacities: list[int | None], levels: int, by: int) -> list[int | None]:
+    """Each capacity (a level index; None: never up to the top) ``by`` levels higher, past
+    the top of ``levels`` levels: never."""
+    return [None if k is None or k + by >= levels else k + by for k in capacities]
+
+
+def screened_miss(b: dict, s: Setup) -> dict | None:
+    """Where the screening alone shows that a layout misses the target: {"frequency", the
+    screening's lambda, "shifted", with every record's overturning
+    :data:`SCREENING_SCATTER_LEVELS` levels higher}, both fits (not bounds) above the target;
+    else None. Only a layout none of whose collars yields before the column overturns, in
+    any record, has its capacities from the screening (a plastic collar is the elastic one
+    until it yields: the same model), up to the fast path's scatter, which the shift covers.
+    A layout with open records never: elastic collars carry forces a plastic one cannot
+    (holding the halves more, which tends to lower the screening's risk), but a yielding
+    collar also dissipates energy, so the bias has no sure sign; and the lognormal fit's
+    lambda is not monotonic in the capacities (the shipped run's 1 x 10 x 80 mm S235:
+    1.16e-3 per year with its open records never overturning, 1.03e-3 with them at their
+    first yield), so no capacity of its open records bounds its lambda: it is refined."""
+    if b["open"]:
+        return None
+    exact = [r["exact"] for r in b["records"]]
+    one = frequency_of(exact, s)
+    moved = frequency_of(shifted(exact, len(s.levels), SCREENING_SCATTER_LEVELS), s)
+    if one["bound"] or moved["bound"] or min(one["frequency"], moved["frequency"]) <= s.target:
+        return None
+    return {"frequency": one["frequency"], "shifted": moved["frequency"]}
 
 
 def judge(s: Setup, c: Candidate, row: dict, decided: dict, refined: int, out, options) -> bool:
     """Decide layout ``c``'s ``row`` (its frequency, the records that fracture a collar at the
-    design intensity, "fails", "not refined" or "chosen", with why), refining its open records
-    with plastic collars unless ``refined`` has reached [layout] shortlist; whether it was
-    refined."""
+    design intensity, "fails", "not refined" or "chosen", with why and ``decided_by``, the
+    model: "screening" or "refinement"), refining it with plastic collars unless ``refined``
+    has reached [layout] shortlist: its open records from their first yield, or, where it has
+    none and the screening neither meets the target nor misses it by more than its scatter
+    (:func:`screened_miss`), every record over the whole ladder; whether it was refined."""
     spec = s.spec
     b = decided["brackets"][c.label]
-    if b["open"]:
+    n = len(s.records)
+    miss = screened_miss(b, s)
+    screened = None
+    if not b["open"]:
+        screened = frequency_of([r["exact"] for r in b["records"]], s)
+    lam = None if screened is None else screened["frequency"]  # the screening's, all exact
+    full = lam is not None and miss is None and lam > s.target
+    plastic: list = [None] * n
+    if b["open"] or full:
         if refined >= spec.shortlist:
             row["decision"] = "not refined"
-            row["why"] = (
-                f"beyond the shortlist of {spec.shortlist} refined layouts (its collars "
-                f"yield before it overturns in {len(b['open'])} records)"
+            row["decided_by"] = None
+            reason = (
+                f"its collars yield before it overturns in {len(b['open'])} records, which the "
+                "screening cannot decide"
+                if b["open"]
+                else f"the screening's lambda, {lam:.4g} per year, misses the "
+                "target by less than its scatter of one ladder level"
             )
+            row["why"] = f"not refined, beyond the shortlist of {spec.shortlist} ({reason})"
             return False
         decided["refined"] += 1
-        plastic = refine([c], decided["brackets"], s, out, options)[c.label]
-    else:  # no collar yields before the column overturns: the elastic runs are the answer
-        plastic = [None] * len(s.records)
+        plastic = refine([c], decided["brackets"], s, out, options, full=full)[c.label]
     for run in plastic:
         if run is not None:
             decided["plastic_seconds"] += run["seconds"]
@@ -596,32 +692,44 @@ def judge(s: Setup, c: Candidate, row: dict, decided: dict, refined: int, out, o
     frequency = frequency_of(capacities, s, band=True)
     counted = [f for f in fractured if f is not None]
     share = sum(counted) / len(fractured)
+    by = "refinement" if (b["open"] or full) else "screening"
     row.update(
         frequency=frequency["frequency"],
         frequency_entry=frequency,
         capacities=[None if k is None else float(s.levels[k]) for k in capacities],
         fractured_at_design=fractured,
         fracture_share=share,
+        decided_by=by,
     )
-    how = (
-        "with plastic collars"
-        if b["open"]
-        else "(the elastic screening's: no collar yields before the column overturns)"
-    )
+    if b["open"]:
+        how = f"with plastic collars (refined: its collars yield first in {len(b['open'])} records)"
+    elif full:
+        how = (
+            "with plastic collars over the whole ladder (refined: the screening's "
+            f"{lam:.4g} misses the target by less than its scatter of one "
+            "ladder level)"
+        )
+    else:
+        how = "by the screening (no collar yields before the column overturns)"
     if frequency["frequency"] > s.target:
         row["decision"] = "fails"
         row["why"] = (
             f"lambda = {frequency['frequency']:.4g} per year {how}, above the target {s.target:.4g}"
         )
+        if miss is not None:
+            row["why"] += (
+                f", and {miss['shifted']:.4g} with every record's overturning one ladder level "
+                "higher (the screening's scatter)"
+            )
     elif share > spec.fracture_fraction:
         row["decision"] = "fails"
         row["why"] = (
             f"{sum(counted)} of {len(fractured)} records fracture a collar at the design "
-            f"intensity (at most {spec.fracture_fraction:.0%} allowed)"
+            f"intensity with plastic collars (at most {spec.fracture_fraction:.0%} allowed)"
         )
     else:
         row["decision"] = "chosen"
-    return bool(b["open"])
+    return bool(b["open"] or full)
 
 
 NOT_CONFIRMED = "not confirmed by the FEM"
@@ -630,8 +738,9 @@ NOT_CONFIRMED = "not confirmed by the FEM"
 def fem_attempts(s: Setup, decided: dict, out: Path, options: RunOptions) -> dict:
     """FEM-check the chosen layout (:func:`fem_stripe`) and, while its stripe does not confirm
     it (contradicts, or undecided: docs/studies.md, "Collar layout"), the next heavier layout
-    that meets the target by the multibody model (:func:`next_meeting`), up to [layout]
-    fem_attempts layouts. The first one confirmed is chosen; where none is, the attempt
+    that meets the target by the multibody model (:func:`next_meeting`; where no collar
+    yielded in the stripe, passing over the layouts :func:`capacity_skip` names), up to
+    [layout] fem_attempts layouts. The first one confirmed is chosen; where none is, the attempt
     :func:`recommended` is. ``decided`` is updated: its chosen row, each other attempt's
     decision NOT_CONFIRMED with why. Returns the attempts (label, mass, frequency, stripe),
     the first choice, the confirmed layout (or None), why the attempts stopped and why the
@@ -651,9 +760,11 @@ def fem_attempts(s: Setup, decided: dict, out: Path, options: RunOptions) -> dic
             stopped = f"layout.fem_attempts = {s.spec.fem_attempts} reached"
             break
         index = next(i for i, r in enumerate(rows) if r is row)
-        row = next_meeting(s, decided, index, out, options)
+        base = s.candidates[index]
+        skip = None if stripe_yielded(stripe) else functools.partial(capacity_skip, base)
+        row = next_meeting(s, decided, index, out, options, skip=skip)
         if row is None:
-            stopped = "no heavier layout of the catalogue meets the target by the multibody model"
+            stopped = search_stopped(s, decided, index, base if skip else None)
             break
     confirmed = attempts[-1] if stopped == "confirmed" else None
     final, why = (
@@ -678,6 +789,10 @@ def fem_attempts(s: Setup, decided: dict, out: Path, options: RunOptions) -> dic
         "chosen": final["row"]["label"],
         "allowed": s.spec.fem_attempts,
         "stopped": stopped,
+        # the layouts the attempts passed over, in the catalogue's order, with why
+        "skipped": [
+            {"label": r["label"], "why": r["why"]} for r in rows if r["decision"] == SKIPPED
+        ],
         "why": why,
         "attempts": [
             {
@@ -691,6 +806,55 @@ def fem_attempts(s: Setup, decided: dict, out: Path, options: RunOptions) -> dic
         ],
         "fem": final["fem"],
     }
+
+
+def stripe_yielded(stripe: dict) -> bool:
+    """Whether a collar yielded (utilisation 1: rigid/design.py's never_yields) or fractured in
+    any FEM run of a stripe."""
+    return any(stripe["fractured"]) or any(
+        r["collar_utilisation"] is not None and r["collar_utilisation"] >= 1.0
+        for r in stripe["runs"]
+    )
+
+
+def capacity_skip(base: Candidate, c: Candidate) -> str | None:
+    """Why the FEM attempt after ``base`` (its stripe did not confirm it, and no collar yielded
+    in it) passes layout ``c`` over, or None where ``c`` adds capacity the stripe could use:
+    more collars or a larger bar (count, t and h each at least ``base``'s, one of them
+    more). The same bars in another grade are passed over: a plastic collar is the elastic
+    one until it yields, so collars that stayed below f_y in every run stay below a higher
+    one (the catalogue puts the higher grades after) and the runs are the stripe's."""
+    bars = (c.count, c.t, c.h)
+    if bars + (c.pretension,) == (base.count, base.t, base.h, base.pretension):
+        return (
+            f"{c.grade} skipped: no collar yielded in the FEM stripe of {base.label}, so the "
+            "grade cannot change its runs"
+        )
+    if bars != (base.count, base.t, base.h) and all(
+        x >= y for x, y in zip(bars, (base.count, base.t, base.h))
+    ):
+        return None
+    return (
+        f"skipped: neither more collars nor a larger bar than {base.label}, in whose FEM stripe "
+        "no collar yielded (the attempts step to more capacity)"
+    )
+
+
+def search_stopped(s: Setup, decided: dict, index: int, base: Candidate | None) -> str:
+    """Why a FEM attempts' search after row ``index`` found no layout (``base``: the layout
+    whose capacity it had to exceed, None where it went in the catalogue's order)."""
+    later = decided["rows"][index + 1 :]
+    if any(r["decision"] == NOT_CHOSEN for r in later):
+        return (
+            "a heavier layout meets the target by the multibody model, but lighter ones the "
+            f"screening cannot rule out were not refined (layout.shortlist = {s.spec.shortlist})"
+        )
+    if base is not None:
+        return (
+            "no heavier layout of the catalogue with more collars or a larger bar than "
+            f"{base.label} meets the target by the multibody model"
+        )
+    return "no heavier layout of the catalogue meets the target by the multibody model"
 
 
 AGREEMENT_WORDS = {
@@ -1115,6 +1279,13 @@ def assemble(study: Study, s: Setup, screened: dict, decided: dict, attempts: di
         "lighter_all_fail_or_not_confirmed": all(
             r["decision"] in ("fails", NOT_CONFIRMED) for r in lighter
         ),
+        # ... or was passed over by the FEM attempts (capacity_skip)
+        "lighter_all_fail_not_confirmed_or_skipped": all(
+            r["decision"] in ("fails", NOT_CONFIRMED, SKIPPED) for r in lighter
+        ),
+        # every layout before the multibody model's choice (the first FEM attempt's) fails, by
+        # the screening or refined: none left unrefined that the screening cannot rule out
+        "before_first_choice_all_fail": first_choice_all_fail(rows, fem_choice),
         "catalogue_size": len(s.candidates),
         "confidence": s.spec.confidence,
         "refined": decided["refined"],
@@ -1133,6 +1304,18 @@ def assemble(study: Study, s: Setup, screened: dict, decided: dict, attempts: di
         },
         "runs": {"screening": screened["runs"], "refinement": decided["plastic_runs"]},
     }
+
+
+def first_choice_all_fail(rows: list[dict], fem_choice: dict | None) -> bool | None:
+    """Whether every layout before the multibody model's choice (the first FEM attempt's, else
+    the chosen one) fails; None where there is none."""
+    label = fem_choice["first"] if fem_choice else None
+    if label is None:
+        label = next((r["label"] for r in rows if r["decision"] == "chosen"), None)
+    if label is None:
+        return None
+    index = next(i for i, r in enumerate(rows) if r["label"] == label)
+    return all(r["decision"] == "fails" for r in rows[:index])
 
 
 def pareto_front(rows: list[dict]) -> list[str]:
@@ -1165,6 +1348,15 @@ def answer_text(
     target = f"target {s.target:.2g} per year"
     if s.spec.target_probability is not None:
         target = f"target {s.spec.target_probability:.2%} in {years:g} years"
+    blocked = next((r for r in rows if r.get("decision") == NOT_CHOSEN), None)
+    if chosen is None and blocked is not None:
+        unrefined = [r for r in rows if r["decision"] == "not refined"]
+        return (
+            f"No layout is chosen: {blocked['label']} meets the {target} by the multibody model "
+            f"(overturning {blocked['frequency']:.2g} per year), but {len(unrefined)} lighter "
+            "layouts that the screening cannot rule out were not refined (beyond "
+            f"layout.shortlist = {s.spec.shortlist}): raise it to decide them."
+        )
     if chosen is None:
         skipped = sum(1 for r in rows if r["decision"] == "not refined")
         decided = [r for r in rows if r.get("frequency") is not None]

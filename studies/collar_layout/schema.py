@@ -112,8 +112,10 @@ class Layout(Table):
     )
     shortlist: int = quantity(
         "-",
-        "Layouts the screening leaves undecided that are refined with plastic collars, lightest "
-        "first, 1 to 50.",
+        "Layouts refined with plastic collars in one search, lightest first, 1 to 50: those "
+        "whose collars yield before the column overturns in some record, and those the "
+        "screening has missing the target by less than its scatter. A layout is chosen only "
+        "where none before it in the catalogue was left unrefined.",
         6,
         ge=1,
         le=50,
@@ -127,7 +129,9 @@ class Layout(Table):
         "-",
         "Layouts FEM-checked at most, 1 to 10: where the FEM stripe does not confirm the chosen "
         "layout (it contradicts it or neither confirms nor contradicts it), the next heavier "
-        "layout that meets the target by the multibody model is checked, up to this many.",
+        "layout that meets the target by the multibody model is checked (where no collar "
+        "yielded in the stripe, the next with more collars or a larger bar: not the same bars "
+        "in another grade), up to this many.",
         2,
         ge=1,
         le=10,
