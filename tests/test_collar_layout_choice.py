@@ -145,6 +145,18 @@ def test_a_layout_is_not_chosen_over_a_lighter_one_left_unrefined(tmp_path, monk
         "refined (beyond layout.shortlist = 1): raise it to decide them."
     )
     assert s["before_first_choice_all_fail"] is None
+    # the report: the answer, and the table up to the layout that meets the target
+    import re
+
+    from colonna.studies.collar_layout.report import write_report
+
+    write_report(tmp_path / "out")
+    html = (tmp_path / "out" / "index.html").read_text()
+    assert 'class="bad" id="answer-text">No layout is chosen:' in html
+    table = re.search(r'data-table="layouts">(.*?)</table>', html, re.S).group(1)
+    cells = [re.findall(r"<td>(.*?)</td>", r) for r in re.findall(r"<tr>(.*?)</tr>", table)]
+    assert [c[0] for c in cells if c] == ["no collars", S235_1, S355_1, S235_2, S355_2]
+    assert [c[4] for c in cells if c][-1] == "meets the target, not chosen"
 
 
 def test_the_lightest_layout_meeting_the_target_is_chosen_once_every_lighter_one_is_decided(
