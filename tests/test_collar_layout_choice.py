@@ -276,8 +276,9 @@ def test_the_fem_attempts_step_to_more_capacity_where_no_collar_yields(tmp_path,
         "change its runs"
     )
     assert set(skipped) == {S355_1, S355_2, "1 x 10 x 80 mm S235", "1 x 10 x 80 mm S355"}
-    assert skipped["1 x 10 x 80 mm S235"].startswith(
-        f"skipped: neither more collars nor a larger bar than {S235_2}"
+    assert skipped["1 x 10 x 80 mm S235"] == (
+        f"skipped: fewer collars than {S235_2}, in whose FEM stripe no collar yielded (the "
+        "attempts step to more collars or a larger bar)"
     )
     rows = {r["label"]: r for r in s["layouts"]}
     assert rows[S355_1]["decision"] == "skipped by the FEM attempts"
@@ -309,8 +310,9 @@ def test_the_fem_attempts_keep_the_catalogues_order_where_a_collar_yields(tmp_pa
     "base, other, why",
     [
         ((2, 0.008, 0.06, "S275"), (2, 0.008, 0.06, "S355"), "S355 skipped"),
-        ((2, 0.008, 0.06, "S275"), (1, 0.012, 0.10, "S235"), "skipped: neither"),
-        ((2, 0.008, 0.06, "S275"), (4, 0.006, 0.05, "S235"), "skipped: neither"),
+        ((2, 0.008, 0.06, "S275"), (1, 0.012, 0.10, "S235"), "skipped: fewer collars"),
+        ((2, 0.008, 0.06, "S275"), (4, 0.006, 0.05, "S235"), "skipped: a thinner or lower"),
+        ((2, 0.008, 0.06, "S275"), (2, 0.008, 0.06, "S355", 2.0, 0.3), "skipped: the bars of"),
         ((2, 0.008, 0.06, "S275"), (3, 0.008, 0.06, "S235"), None),
         ((2, 0.008, 0.06, "S275"), (2, 0.010, 0.08, "S235"), None),
         ((0, 0.0, 0.0, ""), (1, 0.006, 0.05, "S235"), None),
@@ -319,5 +321,6 @@ def test_the_fem_attempts_keep_the_catalogues_order_where_a_collar_yields(tmp_pa
 def test_capacity_is_more_collars_or_a_larger_bar(base, other, why):
     from colonna.studies.collar_layout.runner import Candidate, capacity_skip
 
-    found = capacity_skip(Candidate(*base, mass=1.0), Candidate(*other, mass=2.0))
+    other = other if len(other) > 4 else (*other, 2.0)
+    found = capacity_skip(Candidate(*base, mass=1.0), Candidate(*other))
     assert (found is None) if why is None else found.startswith(why)

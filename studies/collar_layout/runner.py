@@ -834,9 +834,15 @@ def capacity_skip(base: Candidate, c: Candidate) -> str | None:
         x >= y for x, y in zip(bars, (base.count, base.t, base.h))
     ):
         return None
+    if c.count < base.count:
+        less = f"fewer collars than {base.label}"
+    elif c.t < base.t or c.h < base.h:
+        less = f"a thinner or lower bar than {base.label}'s"
+    else:
+        less = f"the bars of {base.label}, pretensioned otherwise"
     return (
-        f"skipped: neither more collars nor a larger bar than {base.label}, in whose FEM stripe "
-        "no collar yielded (the attempts step to more capacity)"
+        f"skipped: {less}, in whose FEM stripe no collar yielded (the attempts step to more "
+        "collars or a larger bar)"
     )
 
 
