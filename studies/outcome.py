@@ -363,7 +363,9 @@ def crack_grows(fem: dict, figure: str | None = None) -> dict:
     crack): yes where it grew (a pair of the intact mid-plane broke) in every replica, no in
     none, undecided otherwise (``crack_grew_answer``), with the count of replicas, the crack's
     length at the start and its final length's band (m), and the largest K_I / K_IC at a tip
-    (band; :mod:`colonna.fem.partial_crack`)."""
+    (band; :mod:`colonna.fem.partial_crack`); with a crack through part of the thickness, its
+    depth and the band of its ligament's largest damage (the lengths are the through crack's:
+    a broken ligament is the crack deepened there)."""
     question = QUESTIONS["crack_grows"]
     grew = fem.get("crack_grew_answer")
     if grew not in (YES, NO, UNDECIDED):
@@ -378,6 +380,12 @@ def crack_grows(fem: dict, figure: str | None = None) -> dict:
         "length_initial": fem["crack_length_initial"],
         "length_final": bands.get("crack_length_final"),
         "ki_ratio": bands.get("crack_tip_KI_ratio"),
+        # a crack through part of the thickness: its depth and its ligament's largest damage
+        **(
+            {"depth": fem["crack_depth"], "ligament_damage": bands.get("crack_ligament_damage_max")}
+            if fem.get("crack_depth") is not None
+            else {}
+        ),
         "figure": figure,
     }
 

@@ -254,6 +254,14 @@ def test_the_crosscheck_says_the_crack_runs_through_part_of_the_thickness(tmp_pa
     )
     assert "the crack's length and its tips are the through crack's" in said
     assert "the ligament's largest damage" in said
+    # the first screen: the lengths are the through crack's, the depth and the ligament's damage
+    row = html[html.index('data-answer="crack_grows"') :].split("</tr>")[0]
+    words = " ".join(re.sub("<[^>]+>", " ", row).replace("&nbsp;", " ").split())
+    assert "crack length 0 m at the start" in words
+    assert "the crack through 0.5 of the thickness: the lengths are the through crack's" in words
+    assert "the ligament's largest damage" in words
+    answer = next(a for a in summary["outcome"]["answers"] if a["key"] == "crack_grows")
+    assert answer["depth"] == 0.5 and 0.0 <= answer["ligament_damage"]["max"] <= 1.0
 
 
 def test_a_refined_toe_window_keeps_the_cracks_depth():
