@@ -324,3 +324,25 @@ def test_capacity_is_more_collars_or_a_larger_bar(base, other, why):
     other = other if len(other) > 4 else (*other, 2.0)
     found = capacity_skip(Candidate(*base, mass=1.0), Candidate(*other))
     assert (found is None) if why is None else found.startswith(why)
+
+
+def test_a_recommendation_among_equal_mass_layouts_says_it_is_the_first_of_its_mass():
+    """Two attempts overturning as many records, of one mass (the same bars in S235 and S275):
+    the first in the catalogue's order is recommended, and the why does not claim less steel
+    than the other; of different masses, the lighter, with the least steel."""
+    from colonna.studies.collar_layout.runner import recommended
+
+    def attempt(label, mass):
+        fem = {"overturned": [True] * 3 + [False] * 7, "fracture_share": 0.0}
+        return {"row": {"label": label, "mass": mass}, "fem": {**fem, "fracture_allowed": 0.0}}
+
+    best, why = recommended([attempt("S235", 10.65), attempt("S275", 10.65)])
+    assert best["row"]["label"] == "S235"
+    assert why == (
+        "its FEM stripe overturns 3 of 10 records at the design intensity, as few as any "
+        "attempt, with the least steel, the first in the catalogue's order of those of its mass"
+    )
+    best, why = recommended([attempt("heavy", 12.0), attempt("light", 10.65)])
+    assert best["row"]["label"] == "light" and why.endswith(
+        "as few as any attempt, with the least steel"
+    )

@@ -903,10 +903,14 @@ def recommended(attempts: list[dict]) -> tuple[dict, str]:
     fewest = sum(fem["overturned"])
     n = len(fem["overturned"])
     ties = [a for a in attempts if rank(a)[:2] == rank(best)[:2]]
+    same_mass = [a for a in ties if a["row"]["mass"] == best["row"]["mass"]]
     why = f"its FEM stripe overturns {fewest} of {n} records at the design intensity, " + (
         "the fewest of the attempts"
         if len(ties) == 1
         else "as few as any attempt, with the least steel"
+        if len(same_mass) == 1
+        else "as few as any attempt, with the least steel, the first in the catalogue's order "
+        "of those of its mass"
     )
     if rank(best)[0]:
         why += ", although its collars fracture in more records than allowed, as in every attempt"
