@@ -337,3 +337,37 @@ def test_the_report_page_says_what_the_full_crack_changes_beside_its_answers_fig
     assert "from 75 % of the height up every extent swept answers as the full crack" in words
     assert (tmp_path / "figures" / "answers_extent.png").exists()
     assert (tmp_path / "figures" / "theta_extents.png").exists()
+
+
+def test_a_sweep_of_part_depth_cracks_says_its_lengths_are_the_through_cracks(tmp_path):
+    """With [column] crack_depth < 1 on record (inputs.json), the page says that each crack
+    runs through part of the thickness, that its lengths and tips are the through crack's (none
+    at the start) and that there is no K_I until a ligament breaks; a through crack, nothing."""
+    from colonna.studies.crack_extent.report import write_report
+    from colonna.studies.output import write_csv, write_json
+
+    rows = _sweep()
+    write_json(tmp_path / "summary.json", _summary(rows))
+    for n in rows:
+        write_csv(
+            tmp_path / "cases" / f"{n}-fem" / "history.csv",
+            {"t": [0.0, 0.1], "theta_left": [0.0, 0.01], "theta_right": [0.0, 0.01]},
+        )
+    inputs = {
+        "study": {"name": "hand-made", "kind": "crack-extent"},
+        "column": {"height": 1.0, "width": 0.2, "crack": [0.5, 1.0], "crack_depth": 0.5},
+        "resolved": {},
+        "study_file": "tiny.toml",
+        "study_sha256": "0" * 64,
+        "colonna_version": "0",
+    }
+    for depth, said in ((0.5, True), (1.0, False)):
+        inputs["column"]["crack_depth"] = depth
+        write_json(tmp_path / "inputs.json", inputs)
+        words = re.sub(r"\s+", " ", re.sub("<[^>]+>", "", write_report(tmp_path).read_text()))
+        sentence = (
+            "Each crack runs through 0.5 of the thickness ([column] crack_depth): along it a "
+            "ligament of the rest holds"
+        )
+        assert (sentence in words) == said
+        assert ("the crack's lengths below and its tips are the through crack's" in words) == said
