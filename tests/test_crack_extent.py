@@ -371,3 +371,6 @@ def test_a_sweep_of_part_depth_cracks_says_its_lengths_are_the_through_cracks(tm
         )
         assert (sentence in words) == said
         assert ("the crack's lengths below and its tips are the through crack's" in words) == said
+        # the given extent (from, to) beside the length the mesh's node pairs run
+        assert "crack from" in words and "crack to" in words
+        assert "crack length at the start, as run on the mesh&#39;s node pairs" in words

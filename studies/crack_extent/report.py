@@ -40,7 +40,13 @@ def write_report(out: Path) -> Path:
 EXTENT_FIELDS: list[tuple[Ref[Extent], str, str]] = [
     (Ref(Extent, lambda v: v.crack_from), "crack from", "m"),
     (Ref(Extent, lambda v: v.crack_to), "crack to", "m"),
-    (Ref(Extent, lambda v: v.crack_length_initial), "crack length at the start", "m"),
+    # the crack as it runs on the mesh's node pairs (the pair at an inner end is its intact
+    # tip): it differs from "to - from" by up to half an element at each inner end
+    (
+        Ref(Extent, lambda v: v.crack_length_initial),
+        "crack length at the start, as run on the mesh's node pairs",
+        "m",
+    ),
     (Ref(Extent, lambda v: v.fem_peak_rotation), "FEM peak rotation (median)", "rad"),
     (Ref(Extent, lambda v: v.fem_overturned), "FEM overturns (replicas)", ""),
     (Ref(Extent, lambda v: v.collars_yield), "do the collars yield? (replicas)", ""),
