@@ -157,6 +157,7 @@ def _extent(fraction, peak, over=0, collars="no", util=0.3, ki=0.2, lo=None, hi=
         "fem_overturned_replicas": over,
         "fem_overturned": "yes" if over == 3 else "undecided" if over else "no",
         "collars_yield": collars,
+        "crack_depth": 1.0,
         "crack_grows": "no",
         "crack_length_final": fraction,
         "crack_tip_KI_ratio": None if fraction in (0.0, 1.0) else ki,
@@ -374,3 +375,22 @@ def test_a_sweep_of_part_depth_cracks_says_its_lengths_are_the_through_cracks(tm
         # the given extent (from, to) beside the length the mesh's node pairs run
         assert "crack from" in words and "crack to" in words
         assert "crack length at the start, as run on the mesh&#39;s node pairs" in words
+
+
+def test_a_part_depth_sweep_compares_with_the_through_crack_of_full_height(tmp_path):
+    """With [column] crack_depth < 1 the extents are swept at that depth, but the full height is
+    the paper's hypothesis, a crack through the whole thickness: the rigid block of a half is
+    its, and the sentence compares the others (the column as found at full height but part
+    depth among them) with it."""
+    from colonna.studies.crack_extent.report import full_crack_sentence
+    from colonna.studies.crack_extent.summary import load as load_summary
+
+    swept = variants(_study(tmp_path, "crack = [0.0, 1.0]\ncrack_depth = 0.4"))
+    assert swept["crack-100"].crack == (0.0, 1.0) and swept["crack-100"].crack_depth == 1.0
+    assert {swept[n].crack_depth for n in ("crack-0", "crack-50", "crack-75")} == {0.4}
+    found = swept[AS_FOUND]  # the full height at part depth is no full crack: run as found
+    assert found.crack == (0.0, 1.0) and found.crack_depth == 0.4
+    rows = _sweep(**{"as-found": {**_extent(1.0, 0.05), "crack_depth": 0.4}})
+    said = full_crack_sentence(load_summary(_summary(rows)))
+    assert "(as-found: collars yield: no)" in said  # compared, not the reference
+    assert "collars yield: yes" in said.split("changes the answers")[0]  # the through crack's

@@ -109,13 +109,17 @@ def full_crack_sentence(s: CrackExtentSummary) -> str:
     """From which extent the full-crack hypothesis changes the column's answers: each extent's
     yes / no answers (overturning, the collars' yield) against the full crack's, the extents
     below the full height whose answers differ named (none: it never does on this column)."""
-    full = [v for v in s.variants.values() if v.extent_fraction >= FULL]
+    full = [v for v in s.variants.values() if v.extent_fraction >= FULL and v.crack_depth >= 1]
     if not full:
         return "The sweep has no full crack: the full-crack hypothesis is not compared."
     reference = _answers(full[0])
     said = "; ".join(f"{q}: {a}" for q, a in reference.items() if a != NOT_ASSESSED)
     partial = sorted(
-        ((v.extent_fraction, n, v) for n, v in s.variants.items() if v.extent_fraction < FULL),
+        (
+            (v.extent_fraction, n, v)
+            for n, v in s.variants.items()
+            if v.extent_fraction < FULL or v.crack_depth < 1
+        ),
         key=lambda item: (item[0], item[1]),
     )
     differ = [(f, n, v) for f, n, v in partial if _answers(v) != reference]

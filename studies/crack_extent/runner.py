@@ -51,14 +51,18 @@ def extent(study: FemStudy, fraction: float) -> tuple[float, float]:
 
 def variants(study: Study) -> dict[str, FemStudy]:
     """The FEM variants by name: each extent of [crack_extent] fractions (``crack-<percent>``)
-    and, where the study's own crack is not one of them, ``as-found``; each with the study's own
-    ground motion."""
+    at the study's crack depth, except the full height, which is the paper's hypothesis: a
+    crack through the whole thickness; and, where the study's own crack is not one of them,
+    ``as-found``; each with the study's own ground motion."""
     fem = study.fem
     found = {}
     for f in study.spec.crack_extent.fractions:
-        found[f"crack-{round(100 * f)}"] = replace(fem, cracked=True, crack=extent(fem, f))
+        depth = 1.0 if f >= 1.0 else fem.crack_depth
+        found[f"crack-{round(100 * f)}"] = replace(
+            fem, cracked=True, crack=extent(fem, f), crack_depth=depth
+        )
     own = fem.crack if fem.crack is not None else (0.0, fem.height)
-    if all(v.crack != own for v in found.values()):
+    if all(v.crack != own or v.crack_depth != fem.crack_depth for v in found.values()):
         found[AS_FOUND] = replace(fem, crack=own)
     return found
 
@@ -148,12 +152,15 @@ def _stood_peaks(fem: dict) -> list[float]:
 def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
     names = [c["variant"] for c in cases if c["kind"] == "fem"]
     cracks = {c["variant"]: tuple(c["study"]["crack"]) for c in cases if c["kind"] == "fem"}
+    depths = {c["variant"]: c["study"].get("crack_depth", 1.0) for c in cases if c["kind"] == "fem"}
     rows = {n: _row(study, cracks[n], results[f"{n}-fem"]["summary"]) for n in names}
+    for n in names:
+        rows[n]["crack_depth"] = depths[n]
     models = []
     for n in names:
         fem = results[f"{n}-fem"]["summary"]
         # joined by intact stone the halves rock as one; split full height, as the cracked column
-        full = cracks[n][1] - cracks[n][0] >= study.height
+        full = cracks[n][1] - cracks[n][0] >= study.height and depths[n] >= 1.0
         collared = bool(study.collars)
         alpha = rocking_alpha(study.width, study.height, full, collared)
         models.append(fem_model(f"FEM, {n}", fem, alpha, rocking_block(full, collared)))
@@ -179,7 +186,7 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
             "overturned": "yes" if rigid["overturned"] else "no",
             "block": block,
         }
-    found = AS_FOUND if AS_FOUND in names else _as_found(study, cracks)
+    found = AS_FOUND if AS_FOUND in names else _as_found(study, cracks, depths)
     answers = fem_answers(
         results[f"{found}-fem"]["summary"],
         "this study sweeps the crack's extent; the cross-check study compares the FEM with "
@@ -199,10 +206,11 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
     }
 
 
-def _as_found(study: FemStudy, cracks: dict) -> str:
-    """The swept extent that is the study's own crack (the full height where it gives none)."""
+def _as_found(study: FemStudy, cracks: dict, depths: dict) -> str:
+    """The swept extent that is the study's own crack (the full height where it gives none, at
+    its depth)."""
     own = study.crack if study.crack is not None else (0.0, study.height)
-    return next(n for n, c in cracks.items() if c == tuple(own))
+    return next(n for n, c in cracks.items() if c == tuple(own) and depths[n] == study.crack_depth)
 
 
 def run(study: Study, out: Path, options: RunOptions) -> dict:

@@ -17,6 +17,12 @@ class Extent:
     crack_from: float = quantity("m", "height the crack runs from")
     crack_to: float = quantity("m", "height the crack runs to")
     extent_fraction: float = quantity("-", "the crack's length over the column's height")
+    crack_depth: float = quantity(
+        "-",
+        "the fraction of the thickness the crack runs through (1: through; the full height's "
+        "is always 1, the paper's hypothesis)",
+        default=1.0,
+    )
     crack_length_initial: float = like(FemRunSummary, "crack_length_initial")
     fem_peak_rotation: Stoppable = quantity(
         "rad", "FEM peak rotation, median (the words of its stop where it overturned)"
