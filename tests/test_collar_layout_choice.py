@@ -241,6 +241,40 @@ def test_a_near_miss_of_the_screening_is_refined_over_the_whole_ladder(tmp_path,
     assert screened_miss(opened, dataclasses.replace(setup_, target=1e-9)) is None
 
 
+def test_a_near_meet_of_the_screening_is_refined_over_the_whole_ladder(tmp_path, monkeypatch):
+    """The other side of the screening's scatter: a layout whose collars never yield and whose
+    screened lambda meets the target (capacities d + i: 0.76 times it) but not with every
+    record one ladder level lower (d - 1 + i: 1.09 times, as the plastic runs may overturn a
+    level lower) is no screened meet: its records run with plastic collars from the ladder's
+    foot, and where they overturn that level lower it fails instead of being chosen."""
+    from colonna.studies.collar_layout.runner import frequency_of, screened_meet, shifted
+
+    def elastic(count, t, i):
+        return (i if count else -2 + i), (1e6 if count else None)
+
+    s, refined, _ = _world(
+        tmp_path,
+        monkeypatch,
+        elastic,
+        lambda label, i: -1 + i,
+        "fem = false\ncrosscheck = false\n",
+    )
+    assert (S235_1, 0, 0) in [(c["label"], c["record"], c["first"]) for c in refined]
+    row = {r["label"]: r for r in s["layouts"]}[S235_1]
+    assert row["decided_by"] == "refinement" and row["decision"] == "fails"
+    assert "meets the target by less than its scatter of one ladder level" in row["why"]
+    assert s["chosen"] is None or s["chosen"]["label"] != S235_1
+    assert shifted([3, None, 0], 11, -1) == [2, 10, 0]
+    (tmp_path / "again").mkdir()
+    _, setup_ = _tiny_setup(tmp_path / "again")
+    d = setup_.design_level
+    exact = {"open": [], "records": [{"exact": d + i} for i in range(4)]}
+    lam = frequency_of([d + i for i in range(4)], setup_)["frequency"]
+    assert screened_meet(exact, dataclasses.replace(setup_, target=1.01 * lam)) is None
+    meet = screened_meet(exact, dataclasses.replace(setup_, target=3.0 * lam))
+    assert meet["frequency"] == lam and lam < meet["shifted"] <= 3.0 * lam
+
+
 def _no_yield(prefix, i):
     """FEM runs in which no collar yields (utilisation 0.6), record 0 overturning: the stripe
     overturns one record more than the multibody runs, undecided."""

@@ -625,8 +625,27 @@ SCREENING_SCATTER_LEVELS = 1
 
 def shifted(capacities: list[int | None], levels: int, by: int) -> list[int | None]:
     """Each capacity (a level index; None: never up to the top) ``by`` levels higher, past
-    the top of ``levels`` levels: never."""
+    the top of ``levels`` levels: never; ``by`` < 0 lower, a record that never overturned
+    then overturning at the top level, none below the ladder's foot."""
+    if by < 0:
+        return [max(0, (levels if k is None else k) + by) for k in capacities]
     return [None if k is None or k + by >= levels else k + by for k in capacities]
+
+
+def screened_meet(b: dict, s: Setup) -> dict | None:
+    """Where the screening alone shows that a layout meets the target: its lambda and, with
+    every record's overturning :data:`SCREENING_SCATTER_LEVELS` levels lower (the fast path
+    overturns at the plastic run's level or one above it: a screened meet must outlast the
+    scatter downward, as a screened miss must upward), both at or below the target; else
+    None. Only for a layout none of whose collars yields before the column overturns."""
+    if b["open"]:
+        return None
+    exact = [r["exact"] for r in b["records"]]
+    one = frequency_of(exact, s)
+    moved = frequency_of(shifted(exact, len(s.levels), -SCREENING_SCATTER_LEVELS), s)
+    if one["bound"] or moved["bound"] or max(one["frequency"], moved["frequency"]) > s.target:
+        return None
+    return {"frequency": one["frequency"], "shifted": moved["frequency"]}
 
 
 def screened_miss(b: dict, s: Setup) -> dict | None:
@@ -667,7 +686,9 @@ def judge(s: Setup, c: Candidate, row: dict, decided: dict, refined: int, out, o
     if not b["open"]:
         screened = frequency_of([r["exact"] for r in b["records"]], s)
     lam = None if screened is None else screened["frequency"]  # the screening's, all exact
-    full = lam is not None and miss is None and lam > s.target
+    meet = screened_meet(b, s)
+    # neither a sure miss nor a sure meet by the screening: the plastic runs, whole ladder
+    full = lam is not None and miss is None and meet is None
     plastic: list = [None] * n
     if b["open"] or full:
         if refined >= spec.shortlist:
@@ -677,8 +698,7 @@ def judge(s: Setup, c: Candidate, row: dict, decided: dict, refined: int, out, o
                 f"its collars yield before it overturns in {len(b['open'])} records, which the "
                 "screening cannot decide"
                 if b["open"]
-                else f"the screening's lambda, {lam:.4g} per year, misses the "
-                "target by less than its scatter of one ladder level"
+                else f"the screening's lambda, {lam:.4g} per year, {_narrowly(lam, s)}"
             )
             row["why"] = f"not refined, beyond the shortlist of {spec.shortlist} ({reason})"
             return False
@@ -706,11 +726,15 @@ def judge(s: Setup, c: Candidate, row: dict, decided: dict, refined: int, out, o
     elif full:
         how = (
             "with plastic collars over the whole ladder (refined: the screening's "
-            f"{lam:.4g} misses the target by less than its scatter of one "
-            "ladder level)"
+            f"{lam:.4g} {_narrowly(lam, s)})"
         )
     else:
         how = "by the screening (no collar yields before the column overturns)"
+        if meet is not None:
+            how += (
+                f"; {meet['shifted']:.4g} with every record's overturning one ladder level "
+                "lower (the screening's scatter)"
+            )
     if frequency["frequency"] > s.target:
         row["decision"] = "fails"
         row["why"] = (
@@ -730,6 +754,12 @@ def judge(s: Setup, c: Candidate, row: dict, decided: dict, refined: int, out, o
     else:
         row["decision"] = "chosen"
     return bool(b["open"] or full)
+
+
+def _narrowly(lam: float, s: Setup) -> str:
+    """Why a screened layout is refined over the whole ladder, in words."""
+    side = "misses" if lam > s.target else "meets"
+    return f"{side} the target by less than its scatter of one ladder level"
 
 
 NOT_CONFIRMED = "not confirmed by the FEM"
