@@ -756,8 +756,10 @@ def judge(s: Setup, c: Candidate, row: dict, decided: dict, refined: int, out, o
     return bool(b["open"] or full)
 
 
-def _narrowly(lam: float, s: Setup) -> str:
-    """Why a screened layout is refined over the whole ladder, in words."""
+def _narrowly(lam: float | None, s: Setup) -> str:
+    """Why a screened layout (with no open record: ``lam``, its screened lambda, is known) is
+    refined over the whole ladder, in words."""
+    assert lam is not None
     side = "misses" if lam > s.target else "meets"
     return f"{side} the target by less than its scatter of one ladder level"
 
