@@ -112,6 +112,24 @@ def test_censored_capacities_are_fitted_by_their_likelihood():
     assert naive.median < 0.7 and naive.beta < 0.4
 
 
+def test_equal_exceeded_capacities_beside_censored_ones_have_no_fit_and_a_resample_of_them_fails():
+    """Records that exceeded all at one level, the others censored at the ladder's top: the
+    likelihood grows without bound as beta -> 0, so there is no fit; the mean of the equal logs
+    may differ from them by an ulp, which must not pass for a dispersion (found on a granite
+    column of my own: a bootstrap resample of [4, 9, 4, 12, 9, 4, None, 4, 6, 4] on a collar
+    layout's ladder drew seven 2.545 and three censored, its Newton steps overflowed and
+    the study ended with 'fragility median = nan'). Its resamples count as failed."""
+    level = 2.545454545454545
+    assert math.log(level) != np.log(np.full(7, level)).mean()  # the ulp, in this case
+    c = np.array([8.0, level, level, 8.0, level, level, 8.0, level, level, level])
+    censored = c == 8.0
+    with pytest.raises(InputError, match="no dispersion"):
+        fit_capacities(c, censored=censored)
+    whole = np.array([8.0, 5.27, level, 8.0, 5.27, level, 8.0, level, 3.9, level])
+    band = bootstrap_capacities(whole, censored=whole == 8.0, draws=200, seed=0, level=0.9)
+    assert band.failed > 0 and np.all(np.isfinite(band.medians) & np.isfinite(band.betas))
+
+
 def test_the_bootstrap_interval_of_the_median_is_the_mean_logs_interval():
     """Capacities: ln theta is a mean of n logs, so its 90 % interval is about
     ln theta +- 1.645 beta / sqrt(n); the bootstrap reproduces its width, and the same seed the

@@ -306,12 +306,17 @@ def fit_capacities(capacities, *, censored=None, origin: float = 0.0) -> Lognorm
             "at least 2 are needed to fit a dispersion"
         )
     mu, beta = float(lc[exact].mean()), float(lc[exact].std(ddof=1))
-    if beta == 0.0:
+    if np.ptp(lc[exact]) == 0.0:  # the mean of equal logs can differ from them by an ulp
         raise InputError("capacities: every record's capacity is the same: no dispersion")
     if not cens.any():
         ll = _capacity_log_likelihood(lc, cens, mu, beta)
         return LognormalFit(math.exp(mu), beta, origin, ll, "capacity moments")
     mu, beta = _tobit_newton(lc, cens, mu, beta)
+    if not (math.isfinite(mu) and math.isfinite(beta) and beta > 0.0):
+        raise InputError(
+            "capacities: the censored fit has no finite maximum (the records that exceeded "
+            "hold too little dispersion beside the censored ones)"
+        )
     return LognormalFit(
         math.exp(mu),
         beta,
