@@ -1410,8 +1410,9 @@ def answer_text(
                 f"year ({best['label']})"
             )
         return text + (
-            f"; {skipped} layouts were not refined (beyond layout.shortlist = "
-            f"{s.spec.shortlist}): raise it to decide them."
+            f"; {skipped} {'layout was' if skipped == 1 else 'layouts were'} not refined "
+            f"(beyond layout.shortlist = {s.spec.shortlist}): raise it to decide "
+            f"{'it' if skipped == 1 else 'them'}."
             if skipped
             else "; every layout misses it (see the trade-off)."
         )
