@@ -156,7 +156,9 @@ def test_a_layout_is_not_chosen_over_a_lighter_one_left_unrefined(tmp_path, monk
     table = re.search(r'data-table="layouts">(.*?)</table>', html, re.S).group(1)
     cells = [re.findall(r"<td>(.*?)</td>", r) for r in re.findall(r"<tr>(.*?)</tr>", table)]
     assert [c[0] for c in cells if c] == ["no collars", S235_1, S355_1, S235_2, S355_2]
-    assert [c[4] for c in cells if c][-1] == "meets the target, not chosen"
+    assert [c[5] for c in cells if c][-1] == "meets the target, not chosen"
+    band = {c[0]: c[3] for c in cells if c}  # no band where no fit was judged
+    assert band[S355_1] == band[S235_2] == "-"
 
 
 def test_the_lightest_layout_meeting_the_target_is_chosen_once_every_lighter_one_is_decided(
@@ -192,7 +194,11 @@ def test_the_lightest_layout_meeting_the_target_is_chosen_once_every_lighter_one
     html = (tmp_path / "out" / "index.html").read_text()
     table = re.search(r'data-table="layouts">(.*?)</table>', html, re.S).group(1)
     cells = [re.findall(r"<td>(.*?)</td>", r) for r in re.findall(r"<tr>(.*?)</tr>", table)]
-    by = {c[0]: c[3] for c in cells if c}
+    band = {c[0]: c[3] for c in cells if c}  # each judged fit's band over the records
+    low, high = rows[S235_1]["frequency_entry"]["risk"]["frequency_interval"]
+    assert band[S235_1] == f"{low:.3g} to {high:.3g}" and low < rows[S235_1]["frequency"] < high
+    assert "a miss of this suite, not a certainty" in html
+    by = {c[0]: c[4] for c in cells if c}
     assert by == {
         "no collars": "screened (elastic collars; none yields before the column overturns)",
         S235_1: "refined (plastic collars)",

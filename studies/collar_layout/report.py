@@ -42,6 +42,16 @@ def frequency_text(row: dict) -> str:
     return f"{row['lower']:.3g} to {row['upper']:.3g}"
 
 
+def band_text(row: dict) -> str:
+    """A judged layout's lambda band over the records (1/year; the bootstrap's, at the
+    study's confidence), "-" where there is none (not judged, or a bound)."""
+    entry = row.get("frequency_entry") or {}
+    interval = (entry.get("risk") or {}).get("frequency_interval")
+    if not interval:
+        return "-"
+    return f"{interval[0]:.3g} to {interval[1]:.3g}"
+
+
 # the model that decided a layout (its row's decided_by)
 DECIDED_BY = {
     "screening": "screened (elastic collars; none yields before the column overturns)",
@@ -64,6 +74,7 @@ def lighter_rows(s: dict) -> list[dict]:
                 "label": r["label"],
                 "mass": f"{r['mass']:.1f}",
                 "frequency": frequency_text(r),
+                "band": band_text(r),
                 "by": DECIDED_BY[r.get("decided_by")],
                 "decision": r["decision"],
                 "why": r.get("why", ""),
