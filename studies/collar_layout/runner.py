@@ -606,12 +606,23 @@ def next_meeting(
             row["decision"] = NOT_CHOSEN
             row["why"] = (
                 f"meets the target by the multibody model (lambda = {row['frequency']:.4g} per "
-                f"year), but {len(unrefined)} lighter layouts that the screening cannot rule "
-                f"out were not refined ({names}; layout.shortlist = {s.spec.shortlist}): "
-                "raise the shortlist to decide them"
+                f"year), but {_unrefined(len(unrefined), 'lighter ')} ({names}; "
+                f"layout.shortlist = {s.spec.shortlist}): raise the shortlist to decide "
+                f"{_them(len(unrefined))}"
             )
             return None
     return None
+
+
+def _unrefined(n: int, which: str = "") -> str:
+    """``n`` layouts left unrefined, in words: "1 lighter layout that the screening cannot
+    rule out was not refined", or "2 lighter layouts ... were"."""
+    layouts, were = ("layout", "was") if n == 1 else ("layouts", "were")
+    return f"{n} {which}{layouts} that the screening cannot rule out {were} not refined"
+
+
+def _them(n: int) -> str:
+    return "it" if n == 1 else "them"
 
 
 NOT_CHOSEN = "meets the target, not chosen"
@@ -638,14 +649,10 @@ def screened_meet(b: dict, s: Setup) -> dict | None:
     overturns at the plastic run's level or one above it: a screened meet must outlast the
     scatter downward, as a screened miss must upward), both at or below the target; else
     None. Only for a layout none of whose collars yields before the column overturns."""
-    if b["open"]:
+    fits = _screened_fits(b, s, -SCREENING_SCATTER_LEVELS)
+    if fits is None or max(fits) > s.target:
         return None
-    exact = [r["exact"] for r in b["records"]]
-    one = frequency_of(exact, s)
-    moved = frequency_of(shifted(exact, len(s.levels), -SCREENING_SCATTER_LEVELS), s)
-    if one["bound"] or moved["bound"] or max(one["frequency"], moved["frequency"]) > s.target:
-        return None
-    return {"frequency": one["frequency"], "shifted": moved["frequency"]}
+    return {"frequency": fits[0], "shifted": fits[1]}
 
 
 def screened_miss(b: dict, s: Setup) -> dict | None:
@@ -661,14 +668,24 @@ def screened_miss(b: dict, s: Setup) -> dict | None:
     lambda is not monotonic in the capacities (the shipped run's 1 x 10 x 80 mm S235:
     1.16e-3 per year with its open records never overturning, 1.03e-3 with them at their
     first yield), so no capacity of its open records bounds its lambda: it is refined."""
+    fits = _screened_fits(b, s, SCREENING_SCATTER_LEVELS)
+    if fits is None or min(fits) <= s.target:
+        return None
+    return {"frequency": fits[0], "shifted": fits[1]}
+
+
+def _screened_fits(b: dict, s: Setup, by: int) -> tuple[float, float] | None:
+    """A layout's screened lambda and the one with every record's overturning ``by`` ladder
+    levels higher (lower where negative: :func:`shifted`), both fits; None where a record is
+    open or either is only a bound."""
     if b["open"]:
         return None
     exact = [r["exact"] for r in b["records"]]
     one = frequency_of(exact, s)
-    moved = frequency_of(shifted(exact, len(s.levels), SCREENING_SCATTER_LEVELS), s)
-    if one["bound"] or moved["bound"] or min(one["frequency"], moved["frequency"]) <= s.target:
+    moved = frequency_of(shifted(exact, len(s.levels), by), s)
+    if one["bound"] or moved["bound"]:
         return None
-    return {"frequency": one["frequency"], "shifted": moved["frequency"]}
+    return one["frequency"], moved["frequency"]
 
 
 def judge(s: Setup, c: Candidate, row: dict, decided: dict, refined: int, out, options) -> bool:
@@ -1395,9 +1412,9 @@ def answer_text(
         unrefined = [r for r in rows if r["decision"] == "not refined"]
         return (
             f"No layout is chosen: {blocked['label']} meets the {target} by the multibody model "
-            f"(overturning {blocked['frequency']:.2g} per year), but {len(unrefined)} lighter "
-            "layouts that the screening cannot rule out were not refined (beyond "
-            f"layout.shortlist = {s.spec.shortlist}): raise it to decide them."
+            f"(overturning {blocked['frequency']:.2g} per year), but "
+            f"{_unrefined(len(unrefined), 'lighter ')} (beyond layout.shortlist = "
+            f"{s.spec.shortlist}): raise it to decide {_them(len(unrefined))}."
         )
     if chosen is None:
         skipped = sum(1 for r in rows if r["decision"] == "not refined")
@@ -1412,7 +1429,7 @@ def answer_text(
         return text + (
             f"; {skipped} {'layout was' if skipped == 1 else 'layouts were'} not refined "
             f"(beyond layout.shortlist = {s.spec.shortlist}): raise it to decide "
-            f"{'it' if skipped == 1 else 'them'}."
+            f"{_them(skipped)}."
             if skipped
             else "; every layout misses it (see the trade-off)."
         )
