@@ -39,8 +39,8 @@ from ..fem.toe_stress import REFINEMENTS
 from ..rigid import collars as rigid_collars
 from ..rigid.block import OMEGA_RATIO_RANGE
 from .kinds import DEFAULT_KIND, KINDS, kind_tables
+from .stone_presets import MARBLE, with_preset
 from .stone_presets import PRESETS as STONE_PRESETS
-from .stone_presets import with_preset
 
 G = STANDARD_GRAVITY  # m/s^2, the gravity of every study
 
@@ -241,17 +241,17 @@ class Stone(Table):
         "Pa",
         "Young's modulus; 1 MPa to 100 TPa (100 times diamond's, room for a stiff-limit "
         "study; beyond, the stiffness overflows the stable-step estimate).",
-        50e9,
+        MARBLE["E"],
         (1e9, 200e9, "GPa", "stone"),
         ge=1e6,
         le=1e14,
     )
-    nu: float = quantity("-", "Poisson's ratio.", 0.2, ge=0, lt=0.5)
+    nu: float = quantity("-", "Poisson's ratio.", MARBLE["nu"], ge=0, lt=0.5)
     density: float = quantity(
         "kg/m^3",
         "Density; 100 to 30000 kg/m^3 (from the lightest solids to past osmium; beyond, the "
         "mass overflows the stable-step estimate).",
-        2700.0,
+        MARBLE["density"],
         (1000.0, 4000.0, "kg/m^3", "stone"),
         ge=100,
         le=30000,
@@ -259,7 +259,7 @@ class Stone(Table):
     fc: float = quantity(
         "Pa",
         "Compressive strength, for the toe-crushing check.",
-        110e6,
+        MARBLE["fc"],
         (1e6, 500e6, "MPa", "stone"),
         gt=0,
     )
@@ -269,7 +269,7 @@ class Stone(Table):
         "([column] crack); default 8 MPa, a white marble in direct tension (about half its "
         "14.9 MPa in bending); granite 5-15 MPa, 10 MPa in the granite example "
         "docs/stones/granite.toml (docs/physics.md gives the sources).",
-        8e6,
+        MARBLE["ft"],
         (0.5e6, 40e6, "MPa", "stone in tension"),
         gt=0,
     )
@@ -279,7 +279,7 @@ class Stone(Table):
         "mid-plane's; default 40 N/m (marble 5-45, granite 7-90 N/m as K_IC^2 / E, a lower "
         "bound; docs/physics.md; 60 N/m in docs/stones/granite.toml, twice its K_IC^2 / E'); "
         "0.1 to 100000 N/m.",
-        40.0,
+        MARBLE["Gf"],
         gt=0.1,
         le=1e5,
     )
@@ -288,7 +288,7 @@ class Stone(Table):
         "Fracture toughness, against which the crack tip's stress intensity K_I is judged; "
         "default 1 MPa m^0.5 (marble 0.5-1.5, granite 0.7-1.9 MPa m^0.5; docs/physics.md; "
         "1.3 MPa m^0.5 in docs/stones/granite.toml); 1 kPa m^0.5 to 100 MPa m^0.5.",
-        1.0e6,
+        MARBLE["KIC"],
         ge=1e3,
         le=1e8,
     )

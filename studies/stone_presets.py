@@ -12,7 +12,7 @@ for a sensitivity study, not design values: a stone's own tests replace them whe
 
 from __future__ import annotations
 
-# the white marble of the schema's defaults
+# the white marble: the schema's defaults (studies.schema.Stone) are these values
 MARBLE = {
     "E": 50e9,
     "nu": 0.2,
