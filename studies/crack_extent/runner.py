@@ -97,8 +97,9 @@ def fem_work(study: Study) -> FemWork:
     return ensembles_work(variants(study).values())
 
 
-def _row(study: FemStudy, crack: tuple, fem: dict) -> dict:
-    """One extent's numbers: where the crack runs, its length and its fraction of the height,
+def _row(study: FemStudy, crack: tuple, depth: float, fem: dict) -> dict:
+    """One extent's numbers: where the crack runs, its length, its fraction of the height and
+    the fraction of the thickness it runs through (``depth``),
     the FEM's peak rotation (median, and the range over the replicas that stood) and
     overturning, the crack's growth and K_I / K_IC (medians over the replicas, with their
     range), the collars' utilisation (with its range and whether the collars yield) and the
@@ -110,6 +111,7 @@ def _row(study: FemStudy, crack: tuple, fem: dict) -> dict:
         "crack_from": crack[0],
         "crack_to": crack[1],
         "extent_fraction": (crack[1] - crack[0]) / study.height,
+        "crack_depth": depth,
         "crack_length_initial": fem.get("crack_length_initial", crack[1] - crack[0]),
         "fem_peak_rotation": unless_stopped(
             max(fem["max_abs_theta_left"], fem["max_abs_theta_right"]), stop
@@ -153,9 +155,7 @@ def summarise(study: FemStudy, cases: list[dict], results: dict) -> dict:
     names = [c["variant"] for c in cases if c["kind"] == "fem"]
     cracks = {c["variant"]: tuple(c["study"]["crack"]) for c in cases if c["kind"] == "fem"}
     depths = {c["variant"]: c["study"].get("crack_depth", 1.0) for c in cases if c["kind"] == "fem"}
-    rows = {n: _row(study, cracks[n], results[f"{n}-fem"]["summary"]) for n in names}
-    for n in names:
-        rows[n]["crack_depth"] = depths[n]
+    rows = {n: _row(study, cracks[n], depths[n], results[f"{n}-fem"]["summary"]) for n in names}
     models = []
     for n in names:
         fem = results[f"{n}-fem"]["summary"]
