@@ -631,14 +631,24 @@ def _split_done(cases, out) -> tuple[dict, list]:
 
 
 def _progress_bar(total: int, initial: int, stage: str, progress: bool):
-    """A progress bar on a terminal, nothing in a log (cases already done count as done)."""
+    """A progress bar on a terminal, nothing in a log (cases already done count as done). A
+    terminal that reports no size (a pseudo-terminal nobody sized: ``script``, some CI and
+    editor consoles) gets a bar 100 columns wide on a screen of 24 rows: tqdm draws nothing on
+    a screen of 0 rows."""
+    try:
+        size = os.get_terminal_size(sys.stderr.fileno())
+        sized = size.columns > 0 and size.lines > 0
+    except (OSError, ValueError):  # not a terminal, or no file number
+        sized = False
     return tqdm(
         total=total,
         initial=initial,
         desc=f"[study] {stage}",
         unit="case",
         disable=not (progress and sys.stderr.isatty()),
-        dynamic_ncols=True,
+        dynamic_ncols=sized,
+        ncols=None if sized else 100,
+        nrows=None if sized else 24,
         # the time left is the study's (its postfix), not this stage's rate of cases
         bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}{postfix}]",
     )

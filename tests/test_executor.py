@@ -533,3 +533,32 @@ def _script(out: str) -> int:
 
 if __name__ == "__main__":
     sys.exit(_script(sys.argv[1]))
+
+
+@pytest.mark.parametrize("columns", [0, 60])
+def test_the_progress_bar_is_drawn_on_a_terminal_that_reports_no_width(monkeypatch, columns):
+    """A pseudo-terminal nobody sized (``script``, some CI and editor consoles) reports 0
+    rows and columns, and tqdm draws nothing on 0 rows: the study's bar (its stage, its cases
+    and the study's time left) must still show. A sized terminal keeps its own width."""
+    import pty
+    import struct
+    import termios
+    from fcntl import ioctl
+
+    master, slave = pty.openpty()
+    ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24 if columns else 0, columns, 0, 0))
+    terminal = os.fdopen(slave, "w", buffering=1)
+    monkeypatch.setattr(sys, "stderr", terminal)
+    try:
+        bar = executor._progress_bar(3, 0, "FEM and rigid models", True)
+        bar.set_postfix_str("7 min left", refresh=True)
+        bar.update()
+        bar.close()
+        terminal.flush()
+        drawn = os.read(master, 65536).decode(errors="replace")
+    finally:
+        terminal.close()
+        os.close(master)
+    line = drawn.split("\r")[-2] if "\r" in drawn else drawn
+    assert "[study] FEM and rigid models" in drawn and "1/3" in drawn and "7 min" in drawn
+    assert len(line.rstrip()) <= (columns or 100)
