@@ -16,6 +16,7 @@ from colonna.fem.output import read_start, write_start
 from colonna.fem.settings import FemSettings, FemStart
 from colonna.fem.solver import run
 from colonna.fem.toe_stress import (
+    HANDOVER_SETTLE,
     LEAD_TIME,
     TAIL_TIME,
     impact_window,
@@ -309,6 +310,18 @@ def test_a_peak_reached_rocking_on_the_toe_still_opens_the_window_at_the_landing
     _, t_start, t_end, t_peak = impact_window(h)
     assert t_start == pytest.approx(0.2 - LEAD_TIME)
     assert t_end == pytest.approx(t_peak + TAIL_TIME)
+
+
+def test_a_toe_loaded_throughout_opens_the_window_while_the_handovers_overshoot_dies_out():
+    """A peak on a toe that never lifted has no landing to open before: the window opens
+    HANDOVER_SETTLE before the peak (0.2 s, over which the overshoot of a loaded hand-over died
+    out), not LEAD_TIME before it as it did, or at the run's start if the peak comes sooner."""
+    h = _toe_history(landing=-1.0, peak=0.5)
+    _, t_start, t_end, t_peak = impact_window(h)
+    assert t_start == pytest.approx(t_peak - HANDOVER_SETTLE)
+    assert t_start < t_peak - 10 * LEAD_TIME
+    early = _toe_history(landing=-1.0, peak=0.1)
+    assert impact_window(early)[1] == 0.0
 
 
 def _window_spread(runs, t_start, t_end) -> float:
