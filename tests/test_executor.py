@@ -541,6 +541,7 @@ def test_the_progress_bar_is_drawn_on_a_terminal_that_reports_no_width(monkeypat
     rows and columns, and tqdm draws nothing on 0 rows: the study's bar (its stage, its cases
     and the study's time left) must still show. A sized terminal keeps its own width."""
     import pty
+    import select
     import struct
     import termios
     from fcntl import ioctl
@@ -553,9 +554,16 @@ def test_the_progress_bar_is_drawn_on_a_terminal_that_reports_no_width(monkeypat
         bar = executor._progress_bar(3, 0, "FEM and rigid models", True)
         bar.set_postfix_str("7 min left", refresh=True)
         bar.update()
+        bar.refresh()  # not left to the bar's own interval between draws
         bar.close()
         terminal.flush()
-        drawn = os.read(master, 65536).decode(errors="replace")
+        chunks = []  # all that reached the terminal (one read may return a part)
+        while select.select([master], [], [], 0.2)[0]:
+            chunk = os.read(master, 65536)
+            if not chunk:
+                break
+            chunks.append(chunk)
+        drawn = b"".join(chunks).decode(errors="replace")
     finally:
         terminal.close()
         os.close(master)
