@@ -546,6 +546,10 @@ def test_the_progress_bar_is_drawn_on_a_terminal_that_reports_no_width(monkeypat
     import termios
     from fcntl import ioctl
 
+    from tqdm import tqdm
+
+    # no monitor thread left behind for the rest of the session (a drawn bar starts one)
+    monkeypatch.setattr(tqdm, "monitor_interval", 0)
     master, slave = pty.openpty()
     ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24 if columns else 0, columns, 0, 0))
     terminal = os.fdopen(slave, "w", buffering=1)
