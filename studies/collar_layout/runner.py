@@ -617,8 +617,15 @@ def next_meeting(
 def _unrefined(n: int, which: str = "") -> str:
     """``n`` layouts left unrefined, in words: "1 lighter layout that the screening cannot
     rule out was not refined", or "2 lighter layouts ... were"."""
-    layouts, were = ("layout", "was") if n == 1 else ("layouts", "were")
-    return f"{n} {which}{layouts} that the screening cannot rule out {were} not refined"
+    return f"{n} {which}{_layouts(n)} that the screening cannot rule out {_were(n)} not refined"
+
+
+def _layouts(n: int) -> str:
+    return "layout" if n == 1 else "layouts"
+
+
+def _were(n: int) -> str:
+    return "was" if n == 1 else "were"
 
 
 def _them(n: int) -> str:
@@ -1427,7 +1434,7 @@ def answer_text(
                 f"year ({best['label']})"
             )
         return text + (
-            f"; {skipped} {'layout was' if skipped == 1 else 'layouts were'} not refined "
+            f"; {skipped} {_layouts(skipped)} {_were(skipped)} not refined "
             f"(beyond layout.shortlist = {s.spec.shortlist}): raise it to decide "
             f"{_them(skipped)}."
             if skipped
