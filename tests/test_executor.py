@@ -518,23 +518,6 @@ def test_workers_up_to_the_cores_run(tmp_path, monkeypatch):
 # --- the signalled study, run as a script ------------------------------------------------------
 
 
-def _script(out: str) -> int:
-    """``colonna study`` on 8 napping cases with 2 workers, whatever this machine's cores."""
-    os.sched_getaffinity = lambda pid: set(range(4))
-    cli._announce_compilation = lambda *args: None
-
-    def run_study_file(path, out, *, run_options, **options):
-        run_cases(napping, NAPS, out, run_options=dataclasses.replace(run_options, progress=False))
-        return {}
-
-    driver.run_study_file = run_study_file
-    return cli.main(["study", "free-rocking", "--out", out, "--workers", "2"])
-
-
-if __name__ == "__main__":
-    sys.exit(_script(sys.argv[1]))
-
-
 @pytest.mark.parametrize("columns", [0, 60])
 def test_the_progress_bar_is_drawn_on_a_terminal_that_reports_no_width(monkeypatch, columns):
     """A pseudo-terminal nobody sized (``script``, some CI and editor consoles) reports 0
@@ -574,3 +557,20 @@ def test_the_progress_bar_is_drawn_on_a_terminal_that_reports_no_width(monkeypat
     line = drawn.split("\r")[-2] if "\r" in drawn else drawn
     assert "[study] FEM and rigid models" in drawn and "1/3" in drawn and "7 min" in drawn
     assert len(line.rstrip()) <= (columns or 100)
+
+
+def _script(out: str) -> int:
+    """``colonna study`` on 8 napping cases with 2 workers, whatever this machine's cores."""
+    os.sched_getaffinity = lambda pid: set(range(4))
+    cli._announce_compilation = lambda *args: None
+
+    def run_study_file(path, out, *, run_options, **options):
+        run_cases(napping, NAPS, out, run_options=dataclasses.replace(run_options, progress=False))
+        return {}
+
+    driver.run_study_file = run_study_file
+    return cli.main(["study", "free-rocking", "--out", out, "--workers", "2"])
+
+
+if __name__ == "__main__":
+    sys.exit(_script(sys.argv[1]))
