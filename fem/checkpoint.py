@@ -111,3 +111,53 @@ def read_parts(checkpoint: Checkpoint) -> list[dict]:
 def clear(checkpoint: Checkpoint) -> None:
     """Remove the checkpoint's folder (its result is saved, or its parts are stale)."""
     shutil.rmtree(checkpoint.folder, ignore_errors=True)
+
+
+def _last_part(folder: Path) -> dict | None:
+    """The last readable part in ``folder`` (any key), or None."""
+    for path in sorted(Path(folder).glob("part-*.pkl"), reverse=True):
+        try:
+            with open(path, "rb") as handle:
+                return pickle.load(handle)
+        except (OSError, EOFError, pickle.UnpicklingError, AttributeError, ValueError):
+            continue
+    return None
+
+
+def remaining_work(folder: Path, steps: float) -> float | None:
+    """What is left of a batch of FEM runs each expected to take ``steps`` steps (at the step
+    of its first attempt; fewer than its duration's where it is expected to stop early) that
+    saves its parts under ``folder`` (a FEM case's checkpoint, where
+    :func:`colonna.fem.solver.run_ensemble` keeps one folder ``dt-N`` per attempt, the step
+    halved N times), as a fraction of that work, read from the last part (the counters of
+    :func:`colonna.fem.solver.iter_batch`): a run in progress at step n of attempt N has
+    2^N steps - n left (none once past them), a run not started 2^N steps, a run ended none.
+    None where nothing was saved.
+
+    For the estimate of a resumed study's time, which must not count again what was done
+    before it was interrupted. The key is not checked: parts of other inputs are dropped when
+    the case runs (the estimate was then low)."""
+    folder = Path(folder)
+    attempts = sorted(
+        (int(d.name.removeprefix("dt-")), d)
+        for d in folder.glob("dt-*")
+        if d.is_dir() and d.name.removeprefix("dt-").isdigit()
+    )
+    halvings, parts = attempts[-1] if attempts else (0, folder)
+    part = _last_part(parts)
+    if part is None:  # a rerun at a halved step that has saved nothing yet: all of it
+        return float(2**halvings) if halvings > 0 else None
+    try:
+        done = part["counters"]["steps_done"]
+        pending = set(part["counters"]["pending"])
+        live = set(part["live"])
+    except (KeyError, TypeError):
+        return None
+    if not steps > 0.0 or not done:
+        return None
+    expected = 2.0**halvings * steps
+    left = sum(
+        expected if k in pending else max(0.0, expected - n) if k in live else 0.0
+        for k, n in enumerate(done)
+    )
+    return left / (len(done) * steps)

@@ -155,7 +155,9 @@ def expected_work_of(study: Study, work, out: Path | None = None):
 def without_saved(work, out: Path):
     """``work`` less its runs whose case (:attr:`FemRun.case <studies.work.FemRun.case>`, a
     case key; ``sub/key`` for a case of a study run in ``out/sub``) is saved
-    (:func:`studies.executor.saved_cases`)."""
+    (:func:`studies.executor.saved_cases`), and less what an interrupted case's checkpoint
+    had done (:func:`colonna.fem.checkpoint.remaining_work`: the case goes on from there)."""
+    from ..fem.checkpoint import remaining_work
     from .executor import saved_cases
 
     saved: dict[str, set[str]] = {}
@@ -166,7 +168,14 @@ def without_saved(work, out: Path):
             saved[folder] = saved_cases(out / folder) if folder else saved_cases(out)
         return key in saved[folder]
 
-    return replace(work, runs=tuple(r for r in work.runs if not done(r.case)))
+    def left(run):
+        folder, _, key = run.case.rpartition("/")
+        fraction = remaining_work(out / folder / "cases" / key / "checkpoint", run.steps)
+        if fraction is None:
+            return run
+        return replace(run, steps=fraction * run.steps, outputs=fraction * run.outputs)
+
+    return replace(work, runs=tuple(left(r) for r in work.runs if not done(r.case)))
 
 
 def fem_work_of(study: Study):

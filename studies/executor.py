@@ -109,6 +109,38 @@ class StudyClock:
             return None
         return self.started, self.estimate
 
+    def revise(self, remaining: float, now: float | None = None) -> float | None:
+        """Estimate the study again from here: ``remaining`` wall seconds left (once a stage
+        whose work was a guess before it started is known). Returns the new estimate of the
+        whole study (s), or None where the clock is not started."""
+        if self.started is None:
+            return None
+        now = time.monotonic() if now is None else now
+        self.estimate = (now - self.started) + remaining
+        return self.estimate
+
+
+def revise_study_estimate(remaining: float, why: str, progress: bool = True) -> None:
+    """Give the running study's clock (:func:`study_clock`) a new estimate, ``remaining`` wall
+    seconds from now, because of ``why`` (a clause: what is now known); with ``progress`` a
+    changed estimate (by more than a tenth, and 10 s) is said on stderr. Nothing without a
+    running clock."""
+    from .units import duration_text
+
+    clock = _STUDY_CLOCK.get()
+    reading = None if clock is None else clock.reading()
+    if clock is None or reading is None:
+        return
+    before = reading[1]
+    after = clock.revise(remaining)
+    if progress and after is not None and abs(after - before) > max(0.1 * before, 10.0):
+        print(
+            f"[study] estimated again: {duration_text(after)} of wall time in all, not "
+            f"{duration_text(before)} ({why})",
+            file=sys.stderr,
+            flush=True,
+        )
+
 
 # the study's clock for the progress bars of :func:`run_cases`, set by :func:`study_clock`
 # around a study's run

@@ -7,12 +7,14 @@ Pinned: an ensemble stopped after a checkpoint part, while all its runs are in p
 again after some have ended, ends with every history, frame, summary and file equal to an
 uninterrupted ensemble's, and removes its checkpoint; a checkpoint of other inputs, or one
 whose files were changed, is not used; a part cut short is dropped (the run goes on from the
-part before); and, end to end (slow), SIGINT to `colonna study` in its FEM case, then the same
+part before); the estimate of a resumed study counts only the steps the checkpoint left to do;
+and, end to end (slow), SIGINT to `colonna study` in its FEM case, then the same
 command: it says it resumed, and its FEM case's result equals an uninterrupted one's."""
 
 import filecmp
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -27,8 +29,10 @@ from colonna.core.motion import Motion
 from colonna.fem import checkpoint as ck
 from colonna.fem import solver
 from colonna.fem.settings import FemSettings, Replicas
+from colonna.studies.driver import without_saved
 from colonna.studies.fem_study import from_dict
 from colonna.studies.models import build
+from colonna.studies.work import FemRun, FemWork
 
 DEFAULT = Path(__file__).parents[1] / "studies" / "default.toml"
 DURATION = 0.8  # s: the pulse and some rocking after it
@@ -109,6 +113,15 @@ def test_an_interrupted_ensemble_goes_on_from_its_checkpoint_with_the_same_numbe
         _ensemble(model_and_ground, tmp_path, checkpoint)
     assert len(list((tmp_path / "checkpoint" / "dt-0").glob("part-*.pkl"))) == stop_at + 1
     monkeypatch.undo()
+    steps = reference[0].summary["steps"]
+    left = ck.remaining_work(tmp_path / "checkpoint", steps)
+    # a study's estimate of time, resumed: its interrupted case counts what is left of it
+    study_out = tmp_path / "study"
+    shutil.copytree(tmp_path / "checkpoint", study_out / "cases" / "fem" / "checkpoint")
+    runs = (FemRun(100, steps, 400, REPLICAS, "fem"), FemRun(100, steps, 400, 1, "rigid"))
+    resumed_work = without_saved(FemWork(runs=runs), study_out).runs
+    assert resumed_work[0].steps == pytest.approx(left * steps)
+    assert resumed_work[1] == runs[1]
     capsys.readouterr()
     results = _ensemble(
         model_and_ground, tmp_path, ck.Checkpoint(tmp_path / "checkpoint", "inputs")
@@ -119,6 +132,17 @@ def test_an_interrupted_ensemble_goes_on_from_its_checkpoint_with_the_same_numbe
     assert f"{ended} of {REPLICAS} runs had ended" in said
     _assert_same(results, reference, tmp_path, reference_out)
     assert not (tmp_path / "checkpoint").exists()  # removed once the ensemble is done
+    # what the estimate of the resumed study counts: the steps left from where the runs in
+    # progress went on (run 2 waits for a slot at part 30, all of its steps left; runs 0 and
+    # 1 have ended by part 550, none left)
+    resumed_at = float(said.split("the others go on from t = ")[1].split(" s")[0])
+    done = round(resumed_at / reference[0].summary["dt"])
+    in_progress = 2 if stop_at == 30 else 1
+    waiting = 1 if stop_at == 30 else 0
+    assert 0 < done < steps
+    assert left == pytest.approx(
+        (in_progress * (steps - done) + waiting * steps) / (REPLICAS * steps), rel=1e-3
+    )
 
 
 def test_a_checkpoint_of_other_inputs_or_changed_files_is_not_used(

@@ -5,6 +5,7 @@ benchmarks/bench_estimate.py, not by a timed test.)"""
 
 import json
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -116,6 +117,74 @@ def test_the_time_left_counts_down_from_the_estimate_and_then_says_it_is_past():
     assert StudyClock().reading() is None  # not started: no time left to say
     assert time_left((100.0, 300.0), now=160.0) == "about 4 min left of 5 min estimated"
     assert time_left((100.0, 30.0), now=145.0) == "15 s past the 30 s estimated"
+
+
+def test_a_revised_estimate_counts_from_now_and_a_changed_one_is_said(capsys):
+    """A stage whose work is known only when it starts (the toe windows) estimates the study
+    again: the time spent plus what is left; a change of more than a tenth is said once."""
+    from colonna.studies.executor import StudyClock, revise_study_estimate, study_clock
+
+    clock = StudyClock()
+    assert clock.revise(50.0) is None  # not started: nothing to revise
+    clock.start(300.0)
+    started = clock.started
+    assert clock.revise(100.0, now=started + 240.0) == 340.0
+    assert clock.reading() == (started, 340.0)
+    with study_clock(clock):
+        revise_study_estimate(clock.estimate - (time.monotonic() - started) + 5.0, "small")
+        assert capsys.readouterr().err == ""  # 5 s more: not worth a line
+        revise_study_estimate(600.0, "the windows are long")
+    said = capsys.readouterr().err
+    assert said.startswith("[study] estimated again: ") and "(the windows are long)" in said
+    assert clock.estimate == pytest.approx(time.monotonic() - started + 600.0, abs=1.0)
+    revise_study_estimate(1.0, "no study running")  # outside a study's clock: nothing
+    assert capsys.readouterr().err == ""
+
+
+def test_the_toe_windows_are_estimated_again_at_their_length_as_they_start(tmp_path, capsys):
+    """The toe windows' work is their length's: ten times the steps for a window ten times
+    TOE_WINDOW (as a record's, whose peak comes as the column tilts on its toe, and which the
+    estimate expects of a record), and the study's clock is set to it as the windows start."""
+    from colonna.studies.crosscheck.runner import (
+        TOE_WINDOW,
+        TOE_WINDOW_RECORD,
+        expected_toe_window,
+        revise_toe_estimate,
+        toe_window_work,
+    )
+    from colonna.studies.driver import wall_estimate
+    from colonna.studies.executor import RunOptions, StudyClock, study_clock
+    from colonna.studies.study import load
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from tiny_study import TINY_STUDY
+
+    study = tmp_path / "tiny.toml"
+    study.write_text(TINY_STUDY.format(amplitude_ratio=2.5, duration=0.3))
+    fem = load(study).fem
+    assert expected_toe_window(fem) == TOE_WINDOW  # a pulse's peak: at a landing
+    record = tmp_path / "record.toml"
+    suite = Path(__file__).parents[1] / "studies" / "suites" / "synthetic-pulses"
+    record.write_text(
+        f'[column]\nheight = 4.0\nwidth = 0.45\n[ground]\npulse = "record"\n'
+        f'record = "{(suite / "synth02.AT2").as_posix()}"\n'
+    )
+    assert expected_toe_window(load(record).fem) == TOE_WINDOW_RECORD > TOE_WINDOW
+    short, long = toe_window_work(fem), toe_window_work(fem, 10 * TOE_WINDOW)
+    assert [r.case for r in long.runs] == [r.case for r in short.runs]
+    for a, b in zip(short.runs, long.runs):
+        assert (b.nodes, b.steps) == (a.nodes, pytest.approx(10 * a.steps))
+    clock = StudyClock()
+    clock.start(1.0)
+    with study_clock(clock):
+        revise_toe_estimate(
+            fem, {"t_start": 2.0, "t_end": 2.0 + 10 * TOE_WINDOW}, tmp_path, RunOptions(2)
+        )
+    left = clock.estimate - (time.monotonic() - clock.started)
+    assert left == pytest.approx(wall_estimate(long, 2), abs=1.0)
+    assert f"the toe stress windows are {1e3 * 10 * TOE_WINDOW:.0f} ms long" in (
+        capsys.readouterr().err
+    )
 
 
 def test_a_study_announces_its_wall_and_cpu_time_before_it_starts(tmp_path, capsys):
