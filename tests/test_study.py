@@ -3,6 +3,7 @@ sweeps resume after an interruption, and the Dask path equals the local one."""
 
 import json
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -193,6 +194,33 @@ def test_report_names_each_toe_stress_and_every_alpha_its_block(tiny_run):
     assert assert_every_alpha_names_its_block(re.sub(r"<svg.*?</svg>", "", page, flags=re.S)) >= 1
 
 
+def test_a_long_toe_window_says_its_refinement_understates_the_peaks_uncertainty(
+    tiny_run, tmp_path, monkeypatch
+):
+    """A pulse's toe window ends at its landing (tens of ms) and its report says nothing of the
+    kind; the same run with a window of 0.3 s (a record's peak as the column tilts on its toe)
+    says, on the first screen's toe answer and in the refinement's section, that the
+    refinements' spread understates that peak's mesh uncertainty."""
+    from colonna.studies.crosscheck import report as crosscheck_report
+
+    root, _, summary = tiny_run
+    toe = summary["toe_stress"]
+    assert toe["t_end"] - toe["t_start"] < crosscheck_report.LONG_TOE_WINDOW
+    assert 'data-caveat="long-toe-window"' not in (root / "out" / "index.html").read_text()
+    out = tmp_path / "out"
+    shutil.copytree(root / "out", out)
+    edited = json.loads((out / "summary.json").read_text())
+    edited["toe_stress"]["t_start"] = edited["toe_stress"]["t_end"] - 0.3
+    (out / "summary.json").write_text(json.dumps(edited))
+    monkeypatch.setattr(crosscheck_report, "_renders", lambda out: ([], ""))
+    page = crosscheck_report.write_report(out).read_text()
+    answer = page.split('data-verdict="toe_crushes"')[1].split("</tr>")[0]
+    assert "its refined windows are 300 ms long" in answer
+    assert "understates the mesh uncertainty" in answer
+    caveat = page.split('data-caveat="long-toe-window">')[1].split("</p>")[0]
+    assert "The window is 300 ms long" in caveat and "not the mesh uncertainty" in caveat
+
+
 def test_study_with_a_typo_fails_before_any_work(tmp_path, capsys):
     study = tmp_path / "typo.toml"
     study.write_text(TINY.replace("[ground]", "[grund]"))
@@ -241,8 +269,6 @@ def test_toe_windows_are_cases_of_their_own_and_resume_apart_from_the_fem(tiny_r
     """The toe stress's refined windows are cases saved one by one after the FEM ensemble: a
     run stopped among them keeps the ensemble and the windows done, computes the rest, and
     reports what the uninterrupted run reported."""
-    import shutil
-
     root, study, reference = tiny_run
     out = tmp_path / "out"
     shutil.copytree(root / "out", out)
