@@ -120,9 +120,10 @@ class StudyClock:
         return self.estimate
 
 
-def revise_study_estimate(remaining: float, why: str, progress: bool = True) -> None:
+def revise_study_estimate(remaining: float, when: str, progress: bool = True) -> None:
     """Give the running study's clock (:func:`study_clock`) a new estimate, ``remaining`` wall
-    seconds from now, because of ``why`` (a clause: what is now known); with ``progress`` a
+    seconds from now (the time spent so far and that: whatever the first estimate got wrong
+    before now is out of it), at ``when`` (a clause: "as ... start"); with ``progress`` a
     changed estimate (by more than a tenth, and 10 s) is said on stderr. Nothing without a
     running clock."""
     from .units import duration_text
@@ -135,8 +136,8 @@ def revise_study_estimate(remaining: float, why: str, progress: bool = True) -> 
     after = clock.revise(remaining)
     if progress and after is not None and abs(after - before) > max(0.1 * before, 10.0):
         print(
-            f"[study] estimated again: {duration_text(after)} of wall time in all, not "
-            f"{duration_text(before)} ({why})",
+            f"[study] estimated again {when}: {duration_text(after)} of wall time in all, "
+            f"not {duration_text(before)}",
             file=sys.stderr,
             flush=True,
         )

@@ -123,19 +123,21 @@ def test_a_revised_estimate_counts_from_now_and_a_changed_one_is_said(capsys):
     """A stage whose work is known only when it starts (the toe windows) estimates the study
     again: the time spent plus what is left; a change of more than a tenth is said once."""
     from colonna.studies.executor import StudyClock, revise_study_estimate, study_clock
+    from colonna.studies.units import duration_text
 
     clock = StudyClock()
     assert clock.revise(50.0) is None  # not started: nothing to revise
     clock.start(300.0)
     started = clock.started
-    assert clock.revise(100.0, now=started + 240.0) == 340.0
-    assert clock.reading() == (started, 340.0)
+    assert clock.revise(100.0, now=started + 240.0) == pytest.approx(340.0)
+    assert clock.reading() == (started, pytest.approx(340.0))
     with study_clock(clock):
-        revise_study_estimate(clock.estimate - (time.monotonic() - started) + 5.0, "small")
+        revise_study_estimate(clock.estimate - (time.monotonic() - started) + 5.0, "now")
         assert capsys.readouterr().err == ""  # 5 s more: not worth a line
-        revise_study_estimate(600.0, "the windows are long")
+        revise_study_estimate(600.0, "as the windows start")
     said = capsys.readouterr().err
-    assert said.startswith("[study] estimated again: ") and "(the windows are long)" in said
+    assert said.startswith("[study] estimated again as the windows start: ")
+    assert said.rstrip().endswith(f" of wall time in all, not {duration_text(345.0)}")
     assert clock.estimate == pytest.approx(time.monotonic() - started + 600.0, abs=1.0)
     revise_study_estimate(1.0, "no study running")  # outside a study's clock: nothing
     assert capsys.readouterr().err == ""
@@ -182,7 +184,7 @@ def test_the_toe_windows_are_estimated_again_at_their_length_as_they_start(tmp_p
         )
     left = clock.estimate - (time.monotonic() - clock.started)
     assert left == pytest.approx(wall_estimate(long, 2), abs=1.0)
-    assert f"the toe stress windows are {1e3 * 10 * TOE_WINDOW:.0f} ms long" in (
+    assert f"as the toe stress windows start, {1e3 * 10 * TOE_WINDOW:.0f} ms long" in (
         capsys.readouterr().err
     )
 

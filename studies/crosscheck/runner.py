@@ -509,8 +509,8 @@ def revise_toe_estimate(fem, start: dict, out: Path, options: RunOptions) -> Non
     work = without_saved(toe_window_work(fem, window), out)
     revise_study_estimate(
         wall_estimate(work, options.workers),
-        f"the toe stress windows are {1e3 * window:.0f} ms long, the estimate took "
-        f"{1e3 * expected_toe_window(fem):.0f} ms",
+        f"as the toe stress windows start, {1e3 * window:.0f} ms long (the first estimate "
+        f"took {1e3 * expected_toe_window(fem):.0f} ms)",
         options.progress,
     )
 
