@@ -94,10 +94,8 @@ def read_parts(checkpoint: Checkpoint) -> list[dict]:
         path = _part_path(folder, len(parts))
         if not path.is_file():
             break
-        try:
-            with open(path, "rb") as handle:
-                part = pickle.load(handle)
-        except (OSError, EOFError, pickle.UnpicklingError, AttributeError, ValueError):
+        part = _read_part(path)
+        if part is None:
             break
         if part.get("key") != checkpoint.key or part.get("index") != len(parts):
             clear(checkpoint)
@@ -113,14 +111,21 @@ def clear(checkpoint: Checkpoint) -> None:
     shutil.rmtree(checkpoint.folder, ignore_errors=True)
 
 
+def _read_part(path: Path) -> dict | None:
+    """The part saved at ``path``, or None where it cannot be read (cut short, or not one)."""
+    try:
+        with open(path, "rb") as handle:
+            return pickle.load(handle)
+    except (OSError, EOFError, pickle.UnpicklingError, AttributeError, ValueError):
+        return None
+
+
 def _last_part(folder: Path) -> dict | None:
     """The last readable part in ``folder`` (any key), or None."""
     for path in sorted(Path(folder).glob("part-*.pkl"), reverse=True):
-        try:
-            with open(path, "rb") as handle:
-                return pickle.load(handle)
-        except (OSError, EOFError, pickle.UnpicklingError, AttributeError, ValueError):
-            continue
+        part = _read_part(path)
+        if part is not None:
+            return part
     return None
 
 

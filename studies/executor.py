@@ -120,12 +120,12 @@ class StudyClock:
         return self.estimate
 
 
-def revise_study_estimate(remaining: float, when: str, progress: bool = True) -> None:
-    """Give the running study's clock (:func:`study_clock`) a new estimate, ``remaining`` wall
-    seconds from now (the time spent so far and that: whatever the first estimate got wrong
-    before now is out of it), at ``when`` (a clause: "as ... start"); with ``progress`` a
-    changed estimate (by more than a tenth, and 10 s) is said on stderr. Nothing without a
-    running clock."""
+def revise_study_estimate(remaining: Callable[[], float], when: str, progress: bool = True) -> None:
+    """Give the running study's clock (:func:`study_clock`) a new estimate, ``remaining()``
+    wall seconds from now (the time spent so far and that: whatever the first estimate got
+    wrong before now is out of it), at ``when`` (a clause: "as ... start"); with ``progress`` a
+    changed estimate (by more than a tenth, and 10 s) is said on stderr. Without a running
+    clock nothing, not even ``remaining()`` (it may build models to count their steps)."""
     from .units import duration_text
 
     clock = _STUDY_CLOCK.get()
@@ -133,7 +133,7 @@ def revise_study_estimate(remaining: float, when: str, progress: bool = True) ->
     if clock is None or reading is None:
         return
     before = reading[1]
-    after = clock.revise(remaining)
+    after = clock.revise(remaining())
     if progress and after is not None and abs(after - before) > max(0.1 * before, 10.0):
         print(
             f"[study] estimated again {when}: {duration_text(after)} of wall time in all, "

@@ -132,15 +132,16 @@ def test_a_revised_estimate_counts_from_now_and_a_changed_one_is_said(capsys):
     assert clock.revise(100.0, now=started + 240.0) == pytest.approx(340.0)
     assert clock.reading() == (started, pytest.approx(340.0))
     with study_clock(clock):
-        revise_study_estimate(clock.estimate - (time.monotonic() - started) + 5.0, "now")
+        revise_study_estimate(lambda: clock.estimate - (time.monotonic() - started) + 5.0, "now")
         assert capsys.readouterr().err == ""  # 5 s more: not worth a line
-        revise_study_estimate(600.0, "as the windows start")
+        revise_study_estimate(lambda: 600.0, "as the windows start")
     said = capsys.readouterr().err
     assert said.startswith("[study] estimated again as the windows start: ")
     assert said.rstrip().endswith(f" of wall time in all, not {duration_text(345.0)}")
     assert clock.estimate == pytest.approx(time.monotonic() - started + 600.0, abs=1.0)
-    revise_study_estimate(1.0, "no study running")  # outside a study's clock: nothing
-    assert capsys.readouterr().err == ""
+    asked = []
+    revise_study_estimate(lambda: asked.append(1) or 1.0, "no study running")
+    assert capsys.readouterr().err == "" and not asked  # outside a study's clock: nothing
 
 
 def test_the_toe_windows_are_estimated_again_at_their_length_as_they_start(tmp_path, capsys):

@@ -506,9 +506,8 @@ def revise_toe_estimate(fem, start: dict, out: Path, options: RunOptions) -> Non
     from ..executor import revise_study_estimate
 
     window = float(start["t_end"]) - float(start["t_start"])
-    work = without_saved(toe_window_work(fem, window), out)
     revise_study_estimate(
-        wall_estimate(work, options.workers),
+        lambda: wall_estimate(without_saved(toe_window_work(fem, window), out), options.workers),
         f"as the toe stress windows start, {1e3 * window:.0f} ms long (the first estimate "
         f"took {1e3 * expected_toe_window(fem):.0f} ms)",
         options.progress,
